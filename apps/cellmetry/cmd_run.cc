@@ -1,0 +1,37 @@
+// `cellmetry run JOB.yaml`: identify what the job asks for and write the result folder.
+#include <cstdio>
+
+#include "cellmetry/job.h"
+#include "cellmetry/progress.h"
+#include "cellmetry/recording.h"
+#include "cellmetry/result_io.h"
+#include "cellmetry/workcell.h"
+#include "commands.h"
+
+namespace cellmetry::app {
+
+void AddRunCommand(CLI::App& app, Context& context) {
+  CLI::App* cmd = app.add_subcommand("run", "run a job: identify the workcell it describes");
+  static std::string job_path;
+  static std::string output;
+  cmd->add_option("job", job_path, "job file (YAML)")->required();
+  cmd->add_option("-o,--output", output, "result folder (default: the job's `output`)");
+  cmd->callback([&context] {
+    Progress::SetQuiet(context.quiet);
+    LoadPlugins(context);
+    Registry& registry = Registry::Global();
+    const WorkcellJob job = LoadWorkcellJob(job_path, registry);
+    const Recording recording = ReadRecording(job.recording);
+    ValidateJobAgainstRecording(job, recording);
+    const SolverMaker make_solver = [&] {
+      return registry.CreateSolver(job.solver_type, *job.solver_config);
+    };
+    const WorkcellResult result = IdentifyWorkcell(job.problem, recording, make_solver);
+    const std::string folder = output.empty() ? job.output : output;
+    WriteWorkcellResult(result, folder);
+    std::printf("%s", WorkcellSummary(result).c_str());
+    std::printf("  written: %s/{result.yaml,result.json,residuals.csv}\n", folder.c_str());
+  });
+}
+
+}  // namespace cellmetry::app

@@ -1,0 +1,24 @@
+// The `cellmetry` subcommands. Each Add*Command registers its options on `app` and a callback
+// that does the work; errors propagate as exceptions and main() turns them into exit codes.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace cellmetry::app {
+
+struct Context {
+  std::string executable;               // argv[0], to find the plugins folder
+  std::vector<std::string> plugin_paths;  // --plugin-path
+  bool quiet = false;
+};
+
+// Loads the default plugin folders plus --plugin-path ones into the global registry.
+void LoadPlugins(const Context& context);
+
+void AddRunCommand(CLI::App& app, Context& context);
+void AddPluginsCommand(CLI::App& app, Context& context);
+void AddSimulateCommand(CLI::App& app, Context& context);
+void AddEvaluateCommand(CLI::App& app, Context& context);
+
+}  // namespace cellmetry::app

@@ -1,0 +1,55 @@
+// How much to trust an answer: identifiability, covariance, correlations.
+//
+// All of it is computed from the whitened Jacobian J of a Problem at its current values, the
+// same way whichever solver produced them.
+//
+//  - Identifiability: columns of J are scaled to unit norm (so mm and rad compare), and the
+//    singular values of the scaled J are inspected. A singular value below `tolerance` times the
+//    largest marks a direction the data cannot determine; the parameter with the largest share
+//    of that direction is reported and should be held at its nominal value (then repeat).
+//  - Covariance: (J^T J)^-1 from the SVD of the scaled J, times a scale factor: the reduced
+//    chi-square when it exceeds 1 (the model explains the data worse than the stated noise, so
+//    the stated noise is too optimistic), else 1.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "cellmetry/problem.h"
+
+namespace cellmetry {
+
+struct UnidentifiableParameter {
+  std::string name;
+  std::string reason;  // e.g. "no measurement depends on it" / "moves together with a, b"
+};
+
+// Free parameters that the data cannot determine, in the order they should be held.
+std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance);
+
+struct Uncertainty {
+  std::vector<std::string> names;   // free parameters, in Problem order
+  Eigen::VectorXd sigma;            // 1-sigma, in each parameter's unit
+  Eigen::MatrixXd covariance;
+  Eigen::MatrixXd correlation;
+  double chi2 = 0.0;                // |r|^2 of the whitened measurement residuals
+  int dof = 0;                      // residuals - free parameters
+  double reduced_chi2 = 0.0;
+  double scale = 1.0;               // factor applied to the covariance
+  double condition_number = 0.0;    // of the column-scaled Jacobian
+};
+
+Uncertainty ComputeUncertainty(Problem& problem);
+
+struct CorrelatedPair {
+  std::string a;
+  std::string b;
+  double correlation = 0.0;
+};
+
+// Pairs with |correlation| >= threshold, strongest first.
+std::vector<CorrelatedPair> StrongCorrelations(const Uncertainty& uncertainty,
+                                               double threshold = 0.9);
+
+}  // namespace cellmetry

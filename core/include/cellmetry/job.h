@@ -1,0 +1,37 @@
+// Job: a YAML file that says what to identify, from which recording, with which solver.
+//
+// See docs/formats.md for every key. Reading a job loads the plugin folders it names, builds
+// the robot models it names (through the registry), and checks every key, so a job that loads
+// runs: unknown keys, wrong types, missing files and unknown plugin types are InputErrors with
+// file:line:column.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "cellmetry/config_node.h"
+#include "cellmetry/recording.h"
+#include "cellmetry/registry.h"
+#include "cellmetry/workcell_problem.h"
+
+namespace cellmetry {
+
+struct WorkcellJob {
+  std::string file;
+  std::string recording;       // folder, absolute or relative to the working directory
+  std::string output;          // result folder
+  WorkcellProblem problem;
+  std::string solver_type;
+  std::optional<ConfigNode> solver_config;
+};
+
+WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry);
+
+// Checks that the job's robots, joint counts and targets exist in the recording as the job
+// expects; raises InputError naming the job file otherwise.
+void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& recording);
+
+// Reads {xyz: [..], rvec: [..]} (both optional, default zero).
+Pose ReadPose(const ConfigNode& node);
+
+}  // namespace cellmetry

@@ -1,0 +1,44 @@
+// NoiseModel: the sigma every residual row is divided by.
+//
+// Per camera and target, along the camera's x, y and depth axes (positions, mm) and about them
+// (rotations, rad). Where the job does not give sigma, it is estimated from repeated captures:
+// captures of one commanded pose (same `pose`) for robot-carried targets, every capture for
+// world-fixed targets; the pooled standard deviation over groups is used. Where neither exists,
+// sigma is left unknown and the workcell identification estimates it from the residuals of a
+// first fit (variance component estimation).
+#pragma once
+
+#include <map>
+#include <string>
+#include <utility>
+
+#include <Eigen/Core>
+
+#include "cellmetry/recording.h"
+#include "cellmetry/workcell_problem.h"
+
+namespace cellmetry {
+
+struct TargetNoise {
+  Eigen::Vector3d position_mm = Eigen::Vector3d::Ones();
+  Eigen::Vector3d rotation_rad = Eigen::Vector3d::Constant(1e-3);
+  std::string source = "unknown";  // "job", "repeats (N groups)", "residuals", "unknown"
+  int repeat_groups = 0;           // groups with >= 2 captures that the estimate pooled
+};
+
+using NoiseKey = std::pair<std::string, std::string>;  // (camera, target)
+
+struct NoiseModel {
+  std::map<NoiseKey, TargetNoise> entries;
+  const TargetNoise& at(const std::string& camera, const std::string& target) const;
+};
+
+// Repeatability of each (camera, target): pooled sigma over groups of repeated captures.
+// Entries with no repeated captures are absent.
+NoiseModel EstimateRepeatability(const Recording& recording);
+
+// The sigma used for fitting: job values, else repeatability (floored), else "unknown" (1 mm,
+// 1e-3 rad, to be re-estimated from residuals).
+NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec);
+
+}  // namespace cellmetry

@@ -1,0 +1,29 @@
+// Parameter: one named scalar that a calibration can estimate or hold.
+//
+// Every quantity cellmetry identifies (a base-frame coordinate, a link length, a joint offset, a
+// camera position) is a Parameter with its unit. A job decides which are free; the rest stay at
+// their nominal value. Bounds and a prior (a Gaussian on the nominal value with sigma
+// `prior_sigma`) are optional.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cellmetry {
+
+struct Parameter {
+  std::string name;         // e.g. "x", "j2.d" (unique within its block)
+  std::string unit;         // "mm", "rad" or "1"
+  double nominal = 0.0;     // starting value, and the value held when fixed
+  bool fixed = false;
+  std::optional<double> lower;
+  std::optional<double> upper;
+  std::optional<double> prior_sigma;  // same unit as the parameter
+  std::string description;            // one line, for `cellmetry plugins` and reports
+};
+
+// Index of the parameter called `name` in `params`, or -1.
+int FindParameter(const std::vector<Parameter>& params, const std::string& name);
+
+}  // namespace cellmetry

@@ -1,0 +1,74 @@
+// Recording: the `cellmetry-recording/1` folder format (DESIGN.md, docs/formats.md).
+//
+//   recording.yaml    units, robots (name -> joint count), cameras, targets (name -> carrier)
+//   samples.csv       sample,robot,pose,q1..qN[,t][,temperature][,payload]
+//   observations.csv  sample,camera,target,x,y,z[,rx,ry,rz]   (target pose in the camera frame)
+//   images.csv        optional: sample,camera,view,path
+//   truth.yaml        only in simulations; never read by a calibration
+//
+// Inside cellmetry every length is mm and every angle rad; a recording in m or deg is converted
+// on reading and written back in mm/rad. ReadRecording checks every cross reference (an
+// observation naming an unknown sample, camera or target; a sample with the wrong joint count)
+// and raises InputError with the file and line.
+#pragma once
+
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cellmetry {
+
+inline constexpr char kRecordingFormat[] = "cellmetry-recording/1";
+inline constexpr char kWorldCarrier[] = "world";
+
+struct Sample {
+  int id = 0;
+  std::string robot;
+  int pose = 0;                 // captures of one commanded pose share it (repeatability)
+  std::vector<double> q;        // joint readings, rad (delta: the three motor angles)
+  std::optional<double> time_s;
+  std::optional<double> temperature_c;
+  std::optional<double> payload_kg;
+};
+
+struct Observation {
+  int sample = 0;
+  std::string camera;
+  std::string target;
+  Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // target origin in the camera frame
+  std::optional<Eigen::Vector3d> rvec;                     // target rotation in the camera frame
+  int line = 0;                                            // line in observations.csv, for messages
+};
+
+struct ImageRef {
+  int sample = 0;
+  std::string camera;
+  std::string view;  // left | right | mono
+  std::string path;  // relative to the recording folder
+};
+
+struct Recording {
+  std::string folder;  // where it was read from (empty for one built in memory)
+  std::string description;
+  std::map<std::string, int> robots;             // robot name -> joint count
+  std::vector<std::string> cameras;
+  std::map<std::string, std::string> targets;    // target name -> robot name or "world"
+  std::vector<Sample> samples;                   // in capture order
+  std::vector<Observation> observations;
+  std::vector<ImageRef> images;
+
+  // Index into `samples` of the sample with this id; -1 if absent.
+  int SampleIndex(int id) const;
+  bool HasCamera(const std::string& name) const;
+};
+
+// Reads and validates a recording folder. Raises InputError on any defect.
+Recording ReadRecording(const std::string& folder);
+
+// Writes a recording folder atomically (mm, rad). `truth_yaml`, when not empty, goes to truth.yaml.
+void WriteRecording(const Recording& recording, const std::string& folder,
+                    const std::string& truth_yaml = "");
+
+}  // namespace cellmetry

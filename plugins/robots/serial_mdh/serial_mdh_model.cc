@@ -1,0 +1,38 @@
+#include "serial_mdh_model.h"
+
+#include <cmath>
+
+namespace cellmetry::serial_mdh {
+
+SerialMdhModel::SerialMdhModel(std::vector<Joint> joints) : joints_(std::move(joints)) {
+  for (size_t i = 0; i < joints_.size(); ++i) {
+    const std::string j = "j" + std::to_string(i + 1) + ".";
+    const Joint& joint = joints_[i];
+    parameters_.push_back({j + "alpha", "rad", joint.alpha, true, {}, {}, {},
+                           "twist about x_{i-1} (Craig alpha_{i-1})"});
+    parameters_.push_back({j + "a", "mm", joint.a, true, {}, {}, {},
+                           "length along x_{i-1} (Craig a_{i-1})"});
+    parameters_.push_back({j + "beta", "rad", joint.beta, true, {}, {}, {},
+                           "Hayati tilt about y; use for parallel axes"});
+    parameters_.push_back({j + "d", "mm", joint.d, true, {}, {}, {}, "offset along z_i"});
+    parameters_.push_back({j + "offset", "rad", joint.offset, true, {}, {}, {},
+                           "joint zero offset added to the reading"});
+  }
+}
+
+std::vector<std::string> SerialMdhModel::Warnings() const {
+  std::vector<std::string> warnings;
+  for (size_t i = 1; i < joints_.size(); ++i) {
+    const double s = std::sin(joints_[i].alpha);
+    if (std::abs(s) < 1e-3) {
+      warnings.push_back("axes of joints " + std::to_string(i) + " and " +
+                         std::to_string(i + 1) +
+                         " are parallel: modified DH is ill-conditioned there; identify j" +
+                         std::to_string(i + 1) + ".beta (Hayati) rather than j" +
+                         std::to_string(i + 1) + ".d if you free that link");
+    }
+  }
+  return warnings;
+}
+
+}  // namespace cellmetry::serial_mdh

@@ -1,0 +1,51 @@
+// Registers the `serial_mdh` robot model: reads the MDH table from a robot config.
+#include <cmath>
+
+#include "cellmetry/registry.h"
+#include "serial_mdh_model.h"
+
+namespace cellmetry::serial_mdh {
+namespace {
+
+std::unique_ptr<RobotModel> Create(const ConfigNode& config) {
+  config.ExpectKeys({"type", "name", "description", "units", "joints"});
+  double to_mm = 1.0, to_rad = 1.0;
+  if (config.Has("units")) {
+    const ConfigNode units = config["units"];
+    units.ExpectKeys({"length", "angle"});
+    const std::string length = units.GetString("length", "mm");
+    const std::string angle = units.GetString("angle", "rad");
+    if (length == "m") to_mm = 1000.0;
+    else if (length != "mm") throw units["length"].Error("unknown length unit", "Use mm or m");
+    if (angle == "deg") to_rad = M_PI / 180.0;
+    else if (angle != "rad") throw units["angle"].Error("unknown angle unit", "Use rad or deg");
+  }
+  std::vector<Joint> joints;
+  for (const auto& node : config["joints"].Elements()) {
+    node.ExpectKeys({"alpha", "a", "beta", "d", "offset"});
+    Joint joint;
+    joint.alpha = node.GetDouble("alpha", 0.0) * to_rad;
+    joint.a = node.GetDouble("a", 0.0) * to_mm;
+    joint.beta = node.GetDouble("beta", 0.0) * to_rad;
+    joint.d = node.GetDouble("d", 0.0) * to_mm;
+    joint.offset = node.GetDouble("offset", 0.0) * to_rad;
+    joints.push_back(joint);
+  }
+  if (joints.empty()) throw config["joints"].Error("no joints", "List one entry per joint");
+  return std::make_unique<SerialMdhModel>(std::move(joints));
+}
+
+}  // namespace
+}  // namespace cellmetry::serial_mdh
+
+CELLMETRY_PLUGIN_ENTRY(registry) {
+  cellmetry::PluginInfo info;
+  info.name = "serial_mdh";
+  info.description = "serial arm in modified DH (Craig), any number of joints, Hayati beta";
+  info.options = {
+      {"joints", "", "", "list of {alpha rad, a mm, beta rad, d mm, offset rad} per joint"},
+      {"units", "", "{length: mm, angle: rad}", "units of the table (mm|m, rad|deg)"},
+      {"name", "", "", "robot name for reports"},
+  };
+  registry->AddRobotModel(info, &cellmetry::serial_mdh::Create);
+}
