@@ -1,4 +1,42 @@
+// `cellmetry evaluate RESULT_FOLDER TRUTH.yaml`: each estimate's error against the truth, in
+// its unit and in its own sigma.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "cellmetry/workcell_simulation.h"
 #include "commands.h"
+
 namespace cellmetry::app {
-void AddEvaluateCommand(CLI::App&, Context&) {}
+
+void AddEvaluateCommand(CLI::App& app, Context& context) {
+  CLI::App* cmd = app.add_subcommand("evaluate", "compare a result with a simulation's truth");
+  static std::string result_folder, truth_path;
+  cmd->add_option("result", result_folder, "result folder written by `cellmetry run`")
+      ->required();
+  cmd->add_option("truth", truth_path, "truth.yaml of the simulated recording")->required();
+  cmd->callback([] {
+    const std::string json_path = result_folder + "/result.json";
+    std::ifstream in(json_path);
+    if (!in) throw InputError({json_path, 0, 0}, "cannot open result", "Run the job first");
+    nlohmann::json result;
+    try {
+      in >> result;
+    } catch (const std::exception& e) {
+      throw InputError({json_path, 0, 0}, std::string("not a result file: ") + e.what(),
+                       "Give the folder written by `cellmetry run`");
+    }
+    const WorkcellEvaluation evaluation =
+        EvaluateWorkcell(result, ReadTruth(truth_path), truth_path);
+    std::printf("%-28s %14s %12s %10s\n", "quantity", "error", "sigma", "error/sigma");
+    for (const auto& q : evaluation.quantities) {
+      std::printf("%-28s %11.6f %-3s %11.6f %10.2f\n", q.name.c_str(), q.error, q.unit.c_str(),
+                  q.sigma, q.normalized());
+    }
+    std::printf("largest error: %.6f mm, %.3g rad; largest |error/sigma|: %.2f\n",
+                evaluation.max_translation_error_mm, evaluation.max_rotation_error_rad,
+                evaluation.max_abs_normalized);
+  });
+}
+
 }  // namespace cellmetry::app

@@ -226,8 +226,11 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
                            &result.noise)) {
     Progress::Note("refitting with sigma estimated from the residuals");
     const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
-    fit = FitOnce(spec, recording, data, result.noise, first, {}, Names(fit.unidentifiable),
-                  make_solver);
+    std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
+    fit = FitOnce(spec, recording, data, result.noise, first, {}, Names(held_first), make_solver);
+    // The refit holds the first fit's findings up front; keep them in the report.
+    held_first.insert(held_first.end(), fit.unidentifiable.begin(), fit.unidentifiable.end());
+    fit.unidentifiable = held_first;
   }
   result.solver = fit.summary;
   result.unidentifiable = fit.unidentifiable;

@@ -1,0 +1,88 @@
+// Workcell identification speed on the VSB recordings.
+//
+//  BM_Identify/sim_b   closed form + ceres_lm fit(s) + covariance, as `cellmetry run` without
+//                      cross-validation (issue target: < 20 ms)
+//  BM_Identify/exp_a   2,500 captures, 3 cameras, 7,500 tool observations, static cameras
+//                      (issue target: < 500 ms)
+//  BM_Solve/<solver>   the same assembled sim_b problem from the closed-form start, each solver
+#include <benchmark/benchmark.h>
+
+#include "cellmetry/job.h"
+#include "cellmetry/noise_model.h"
+#include "cellmetry/progress.h"
+#include "cellmetry/workcell.h"
+#include "cellmetry/workcell_assembly.h"
+#include "cellmetry/workcell_initial.h"
+
+namespace cellmetry {
+namespace {
+
+struct Loaded {
+  WorkcellJob job;
+  Recording recording;
+};
+
+const Loaded& Load(const std::string& job_file) {
+  static std::map<std::string, Loaded> cache;
+  auto it = cache.find(job_file);
+  if (it == cache.end()) {
+    Progress::SetQuiet(true);
+    Registry::Global().LoadFolder(CELLMETRY_PLUGIN_DIR);
+    Loaded loaded;
+    loaded.job = LoadWorkcellJob(std::string(CELLMETRY_SOURCE_DIR) + "/" + job_file,
+                                 Registry::Global());
+    loaded.job.problem.folds = 0;
+    loaded.job.problem.compare_camera_models = false;
+    loaded.recording = ReadRecording(loaded.job.recording);
+    it = cache.emplace(job_file, std::move(loaded)).first;
+  }
+  return it->second;
+}
+
+void BM_Identify(benchmark::State& state, const std::string& job_file) {
+  const Loaded& loaded = Load(job_file);
+  const ConfigNode solver = ConfigNode::LoadString("type: ceres_lm", "bench");
+  for (auto _ : state) {
+    const WorkcellResult result = IdentifyWorkcell(loaded.job.problem, loaded.recording, [&] {
+      return Registry::Global().CreateSolver("ceres_lm", solver);
+    });
+    benchmark::DoNotOptimize(result.frames.front().pose.t.x());
+  }
+}
+BENCHMARK_CAPTURE(BM_Identify, sim_b, std::string("configs/jobs/vsb_sim_b.yaml"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Identify, exp_a, std::string("configs/jobs/vsb_exp_a.yaml"))
+    ->Unit(benchmark::kMillisecond);
+
+void BM_Solve(benchmark::State& state, const std::string& solver_yaml) {
+  const Loaded& loaded = Load("configs/jobs/vsb_sim_b.yaml");
+  const WorkcellProblem& spec = loaded.job.problem;
+  const WorkcellData data = PrepareWorkcellData(spec, loaded.recording);
+  NoiseSpec noise_spec = spec.noise;
+  noise_spec.position_sigma_mm["cam1"] = Eigen::Vector3d(0.56, 0.52, 0.31);  // sim_b residual RMS
+  const NoiseModel noise = BuildNoiseModel(loaded.recording, noise_spec);
+  const WorkcellEstimate start = InitialEstimate(spec, loaded.recording, data);
+  const ConfigNode config = ConfigNode::LoadString(solver_yaml, "bench");
+  int iterations = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto assembled = AssembleWorkcell(spec, loaded.recording, data, noise, start);
+    auto solver = Registry::Global().CreateSolver(config["type"].AsString(), config);
+    state.ResumeTiming();
+    iterations = solver->Solve(assembled->problem).iterations;
+  }
+  state.counters["iterations"] = iterations;
+}
+BENCHMARK_CAPTURE(BM_Solve, ceres_lm, std::string("type: ceres_lm"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Solve, jacobian_pinv, std::string("type: jacobian_pinv"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Solve, nlopt_LD_LBFGS, std::string("{type: nlopt, algorithm: LD_LBFGS}"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Solve, nlopt_LN_BOBYQA, std::string("{type: nlopt, algorithm: LN_BOBYQA}"))
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace cellmetry
+
+BENCHMARK_MAIN();

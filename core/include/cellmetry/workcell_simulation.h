@@ -1,0 +1,85 @@
+// Simulated workcell recordings with known truth, and scoring a result against that truth.
+//
+// SimulateWorkcell plays robots through joint poses in front of static cameras and writes what
+// ideal pose-estimating cameras would report (world target and carried targets, in each camera's
+// frame), plus Gaussian noise of the given sigma along the camera's x, y and depth axes and about
+// them. Every camera sees every target (no images, no occlusion). The truth (every frame, every
+// model parameter) travels in truth.yaml, which a calibration never reads.
+//
+// truth.yaml:  format: cellmetry-truth/1
+//              frames: {<name>: {parent, xyz, rvec}}      # same names as result.yaml
+//              model:  {<robot>.model.<param>: value}
+#pragma once
+
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cellmetry/config_node.h"
+#include "cellmetry/recording.h"
+#include "cellmetry/registry.h"
+#include "cellmetry/robot_model.h"
+
+namespace cellmetry {
+
+struct SimulatedRobot {
+  std::string name;
+  std::shared_ptr<const RobotModel> model;
+  std::vector<double> model_values;                  // true model parameters
+  Pose T_world_base;
+  std::map<std::string, Pose> T_flange_target;       // carried targets
+  std::vector<std::vector<double>> joint_poses;      // q per commanded pose
+};
+
+struct WorkcellSimulationSpec {
+  std::vector<SimulatedRobot> robots;
+  std::map<std::string, Pose> T_world_cam;
+  std::string world_target = "world";
+  Eigen::Vector3d sigma_position_mm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sigma_rotation_rad = Eigen::Vector3d::Zero();
+  int repeats = 1;          // captures per commanded pose
+  unsigned seed = 1;
+};
+
+struct FrameTruth {
+  std::string parent;
+  Pose pose;
+};
+
+struct WorkcellTruth {
+  std::map<std::string, FrameTruth> frames;
+  std::map<std::string, double> model;
+};
+
+Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* truth);
+
+std::string TruthYaml(const WorkcellTruth& truth);
+WorkcellTruth ReadTruth(const std::string& path);
+
+// Reads a simulation spec file (docs/formats.md); robot models come from the registry.
+WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry);
+
+// Error of each estimate against the truth, in units and in its own sigma.
+struct EvaluatedQuantity {
+  std::string name;         // "ur3.base.x", "ur3.base.rot_x", "ur3.model.j2.d"
+  std::string unit;
+  double error = 0.0;       // estimate - truth (rotations: log(R_est R_true^T), parent axes)
+  double sigma = 0.0;
+  double normalized() const { return sigma > 0 ? error / sigma : (error == 0 ? 0.0 : INFINITY); }
+};
+
+struct WorkcellEvaluation {
+  std::vector<EvaluatedQuantity> quantities;  // held entries (sigma 0) are skipped
+  double max_translation_error_mm = 0.0;
+  double max_rotation_error_rad = 0.0;
+  double max_abs_normalized = 0.0;
+};
+
+// `result` is result.json (result_io.h); frames and model parameters absent from the truth are
+// an InputError naming `truth_origin`.
+WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const WorkcellTruth& truth,
+                                    const std::string& truth_origin);
+
+}  // namespace cellmetry

@@ -1,0 +1,250 @@
+#include "cellmetry/workcell_simulation.h"
+
+#include <cmath>
+#include <random>
+
+#include "cellmetry/job.h"
+
+namespace cellmetry {
+namespace {
+
+// exp(n) R with n ~ N(0, sigma) about the camera axes; position + N(0, sigma) along them.
+Observation Measure(int sample, const std::string& camera, const std::string& target,
+                    const Pose& T_cam_target, const WorkcellSimulationSpec& spec,
+                    std::mt19937& rng) {
+  std::normal_distribution<double> unit(0.0, 1.0);
+  Observation obs;
+  obs.sample = sample;
+  obs.camera = camera;
+  obs.target = target;
+  Eigen::Vector3d dp, dr;
+  for (int i = 0; i < 3; ++i) {
+    dp[i] = unit(rng) * spec.sigma_position_mm[i];
+    dr[i] = unit(rng) * spec.sigma_rotation_rad[i];
+  }
+  obs.position_mm = T_cam_target.t + dp;
+  obs.rvec = RvecFromRotation(RotationFromRvec(dr.data()) * T_cam_target.R);
+  return obs;
+}
+
+}  // namespace
+
+Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* truth) {
+  std::mt19937 rng(spec.seed);
+  Recording recording;
+  recording.description = "simulated workcell (cellmetry simulate, seed " +
+                          std::to_string(spec.seed) + ")";
+  for (const auto& [camera, pose] : spec.T_world_cam) recording.cameras.push_back(camera);
+  recording.targets[spec.world_target] = kWorldCarrier;
+  int sample_id = 0, pose_id = 0;
+  for (const auto& robot : spec.robots) {
+    recording.robots[robot.name] = robot.model->num_joints();
+    for (const auto& [target, pose] : robot.T_flange_target) recording.targets[target] = robot.name;
+    for (const auto& q : robot.joint_poses) {
+      Pose T_base_flange;
+      if (!robot.model->Forward(q.data(), robot.model_values.data(), &T_base_flange)) continue;
+      for (int repeat = 0; repeat < spec.repeats; ++repeat) {
+        Sample sample;
+        sample.id = sample_id++;
+        sample.robot = robot.name;
+        sample.pose = pose_id;
+        sample.q = q;
+        recording.samples.push_back(sample);
+        for (const auto& [camera, T_world_cam] : spec.T_world_cam) {
+          const Pose T_cam_world = T_world_cam.inverse();
+          recording.observations.push_back(
+              Measure(sample.id, camera, spec.world_target, T_cam_world, spec, rng));
+          for (const auto& [target, T_flange_target] : robot.T_flange_target) {
+            const Pose T_cam_target =
+                T_cam_world * robot.T_world_base * T_base_flange * T_flange_target;
+            recording.observations.push_back(
+                Measure(sample.id, camera, target, T_cam_target, spec, rng));
+          }
+        }
+      }
+      ++pose_id;
+    }
+  }
+  if (truth) {
+    for (const auto& robot : spec.robots) {
+      truth->frames[robot.name + ".base"] = {"world", robot.T_world_base};
+      for (const auto& [target, pose] : robot.T_flange_target) {
+        truth->frames[target] = {robot.name + ".flange", pose};
+      }
+      const auto& params = robot.model->parameters();
+      for (size_t i = 0; i < params.size(); ++i) {
+        truth->model[robot.name + ".model." + params[i].name] = robot.model_values[i];
+      }
+    }
+    for (const auto& [camera, pose] : spec.T_world_cam) truth->frames[camera] = {"world", pose};
+  }
+  return recording;
+}
+
+std::string TruthYaml(const WorkcellTruth& truth) {
+  YAML::Emitter out;
+  out << YAML::Comment("simulation truth: never read by a calibration; lengths mm, angles rad");
+  out << YAML::BeginMap << YAML::Key << "format" << YAML::Value << "cellmetry-truth/1";
+  out << YAML::Key << "frames" << YAML::Value << YAML::BeginMap;
+  for (const auto& [name, frame] : truth.frames) {
+    const Eigen::Vector3d rvec = RvecFromRotation(frame.pose.R);
+    out << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "parent" << YAML::Value << frame.parent;
+    out << YAML::Key << "xyz" << YAML::Value
+        << std::vector<double>{frame.pose.t.x(), frame.pose.t.y(), frame.pose.t.z()};
+    out << YAML::Key << "rvec" << YAML::Value << std::vector<double>{rvec.x(), rvec.y(), rvec.z()};
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap << YAML::Key << "model" << YAML::Value << YAML::BeginMap;
+  for (const auto& [name, value] : truth.model) out << YAML::Key << name << YAML::Value << value;
+  out << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+WorkcellTruth ReadTruth(const std::string& path) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"format", "frames", "model"});
+  if (root["format"].AsString() != "cellmetry-truth/1") {
+    throw root["format"].Error("unsupported truth format", "Expected cellmetry-truth/1");
+  }
+  WorkcellTruth truth;
+  const ConfigNode frames = root["frames"];
+  for (const auto& name : frames.Keys()) {
+    const ConfigNode frame = frames[name];
+    frame.ExpectKeys({"parent", "xyz", "rvec"});
+    truth.frames[name] = {frame["parent"].AsString(), ReadPose(frame)};
+  }
+  if (root.Has("model")) {
+    const ConfigNode model = root["model"];
+    for (const auto& name : model.Keys()) truth.model[name] = model[name].AsDouble();
+  }
+  return truth;
+}
+
+WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const WorkcellTruth& truth,
+                                    const std::string& truth_origin) {
+  WorkcellEvaluation evaluation;
+  auto vec = [](const nlohmann::json& j) {
+    return Eigen::Vector3d(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+  };
+  static const char* kAxes[3] = {"x", "y", "z"};
+  for (const auto& [name, frame] : result.at("frames").items()) {
+    const auto it = truth.frames.find(name);
+    if (it == truth.frames.end()) {
+      throw InputError({truth_origin, 0, 0}, "the truth has no frame '" + name + "'",
+                       "Evaluate a result against the truth of the same simulation");
+    }
+    const Eigen::Vector3d t = vec(frame.at("xyz_mm")), rvec = vec(frame.at("rvec_rad"));
+    const Eigen::Vector3d dt = t - it->second.pose.t;
+    const Eigen::Vector3d dr = RotationError<double>(RotationFromRvec(rvec.data()),
+                                                     it->second.pose.R);
+    const Eigen::Vector3d st = vec(frame.at("sigma_xyz_mm")), sr = vec(frame.at("sigma_rot_rad"));
+    for (int i = 0; i < 3; ++i) {
+      if (st[i] > 0) {
+        evaluation.quantities.push_back({name + "." + kAxes[i], "mm", dt[i], st[i]});
+        evaluation.max_translation_error_mm =
+            std::max(evaluation.max_translation_error_mm, std::abs(dt[i]));
+      }
+      if (sr[i] > 0) {
+        evaluation.quantities.push_back({name + ".rot_" + kAxes[i], "rad", dr[i], sr[i]});
+        evaluation.max_rotation_error_rad =
+            std::max(evaluation.max_rotation_error_rad, std::abs(dr[i]));
+      }
+    }
+  }
+  for (const auto& p : result.at("model_parameters")) {
+    if (p.at("held").get<bool>()) continue;
+    const std::string name = p.at("name");
+    const auto it = truth.model.find(name);
+    if (it == truth.model.end()) {
+      throw InputError({truth_origin, 0, 0}, "the truth has no model parameter '" + name + "'",
+                       "Evaluate a result against the truth of the same simulation");
+    }
+    const std::string unit = p.at("unit");
+    const double error = p.at("value").get<double>() - it->second;
+    evaluation.quantities.push_back({name, unit, error, p.at("sigma").get<double>()});
+    double& worst = unit == "rad" ? evaluation.max_rotation_error_rad
+                                  : evaluation.max_translation_error_mm;
+    worst = std::max(worst, std::abs(error));
+  }
+  for (const auto& q : evaluation.quantities) {
+    evaluation.max_abs_normalized = std::max(evaluation.max_abs_normalized, std::abs(q.normalized()));
+  }
+  return evaluation;
+}
+
+WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"simulation", "description", "seed", "robots", "cameras", "world_target",
+                   "noise", "repeats"});
+  if (root["simulation"].AsString() != "workcell") {
+    throw root["simulation"].Error("unknown simulation kind", "This version simulates: workcell");
+  }
+  WorkcellSimulationSpec spec;
+  spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
+  spec.repeats = root.GetInt("repeats", 1);
+  spec.world_target = root.GetString("world_target", spec.world_target);
+  std::mt19937 rng(spec.seed + 7919);
+  const ConfigNode robots = root["robots"];
+  for (const auto& name : robots.Keys()) {
+    const ConfigNode node = robots[name];
+    node.ExpectKeys({"model", "base", "tools", "model_errors", "poses"});
+    SimulatedRobot robot;
+    robot.name = name;
+    const ConfigNode config = ConfigNode::LoadFile(node.ResolvePath(node["model"].AsString()));
+    robot.model = registry.CreateRobotModel(config["type"].AsString(), config);
+    for (const auto& p : robot.model->parameters()) robot.model_values.push_back(p.nominal);
+    if (node.Has("model_errors")) {
+      const ConfigNode errors = node["model_errors"];
+      for (const auto& param : errors.Keys()) {
+        const int index = FindParameter(robot.model->parameters(), param);
+        if (index < 0) throw errors[param].Error("no model parameter '" + param + "'");
+        robot.model_values[index] += errors[param].AsDouble();
+      }
+    }
+    robot.T_world_base = ReadPose(node["base"]);
+    const ConfigNode tools = node["tools"];
+    for (const auto& target : tools.Keys()) robot.T_flange_target[target] = ReadPose(tools[target]);
+    const ConfigNode poses = node["poses"];
+    poses.ExpectKeys({"from_recording", "random", "lower", "upper"});
+    if (poses.Has("from_recording")) {
+      const Recording source = ReadRecording(poses.ResolvePath(poses["from_recording"].AsString()));
+      int last_pose = -1;
+      for (const auto& s : source.samples) {
+        if (s.pose == last_pose) continue;  // one entry per commanded pose
+        last_pose = s.pose;
+        robot.joint_poses.push_back(s.q);
+      }
+    } else {
+      const int count = poses["random"].AsInt();
+      const int n = robot.model->num_joints();
+      const auto lower = poses.Has("lower") ? poses["lower"].AsDoubles(n)
+                                            : std::vector<double>(n, -M_PI);
+      const auto upper = poses.Has("upper") ? poses["upper"].AsDoubles(n)
+                                            : std::vector<double>(n, M_PI);
+      for (int i = 0; i < count; ++i) {
+        std::vector<double> q(n);
+        for (int j = 0; j < n; ++j) q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);
+        robot.joint_poses.push_back(q);
+      }
+    }
+    spec.robots.push_back(robot);
+  }
+  const ConfigNode cameras = root["cameras"];
+  for (const auto& camera : cameras.Keys()) spec.T_world_cam[camera] = ReadPose(cameras[camera]);
+  if (root.Has("noise")) {
+    const ConfigNode noise = root["noise"];
+    noise.ExpectKeys({"position_mm", "rotation_rad"});
+    if (noise.Has("position_mm")) {
+      const auto v = noise["position_mm"].AsDoubles(3);
+      spec.sigma_position_mm = Eigen::Vector3d(v[0], v[1], v[2]);
+    }
+    if (noise.Has("rotation_rad")) {
+      const auto v = noise["rotation_rad"].AsDoubles(3);
+      spec.sigma_rotation_rad = Eigen::Vector3d(v[0], v[1], v[2]);
+    }
+  }
+  return spec;
+}
+
+}  // namespace cellmetry

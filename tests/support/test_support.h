@@ -1,0 +1,30 @@
+// Helpers shared by the test suites.
+#pragma once
+
+#include <string>
+
+#include "cellmetry/registry.h"
+
+namespace cellmetry::testing {
+
+// The global registry with the plugins of this build loaded (once).
+Registry& Plugins();
+
+// Absolute path of a file in the source tree, e.g. Source("tests/data/vsb/sim_b").
+std::string Source(const std::string& relative);
+
+// A fresh, empty temporary folder for one test.
+std::string TempDir(const std::string& name);
+
+// Writes `text` to `path` (creating folders).
+void WriteText(const std::string& path, const std::string& text);
+
+struct CommandResult {
+  int exit_code = 0;
+  std::string output;  // stdout and stderr together
+};
+
+// Runs the built `cellmetry` binary with `arguments` (a shell-quoted string).
+CommandResult RunCellmetry(const std::string& arguments);
+
+}  // namespace cellmetry::testing

@@ -1,0 +1,244 @@
+// Bad input through the real command line: every case gets one error line naming the file, the
+// line and what to do, exit code 2, and no result folder (not even a partial one).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "support/test_support.h"
+
+namespace fs = std::filesystem;
+
+namespace cellmetry {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Replaces the one occurrence of `from` in `text`; fails the test if it is not there once.
+std::string ReplaceOnce(const std::string& text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "'" << from << "' not found";
+  if (at == std::string::npos) return text;
+  EXPECT_EQ(text.find(from, at + 1), std::string::npos) << "'" << from << "' found twice";
+  return text.substr(0, at) + to + text.substr(at + from.size());
+}
+
+// A copy of the sim_b job, recording and UR3 config in a temp folder, to be broken one way.
+class BadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    dir_ = testing::TempDir("bad_input/" + name);
+    recording_ = dir_ + "/sim_b";
+    robot_ = dir_ + "/ur3.yaml";
+    output_ = dir_ + "/result";
+    job_ = dir_ + "/job.yaml";
+    fs::copy(testing::Source("tests/data/vsb/sim_b"), recording_);
+    fs::copy_file(testing::Source("configs/robots/ur3.yaml"), robot_);
+  }
+
+  // configs/jobs/vsb_sim_b.yaml with absolute paths; line numbers matter to the tests.
+  std::string JobText() const {
+    return "job: workcell\n"                                   // 1
+           "description: UR3 base + tool offset, VSB sim B\n"  // 2
+           "recording: " + recording_ + "\n"                   // 3
+           "output: " + output_ + "\n"                         // 4
+           "camera_model: static_cameras\n"                    // 5
+           "robots:\n"                                         // 6
+           "  ur3:\n"                                          // 7
+           "    model: " + robot_ + "\n"                       // 8
+           "    base: {free: all}\n"                           // 9
+           "    tools:\n"                                      // 10
+           "      tool: {xyz: [0, 0, 0], free: [x, y, z]}\n"   // 11
+           "solver:\n"                                         // 12
+           "  type: ceres_lm\n"                                // 13
+           "validation:\n"                                     // 14
+           "  folds: 5\n";                                     // 15
+  }
+
+  void WriteJob(const std::string& text) { testing::WriteText(job_, text); }
+  void WriteJob() { WriteJob(JobText()); }
+
+  // Replaces line `line` (1-based) of a recording file.
+  void EditLine(const std::string& file, int line, const std::string& replacement) {
+    const std::string path = recording_ + "/" + file;
+    std::istringstream in(ReadText(path));
+    std::string text, current;
+    for (int n = 1; std::getline(in, current); ++n) {
+      text += (n == line ? replacement : current) + "\n";
+    }
+    testing::WriteText(path, text);
+  }
+
+  testing::CommandResult Run() { return testing::RunCellmetry("run " + job_); }
+
+  // The contract for every bad input: exit 2, one line "<location> error: ... <hint>", and
+  // nothing left behind.
+  void ExpectRejected(const testing::CommandResult& r, const std::string& location,
+                      const std::string& hint) {
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_THAT(r.output, HasSubstr(location + " error: ")) << "location";
+    EXPECT_THAT(r.output, HasSubstr(hint)) << "hint";
+    std::istringstream lines(r.output);
+    int non_empty = 0;
+    for (std::string line; std::getline(lines, line);) non_empty += !line.empty();
+    EXPECT_EQ(non_empty, 1) << r.output;
+    EXPECT_FALSE(fs::exists(output_)) << "a result folder was written";
+    for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_EQ(name.find(".partial"), std::string::npos) << entry.path();
+      EXPECT_EQ(name.find(".tmp"), std::string::npos) << entry.path();
+    }
+  }
+
+  std::string dir_, recording_, robot_, output_, job_;
+};
+
+TEST_F(BadInput, UnmodifiedJobRunsAndWritesItsResult) {
+  WriteJob();
+  const auto r = Run();
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(output_ + "/result.yaml"));
+  EXPECT_TRUE(fs::exists(output_ + "/result.json"));
+  EXPECT_TRUE(fs::exists(output_ + "/residuals.csv"));
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos);
+  }
+}
+
+TEST_F(BadInput, UnknownKeyInTheJobSuggestsTheKnownOne) {
+  WriteJob(ReplaceOnce(JobText(), "solver:\n", "solvr:\n"));
+  const auto r = Run();
+  ExpectRejected(r, "job.yaml:12:1:", "Did you mean 'solver'?");
+  EXPECT_THAT(r.output, HasSubstr("solvr: unknown key"));
+}
+
+TEST_F(BadInput, WrongTypeNamesTheKeyPath) {
+  WriteJob(ReplaceOnce(JobText(), "folds: 5", "folds: many"));
+  const auto r = Run();
+  ExpectRejected(r, "job.yaml:15:10:", "Write a whole number");
+  EXPECT_THAT(r.output, HasSubstr("validation.folds: expected a whole number, got 'many'"));
+}
+
+TEST_F(BadInput, MissingRecordingFolderIsNamed) {
+  // The error is about the folder itself, so there is no line to point at.
+  WriteJob(ReplaceOnce(JobText(), "recording: " + recording_, "recording: " + dir_ + "/nowhere"));
+  const auto r = Run();
+  ExpectRejected(r, dir_ + "/nowhere:", "Give the folder that holds recording.yaml");
+  EXPECT_THAT(r.output, HasSubstr("recording folder not found"));
+}
+
+TEST_F(BadInput, MissingRobotConfigPointsAtTheJobLine) {
+  WriteJob(ReplaceOnce(JobText(), "model: " + robot_, "model: " + dir_ + "/ur5.yaml"));
+  const auto r = Run();
+  ExpectRejected(r, "job.yaml:8:12:", "Give a path relative to the job file");
+  EXPECT_THAT(r.output, HasSubstr(dir_ + "/ur5.yaml"));
+}
+
+TEST_F(BadInput, SamplesWithoutThePoseColumn) {
+  WriteJob();
+  std::istringstream in(ReadText(recording_ + "/samples.csv"));
+  std::string text;
+  for (std::string line; std::getline(in, line);) {
+    // Drop the third cell of every row.
+    const size_t second = line.find(',', line.find(',') + 1);
+    const size_t third = line.find(',', second + 1);
+    text += line.substr(0, second) + line.substr(third) + "\n";
+  }
+  testing::WriteText(recording_ + "/samples.csv", text);
+  const auto r = Run();
+  ExpectRejected(r, "samples.csv:1:", "The header must name it");
+  EXPECT_THAT(r.output, HasSubstr("missing column 'pose'"));
+}
+
+TEST_F(BadInput, NonNumericJointValue) {
+  WriteJob();
+  EditLine("samples.csv", 5, "3,ur3,3,4.700736523,3.39327383,abc,4.095294476,5.03745842,0.69");
+  const auto r = Run();
+  ExpectRejected(r, "samples.csv:5:6:", "Write a plain decimal number");
+  EXPECT_THAT(r.output, HasSubstr("column 'q3': 'abc' is not a number"));
+}
+
+TEST_F(BadInput, NanJointValue) {
+  WriteJob();
+  EditLine("samples.csv", 5, "3,ur3,3,4.700736523,nan,0.7314307094,4.095294476,5.03745842,0.69");
+  const auto r = Run();
+  ExpectRejected(r, "samples.csv:5:5:", "replace the value with a measurement");
+  EXPECT_THAT(r.output, HasSubstr("column 'q2': 'nan' is not a finite number"));
+}
+
+TEST_F(BadInput, SampleWithTooFewJoints) {
+  WriteJob();
+  EditLine("samples.csv", 5, "3,ur3,3,4.700736523,3.39327383,0.7314307094,4.095294476,5.03745842");
+  const auto r = Run();
+  ExpectRejected(r, "samples.csv:5:9:", "Give one joint value per joint");
+  EXPECT_THAT(r.output, HasSubstr("robot 'ur3' has 6 joints but this sample has no q6"));
+}
+
+TEST_F(BadInput, ObservationOfAnUnknownCamera) {
+  WriteJob();
+  EditLine("observations.csv", 4, "1,cam9,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53");
+  const auto r = Run();
+  ExpectRejected(r, "observations.csv:4:2:", "List it under 'cameras' in recording.yaml");
+  EXPECT_THAT(r.output, HasSubstr("unknown camera 'cam9'"));
+}
+
+TEST_F(BadInput, ObservationOfAnUnknownTarget) {
+  WriteJob();
+  EditLine("observations.csv", 4, "1,cam1,tool2,244.702809,-55.417908,725.561068,-2.15,1.60,0.53");
+  const auto r = Run();
+  ExpectRejected(r, "observations.csv:4:3:", "List it under 'targets' in recording.yaml");
+  EXPECT_THAT(r.output, HasSubstr("unknown target 'tool2'"));
+}
+
+TEST_F(BadInput, ObservationOfAnUnknownSample) {
+  WriteJob();
+  EditLine("observations.csv", 4, "999,cam1,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53");
+  const auto r = Run();
+  ExpectRejected(r, "observations.csv:4:1:", "name a sample listed in samples.csv");
+  EXPECT_THAT(r.output, HasSubstr("unknown sample 999"));
+}
+
+TEST_F(BadInput, RecordingWithNoUsableObservation) {
+  // Only the world target was seen: nothing ties the robot to the cameras.
+  WriteJob();
+  std::istringstream in(ReadText(recording_ + "/observations.csv"));
+  std::string text;
+  for (std::string line; std::getline(in, line);) {
+    if (line.find(",tool,") == std::string::npos) text += line + "\n";
+  }
+  testing::WriteText(recording_ + "/observations.csv", text);
+  const auto r = Run();
+  // A whole-file problem: no single line is to blame.
+  ExpectRejected(r, "observations.csv:", "observations name them");
+  EXPECT_THAT(r.output, HasSubstr("no usable observation of a robot-carried target"));
+}
+
+TEST_F(BadInput, UnknownSolverTypeListsTheKnownOnes) {
+  WriteJob(ReplaceOnce(JobText(), "type: ceres_lm", "type: ceres_lmm"));
+  const auto r = Run();
+  ExpectRejected(r, "job.yaml:13:3:", "Did you mean 'ceres_lm'?");
+  EXPECT_THAT(r.output, HasSubstr("unknown solver type 'ceres_lmm'"));
+  EXPECT_THAT(r.output, HasSubstr("Known solver types: ceres_lm, jacobian_pinv, nlopt"));
+}
+
+TEST_F(BadInput, UnknownRobotModelTypeListsTheKnownOnes) {
+  WriteJob();
+  testing::WriteText(robot_, ReplaceOnce(ReadText(robot_), "type: serial_mdh", "type: serial_mdhh"));
+  const auto r = Run();
+  ExpectRejected(r, "ur3.yaml:4:1:", "Did you mean 'serial_mdh'?");
+  EXPECT_THAT(r.output, HasSubstr("unknown robot model type 'serial_mdhh'"));
+  EXPECT_THAT(r.output, HasSubstr("Known robot model types: serial_mdh"));
+}
+
+}  // namespace
+}  // namespace cellmetry

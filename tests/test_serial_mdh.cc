@@ -1,0 +1,114 @@
+// The serial MDH plugin: the paper's UR3 table, exact derivatives, configuration errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "cellmetry/config_node.h"
+#include "support/test_support.h"
+
+namespace cellmetry {
+namespace {
+
+std::unique_ptr<RobotModel> Ur3() {
+  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml"));
+  return testing::Plugins().CreateRobotModel("serial_mdh", config);
+}
+
+std::vector<double> Nominal(const RobotModel& model) {
+  std::vector<double> values;
+  for (const auto& p : model.parameters()) values.push_back(p.nominal);
+  return values;
+}
+
+TEST(SerialMdh, Ur3HomeMatchesTheHandComputedChain) {
+  const auto model = Ur3();
+  ASSERT_EQ(model->num_joints(), 6);
+  ASSERT_EQ(model->parameters().size(), 30u);
+  // All joints at zero, offsets pi on joints 2 and 6: the arm lies along -x0, so
+  // x = -(a3 + a4), y = -(d2 + d4 + d6), z = d1 - d5 (checked independently with numpy).
+  const std::vector<double> q(6, 0.0);
+  Pose T;
+  ASSERT_TRUE(model->Forward(q.data(), Nominal(*model).data(), &T));
+  EXPECT_NEAR(T.t.x(), -456.90, 1e-9);
+  EXPECT_NEAR(T.t.y(), -(119.85 - 9.45 + 81.90), 1e-9);
+  EXPECT_NEAR(T.t.z(), 151.90 - 85.35, 1e-9);
+  EXPECT_NEAR(T.R.determinant(), 1.0, 1e-12);
+}
+
+// Every parameter's derivative, from the Jet overload, against central differences.
+TEST(SerialMdh, JetDerivativesMatchCentralDifferences) {
+  const auto model = Ur3();
+  const std::vector<double> nominal = Nominal(*model);
+  const int n = static_cast<int>(nominal.size());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<double> q(6);
+    for (double& v : q) v = angle(rng);
+    for (int k = 0; k < n; ++k) {
+      std::vector<Jet> params(n);
+      for (int i = 0; i < n; ++i) params[i] = Jet(nominal[i]);
+      params[k].v[0] = 1.0;  // d/d(param k)
+      Transform<Jet> T_jet;
+      ASSERT_TRUE(model->Forward(q.data(), params.data(), &T_jet));
+
+      const double h = model->parameters()[k].unit == "mm" ? 1e-4 : 1e-7;
+      std::vector<double> plus = nominal, minus = nominal;
+      plus[k] += h;
+      minus[k] -= h;
+      Pose T_plus, T_minus;
+      model->Forward(q.data(), plus.data(), &T_plus);
+      model->Forward(q.data(), minus.data(), &T_minus);
+      const Eigen::Vector3d dt = (T_plus.t - T_minus.t) / (2 * h);
+      const Eigen::Matrix3d dR = (T_plus.R - T_minus.R) / (2 * h);
+      for (int r = 0; r < 3; ++r) {
+        EXPECT_NEAR(T_jet.t[r].v[0], dt[r], 1e-6 * (1 + std::abs(dt[r])))
+            << model->parameters()[k].name;
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(T_jet.R(r, c).v[0], dR(r, c), 1e-6) << model->parameters()[k].name;
+        }
+      }
+      EXPECT_NEAR(T_jet.t[0].a, T_plus.t[0] - h * dt[0], 1e-3);  // value part is the double FK
+    }
+  }
+}
+
+TEST(SerialMdh, HayatiBetaIsHeldAtZeroAndParallelAxesAreWarned) {
+  const auto model = Ur3();
+  for (const auto& p : model->parameters()) {
+    if (p.name.find(".beta") != std::string::npos) EXPECT_EQ(p.nominal, 0.0) << p.name;
+  }
+  const auto warnings = model->Warnings();
+  ASSERT_EQ(warnings.size(), 2u);  // joints 2-3 and 3-4 are parallel on a UR3
+  EXPECT_NE(warnings[0].find("j3.beta"), std::string::npos);
+}
+
+TEST(SerialMdh, DegreesAndMetresAreConverted) {
+  const ConfigNode config = ConfigNode::LoadString(
+      "type: serial_mdh\nunits: {length: m, angle: deg}\njoints:\n"
+      "  - {alpha: 90, a: 0.1, d: 0.2, offset: 180}\n",
+      "inline.yaml");
+  const auto model = testing::Plugins().CreateRobotModel("serial_mdh", config);
+  const auto& p = model->parameters();
+  EXPECT_NEAR(p[0].nominal, M_PI / 2, 1e-15);
+  EXPECT_NEAR(p[1].nominal, 100.0, 1e-12);
+  EXPECT_NEAR(p[3].nominal, 200.0, 1e-12);
+  EXPECT_NEAR(p[4].nominal, M_PI, 1e-15);
+}
+
+TEST(SerialMdh, UnknownJointKeyIsRejectedWithASuggestion) {
+  const ConfigNode config = ConfigNode::LoadString(
+      "type: serial_mdh\njoints:\n  - {alpha: 0, a: 0, dd: 1}\n", "robot.yaml");
+  try {
+    testing::Plugins().CreateRobotModel("serial_mdh", config);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, "robot.yaml");
+    EXPECT_EQ(e.where().line, 3);
+    EXPECT_NE(std::string(e.what()).find("Did you mean 'd'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace cellmetry
