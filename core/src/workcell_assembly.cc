@@ -1,6 +1,7 @@
 #include "cellmetry/workcell_assembly.h"
 
 #include "cellmetry/error.h"
+#include "chain_cost.h"
 #include "workcell_residuals.h"
 
 namespace cellmetry {
@@ -192,12 +193,8 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
                                std::to_string(sample.id),
                            "Check the joint values against the robot model");
         }
-        auto* functor = new FixedChainResidual(comparison, refs, T_base_flange, m.T_cam_world);
-        if (static_cameras) {
-          cost.reset(new ceres::AutoDiffCostFunction<FixedChainResidual, 3, 6, 6, 6>(functor));
-        } else {
-          cost.reset(new ceres::AutoDiffCostFunction<FixedChainResidual, 3, 6, 6>(functor));
-        }
+        const ChainBlocks chain{/*base=*/true, /*tool=*/true, /*camera=*/static_cameras};
+        cost = std::make_unique<ChainCost>(comparison, refs, chain, T_base_flange, m.T_cam_world);
       }
       out->problem.AddResidual(
           std::move(cost), blocks,
@@ -218,8 +215,11 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
         const bool position = c == Compared::kPosition;
         TargetComparison comparison(c, ObservedPose(obs),
                                     position ? sigma.position_mm : sigma.rotation_rad);
-        auto cost = std::make_unique<ceres::AutoDiffCostFunction<WorldTargetResidual, 3, 6>>(
-            new WorldTargetResidual(comparison, out->R_ref.at(camera)));
+        FrameRefs refs;
+        refs.world_cam = out->R_ref.at(camera);
+        const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
+        auto cost = std::make_unique<ChainCost>(comparison, refs, camera_only, Pose::Identity(),
+                                                Pose::Identity());
         out->problem.AddResidual(
             std::move(cost), {camera},
             info_for(index, position ? ResidualInfo::Kind::kPosition

@@ -5,11 +5,9 @@
 //   T_cam_target = T_cam_world * T_world_base * T_base_flange(q) * T_flange_target
 //
 // either its position (mm, camera x/y/depth) or its rotation (rad, about the camera axes), each
-// row divided by its sigma. Variants differ only in which factors are parameters:
-//  - FixedChainResidual: robot model held, T_base_flange(q) precomputed in double (fast path);
-//    T_cam_world is a parameter block (static cameras) or a measured constant (per frame).
-//  - ModelChainResidual: robot model parameters free; T_base_flange(q) evaluated on Jets.
-//  - WorldTargetResidual: the world target seen by a static camera: T_cam_world alone.
+// row divided by its sigma. When the robot model is held, chain_cost.h evaluates this with
+// analytic derivatives (the hot path); ModelChainResidual below serves the case where robot model
+// parameters are free and T_base_flange(q) must be differentiated too (Jets).
 #pragma once
 
 #include <ceres/ceres.h>
@@ -26,6 +24,10 @@ class TargetComparison {
  public:
   TargetComparison(Compared compared, const Pose& measured, const Eigen::Vector3d& sigma)
       : compared_(compared), measured_(measured), inv_sigma_(sigma.cwiseInverse()) {}
+
+  Compared compared() const { return compared_; }
+  const Pose& measured() const { return measured_; }
+  const Eigen::Vector3d& inv_sigma() const { return inv_sigma_; }
 
   template <typename T>
   void Compare(const Transform<T>& predicted, T* residual) const {
@@ -56,40 +58,6 @@ Transform<T> CameraFromWorld(const T* world_cam_block, const Eigen::Matrix3d& R_
   return FrameFromBlock(world_cam_block, R_ref).inverse();
 }
 
-class FixedChainResidual {
- public:
-  FixedChainResidual(TargetComparison comparison, FrameRefs refs, Pose T_base_flange,
-                     Pose T_cam_world_measured)
-      : comparison_(comparison), refs_(refs), T_base_flange_(T_base_flange),
-        T_cam_world_measured_(T_cam_world_measured) {}
-
-  // Per-frame model: blocks (base, tool).
-  template <typename T>
-  bool operator()(const T* base, const T* tool, T* residual) const {
-    return Evaluate(T_cam_world_measured_.cast<T>(), base, tool, residual);
-  }
-  // Static cameras: blocks (base, tool, camera).
-  template <typename T>
-  bool operator()(const T* base, const T* tool, const T* camera, T* residual) const {
-    return Evaluate(CameraFromWorld(camera, refs_.world_cam), base, tool, residual);
-  }
-
- private:
-  template <typename T>
-  bool Evaluate(const Transform<T>& T_cam_world, const T* base, const T* tool, T* residual) const {
-    const Transform<T> predicted = T_cam_world * FrameFromBlock(base, refs_.world_base) *
-                                   T_base_flange_.cast<T>() *
-                                   FrameFromBlock(tool, refs_.flange_target);
-    comparison_.Compare(predicted, residual);
-    return true;
-  }
-
-  TargetComparison comparison_;
-  FrameRefs refs_;
-  Pose T_base_flange_;
-  Pose T_cam_world_measured_;
-};
-
 // Blocks (base, tool, [camera,] robot model). Evaluated with ceres::DynamicAutoDiffCostFunction.
 class ModelChainResidual {
  public:
@@ -119,23 +87,6 @@ class ModelChainResidual {
   std::vector<double> q_;
   bool static_camera_;
   Pose T_cam_world_measured_;
-};
-
-// Block (camera): the world target measured by a static camera.
-class WorldTargetResidual {
- public:
-  WorldTargetResidual(TargetComparison comparison, Eigen::Matrix3d R_ref_world_cam)
-      : comparison_(comparison), R_ref_(R_ref_world_cam) {}
-
-  template <typename T>
-  bool operator()(const T* camera, T* residual) const {
-    comparison_.Compare(CameraFromWorld(camera, R_ref_), residual);
-    return true;
-  }
-
- private:
-  TargetComparison comparison_;
-  Eigen::Matrix3d R_ref_;
 };
 
 }  // namespace cellmetry
