@@ -129,12 +129,26 @@ TEST_F(BadInput, WrongTypeNamesTheKeyPath) {
   EXPECT_THAT(r.output, HasSubstr("validation.folds: expected a whole number, got 'many'"));
 }
 
-TEST_F(BadInput, MissingRecordingFolderIsNamed) {
-  // The error is about the folder itself, so there is no line to point at.
+TEST_F(BadInput, MissingRecordingFolderPointsAtTheJobLine) {
   WriteJob(ReplaceOnce(JobText(), "recording: " + recording_, "recording: " + dir_ + "/nowhere"));
   const auto r = Run();
-  ExpectRejected(r, dir_ + "/nowhere:", "Give the folder that holds recording.yaml");
-  EXPECT_THAT(r.output, HasSubstr("recording folder not found"));
+  ExpectRejected(r, "job.yaml:3:12:", "Point 'recording:' at a cellmetry-recording/1 folder");
+  EXPECT_THAT(r.output, HasSubstr("no recording at '" + dir_ + "/nowhere'"));
+}
+
+TEST_F(BadInput, ToolWithoutSettingsTakesTheDefaults) {
+  // Not bad input: `tool:` with no value frees the tool position, starting at the flange.
+  WriteJob(ReplaceOnce(JobText(), "tool: {xyz: [0, 0, 0], free: [x, y, z]}", "tool:"));
+  const auto r = Run();
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(ReadText(output_ + "/result.yaml"), HasSubstr("tool:"));
+}
+
+TEST_F(BadInput, ToolTargetNotInTheRecordingPointsAtTheJobLine) {
+  WriteJob(ReplaceOnce(JobText(), "      tool: {", "      gripper: {"));
+  const auto r = Run();
+  ExpectRejected(r, "job.yaml:11:16:", "List under 'tools:' the targets recording.yaml puts");
+  EXPECT_THAT(r.output, HasSubstr("target 'gripper' is not carried by robot 'ur3'"));
 }
 
 TEST_F(BadInput, MissingRobotConfigPointsAtTheJobLine) {
@@ -160,53 +174,56 @@ TEST_F(BadInput, SamplesWithoutThePoseColumn) {
   EXPECT_THAT(r.output, HasSubstr("missing column 'pose'"));
 }
 
-TEST_F(BadInput, NonNumericJointValue) {
+// One broken line of a recording file, and the error it must produce.
+struct LineEdit {
+  std::string name;
+  std::string file;
+  int line;
+  std::string replacement;
+  std::string location;  // file:line:column of the bad cell
+  std::string hint;
+  std::string message;
+};
+
+class BadRecordingLine : public BadInput, public ::testing::WithParamInterface<LineEdit> {};
+
+TEST_P(BadRecordingLine, IsRejectedAtItsCell) {
+  const LineEdit& edit = GetParam();
   WriteJob();
-  EditLine("samples.csv", 5, "3,ur3,3,4.700736523,3.39327383,abc,4.095294476,5.03745842,0.69");
+  EditLine(edit.file, edit.line, edit.replacement);
   const auto r = Run();
-  ExpectRejected(r, "samples.csv:5:6:", "Write a plain decimal number");
-  EXPECT_THAT(r.output, HasSubstr("column 'q3': 'abc' is not a number"));
+  ExpectRejected(r, edit.location, edit.hint);
+  EXPECT_THAT(r.output, HasSubstr(edit.message));
 }
 
-TEST_F(BadInput, NanJointValue) {
-  WriteJob();
-  EditLine("samples.csv", 5, "3,ur3,3,4.700736523,nan,0.7314307094,4.095294476,5.03745842,0.69");
-  const auto r = Run();
-  ExpectRejected(r, "samples.csv:5:5:", "replace the value with a measurement");
-  EXPECT_THAT(r.output, HasSubstr("column 'q2': 'nan' is not a finite number"));
-}
-
-TEST_F(BadInput, SampleWithTooFewJoints) {
-  WriteJob();
-  EditLine("samples.csv", 5, "3,ur3,3,4.700736523,3.39327383,0.7314307094,4.095294476,5.03745842");
-  const auto r = Run();
-  ExpectRejected(r, "samples.csv:5:9:", "Give one joint value per joint");
-  EXPECT_THAT(r.output, HasSubstr("robot 'ur3' has 6 joints but this sample has no q6"));
-}
-
-TEST_F(BadInput, ObservationOfAnUnknownCamera) {
-  WriteJob();
-  EditLine("observations.csv", 4, "1,cam9,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53");
-  const auto r = Run();
-  ExpectRejected(r, "observations.csv:4:2:", "List it under 'cameras' in recording.yaml");
-  EXPECT_THAT(r.output, HasSubstr("unknown camera 'cam9'"));
-}
-
-TEST_F(BadInput, ObservationOfAnUnknownTarget) {
-  WriteJob();
-  EditLine("observations.csv", 4, "1,cam1,tool2,244.702809,-55.417908,725.561068,-2.15,1.60,0.53");
-  const auto r = Run();
-  ExpectRejected(r, "observations.csv:4:3:", "List it under 'targets' in recording.yaml");
-  EXPECT_THAT(r.output, HasSubstr("unknown target 'tool2'"));
-}
-
-TEST_F(BadInput, ObservationOfAnUnknownSample) {
-  WriteJob();
-  EditLine("observations.csv", 4, "999,cam1,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53");
-  const auto r = Run();
-  ExpectRejected(r, "observations.csv:4:1:", "name a sample listed in samples.csv");
-  EXPECT_THAT(r.output, HasSubstr("unknown sample 999"));
-}
+INSTANTIATE_TEST_SUITE_P(
+    Recording, BadRecordingLine,
+    ::testing::Values(
+        LineEdit{"NonNumericJointValue", "samples.csv", 5,
+                 "3,ur3,3,4.700736523,3.39327383,abc,4.095294476,5.03745842,0.69",
+                 "samples.csv:5:6:", "Write a plain decimal number",
+                 "column 'q3': 'abc' is not a number"},
+        LineEdit{"NanJointValue", "samples.csv", 5,
+                 "3,ur3,3,4.700736523,nan,0.7314307094,4.095294476,5.03745842,0.69",
+                 "samples.csv:5:5:", "replace the value with a measurement",
+                 "column 'q2': 'nan' is not a finite number"},
+        LineEdit{"SampleWithTooFewJoints", "samples.csv", 5,
+                 "3,ur3,3,4.700736523,3.39327383,0.7314307094,4.095294476,5.03745842",
+                 "samples.csv:5:9:", "Give one joint value per joint",
+                 "robot 'ur3' has 6 joints but this sample has no q6"},
+        LineEdit{"ObservationOfAnUnknownCamera", "observations.csv", 4,
+                 "1,cam9,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53",
+                 "observations.csv:4:2:", "List it under 'cameras' in recording.yaml",
+                 "unknown camera 'cam9'"},
+        LineEdit{"ObservationOfAnUnknownTarget", "observations.csv", 4,
+                 "1,cam1,tool2,244.702809,-55.417908,725.561068,-2.15,1.60,0.53",
+                 "observations.csv:4:3:", "List it under 'targets' in recording.yaml",
+                 "unknown target 'tool2'"},
+        LineEdit{"ObservationOfAnUnknownSample", "observations.csv", 4,
+                 "999,cam1,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53",
+                 "observations.csv:4:1:", "name a sample listed in samples.csv",
+                 "unknown sample 999"}),
+    [](const ::testing::TestParamInfo<LineEdit>& info) { return info.param.name; });
 
 TEST_F(BadInput, RecordingWithNoUsableObservation) {
   // Only the world target was seen: nothing ties the robot to the cameras.
@@ -226,7 +243,7 @@ TEST_F(BadInput, RecordingWithNoUsableObservation) {
 TEST_F(BadInput, UnknownSolverTypeListsTheKnownOnes) {
   WriteJob(ReplaceOnce(JobText(), "type: ceres_lm", "type: ceres_lmm"));
   const auto r = Run();
-  ExpectRejected(r, "job.yaml:13:3:", "Did you mean 'ceres_lm'?");
+  ExpectRejected(r, "job.yaml:13:9:", "Did you mean 'ceres_lm'?");
   EXPECT_THAT(r.output, HasSubstr("unknown solver type 'ceres_lmm'"));
   EXPECT_THAT(r.output, HasSubstr("Known solver types: ceres_lm, jacobian_pinv, nlopt"));
 }
@@ -235,7 +252,7 @@ TEST_F(BadInput, UnknownRobotModelTypeListsTheKnownOnes) {
   WriteJob();
   testing::WriteText(robot_, ReplaceOnce(ReadText(robot_), "type: serial_mdh", "type: serial_mdhh"));
   const auto r = Run();
-  ExpectRejected(r, "ur3.yaml:4:1:", "Did you mean 'serial_mdh'?");
+  ExpectRejected(r, "ur3.yaml:4:7:", "Did you mean 'serial_mdh'?");
   EXPECT_THAT(r.output, HasSubstr("unknown robot model type 'serial_mdhh'"));
   EXPECT_THAT(r.output, HasSubstr("Known robot model types: serial_mdh"));
 }

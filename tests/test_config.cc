@@ -23,17 +23,7 @@ ConfigNode LoadText(const std::string& test, const std::string& text, std::strin
   return ConfigNode::LoadFile(file);
 }
 
-// Runs `action`, which must raise InputError, and returns the error.
-template <typename Action>
-InputError CatchInputError(Action action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return InputError({}, "no error raised");
-}
+using testing::CatchInputError;
 
 TEST(ConfigNode, UnknownKeyNamesFileLineColumnAndKeyPath) {
   std::string path;

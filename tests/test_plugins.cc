@@ -21,16 +21,7 @@ using ::testing::Not;
 const std::vector<std::string> kBuiltSolvers = {"ceres_lm", "jacobian_pinv", "nlopt"};
 const std::vector<std::string> kBuiltRobotModels = {"serial_mdh"};
 
-template <typename Action>
-InputError CatchInputError(Action action) {
-  try {
-    action();
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return InputError({}, "no error raised");
-}
+using testing::CatchInputError;
 
 TEST(Registry, ListsTheBuiltPlugins) {
   const Registry& registry = testing::Plugins();
@@ -158,6 +149,23 @@ class ExternalPlugin : public ::testing::Test {
 
   static std::string plugins() { return build_ + "/plugins"; }
 
+  // The sim_b job in `dir` with this plugin folder and the given solver block (line 11).
+  static std::string WriteSimBJob(const std::string& dir, const std::string& solver) {
+    const std::string job = dir + "/job.yaml";
+    testing::WriteText(job, "job: workcell\n"
+                            "recording: " + testing::Source("tests/data/vsb/sim_b") + "\n"
+                            "output: " + dir + "/result\n"
+                            "plugin_paths: [" + plugins() + "]\n"
+                            "robots:\n"
+                            "  ur3:\n"
+                            "    model: " + testing::Source("configs/robots/ur3.yaml") + "\n"
+                            "    base: {free: all}\n"
+                            "    tools:\n"
+                            "      tool: {xyz: [0, 0, 0], free: [x, y, z]}\n"
+                            "solver: " + solver + "\n");
+    return job;
+  }
+
   static std::string build_;
   static int build_status_;
 };
@@ -182,18 +190,7 @@ TEST_F(ExternalPlugin, IsNotThereWithoutThePluginPath) {
 
 TEST_F(ExternalPlugin, AJobNamingItsSolverRuns) {
   const std::string dir = testing::TempDir("plugins/external_job");
-  const std::string job = dir + "/job.yaml";
-  testing::WriteText(job, "job: workcell\n"
-                          "recording: " + testing::Source("tests/data/vsb/sim_b") + "\n"
-                          "output: " + dir + "/result\n"
-                          "plugin_paths: [" + plugins() + "]\n"
-                          "robots:\n"
-                          "  ur3:\n"
-                          "    model: " + testing::Source("configs/robots/ur3.yaml") + "\n"
-                          "    base: {free: all}\n"
-                          "    tools:\n"
-                          "      tool: {xyz: [0, 0, 0], free: [x, y, z]}\n"
-                          "solver: {type: hello_gradient, max_iterations: 50}\n");
+  const std::string job = WriteSimBJob(dir, "{type: hello_gradient, max_iterations: 50}");
   const auto r = testing::RunCellmetry("run " + job);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("hello_gradient"));
@@ -202,19 +199,10 @@ TEST_F(ExternalPlugin, AJobNamingItsSolverRuns) {
 
 TEST_F(ExternalPlugin, RejectsAnUnknownOptionLikeABuiltInPlugin) {
   const std::string dir = testing::TempDir("plugins/external_bad_option");
-  const std::string job = dir + "/job.yaml";
-  testing::WriteText(job, "job: workcell\n"
-                          "recording: " + testing::Source("tests/data/vsb/sim_b") + "\n"
-                          "output: " + dir + "/result\n"
-                          "plugin_paths: [" + plugins() + "]\n"
-                          "robots:\n"
-                          "  ur3:\n"
-                          "    model: " + testing::Source("configs/robots/ur3.yaml") + "\n"
-                          "    tools: {tool: {xyz: [0, 0, 0]}}\n"
-                          "solver: {type: hello_gradient, max_iteration: 50}\n");
+  const std::string job = WriteSimBJob(dir, "{type: hello_gradient, max_iteration: 50}");
   const auto r = testing::RunCellmetry("run " + job);
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_THAT(r.output, HasSubstr("job.yaml:9:"));
+  EXPECT_THAT(r.output, HasSubstr("job.yaml:11:"));
   EXPECT_THAT(r.output, HasSubstr("Did you mean 'max_iterations'?"));
 }
 

@@ -98,22 +98,27 @@ TEST(SimulatedUr3, NoiseFreeRecoversEveryFreeParameterExactly) {
   EXPECT_LT(e.max_rotation_error_rad, 1e-9);
 }
 
+// One seeded noisy run: 40 random poses, two cameras, the job told the true sigma.
+WorkcellEvaluation SolveNoisyRun(unsigned truth_seed, unsigned pose_seed) {
+  WorkcellSimulationSpec sim = TwoCameraSpec(truth_seed);
+  sim.sigma_position_mm = {0.1, 0.1, 0.4};
+  sim.sigma_rotation_rad = {5e-4, 5e-4, 1e-3};
+  sim.robots[0].joint_poses = RandomPoses(40, pose_seed);
+  WorkcellProblem problem;
+  problem.robots.push_back(JobRobot(sim.robots[0]));
+  for (const auto& camera : {"cam1", "cam2"}) {
+    problem.noise.position_sigma_mm[camera] = sim.sigma_position_mm;
+    problem.noise.rotation_sigma_rad[camera] = sim.sigma_rotation_rad;
+  }
+  problem.folds = 0;
+  return Solve(sim, problem);
+}
+
 // With noise of known sigma, the truth lies inside the reported 3 sigma in >= 95 % of runs.
 TEST(SimulatedUr3, TruthIsInsideThreeSigmaInAtLeast95PercentOfRuns) {
   int inside = 0, runs = 100;
   for (int seed = 1; seed <= runs; ++seed) {
-    WorkcellSimulationSpec sim = TwoCameraSpec(100 + seed);
-    sim.sigma_position_mm = {0.1, 0.1, 0.4};
-    sim.sigma_rotation_rad = {5e-4, 5e-4, 1e-3};
-    sim.robots[0].joint_poses = RandomPoses(40, seed);
-    WorkcellProblem problem;
-    problem.robots.push_back(JobRobot(sim.robots[0]));
-    for (const auto& camera : {"cam1", "cam2"}) {
-      problem.noise.position_sigma_mm[camera] = sim.sigma_position_mm;
-      problem.noise.rotation_sigma_rad[camera] = sim.sigma_rotation_rad;
-    }
-    problem.folds = 0;
-    const WorkcellEvaluation e = Solve(sim, problem);
+    const WorkcellEvaluation e = SolveNoisyRun(100 + seed, seed);
     bool all_inside = true;
     for (const auto& q : e.quantities) all_inside &= std::abs(q.normalized()) <= 3.0;
     inside += all_inside ? 1 : 0;
@@ -126,18 +131,7 @@ TEST(SimulatedUr3, EachParameterIsInsideThreeSigmaInAtLeast95PercentOfRuns) {
   std::map<std::string, int> inside;
   const int runs = 100;
   for (int seed = 1; seed <= runs; ++seed) {
-    WorkcellSimulationSpec sim = TwoCameraSpec(300 + seed);
-    sim.sigma_position_mm = {0.1, 0.1, 0.4};
-    sim.sigma_rotation_rad = {5e-4, 5e-4, 1e-3};
-    sim.robots[0].joint_poses = RandomPoses(40, 1000 + seed);
-    WorkcellProblem problem;
-    problem.robots.push_back(JobRobot(sim.robots[0]));
-    for (const auto& camera : {"cam1", "cam2"}) {
-      problem.noise.position_sigma_mm[camera] = sim.sigma_position_mm;
-      problem.noise.rotation_sigma_rad[camera] = sim.sigma_rotation_rad;
-    }
-    problem.folds = 0;
-    for (const auto& q : Solve(sim, problem).quantities) {
+    for (const auto& q : SolveNoisyRun(300 + seed, 1000 + seed).quantities) {
       inside[q.name] += std::abs(q.normalized()) <= 3.0 ? 1 : 0;
     }
   }

@@ -76,15 +76,15 @@ WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, Registr
 
   const ConfigNode tools = node["tools"];
   for (const auto& target : tools.Keys()) {
-    const ConfigNode tool = tools[target];
     WorkcellTool t;
     t.target = target;
     t.flange_tool.free = {true, true, true, false, false, false};
     t.flange_tool.description = "target '" + target + "' on the flange of " + name;
-    if (!tool.IsNull()) {
-      tool.ExpectKeys({"xyz", "rvec", "free"});
-      t.flange_tool.start = ReadPose(tool);
-      t.flange_tool.free = ReadFreeFlags(tool, t.flange_tool.free);
+    // `target:` with no value is allowed: position free, starting at the flange.
+    if (const auto tool = tools.Optional(target)) {
+      tool->ExpectKeys({"xyz", "rvec", "free"});
+      t.flange_tool.start = ReadPose(*tool);
+      t.flange_tool.free = ReadFreeFlags(*tool, t.flange_tool.free);
     }
     robot.tools.push_back(t);
   }
@@ -147,6 +147,12 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
     }
   }
   job.recording = root.ResolvePath(root["recording"].AsString());
+  if (!std::filesystem::is_regular_file(job.recording + "/recording.yaml")) {
+    throw root["recording"].Error(
+        "no recording at '" + job.recording + "' (expected " + job.recording +
+            "/recording.yaml)",
+        "Point 'recording:' at a cellmetry-recording/1 folder, relative to the job file");
+  }
   const std::string stem = std::filesystem::path(path).stem().string();
   job.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
                                   : "results/" + stem;
@@ -164,9 +170,18 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
   problem.use_tool_rotation = root.GetBool("use_tool_rotation", false);
   problem.identifiability_tolerance =
       root.GetDouble("identifiability_tolerance", problem.identifiability_tolerance);
+  job.locations["world_target"] =
+      root.Has("world_target") ? root["world_target"].location() : root.location();
   const ConfigNode robots = root["robots"];
   for (const auto& name : robots.Keys()) {
-    problem.robots.push_back(ReadRobot(name, robots[name], registry));
+    const ConfigNode robot = robots[name];
+    problem.robots.push_back(ReadRobot(name, robot, registry));
+    job.locations["robots." + name] = robot.location();
+    for (const auto& target : robot["tools"].Keys()) {
+      const auto tool = robot["tools"].Optional(target);
+      job.locations["robots." + name + ".tools." + target] =
+          tool ? tool->location() : robot["tools"].location();
+    }
   }
   if (root.Has("noise")) problem.noise = ReadNoise(root["noise"]);
   if (root.Has("validation")) {
@@ -184,23 +199,28 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
   return job;
 }
 
+SourceLocation WorkcellJob::Where(const std::string& key) const {
+  const auto it = locations.find(key);
+  return it == locations.end() ? SourceLocation{file, 0, 0} : it->second;
+}
+
 void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& recording) {
-  const SourceLocation where{job.file, 0, 0};
   const auto world = recording.targets.find(job.problem.world_target);
   if (world == recording.targets.end() || world->second != kWorldCarrier) {
-    throw InputError(where, "the recording has no world-fixed target '" +
+    throw InputError(job.Where("world_target"), "the recording has no world-fixed target '" +
                                 job.problem.world_target + "'",
                      "Set 'world_target:' to a target that recording.yaml puts 'on: world'");
   }
   for (const auto& robot : job.problem.robots) {
     const auto joints = recording.robots.find(robot.name);
     if (joints == recording.robots.end()) {
-      throw InputError(where, "robot '" + robot.name + "' is not in the recording " +
+      throw InputError(job.Where("robots." + robot.name),
+                       "robot '" + robot.name + "' is not in the recording " +
                                   recording.folder,
                        "Name the robot as recording.yaml does");
     }
     if (joints->second != robot.model->num_joints()) {
-      throw InputError(where, "robot '" + robot.name + "' has " +
+      throw InputError(job.Where("robots." + robot.name), "robot '" + robot.name + "' has " +
                                   std::to_string(joints->second) + " joints in the recording but " +
                                   std::to_string(robot.model->num_joints()) + " in " +
                                   robot.model_file,
@@ -209,7 +229,8 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
     for (const auto& tool : robot.tools) {
       const auto target = recording.targets.find(tool.target);
       if (target == recording.targets.end() || target->second != robot.name) {
-        throw InputError(where, "target '" + tool.target + "' is not carried by robot '" +
+        throw InputError(job.Where("robots." + robot.name + ".tools." + tool.target),
+                         "target '" + tool.target + "' is not carried by robot '" +
                                     robot.name + "' in the recording",
                          "List under 'tools:' the targets recording.yaml puts 'on: " +
                              robot.name + "'");

@@ -1,5 +1,7 @@
 #include "cellmetry/recording.h"
 
+#include <charconv>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -194,10 +196,11 @@ void ReadImages(const std::string& path, Recording* recording) {
   }
 }
 
+// Shortest text that reads back to the same double (simulated truth must round-trip exactly).
 std::string Number(double value) {
-  std::ostringstream out;
-  out << std::setprecision(12) << value;
-  return out.str();
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), value).ptr;
+  return std::string(buffer, end);
 }
 
 }  // namespace

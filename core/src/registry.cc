@@ -27,7 +27,9 @@ const typename Map::mapped_type& Find(const Map& factories, const std::string& k
   std::vector<std::string> names;
   for (const auto& [name, factory] : factories) names.push_back(name);
   const std::string nearest = NearestWord(type, names);
-  throw config.Error("unknown " + kind + " type '" + type + "'",
+  // Point at the `type:` line itself when the block has one.
+  const ConfigNode where = config.IsMap() && config.Has("type") ? config["type"] : config;
+  throw where.Error("unknown " + kind + " type '" + type + "'",
                      (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") +
                          "Known " + kind + " types: " + KnownNames(factories));
 }

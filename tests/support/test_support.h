@@ -3,6 +3,9 @@
 
 #include <string>
 
+#include <gtest/gtest.h>
+
+#include "cellmetry/error.h"
 #include "cellmetry/registry.h"
 
 namespace cellmetry::testing {
@@ -23,6 +26,18 @@ struct CommandResult {
   int exit_code = 0;
   std::string output;  // stdout and stderr together
 };
+
+// Runs `action`, which must raise InputError, and returns the error (a test failure if it does not).
+template <typename Action>
+InputError CatchInputError(Action action) {
+  try {
+    action();
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return InputError({}, "no error raised");
+}
 
 // Runs the built `cellmetry` binary with `arguments` (a shell-quoted string).
 CommandResult RunCellmetry(const std::string& arguments);

@@ -6,6 +6,7 @@
 // file:line:column.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 
@@ -23,6 +24,11 @@ struct WorkcellJob {
   WorkcellProblem problem;
   std::string solver_type;
   std::optional<ConfigNode> solver_config;
+  // Where the job names each robot, tool target and the world target, for errors found later
+  // against the recording. Keys: "world_target", "robots.<robot>", "robots.<robot>.tools.<target>".
+  std::map<std::string, SourceLocation> locations;
+
+  SourceLocation Where(const std::string& key) const;
 };
 
 WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry);
