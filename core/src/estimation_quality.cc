@@ -63,6 +63,36 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
   return found;
 }
 
+void HoldParameters(Problem* problem, const std::set<std::string>& names) {
+  for (int b = 0; b < problem->num_blocks(); ++b) {
+    const auto& params = problem->block_parameters(b);
+    for (size_t i = 0; i < params.size(); ++i) {
+      if (names.count(problem->block_name(b) + "." + params[i].name)) {
+        problem->SetFixed(b, static_cast<int>(i), true);
+      }
+    }
+  }
+  problem->Build();
+}
+
+IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
+                                           std::set<std::string> held,
+                                           const SolverMaker& make_solver) {
+  IdentifiedSolve out;
+  if (!held.empty()) HoldParameters(problem, held);
+  auto hold_unidentifiable = [&] {
+    const auto found = FindUnidentifiable(*problem, tolerance);
+    for (const auto& f : found) held.insert(f.name);
+    out.unidentifiable.insert(out.unidentifiable.end(), found.begin(), found.end());
+    if (!found.empty()) HoldParameters(problem, held);
+    return !found.empty();
+  };
+  hold_unidentifiable();
+  out.summary = make_solver()->Solve(*problem);
+  if (hold_unidentifiable()) out.summary = make_solver()->Solve(*problem);
+  return out;
+}
+
 Uncertainty ComputeUncertainty(Problem& problem) {
   Uncertainty u;
   Eigen::VectorXd r;

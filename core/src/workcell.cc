@@ -23,18 +23,10 @@ Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const Workc
             std::set<std::string> held, const SolverMaker& make_solver) {
   Fit fit;
   fit.assembled = AssembleWorkcell(spec, recording, data, noise, start, poses);
-  if (!held.empty()) HoldParameters(fit.assembled.get(), held);
-  auto hold_unidentifiable = [&] {
-    const auto found = FindUnidentifiable(fit.assembled->problem, spec.identifiability_tolerance);
-    for (const auto& f : found) held.insert(f.name);
-    fit.unidentifiable.insert(fit.unidentifiable.end(), found.begin(), found.end());
-    if (!found.empty()) HoldParameters(fit.assembled.get(), held);
-    return !found.empty();
-  };
-  hold_unidentifiable();
-  fit.summary = make_solver()->Solve(fit.assembled->problem);
-  // A direction can become degenerate only at the answer (e.g. a singular configuration).
-  if (hold_unidentifiable()) fit.summary = make_solver()->Solve(fit.assembled->problem);
+  IdentifiedSolve solved = SolveHoldingUnidentifiable(
+      &fit.assembled->problem, spec.identifiability_tolerance, std::move(held), make_solver);
+  fit.summary = solved.summary;
+  fit.unidentifiable = std::move(solved.unidentifiable);
   return fit;
 }
 

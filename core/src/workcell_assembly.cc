@@ -254,17 +254,4 @@ WorkcellEstimate ReadEstimate(const WorkcellProblem& spec, const AssembledWorkce
   return estimate;
 }
 
-void HoldParameters(AssembledWorkcell* assembled, const std::set<std::string>& held) {
-  Problem& problem = assembled->problem;
-  for (int b = 0; b < problem.num_blocks(); ++b) {
-    const auto& params = problem.block_parameters(b);
-    for (size_t i = 0; i < params.size(); ++i) {
-      if (held.count(problem.block_name(b) + "." + params[i].name)) {
-        problem.SetFixed(b, static_cast<int>(i), true);
-      }
-    }
-  }
-  problem.Build();
-}
-
 }  // namespace cellmetry

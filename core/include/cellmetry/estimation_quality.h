@@ -13,10 +13,12 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "cellmetry/problem.h"
+#include "cellmetry/solver.h"
 
 namespace cellmetry {
 
@@ -27,6 +29,21 @@ struct UnidentifiableParameter {
 
 // Free parameters that the data cannot determine, in the order they should be held.
 std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance);
+
+// Fixes the free parameters called "<block>.<parameter>" in `names` and rebuilds the problem.
+void HoldParameters(Problem* problem, const std::set<std::string>& names);
+
+struct IdentifiedSolve {
+  SolverSummary summary;
+  std::vector<UnidentifiableParameter> unidentifiable;  // held at their starting values
+};
+
+// Holds `held` and whatever the data cannot determine, solves, and checks again at the answer
+// (a direction can become degenerate only there, e.g. at a singular configuration); if it finds
+// more, holds them and solves again.
+IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
+                                           std::set<std::string> held,
+                                           const SolverMaker& make_solver);
 
 struct Uncertainty {
   std::vector<std::string> names;   // free parameters, in Problem order

@@ -6,6 +6,8 @@
 // computed by the core afterwards, identically for every solver.
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <string>
 
 namespace cellmetry {
@@ -28,5 +30,8 @@ class Solver {
   virtual ~Solver() = default;
   virtual SolverSummary Solve(Problem& problem) = 0;
 };
+
+// Makes a fresh solver (the job's); calibrations solve several problems with one job.
+using SolverMaker = std::function<std::unique_ptr<Solver>()>;
 
 }  // namespace cellmetry

@@ -17,7 +17,6 @@
 
 namespace cellmetry {
 
-using SolverMaker = std::function<std::unique_ptr<Solver>()>;
 
 WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                 const SolverMaker& make_solver);

@@ -60,7 +60,4 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
 
 WorkcellEstimate ReadEstimate(const WorkcellProblem& spec, const AssembledWorkcell& assembled);
 
-// Free/fixed flags of `spec` are the job's; `held` names ("ur3.tool.rx") are additionally held.
-void HoldParameters(AssembledWorkcell* assembled, const std::set<std::string>& held);
-
 }  // namespace cellmetry
