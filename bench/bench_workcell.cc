@@ -81,6 +81,10 @@ BENCHMARK_CAPTURE(BM_Solve, nlopt_LD_LBFGS, std::string("{type: nlopt, algorithm
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Solve, nlopt_LN_BOBYQA, std::string("{type: nlopt, algorithm: LN_BOBYQA}"))
     ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Solve, gradient_descent,
+                  std::string("{type: gradient_descent, learning_rate: 0.1, epochs: 5000, "
+                              "gradient_tolerance: 1e-8}"))
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace cellmetry

@@ -245,7 +245,7 @@ TEST_F(BadInput, UnknownSolverTypeListsTheKnownOnes) {
   const auto r = Run();
   ExpectRejected(r, "job.yaml:13:9:", "Did you mean 'ceres_lm'?");
   EXPECT_THAT(r.output, HasSubstr("unknown solver type 'ceres_lmm'"));
-  EXPECT_THAT(r.output, HasSubstr("Known solver types: ceres_lm, jacobian_pinv, nlopt"));
+  EXPECT_THAT(r.output, HasSubstr("Known solver types: ceres_lm, gradient_descent, jacobian_pinv, nlopt"));
 }
 
 TEST_F(BadInput, UnknownRobotModelTypeListsTheKnownOnes) {
@@ -254,7 +254,7 @@ TEST_F(BadInput, UnknownRobotModelTypeListsTheKnownOnes) {
   const auto r = Run();
   ExpectRejected(r, "ur3.yaml:4:7:", "Did you mean 'serial_mdh'?");
   EXPECT_THAT(r.output, HasSubstr("unknown robot model type 'serial_mdhh'"));
-  EXPECT_THAT(r.output, HasSubstr("Known robot model types: serial_mdh"));
+  EXPECT_THAT(r.output, HasSubstr("Known robot model types: delta, serial_mdh"));
 }
 
 }  // namespace

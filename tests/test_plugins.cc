@@ -18,8 +18,8 @@ namespace {
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-const std::vector<std::string> kBuiltSolvers = {"ceres_lm", "jacobian_pinv", "nlopt"};
-const std::vector<std::string> kBuiltRobotModels = {"serial_mdh"};
+const std::vector<std::string> kBuiltSolvers = {"ceres_lm", "gradient_descent", "jacobian_pinv", "nlopt"};
+const std::vector<std::string> kBuiltRobotModels = {"delta", "serial_mdh"};
 
 using testing::CatchInputError;
 
@@ -72,7 +72,7 @@ TEST(Registry, UnknownSolverTypeNamesTheKnownOnes) {
   const InputError e =
       CatchInputError([&] { testing::Plugins().CreateSolver("ceres_lmm", config); });
   EXPECT_THAT(e.hint(), HasSubstr("Did you mean 'ceres_lm'?"));
-  EXPECT_THAT(e.hint(), HasSubstr("ceres_lm, jacobian_pinv, nlopt"));
+  EXPECT_THAT(e.hint(), HasSubstr("ceres_lm, gradient_descent, jacobian_pinv, nlopt"));
 }
 
 TEST(PluginsCommand, PrintsEveryBuiltPlugin) {

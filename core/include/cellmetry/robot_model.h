@@ -13,11 +13,22 @@
 //   bool ForwardT(const double* q, const T* params, Transform<T>* T_base_flange) const;
 //
 // returning false where the pose does not exist (e.g. a delta arm whose spheres do not meet).
+//
+// Arms whose flange only translates (delta arms) may also offer position inverse kinematics,
+// which the kinematic calibration's joint-space ("inverse") residual and visual homing need:
+// derive from InvertibleRobotModelFromTemplate<YourModel> and add
+//
+//   template <typename T>
+//   bool InverseT(const T* flange_position_mm, const T* params, T* q) const;
+//
+// Both directions say why they failed through ForwardFailure / InverseFailure, for errors that a
+// user can act on.
 #pragma once
 
 #include <ceres/jet.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +40,21 @@ namespace cellmetry {
 // Derivatives carried per automatic-differentiation pass (ceres::DynamicAutoDiffCostFunction).
 inline constexpr int kJetStride = 8;
 using Jet = ceres::Jet<double, kJetStride>;
+
+// A vertical cylinder about the base z axis where the flange may go (mm, base frame).
+struct CylinderWorkspace {
+  double radius_mm = 0.0;
+  double z_min_mm = 0.0;
+  double z_max_mm = 0.0;
+};
+
+// What the robot config says about where the robot can go and how finely it moves.
+struct RobotLimits {
+  std::vector<double> joint_min_rad;  // per joint; empty = unlimited
+  std::vector<double> joint_max_rad;
+  double joint_increment_rad = 0.0;   // one motor increment (2 pi / increments per rev); 0 = n/a
+  std::optional<CylinderWorkspace> workspace;
+};
 
 class RobotModel {
  public:
@@ -46,6 +72,19 @@ class RobotModel {
 
   // Warnings about the model's conditioning (e.g. near-parallel axes), for the report.
   virtual std::vector<std::string> Warnings() const { return {}; }
+  virtual const RobotLimits& limits() const {
+    static const RobotLimits none;
+    return none;
+  }
+  // Why Forward failed at (q, params), in words for an error message.
+  virtual std::string ForwardFailure(const double* q, const double* params) const;
+
+  // Position inverse kinematics (optional): the joint values that put the flange at
+  // `flange_position_mm` (base frame). False where the point is out of reach.
+  virtual bool has_inverse() const { return false; }
+  virtual bool Inverse(const double* flange_position_mm, const double* params, double* q) const;
+  virtual bool Inverse(const Jet* flange_position_mm, const Jet* params, Jet* q) const;
+  virtual std::string InverseFailure(const double* flange_position_mm, const double* params) const;
 };
 
 // Turns one templated ForwardT into both virtual overloads (CRTP).
@@ -57,6 +96,19 @@ class RobotModelFromTemplate : public RobotModel {
   }
   bool Forward(const double* q, const Jet* params, Transform<Jet>* out) const override {
     return static_cast<const Derived*>(this)->ForwardT(q, params, out);
+  }
+};
+
+// Adds position inverse kinematics from one templated InverseT (CRTP).
+template <typename Derived>
+class InvertibleRobotModelFromTemplate : public RobotModelFromTemplate<Derived> {
+ public:
+  bool has_inverse() const override { return true; }
+  bool Inverse(const double* position, const double* params, double* q) const override {
+    return static_cast<const Derived*>(this)->InverseT(position, params, q);
+  }
+  bool Inverse(const Jet* position, const Jet* params, Jet* q) const override {
+    return static_cast<const Derived*>(this)->InverseT(position, params, q);
   }
 };
 

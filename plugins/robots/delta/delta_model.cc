@@ -1,0 +1,65 @@
+#include "delta_model.h"
+
+#include <cstdio>
+
+namespace cellmetry::delta {
+namespace {
+
+std::string Format(const char* format, double a, double b = 0, double c = 0, double d = 0) {
+  char text[256];
+  std::snprintf(text, sizeof(text), format, a, b, c, d);
+  return text;
+}
+
+}  // namespace
+
+DeltaModel::DeltaModel(std::array<Arm, kArms> arms, Pose marker_offset, RobotLimits limits)
+    : marker_offset_(marker_offset), limits_(std::move(limits)) {
+  for (int i = 0; i < kArms; ++i) {
+    const double alpha = 2.0 * M_PI * i / kArms;
+    sin_alpha_[i] = std::sin(alpha);
+    cos_alpha_[i] = std::cos(alpha);
+    const std::string arm = "arm" + std::to_string(i + 1) + ".";
+    const Arm& a = arms[i];
+    parameters_.push_back({arm + "R", "mm", a.R, false, {}, {}, {},
+                           "motor axis to the centre of the base (only R - r is identifiable)"});
+    parameters_.push_back({arm + "r", "mm", a.r, false, {}, {}, {},
+                           "effector joint to the centre of the effector"});
+    parameters_.push_back({arm + "L", "mm", a.L, false, {}, {}, {}, "upper arm length"});
+    parameters_.push_back({arm + "l", "mm", a.l, false, {}, {}, {}, "lower arm (rod) length"});
+    parameters_.push_back({arm + "homing", "rad", a.homing, false, {}, {}, {},
+                           "homing offset: true motor angle = command + homing"});
+  }
+}
+
+std::string DeltaModel::ForwardFailure(const double* q, const double* params) const {
+  std::array<Vector3<double>, kArms> centre;
+  std::array<double, kArms> radius;
+  for (int i = 0; i < kArms; ++i) {
+    const double* arm = params + kParamsPerArm * i;
+    const double theta = q[i] + arm[kHoming];
+    const double rho = arm[kR] - arm[kSmallR] + arm[kL] * std::cos(theta);
+    centre[i] = Vector3<double>(rho * sin_alpha_[i], -rho * cos_alpha_[i], -arm[kL] * std::sin(theta));
+    radius[i] = arm[kSmallL];
+  }
+  double height2 = 0.0;
+  Vector3<double> point;
+  if (LowerSphereIntersection(centre, radius, &point, &height2)) return "no failure";
+  return Format("the three rod spheres do not meet at motor angles (%.4f, %.4f, %.4f) rad "
+                "(squared height %.3g mm^2 < 0): the elbows are further apart than the rods reach",
+                q[0], q[1], q[2], height2);
+}
+
+std::string DeltaModel::InverseFailure(const double* position, const double* params) const {
+  for (int i = 0; i < kArms; ++i) {
+    double theta = 0.0, ratio = 0.0;
+    if (!ArmAngle(i, position, params + kParamsPerArm * i, &theta, &ratio)) {
+      return Format("arm %.0f cannot reach (%.2f, %.2f, %.2f) mm", i + 1.0, position[0],
+                    position[1], position[2]) +
+             Format(" (reach ratio %.3f, must be within [-1, 1])", ratio);
+    }
+  }
+  return "no failure";
+}
+
+}  // namespace cellmetry::delta
