@@ -16,21 +16,8 @@ namespace {
 
 using ::testing::HasSubstr;
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// Replaces the one occurrence of `from` in `text`; fails the test if it is not there once.
-std::string ReplaceOnce(const std::string& text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << "'" << from << "' not found";
-  if (at == std::string::npos) return text;
-  EXPECT_EQ(text.find(from, at + 1), std::string::npos) << "'" << from << "' found twice";
-  return text.substr(0, at) + to + text.substr(at + from.size());
-}
+using testing::ReadText;
+using testing::ReplaceOnce;
 
 // A copy of the sim_b job, recording and UR3 config in a temp folder, to be broken one way.
 class BadInput : public ::testing::Test {
@@ -70,13 +57,7 @@ class BadInput : public ::testing::Test {
 
   // Replaces line `line` (1-based) of a recording file.
   void EditLine(const std::string& file, int line, const std::string& replacement) {
-    const std::string path = recording_ + "/" + file;
-    std::istringstream in(ReadText(path));
-    std::string text, current;
-    for (int n = 1; std::getline(in, current); ++n) {
-      text += (n == line ? replacement : current) + "\n";
-    }
-    testing::WriteText(path, text);
+    testing::EditLine(recording_ + "/" + file, line, replacement);
   }
 
   testing::CommandResult Run() { return testing::RunCellmetry("run " + job_); }

@@ -1,6 +1,7 @@
 // `cellmetry simulate SPEC.yaml -o FOLDER`: a simulated recording with its truth.yaml.
 #include <cstdio>
 
+#include "cellmetry/kinematic_simulation.h"
 #include "cellmetry/progress.h"
 #include "cellmetry/workcell_simulation.h"
 #include "commands.h"
@@ -16,10 +17,25 @@ void AddSimulateCommand(CLI::App& app, Context& context) {
   cmd->callback([&context] {
     Progress::SetQuiet(context.quiet);
     LoadPlugins(context);
-    const WorkcellSimulationSpec spec = LoadWorkcellSimulation(spec_path, Registry::Global());
-    WorkcellTruth truth;
-    const Recording recording = SimulateWorkcell(spec, &truth);
-    WriteRecording(recording, output, TruthYaml(truth));
+    const ConfigNode root = ConfigNode::LoadFile(spec_path);
+    const std::string kind = root["simulation"].AsString();
+    Recording recording;
+    if (kind == "workcell") {
+      const WorkcellSimulationSpec spec = LoadWorkcellSimulation(spec_path, Registry::Global());
+      WorkcellTruth truth;
+      recording = SimulateWorkcell(spec, &truth);
+      WriteRecording(recording, output, TruthYaml(truth));
+    } else if (kind == "kinematic") {
+      const KinematicSimulationSpec spec = LoadKinematicSimulation(spec_path, Registry::Global());
+      std::mt19937 truth_rng(spec.seed), rng(spec.pose_seed);
+      const KinematicState truth = DrawTruth(spec, truth_rng);
+      const auto commands = MakePoseSet(spec, spec.pose_set, spec.count, rng);
+      recording = SimulateKinematic(spec, truth, commands, rng);
+      WriteRecording(recording, output, TruthYaml(KinematicTruthRecord(spec, truth)));
+    } else {
+      throw root["simulation"].Error("unknown simulation kind '" + kind + "'",
+                                     "Use workcell or kinematic");
+    }
     std::printf("simulated %zu samples, %zu observations -> %s (truth in truth.yaml)\n",
                 recording.samples.size(), recording.observations.size(), output.c_str());
   });

@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
   app::AddRunCommand(cli, context);
   app::AddSimulateCommand(cli, context);
   app::AddEvaluateCommand(cli, context);
+  app::AddHomeCommand(cli, context);
+  app::AddCompareCommand(cli, context);
   app::AddPluginsCommand(cli, context);
   try {
     cli.parse(argc, argv);

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace cellmetry {
 namespace {
@@ -117,6 +118,7 @@ Uncertainty ComputeUncertainty(Problem& problem) {
   u.scale = std::max(1.0, u.reduced_chi2);
   u.covariance = Eigen::MatrixXd::Zero(n, n);
   u.sigma = Eigen::VectorXd::Zero(n);
+  u.variance_inflation = Eigen::VectorXd::Ones(n);
   u.correlation = Eigen::MatrixXd::Identity(n, n);
   if (n == 0) return u;
 
@@ -132,6 +134,7 @@ Uncertainty ComputeUncertainty(Problem& problem) {
   }
   const Eigen::MatrixXd& V = svd.matrixV();
   const Eigen::MatrixXd scaled_cov = V * inv_s2.asDiagonal() * V.transpose();
+  u.variance_inflation = scaled_cov.diagonal();  // columns have unit norm
   const Eigen::VectorXd inv_norms = norms.cwiseInverse();
   u.covariance = inv_norms.asDiagonal() * scaled_cov * inv_norms.asDiagonal() * u.scale;
   u.sigma = u.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
@@ -142,6 +145,25 @@ Uncertainty ComputeUncertainty(Problem& problem) {
     }
   }
   return u;
+}
+
+std::vector<WeakParameter> WeaklyIdentified(const Uncertainty& u, double vif_threshold) {
+  std::vector<WeakParameter> weak;
+  for (Eigen::Index i = 0; i < u.variance_inflation.size(); ++i) {
+    if (u.variance_inflation[i] < vif_threshold) continue;
+    WeakParameter w{u.names[i], u.variance_inflation[i], ""};
+    for (Eigen::Index k = 0; k < u.correlation.cols(); ++k) {
+      if (k == i || std::abs(u.correlation(i, k)) < 0.9) continue;
+      char text[32];
+      std::snprintf(text, sizeof(text), " (%.2f)", u.correlation(i, k));
+      w.partners += (w.partners.empty() ? "" : ", ") + u.names[k] + text;
+    }
+    weak.push_back(w);
+  }
+  std::sort(weak.begin(), weak.end(), [](const WeakParameter& a, const WeakParameter& b) {
+    return a.variance_inflation > b.variance_inflation;
+  });
+  return weak;
 }
 
 std::vector<CorrelatedPair> StrongCorrelations(const Uncertainty& u, double threshold) {

@@ -5,31 +5,6 @@
 namespace cellmetry {
 namespace {
 
-std::array<bool, 6> ReadFreeFlags(const ConfigNode& node, std::array<bool, 6> fallback) {
-  if (!node.Has("free")) return fallback;
-  const ConfigNode free = node["free"];
-  std::array<bool, 6> flags{};
-  const std::vector<std::string> names = free.AsStrings();
-  for (const auto& name : names) {
-    if (name == "all") {
-      flags.fill(true);
-      continue;
-    }
-    if (name == "none") continue;
-    const auto it = std::find(kFrameParameterNames.begin(), kFrameParameterNames.end(), name);
-    if (it == kFrameParameterNames.end()) {
-      const std::vector<std::string> known(kFrameParameterNames.begin(),
-                                           kFrameParameterNames.end());
-      const std::string nearest = NearestWord(name, known);
-      throw free.Error("unknown frame parameter '" + name + "'",
-                       (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") +
-                           "Use x, y, z, rx, ry, rz, all or none");
-    }
-    flags[it - kFrameParameterNames.begin()] = true;
-  }
-  return flags;
-}
-
 WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, Registry& registry) {
   node.ExpectKeys({"model", "base", "tools", "free_model"});
   WorkcellRobot robot;
@@ -116,6 +91,31 @@ NoiseSpec ReadNoise(const ConfigNode& node) {
 
 }  // namespace
 
+std::array<bool, 6> ReadFreeFlags(const ConfigNode& node, std::array<bool, 6> fallback) {
+  if (!node.Has("free")) return fallback;
+  const ConfigNode free = node["free"];
+  std::array<bool, 6> flags{};
+  const std::vector<std::string> names = free.AsStrings();
+  for (const auto& name : names) {
+    if (name == "all") {
+      flags.fill(true);
+      continue;
+    }
+    if (name == "none") continue;
+    const auto it = std::find(kFrameParameterNames.begin(), kFrameParameterNames.end(), name);
+    if (it == kFrameParameterNames.end()) {
+      const std::vector<std::string> known(kFrameParameterNames.begin(),
+                                           kFrameParameterNames.end());
+      const std::string nearest = NearestWord(name, known);
+      throw free.Error("unknown frame parameter '" + name + "'",
+                       (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") +
+                           "Use x, y, z, rx, ry, rz, all or none");
+    }
+    flags[it - kFrameParameterNames.begin()] = true;
+  }
+  return flags;
+}
+
 Pose ReadPose(const ConfigNode& node) {
   Pose pose;
   if (node.Has("xyz")) {
@@ -128,6 +128,20 @@ Pose ReadPose(const ConfigNode& node) {
     pose.R = RotationFromRvec(rvec.data());
   }
   return pose;
+}
+
+std::string ReadRecordingPath(const ConfigNode& node) {
+  const std::string folder = node.ResolvePath(node.AsString());
+  if (!std::filesystem::is_regular_file(folder + "/recording.yaml")) {
+    throw node.Error("no recording at '" + folder + "' (expected " + folder + "/recording.yaml)",
+                     "Point '" + node.key_path() +
+                         ":' at a cellmetry-recording/1 folder, relative to the job file");
+  }
+  return folder;
+}
+
+std::string JobKind(const std::string& path) {
+  return ConfigNode::LoadFile(path)["job"].AsString();
 }
 
 WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
@@ -146,13 +160,7 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
       registry.LoadFolder(root.ResolvePath(folder));
     }
   }
-  job.recording = root.ResolvePath(root["recording"].AsString());
-  if (!std::filesystem::is_regular_file(job.recording + "/recording.yaml")) {
-    throw root["recording"].Error(
-        "no recording at '" + job.recording + "' (expected " + job.recording +
-            "/recording.yaml)",
-        "Point 'recording:' at a cellmetry-recording/1 folder, relative to the job file");
-  }
+  job.recording = ReadRecordingPath(root["recording"]);
   const std::string stem = std::filesystem::path(path).stem().string();
   job.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
                                   : "results/" + stem;

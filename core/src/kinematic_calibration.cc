@@ -6,6 +6,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 #include "cellmetry/error.h"
@@ -43,23 +44,6 @@ KinematicState ReadState(const Assembled& a) {
   const double* v = a.problem.values(a.model);
   state.model_values.assign(v, v + params.size());
   return state;
-}
-
-// d q / d p_cam at `state` (3x3), from the model's inverse kinematics on Jets.
-bool InverseJacobian(const RobotModel& model, const KinematicState& state,
-                     const Eigen::Vector3d& p_cam, Eigen::Matrix3d* J) {
-  const Eigen::Vector3d flange = state.T_base_cam * p_cam - state.marker_mm;
-  const std::vector<Jet> params(state.model_values.begin(), state.model_values.end());
-  Jet position[3], q[3];
-  for (int i = 0; i < 3; ++i) {
-    position[i] = Jet(flange[i]);
-    for (int k = 0; k < 3; ++k) position[i].v[k] = state.T_base_cam.R(i, k);  // d flange / d p_cam
-  }
-  if (!model.Inverse(position, params.data(), q)) return false;
-  for (int i = 0; i < 3; ++i) {
-    for (int k = 0; k < 3; ++k) (*J)(i, k) = q[i].v[k];
-  }
-  return true;
 }
 
 // W with W^T W = (J Sigma J^T)^-1: whitens a joint residual by the propagated measurement noise.
@@ -102,8 +86,15 @@ std::unique_ptr<Assembled> Assemble(const KinematicProblem& spec,
       cost = new ceres::DynamicAutoDiffCostFunction<ForwardPointResidual, kJetStride>(
           new ForwardPointResidual(robot, s.q, s.p_cam_mm, sigma, a->R_ref_base_cam));
     } else {
+      Eigen::Vector3d q;
       Eigen::Matrix3d J;
-      if (!InverseJacobian(*robot, start, s.p_cam_mm, &J)) continue;  // out of reach at start
+      if (!InverseInCamera(*robot, start, s.p_cam_mm, &q, &J)) {
+        const Eigen::Vector3d flange = start.T_base_cam * s.p_cam_mm - start.marker_mm;
+        throw InputError(s.measured_at,
+                         "the measured point is out of the arm's reach: " +
+                             robot->InverseFailure(flange.data(), start.model_values.data()),
+                         "Check the camera pose and marker offset, or remove this observation");
+      }
       info.sigma = Eigen::Vector3d::Ones();  // rows are whitened joint errors
       cost = new ceres::DynamicAutoDiffCostFunction<InversePointResidual, kJetStride>(
           new InversePointResidual(robot, s.q, s.p_cam_mm, JointWhitening(J, sigma),
@@ -143,10 +134,43 @@ ResidualRms Rms(const std::vector<Eigen::Vector3d>& errors) {
   return rms;
 }
 
+// A command outside the robot config's joint limits cannot have been reached.
+void CheckJointLimits(const RobotModel& model, const Sample& sample, const std::string& file) {
+  const RobotLimits& limits = model.limits();
+  for (size_t j = 0; j < limits.joint_min_rad.size() && j < sample.q.size(); ++j) {
+    const double q = sample.q[j];
+    if (q >= limits.joint_min_rad[j] && q <= limits.joint_max_rad[j]) continue;
+    char text[160];
+    std::snprintf(text, sizeof(text),
+                  "unreachable command: q%zu = %.4f rad is outside the joint limits [%.4f, %.4f]",
+                  j + 1, q, limits.joint_min_rad[j], limits.joint_max_rad[j]);
+    throw InputError({file, sample.line, static_cast<int>(4 + j)}, text,
+                     "Check the joint values (rad, not deg?) or the robot config's joint_limits");
+  }
+}
+
 }  // namespace
 
 std::string FormulationName(Formulation formulation) {
   return formulation == Formulation::kForward ? "forward" : "inverse";
+}
+
+bool InverseInCamera(const RobotModel& model, const KinematicState& state,
+                     const Eigen::Vector3d& p_cam, Eigen::Vector3d* q_out,
+                     Eigen::Matrix3d* d_q_d_p_cam) {
+  const Eigen::Vector3d flange = state.T_base_cam * p_cam - state.marker_mm;
+  const std::vector<Jet> params(state.model_values.begin(), state.model_values.end());
+  Jet position[3], q[3];
+  for (int i = 0; i < 3; ++i) {
+    position[i] = Jet(flange[i]);
+    for (int k = 0; k < 3; ++k) position[i].v[k] = state.T_base_cam.R(i, k);  // d flange / d p_cam
+  }
+  if (!model.Inverse(position, params.data(), q)) return false;
+  for (int i = 0; i < 3; ++i) {
+    (*q_out)[i] = q[i].a;
+    for (int k = 0; k < 3; ++k) (*d_q_d_p_cam)(i, k) = q[i].v[k];
+  }
+  return true;
 }
 
 bool PredictInCamera(const RobotModel& model, const KinematicState& state,
@@ -185,7 +209,10 @@ std::vector<PointSample> CollectPointSamples(const KinematicProblem& problem,
     const Observation& obs = recording.observations[i];
     if (obs.target != problem.target || obs.camera != problem.camera) continue;
     const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
-    samples.push_back({sample.id, static_cast<int>(i), sample.q, obs.position_mm});
+    CheckJointLimits(*problem.model, sample, recording.folder + "/samples.csv");
+    samples.push_back({sample.id, static_cast<int>(i), sample.q, obs.position_mm,
+                       {recording.folder + "/samples.csv", sample.line, 0},
+                       {recording.folder + "/observations.csv", obs.line, 0}});
   }
   if (samples.empty()) {
     throw InputError({recording.folder + "/observations.csv", 0, 0},
@@ -208,7 +235,7 @@ CameraPoseFit EstimateCameraPose(const KinematicProblem& problem,
   }
   const auto fit = FitRigidTransform(from_cam, to_base);
   if (!fit) {
-    throw InputError({"", 0, 0},
+    throw InputError({samples.empty() ? "" : samples.front().measured_at.file, 0, 0},
                      "cannot place the camera: fewer than three usable marker positions, or all "
                      "on one line (" + std::to_string(from_cam.size()) + " usable)",
                      "Record the marker at three or more positions that span a plane");
@@ -231,12 +258,13 @@ void CheckProblem(const KinematicProblem& spec, const std::vector<PointSample>& 
                   int num_free) {
   if (spec.formulation == Formulation::kInverse &&
       (!spec.model->has_inverse() || spec.model->num_joints() != 3)) {
-    throw InputError({"", 0, 0}, "the inverse formulation needs a robot model with position "
+    throw InputError({samples.empty() ? "" : samples.front().command_at.file, 0, 0},
+                     "the inverse formulation needs a robot model with position "
                                  "inverse kinematics (3 joints); this one has none",
                      "Use formulation: forward");
   }
   if (static_cast<int>(samples.size()) < num_free) {
-    throw InputError({"", 0, 0},
+    throw InputError({samples.empty() ? "" : samples.front().command_at.file, 0, 0},
                      "the pose set has " + std::to_string(samples.size()) + " samples for " +
                          std::to_string(num_free) + " free parameters",
                      "Record at least " + std::to_string(num_free) +
@@ -305,6 +333,15 @@ KinematicResult CalibrateKinematics(const KinematicProblem& spec,
   KinematicState state;
   state.marker_mm = spec.marker_mm;
   state.model_values = Values(spec.model_parameters);
+  for (const PointSample& s : samples) {
+    Pose flange;
+    if (!spec.model->Forward(s.q.data(), state.model_values.data(), &flange)) {
+      throw InputError(s.command_at,
+                       "the command has no pose: " +
+                           spec.model->ForwardFailure(s.q.data(), state.model_values.data()),
+                       "Check the joint values (rad) and the robot config, or remove this sample");
+    }
+  }
   if (spec.T_base_cam_start) {
     state.T_base_cam = *spec.T_base_cam_start;
   } else {
@@ -327,7 +364,14 @@ KinematicResult CalibrateKinematics(const KinematicProblem& spec,
     for (const auto& u : solved.unidentifiable) held.insert(u.name);
     result.unidentifiable.insert(result.unidentifiable.end(), solved.unidentifiable.begin(),
                                  solved.unidentifiable.end());
+    // Report the passes as one solve: iterations and time add up, costs span them.
+    const SolverSummary first = result.solver;
     result.solver = solved.summary;
+    if (pass > 0) {
+      result.solver.iterations += first.iterations;
+      result.solver.evaluations += first.evaluations;
+      result.solver.time_s += first.time_s;
+    }
     state = ReadState(*assembled);
     if (!spec.sigma_mm && pass == 0) {
       result.sigma_mm = SigmaFromResiduals(PositionErrors(spec, samples, state),
@@ -337,6 +381,14 @@ KinematicResult CalibrateKinematics(const KinematicProblem& spec,
   result.state = state;
   result.uncertainty = ComputeUncertainty(assembled->problem);
   result.strong_correlations = StrongCorrelations(result.uncertainty);
+  result.weakly_identified = WeaklyIdentified(result.uncertainty, spec.weak_vif);
+  if (!result.weakly_identified.empty()) {
+    std::string names;
+    for (const auto& w : result.weakly_identified) names += (names.empty() ? "" : ", ") + w.name;
+    result.warnings.push_back("this data barely identifies " + names +
+                              ": they move together; record positions that vary them "
+                              "independently (other heights, the workspace's edges)");
+  }
   result.position_rms = Rms(PositionErrors(spec, samples, state));
   Describe(spec, &result);
   if (result.uncertainty.reduced_chi2 > 4.0) {
@@ -363,7 +415,7 @@ double PredictionErrorFloorMm(const KinematicProblem& problem,
   design_problem->problem.Evaluate(nullptr, nullptr, &J, false);
 
   std::vector<PointSample> points;
-  for (const auto& q : validation) points.push_back({0, 0, q, Eigen::Vector3d::Zero()});
+  for (const auto& q : validation) points.push_back({0, 0, q, Eigen::Vector3d::Zero(), {}, {}});
   auto prediction = Assemble(forward, points, truth, Eigen::Vector3d::Ones());
   HoldParameters(&prediction->problem, names);
   Eigen::MatrixXd G;

@@ -221,7 +221,8 @@ KinematicSimulationSpec LoadKinematicSimulation(const std::string& path, Registr
     spec.sigma_mm = Eigen::Vector3d(v[0], v[1], v[2]);
   }
   const ConfigNode poses = root["poses"];
-  poses.ExpectKeys({"set", "count", "repeats"});
+  poses.ExpectKeys({"set", "count", "repeats", "seed"});
+  spec.pose_seed = static_cast<unsigned>(poses.GetInt("seed", static_cast<int>(spec.seed) + 1));
   spec.pose_set = ParsePoseSet(poses["set"]);
   spec.count = poses.GetInt("count", spec.count);
   spec.repeats = poses.GetInt("repeats", 1);

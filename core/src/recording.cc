@@ -87,6 +87,7 @@ void ReadSamples(const std::string& path, const Units& units, Recording* recordi
   std::set<int> seen;
   for (size_t row = 0; row < table.num_rows(); ++row) {
     Sample sample;
+    sample.line = table.line_of(row);
     sample.id = table.Integer(row, "sample");
     if (!seen.insert(sample.id).second) {
       throw table.Error(row, "sample", "sample " + std::to_string(sample.id) + " appears twice",

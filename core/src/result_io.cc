@@ -7,21 +7,15 @@
 #include <sstream>
 
 #include "cellmetry/atomic_file.h"
+#include "result_json.h"
 
 namespace cellmetry {
 namespace {
-
-std::vector<double> Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 std::string Fixed(double value, int digits) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
   return buffer;
-}
-
-nlohmann::json RmsJson(const ResidualRms& rms) {
-  return {{"count", rms.count}, {"x", rms.axis.x()}, {"y", rms.axis.y()},
-          {"depth", rms.axis.z()}, {"norm", rms.norm}};
 }
 
 nlohmann::json HeldOutJson(const HeldOut& h) {
@@ -88,10 +82,7 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   nlohmann::json j;
   j["format"] = "cellmetry-result/1";
   j["camera_model"] = CameraModelName(r.camera_model);
-  j["solver"] = {{"name", r.solver.solver},           {"iterations", r.solver.iterations},
-                 {"evaluations", r.solver.evaluations}, {"initial_cost", r.solver.initial_cost},
-                 {"final_cost", r.solver.final_cost},   {"converged", r.solver.converged},
-                 {"stop_reason", r.solver.stop_reason}, {"time_s", r.solver.time_s}};
+  j["solver"] = SolverJson(r.solver);
   for (const auto& f : r.frames) {
     nlohmann::json held = nlohmann::json::array();
     for (int i = 0; i < 6; ++i) {
@@ -109,29 +100,7 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
     j["model_parameters"].push_back({{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal},
                                      {"value", p.value}, {"sigma", p.sigma}, {"held", p.held}});
   }
-  j["unidentifiable"] = nlohmann::json::array();
-  for (const auto& u : r.unidentifiable) {
-    j["unidentifiable"].push_back({{"name", u.name}, {"reason", u.reason}});
-  }
-  const Uncertainty& u = r.uncertainty;
-  j["fit"] = {{"chi2", u.chi2},
-              {"dof", u.dof},
-              {"reduced_chi2", u.reduced_chi2},
-              {"covariance_scale", u.scale},
-              {"condition_number", u.condition_number}};
-  j["free_parameters"] = u.names;
-  j["sigma"] = std::vector<double>(u.sigma.data(), u.sigma.data() + u.sigma.size());
-  std::vector<std::vector<double>> correlation(u.correlation.rows());
-  for (Eigen::Index i = 0; i < u.correlation.rows(); ++i) {
-    for (Eigen::Index k = 0; k < u.correlation.cols(); ++k) {
-      correlation[i].push_back(u.correlation(i, k));
-    }
-  }
-  j["correlation"] = correlation;
-  j["strong_correlations"] = nlohmann::json::array();
-  for (const auto& c : r.strong_correlations) {
-    j["strong_correlations"].push_back({{"a", c.a}, {"b", c.b}, {"correlation", c.correlation}});
-  }
+  AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
   j["noise_used"] = NoiseJson(r.noise);
   j["repeatability"] = NoiseJson(r.repeatability);
   for (const auto& [key, rms] : r.position_rms) j["residual_rms"]["position_mm"][key] = RmsJson(rms);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "cellmetry/progress.h"
 
@@ -37,6 +38,28 @@ std::string TempDir(const std::string& name) {
 void WriteText(const std::string& path, const std::string& text) {
   fs::create_directories(fs::path(path).parent_path());
   std::ofstream(path) << text;
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string ReplaceOnce(const std::string& text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "'" << from << "' not found";
+  if (at == std::string::npos) return text;
+  EXPECT_EQ(text.find(from, at + 1), std::string::npos) << "'" << from << "' found twice";
+  return text.substr(0, at) + to + text.substr(at + from.size());
+}
+
+void EditLine(const std::string& path, int line, const std::string& replacement) {
+  std::istringstream in(ReadText(path));
+  std::string text, current;
+  for (int n = 1; std::getline(in, current); ++n) text += (n == line ? replacement : current) + "\n";
+  WriteText(path, text);
 }
 
 CommandResult RunCellmetry(const std::string& arguments) {

@@ -21,6 +21,13 @@ std::string TempDir(const std::string& name);
 
 // Writes `text` to `path` (creating folders).
 void WriteText(const std::string& path, const std::string& text);
+std::string ReadText(const std::string& path);
+
+// Replaces the one occurrence of `from` in `text`; fails the test if it is not there once.
+std::string ReplaceOnce(const std::string& text, const std::string& from, const std::string& to);
+
+// Replaces line `line` (1-based) of the file at `path`.
+void EditLine(const std::string& path, int line, const std::string& replacement);
 
 struct CommandResult {
   int exit_code = 0;

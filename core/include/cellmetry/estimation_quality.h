@@ -55,9 +55,24 @@ struct Uncertainty {
   double reduced_chi2 = 0.0;
   double scale = 1.0;               // factor applied to the covariance
   double condition_number = 0.0;    // of the column-scaled Jacobian
+  // Variance inflation factor per free parameter: how much larger its variance is than if every
+  // other parameter were known, 1 / (1 - R^2) of its Jacobian column on the others. 1 = independent;
+  // thousands = the data can barely tell it from a combination of the others.
+  Eigen::VectorXd variance_inflation;
 };
 
 Uncertainty ComputeUncertainty(Problem& problem);
+
+// Free parameters the data determines only barely: identifiable in exact arithmetic, but with a
+// variance inflation of at least `vif_threshold` (their sigma is sqrt(vif) times what it would be
+// if the others were known), strongest first, each with the parameters it moves with.
+struct WeakParameter {
+  std::string name;
+  double variance_inflation = 0.0;
+  std::string partners;   // "a (0.99), b (-0.97)": |correlation| >= 0.9
+};
+std::vector<WeakParameter> WeaklyIdentified(const Uncertainty& uncertainty,
+                                            double vif_threshold = 1e5);
 
 struct CorrelatedPair {
   std::string a;

@@ -6,6 +6,7 @@
 // file:line:column.
 #pragma once
 
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -33,11 +34,18 @@ struct WorkcellJob {
 
 WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry);
 
+// The `job:` kind of a job file ("workcell", "kinematic", "homing").
+std::string JobKind(const std::string& path);
+
+// Helpers shared by every job kind.
+Pose ReadPose(const ConfigNode& node);  // {xyz: [mm], rvec: [rad]}, both optional
+// `free: [x, y, z, rx, ry, rz] | all | none`, or `fallback` without the key.
+std::array<bool, 6> ReadFreeFlags(const ConfigNode& node, std::array<bool, 6> fallback);
+// A recording folder named at `node`, resolved against the job file; InputError there if absent.
+std::string ReadRecordingPath(const ConfigNode& node);
+
 // Checks that the job's robots, joint counts and targets exist in the recording as the job
 // expects; raises InputError naming the job file otherwise.
 void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& recording);
-
-// Reads {xyz: [..], rvec: [..]} (both optional, default zero).
-Pose ReadPose(const ConfigNode& node);
 
 }  // namespace cellmetry

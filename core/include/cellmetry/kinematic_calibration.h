@@ -42,6 +42,12 @@ struct KinematicState {
   std::vector<double> model_values;
 };
 
+// Joint values that put the marker at `p_cam_mm` (model inverse kinematics through the camera
+// pose and marker offset) and their derivative d q / d p_cam; false where out of reach.
+bool InverseInCamera(const RobotModel& model, const KinematicState& state,
+                     const Eigen::Vector3d& p_cam_mm, Eigen::Vector3d* q,
+                     Eigen::Matrix3d* d_q_d_p_cam);
+
 // Marker position in the camera frame for command q; false where the model has no pose.
 bool PredictInCamera(const RobotModel& model, const KinematicState& state,
                      const std::vector<double>& q, Eigen::Vector3d* p_cam_mm);
@@ -55,6 +61,7 @@ struct KinematicResult {
   Eigen::Vector3d marker_sigma_mm = Eigen::Vector3d::Zero();
   std::vector<ScalarEstimate> model_parameters; // every model parameter (held ones: sigma 0)
   std::vector<UnidentifiableParameter> unidentifiable;
+  std::vector<WeakParameter> weakly_identified;  // see KinematicProblem::weak_vif
   Uncertainty uncertainty;
   std::vector<CorrelatedPair> strong_correlations;
   Eigen::Vector3d sigma_mm = Eigen::Vector3d::Zero();  // measurement sigma used for weighting

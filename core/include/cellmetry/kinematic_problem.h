@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "cellmetry/error.h"
 #include "cellmetry/parameter.h"
 #include "cellmetry/robot_model.h"
 
@@ -47,6 +48,10 @@ struct KinematicProblem {
   // residuals, then refit.
   std::optional<Eigen::Vector3d> sigma_mm;
   double identifiability_tolerance = 1e-8;   // relative singular value of the scaled Jacobian
+  // Variance inflation above which a parameter is reported as weakly identified. A delta arm
+  // calibrated on a spread pose set shows at most ~1e4 (its parameters are coupled); all
+  // positions at one height give ~2e5 for the rod lengths, homing offsets and camera z.
+  double weak_vif = 1e5;
 };
 
 // One measured marker position with the command that produced it.
@@ -55,6 +60,8 @@ struct PointSample {
   int observation = 0;            // observation index in the recording
   std::vector<double> q;          // commanded joint values (rad)
   Eigen::Vector3d p_cam_mm;       // measured marker position in the camera frame
+  SourceLocation command_at;      // the sample's line in samples.csv (for errors)
+  SourceLocation measured_at;     // the observation's line in observations.csv
 };
 
 }  // namespace cellmetry

@@ -53,7 +53,9 @@ struct KinematicSimulationSpec {
   PoseSet pose_set = PoseSet::kUniformWorkspace;
   int count = 125;
   int repeats = 1;
-  unsigned seed = 1;
+  unsigned seed = 1;        // draws the truth
+  unsigned pose_seed = 2;   // draws the commands and the noise: a second recording of the same
+                            // truth (a validation set) keeps `seed` and changes this
 };
 
 KinematicSimulationSpec LoadKinematicSimulation(const std::string& path, Registry& registry);

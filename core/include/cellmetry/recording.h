@@ -31,6 +31,7 @@ struct Sample {
   std::optional<double> time_s;
   std::optional<double> temperature_c;
   std::optional<double> payload_kg;
+  int line = 0;                 // line in samples.csv, for messages (0: not read from a file)
 };
 
 struct Observation {

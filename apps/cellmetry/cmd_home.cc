@@ -1,0 +1,32 @@
+// `cellmetry home JOB.yaml`: visual homing of a calibrated arm (homing.h).
+#include <cstdio>
+
+#include "cellmetry/homing.h"
+#include "cellmetry/kinematic_job.h"
+#include "cellmetry/kinematic_result_io.h"
+#include "cellmetry/progress.h"
+#include "commands.h"
+
+namespace cellmetry::app {
+
+void AddHomeCommand(CLI::App& app, Context& context) {
+  CLI::App* cmd = app.add_subcommand(
+      "home", "visual homing: motor homing offsets from measured marker positions");
+  static std::string job_path, output;
+  cmd->add_option("job", job_path, "homing job (YAML, job: homing)")->required();
+  cmd->add_option("-o,--output", output, "result folder (default: the job's `output`)");
+  cmd->callback([&context] {
+    Progress::SetQuiet(context.quiet);
+    LoadPlugins(context);
+    const HomingJob job = LoadHomingJob(job_path, Registry::Global());
+    const std::vector<PointSample> samples =
+        CollectPointSamples(job.problem, ReadRecording(job.recording));
+    const HomingResult result = HomeVisually(job.problem, samples, job.sigma_mm, job.options);
+    const std::string folder = output.empty() ? job.output : output;
+    WriteHomingResult(result, folder);
+    std::printf("%s", HomingSummary(result).c_str());
+    std::printf("  written: %s/homing.yaml\n", folder.c_str());
+  });
+}
+
+}  // namespace cellmetry::app

@@ -1,0 +1,146 @@
+// Bad input to the delta arm's calibration and homing, through the real command line: one error
+// line naming the file, the line and what to do, exit code 2, no result folder left behind.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "support/test_support.h"
+
+namespace fs = std::filesystem;
+
+namespace cellmetry {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::ReadText;
+using testing::ReplaceOnce;
+
+// A simulated 40-position recording of the nominal delta arm, and jobs on it, in a temp folder.
+class DeltaBadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    dir_ = testing::TempDir("delta_cli/" + name);
+    robot_ = dir_ + "/delta.yaml";
+    recording_ = dir_ + "/rec";
+    output_ = dir_ + "/result";
+    fs::copy_file(testing::Source("configs/robots/delta.yaml"), robot_);
+    testing::WriteText(dir_ + "/sim.yaml",
+                       "simulation: kinematic\n"
+                       "robot: {name: delta, model: " + robot_ + "}\n"
+                       "camera: {name: stereo, xyz: [0, 250, -150], rvec: [3.0, 0, 0]}\n"
+                       "target: marker\n"
+                       "noise: {position_mm: [0.013, 0.012, 0.058]}\n"
+                       "poses: {set: uniform_workspace, count: 40}\n");
+    const auto sim = testing::RunCellmetry("simulate " + dir_ + "/sim.yaml -o " + recording_);
+    ASSERT_EQ(sim.exit_code, 0) << sim.output;
+  }
+
+  std::string CalibrationJob(const std::string& formulation) const {
+    return "job: kinematic\n"
+           "recording: " + recording_ + "\n"
+           "output: " + output_ + "\n"
+           "robot: {name: delta, model: " + robot_ + ", free: [all]}\n"
+           "camera: {name: stereo}\n"
+           "target: marker\n"
+           "formulation: " + formulation + "\n"
+           "solver: {type: ceres_lm}\n";
+  }
+
+  testing::CommandResult Run(const std::string& command, const std::string& job_text) {
+    testing::WriteText(dir_ + "/job.yaml", job_text);
+    return testing::RunCellmetry(command + " " + dir_ + "/job.yaml");
+  }
+
+  // Keeps the first `rows` data rows of a recording file.
+  void Truncate(const std::string& file, int rows) {
+    std::istringstream in(ReadText(recording_ + "/" + file));
+    std::string text, line;
+    for (int n = 0; std::getline(in, line) && n <= rows; ++n) text += line + "\n";
+    testing::WriteText(recording_ + "/" + file, text);
+  }
+
+  void ExpectRejected(const testing::CommandResult& r, const std::string& location,
+                      const std::string& message) {
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_THAT(r.output, HasSubstr(location + " error: ")) << r.output;
+    EXPECT_THAT(r.output, HasSubstr(message));
+    std::istringstream lines(r.output);
+    int non_empty = 0;
+    for (std::string line; std::getline(lines, line);) non_empty += !line.empty();
+    EXPECT_EQ(non_empty, 1) << r.output;
+    EXPECT_FALSE(fs::exists(output_)) << "a result folder was written";
+  }
+
+  std::string dir_, robot_, recording_, output_;
+};
+
+TEST_F(DeltaBadInput, TheUnmodifiedJobRuns) {
+  const auto r = Run("run", CalibrationJob("inverse"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(output_ + "/result.yaml"));
+}
+
+TEST_F(DeltaBadInput, UnreachableCommand) {
+  testing::EditLine(recording_ + "/samples.csv", 5, "3,delta,3,2.5,0.1,0.1");
+  ExpectRejected(Run("run", CalibrationJob("forward")), "samples.csv:5:4:",
+                 "unreachable command: q1 = 2.5000 rad is outside the joint limits");
+}
+
+TEST_F(DeltaBadInput, CommandWhereTheRodSpheresDoNotMeet) {
+  // A config whose rods (300 mm) are shorter than the elbows' spread: the recorded commands have
+  // no pose under it.
+  testing::WriteText(robot_, ReplaceOnce(ReadText(robot_), "arms:\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}",
+                                         "arms:\n  - {R: 150, r: 40, L: 250, l: 300}\n  - {R: 150, r: 40, L: 250, l: 300}\n  - {R: 150, r: 40, L: 250, l: 300}"));
+  ExpectRejected(Run("run", CalibrationJob("forward")), "samples.csv:2:",
+                 "the three rod spheres do not meet");
+}
+
+TEST_F(DeltaBadInput, MeasuredPointOutOfReach) {
+  testing::EditLine(recording_ + "/observations.csv", 4, "2,stereo,marker,0,0,5000,,,");
+  ExpectRejected(Run("run", CalibrationJob("inverse")), "observations.csv:4:",
+                 "the measured point is out of the arm's reach: arm 1 cannot reach");
+}
+
+TEST_F(DeltaBadInput, FewerSamplesThanFreeParameters) {
+  Truncate("samples.csv", 10);
+  Truncate("observations.csv", 10);
+  ExpectRejected(Run("run", CalibrationJob("forward")), "samples.csv:",
+                 "the pose set has 10 samples for 21 free parameters");
+}
+
+TEST_F(DeltaBadInput, HomingWithTooFewPositions) {
+  Truncate("samples.csv", 2);
+  Truncate("observations.csv", 2);
+  const std::string job = "job: homing\n"
+                          "recording: " + recording_ + "\n"
+                          "output: " + output_ + "\n"
+                          "robot: {name: delta, model: " + robot_ + "}\n"
+                          "camera: {name: stereo, xyz: [0, 250, -150], rvec: [3.0, 0, 0]}\n"
+                          "target: marker\n"
+                          "noise: {position_mm: [0.013, 0.012, 0.058]}\n";
+  ExpectRejected(Run("home", job), "samples.csv:",
+                 "homing needs at least 3 measured positions, the recording has 2");
+}
+
+TEST_F(DeltaBadInput, CompareWritesTheTable) {
+  testing::WriteText(dir_ + "/compare.yaml",
+                     "compare: kinematic\n"
+                     "simulation: " + dir_ + "/sim.yaml\n"
+                     "pose_sets: [camera_view, boundaries]\n"
+                     "sizes: [24]\n"
+                     "formulations: [inverse, forward]\n"
+                     "solvers: {lm: {type: ceres_lm}}\n"
+                     "validation_points: 50\n"
+                     "output: " + output_ + "\n");
+  const auto r = testing::RunCellmetry("compare " + dir_ + "/compare.yaml");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string csv = ReadText(output_ + "/table.csv");
+  EXPECT_THAT(csv, HasSubstr("camera_view,24,inverse,lm,"));
+  EXPECT_THAT(csv, HasSubstr("boundaries,24,forward,lm,"));
+  EXPECT_THAT(ReadText(output_ + "/table.md"), HasSubstr("floor RMS"));
+}
+
+}  // namespace
+}  // namespace cellmetry
