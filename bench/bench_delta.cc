@@ -24,18 +24,10 @@ struct Scenario {
   double lm_forward_cost = 0.0;   // LM's minimum, the target for Adam
 };
 
+// Only R - r is identifiable: hold r, as configs/jobs/delta_calibration.yaml does.
 KinematicProblem Problem(const Scenario& s, Formulation formulation) {
-  KinematicProblem problem;
-  problem.robot = s.spec.robot;
-  problem.target = s.spec.target;
-  problem.camera = s.spec.camera;
-  problem.model = s.spec.model;
-  problem.model_parameters = s.spec.model->parameters();
-  // Only R - r is identifiable: hold r, as configs/jobs/delta_calibration.yaml does.
-  for (auto& p : problem.model_parameters) p.fixed = p.name.size() > 2 && p.name.substr(p.name.size() - 2) == ".r";
-  problem.marker_mm = s.spec.model->nominal_tool().t;
-  problem.formulation = formulation;
-  problem.sigma_mm = s.spec.sigma_mm;
+  KinematicProblem problem = SimulatedProblem(s.spec, formulation);
+  HoldParametersNamed(".r", &problem);
   return problem;
 }
 

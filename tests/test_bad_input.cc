@@ -23,8 +23,7 @@ using testing::ReplaceOnce;
 class BadInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = testing::TempDir("bad_input/" + name);
+    dir_ = testing::TempDirForThisTest("bad_input");
     recording_ = dir_ + "/sim_b";
     robot_ = dir_ + "/ur3.yaml";
     output_ = dir_ + "/result";
@@ -66,13 +65,7 @@ class BadInput : public ::testing::Test {
   // nothing left behind.
   void ExpectRejected(const testing::CommandResult& r, const std::string& location,
                       const std::string& hint) {
-    EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_THAT(r.output, HasSubstr(location + " error: ")) << "location";
-    EXPECT_THAT(r.output, HasSubstr(hint)) << "hint";
-    std::istringstream lines(r.output);
-    int non_empty = 0;
-    for (std::string line; std::getline(lines, line);) non_empty += !line.empty();
-    EXPECT_EQ(non_empty, 1) << r.output;
+    testing::ExpectOneLineError(r, location, hint);
     EXPECT_FALSE(fs::exists(output_)) << "a result folder was written";
     for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
       const std::string name = entry.path().filename().string();

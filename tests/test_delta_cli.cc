@@ -20,8 +20,7 @@ using testing::ReplaceOnce;
 class DeltaBadInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = testing::TempDir("delta_cli/" + name);
+    dir_ = testing::TempDirForThisTest("delta_cli");
     robot_ = dir_ + "/delta.yaml";
     recording_ = dir_ + "/rec";
     output_ = dir_ + "/result";
@@ -63,13 +62,7 @@ class DeltaBadInput : public ::testing::Test {
 
   void ExpectRejected(const testing::CommandResult& r, const std::string& location,
                       const std::string& message) {
-    EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_THAT(r.output, HasSubstr(location + " error: ")) << r.output;
-    EXPECT_THAT(r.output, HasSubstr(message));
-    std::istringstream lines(r.output);
-    int non_empty = 0;
-    for (std::string line; std::getline(lines, line);) non_empty += !line.empty();
-    EXPECT_EQ(non_empty, 1) << r.output;
+    testing::ExpectOneLineError(r, location, message);
     EXPECT_FALSE(fs::exists(output_)) << "a result folder was written";
   }
 

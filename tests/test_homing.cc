@@ -23,12 +23,7 @@ KinematicSimulationSpec Spec() {
 
 // The homing problem for a calibrated arm: true geometry and camera, homing unknown (0 start).
 KinematicProblem HomingProblem(const KinematicSimulationSpec& spec, const KinematicState& truth) {
-  KinematicProblem problem;
-  problem.robot = spec.robot;
-  problem.target = spec.target;
-  problem.camera = spec.camera;
-  problem.model = spec.model;
-  problem.model_parameters = spec.model->parameters();
+  KinematicProblem problem = SimulatedProblem(spec, Formulation::kInverse);
   for (size_t i = 0; i < truth.model_values.size(); ++i) {
     const bool homing = problem.model_parameters[i].unit == "rad";
     problem.model_parameters[i].nominal = homing ? 0.0 : truth.model_values[i];

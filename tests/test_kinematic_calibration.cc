@@ -23,20 +23,6 @@ KinematicSimulationSpec Spec(PoseSet set, int count, const Eigen::Vector3d& sigm
   return spec;
 }
 
-KinematicProblem ProblemFor(const KinematicSimulationSpec& spec, Formulation formulation,
-                            std::optional<Eigen::Vector3d> sigma) {
-  KinematicProblem problem;
-  problem.robot = spec.robot;
-  problem.target = spec.target;
-  problem.camera = spec.camera;
-  problem.model = spec.model;
-  problem.model_parameters = spec.model->parameters();
-  problem.marker_mm = spec.model->nominal_tool().t;
-  problem.formulation = formulation;
-  problem.sigma_mm = sigma;
-  return problem;
-}
-
 SolverMaker Lm() {
   return [] {
     return testing::Plugins().CreateSolver("ceres_lm",
@@ -58,10 +44,7 @@ SimulatedRun Calibrate(const KinematicSimulationSpec& spec, Formulation formulat
   run.truth = DrawTruth(spec, rng);
   const auto commands = MakePoseSet(spec, spec.pose_set, spec.count, rng);
   const Recording recording = SimulateKinematic(spec, run.truth, commands, rng);
-  const KinematicProblem problem = ProblemFor(
-      spec, formulation,
-      spec.sigma_mm.isZero() ? std::optional<Eigen::Vector3d>(Eigen::Vector3d::Constant(0.01))
-                             : std::optional<Eigen::Vector3d>(spec.sigma_mm));
+  const KinematicProblem problem = SimulatedProblem(spec, formulation);
   const auto samples = CollectPointSamples(problem, recording);
   run.result = CalibrateKinematics(problem, samples, Lm());
   const auto validation = MakePoseSet(spec, PoseSet::kUniformWorkspace, 200, rng);
@@ -180,8 +163,8 @@ TEST(EverySolver, CalibratesTheArm) {
     const Recording recording =
         SimulateKinematic(spec, truth, MakePoseSet(spec, spec.pose_set, spec.count, rng), rng);
     const auto validation = MakePoseSet(spec, PoseSet::kUniformWorkspace, 100, rng);
-    KinematicProblem problem = ProblemFor(spec, Formulation::kForward, Eigen::Vector3d::Constant(0.01));
-    for (auto& p : problem.model_parameters) p.fixed = p.name.substr(p.name.size() - 2) == ".r";
+    KinematicProblem problem = SimulatedProblem(spec, Formulation::kForward);
+    HoldParametersNamed(".r", &problem);
     const SolverMaker make = [yaml = yaml] {
       const ConfigNode config = ConfigNode::LoadString(yaml, "test");
       return testing::Plugins().CreateSolver(config["type"].AsString(), config);
@@ -212,8 +195,8 @@ TEST(Identifiability, PosesAtOneHeightAreReportedByName) {
     commands.push_back(q);
   }
   const Recording recording = SimulateKinematic(spec, truth, commands, rng);
-  KinematicProblem problem = ProblemFor(spec, Formulation::kForward, Eigen::Vector3d::Constant(0.01));
-  for (auto& p : problem.model_parameters) p.fixed = p.name.substr(p.name.size() - 2) == ".r";
+  KinematicProblem problem = SimulatedProblem(spec, Formulation::kForward);
+  HoldParametersNamed(".r", &problem);
   const KinematicResult result =
       CalibrateKinematics(problem, CollectPointSamples(problem, recording), Lm());
   // Exactly identifiable (noise-free), so nothing is held; but the rod lengths, the homing

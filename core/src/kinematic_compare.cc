@@ -19,20 +19,6 @@ std::string Number(double value) {
   return text;
 }
 
-KinematicProblem ProblemFor(const KinematicSimulationSpec& sim, Formulation formulation) {
-  KinematicProblem problem;
-  problem.robot = sim.robot;
-  problem.target = sim.target;
-  problem.camera = sim.camera;
-  problem.model = sim.model;
-  problem.model_parameters = sim.model->parameters();  // every parameter free
-  problem.marker_mm = sim.model->nominal_tool().t;
-  problem.formulation = formulation;
-  // The stated noise, or a nominal 0.01 mm for noise-free data (it only scales the weights).
-  problem.sigma_mm = sim.sigma_mm.isZero() ? Eigen::Vector3d::Constant(0.01) : sim.sigma_mm;
-  return problem;
-}
-
 }  // namespace
 
 CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
@@ -88,7 +74,7 @@ std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registr
       const auto commands = MakePoseSet(sim, set, size, rng);
       const Recording recording = SimulateKinematic(sim, truth, commands, rng);
       for (Formulation formulation : spec.formulations) {
-        const KinematicProblem problem = ProblemFor(sim, formulation);
+        const KinematicProblem problem = SimulatedProblem(sim, formulation);  // all free
         const auto samples = CollectPointSamples(problem, recording);
         for (const auto& [label, block] : spec.solvers) {
           const SolverMaker make = [&, &block = block] {

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "cellmetry/atomic_file.h"
-#include "result_json.h"
+#include "result_yaml.h"
 
 namespace cellmetry {
 namespace {
@@ -15,16 +15,6 @@ std::string Format(const char* format, double a, double b = 0, double c = 0, dou
   char text[256];
   std::snprintf(text, sizeof(text), format, a, b, c, d);
   return text;
-}
-
-void EmitPose(YAML::Emitter& out, const std::string& name, const FrameEstimate& f) {
-  out << YAML::Key << name << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "parent" << YAML::Value << f.parent;
-  out << YAML::Key << "xyz" << YAML::Value << YAML::Flow << Vec(f.pose.t);
-  out << YAML::Key << "rvec" << YAML::Value << YAML::Flow << Vec(RvecFromRotation(f.pose.R));
-  out << YAML::Key << "sigma_xyz" << YAML::Value << YAML::Flow << Vec(f.sigma_mm);
-  out << YAML::Key << "sigma_rot" << YAML::Value << YAML::Flow << Vec(f.sigma_rad);
-  out << YAML::EndMap;
 }
 
 nlohmann::json ValidationJson(const KinematicValidation& v) {
@@ -42,7 +32,7 @@ std::string KinematicResultYaml(const KinematicResult& r) {
   out << YAML::Comment("cellmetry kinematic calibration (" + FormulationName(r.formulation) +
                        ", " + r.solver.solver + "); lengths mm, angles rad");
   out << YAML::BeginMap;
-  EmitPose(out, "camera", r.camera);
+  EmitFrameYaml(out, "camera", r.camera);
   out << YAML::Key << "marker" << YAML::Value << YAML::BeginMap << YAML::Key << "xyz"
       << YAML::Value << YAML::Flow << Vec(r.state.marker_mm) << YAML::Key << "sigma_xyz"
       << YAML::Value << YAML::Flow << Vec(r.marker_sigma_mm) << YAML::EndMap;

@@ -71,6 +71,30 @@ PoseSet ParsePoseSet(const ConfigNode& node) {
                        "Use camera_view, uniform_workspace or boundaries");
 }
 
+KinematicProblem SimulatedProblem(const KinematicSimulationSpec& spec, Formulation formulation,
+                                  double noise_free_sigma_mm) {
+  KinematicProblem problem;
+  problem.robot = spec.robot;
+  problem.target = spec.target;
+  problem.camera = spec.camera;
+  problem.model = spec.model;
+  problem.model_parameters = spec.model->parameters();
+  problem.marker_mm = spec.model->nominal_tool().t;
+  problem.formulation = formulation;
+  problem.sigma_mm = spec.sigma_mm.isZero() ? Eigen::Vector3d::Constant(noise_free_sigma_mm)
+                                            : spec.sigma_mm;
+  return problem;
+}
+
+void HoldParametersNamed(const std::string& suffix, KinematicProblem* problem) {
+  for (auto& p : problem->model_parameters) {
+    const auto& n = p.name;
+    if (n.size() >= suffix.size() && n.compare(n.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      p.fixed = true;
+    }
+  }
+}
+
 KinematicState NominalState(const KinematicSimulationSpec& spec) {
   KinematicState state;
   state.T_base_cam = spec.T_base_cam_nominal;

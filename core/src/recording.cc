@@ -13,37 +13,18 @@
 #include "cellmetry/atomic_file.h"
 #include "cellmetry/config_node.h"
 #include "cellmetry/csv_table.h"
+#include "cellmetry/units.h"
 
 namespace cellmetry {
 namespace {
 
-struct Units {
-  double to_mm = 1.0;
-  double to_rad = 1.0;
-};
-
-Units ReadUnits(const ConfigNode& root) {
-  Units units;
+// recording.yaml must say its units (DESIGN.md): no silent default.
+Units ReadRecordingUnits(const ConfigNode& root) {
   if (!root.Has("units")) {
     throw root.Error("missing key 'units'", "Add 'units: {length: mm, angle: rad}'");
   }
-  const ConfigNode node = root["units"];
-  node.ExpectKeys({"length", "angle"});
-  const std::string length = node.GetString("length", "mm");
-  const std::string angle = node.GetString("angle", "rad");
-  if (length == "m") {
-    units.to_mm = 1000.0;
-  } else if (length != "mm") {
-    throw node["length"].Error("unknown length unit '" + length + "'", "Use mm or m");
-  }
-  if (angle == "deg") {
-    units.to_rad = M_PI / 180.0;
-  } else if (angle != "rad") {
-    throw node["angle"].Error("unknown angle unit '" + angle + "'", "Use rad or deg");
-  }
-  return units;
+  return ReadUnits(root["units"]);
 }
-
 void ReadHeader(const std::string& path, Recording* recording, Units* units) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"format", "description", "units", "robots", "cameras", "targets"});
@@ -53,7 +34,7 @@ void ReadHeader(const std::string& path, Recording* recording, Units* units) {
                                std::string("This version reads ") + kRecordingFormat);
   }
   recording->description = root.GetString("description", "");
-  *units = ReadUnits(root);
+  *units = ReadRecordingUnits(root);
   const ConfigNode robots = root["robots"];
   for (const auto& name : robots.Keys()) {
     const ConfigNode robot = robots[name];

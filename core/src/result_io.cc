@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "cellmetry/atomic_file.h"
-#include "result_json.h"
+#include "result_yaml.h"
 
 namespace cellmetry {
 namespace {
@@ -55,15 +55,7 @@ std::string WorkcellResultYaml(const WorkcellResult& result) {
                        CameraModelName(result.camera_model) + ", " + result.solver.solver +
                        "); lengths mm, angles rad");
   out << YAML::BeginMap << YAML::Key << "frames" << YAML::Value << YAML::BeginMap;
-  for (const auto& f : result.frames) {
-    out << YAML::Key << f.name << YAML::Value << YAML::BeginMap;
-    out << YAML::Key << "parent" << YAML::Value << f.parent;
-    out << YAML::Key << "xyz" << YAML::Value << YAML::Flow << Vec(f.pose.t);
-    out << YAML::Key << "rvec" << YAML::Value << YAML::Flow << Vec(RvecFromRotation(f.pose.R));
-    out << YAML::Key << "sigma_xyz" << YAML::Value << YAML::Flow << Vec(f.sigma_mm);
-    out << YAML::Key << "sigma_rot" << YAML::Value << YAML::Flow << Vec(f.sigma_rad);
-    out << YAML::EndMap;
-  }
+  for (const auto& f : result.frames) EmitFrameYaml(out, f.name, f);
   out << YAML::EndMap;
   if (!result.model_parameters.empty()) {
     out << YAML::Key << "model" << YAML::Value << YAML::BeginMap;

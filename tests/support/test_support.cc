@@ -35,6 +35,10 @@ std::string TempDir(const std::string& name) {
   return dir.string();
 }
 
+std::string TempDirForThisTest(const std::string& folder) {
+  return TempDir(folder + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+}
+
 void WriteText(const std::string& path, const std::string& text) {
   fs::create_directories(fs::path(path).parent_path());
   std::ofstream(path) << text;
@@ -72,6 +76,19 @@ CommandResult RunCellmetry(const std::string& arguments) {
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+void ExpectOneLineError(const CommandResult& result, const std::string& location,
+                        const std::string& text) {
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find(location + " error: "), std::string::npos)
+      << "expected '" << location << " error: ' in: " << result.output;
+  EXPECT_NE(result.output.find(text), std::string::npos)
+      << "expected '" << text << "' in: " << result.output;
+  std::istringstream lines(result.output);
+  int non_empty = 0;
+  for (std::string line; std::getline(lines, line);) non_empty += !line.empty();
+  EXPECT_EQ(non_empty, 1) << result.output;
 }
 
 }  // namespace cellmetry::testing

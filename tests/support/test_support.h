@@ -18,6 +18,8 @@ std::string Source(const std::string& relative);
 
 // A fresh, empty temporary folder for one test.
 std::string TempDir(const std::string& name);
+// TempDir("<folder>/<name of the running test>").
+std::string TempDirForThisTest(const std::string& folder);
 
 // Writes `text` to `path` (creating folders).
 void WriteText(const std::string& path, const std::string& text);
@@ -48,5 +50,10 @@ InputError CatchInputError(Action action) {
 
 // Runs the built `cellmetry` binary with `arguments` (a shell-quoted string).
 CommandResult RunCellmetry(const std::string& arguments);
+
+// The contract for bad input through the CLI: exit code 2 and one line
+// "<location> error: ... <text> ..." (location e.g. "job.yaml:12:1:").
+void ExpectOneLineError(const CommandResult& result, const std::string& location,
+                        const std::string& text);
 
 }  // namespace cellmetry::testing

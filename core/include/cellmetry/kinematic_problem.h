@@ -12,8 +12,8 @@
 //  - forward (Cartesian): r = (T_cam_base * FK(q) * marker - p_measured) / sigma, in camera axes;
 //  - inverse (joint space): r = W (IK(T_base_cam * p_measured - marker) - q_command), where W
 //    whitens the joint residual by the measurement covariance propagated through the IK Jacobian
-//    (W^T W = (J Sigma J^T)^-1), so both formulations weigh the data alike. The report weighted
-//    all joint errors equally, which over-trusts samples where the IK is sensitive.
+//    at the start (W^T W = (J Sigma J^T)^-1), so both formulations weigh the data alike. The
+//    report weighted all joint errors equally, which over-trusts samples where the IK is sensitive.
 #pragma once
 
 #include <array>

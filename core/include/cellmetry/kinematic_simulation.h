@@ -60,6 +60,15 @@ struct KinematicSimulationSpec {
 
 KinematicSimulationSpec LoadKinematicSimulation(const std::string& path, Registry& registry);
 
+// The calibration problem a simulation poses: every model parameter free, camera free (closed-
+// form start), marker held at the model's, sigma from the spec (or `noise_free_sigma_mm` when the
+// simulation has no noise; it only scales the weights).
+KinematicProblem SimulatedProblem(const KinematicSimulationSpec& spec, Formulation formulation,
+                                  double noise_free_sigma_mm = 0.01);
+
+// Holds every parameter whose name ends in `suffix` (e.g. ".r": only R - r is identifiable).
+void HoldParametersNamed(const std::string& suffix, KinematicProblem* problem);
+
 // The nominal state: model nominal values, marker from the model, the nominal camera.
 KinematicState NominalState(const KinematicSimulationSpec& spec);
 KinematicState DrawTruth(const KinematicSimulationSpec& spec, std::mt19937& rng);

@@ -3,29 +3,11 @@
 #include <cmath>
 
 #include "cellmetry/registry.h"
+#include "cellmetry/units.h"
 #include "delta_model.h"
 
 namespace cellmetry::delta {
 namespace {
-
-struct Units {
-  double to_mm = 1.0;
-  double to_rad = 1.0;
-};
-
-Units ReadUnits(const ConfigNode& config) {
-  Units units;
-  if (!config.Has("units")) return units;
-  const ConfigNode node = config["units"];
-  node.ExpectKeys({"length", "angle"});
-  const std::string length = node.GetString("length", "mm");
-  const std::string angle = node.GetString("angle", "rad");
-  if (length == "m") units.to_mm = 1000.0;
-  else if (length != "mm") throw node["length"].Error("unknown length unit", "Use mm or m");
-  if (angle == "deg") units.to_rad = M_PI / 180.0;
-  else if (angle != "rad") throw node["angle"].Error("unknown angle unit", "Use rad or deg");
-  return units;
-}
 
 double Positive(const ConfigNode& node, const std::string& key, double fallback, double scale) {
   const double value = node.GetDouble(key, fallback / scale) * scale;
@@ -80,7 +62,7 @@ RobotLimits ReadLimits(const ConfigNode& config, const Units& u) {
 std::unique_ptr<RobotModel> Create(const ConfigNode& config) {
   config.ExpectKeys({"type", "name", "description", "units", "arms", "marker_offset", "motor",
                      "joint_limits", "workspace"});
-  const Units units = ReadUnits(config);
+  const Units units = ReadOptionalUnits(config);
   std::array<Arm, kArms> arms;
   const std::vector<ConfigNode> nodes = config["arms"].Elements();
   if (nodes.size() != kArms) {

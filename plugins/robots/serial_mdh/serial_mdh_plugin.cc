@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "cellmetry/registry.h"
+#include "cellmetry/units.h"
 #include "serial_mdh_model.h"
 
 namespace cellmetry::serial_mdh {
@@ -9,17 +10,8 @@ namespace {
 
 std::unique_ptr<RobotModel> Create(const ConfigNode& config) {
   config.ExpectKeys({"type", "name", "description", "units", "joints"});
-  double to_mm = 1.0, to_rad = 1.0;
-  if (config.Has("units")) {
-    const ConfigNode units = config["units"];
-    units.ExpectKeys({"length", "angle"});
-    const std::string length = units.GetString("length", "mm");
-    const std::string angle = units.GetString("angle", "rad");
-    if (length == "m") to_mm = 1000.0;
-    else if (length != "mm") throw units["length"].Error("unknown length unit", "Use mm or m");
-    if (angle == "deg") to_rad = M_PI / 180.0;
-    else if (angle != "rad") throw units["angle"].Error("unknown angle unit", "Use rad or deg");
-  }
+  const Units units = ReadOptionalUnits(config);
+  const double to_mm = units.to_mm, to_rad = units.to_rad;
   std::vector<Joint> joints;
   for (const auto& node : config["joints"].Elements()) {
     node.ExpectKeys({"alpha", "a", "beta", "d", "offset"});
