@@ -114,6 +114,11 @@ std::string KinematicSummary(const KinematicResult& r,
   out << "Kinematic calibration (" << FormulationName(r.formulation) << ", solver "
       << r.solver.solver << ": " << r.solver.iterations << " iterations, "
       << r.solver.stop_reason << ")\n";
+  if (r.closed_form_camera.points > 0) {
+    out << "  closed-form camera (Kabsch on " << r.closed_form_camera.points
+        << " positions, nominal arm): " << Format("RMS %.3f mm", r.closed_form_camera.rms_mm)
+        << "\n";
+  }
   out << "  camera in base: xyz " << Format("(%.3f, %.3f, %.3f) mm", r.camera.pose.t.x(),
                                             r.camera.pose.t.y(), r.camera.pose.t.z())
       << Format(" +- (%.3f, %.3f, %.3f)", r.camera.sigma_mm.x(), r.camera.sigma_mm.y(),
