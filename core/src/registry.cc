@@ -76,6 +76,17 @@ void Registry::AddSolver(PluginInfo info, SolverFactory factory) {
   AddInfo(std::move(info));
 }
 
+void Registry::AddDetector(PluginInfo info, DetectorFactory factory) {
+  info.kind = PluginKind::kDetector;
+  detectors_[info.name] = std::move(factory);
+  AddInfo(std::move(info));
+}
+
+std::unique_ptr<Detector> Registry::CreateDetector(const std::string& type,
+                                                   const ConfigNode& config) const {
+  return Find(detectors_, "detector", type, config)(config);
+}
+
 std::unique_ptr<RobotModel> Registry::CreateRobotModel(const std::string& type,
                                                        const ConfigNode& config) const {
   return Find(robot_models_, "robot model", type, config)(config);

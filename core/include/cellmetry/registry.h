@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "cellmetry/config_node.h"
+#include "cellmetry/detector.h"
 #include "cellmetry/robot_model.h"
 #include "cellmetry/solver.h"
 
@@ -29,7 +30,7 @@ namespace cellmetry {
 
 // Bumped whenever a plugin-facing header changes incompatibly; plugins built against another
 // version are refused with a message saying so.
-inline constexpr int kPluginAbiVersion = 1;
+inline constexpr int kPluginAbiVersion = 2;  // 2: inverse kinematics, limits, detectors
 
 enum class PluginKind { kDetector, kRobotModel, kSolver, kEffect };
 std::string KindName(PluginKind kind);
@@ -51,6 +52,8 @@ struct PluginInfo {
 
 using RobotModelFactory = std::function<std::unique_ptr<RobotModel>(const ConfigNode& config)>;
 using SolverFactory = std::function<std::unique_ptr<Solver>(const ConfigNode& config)>;
+// Detector factories are called once per worker thread (detector.h).
+using DetectorFactory = std::function<std::unique_ptr<Detector>(const ConfigNode& config)>;
 
 class Registry {
  public:
@@ -59,12 +62,15 @@ class Registry {
 
   void AddRobotModel(PluginInfo info, RobotModelFactory factory);
   void AddSolver(PluginInfo info, SolverFactory factory);
+  void AddDetector(PluginInfo info, DetectorFactory factory);
 
   // Build a plugin object of `type`; raise InputError at `config` naming the known types if
   // `type` is not registered.
   std::unique_ptr<RobotModel> CreateRobotModel(const std::string& type,
                                                const ConfigNode& config) const;
   std::unique_ptr<Solver> CreateSolver(const std::string& type, const ConfigNode& config) const;
+  std::unique_ptr<Detector> CreateDetector(const std::string& type,
+                                           const ConfigNode& config) const;
 
   std::vector<PluginInfo> List() const;
   std::vector<std::string> Names(PluginKind kind) const;
@@ -82,6 +88,7 @@ class Registry {
   std::vector<PluginInfo> infos_;
   std::map<std::string, RobotModelFactory> robot_models_;
   std::map<std::string, SolverFactory> solvers_;
+  std::map<std::string, DetectorFactory> detectors_;
   std::set<std::string> loaded_libraries_;
   std::string loading_library_;
 };
