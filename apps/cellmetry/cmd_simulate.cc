@@ -1,6 +1,7 @@
 // `cellmetry simulate SPEC.yaml -o FOLDER`: a simulated recording with its truth.yaml.
 #include <cstdio>
 
+#include "cellmetry/image_simulation.h"
 #include "cellmetry/kinematic_simulation.h"
 #include "cellmetry/progress.h"
 #include "cellmetry/workcell_simulation.h"
@@ -31,13 +32,23 @@ void AddSimulateCommand(CLI::App& app, Context& context) {
       const KinematicState truth = DrawTruth(spec, truth_rng);
       const auto commands = MakePoseSet(spec, spec.pose_set, spec.count, rng);
       recording = SimulateKinematic(spec, truth, commands, rng);
-      WriteRecording(recording, output, TruthYaml(KinematicTruthRecord(spec, truth)));
+      std::function<void(const std::string&)> images;
+      if (spec.images) {
+        // The camera's view as pixels instead of measured points: `cellmetry detect` measures.
+        std::vector<SampleView> views;
+        for (const auto& [sample, pose] : MarkerViews(spec, truth, recording)) views.push_back({sample, pose});
+        images = PlanImages(ReadImageRenderSpec(*spec.images, Registry::Global()), spec.camera,
+                            views, spec.pose_seed, Registry::Global(), &recording);
+        recording.observations.clear();
+      }
+      WriteRecording(recording, output, TruthYaml(KinematicTruthRecord(spec, truth)), images);
     } else {
       throw root["simulation"].Error("unknown simulation kind '" + kind + "'",
                                      "Use workcell or kinematic");
     }
-    std::printf("simulated %zu samples, %zu observations -> %s (truth in truth.yaml)\n",
-                recording.samples.size(), recording.observations.size(), output.c_str());
+    std::printf("simulated %zu samples, %zu observations, %zu images -> %s (truth in truth.yaml)\n",
+                recording.samples.size(), recording.observations.size(),
+                recording.images.size(), output.c_str());
   });
 }
 

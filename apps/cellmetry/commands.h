@@ -22,6 +22,7 @@ void AddSimulateCommand(CLI::App& app, Context& context);
 void AddEvaluateCommand(CLI::App& app, Context& context);
 void AddHomeCommand(CLI::App& app, Context& context);
 void AddCompareCommand(CLI::App& app, Context& context);
+void AddDetectCommand(CLI::App& app, Context& context);
 
 // `cellmetry run` for `job: kinematic` (run_kinematic.cc).
 void RunKinematicJob(const std::string& job_path, const std::string& output);

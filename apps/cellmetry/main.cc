@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   app::AddEvaluateCommand(cli, context);
   app::AddHomeCommand(cli, context);
   app::AddCompareCommand(cli, context);
+  app::AddDetectCommand(cli, context);
   app::AddPluginsCommand(cli, context);
   try {
     cli.parse(argc, argv);

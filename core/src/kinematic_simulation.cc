@@ -171,6 +171,20 @@ Recording SimulateKinematic(const KinematicSimulationSpec& spec, const Kinematic
   return recording;
 }
 
+std::vector<std::pair<int, Pose>> MarkerViews(const KinematicSimulationSpec& spec,
+                                              const KinematicState& truth,
+                                              const Recording& recording) {
+  std::vector<std::pair<int, Pose>> views;
+  const Pose T_cam_base = truth.T_base_cam.inverse();
+  for (const auto& sample : recording.samples) {
+    Pose flange;
+    if (!spec.model->Forward(sample.q.data(), truth.model_values.data(), &flange)) continue;
+    const Pose T_base_marker{Eigen::Matrix3d::Identity(), flange * truth.marker_mm};
+    views.emplace_back(sample.id, T_cam_base * T_base_marker);
+  }
+  return views;
+}
+
 WorkcellTruth KinematicTruthRecord(const KinematicSimulationSpec& spec,
                                    const KinematicState& truth) {
   WorkcellTruth record;
@@ -208,8 +222,9 @@ PredictionError ComparePredictions(const RobotModel& model, const KinematicState
 KinematicSimulationSpec LoadKinematicSimulation(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"simulation", "description", "seed", "robot", "camera", "target", "errors",
-                   "noise", "poses"});
+                   "noise", "poses", "images"});
   KinematicSimulationSpec spec;
+  if (root.Has("images")) spec.images = root["images"];
   spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
   const ConfigNode robot = root["robot"];
   robot.ExpectKeys({"name", "model"});

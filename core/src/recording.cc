@@ -105,10 +105,16 @@ void ReadSamples(const std::string& path, const Units& units, Recording* recordi
   }
 }
 
-void ReadObservations(const std::string& path, const Units& units, Recording* recording) {
+void ReadObservations(const std::string& path, const Units& units, Recording* recording,
+                      bool allow_empty) {
   const CsvTable table = CsvTable::Read(path);
   table.RequireColumns({"sample", "camera", "target", "x", "y", "z"});
-  table.RejectUnknownColumns({"sample", "camera", "target", "x", "y", "z", "rx", "ry", "rz"});
+  table.RejectUnknownColumns({"sample", "camera", "target", "x", "y", "z", "rx", "ry", "rz",
+                              "cov_xx", "cov_xy", "cov_xz", "cov_yy", "cov_yz", "cov_zz"});
+  const std::vector<std::string> covariance = {"cov_xx", "cov_xy", "cov_xz",
+                                               "cov_yy", "cov_yz", "cov_zz"};
+  const bool has_covariance = std::all_of(covariance.begin(), covariance.end(),
+                                          [&](const std::string& c) { return table.HasColumn(c); });
   const bool has_rotation = table.HasColumn("rx") && table.HasColumn("ry") &&
                             table.HasColumn("rz");
   std::set<int> sample_ids;
@@ -144,9 +150,19 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
                           "Give all of rx,ry,rz or leave all three empty");
       }
     }
+    if (has_covariance && table.HasValue(row, "cov_xx")) {
+      // Position covariance in the file's length unit squared; symmetric, upper triangle given.
+      const double s2 = units.to_mm * units.to_mm;
+      Eigen::Matrix3d c;
+      c << table.Number(row, "cov_xx"), table.Number(row, "cov_xy"), table.Number(row, "cov_xz"),
+          0, table.Number(row, "cov_yy"), table.Number(row, "cov_yz"), 0, 0,
+          table.Number(row, "cov_zz");
+      c(1, 0) = c(0, 1), c(2, 0) = c(0, 2), c(2, 1) = c(1, 2);
+      obs.covariance_mm2 = c * s2;
+    }
     recording->observations.push_back(std::move(obs));
   }
-  if (recording->observations.empty()) {
+  if (recording->observations.empty() && !allow_empty) {
     throw InputError({path, 0, 0}, "no observations",
                      "A recording needs at least one measured target pose");
   }
@@ -187,6 +203,37 @@ std::string Number(double value) {
 
 }  // namespace
 
+std::string ObservationsCsv(const std::vector<Observation>& list) {
+  const bool any_covariance = std::any_of(list.begin(), list.end(), [](const Observation& o) {
+    return o.covariance_mm2.has_value();
+  });
+  std::ostringstream out;
+  out << "sample,camera,target,x,y,z,rx,ry,rz";
+  if (any_covariance) out << ",cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz";
+  out << "\n";
+  for (const auto& o : list) {
+    out << o.sample << "," << o.camera << "," << o.target << "," << Number(o.position_mm.x())
+        << "," << Number(o.position_mm.y()) << "," << Number(o.position_mm.z());
+    if (o.rvec) {
+      out << "," << Number(o.rvec->x()) << "," << Number(o.rvec->y()) << "," << Number(o.rvec->z());
+    } else {
+      out << ",,,";
+    }
+    if (any_covariance) {
+      if (o.covariance_mm2) {
+        const Eigen::Matrix3d& c = *o.covariance_mm2;
+        for (const auto& [i, k] : {std::pair{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}}) {
+          out << "," << Number(c(i, k));
+        }
+      } else {
+        out << ",,,,,,";
+      }
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
 int Recording::SampleIndex(int id) const {
   // Samples are usually numbered 0..n-1 in order; try the direct hit first.
   if (id >= 0 && id < static_cast<int>(samples.size()) && samples[id].id == id) return id;
@@ -211,13 +258,19 @@ Recording ReadRecording(const std::string& folder) {
   Units units;
   ReadHeader(folder + "/recording.yaml", &recording, &units);
   ReadSamples(folder + "/samples.csv", units, &recording);
-  ReadObservations(folder + "/observations.csv", units, &recording);
-  if (fs::exists(folder + "/images.csv")) ReadImages(folder + "/images.csv", &recording);
+  const bool has_images = fs::exists(folder + "/images.csv");
+  // A recording of images has no observations until `cellmetry detect` writes them.
+  if (!has_images || fs::exists(folder + "/observations.csv")) {
+    // Detection may have found nothing yet in a recording of images.
+    ReadObservations(folder + "/observations.csv", units, &recording, /*allow_empty=*/has_images);
+  }
+  if (has_images) ReadImages(folder + "/images.csv", &recording);
   return recording;
 }
 
 void WriteRecording(const Recording& recording, const std::string& folder,
-                    const std::string& truth_yaml) {
+                    const std::string& truth_yaml,
+                    const std::function<void(const std::string&)>& write_extra) {
   StagedDirectory out(folder);
 
   YAML::Emitter header;
@@ -269,21 +322,9 @@ void WriteRecording(const Recording& recording, const std::string& folder,
   }
   AtomicWriteFile(out.File("samples.csv"), samples.str());
 
-  std::ostringstream observations;
-  observations << "sample,camera,target,x,y,z,rx,ry,rz\n";
-  for (const auto& o : recording.observations) {
-    observations << o.sample << "," << o.camera << "," << o.target << ","
-                 << Number(o.position_mm.x()) << "," << Number(o.position_mm.y()) << ","
-                 << Number(o.position_mm.z());
-    if (o.rvec) {
-      observations << "," << Number(o.rvec->x()) << "," << Number(o.rvec->y()) << ","
-                   << Number(o.rvec->z());
-    } else {
-      observations << ",,,";
-    }
-    observations << "\n";
+  if (!recording.observations.empty()) {
+    AtomicWriteFile(out.File("observations.csv"), ObservationsCsv(recording.observations));
   }
-  AtomicWriteFile(out.File("observations.csv"), observations.str());
 
   if (!recording.images.empty()) {
     std::ostringstream images;
@@ -294,6 +335,7 @@ void WriteRecording(const Recording& recording, const std::string& folder,
     AtomicWriteFile(out.File("images.csv"), images.str());
   }
   if (!truth_yaml.empty()) AtomicWriteFile(out.File("truth.yaml"), truth_yaml);
+  if (write_extra) write_extra(out.staging());
   out.Commit();
 }
 

@@ -14,6 +14,8 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <utility>
 #include <random>
 #include <string>
 #include <vector>
@@ -56,7 +58,14 @@ struct KinematicSimulationSpec {
   unsigned seed = 1;        // draws the truth
   unsigned pose_seed = 2;   // draws the commands and the noise: a second recording of the same
                             // truth (a validation set) keeps `seed` and changes this
+  std::optional<ConfigNode> images;  // render images instead of writing observations
 };
+
+// Where the marker is in the camera frame for each sample of `recording` (the marker's face
+// looks up the base z axis, toward a camera above the arm).
+std::vector<std::pair<int, Pose>> MarkerViews(const KinematicSimulationSpec& spec,
+                                              const KinematicState& truth,
+                                              const Recording& recording);
 
 KinematicSimulationSpec LoadKinematicSimulation(const std::string& path, Registry& registry);
 

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -40,6 +41,7 @@ struct Observation {
   std::string target;
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // target origin in the camera frame
   std::optional<Eigen::Vector3d> rvec;                     // target rotation in the camera frame
+  std::optional<Eigen::Matrix3d> covariance_mm2;           // of position_mm, when measured
   int line = 0;                                            // line in observations.csv, for messages
 };
 
@@ -68,8 +70,14 @@ struct Recording {
 // Reads and validates a recording folder. Raises InputError on any defect.
 Recording ReadRecording(const std::string& folder);
 
+// observations.csv text (mm, rad; covariance columns when any observation has one).
+std::string ObservationsCsv(const std::vector<Observation>& observations);
+
 // Writes a recording folder atomically (mm, rad). `truth_yaml`, when not empty, goes to truth.yaml.
+// `write_extra`, when given, writes more files (images) into the staging folder before the
+// folder is committed.
 void WriteRecording(const Recording& recording, const std::string& folder,
-                    const std::string& truth_yaml = "");
+                    const std::string& truth_yaml = "",
+                    const std::function<void(const std::string&)>& write_extra = {});
 
 }  // namespace cellmetry

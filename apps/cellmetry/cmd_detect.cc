@@ -1,0 +1,33 @@
+// `cellmetry detect JOB.yaml`: run a detector over a recording's images (detection.h).
+#include <cstdio>
+
+#include "cellmetry/detection.h"
+#include "cellmetry/progress.h"
+#include "commands.h"
+
+namespace cellmetry::app {
+
+void AddDetectCommand(CLI::App& app, Context& context) {
+  CLI::App* cmd = app.add_subcommand(
+      "detect", "find markers in a recording's images and write its observations (resumable)");
+  static std::string job_path;
+  static int limit = 0;
+  cmd->add_option("job", job_path, "detect job (YAML, job: detect)")->required();
+  cmd->add_option("--limit", limit, "stop after this many new images (the next run continues)");
+  cmd->callback([&context] {
+    Progress::SetQuiet(context.quiet);
+    LoadPlugins(context);
+    const DetectJob job = LoadDetectJob(job_path, Registry::Global());
+    const DetectSummary s = RunDetection(job, Registry::Global(), limit);
+    std::printf("Detection (%s) in %s\n", job.detector_type.c_str(), job.recording.c_str());
+    std::printf("  images: %d listed, %d done before, %d done now; %d found\n", s.images,
+                s.already_done, s.processed, s.found);
+    for (const auto& [reason, count] : s.failures) {
+      std::printf("  not found in %d: %s\n", count, reason.c_str());
+    }
+    std::printf("  observations.csv: %d observations; per image: detections.jsonl\n",
+                s.observations);
+  });
+}
+
+}  // namespace cellmetry::app

@@ -1,0 +1,68 @@
+// `cellmetry detect`: run a detector plugin over a recording's images and write its observations.
+//
+// Job (`job: detect`):
+//   recording: <folder with images.csv>
+//   detector: {type: dot, ...}            # any detector plugin and its options
+//   target: marker                        # the target name the observations get
+//   camera: {name: stereo, stereo: rig.yaml}   or   {name: cam1, mono: calibration.yaml}
+//   origin_id: 0                          # stereo: the keypoint that is the target's origin
+//   threads: 0                            # 0: every core
+//
+// Every image's result (keypoints, or why it failed) is appended to <recording>/detections.jsonl
+// as soon as it is known and flushed, one line per image. A rerun reads that log, drops a torn
+// last line, and only does the images not in it: an interrupted run loses no finished image and
+// duplicates none. Then observations.csv is written (atomically) from the whole log: stereo
+// views triangulated (position + covariance), mono views by PnP (pose + position covariance).
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cellmetry/camera.h"
+#include "cellmetry/config_node.h"
+#include "cellmetry/detector.h"
+#include "cellmetry/registry.h"
+#include "cellmetry/stereo.h"
+
+namespace cellmetry {
+
+struct DetectJob {
+  std::string file;
+  std::string recording;
+  std::string detector_type;
+  std::optional<ConfigNode> detector_config;
+  std::string target;
+  std::string camera;
+  std::optional<StereoRig> rig;        // stereo: views left and right
+  std::optional<PinholeCamera> mono;   // mono: view mono
+  int origin_id = 0;
+  int threads = 0;
+};
+
+DetectJob LoadDetectJob(const std::string& path, Registry& registry);
+
+struct ImageDetection {
+  int sample = 0;
+  std::string camera;
+  std::string view;
+  std::string path;
+  Detection detection;
+  double time_ms = 0.0;
+};
+
+struct DetectSummary {
+  int images = 0;            // in images.csv
+  int already_done = 0;      // found in the log from an earlier run
+  int processed = 0;         // done by this run
+  int found = 0;             // over the whole log
+  int observations = 0;      // written to observations.csv
+  std::map<std::string, int> failures;  // reason -> images
+};
+
+// `limit` > 0 stops after that many new images (an interruption, for tests and for splitting
+// work); the next run continues.
+DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit = 0);
+
+}  // namespace cellmetry
