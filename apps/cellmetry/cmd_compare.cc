@@ -1,9 +1,10 @@
-// `cellmetry compare SPEC.yaml`: the report's Table 7 for any pose sets, sizes, formulations and
-// solvers (kinematic_compare.h); writes table.md and table.csv.
+// `cellmetry compare SPEC.yaml`: the report's Table 7 (`compare: kinematic`, kinematic_compare.h)
+// or its Tables 3 and 4 (`compare: markers`, marker_comparison.h); writes table.md and table.csv.
 #include <cstdio>
 
 #include "cellmetry/atomic_file.h"
 #include "cellmetry/kinematic_compare.h"
+#include "cellmetry/marker_comparison.h"
 #include "cellmetry/progress.h"
 #include "commands.h"
 
@@ -18,13 +19,26 @@ void AddCompareCommand(CLI::App& app, Context& context) {
   cmd->callback([&context] {
     Progress::SetQuiet(context.quiet);
     LoadPlugins(context);
-    const CompareSpec spec = LoadCompareSpec(spec_path, Registry::Global());
-    const auto rows = RunComparison(spec, Registry::Global());
-    const std::string table = CompareTableMarkdown(spec, rows);
-    const std::string folder = output.empty() ? spec.output : output;
+    const ConfigNode root = ConfigNode::LoadFile(spec_path);
+    const std::string kind = root["compare"].AsString();
+    std::string table, csv, folder;
+    if (kind == "markers") {
+      const MarkerComparisonSpec spec = LoadMarkerComparison(spec_path, Registry::Global());
+      const auto rows = CompareMarkers(spec, Registry::Global());
+      table = MarkerTableMarkdown(spec, rows);
+      csv = MarkerTableCsv(rows);
+      folder = spec.output;
+    } else {
+      const CompareSpec spec = LoadCompareSpec(spec_path, Registry::Global());
+      const auto rows = RunComparison(spec, Registry::Global());
+      table = CompareTableMarkdown(spec, rows);
+      csv = CompareTableCsv(rows);
+      folder = spec.output;
+    }
+    if (!output.empty()) folder = output;
     StagedDirectory out(folder);
     AtomicWriteFile(out.File("table.md"), table);
-    AtomicWriteFile(out.File("table.csv"), CompareTableCsv(rows));
+    AtomicWriteFile(out.File("table.csv"), csv);
     out.Commit();
     std::printf("%s  written: %s/{table.md,table.csv}\n", table.c_str(), folder.c_str());
   });

@@ -131,11 +131,11 @@ std::vector<Observation> MakeObservations(const DetectJob& job, const Detector& 
     for (const auto& [key, l] : left) {
       const auto r = right.find(key);
       if (r == right.end()) continue;
-      const auto point = TriangulateKeypoint(*job.rig, l->detection.keypoints,
-                                             r->second->detection.keypoints, job.origin_id);
+      const auto point = TargetOriginFromStereo(*job.rig, l->detection.keypoints,
+                                                r->second->detection.keypoints,
+                                                detector.layout(), job.origin_id);
       if (!point) {
-        ++(*failures)["the two views do not triangulate (keypoint " +
-                      std::to_string(job.origin_id) + " missing or rays parallel)"];
+        ++(*failures)["the two views do not share enough keypoints to place the target"];
         continue;
       }
       add(key.first, point->p_left_mm, point->covariance_mm2, std::nullopt);

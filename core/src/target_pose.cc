@@ -6,6 +6,8 @@
 
 #include <map>
 
+#include "cellmetry/rigid_fit.h"
+
 namespace cellmetry {
 namespace {
 
@@ -87,20 +89,44 @@ std::optional<TargetPose> EstimateTargetPose(const PinholeCamera& camera,
   return pose;
 }
 
-std::optional<TriangulatedPoint> TriangulateKeypoint(const StereoRig& rig,
-                                                     const std::vector<Keypoint>& left,
-                                                     const std::vector<Keypoint>& right,
-                                                     int origin_id) {
-  const auto find = [&](const std::vector<Keypoint>& list) -> const Keypoint* {
-    for (const auto& k : list) {
-      if (k.id == origin_id) return &k;
+std::optional<TriangulatedPoint> TargetOriginFromStereo(const StereoRig& rig,
+                                                        const std::vector<Keypoint>& left,
+                                                        const std::vector<Keypoint>& right,
+                                                        const std::vector<MarkerPoint>& layout,
+                                                        int origin_id) {
+  std::map<int, const Keypoint*> in_right;
+  for (const auto& k : right) in_right[k.id] = &k;
+  std::map<int, Eigen::Vector3d> by_id;
+  for (const auto& p : layout) by_id[p.id] = p.p_target_mm;
+  const auto origin = by_id.find(origin_id);
+  if (origin != by_id.end() && origin->second.norm() < 1e-9) {
+    for (const auto& k : left) {
+      if (k.id == origin_id && in_right.count(k.id)) return Triangulate(rig, k, *in_right[k.id]);
     }
-    return nullptr;
-  };
-  const Keypoint* l = find(left);
-  const Keypoint* r = find(right);
-  if (!l || !r) return std::nullopt;
-  return Triangulate(rig, *l, *r);
+  }
+  std::vector<Eigen::Vector3d> from, to;
+  Eigen::Matrix3d covariance_sum = Eigen::Matrix3d::Zero();
+  double error2 = 0.0;
+  for (const auto& k : left) {
+    const auto r = in_right.find(k.id);
+    const auto p = by_id.find(k.id);
+    if (r == in_right.end() || p == by_id.end()) continue;
+    const auto point = Triangulate(rig, k, *r->second);
+    if (!point) continue;
+    from.push_back(p->second);
+    to.push_back(point->p_left_mm);
+    covariance_sum += point->covariance_mm2;
+    error2 += point->reprojection_rms_px * point->reprojection_rms_px;
+  }
+  if (from.size() < 3) return std::nullopt;
+  const auto fit = FitRigidTransform(from, to);
+  if (!fit) return std::nullopt;
+  TriangulatedPoint out;
+  out.p_left_mm = fit->t;
+  const double n = static_cast<double>(from.size());
+  out.covariance_mm2 = covariance_sum / (n * n);
+  out.reprojection_rms_px = std::sqrt(error2 / n);
+  return out;
 }
 
 }  // namespace cellmetry

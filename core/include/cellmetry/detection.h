@@ -5,7 +5,8 @@
 //   detector: {type: dot, ...}            # any detector plugin and its options
 //   target: marker                        # the target name the observations get
 //   camera: {name: stereo, stereo: rig.yaml}   or   {name: cam1, mono: calibration.yaml}
-//   origin_id: 0                          # stereo: the keypoint that is the target's origin
+//   origin_id: 0                          # stereo: a keypoint at the target's origin (else the
+//                                         # layout is fitted to every keypoint both views see)
 //   threads: 0                            # 0: every core
 //
 // Every image's result (keypoints, or why it failed) is appended to <recording>/detections.jsonl

@@ -27,11 +27,15 @@ std::optional<TargetPose> EstimateTargetPose(const PinholeCamera& camera,
                                              const std::vector<Keypoint>& keypoints,
                                              const std::vector<MarkerPoint>& layout);
 
-// The target origin seen by a stereo rig: triangulates the keypoint with id `origin_id` when both
-// views have it. None otherwise.
-std::optional<TriangulatedPoint> TriangulateKeypoint(const StereoRig& rig,
-                                                     const std::vector<Keypoint>& left,
-                                                     const std::vector<Keypoint>& right,
-                                                     int origin_id);
+// The target origin seen by a stereo rig. When both views have the keypoint `origin_id` and the
+// layout puts it at the origin, that keypoint is triangulated. Otherwise every keypoint seen in
+// both views is triangulated and the layout fitted to them (Kabsch); the origin's covariance is
+// then the mean point covariance over the number of points (exact for points spread evenly
+// around the origin, as a marker's corners are). None with fewer than 3 common keypoints.
+std::optional<TriangulatedPoint> TargetOriginFromStereo(const StereoRig& rig,
+                                                        const std::vector<Keypoint>& left,
+                                                        const std::vector<Keypoint>& right,
+                                                        const std::vector<MarkerPoint>& layout,
+                                                        int origin_id);
 
 }  // namespace cellmetry
