@@ -20,6 +20,7 @@ using ::testing::Not;
 
 const std::vector<std::string> kBuiltSolvers = {"ceres_lm", "gradient_descent", "jacobian_pinv", "nlopt"};
 const std::vector<std::string> kBuiltRobotModels = {"delta", "serial_mdh"};
+const std::vector<std::string> kBuiltDetectors = {"apriltag_board", "aruco", "dot", "dot_pattern"};
 
 using testing::CatchInputError;
 
@@ -27,6 +28,7 @@ TEST(Registry, ListsTheBuiltPlugins) {
   const Registry& registry = testing::Plugins();
   EXPECT_EQ(registry.Names(PluginKind::kSolver), kBuiltSolvers);
   EXPECT_EQ(registry.Names(PluginKind::kRobotModel), kBuiltRobotModels);
+  EXPECT_EQ(registry.Names(PluginKind::kDetector), kBuiltDetectors);
 }
 
 TEST(Registry, EveryPluginHasAOneLineDescriptionAndDocumentedOptions) {
@@ -54,6 +56,7 @@ TEST(Registry, DocumentedOptionsAreAcceptedKeysAndOthersAreNot) {
       const ConfigNode config = ConfigNode::LoadString("type: " + info.name + "\n" + yaml, "test");
       if (info.kind == PluginKind::kSolver) registry.CreateSolver(info.name, config);
       if (info.kind == PluginKind::kRobotModel) registry.CreateRobotModel(info.name, config);
+      if (info.kind == PluginKind::kDetector) registry.CreateDetector(info.name, config);
     };
     for (const auto& option : info.options) {
       try {

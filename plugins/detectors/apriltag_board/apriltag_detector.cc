@@ -1,0 +1,118 @@
+#include "apriltag_detector.h"
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <utility>
+
+#include "../aruco/edge_lines.h"
+
+namespace cellmetry::apriltag_board {
+namespace {
+
+std::string IdList(const std::vector<int>& ids, size_t max_shown = 8) {
+  std::string out;
+  for (size_t i = 0; i < ids.size() && i < max_shown; ++i) {
+    out += (i ? ", " : "") + std::to_string(ids[i]);
+  }
+  if (ids.size() > max_shown) out += ", ...";
+  return out;
+}
+
+struct DetectionsDeleter {
+  void operator()(zarray_t* detections) const { apriltag_detections_destroy(detections); }
+};
+
+}  // namespace
+
+AprilTagDetector::AprilTagDetector(AprilTagOptions options, FamilyPtr family)
+    : options_(std::move(options)),
+      layout_(Layout(options_.board)),
+      family_(std::move(family)),
+      detector_(apriltag_detector_create()) {
+  wanted_.assign(family_->ncodes, false);
+  for (int id : options_.board.ids()) wanted_[id] = true;
+  apriltag_detector_t* td = detector_.get();
+  td->quad_decimate = options_.quad_decimate;
+  td->quad_sigma = options_.quad_sigma;
+  td->refine_edges = options_.refine_edges;
+  td->decode_sharpening = options_.decode_sharpening;
+  td->nthreads = options_.nthreads;
+  apriltag_detector_add_family_bits(td, family_.get(), options_.max_hamming);
+}
+
+std::vector<MarkerFace> AprilTagDetector::Faces(double texels_per_mm) const {
+  return apriltag_board::Faces(options_.board, *family_, texels_per_mm);
+}
+
+Detection AprilTagDetector::Detect(const ImageView& image) {
+  Detection out;
+  if (image.empty()) {
+    out.failure = "the image is empty";
+    return out;
+  }
+  std::uint8_t* pixels = const_cast<std::uint8_t*>(image.data);  // the library only reads...
+  if (options_.quad_sigma != 0.0f && options_.quad_decimate <= 1.0f) {
+    // ...except here: it blurs the image it was given in place.
+    scratch_.resize(static_cast<size_t>(image.stride) * image.height);
+    std::memcpy(scratch_.data(), image.data, scratch_.size());
+    pixels = scratch_.data();
+  }
+  image_u8_t frame{image.width, image.height, image.stride, pixels};
+  const std::unique_ptr<zarray_t, DetectionsDeleter> detections(
+      apriltag_detector_detect(detector_.get(), &frame));
+
+  std::vector<const apriltag_detection_t*> ours;
+  std::map<int, int> seen;
+  std::vector<int> foreign;
+  for (int i = 0; i < zarray_size(detections.get()); ++i) {
+    apriltag_detection_t* det = nullptr;
+    zarray_get(detections.get(), i, &det);
+    if (det->id < 0 || det->id >= static_cast<int>(wanted_.size()) || !wanted_[det->id]) {
+      foreign.push_back(det->id);
+      continue;
+    }
+    ++seen[det->id];
+    ours.push_back(det);
+  }
+  const Eigen::Matrix2d covariance =
+      options_.sigma_px * options_.sigma_px * Eigen::Matrix2d::Identity();
+  for (const apriltag_detection_t* det : ours) {
+    if (seen[det->id] > 1) continue;
+    // Library corner i: i = 0 bottom-left, 1 bottom-right, 2 top-right, 3 top-left (apriltag.c
+    // projects (-1, 1), (1, 1), (1, -1), (-1, -1) of the tag, whose y points down the tag).
+    fiducial::Quad quad;
+    for (int k = 0; k < 4; ++k) {
+      quad[k] = Eigen::Vector2d(det->p[3 - k][0] - 0.5, det->p[3 - k][1] - 0.5);
+    }
+    if (options_.edge_refinement) {
+      // One cell of paper (or of the reversed border's black ring) lies outside every tag. A
+      // quad the lines cannot refine keeps the library's corners.
+      fiducial::RefineByEdgeLines(image, family_->width_at_border, 1.0, &quad);
+    }
+    for (int k = 0; k < 4; ++k) out.keypoints.push_back({det->id * 4 + k, quad[k], covariance});
+  }
+  std::sort(out.keypoints.begin(), out.keypoints.end(),
+            [](const Keypoint& a, const Keypoint& b) { return a.id < b.id; });
+  if (!out.keypoints.empty()) return out;
+
+  const std::string what = "no " + options_.family + " tag of this board";
+  std::vector<int> twice;
+  for (const auto& [id, count] : seen) {
+    if (count > 1) twice.push_back(id);
+  }
+  if (!twice.empty()) {
+    out.failure = what + " could be used: tag ids " + IdList(twice) +
+                  " each appear more than once in the image";
+  } else if (!foreign.empty()) {
+    std::sort(foreign.begin(), foreign.end());
+    out.failure = what + " found; the image shows other ids (" + IdList(foreign) +
+                  "): check first_id / cube_faces";
+  } else {
+    out.failure = what + " found: " + std::to_string(detector_->nquads) +
+                  " quads, none decoded as a " + options_.family + " tag";
+  }
+  return out;
+}
+
+}  // namespace cellmetry::apriltag_board

@@ -1,0 +1,37 @@
+// The marker comparison (the report's Tables 3 and 4) on rendered stereo images.
+#include <gtest/gtest.h>
+
+#include "cellmetry/marker_comparison.h"
+#include "support/test_support.h"
+
+namespace cellmetry {
+namespace {
+
+// Depth repeatability orders as the report found it: 13-dot pattern < white dot < ArUco; each
+// is stated beside its Cramer-Rao floor, and no detector beats its floor by more than the
+// sampling error of a 40-capture sigma.
+TEST(MarkerComparison, DepthRepeatabilityOrdersPatternDotAruco) {
+  MarkerComparisonSpec spec =
+      LoadMarkerComparison(testing::Source("configs/compare/markers.yaml"), testing::Plugins());
+  spec.captures = 40;
+  spec.positions = 10;
+  const std::vector<MarkerRow> rows = CompareMarkers(spec, testing::Plugins());
+  ASSERT_EQ(rows.size(), 3u);
+  const MarkerRow &dot = rows[0], &pattern = rows[1], &aruco = rows[2];
+  EXPECT_LT(pattern.repeatability_mm.z(), dot.repeatability_mm.z());
+  EXPECT_LT(dot.repeatability_mm.z(), aruco.repeatability_mm.z());
+  for (const auto& r : rows) {
+    SCOPED_TRACE(r.label);
+    EXPECT_EQ(r.captures_found, 40);
+    EXPECT_GT(r.floor_mm.z(), 0.0);
+    EXPECT_GT(r.repeatability_mm.z() / r.floor_mm.z(), 0.7);
+    EXPECT_EQ(r.positions_found, 10);
+  }
+  // The dot is within 1.5x of its floor (the bar for the dot's centre).
+  EXPECT_LT(dot.repeatability_mm.z() / dot.floor_mm.z(), 1.5);
+  const std::string table = MarkerTableMarkdown(spec, rows);
+  EXPECT_NE(table.find("depth / floor"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cellmetry
