@@ -5,7 +5,7 @@
 #include <map>
 #include <utility>
 
-#include "../aruco/edge_lines.h"
+#include "fiducial_common/edge_lines.h"
 
 namespace cellmetry::apriltag_board {
 namespace {

@@ -1,6 +1,6 @@
 #include "tag_board.h"
 
-#include "../aruco/printed_page.h"
+#include "fiducial_common/printed_page.h"
 #include "tag_pattern.h"
 
 namespace cellmetry::apriltag_board {

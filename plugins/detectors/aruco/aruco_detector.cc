@@ -6,7 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "edge_lines.h"
+#include "fiducial_common/edge_lines.h"
 
 namespace cellmetry::aruco {
 namespace {

@@ -26,7 +26,7 @@
 
 #include "aruco_target.h"
 #include "cellmetry/detector.h"
-#include "edge_lines.h"
+#include "fiducial_common/edge_lines.h"
 
 namespace cellmetry::aruco {
 

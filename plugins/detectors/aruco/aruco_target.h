@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "cellmetry/detector.h"
-#include "printed_page.h"
+#include "fiducial_common/printed_page.h"
 
 namespace cellmetry::aruco {
 
