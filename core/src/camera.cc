@@ -15,27 +15,7 @@ namespace {
 
 PinholeCamera FromOurYaml(const ConfigNode& root) {
   root.ExpectKeys({"camera"});
-  const ConfigNode c = root["camera"];
-  c.ExpectKeys({"width", "height", "fx", "fy", "cx", "cy", "distortion"});
-  PinholeCamera camera;
-  camera.width = c["width"].AsInt();
-  camera.height = c["height"].AsInt();
-  camera.fx = c["fx"].AsDouble();
-  camera.fy = c["fy"].AsDouble();
-  camera.cx = c["cx"].AsDouble();
-  camera.cy = c["cy"].AsDouble();
-  if (c.Has("distortion")) {
-    const auto d = c["distortion"].AsDoubles();
-    if (d.size() > 5) {
-      throw c["distortion"].Error("at most 5 coefficients (k1 k2 p1 p2 k3) are supported",
-                                  "Calibrate with OpenCV's default model");
-    }
-    std::copy(d.begin(), d.end(), camera.distortion.begin());
-  }
-  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.fy > 0)) {
-    throw c.Error("width, height, fx and fy must be positive");
-  }
-  return camera;
+  return ReadCameraNode(root["camera"]);
 }
 
 // OpenCV's calibration output (samples/cpp/calibration.cpp): image_width, image_height,
@@ -95,6 +75,29 @@ bool LooksLikeOpenCv(const std::string& path) {
 }
 
 }  // namespace
+
+PinholeCamera ReadCameraNode(const ConfigNode& c) {
+  c.ExpectKeys({"width", "height", "fx", "fy", "cx", "cy", "distortion"});
+  PinholeCamera camera;
+  camera.width = c["width"].AsInt();
+  camera.height = c["height"].AsInt();
+  camera.fx = c["fx"].AsDouble();
+  camera.fy = c["fy"].AsDouble();
+  camera.cx = c["cx"].AsDouble();
+  camera.cy = c["cy"].AsDouble();
+  if (c.Has("distortion")) {
+    const auto d = c["distortion"].AsDoubles();
+    if (d.size() > 5) {
+      throw c["distortion"].Error("at most 5 coefficients (k1 k2 p1 p2 k3) are supported",
+                                  "Calibrate with OpenCV's default model");
+    }
+    std::copy(d.begin(), d.end(), camera.distortion.begin());
+  }
+  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.fy > 0)) {
+    throw c.Error("width, height, fx and fy must be positive");
+  }
+  return camera;
+}
 
 Eigen::Vector3d PinholeCamera::Ray(const Eigen::Vector2d& pixel) const {
   using Jet2 = ceres::Jet<double, 2>;

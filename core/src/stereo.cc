@@ -47,23 +47,6 @@ std::optional<Eigen::Vector3d> Midpoint(const StereoRig& rig, const Keypoint& le
   return 0.5 * ((o1 + s * d1) + (o2 + t * d2));
 }
 
-PinholeCamera CameraFrom(const ConfigNode& c) {
-  c.ExpectKeys({"width", "height", "fx", "fy", "cx", "cy", "distortion"});
-  PinholeCamera camera;
-  camera.width = c["width"].AsInt();
-  camera.height = c["height"].AsInt();
-  camera.fx = c["fx"].AsDouble();
-  camera.fy = c["fy"].AsDouble();
-  camera.cx = c["cx"].AsDouble();
-  camera.cy = c["cy"].AsDouble();
-  if (c.Has("distortion")) {
-    const auto d = c["distortion"].AsDoubles();
-    if (d.size() > 5) throw c["distortion"].Error("at most 5 coefficients (k1 k2 p1 p2 k3)");
-    std::copy(d.begin(), d.end(), camera.distortion.begin());
-  }
-  return camera;
-}
-
 StereoRig FromOpenCv(const std::string& path) {
   cv::FileStorage fs;
   try {
@@ -153,8 +136,8 @@ StereoRig ReadStereoRig(const std::string& path) {
   const ConfigNode s = root["stereo"];
   s.ExpectKeys({"left", "right", "T_right_left"});
   StereoRig rig;
-  rig.left = CameraFrom(s["left"]);
-  rig.right = CameraFrom(s["right"]);
+  rig.left = ReadCameraNode(s["left"]);
+  rig.right = ReadCameraNode(s["right"]);
   const ConfigNode t = s["T_right_left"];
   t.ExpectKeys({"xyz", "rvec"});
   rig.T_right_left = ReadPose(t);

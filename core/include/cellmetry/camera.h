@@ -13,6 +13,7 @@
 #include <array>
 #include <string>
 
+#include "cellmetry/config_node.h"
 #include "cellmetry/transform.h"
 
 namespace cellmetry {
@@ -57,6 +58,9 @@ struct PinholeCamera {
 // Reads our YAML or OpenCV's FileStorage calibration; InputError naming the file and the
 // missing or malformed field otherwise.
 PinholeCamera ReadCamera(const std::string& path);
+
+// One camera block of our YAML ({width, height, fx, fy, cx, cy, distortion}).
+PinholeCamera ReadCameraNode(const ConfigNode& node);
 
 // An OAK-D-like camera: 1280 x 800, f = 880 px, no distortion (the report's rig).
 PinholeCamera OakDLikeCamera();
