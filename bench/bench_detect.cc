@@ -31,8 +31,7 @@ const std::string& Recording2000() {
     Recording recording = SimulateKinematic(
         spec, truth, MakePoseSet(spec, PoseSet::kCameraView, kSamples, rng), rng);
     recording.observations.clear();
-    std::vector<SampleView> views;
-    for (const auto& [sample, pose] : MarkerViews(spec, truth, recording)) views.push_back({sample, pose});
+    const std::vector<SampleView> views = MarkerViews(spec, truth, recording);
     const auto write = PlanImages(ReadImageRenderSpec(*spec.images, Registry::Global()),
                                   spec.camera, views, 1, Registry::Global(), &recording);
     WriteRecording(recording, dir, "", write);

@@ -12,21 +12,13 @@
 
 #include "cellmetry/progress.h"
 #include "cellmetry/registry.h"
+#include "bench_support.h"
 #include "cellmetry/render.h"
 
 namespace cellmetry {
 namespace {
 
-std::unique_ptr<Detector> Make(const std::string& yaml) {
-  static const bool loaded = [] {
-    Progress::SetQuiet(true);
-    Registry::Global().LoadFolder(CELLMETRY_PLUGIN_DIR);
-    return true;
-  }();
-  (void)loaded;
-  const ConfigNode config = ConfigNode::LoadString(yaml, "bench");
-  return Registry::Global().CreateDetector(config["type"].AsString(), config);
-}
+using bench::MakeDetector;
 
 // Eight views of the detector's printed face, facing the camera, tilted up to 30 degrees.
 std::vector<GrayImage> Frames(const Detector& d) {
@@ -45,7 +37,7 @@ std::vector<GrayImage> Frames(const Detector& d) {
 }
 
 void BM_Detect(benchmark::State& state, const std::string& yaml) {
-  const std::unique_ptr<Detector> detector = Make(yaml);
+  const std::unique_ptr<Detector> detector = MakeDetector(yaml);
   const std::vector<GrayImage> frames = Frames(*detector);
   for (const auto& f : frames) {
     if (!detector->Detect(f.view()).found()) {

@@ -23,6 +23,7 @@
 
 #include <random>
 
+#include "bench_support.h"
 #include "cellmetry/progress.h"
 #include "cellmetry/registry.h"
 #include "cellmetry/render.h"
@@ -44,16 +45,10 @@ constexpr char kAprilTagLibraryCorners[] =
     "{type: apriltag_board, family: tag36h11, tags_x: 5, tags_y: 4, tag_size_mm: 30, "
     "spacing_mm: 9, edge_refinement: false}";
 
+// OpenCV's own threads off: plugin and library are compared on one core each.
 std::unique_ptr<Detector> Make(const std::string& yaml) {
-  static const bool loaded = [] {
-    cv::setNumThreads(1);
-    Progress::SetQuiet(true);
-    Registry::Global().LoadFolder(CELLMETRY_PLUGIN_DIR);
-    return true;
-  }();
-  (void)loaded;
-  const ConfigNode config = ConfigNode::LoadString(yaml, "bench");
-  return Registry::Global().CreateDetector(config["type"].AsString(), config);
+  cv::setNumThreads(1);
+  return bench::MakeDetector(yaml);
 }
 
 // Eight views of the detector's printed faces, facing the camera (z of the face toward it).

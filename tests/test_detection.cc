@@ -88,9 +88,7 @@ class Detection : public ::testing::Test {
     Recording recording =
         SimulateKinematic(spec_, truth_, MakePoseSet(spec_, PoseSet::kCameraView, 12, rng), rng);
     recording.observations.clear();
-    for (const auto& [sample, pose] : MarkerViews(spec_, truth_, recording)) {
-      views_.push_back({sample, pose});
-    }
+    views_ = MarkerViews(spec_, truth_, recording);
     ImageRenderSpec images;
     images.detector_type = "test_centroid";
     images.detector_config = ConfigNode::LoadString("type: test_centroid", "test");

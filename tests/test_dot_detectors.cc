@@ -449,7 +449,7 @@ TEST(DotDetectors, OptionsAreChecked) {
   // The camera file must match the image.
   auto detector = Make("dot", "camera: " + CameraFile() + "\n");
   const GrayImage small(640, 400, 0);
-  EXPECT_THAT(detector->Detect(small.view()).failure, HasSubstr("camera file is for 1280x800"));
+  EXPECT_THAT(detector->Detect(small.view()).failure, HasSubstr("the calibration is for 1280x800"));
 }
 
 TEST(DotDetectors, RegisteredWithDocumentedOptions) {

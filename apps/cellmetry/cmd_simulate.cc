@@ -35,8 +35,7 @@ void AddSimulateCommand(CLI::App& app, Context& context) {
       std::function<void(const std::string&)> images;
       if (spec.images) {
         // The camera's view as pixels instead of measured points: `cellmetry detect` measures.
-        std::vector<SampleView> views;
-        for (const auto& [sample, pose] : MarkerViews(spec, truth, recording)) views.push_back({sample, pose});
+        const std::vector<SampleView> views = MarkerViews(spec, truth, recording);
         images = PlanImages(ReadImageRenderSpec(*spec.images, Registry::Global()), spec.camera,
                             views, spec.pose_seed, Registry::Global(), &recording);
         recording.observations.clear();

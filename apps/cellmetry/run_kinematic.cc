@@ -21,24 +21,13 @@ KinematicValidation Validate(const KinematicJob& job, const KinematicResult& res
   before.T_base_cam = result.closed_form_camera.T_base_cam;
   before.marker_mm = job.problem.marker_mm;
   for (const auto& p : job.problem.model_parameters) before.model_values.push_back(p.nominal);
-  auto accumulate = [&](const KinematicState& state, ResidualRms* rms, double* mean, double* max) {
-    for (const auto& s : fresh) {
-      Eigen::Vector3d p;
-      if (!PredictInCamera(*job.problem.model, state, s.q, &p)) continue;
-      const Eigen::Vector3d e = p - s.p_cam_mm;
-      rms->axis += e.cwiseAbs2();
-      ++rms->count;
-      if (mean) *mean += e.norm();
-      if (max) *max = std::max(*max, e.norm());
-    }
-    if (rms->count == 0) return;
-    rms->axis /= rms->count;
-    rms->norm = std::sqrt(rms->axis.sum());
-    rms->axis = rms->axis.cwiseSqrt();
-    if (mean) *mean /= rms->count;
-  };
-  accumulate(before, &v.before, nullptr, nullptr);
-  accumulate(result.state, &v.after, &v.mean_after_mm, &v.max_after_mm);
+  v.before = RmsOf(PredictionErrors(*job.problem.model, before, fresh));
+  const std::vector<Eigen::Vector3d> after = PredictionErrors(*job.problem.model, result.state, fresh);
+  v.after = RmsOf(after);
+  for (const auto& e : after) {
+    v.mean_after_mm += e.norm() / after.size();
+    v.max_after_mm = std::max(v.max_after_mm, e.norm());
+  }
   return v;
 }
 

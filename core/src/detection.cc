@@ -91,11 +91,8 @@ ImageDetection DetectOne(const DetectJob& job, const ImageRef& ref, const std::s
     const PinholeCamera& camera = job.mono ? *job.mono
                                   : ref.view == "right" ? job.rig->right
                                                         : job.rig->left;
-    if (image.width() != camera.width || image.height() != camera.height) {
-      out.detection.failure = "image is " + std::to_string(image.width()) + "x" +
-                              std::to_string(image.height()) + ", the calibration is for " +
-                              std::to_string(camera.width) + "x" + std::to_string(camera.height);
-    } else {
+    out.detection.failure = camera.SizeMismatch(image.width(), image.height());
+    if (out.detection.failure.empty()) {
       out.detection = detector.Detect(image.view());
     }
   } catch (const InputError& e) {

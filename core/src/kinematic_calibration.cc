@@ -111,29 +111,6 @@ std::unique_ptr<Assembled> Assemble(const KinematicProblem& spec,
   return a;
 }
 
-// Forward residuals (prediction - measurement, camera axes, mm) at `state`.
-std::vector<Eigen::Vector3d> PositionErrors(const KinematicProblem& spec,
-                                            const std::vector<PointSample>& samples,
-                                            const KinematicState& state) {
-  std::vector<Eigen::Vector3d> errors;
-  for (const PointSample& s : samples) {
-    Eigen::Vector3d p;
-    if (PredictInCamera(*spec.model, state, s.q, &p)) errors.push_back(p - s.p_cam_mm);
-  }
-  return errors;
-}
-
-ResidualRms Rms(const std::vector<Eigen::Vector3d>& errors) {
-  ResidualRms rms;
-  for (const auto& e : errors) rms.axis += e.cwiseAbs2();
-  rms.count = static_cast<int>(errors.size());
-  if (rms.count == 0) return rms;
-  rms.axis /= rms.count;
-  rms.norm = std::sqrt(rms.axis.sum());
-  rms.axis = rms.axis.cwiseSqrt();
-  return rms;
-}
-
 // A command outside the robot config's joint limits cannot have been reached.
 void CheckJointLimits(const RobotModel& model, const Sample& sample, const std::string& file) {
   const RobotLimits& limits = model.limits();
@@ -147,6 +124,75 @@ void CheckJointLimits(const RobotModel& model, const Sample& sample, const std::
     throw InputError({file, sample.line, static_cast<int>(4 + j)}, text,
                      "Check the joint values (rad, not deg?) or the robot config's joint_limits");
   }
+}
+
+
+void CheckProblem(const KinematicProblem& spec, const std::vector<PointSample>& samples,
+                  int num_free) {
+  if (spec.formulation == Formulation::kInverse &&
+      (!spec.model->has_inverse() || spec.model->num_joints() != 3)) {
+    throw InputError({samples.empty() ? "" : samples.front().command_at.file, 0, 0},
+                     "the inverse formulation needs a robot model with position "
+                                 "inverse kinematics (3 joints); this one has none",
+                     "Use formulation: forward");
+  }
+  if (static_cast<int>(samples.size()) < num_free) {
+    throw InputError({samples.empty() ? "" : samples.front().command_at.file, 0, 0},
+                     "the pose set has " + std::to_string(samples.size()) + " samples for " +
+                         std::to_string(num_free) + " free parameters",
+                     "Record at least " + std::to_string(num_free) +
+                         " positions, or free fewer parameters");
+  }
+}
+
+FrameEstimate CameraEstimate(const KinematicState& state, const Uncertainty& u) {
+  FrameEstimate frame;
+  frame.name = kCamera;
+  frame.parent = "base";
+  frame.pose = state.T_base_cam;
+  for (int i = 0; i < 6; ++i) {
+    const std::string name = std::string(kCamera) + "." + kFrameParameterNames[i];
+    const auto it = std::find(u.names.begin(), u.names.end(), name);
+    frame.held[i] = it == u.names.end();
+    const double sigma = frame.held[i] ? 0.0 : u.sigma[it - u.names.begin()];
+    (i < 3 ? frame.sigma_mm[i] : frame.sigma_rad[i - 3]) = sigma;
+  }
+  return frame;
+}
+
+double SigmaOf(const Uncertainty& u, const std::string& name) {
+  const auto it = std::find(u.names.begin(), u.names.end(), name);
+  return it == u.names.end() ? 0.0 : u.sigma[it - u.names.begin()];
+}
+
+void Describe(const KinematicProblem& spec, KinematicResult* result) {
+  const Uncertainty& u = result->uncertainty;
+  result->camera = CameraEstimate(result->state, u);
+  for (int i = 0; i < 3; ++i) {
+    result->marker_sigma_mm[i] = SigmaOf(u, std::string(kMarker) + "." + "xyz"[i]);
+  }
+  std::set<std::string> held;
+  for (const auto& h : result->unidentifiable) held.insert(h.name);
+  for (size_t i = 0; i < spec.model_parameters.size(); ++i) {
+    const Parameter& p = spec.model_parameters[i];
+    ScalarEstimate s;
+    s.name = p.name;
+    s.unit = p.unit;
+    s.nominal = p.nominal;
+    s.value = result->state.model_values[i];
+    const std::string full = std::string(kModel) + "." + p.name;
+    s.held = p.fixed || held.count(full) > 0;
+    s.sigma = SigmaOf(u, full);
+    result->model_parameters.push_back(s);
+  }
+}
+
+// Per-axis RMS of the forward residuals, corrected for the fitted parameters.
+Eigen::Vector3d SigmaFromResiduals(const std::vector<Eigen::Vector3d>& errors, int num_free) {
+  const ResidualRms rms = RmsOf(errors);
+  const int rows = 3 * rms.count;
+  const double dof = rows > num_free ? std::sqrt(double(rows) / (rows - num_free)) : 1.0;
+  return (rms.axis * dof).cwiseMax(1e-6);
 }
 
 }  // namespace
@@ -179,6 +225,16 @@ bool PredictInCamera(const RobotModel& model, const KinematicState& state,
   if (!model.Forward(q.data(), state.model_values.data(), &flange)) return false;
   *p_cam_mm = state.T_base_cam.inverse() * (flange * state.marker_mm);
   return true;
+}
+
+std::vector<Eigen::Vector3d> PredictionErrors(const RobotModel& model, const KinematicState& state,
+                                              const std::vector<PointSample>& samples) {
+  std::vector<Eigen::Vector3d> errors;
+  for (const PointSample& s : samples) {
+    Eigen::Vector3d p;
+    if (PredictInCamera(model, state, s.q, &p)) errors.push_back(p - s.p_cam_mm);
+  }
+  return errors;
 }
 
 std::vector<PointSample> CollectPointSamples(const KinematicProblem& problem,
@@ -249,81 +305,6 @@ CameraPoseFit EstimateCameraPose(const KinematicProblem& problem,
   return out;
 }
 
-}  // namespace cellmetry
-
-namespace cellmetry {
-namespace {
-
-void CheckProblem(const KinematicProblem& spec, const std::vector<PointSample>& samples,
-                  int num_free) {
-  if (spec.formulation == Formulation::kInverse &&
-      (!spec.model->has_inverse() || spec.model->num_joints() != 3)) {
-    throw InputError({samples.empty() ? "" : samples.front().command_at.file, 0, 0},
-                     "the inverse formulation needs a robot model with position "
-                                 "inverse kinematics (3 joints); this one has none",
-                     "Use formulation: forward");
-  }
-  if (static_cast<int>(samples.size()) < num_free) {
-    throw InputError({samples.empty() ? "" : samples.front().command_at.file, 0, 0},
-                     "the pose set has " + std::to_string(samples.size()) + " samples for " +
-                         std::to_string(num_free) + " free parameters",
-                     "Record at least " + std::to_string(num_free) +
-                         " positions, or free fewer parameters");
-  }
-}
-
-FrameEstimate CameraEstimate(const KinematicState& state, const Uncertainty& u) {
-  FrameEstimate frame;
-  frame.name = kCamera;
-  frame.parent = "base";
-  frame.pose = state.T_base_cam;
-  for (int i = 0; i < 6; ++i) {
-    const std::string name = std::string(kCamera) + "." + kFrameParameterNames[i];
-    const auto it = std::find(u.names.begin(), u.names.end(), name);
-    frame.held[i] = it == u.names.end();
-    const double sigma = frame.held[i] ? 0.0 : u.sigma[it - u.names.begin()];
-    (i < 3 ? frame.sigma_mm[i] : frame.sigma_rad[i - 3]) = sigma;
-  }
-  return frame;
-}
-
-double SigmaOf(const Uncertainty& u, const std::string& name) {
-  const auto it = std::find(u.names.begin(), u.names.end(), name);
-  return it == u.names.end() ? 0.0 : u.sigma[it - u.names.begin()];
-}
-
-void Describe(const KinematicProblem& spec, KinematicResult* result) {
-  const Uncertainty& u = result->uncertainty;
-  result->camera = CameraEstimate(result->state, u);
-  for (int i = 0; i < 3; ++i) {
-    result->marker_sigma_mm[i] = SigmaOf(u, std::string(kMarker) + "." + "xyz"[i]);
-  }
-  std::set<std::string> held;
-  for (const auto& h : result->unidentifiable) held.insert(h.name);
-  for (size_t i = 0; i < spec.model_parameters.size(); ++i) {
-    const Parameter& p = spec.model_parameters[i];
-    ScalarEstimate s;
-    s.name = p.name;
-    s.unit = p.unit;
-    s.nominal = p.nominal;
-    s.value = result->state.model_values[i];
-    const std::string full = std::string(kModel) + "." + p.name;
-    s.held = p.fixed || held.count(full) > 0;
-    s.sigma = SigmaOf(u, full);
-    result->model_parameters.push_back(s);
-  }
-}
-
-// Per-axis RMS of the forward residuals, corrected for the fitted parameters.
-Eigen::Vector3d SigmaFromResiduals(const std::vector<Eigen::Vector3d>& errors, int num_free) {
-  const ResidualRms rms = Rms(errors);
-  const int rows = 3 * rms.count;
-  const double dof = rows > num_free ? std::sqrt(double(rows) / (rows - num_free)) : 1.0;
-  return (rms.axis * dof).cwiseMax(1e-6);
-}
-
-}  // namespace
-
 KinematicResult CalibrateKinematics(const KinematicProblem& spec,
                                     const std::vector<PointSample>& samples,
                                     const SolverMaker& make_solver) {
@@ -377,7 +358,7 @@ KinematicResult CalibrateKinematics(const KinematicProblem& spec,
     }
     state = ReadState(*assembled);
     if (!spec.sigma_mm && pass == 0) {
-      result.sigma_mm = SigmaFromResiduals(PositionErrors(spec, samples, state),
+      result.sigma_mm = SigmaFromResiduals(PredictionErrors(*spec.model, state, samples),
                                            assembled->problem.num_free());
     }
   }
@@ -392,7 +373,7 @@ KinematicResult CalibrateKinematics(const KinematicProblem& spec,
                               ": they move together; record positions that vary them "
                               "independently (other heights, the workspace's edges)");
   }
-  result.position_rms = Rms(PositionErrors(spec, samples, state));
+  result.position_rms = RmsOf(PredictionErrors(*spec.model, state, samples));
   Describe(spec, &result);
   if (result.uncertainty.reduced_chi2 > 4.0) {
     result.warnings.push_back("residuals are " +

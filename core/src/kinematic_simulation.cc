@@ -171,16 +171,15 @@ Recording SimulateKinematic(const KinematicSimulationSpec& spec, const Kinematic
   return recording;
 }
 
-std::vector<std::pair<int, Pose>> MarkerViews(const KinematicSimulationSpec& spec,
-                                              const KinematicState& truth,
-                                              const Recording& recording) {
-  std::vector<std::pair<int, Pose>> views;
+std::vector<SampleView> MarkerViews(const KinematicSimulationSpec& spec, const KinematicState& truth,
+                                    const Recording& recording) {
+  std::vector<SampleView> views;
   const Pose T_cam_base = truth.T_base_cam.inverse();
   for (const auto& sample : recording.samples) {
     Pose flange;
     if (!spec.model->Forward(sample.q.data(), truth.model_values.data(), &flange)) continue;
     const Pose T_base_marker{Eigen::Matrix3d::Identity(), flange * truth.marker_mm};
-    views.emplace_back(sample.id, T_cam_base * T_base_marker);
+    views.push_back({sample.id, T_cam_base * T_base_marker});
   }
   return views;
 }

@@ -64,26 +64,13 @@ std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled) {
   return rows;
 }
 
-void Accumulate(const Eigen::Vector3d& error, ResidualRms* rms) {
-  // Running sums of squares; Finish() turns them into RMS.
-  rms->axis += error.cwiseAbs2();
-  ++rms->count;
-}
-
-void Finish(ResidualRms* rms) {
-  if (rms->count == 0) return;
-  const Eigen::Vector3d mean_square = rms->axis / rms->count;
-  rms->norm = std::sqrt(mean_square.sum());
-  rms->axis = mean_square.cwiseSqrt();
-}
-
 // Replaces "unknown" sigma by the residual RMS per axis, corrected for the fitted parameters.
 bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, NoiseModel* noise) {
   std::map<NoiseKey, std::pair<ResidualRms, ResidualRms>> sums;  // position, rotation
   int total_rows = 0;
   for (const auto& row : rows) {
     auto& entry = sums[{row.camera, row.target}];
-    Accumulate(row.error, row.kind == "position" ? &entry.first : &entry.second);
+    (row.kind == "position" ? entry.first : entry.second).Add(row.error);
     total_rows += 3;
   }
   const double dof_correction =
@@ -92,8 +79,8 @@ bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, No
   for (auto& [key, target_noise] : noise->entries) {
     if (target_noise.source != "unknown" || !sums.count(key)) continue;
     auto& [position, rotation] = sums[key];
-    Finish(&position);
-    Finish(&rotation);
+    position.Finish();
+    rotation.Finish();
     if (position.count > 0) {
       target_noise.position_mm = (position.axis * dof_correction).cwiseMax(1e-6);
     }
@@ -131,13 +118,13 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     auto held_out = AssembleWorkcell(spec, recording, data, noise, trained, test);
     for (const auto& row : ResidualRows(*held_out)) {
       if (row.kind != "position" || !IsCarried(recording, row.target)) continue;
-      Accumulate(row.error, &out.total);
-      Accumulate(row.error, &out.per_camera[row.camera]);
+      out.total.Add(row.error);
+      out.per_camera[row.camera].Add(row.error);
     }
     progress.Advance();
   }
-  Finish(&out.total);
-  for (auto& [camera, rms] : out.per_camera) Finish(&rms);
+  out.total.Finish();
+  for (auto& [camera, rms] : out.per_camera) rms.Finish();
   return out;
 }
 
@@ -235,10 +222,10 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   result.residuals = ResidualRows(*fit.assembled);
   for (const auto& row : result.residuals) {
     auto& table = row.kind == "position" ? result.position_rms : result.rotation_rms;
-    Accumulate(row.error, &table[row.camera + "/" + row.target]);
+    table[row.camera + "/" + row.target].Add(row.error);
   }
-  for (auto& [key, rms] : result.position_rms) Finish(&rms);
-  for (auto& [key, rms] : result.rotation_rms) Finish(&rms);
+  for (auto& [key, rms] : result.position_rms) rms.Finish();
+  for (auto& [key, rms] : result.rotation_rms) rms.Finish();
 
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,
                                   make_solver);

@@ -49,6 +49,13 @@ struct PinholeCamera {
   // Unit-z ray (x, y, 1) through a pixel, distortion removed.
   Eigen::Vector3d Ray(const Eigen::Vector2d& pixel) const;
 
+  // Why an image of width x height cannot be from this camera ("" when it can).
+  std::string SizeMismatch(int image_width, int image_height) const {
+    if (image_width == width && image_height == height) return "";
+    return "image is " + std::to_string(image_width) + "x" + std::to_string(image_height) +
+           ", the calibration is for " + std::to_string(width) + "x" + std::to_string(height);
+  }
+
   bool Contains(const Eigen::Vector2d& pixel) const {
     return pixel.x() >= -0.5 && pixel.y() >= -0.5 && pixel.x() < width - 0.5 &&
            pixel.y() < height - 0.5;

@@ -52,6 +52,10 @@ bool InverseInCamera(const RobotModel& model, const KinematicState& state,
 bool PredictInCamera(const RobotModel& model, const KinematicState& state,
                      const std::vector<double>& q, Eigen::Vector3d* p_cam_mm);
 
+// Prediction - measurement (camera axes, mm) for every sample the model has a pose for.
+std::vector<Eigen::Vector3d> PredictionErrors(const RobotModel& model, const KinematicState& state,
+                                              const std::vector<PointSample>& samples);
+
 struct KinematicResult {
   Formulation formulation = Formulation::kForward;
   SolverSummary solver;

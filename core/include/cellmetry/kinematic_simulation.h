@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "cellmetry/config_node.h"
+#include "cellmetry/image_simulation.h"
 #include "cellmetry/kinematic_calibration.h"
 #include "cellmetry/recording.h"
 #include "cellmetry/registry.h"
@@ -63,9 +64,8 @@ struct KinematicSimulationSpec {
 
 // Where the marker is in the camera frame for each sample of `recording` (the marker's face
 // looks up the base z axis, toward a camera above the arm).
-std::vector<std::pair<int, Pose>> MarkerViews(const KinematicSimulationSpec& spec,
-                                              const KinematicState& truth,
-                                              const Recording& recording);
+std::vector<SampleView> MarkerViews(const KinematicSimulationSpec& spec, const KinematicState& truth,
+                                    const Recording& recording);
 
 KinematicSimulationSpec LoadKinematicSimulation(const std::string& path, Registry& registry);
 

@@ -4,6 +4,8 @@
 // config), JSON (everything here) and CSV (one row per residual).
 #pragma once
 
+#include <cmath>
+
 #include <map>
 #include <string>
 #include <vector>
@@ -36,11 +38,30 @@ struct ScalarEstimate {
 };
 
 // RMS of residuals along the camera's x, y and depth axes, and of their 3D length.
+// Add() errors one by one (running sums of squares), then Finish() once to turn them into RMS.
 struct ResidualRms {
   int count = 0;
   Eigen::Vector3d axis = Eigen::Vector3d::Zero();
   double norm = 0.0;
+
+  void Add(const Eigen::Vector3d& error) {
+    axis += error.cwiseAbs2();
+    ++count;
+  }
+  void Finish() {
+    if (count == 0) return;
+    const Eigen::Vector3d mean_square = axis / count;
+    norm = std::sqrt(mean_square.sum());
+    axis = mean_square.cwiseSqrt();
+  }
 };
+
+inline ResidualRms RmsOf(const std::vector<Eigen::Vector3d>& errors) {
+  ResidualRms rms;
+  for (const auto& e : errors) rms.Add(e);
+  rms.Finish();
+  return rms;
+}
 
 struct ResidualRow {
   int observation = 0;

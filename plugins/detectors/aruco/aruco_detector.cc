@@ -7,18 +7,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "fiducial_common/edge_lines.h"
+#include "fiducial_common/id_list.h"
 
 namespace cellmetry::aruco {
 namespace {
 
-std::string IdList(const std::vector<int>& ids, size_t max_shown = 8) {
-  std::string out;
-  for (size_t i = 0; i < ids.size() && i < max_shown; ++i) {
-    out += (i ? ", " : "") + std::to_string(ids[i]);
-  }
-  if (ids.size() > max_shown) out += ", ...";
-  return out;
-}
+using fiducial::IdList;
 
 }  // namespace
 

@@ -22,13 +22,9 @@ std::vector<MarkerFace> DotDetector::Faces(double texels_per_mm) const {
 Detection DotDetector::Detect(const ImageView& image) {
   Detection detection;
   const auto& camera = options_.camera;
-  if (camera && !image.empty() &&
-      (image.width != camera->width || image.height != camera->height)) {
-    std::ostringstream s;
-    s << "the image is " << image.width << "x" << image.height << " but the camera file is for "
-      << camera->width << "x" << camera->height;
-    detection.failure = s.str();
-    return detection;
+  if (camera && !image.empty()) {
+    detection.failure = camera->SizeMismatch(image.width, image.height);
+    if (!detection.failure.empty()) return detection;
   }
   const DotSearch& search = finder_.Find(image);
   if (search.dots.empty()) {
