@@ -32,8 +32,9 @@ const std::string& Recording2000() {
         spec, truth, MakePoseSet(spec, PoseSet::kCameraView, kSamples, rng), rng);
     recording.observations.clear();
     const std::vector<SampleView> views = MarkerViews(spec, truth, recording);
-    const auto write = PlanImages(ReadImageRenderSpec(*spec.images, Registry::Global()),
-                                  spec.camera, views, 1, Registry::Global(), &recording);
+    const auto write = PlanImages(
+        ReadImageRenderSpec(*spec.images, {spec.camera}, {spec.target}, Registry::Global()),
+        views, 1, Registry::Global(), &recording);
     WriteRecording(recording, dir, "", write);
     return dir;
   }();
@@ -43,11 +44,9 @@ const std::string& Recording2000() {
 void BM_Detect(benchmark::State& state) {
   DetectJob job;
   job.recording = Recording2000();
-  job.detector_type = "dot";
-  job.detector_config = ConfigNode::LoadString("{type: dot, diameter_mm: 10}", "bench");
-  job.target = "marker";
-  job.camera = "stereo";
-  job.rig = OakDLikeRig();
+  job.targets = {ReadTargetMarker(
+      "marker", ConfigNode::LoadString("{type: dot, diameter_mm: 10}", "bench"), Registry::Global())};
+  job.cameras["stereo"].rig = OakDLikeRig();
   job.threads = static_cast<int>(state.range(0));
   int frames = 0;
   for (auto _ : state) {

@@ -90,19 +90,16 @@ class Detection : public ::testing::Test {
     recording.observations.clear();
     views_ = MarkerViews(spec_, truth_, recording);
     ImageRenderSpec images;
-    images.detector_type = "test_centroid";
-    images.detector_config = ConfigNode::LoadString("type: test_centroid", "test");
-    images.rig = OakDLikeRig();
+    images.markers = {ReadTargetMarker(spec_.target, ConfigNode::LoadString("type: test_centroid", "test"),
+                                       testing::Plugins())};
+    images.cameras[spec_.camera].rig = OakDLikeRig();
     images.render.noise_sigma = 1.0;
     images.render.supersampling = 3;
-    const auto write = PlanImages(images, spec_.camera, views_, 5, testing::Plugins(), &recording);
+    const auto write = PlanImages(images, views_, 5, testing::Plugins(), &recording);
     WriteRecording(recording, dir_ + "/rec", "", write);
     job_.recording = dir_ + "/rec";
-    job_.detector_type = "test_centroid";
-    job_.detector_config = images.detector_config;
-    job_.target = spec_.target;
-    job_.camera = spec_.camera;
-    job_.rig = OakDLikeRig();
+    job_.targets = images.markers;
+    job_.cameras = images.cameras;
   }
 
   int LogLines() {
@@ -148,17 +145,17 @@ TEST_F(Detection, TriangulatedObservationsAreWhereTheMarkerIs) {
     // This test's centroid is biased by perspective (a few hundredths of a pixel, differently in
     // the two views), which depth magnifies: within 2 mm at 0.35-0.55 m. Detector accuracy is
     // the detector plugins' tests' business; this checks the pipeline puts points in place.
-    EXPECT_LT((o.position_mm - view->T_cam_target.t).norm(), 2.0) << "sample " << o.sample;
+    EXPECT_LT((o.position_mm - view->T_cam_target.at(spec_.target).t).norm(), 2.0) << "sample " << o.sample;
     EXPECT_GT((*o.covariance_mm2)(2, 2), (*o.covariance_mm2)(0, 0));  // depth is the weak axis
   }
 }
 
 TEST_F(Detection, BadImagesAreRecordedWithTheirReasonAndTheRunGoesOn) {
-  testing::WriteText(dir_ + "/rec/images/0_left.png", "this is not a png");
-  testing::WriteText(dir_ + "/rec/images/1_left.png", "");
-  WriteGrayImage(GrayImage(640, 480, 128), dir_ + "/rec/images/2_left.png");
-  WriteGrayImage(GrayImage(1280, 800, 200), dir_ + "/rec/images/3_left.png");  // no marker
-  fs::remove(dir_ + "/rec/images/4_left.png");
+  testing::WriteText(dir_ + "/rec/images/0_" + spec_.camera + "_left.png", "this is not a png");
+  testing::WriteText(dir_ + "/rec/images/1_" + spec_.camera + "_left.png", "");
+  WriteGrayImage(GrayImage(640, 480, 128), dir_ + "/rec/images/2_" + spec_.camera + "_left.png");
+  WriteGrayImage(GrayImage(1280, 800, 200), dir_ + "/rec/images/3_" + spec_.camera + "_left.png");  // no marker
+  fs::remove(dir_ + "/rec/images/4_" + spec_.camera + "_left.png");
   const DetectSummary s = RunDetection(job_, testing::Plugins());
   EXPECT_EQ(s.processed, 24);
   EXPECT_EQ(s.found, 19);

@@ -19,9 +19,13 @@ void AddDetectCommand(CLI::App& app, Context& context) {
     LoadPlugins(context);
     const DetectJob job = LoadDetectJob(job_path, Registry::Global());
     const DetectSummary s = RunDetection(job, Registry::Global(), limit);
-    std::printf("Detection (%s) in %s\n", job.detector_type.c_str(), job.recording.c_str());
-    std::printf("  images: %d listed, %d done before, %d done now; %d found\n", s.images,
-                s.already_done, s.processed, s.found);
+    std::string detectors;
+    for (const auto& marker : job.targets) {
+      detectors += (detectors.empty() ? "" : ", ") + marker.target + ": " + marker.detector_type;
+    }
+    std::printf("Detection (%s) in %s\n", detectors.c_str(), job.recording.c_str());
+    std::printf("  %d images; (image, target) pairs: %d done before, %d done now; %d found\n",
+                s.images, s.already_done, s.processed, s.found);
     for (const auto& [reason, count] : s.failures) {
       std::printf("  not found in %d: %s\n", count, reason.c_str());
     }

@@ -36,7 +36,8 @@ void AddSimulateCommand(CLI::App& app, Context& context) {
       if (spec.images) {
         // The camera's view as pixels instead of measured points: `cellmetry detect` measures.
         const std::vector<SampleView> views = MarkerViews(spec, truth, recording);
-        images = PlanImages(ReadImageRenderSpec(*spec.images, Registry::Global()), spec.camera,
+        images = PlanImages(ReadImageRenderSpec(*spec.images, {spec.camera}, {spec.target},
+                                                Registry::Global()),
                             views, spec.pose_seed, Registry::Global(), &recording);
         recording.observations.clear();
       }

@@ -25,7 +25,8 @@ namespace cellmetry {
 namespace {
 
 constexpr const char* kLog = "detections.jsonl";
-using ImageKey = std::tuple<int, std::string, std::string>;  // sample, camera, view
+using DoneKey = std::tuple<int, std::string, std::string, std::string>;  // sample, camera, view, target
+using Detectors = std::map<std::string, std::unique_ptr<Detector>>;     // by target
 
 nlohmann::json ToJson(const ImageDetection& d) {
   nlohmann::json keypoints = nlohmann::json::array();
@@ -34,7 +35,7 @@ nlohmann::json ToJson(const ImageDetection& d) {
                          k.covariance_px2(0, 1), k.covariance_px2(1, 1)});
   }
   return {{"sample", d.sample}, {"camera", d.camera},   {"view", d.view},
-          {"path", d.path},     {"failure", d.detection.failure},
+          {"target", d.target}, {"path", d.path},       {"failure", d.detection.failure},
           {"keypoints", keypoints}, {"time_ms", d.time_ms}};
 }
 
@@ -43,6 +44,7 @@ ImageDetection FromJson(const nlohmann::json& j) {
   d.sample = j.at("sample").get<int>();
   d.camera = j.at("camera").get<std::string>();
   d.view = j.at("view").get<std::string>();
+  d.target = j.at("target").get<std::string>();
   d.path = j.at("path").get<std::string>();
   d.detection.failure = j.at("failure").get<std::string>();
   d.time_ms = j.at("time_ms").get<double>();
@@ -78,77 +80,124 @@ std::vector<ImageDetection> ReadLog(const std::string& path) {
   return done;
 }
 
-ImageDetection DetectOne(const DetectJob& job, const ImageRef& ref, const std::string& folder,
-                         Detector& detector) {
-  ImageDetection out;
-  out.sample = ref.sample;
-  out.camera = ref.camera;
-  out.view = ref.view;
-  out.path = ref.path;
-  const auto start = std::chrono::steady_clock::now();
-  try {
-    const GrayImage image = ReadGrayImage(folder + "/" + ref.path);
-    const PinholeCamera& camera = job.mono ? *job.mono
-                                  : ref.view == "right" ? job.rig->right
-                                                        : job.rig->left;
-    out.detection.failure = camera.SizeMismatch(image.width(), image.height());
-    if (out.detection.failure.empty()) {
-      out.detection = detector.Detect(image.view());
-    }
-  } catch (const InputError& e) {
-    out.detection.keypoints.clear();
-    out.detection.failure = e.what();
+Detectors MakeDetectors(const DetectJob& job, Registry& registry) {
+  Detectors detectors;
+  for (const auto& marker : job.targets) {
+    detectors[marker.target] = registry.CreateDetector(marker.detector_type, *marker.detector_config);
   }
-  out.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return detectors;
+}
+
+// Reads the image once and runs the detector of every target in `targets` on it. An unreadable
+// image or one of the wrong size is a failure of each of them.
+std::vector<ImageDetection> DetectOne(const DetectJob& job, const ImageRef& ref,
+                                      const std::vector<std::string>& targets,
+                                      Detectors& detectors) {
+  std::vector<ImageDetection> out;
+  const auto start = std::chrono::steady_clock::now();
+  std::string failure;
+  GrayImage image;
+  try {
+    image = ReadGrayImage(job.recording + "/" + ref.path);
+    failure = job.cameras.at(ref.camera).View(ref.view).SizeMismatch(image.width(), image.height());
+  } catch (const InputError& e) {
+    failure = e.what();
+  }
+  const double read_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  for (const auto& target : targets) {
+    ImageDetection d;
+    d.sample = ref.sample;
+    d.camera = ref.camera;
+    d.view = ref.view;
+    d.target = target;
+    d.path = ref.path;
+    const auto begin = std::chrono::steady_clock::now();
+    d.detection.failure = failure;
+    if (failure.empty()) d.detection = detectors.at(target)->Detect(image.view());
+    d.time_ms = read_ms / targets.size() +
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+    out.push_back(std::move(d));
+  }
   return out;
 }
 
-std::vector<Observation> MakeObservations(const DetectJob& job, const Detector& detector,
+std::vector<Observation> MakeObservations(const DetectJob& job, const Detectors& detectors,
                                           const std::vector<ImageDetection>& log,
                                           std::map<std::string, int>* failures) {
-  std::map<std::pair<int, std::string>, const ImageDetection*> left, right, mono;
+  using ViewKey = std::tuple<std::string, std::string, int>;  // camera, target, sample
+  std::map<ViewKey, const ImageDetection*> left, right, mono;
   for (const auto& d : log) {
-    if (d.camera != job.camera || !d.detection.found()) continue;
+    if (!job.cameras.count(d.camera) || !detectors.count(d.target) || !d.detection.found()) continue;
     auto& side = d.view == "right" ? right : d.view == "left" ? left : mono;
-    side[{d.sample, d.camera}] = &d;
+    side[{d.camera, d.target, d.sample}] = &d;
   }
   std::vector<Observation> out;
-  auto add = [&](int sample, const Eigen::Vector3d& p, const Eigen::Matrix3d& cov,
+  auto add = [&](const ViewKey& key, const Eigen::Vector3d& p, const Eigen::Matrix3d& cov,
                  std::optional<Eigen::Vector3d> rvec) {
     Observation o;
-    o.sample = sample;
-    o.camera = job.camera;
-    o.target = job.target;
+    std::tie(o.camera, o.target, o.sample) = key;
     o.position_mm = p;
     o.covariance_mm2 = cov;
     o.rvec = rvec;
     out.push_back(o);
   };
-  if (job.rig) {
-    for (const auto& [key, l] : left) {
-      const auto r = right.find(key);
-      if (r == right.end()) continue;
-      const auto point = TargetOriginFromStereo(*job.rig, l->detection.keypoints,
-                                                r->second->detection.keypoints,
-                                                detector.layout(), job.origin_id);
-      if (!point) {
-        ++(*failures)["the two views do not share enough keypoints to place the target"];
-        continue;
-      }
-      add(key.first, point->p_left_mm, point->covariance_mm2, std::nullopt);
+  std::map<std::string, int> origin_id;
+  for (const auto& marker : job.targets) origin_id[marker.target] = marker.origin_id;
+  for (const auto& [key, l] : left) {
+    const auto r = right.find(key);
+    if (r == right.end()) continue;
+    const auto& [camera, target, sample] = key;
+    const auto point = TargetOriginFromStereo(*job.cameras.at(camera).rig, l->detection.keypoints,
+                                              r->second->detection.keypoints,
+                                              detectors.at(target)->layout(), origin_id.at(target));
+    if (!point) {
+      ++(*failures)[target + ": the two views do not share enough keypoints to place the target"];
+      continue;
     }
-  } else {
-    for (const auto& [key, m] : mono) {
-      const auto pose = EstimateTargetPose(*job.mono, m->detection.keypoints, detector.layout());
-      if (!pose) {
-        ++(*failures)["too few layout keypoints for a pose (need 4)"];
-        continue;
-      }
-      add(key.first, pose->T_cam_target.t, pose->covariance.bottomRightCorner<3, 3>(),
-          RvecFromRotation(pose->T_cam_target.R));
-    }
+    add(key, point->p_left_mm, point->covariance_mm2, std::nullopt);
   }
+  for (const auto& [key, m] : mono) {
+    const auto& [camera, target, sample] = key;
+    const auto pose = EstimateTargetPose(*job.cameras.at(camera).mono, m->detection.keypoints,
+                                         detectors.at(target)->layout());
+    if (!pose) {
+      ++(*failures)[target + ": too few layout keypoints for a pose (need 4)"];
+      continue;
+    }
+    add(key, pose->T_cam_target.t, pose->covariance.bottomRightCorner<3, 3>(),
+        RvecFromRotation(pose->T_cam_target.R));
+  }
+  std::sort(out.begin(), out.end(), [](const Observation& a, const Observation& b) {
+    return std::tie(a.sample, a.camera, a.target) < std::tie(b.sample, b.camera, b.target);
+  });
   return out;
+}
+
+// The one-target, one-camera form of the job (detection.h).
+void ReadSingleForm(const ConfigNode& root, Registry& registry, DetectJob* job) {
+  TargetMarker marker = ReadTargetMarker(root["target"].AsString(), root["detector"], registry);
+  marker.origin_id = root.GetInt("origin_id", 0);
+  job->targets.push_back(marker);
+  const ConfigNode camera = root["camera"];
+  camera.ExpectKeys({"name", "stereo", "mono"});
+  job->cameras[camera["name"].AsString()] = ReadImagingCamera(camera);
+}
+
+void ReadMultipleForm(const ConfigNode& root, Registry& registry, DetectJob* job) {
+  const ConfigNode targets = root["targets"];
+  for (const auto& name : targets.Keys()) {
+    const ConfigNode node = targets[name];
+    node.ExpectKeys({"detector", "origin_id"});
+    TargetMarker marker = ReadTargetMarker(name, node["detector"], registry);
+    marker.origin_id = node.GetInt("origin_id", 0);
+    job->targets.push_back(marker);
+  }
+  const ConfigNode cameras = root["cameras"];
+  for (const auto& name : cameras.Keys()) {
+    cameras[name].ExpectKeys({"stereo", "mono"});
+    job->cameras[name] = ReadImagingCamera(cameras[name]);
+  }
 }
 
 }  // namespace
@@ -156,7 +205,7 @@ std::vector<Observation> MakeObservations(const DetectJob& job, const Detector& 
 DetectJob LoadDetectJob(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"job", "description", "recording", "detector", "target", "camera",
-                   "origin_id", "threads"});
+                   "origin_id", "targets", "cameras", "threads"});
   DetectJob job;
   job.file = path;
   job.recording = root.ResolvePath(root["recording"].AsString());
@@ -164,76 +213,87 @@ DetectJob LoadDetectJob(const std::string& path, Registry& registry) {
     throw root["recording"].Error("no images.csv in '" + job.recording + "'",
                                   "Point 'recording:' at a recording of images");
   }
-  const ConfigNode detector = root["detector"];
-  job.detector_type = detector["type"].AsString();
-  job.detector_config = detector;
-  registry.CreateDetector(job.detector_type, detector);  // bad options fail before any work
-  job.target = root["target"].AsString();
-  const ConfigNode camera = root["camera"];
-  camera.ExpectKeys({"name", "stereo", "mono"});
-  job.camera = camera["name"].AsString();
-  if (camera.Has("stereo") == camera.Has("mono")) {
-    throw camera.Error("give exactly one of 'stereo:' (a rig) or 'mono:' (a camera)",
-                       "e.g. camera: {name: stereo, stereo: ../cameras/oakd.yaml}");
+  const bool single = root.Has("detector") || root.Has("target") || root.Has("camera");
+  if (single == (root.Has("targets") || root.Has("cameras"))) {
+    throw root.Error("give either detector:, target: and camera: (one of each) or targets: and "
+                     "cameras: (several)",
+                     "See docs/formats.md, `job: detect`");
   }
-  if (camera.Has("stereo")) {
-    job.rig = ReadStereoRig(camera.ResolvePath(camera["stereo"].AsString()));
+  if (single) {
+    ReadSingleForm(root, registry, &job);
   } else {
-    job.mono = ReadCamera(camera.ResolvePath(camera["mono"].AsString()));
+    ReadMultipleForm(root, registry, &job);
   }
-  job.origin_id = root.GetInt("origin_id", 0);
   job.threads = root.GetInt("threads", 0);
   return job;
 }
 
 DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit) {
   const Recording recording = ReadRecording(job.recording);
+  for (const auto& [camera, imaging] : job.cameras) {
+    if (!recording.HasCamera(camera)) {
+      throw InputError({job.file, 0, 0}, "the recording has no camera '" + camera + "'",
+                       "Name the cameras of " + job.recording + "/recording.yaml");
+    }
+  }
   const std::string log_path = job.recording + "/" + kLog;
   std::vector<ImageDetection> log = ReadLog(log_path);
-  std::set<ImageKey> done;
-  for (const auto& d : log) done.insert({d.sample, d.camera, d.view});
+  std::set<DoneKey> done;
+  for (const auto& d : log) done.insert({d.sample, d.camera, d.view, d.target});
   DetectSummary summary;
-  summary.images = static_cast<int>(recording.images.size());
-  std::vector<const ImageRef*> pending;
+  struct Work {
+    const ImageRef* image;
+    std::vector<std::string> targets;  // not yet in the log
+  };
+  std::vector<Work> pending;
   for (const auto& ref : recording.images) {
-    if (ref.camera != job.camera) continue;
-    if (done.count({ref.sample, ref.camera, ref.view})) {
-      ++summary.already_done;
-    } else if (limit <= 0 || static_cast<int>(pending.size()) < limit) {
-      pending.push_back(&ref);
+    const auto camera = job.cameras.find(ref.camera);
+    if (camera == job.cameras.end() || !camera->second.HasView(ref.view)) continue;
+    ++summary.images;
+    Work work{&ref, {}};
+    for (const auto& marker : job.targets) {
+      if (done.count({ref.sample, ref.camera, ref.view, marker.target})) {
+        ++summary.already_done;
+      } else {
+        work.targets.push_back(marker.target);
+      }
+    }
+    if (!work.targets.empty() && (limit <= 0 || static_cast<int>(pending.size()) < limit)) {
+      pending.push_back(work);
     }
   }
   std::FILE* out = std::fopen(log_path.c_str(), "a");
   if (!out) throw InputError({log_path, 0, 0}, "cannot append to the detection log", "Check permissions");
   std::mutex mutex;
   Progress progress("detecting images", static_cast<int>(pending.size()));
-  tbb::enumerable_thread_specific<std::unique_ptr<Detector>> detectors(
-      [&] { return registry.CreateDetector(job.detector_type, *job.detector_config); });
+  tbb::enumerable_thread_specific<Detectors> detectors([&] { return MakeDetectors(job, registry); });
   tbb::task_arena arena(job.threads > 0 ? job.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(size_t(0), pending.size(), [&](size_t i) {
-      const ImageDetection d = DetectOne(job, *pending[i], job.recording, *detectors.local());
-      const std::string line = ToJson(d).dump() + "\n";
+      const std::vector<ImageDetection> found =
+          DetectOne(job, *pending[i].image, pending[i].targets, detectors.local());
+      std::string lines;
+      for (const auto& d : found) lines += ToJson(d).dump() + "\n";
       std::lock_guard<std::mutex> lock(mutex);
-      std::fwrite(line.data(), 1, line.size(), out);
+      std::fwrite(lines.data(), 1, lines.size(), out);
       std::fflush(out);  // finished work survives an interruption
-      log.push_back(d);
+      log.insert(log.end(), found.begin(), found.end());
+      summary.processed += static_cast<int>(found.size());
       progress.Advance();
     });
   });
   std::fclose(out);
-  summary.processed = static_cast<int>(pending.size());
+  const Detectors layouts = MakeDetectors(job, registry);
   for (const auto& d : log) {
-    if (d.camera != job.camera) continue;
+    if (!job.cameras.count(d.camera) || !layouts.count(d.target)) continue;
     if (d.detection.found()) {
       ++summary.found;
     } else {
-      ++summary.failures[d.detection.failure];
+      ++summary.failures[d.target + ": " + d.detection.failure];
     }
   }
-  const auto detector = registry.CreateDetector(job.detector_type, *job.detector_config);
   const std::vector<Observation> observations =
-      MakeObservations(job, *detector, log, &summary.failures);
+      MakeObservations(job, layouts, log, &summary.failures);
   summary.observations = static_cast<int>(observations.size());
   AtomicWriteFile(job.recording + "/observations.csv", ObservationsCsv(observations));
   return summary;

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <mutex>
 #include <sstream>
@@ -30,71 +31,149 @@ RenderOptions ReadRender(const ConfigNode& node) {
   return o;
 }
 
-std::string ImagePath(int sample, const std::string& view) {
-  return "images/" + std::to_string(sample) + "_" + view + ".png";
+std::string ImagePath(int sample, const std::string& camera, const std::string& view) {
+  return "images/" + std::to_string(sample) + "_" + camera + "_" + view + ".png";
+}
+
+bool Contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+std::string Joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+std::vector<TargetMarker> ReadMarkers(const ConfigNode& images,
+                                      const std::vector<std::string>& targets,
+                                      Registry& registry) {
+  if (images.Has("detector") == images.Has("targets")) {
+    throw images.Error("give exactly one of 'detector:' (the one target's marker) or 'targets:'",
+                       "e.g. targets: {tool: {type: apriltag_board, ...}}");
+  }
+  if (images.Has("detector")) {
+    if (targets.size() != 1) {
+      throw images["detector"].Error("this simulation has targets " + Joined(targets),
+                                     "Say which marker each carries under 'targets:'");
+    }
+    return {ReadTargetMarker(targets[0], images["detector"], registry)};
+  }
+  std::vector<TargetMarker> markers;
+  const ConfigNode node = images["targets"];
+  for (const auto& target : node.Keys()) {
+    if (!Contains(targets, target)) {
+      throw node[target].Error("no target '" + target + "' in this simulation",
+                               "Its targets are: " + Joined(targets));
+    }
+    markers.push_back(ReadTargetMarker(target, node[target], registry));
+  }
+  return markers;
+}
+
+std::map<std::string, ImagingCamera> ReadCameras(const ConfigNode& images,
+                                                 const std::vector<std::string>& cameras) {
+  std::map<std::string, ImagingCamera> out;
+  if (images.Has("cameras")) {
+    if (images.Has("stereo") || images.Has("mono")) {
+      throw images.Error("give 'cameras:' or one 'stereo:'/'mono:' for all, not both");
+    }
+    const ConfigNode node = images["cameras"];
+    for (const auto& name : node.Keys()) {
+      if (!Contains(cameras, name)) {
+        throw node[name].Error("no camera '" + name + "' in this simulation",
+                               "Its cameras are: " + Joined(cameras));
+      }
+      node[name].ExpectKeys({"stereo", "mono"});
+      out[name] = ReadImagingCamera(node[name]);
+    }
+    for (const auto& name : cameras) {
+      if (!out.count(name)) {
+        throw node.Error("camera '" + name + "' has no calibration", "Add it under 'cameras:'");
+      }
+    }
+    return out;
+  }
+  ImagingCamera shared;
+  if (images.Has("stereo") || images.Has("mono")) {
+    shared = ReadImagingCamera(images);
+  } else {
+    shared.rig = OakDLikeRig();
+  }
+  for (const auto& name : cameras) out[name] = shared;
+  return out;
 }
 
 }  // namespace
 
-ImageRenderSpec ReadImageRenderSpec(const ConfigNode& images, Registry& registry) {
-  images.ExpectKeys({"detector", "stereo", "mono", "render"});
+ImageRenderSpec ReadImageRenderSpec(const ConfigNode& images,
+                                    const std::vector<std::string>& cameras,
+                                    const std::vector<std::string>& targets, Registry& registry) {
+  images.ExpectKeys({"detector", "targets", "stereo", "mono", "cameras", "render"});
   ImageRenderSpec spec;
-  const ConfigNode detector = images["detector"];
-  spec.detector_type = detector["type"].AsString();
-  spec.detector_config = detector;
-  registry.CreateDetector(spec.detector_type, detector);  // bad options fail now
-  if (images.Has("stereo") && images.Has("mono")) {
-    throw images.Error("give one of 'stereo:' or 'mono:'");
-  }
-  if (images.Has("mono")) {
-    spec.mono = ReadCamera(images.ResolvePath(images["mono"].AsString()));
-  } else {
-    spec.rig = images.Has("stereo") ? ReadStereoRig(images.ResolvePath(images["stereo"].AsString()))
-                                    : OakDLikeRig();
-  }
+  spec.markers = ReadMarkers(images, targets, registry);
+  spec.cameras = ReadCameras(images, cameras);
   if (images.Has("render")) spec.render = ReadRender(images["render"]);
   return spec;
 }
 
 std::function<void(const std::string&)> PlanImages(const ImageRenderSpec& spec,
-                                                   const std::string& camera,
                                                    const std::vector<SampleView>& views,
                                                    unsigned seed, Registry& registry,
                                                    Recording* recording) {
-  const std::vector<std::string> names = spec.mono ? std::vector<std::string>{"mono"}
-                                                   : std::vector<std::string>{"left", "right"};
   for (const auto& v : views) {
-    for (const auto& view : names) recording->images.push_back({v.sample, camera, view, ImagePath(v.sample, view)});
+    for (const auto& view : spec.cameras.at(v.camera).Views()) {
+      recording->images.push_back({v.sample, v.camera, view, ImagePath(v.sample, v.camera, view)});
+    }
   }
-  return [spec, camera, views, seed, names, &registry](const std::string& folder) {
+  std::map<std::string, unsigned> camera_index;
+  for (const auto& [name, camera] : spec.cameras) camera_index.emplace(name, camera_index.size());
+  return [spec, views, seed, camera_index, &registry](const std::string& folder) {
     std::filesystem::create_directories(folder + "/images");
-    const auto detector = registry.CreateDetector(spec.detector_type, *spec.detector_config);
-    const std::vector<MarkerFace> faces = detector->Faces(20.0);
-    const std::vector<MarkerPoint> layout = detector->layout();
+    struct Printed {
+      std::vector<MarkerFace> faces;
+      std::vector<MarkerPoint> layout;
+    };
+    std::map<std::string, Printed> printed;
+    for (const auto& marker : spec.markers) {
+      const auto detector = registry.CreateDetector(marker.detector_type, *marker.detector_config);
+      printed[marker.target] = {detector->Faces(20.0), detector->layout()};
+    }
     std::vector<std::string> truth_rows(views.size());
-    Progress progress("rendering samples", static_cast<int>(views.size()));
+    Progress progress("rendering views", static_cast<int>(views.size()));
     std::mutex mutex;
     tbb::parallel_for(size_t(0), views.size(), [&](size_t i) {
+      const SampleView& sample_view = views[i];
+      const ImagingCamera& camera = spec.cameras.at(sample_view.camera);
       std::ostringstream rows;
       rows.precision(12);
-      for (const auto& view : names) {
-        const PinholeCamera& cam = spec.mono ? *spec.mono : view == "right" ? spec.rig->right : spec.rig->left;
-        const Pose T_cam_target = view == "right" ? spec.rig->T_right_left * views[i].T_cam_target
-                                                  : views[i].T_cam_target;
+      for (const auto& view : camera.Views()) {
+        const Pose T_view_camera = camera.T_view_camera(view);
+        std::vector<PlacedTarget> placed;
+        for (const auto& [target, T_cam_target] : sample_view.T_cam_target) {
+          const auto it = printed.find(target);
+          if (it != printed.end()) placed.push_back({T_view_camera * T_cam_target, &it->second.faces});
+        }
         // One seed per image: the same spec renders the same pixels whatever the thread order.
-        std::mt19937 rng(seed * 1000003u + static_cast<unsigned>(views[i].sample) * 2u + (view == "right"));
-        WriteGrayImage(RenderView(cam, {{T_cam_target, &faces}}, spec.render, rng),
-                       folder + "/" + ImagePath(views[i].sample, view));
-        for (const auto& k : ProjectLayout(cam, T_cam_target, layout)) {
-          rows << views[i].sample << "," << camera << "," << view << "," << k.id << ","
-               << k.pixel.x() << "," << k.pixel.y() << "\n";
+        std::mt19937 rng(seed * 1000003u + static_cast<unsigned>(sample_view.sample) * 64u +
+                         camera_index.at(sample_view.camera) * 2u + (view == "right"));
+        WriteGrayImage(RenderView(camera.View(view), placed, spec.render, rng),
+                       folder + "/" + ImagePath(sample_view.sample, sample_view.camera, view));
+        for (const auto& [target, T_cam_target] : sample_view.T_cam_target) {
+          const auto it = printed.find(target);
+          if (it == printed.end()) continue;
+          for (const auto& k : ProjectLayout(camera.View(view), T_view_camera * T_cam_target,
+                                             it->second.layout)) {
+            rows << sample_view.sample << "," << sample_view.camera << "," << view << ","
+                 << target << "," << k.id << "," << k.pixel.x() << "," << k.pixel.y() << "\n";
+          }
         }
       }
       truth_rows[i] = rows.str();
       std::lock_guard<std::mutex> lock(mutex);
       progress.Advance();
     });
-    std::string truth = "sample,camera,view,id,u,v\n";
+    std::string truth = "sample,camera,view,target,id,u,v\n";
     for (const auto& r : truth_rows) truth += r;
     AtomicWriteFile(folder + "/keypoints_truth.csv", truth);
   };

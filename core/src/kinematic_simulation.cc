@@ -179,7 +179,7 @@ std::vector<SampleView> MarkerViews(const KinematicSimulationSpec& spec, const K
     Pose flange;
     if (!spec.model->Forward(sample.q.data(), truth.model_values.data(), &flange)) continue;
     const Pose T_base_marker{Eigen::Matrix3d::Identity(), flange * truth.marker_mm};
-    views.push_back({sample.id, T_cam_base * T_base_marker});
+    views.push_back({sample.id, spec.camera, {{spec.target, T_cam_base * T_base_marker}}});
   }
   return views;
 }

@@ -1,6 +1,6 @@
 // `cellmetry detect`: run a detector plugin over a recording's images and write its observations.
 //
-// Job (`job: detect`):
+// Job (`job: detect`), one target and one camera:
 //   recording: <folder with images.csv>
 //   detector: {type: dot, ...}            # any detector plugin and its options
 //   target: marker                        # the target name the observations get
@@ -8,12 +8,17 @@
 //   origin_id: 0                          # stereo: a keypoint at the target's origin (else the
 //                                         # layout is fitted to every keypoint both views see)
 //   threads: 0                            # 0: every core
+// or several (a workcell: a board on the world, a 3D board on the tool, several cameras):
+//   targets: {world: {detector: {...}}, tool: {detector: {...}, origin_id: 0}}
+//   cameras: {cam1: {mono: cam1.yaml}, cam2: {mono: cam2.yaml}}
+// Every image of the job's cameras is read once and every target's detector run on it.
 //
-// Every image's result (keypoints, or why it failed) is appended to <recording>/detections.jsonl
-// as soon as it is known and flushed, one line per image. A rerun reads that log, drops a torn
-// last line, and only does the images not in it: an interrupted run loses no finished image and
-// duplicates none. Then observations.csv is written (atomically) from the whole log: stereo
-// views triangulated (position + covariance), mono views by PnP (pose + position covariance).
+// Every (image, target) result (keypoints, or why it failed) is appended to
+// <recording>/detections.jsonl as soon as it is known and flushed, one line each. A rerun reads
+// that log, drops a torn last line, and only does what is not in it: an interrupted run loses no
+// finished image and duplicates none. Then observations.csv is written (atomically) from the
+// whole log: stereo views triangulated (position + covariance), mono views by PnP (pose +
+// position covariance).
 #pragma once
 
 #include <map>
@@ -21,24 +26,17 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/camera.h"
-#include "cellmetry/config_node.h"
 #include "cellmetry/detector.h"
+#include "cellmetry/imaging.h"
 #include "cellmetry/registry.h"
-#include "cellmetry/stereo.h"
 
 namespace cellmetry {
 
 struct DetectJob {
   std::string file;
   std::string recording;
-  std::string detector_type;
-  std::optional<ConfigNode> detector_config;
-  std::string target;
-  std::string camera;
-  std::optional<StereoRig> rig;        // stereo: views left and right
-  std::optional<PinholeCamera> mono;   // mono: view mono
-  int origin_id = 0;
+  std::vector<TargetMarker> targets;
+  std::map<std::string, ImagingCamera> cameras;  // images of other cameras are left alone
   int threads = 0;
 };
 
@@ -48,21 +46,22 @@ struct ImageDetection {
   int sample = 0;
   std::string camera;
   std::string view;
+  std::string target;
   std::string path;
   Detection detection;
   double time_ms = 0.0;
 };
 
 struct DetectSummary {
-  int images = 0;            // in images.csv
-  int already_done = 0;      // found in the log from an earlier run
-  int processed = 0;         // done by this run
+  int images = 0;            // of the job's cameras in images.csv
+  int already_done = 0;      // (image, target) pairs in the log from an earlier run
+  int processed = 0;         // (image, target) pairs done by this run
   int found = 0;             // over the whole log
   int observations = 0;      // written to observations.csv
-  std::map<std::string, int> failures;  // reason -> images
+  std::map<std::string, int> failures;  // "<target>: <reason>" -> images
 };
 
-// `limit` > 0 stops after that many new images (an interruption, for tests and for splitting
+// `limit` > 0 stops after that many new images (each with all its targets) (an interruption, for tests and for splitting
 // work); the next run continues.
 DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit = 0);
 
