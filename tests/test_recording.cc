@@ -100,6 +100,11 @@ Recording SmallRecording() {
   tool.target = "tool";
   tool.position_mm = Eigen::Vector3d(244.632864, -55.383274, 725.424014);
   tool.rvec = Eigen::Vector3d(-2.155004972, 1.601929886, 0.536612874);
+  // As `cellmetry detect` measures it: with the covariances of its position and rotation.
+  tool.covariance_mm2 = (Eigen::Matrix3d() << 0.04, 0.001, -0.002, 0.001, 0.05, 0.003, -0.002,
+                         0.003, 0.4).finished();
+  tool.rotation_covariance_rad2 = (Eigen::Matrix3d() << 1e-7, 2e-9, 0, 2e-9, 3e-7, -1e-9, 0,
+                                   -1e-9, 5e-8).finished();
   Observation dot;  // a triangulated dot: position only
   dot.sample = 7;
   dot.camera = "cam2";
@@ -142,6 +147,13 @@ void ExpectSameObservations(const std::vector<Observation>& read,
     ASSERT_EQ(read[i].rvec.has_value(), written[i].rvec.has_value());
     if (written[i].rvec) {
       EXPECT_EQ(*read[i].rvec, *written[i].rvec);
+    }
+    ASSERT_EQ(read[i].covariance_mm2.has_value(), written[i].covariance_mm2.has_value());
+    if (written[i].covariance_mm2) EXPECT_EQ(*read[i].covariance_mm2, *written[i].covariance_mm2);
+    ASSERT_EQ(read[i].rotation_covariance_rad2.has_value(),
+              written[i].rotation_covariance_rad2.has_value());
+    if (written[i].rotation_covariance_rad2) {
+      EXPECT_EQ(*read[i].rotation_covariance_rad2, *written[i].rotation_covariance_rad2);
     }
   }
 }

@@ -25,7 +25,16 @@ void AddSimulateCommand(CLI::App& app, Context& context) {
       const WorkcellSimulationSpec spec = LoadWorkcellSimulation(spec_path, Registry::Global());
       WorkcellTruth truth;
       recording = SimulateWorkcell(spec, &truth);
-      WriteRecording(recording, output, TruthYaml(truth));
+      std::function<void(const std::string&)> images;
+      if (spec.images) {
+        // What the cameras see as pixels instead of measured poses: `cellmetry detect` measures.
+        images = PlanImages(ReadImageRenderSpec(*spec.images, CameraNames(spec), TargetNames(spec),
+                                                Registry::Global()),
+                            WorkcellViews(spec, recording), spec.seed, Registry::Global(),
+                            &recording);
+        recording.observations.clear();
+      }
+      WriteRecording(recording, output, TruthYaml(truth), images);
     } else if (kind == "kinematic") {
       const KinematicSimulationSpec spec = LoadKinematicSimulation(spec_path, Registry::Global());
       std::mt19937 truth_rng(spec.seed), rng(spec.pose_seed);

@@ -19,6 +19,7 @@
 #include "cellmetry/job.h"
 #include "cellmetry/progress.h"
 #include "cellmetry/recording.h"
+#include "cellmetry/so3_jacobians.h"
 #include "cellmetry/target_pose.h"
 
 namespace cellmetry {
@@ -133,13 +134,11 @@ std::vector<Observation> MakeObservations(const DetectJob& job, const Detectors&
     side[{d.camera, d.target, d.sample}] = &d;
   }
   std::vector<Observation> out;
-  auto add = [&](const ViewKey& key, const Eigen::Vector3d& p, const Eigen::Matrix3d& cov,
-                 std::optional<Eigen::Vector3d> rvec) {
+  auto add = [&](const ViewKey& key, const Eigen::Vector3d& p, const Eigen::Matrix3d& cov) {
     Observation o;
     std::tie(o.camera, o.target, o.sample) = key;
     o.position_mm = p;
     o.covariance_mm2 = cov;
-    o.rvec = rvec;
     out.push_back(o);
   };
   std::map<std::string, int> origin_id;
@@ -155,7 +154,7 @@ std::vector<Observation> MakeObservations(const DetectJob& job, const Detectors&
       ++(*failures)[target + ": the two views do not share enough keypoints to place the target"];
       continue;
     }
-    add(key, point->p_left_mm, point->covariance_mm2, std::nullopt);
+    add(key, point->p_left_mm, point->covariance_mm2);
   }
   for (const auto& [key, m] : mono) {
     const auto& [camera, target, sample] = key;
@@ -165,8 +164,13 @@ std::vector<Observation> MakeObservations(const DetectJob& job, const Detectors&
       ++(*failures)[target + ": too few layout keypoints for a pose (need 4)"];
       continue;
     }
-    add(key, pose->T_cam_target.t, pose->covariance.bottomRightCorner<3, 3>(),
-        RvecFromRotation(pose->T_cam_target.R));
+    add(key, pose->T_cam_target.t, pose->covariance.bottomRightCorner<3, 3>());
+    // The rotation vector's covariance, as small rotations about the camera axes (the
+    // calibrations' rotation error): R(rvec + d) = Exp(J_l(rvec) d) R(rvec).
+    const Eigen::Vector3d rvec = RvecFromRotation(pose->T_cam_target.R);
+    const Eigen::Matrix3d J_l = LeftJacobian(rvec);
+    out.back().rvec = rvec;
+    out.back().rotation_covariance_rad2 = J_l * pose->covariance.topLeftCorner<3, 3>() * J_l.transpose();
   }
   std::sort(out.begin(), out.end(), [](const Observation& a, const Observation& b) {
     return std::tie(a.sample, a.camera, a.target) < std::tie(b.sample, b.camera, b.target);

@@ -159,7 +159,12 @@ Recording SimulateKinematic(const KinematicSimulationSpec& spec, const Kinematic
     Eigen::Vector3d p_cam;
     if (!PredictInCamera(*spec.model, truth, commands[pose], &p_cam)) continue;
     for (int r = 0; r < spec.repeats; ++r, ++id) {
-      recording.samples.push_back({id, spec.robot, static_cast<int>(pose), commands[pose]});
+      Sample sample;
+      sample.id = id;
+      sample.robot = spec.robot;
+      sample.pose = static_cast<int>(pose);
+      sample.q = commands[pose];
+      recording.samples.push_back(sample);
       Observation obs;
       obs.sample = id;
       obs.camera = spec.camera;

@@ -1,6 +1,7 @@
 #include "cellmetry/noise_model.h"
 
 #include <cmath>
+#include <map>
 #include <tuple>
 #include <vector>
 
@@ -66,14 +67,61 @@ NoiseModel EstimateRepeatability(const Recording& recording) {
   return model;
 }
 
+NoiseModel DetectionAccuracy(const Recording& recording) {
+  struct Sums {
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
+    int count = 0;
+    bool complete = true;  // every observation carries both covariances
+  };
+  std::map<NoiseKey, Sums> sums;
+  for (const auto& obs : recording.observations) {
+    Sums& s = sums[{obs.camera, obs.target}];
+    if (!obs.covariance_mm2 || !obs.rotation_covariance_rad2) {
+      s.complete = false;
+      continue;
+    }
+    s.position += obs.covariance_mm2->diagonal();
+    s.rotation += obs.rotation_covariance_rad2->diagonal();
+    ++s.count;
+  }
+  NoiseModel model;
+  for (const auto& [key, s] : sums) {
+    if (!s.complete || s.count == 0) continue;
+    TargetNoise noise;
+    noise.position_mm = (s.position / s.count).cwiseSqrt();
+    noise.rotation_rad = (s.rotation / s.count).cwiseSqrt();
+    noise.source = "detections (" + std::to_string(s.count) + ")";
+    if (recording.targets.at(key.second) == kWorldCarrier) {
+      // Every capture of a world-fixed target shows the camera the same view: the detector's
+      // systematic error repeats, and only its noise averages out. Together they weigh as one.
+      noise.position_mm *= std::sqrt(double(s.count));
+      noise.rotation_rad *= std::sqrt(double(s.count));
+      noise.source += ", one view repeated";
+    }
+    model.entries[key] = noise;
+  }
+  return model;
+}
+
 NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec) {
   const NoiseModel repeats = EstimateRepeatability(recording);
+  const NoiseModel detections = DetectionAccuracy(recording);
   NoiseModel model;
   for (const auto& camera : recording.cameras) {
     for (const auto& [target, carrier] : recording.targets) {
       TargetNoise noise;
       const auto repeat = repeats.entries.find({camera, target});
       if (repeat != repeats.entries.end()) noise = repeat->second;
+      const auto detected = detections.entries.find({camera, target});
+      if (detected != detections.entries.end()) {
+        const bool has_repeats = repeat != repeats.entries.end();
+        noise.position_mm = has_repeats ? detected->second.position_mm.cwiseMax(noise.position_mm)
+                                        : detected->second.position_mm;
+        noise.rotation_rad = has_repeats ? detected->second.rotation_rad.cwiseMax(noise.rotation_rad)
+                                         : detected->second.rotation_rad;
+        noise.source = detected->second.source;
+      }
       const auto job_position = spec.position_sigma_mm.find(camera);
       if (job_position != spec.position_sigma_mm.end()) {
         noise.position_mm = job_position->second;

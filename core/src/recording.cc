@@ -105,16 +105,36 @@ void ReadSamples(const std::string& path, const Units& units, Recording* recordi
   }
 }
 
+std::vector<std::string> CovarianceColumns(const std::string& prefix) {
+  std::vector<std::string> columns;
+  for (const char* entry : {"xx", "xy", "xz", "yy", "yz", "zz"}) columns.push_back(prefix + entry);
+  return columns;
+}
+
+// A symmetric 3x3 covariance given by its upper triangle (prefix xx, xy, xz, yy, yz, zz), in the
+// file's units squared; none when the columns are absent or the row leaves them empty.
+std::optional<Eigen::Matrix3d> ReadCovariance(const CsvTable& table, size_t row,
+                                              const std::string& prefix, double scale) {
+  const std::vector<std::string> columns = CovarianceColumns(prefix);
+  for (const auto& c : columns) {
+    if (!table.HasColumn(c)) return std::nullopt;
+  }
+  if (!table.HasValue(row, columns[0])) return std::nullopt;
+  const auto v = [&](int i) { return table.Number(row, columns[i]); };
+  Eigen::Matrix3d c;
+  c << v(0), v(1), v(2), v(1), v(3), v(4), v(2), v(4), v(5);
+  return c * scale;
+}
+
 void ReadObservations(const std::string& path, const Units& units, Recording* recording,
                       bool allow_empty) {
   const CsvTable table = CsvTable::Read(path);
   table.RequireColumns({"sample", "camera", "target", "x", "y", "z"});
-  table.RejectUnknownColumns({"sample", "camera", "target", "x", "y", "z", "rx", "ry", "rz",
-                              "cov_xx", "cov_xy", "cov_xz", "cov_yy", "cov_yz", "cov_zz"});
-  const std::vector<std::string> covariance = {"cov_xx", "cov_xy", "cov_xz",
-                                               "cov_yy", "cov_yz", "cov_zz"};
-  const bool has_covariance = std::all_of(covariance.begin(), covariance.end(),
-                                          [&](const std::string& c) { return table.HasColumn(c); });
+  std::vector<std::string> known = {"sample", "camera", "target", "x", "y", "z", "rx", "ry", "rz"};
+  for (const char* prefix : {"cov_", "rcov_"}) {
+    for (const auto& column : CovarianceColumns(prefix)) known.push_back(column);
+  }
+  table.RejectUnknownColumns(known);
   const bool has_rotation = table.HasColumn("rx") && table.HasColumn("ry") &&
                             table.HasColumn("rz");
   std::set<int> sample_ids;
@@ -150,16 +170,8 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
                           "Give all of rx,ry,rz or leave all three empty");
       }
     }
-    if (has_covariance && table.HasValue(row, "cov_xx")) {
-      // Position covariance in the file's length unit squared; symmetric, upper triangle given.
-      const double s2 = units.to_mm * units.to_mm;
-      Eigen::Matrix3d c;
-      c << table.Number(row, "cov_xx"), table.Number(row, "cov_xy"), table.Number(row, "cov_xz"),
-          0, table.Number(row, "cov_yy"), table.Number(row, "cov_yz"), 0, 0,
-          table.Number(row, "cov_zz");
-      c(1, 0) = c(0, 1), c(2, 0) = c(0, 2), c(2, 1) = c(1, 2);
-      obs.covariance_mm2 = c * s2;
-    }
+    obs.covariance_mm2 = ReadCovariance(table, row, "cov_", units.to_mm * units.to_mm);
+    obs.rotation_covariance_rad2 = ReadCovariance(table, row, "rcov_", units.to_rad * units.to_rad);
     recording->observations.push_back(std::move(obs));
   }
   if (recording->observations.empty() && !allow_empty) {
@@ -201,15 +213,34 @@ std::string Number(double value) {
   return std::string(buffer, end);
 }
 
+
+void WriteCovariance(const std::optional<Eigen::Matrix3d>& covariance, std::ostream& out) {
+  if (!covariance) {
+    out << ",,,,,,";
+    return;
+  }
+  const Eigen::Matrix3d& c = *covariance;
+  for (const auto& [i, k] : {std::pair{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}}) {
+    out << "," << Number(c(i, k));
+  }
+}
+
 }  // namespace
 
 std::string ObservationsCsv(const std::vector<Observation>& list) {
   const bool any_covariance = std::any_of(list.begin(), list.end(), [](const Observation& o) {
     return o.covariance_mm2.has_value();
   });
+  const bool any_rotation_covariance = std::any_of(
+      list.begin(), list.end(), [](const Observation& o) { return o.rotation_covariance_rad2.has_value(); });
   std::ostringstream out;
   out << "sample,camera,target,x,y,z,rx,ry,rz";
-  if (any_covariance) out << ",cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz";
+  if (any_covariance) {
+    for (const auto& c : CovarianceColumns("cov_")) out << "," << c;
+  }
+  if (any_rotation_covariance) {
+    for (const auto& c : CovarianceColumns("rcov_")) out << "," << c;
+  }
   out << "\n";
   for (const auto& o : list) {
     out << o.sample << "," << o.camera << "," << o.target << "," << Number(o.position_mm.x())
@@ -219,16 +250,8 @@ std::string ObservationsCsv(const std::vector<Observation>& list) {
     } else {
       out << ",,,";
     }
-    if (any_covariance) {
-      if (o.covariance_mm2) {
-        const Eigen::Matrix3d& c = *o.covariance_mm2;
-        for (const auto& [i, k] : {std::pair{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}}) {
-          out << "," << Number(c(i, k));
-        }
-      } else {
-        out << ",,,,,,";
-      }
-    }
+    if (any_covariance) WriteCovariance(o.covariance_mm2, out);
+    if (any_rotation_covariance) WriteCovariance(o.rotation_covariance_rad2, out);
     out << "\n";
   }
   return out.str();

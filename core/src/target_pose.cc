@@ -4,6 +4,8 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <map>
 
 #include "cellmetry/rigid_fit.h"
@@ -41,11 +43,78 @@ void Evaluate(const PinholeCamera& camera, const std::vector<Match>& matches,
   }
 }
 
+// Gauss-Newton from x to the minimum of the whitened reprojection error.
+void Refine(const PinholeCamera& camera, const std::vector<Match>& matches,
+            Eigen::Matrix<double, 6, 1>* x) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    Evaluate(camera, matches, *x, &r, &J);
+    const Eigen::Matrix<double, 6, 1> step = (J.transpose() * J).ldlt().solve(-J.transpose() * r);
+    *x += step;
+    if (step.norm() < 1e-12 * (1 + x->norm())) break;
+  }
+}
+
+// The frame of the plane the points lie in (z = 0 there), when they are coplanar: IPPE then
+// starts the pose (a cube's one visible face is coplanar, but not in the target's z = 0).
+std::optional<Pose> PlaneFrame(const std::vector<Match>& matches) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& m : matches) mean += m.p_target;
+  mean /= static_cast<double>(matches.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const auto& m : matches) scatter += (m.p_target - mean) * (m.p_target - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  if (eigen.eigenvalues()[0] > 1e-12 * eigen.eigenvalues()[2]) return std::nullopt;
+  Eigen::Matrix3d R = eigen.eigenvectors();  // columns: normal first, then in-plane axes
+  R = (Eigen::Matrix3d() << R.col(1), R.col(2), R.col(1).cross(R.col(2))).finished();
+  return Pose{R, mean};  // T_target_plane
+}
+
+// OpenCV's start: IPPE in the points' plane when they are coplanar, else EPnP.
+std::optional<Eigen::Matrix<double, 6, 1>> StartPose(const PinholeCamera& camera,
+                                                     const std::vector<Match>& matches) {
+  const std::optional<Pose> T_target_plane = PlaneFrame(matches);
+  const Pose T_plane_target = T_target_plane ? T_target_plane->inverse() : Pose::Identity();
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> image;
+  for (const auto& m : matches) {
+    const Eigen::Vector3d p = T_plane_target * m.p_target;
+    object.emplace_back(p.x(), p.y(), T_target_plane ? 0.0 : p.z());
+    // Undistorted normalised coordinates: solvePnP then needs no distortion model.
+    const Eigen::Vector3d ray = camera.Ray(m.keypoint.pixel);
+    image.emplace_back(ray.x(), ray.y());
+  }
+  cv::Mat rvec, tvec;
+  if (!cv::solvePnP(object, image, cv::Mat::eye(3, 3, CV_64F), cv::Mat(), rvec, tvec, false,
+                    T_target_plane ? cv::SOLVEPNP_IPPE : cv::SOLVEPNP_EPNP)) {
+    return std::nullopt;
+  }
+  Eigen::Vector3d rv, t;
+  for (int i = 0; i < 3; ++i) rv[i] = rvec.at<double>(i), t[i] = tvec.at<double>(i);
+  const Pose T_cam_target = PoseFromRvecT(rv, t) * T_plane_target;
+  Eigen::Matrix<double, 6, 1> x;
+  x << RvecFromRotation(T_cam_target.R), T_cam_target.t;
+  return x;
+}
+
+// Whitened squared reprojection error of each match (chi-square, 2 dof).
+std::vector<double> PointChi2(const PinholeCamera& camera, const std::vector<Match>& matches,
+                              const Eigen::Matrix<double, 6, 1>& x) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  Evaluate(camera, matches, x, &r, &J);
+  std::vector<double> chi2(matches.size());
+  for (size_t k = 0; k < matches.size(); ++k) chi2[k] = r.segment<2>(2 * k).squaredNorm();
+  return chi2;
+}
+
 }  // namespace
 
 std::optional<TargetPose> EstimateTargetPose(const PinholeCamera& camera,
                                              const std::vector<Keypoint>& keypoints,
-                                             const std::vector<MarkerPoint>& layout) {
+                                             const std::vector<MarkerPoint>& layout,
+                                             const PoseEstimationOptions& options) {
   std::map<int, Eigen::Vector3d> by_id;
   for (const auto& p : layout) by_id[p.id] = p.p_target_mm;
   std::vector<Match> matches;
@@ -54,37 +123,32 @@ std::optional<TargetPose> EstimateTargetPose(const PinholeCamera& camera,
     if (it != by_id.end()) matches.push_back({it->second, k});
   }
   if (matches.size() < 4) return std::nullopt;
-  std::vector<cv::Point3d> object;
-  std::vector<cv::Point2d> image;
-  bool coplanar = true;
-  for (const auto& m : matches) {
-    object.emplace_back(m.p_target.x(), m.p_target.y(), m.p_target.z());
-    // Undistorted normalised coordinates: solvePnP then needs no distortion model.
-    const Eigen::Vector3d ray = camera.Ray(m.keypoint.pixel);
-    image.emplace_back(ray.x(), ray.y());
-    coplanar &= std::abs(m.p_target.z()) < 1e-9;
+  auto start = StartPose(camera, matches);
+  if (!start) return std::nullopt;
+  Eigen::Matrix<double, 6, 1> x = *start;
+  Refine(camera, matches, &x);
+  TargetPose pose;
+  // A keypoint the pose cannot explain (a corner of a partly hidden tag, a grazing view) is
+  // dropped, worst first, while more than 4 remain, and the pose refitted.
+  while (static_cast<int>(matches.size()) > options.min_points) {
+    const std::vector<double> chi2 = PointChi2(camera, matches, x);
+    const auto worst = std::max_element(chi2.begin(), chi2.end());
+    if (*worst <= options.outlier_chi2) break;
+    matches.erase(matches.begin() + (worst - chi2.begin()));
+    ++pose.rejected;
+    Refine(camera, matches, &x);
   }
-  cv::Mat rvec, tvec;
-  const bool ok = cv::solvePnP(object, image, cv::Mat::eye(3, 3, CV_64F), cv::Mat(), rvec, tvec,
-                               false, coplanar ? cv::SOLVEPNP_IPPE : cv::SOLVEPNP_EPNP);
-  if (!ok) return std::nullopt;
-  Eigen::Matrix<double, 6, 1> x;
-  for (int i = 0; i < 3; ++i) x[i] = rvec.at<double>(i), x[3 + i] = tvec.at<double>(i);
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
-  for (int iteration = 0; iteration < 20; ++iteration) {
-    Evaluate(camera, matches, x, &r, &J);
-    const Eigen::Matrix<double, 6, 1> step = (J.transpose() * J).ldlt().solve(-J.transpose() * r);
-    x += step;
-    if (step.norm() < 1e-12 * (1 + x.norm())) break;
-  }
   Evaluate(camera, matches, x, &r, &J);
-  TargetPose pose;
-  const Eigen::Vector3d rv = x.head<3>();
-  pose.T_cam_target = PoseFromRvecT(rv, x.tail<3>());
-  pose.covariance = (J.transpose() * J).inverse();
-  pose.reprojection_rms_px = std::sqrt(r.squaredNorm() / r.size());
+  pose.T_cam_target = PoseFromRvecT(Eigen::Vector3d(x.head<3>()), x.tail<3>());
+  pose.normalized_reprojection_rms = std::sqrt(r.squaredNorm() / r.size());
   pose.points = static_cast<int>(matches.size());
+  // (J^T W J)^-1 assumes the keypoints' covariances are right; when the residuals say they are
+  // larger, the covariance grows by the a-posteriori variance factor (never shrinks).
+  const int dof = static_cast<int>(r.size()) - 6;
+  pose.variance_factor = dof > 0 ? std::max(1.0, r.squaredNorm() / dof) : 1.0;
+  pose.covariance = pose.variance_factor * (J.transpose() * J).inverse();
   if (pose.T_cam_target.t.z() <= 0) return std::nullopt;
   return pose;
 }

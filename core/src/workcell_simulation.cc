@@ -1,5 +1,6 @@
 #include "cellmetry/workcell_simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -79,6 +80,44 @@ Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* tr
     for (const auto& [camera, pose] : spec.T_world_cam) truth->frames[camera] = {"world", pose};
   }
   return recording;
+}
+
+std::vector<SampleView> WorkcellViews(const WorkcellSimulationSpec& spec,
+                                      const Recording& recording) {
+  std::vector<SampleView> views;
+  for (const auto& sample : recording.samples) {
+    const auto robot = std::find_if(spec.robots.begin(), spec.robots.end(),
+                                    [&](const SimulatedRobot& r) { return r.name == sample.robot; });
+    Pose T_base_flange;
+    if (robot == spec.robots.end() ||
+        !robot->model->Forward(sample.q.data(), robot->model_values.data(), &T_base_flange)) {
+      continue;
+    }
+    for (const auto& [camera, T_world_cam] : spec.T_world_cam) {
+      SampleView view{sample.id, camera, {}};
+      const Pose T_cam_world = T_world_cam.inverse();
+      view.T_cam_target[spec.world_target] = T_cam_world;
+      for (const auto& [target, T_flange_target] : robot->T_flange_target) {
+        view.T_cam_target[target] = T_cam_world * robot->T_world_base * T_base_flange * T_flange_target;
+      }
+      views.push_back(view);
+    }
+  }
+  return views;
+}
+
+std::vector<std::string> CameraNames(const WorkcellSimulationSpec& spec) {
+  std::vector<std::string> names;
+  for (const auto& [camera, pose] : spec.T_world_cam) names.push_back(camera);
+  return names;
+}
+
+std::vector<std::string> TargetNames(const WorkcellSimulationSpec& spec) {
+  std::vector<std::string> names{spec.world_target};
+  for (const auto& robot : spec.robots) {
+    for (const auto& [target, pose] : robot.T_flange_target) names.push_back(target);
+  }
+  return names;
 }
 
 std::string TruthYaml(const WorkcellTruth& truth) {
@@ -176,7 +215,7 @@ WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const Workcell
 WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"simulation", "description", "seed", "robots", "cameras", "world_target",
-                   "noise", "repeats"});
+                   "noise", "repeats", "images"});
   if (root["simulation"].AsString() != "workcell") {
     throw root["simulation"].Error("unknown simulation kind", "This version simulates: workcell");
   }
@@ -184,6 +223,7 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
   spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
   spec.repeats = root.GetInt("repeats", 1);
   spec.world_target = root.GetString("world_target", spec.world_target);
+  if (root.Has("images")) spec.images = root["images"];
   std::mt19937 rng(spec.seed + 7919);
   const ConfigNode robots = root["robots"];
   for (const auto& name : robots.Keys()) {
@@ -206,14 +246,16 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
     const ConfigNode tools = node["tools"];
     for (const auto& target : tools.Keys()) robot.T_flange_target[target] = ReadPose(tools[target]);
     const ConfigNode poses = node["poses"];
-    poses.ExpectKeys({"from_recording", "random", "lower", "upper"});
+    poses.ExpectKeys({"from_recording", "every", "random", "lower", "upper"});
     if (poses.Has("from_recording")) {
       const Recording source = ReadRecording(poses.ResolvePath(poses["from_recording"].AsString()));
-      int last_pose = -1;
+      const int every = poses.GetInt("every", 1);
+      if (every < 1) throw poses["every"].Error("must be 1 or more", "1 takes every pose");
+      int last_pose = -1, index = 0;
       for (const auto& s : source.samples) {
         if (s.pose == last_pose) continue;  // one entry per commanded pose
         last_pose = s.pose;
-        robot.joint_poses.push_back(s.q);
+        if (index++ % every == 0) robot.joint_poses.push_back(s.q);
       }
     } else {
       const int count = poses["random"].AsInt();

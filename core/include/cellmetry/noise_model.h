@@ -1,11 +1,18 @@
 // NoiseModel: the sigma every residual row is divided by.
 //
 // Per camera and target, along the camera's x, y and depth axes (positions, mm) and about them
-// (rotations, rad). Where the job does not give sigma, it is estimated from repeated captures:
-// captures of one commanded pose (same `pose`) for robot-carried targets, every capture for
-// world-fixed targets; the pooled standard deviation over groups is used. Where neither exists,
-// sigma is left unknown and the workcell identification estimates it from the residuals of a
-// first fit (variance component estimation).
+// (rotations, rad). Where the job does not give sigma:
+//   - observations measured by `cellmetry detect` carry their covariance (position and
+//     rotation): sigma is the RMS of their standard deviations, but never below the scatter of
+//     repeated captures. A world-fixed target's captures show a camera one view again and again:
+//     the detector's systematic error repeats, so together they count as one capture (sigma
+//     times sqrt(captures)), and a static camera's pose is not claimed better than one
+//     detection can place it;
+//   - else it is estimated from repeated captures: captures of one commanded pose (same `pose`)
+//     for robot-carried targets, every capture for world-fixed targets; the pooled standard
+//     deviation over groups is used;
+//   - else sigma is left unknown and the workcell identification estimates it from the
+//     residuals of a first fit (variance component estimation).
 #pragma once
 
 #include <map>
@@ -37,8 +44,11 @@ struct NoiseModel {
 // Entries with no repeated captures are absent.
 NoiseModel EstimateRepeatability(const Recording& recording);
 
-// The sigma used for fitting: job values, else repeatability (floored), else "unknown" (1 mm,
-// 1e-3 rad, to be re-estimated from residuals).
+// The detection covariances' sigma per (camera, target) whose every observation carries both.
+NoiseModel DetectionAccuracy(const Recording& recording);
+
+// The sigma used for fitting: job values, else detections or repeatability (floored), else
+// "unknown" (1 mm, 1e-3 rad, to be re-estimated from residuals).
 NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec);
 
 }  // namespace cellmetry

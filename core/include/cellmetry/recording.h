@@ -3,6 +3,7 @@
 //   recording.yaml    units, robots (name -> joint count), cameras, targets (name -> carrier)
 //   samples.csv       sample,robot,pose,q1..qN[,t][,temperature][,payload]
 //   observations.csv  sample,camera,target,x,y,z[,rx,ry,rz]   (target pose in the camera frame)
+//                     [,cov_xx..cov_zz][,rcov_xx..rcov_zz]    (position / rotation covariance)
 //   images.csv        optional: sample,camera,view,path
 //   truth.yaml        only in simulations; never read by a calibration
 //
@@ -42,6 +43,7 @@ struct Observation {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // target origin in the camera frame
   std::optional<Eigen::Vector3d> rvec;                     // target rotation in the camera frame
   std::optional<Eigen::Matrix3d> covariance_mm2;           // of position_mm, when measured
+  std::optional<Eigen::Matrix3d> rotation_covariance_rad2; // of the rotation, about the camera axes
   int line = 0;                                            // line in observations.csv, for messages
 };
 

@@ -6,6 +6,10 @@
 // them. Every camera sees every target (no images, no occlusion). The truth (every frame, every
 // model parameter) travels in truth.yaml, which a calibration never reads.
 //
+// With an `images:` section (image_simulation.h) the recording carries rendered images of every
+// camera instead of observations (WorkcellViews says what each camera sees): `cellmetry detect`
+// measures them, with occlusion, perspective and the detector's own errors.
+//
 // truth.yaml:  format: cellmetry-truth/1
 //              frames: {<name>: {parent, xyz, rvec}}      # same names as result.yaml
 //              model:  {<robot>.model.<param>: value}
@@ -13,11 +17,13 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "cellmetry/config_node.h"
+#include "cellmetry/image_simulation.h"
 #include "cellmetry/recording.h"
 #include "cellmetry/registry.h"
 #include "cellmetry/robot_model.h"
@@ -41,6 +47,7 @@ struct WorkcellSimulationSpec {
   Eigen::Vector3d sigma_rotation_rad = Eigen::Vector3d::Zero();
   int repeats = 1;          // captures per commanded pose
   unsigned seed = 1;
+  std::optional<ConfigNode> images;  // render images instead of writing observations
 };
 
 struct FrameTruth {
@@ -54,6 +61,14 @@ struct WorkcellTruth {
 };
 
 Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* truth);
+
+// Where every target is in every camera's frame, per sample of `recording` (SimulateWorkcell's).
+std::vector<SampleView> WorkcellViews(const WorkcellSimulationSpec& spec,
+                                      const Recording& recording);
+
+// The simulation's camera and target names, for its `images:` section.
+std::vector<std::string> CameraNames(const WorkcellSimulationSpec& spec);
+std::vector<std::string> TargetNames(const WorkcellSimulationSpec& spec);
 
 std::string TruthYaml(const WorkcellTruth& truth);
 WorkcellTruth ReadTruth(const std::string& path);
