@@ -54,7 +54,9 @@ TEST(Identifiability, TiedParametersAreNamedAndHeld) {
   EXPECT_TRUE(held.count("ur3.base.z") || held.count("ur3.model.j1.d"));
   // What is left is determined exactly (noise-free data).
   for (const auto& f : result.frames) {
-    if (f.name == "ur3.base") EXPECT_NEAR(f.pose.t.x(), 400.0, 1e-6);
+    if (f.name == "ur3.base") {
+      EXPECT_NEAR(f.pose.t.x(), 400.0, 1e-6);
+    }
   }
   EXPECT_LT(result.uncertainty.condition_number, 1e6);
 }

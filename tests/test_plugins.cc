@@ -50,6 +50,8 @@ TEST(Registry, EveryPluginHasAOneLineDescriptionAndDocumentedOptions) {
 // A documented option the plugin then refuses as an unknown key would make the docs a lie.
 TEST(Registry, DocumentedOptionsAreAcceptedKeysAndOthersAreNot) {
   Registry& registry = testing::Plugins();
+  const auto ur3 = registry.CreateRobotModel(
+      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
   for (const auto& info : registry.List()) {
     SCOPED_TRACE(info.name);
     auto create = [&](const std::string& yaml) {
@@ -57,6 +59,7 @@ TEST(Registry, DocumentedOptionsAreAcceptedKeysAndOthersAreNot) {
       if (info.kind == PluginKind::kSolver) registry.CreateSolver(info.name, config);
       if (info.kind == PluginKind::kRobotModel) registry.CreateRobotModel(info.name, config);
       if (info.kind == PluginKind::kDetector) registry.CreateDetector(info.name, config);
+      if (info.kind == PluginKind::kEffect) registry.CreateEffect(info.name, config, *ur3);
     };
     for (const auto& option : info.options) {
       try {

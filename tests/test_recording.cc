@@ -149,7 +149,9 @@ void ExpectSameObservations(const std::vector<Observation>& read,
       EXPECT_EQ(*read[i].rvec, *written[i].rvec);
     }
     ASSERT_EQ(read[i].covariance_mm2.has_value(), written[i].covariance_mm2.has_value());
-    if (written[i].covariance_mm2) EXPECT_EQ(*read[i].covariance_mm2, *written[i].covariance_mm2);
+    if (written[i].covariance_mm2) {
+      EXPECT_EQ(*read[i].covariance_mm2, *written[i].covariance_mm2);
+    }
     ASSERT_EQ(read[i].rotation_covariance_rad2.has_value(),
               written[i].rotation_covariance_rad2.has_value());
     if (written[i].rotation_covariance_rad2) {

@@ -77,7 +77,9 @@ TEST(SerialMdh, JetDerivativesMatchCentralDifferences) {
 TEST(SerialMdh, HayatiBetaIsHeldAtZeroAndParallelAxesAreWarned) {
   const auto model = Ur3();
   for (const auto& p : model->parameters()) {
-    if (p.name.find(".beta") != std::string::npos) EXPECT_EQ(p.nominal, 0.0) << p.name;
+    if (p.name.find(".beta") != std::string::npos) {
+      EXPECT_EQ(p.nominal, 0.0) << p.name;
+    }
   }
   const auto warnings = model->Warnings();
   ASSERT_EQ(warnings.size(), 2u);  // joints 2-3 and 3-4 are parallel on a UR3

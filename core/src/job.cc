@@ -1,12 +1,14 @@
 #include "cellmetry/job.h"
 
+#include <algorithm>
+
 #include <filesystem>
 
 namespace cellmetry {
 namespace {
 
 WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, Registry& registry) {
-  node.ExpectKeys({"model", "base", "tools", "free_model"});
+  node.ExpectKeys({"model", "base", "tools", "free_model", "effects"});
   WorkcellRobot robot;
   robot.name = name;
   robot.model_file = node.ResolvePath(node["model"].AsString());
@@ -144,11 +146,31 @@ std::string JobKind(const std::string& path) {
   return ConfigNode::LoadFile(path)["job"].AsString();
 }
 
+// `effects:` (effect.h): a list of effect blocks {type: <plugin>, <options>} in `robot`'s chain,
+// named "<prefix>.<type>" (the robot's name, or "camera" for the measurement effects).
+void AddEffects(const ConfigNode& list, const std::string& robot, const std::string& prefix,
+                Registry& registry, WorkcellProblem* problem) {
+  const auto owner = std::find_if(problem->robots.begin(), problem->robots.end(),
+                                  [&](const WorkcellRobot& r) { return r.name == robot; });
+  for (const auto& config : list.Elements()) {
+    WorkcellEffect e;
+    e.robot = robot;
+    e.effect = registry.CreateEffect(config["type"].AsString(), config, *owner->model);
+    e.name = prefix + "." + config["type"].AsString();
+    for (int k = 2; std::any_of(problem->effects.begin(), problem->effects.end(),
+                                [&](const WorkcellEffect& x) { return x.name == e.name; });
+         ++k) {
+      e.name = prefix + "." + config["type"].AsString() + "_" + std::to_string(k);
+    }
+    problem->effects.push_back(e);
+  }
+}
+
 WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"job", "description", "recording", "output", "plugin_paths", "world_target",
                    "camera_model", "use_tool_rotation", "robots", "noise", "solver",
-                   "validation", "identifiability_tolerance"});
+                   "validation", "identifiability_tolerance", "effects", "gravity_base"});
   WorkcellJob job;
   job.file = path;
   const std::string kind = root["job"].AsString();
@@ -190,6 +212,24 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
       job.locations["robots." + name + ".tools." + target] =
           tool ? tool->location() : robot["tools"].location();
     }
+  }
+  for (const auto& name : robots.Keys()) {
+    if (robots[name].Has("effects")) {
+      AddEffects(robots[name]["effects"], name, name, registry, &problem);
+    }
+  }
+  if (root.Has("effects")) {
+    AddEffects(root["effects"], problem.robots.front().name, "camera", registry, &problem);
+    for (const auto& e : problem.effects) {
+      if (e.name.rfind("camera.", 0) == 0 && e.effect->stage() != EffectStage::kMeasurement) {
+        throw root["effects"].Error("'" + e.name + "' acts on a robot's joints or flange",
+                                    "List it under that robot's effects:");
+      }
+    }
+  }
+  if (root.Has("gravity_base")) {
+    const auto g = root["gravity_base"].AsDoubles(3);
+    problem.gravity_base = Eigen::Vector3d(g[0], g[1], g[2]);
   }
   if (root.Has("noise")) problem.noise = ReadNoise(root["noise"]);
   if (root.Has("validation")) {

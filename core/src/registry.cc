@@ -82,6 +82,17 @@ void Registry::AddDetector(PluginInfo info, DetectorFactory factory) {
   AddInfo(std::move(info));
 }
 
+void Registry::AddEffect(PluginInfo info, EffectFactory factory) {
+  info.kind = PluginKind::kEffect;
+  effects_[info.name] = std::move(factory);
+  AddInfo(std::move(info));
+}
+
+std::unique_ptr<Effect> Registry::CreateEffect(const std::string& type, const ConfigNode& config,
+                                               const RobotModel& robot) const {
+  return Find(effects_, "effect", type, config)(config, robot);
+}
+
 std::unique_ptr<Detector> Registry::CreateDetector(const std::string& type,
                                                    const ConfigNode& config) const {
   return Find(detectors_, "detector", type, config)(config);

@@ -180,6 +180,20 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
   for (const auto& [camera, pose] : e.T_world_cam) {
     result->frames.push_back(MakeFrame(camera, "world", pose, u, held));
   }
+  for (const WorkcellEffect& effect : spec.effects) {
+    const auto& params = effect.effect->parameters();
+    const auto& values = e.effects.at(effect.name);
+    for (size_t i = 0; i < params.size(); ++i) {
+      ScalarEstimate s;
+      s.name = effect.name + "." + params[i].name;
+      s.unit = params[i].unit;
+      s.value = values[i];
+      s.held = held.count(s.name) > 0;
+      const auto it = std::find(u.names.begin(), u.names.end(), s.name);
+      if (it != u.names.end()) s.sigma = u.sigma[it - u.names.begin()];
+      result->model_parameters.push_back(s);
+    }
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include "cellmetry/error.h"
 #include "chain_cost.h"
+#include "effect_residuals.h"
 #include "workcell_residuals.h"
 
 namespace cellmetry {
@@ -22,6 +23,20 @@ int AddFrameBlock(AssembledWorkcell* out, const std::string& name, FrameBlockSpe
 }
 
 }  // namespace
+
+// Effect facts of every robot's samples, at each robot's nominal model.
+std::vector<SampleFacts> GatherAllFacts(const WorkcellProblem& spec, const Recording& recording) {
+  std::vector<SampleFacts> all(recording.samples.size());
+  for (const auto& robot : spec.robots) {
+    std::vector<double> nominal;
+    for (const auto& p : robot.model_parameters) nominal.push_back(p.nominal);
+    std::vector<SampleFacts> facts = GatherSampleFacts(recording, robot.name, *robot.model, nominal);
+    for (size_t i = 0; i < facts.size(); ++i) {
+      if (recording.samples[i].robot == robot.name) all[i] = std::move(facts[i]);
+    }
+  }
+  return all;
+}
 
 WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& recording) {
   WorkcellData data;
@@ -99,6 +114,7 @@ WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& r
                      "Check that the job's robots carry the recording's targets and that "
                      "observations name them");
   }
+  if (!spec.effects.empty()) data.facts = GatherAllFacts(spec, recording);
   return data;
 }
 
@@ -132,6 +148,25 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
       out->camera_block[camera] = AddFrameBlock(out.get(), camera, camera_spec, T_world_cam);
     }
   }
+  for (const WorkcellEffect& e : spec.effects) {
+    std::vector<Parameter> params = e.effect->parameters();
+    const auto values = start.effects.find(e.name);
+    for (size_t i = 0; i < params.size(); ++i) {
+      params[i].nominal = values != start.effects.end() ? values->second.at(i) : 0.0;
+    }
+    out->effect_block.push_back(out->problem.AddBlock(e.name, params));
+  }
+  // The effects in a robot's chain (its own and every measurement effect), and their blocks.
+  auto chain_effects = [&](const std::string& robot, std::vector<const Effect*>* effects,
+                           std::vector<int>* blocks) {
+    for (size_t k = 0; k < spec.effects.size(); ++k) {
+      const WorkcellEffect& e = spec.effects[k];
+      if (e.effect->stage() == EffectStage::kMeasurement || e.robot == robot) {
+        effects->push_back(e.effect.get());
+        blocks->push_back(out->effect_block[k]);
+      }
+    }
+  };
 
   auto info_for = [&](int observation, ResidualInfo::Kind kind, const Eigen::Vector3d& sigma) {
     const Observation& obs = recording.observations[observation];
@@ -175,7 +210,22 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
       std::unique_ptr<ceres::CostFunction> cost;
       std::vector<int> blocks = {base, tool};
       if (static_cameras) blocks.push_back(camera);
-      if (model_free) {
+      std::vector<const Effect*> effects;
+      std::vector<int> effect_blocks;
+      chain_effects(robot.name, &effects, &effect_blocks);
+      if (!effects.empty()) {
+        const SampleFacts& facts = data.facts.at(m.sample_index);
+        auto* functor = new EffectChainResidual(
+            comparison, refs, robot.model.get(), ContextOf(facts, spec.gravity_base, obs.camera),
+            static_cameras, m.T_cam_world, effects);
+        auto* dynamic = new ceres::DynamicAutoDiffCostFunction<EffectChainResidual, kJetStride>(
+            functor);
+        blocks.push_back(out->model_block[m.robot]);
+        blocks.insert(blocks.end(), effect_blocks.begin(), effect_blocks.end());
+        for (int b : blocks) dynamic->AddParameterBlock(out->problem.block_parameters(b).size());
+        dynamic->SetNumResiduals(3);
+        cost.reset(dynamic);
+      } else if (model_free) {
         auto* functor = new ModelChainResidual(comparison, refs, robot.model.get(), sample.q,
                                                static_cameras, m.T_cam_world);
         auto* dynamic = new ceres::DynamicAutoDiffCostFunction<ModelChainResidual, kJetStride>(
@@ -215,13 +265,31 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
         const bool position = c == Compared::kPosition;
         TargetComparison comparison(c, ObservedPose(obs),
                                     position ? sigma.position_mm : sigma.rotation_rad);
-        FrameRefs refs;
-        refs.world_cam = out->R_ref.at(camera);
-        const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
-        auto cost = std::make_unique<ChainCost>(comparison, refs, camera_only, Pose::Identity(),
-                                                Pose::Identity());
+        std::vector<const Effect*> effects;
+        std::vector<int> blocks = {camera};
+        for (size_t k = 0; k < spec.effects.size(); ++k) {
+          if (spec.effects[k].effect->stage() != EffectStage::kMeasurement) continue;
+          effects.push_back(spec.effects[k].effect.get());
+          blocks.push_back(out->effect_block[k]);
+        }
+        std::unique_ptr<ceres::CostFunction> cost;
+        if (!effects.empty()) {
+          EffectContext context;
+          context.camera = obs.camera;
+          auto* dynamic = new ceres::DynamicAutoDiffCostFunction<WorldEffectResidual, kJetStride>(
+              new WorldEffectResidual(comparison, out->R_ref.at(camera), context, effects));
+          for (int b : blocks) dynamic->AddParameterBlock(out->problem.block_parameters(b).size());
+          dynamic->SetNumResiduals(3);
+          cost.reset(dynamic);
+        } else {
+          FrameRefs refs;
+          refs.world_cam = out->R_ref.at(camera);
+          const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
+          cost = std::make_unique<ChainCost>(comparison, refs, camera_only, Pose::Identity(),
+                                             Pose::Identity());
+        }
         out->problem.AddResidual(
-            std::move(cost), {camera},
+            std::move(cost), blocks,
             info_for(index, position ? ResidualInfo::Kind::kPosition
                                      : ResidualInfo::Kind::kRotation,
                      position ? sigma.position_mm : sigma.rotation_rad));
@@ -250,6 +318,11 @@ WorkcellEstimate ReadEstimate(const WorkcellProblem& spec, const AssembledWorkce
   }
   for (const auto& [camera, block] : assembled.camera_block) {
     estimate.T_world_cam[camera] = frame(block);
+  }
+  for (size_t k = 0; k < spec.effects.size(); ++k) {
+    const int block = assembled.effect_block[k];
+    estimate.effects[spec.effects[k].name].assign(
+        problem.values(block), problem.values(block) + problem.block_parameters(block).size());
   }
   return estimate;
 }

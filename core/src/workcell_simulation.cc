@@ -4,7 +4,10 @@
 #include <cmath>
 #include <random>
 
+#include "cellmetry/effect_context.h"
+#include "cellmetry/error.h"
 #include "cellmetry/job.h"
+#include "effect_residuals.h"
 
 namespace cellmetry {
 namespace {
@@ -28,6 +31,50 @@ Observation Measure(int sample, const std::string& camera, const std::string& ta
   return obs;
 }
 
+
+// Samples in capture order: every robot's commanded poses, `repeats` captures each, on the
+// timeline. Poses the model cannot reach are left out.
+std::vector<Sample> PlanSamples(const WorkcellSimulationSpec& spec) {
+  std::vector<Sample> samples;
+  int pose_id = 0;
+  for (const auto& robot : spec.robots) {
+    for (const auto& q : robot.joint_poses) {
+      Pose T_base_flange;
+      if (!robot.model->Forward(q.data(), robot.model_values.data(), &T_base_flange)) continue;
+      for (int repeat = 0; repeat < spec.repeats; ++repeat) {
+        Sample sample;
+        sample.id = static_cast<int>(samples.size());
+        sample.robot = robot.name;
+        sample.pose = pose_id;
+        sample.q = q;
+        samples.push_back(sample);
+      }
+      ++pose_id;
+    }
+  }
+  const SimulatedTimeline& clock = spec.timeline;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (clock.seconds_per_sample > 0) samples[i].time_s = clock.seconds_per_sample * i;
+    if (clock.temperature_start_c && clock.temperature_end_c) {
+      const double f = samples.size() > 1 ? double(i) / (samples.size() - 1) : 0.0;
+      samples[i].temperature_c = *clock.temperature_start_c +
+                                 f * (*clock.temperature_end_c - *clock.temperature_start_c);
+    }
+  }
+  return samples;
+}
+
+// The effects of a robot's chain (its own and the measurement effects) and their values.
+void ChainEffects(const WorkcellSimulationSpec& spec, const SimulatedRobot& robot,
+                  std::vector<const Effect*>* effects, std::vector<const double*>* values) {
+  for (const auto* list : {&robot.effects, &spec.measurement_effects}) {
+    for (const auto& e : *list) {
+      effects->push_back(e.effect.get());
+      values->push_back(e.values.data());
+    }
+  }
+}
+
 }  // namespace
 
 Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* truth) {
@@ -37,33 +84,41 @@ Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* tr
                           std::to_string(spec.seed) + ")";
   for (const auto& [camera, pose] : spec.T_world_cam) recording.cameras.push_back(camera);
   recording.targets[spec.world_target] = kWorldCarrier;
-  int sample_id = 0, pose_id = 0;
   for (const auto& robot : spec.robots) {
     recording.robots[robot.name] = robot.model->num_joints();
     for (const auto& [target, pose] : robot.T_flange_target) recording.targets[target] = robot.name;
-    for (const auto& q : robot.joint_poses) {
+  }
+  recording.samples = PlanSamples(spec);
+  for (const auto& robot : spec.robots) {
+    const std::vector<SampleFacts> facts =
+        GatherSampleFacts(recording, robot.name, *robot.model, robot.model_values);
+    std::vector<const Effect*> effects;
+    std::vector<const double*> values;
+    ChainEffects(spec, robot, &effects, &values);
+    for (size_t i = 0; i < recording.samples.size(); ++i) {
+      const Sample& sample = recording.samples[i];
+      if (sample.robot != robot.name) continue;
       Pose T_base_flange;
-      if (!robot.model->Forward(q.data(), robot.model_values.data(), &T_base_flange)) continue;
-      for (int repeat = 0; repeat < spec.repeats; ++repeat) {
-        Sample sample;
-        sample.id = sample_id++;
-        sample.robot = robot.name;
-        sample.pose = pose_id;
-        sample.q = q;
-        recording.samples.push_back(sample);
-        for (const auto& [camera, T_world_cam] : spec.T_world_cam) {
-          const Pose T_cam_world = T_world_cam.inverse();
-          recording.observations.push_back(
-              Measure(sample.id, camera, spec.world_target, T_cam_world, spec, rng));
-          for (const auto& [target, T_flange_target] : robot.T_flange_target) {
-            const Pose T_cam_target =
-                T_cam_world * robot.T_world_base * T_base_flange * T_flange_target;
-            recording.observations.push_back(
-                Measure(sample.id, camera, target, T_cam_target, spec, rng));
-          }
+      EffectContext context = ContextOf(facts[i], spec.gravity_base);
+      if (!FlangeWithEffects(*robot.model, robot.model_values.data(), effects, values.data(),
+                             context, &T_base_flange)) {
+        throw InputError({"", 0, 0}, "the concealed effects move sample " +
+                                         std::to_string(sample.id) + " out of the robot's reach",
+                         "Use smaller effect values");
+      }
+      for (const auto& [camera, T_world_cam] : spec.T_world_cam) {
+        context.camera = camera;
+        auto measure = [&](const std::string& target, Pose T_cam_target) {
+          ApplyStage(EffectStage::kMeasurement, effects, values.data(), context,
+                     T_cam_target.t.data());
+          recording.observations.push_back(Measure(sample.id, camera, target, T_cam_target, spec, rng));
+        };
+        const Pose T_cam_world = T_world_cam.inverse();
+        measure(spec.world_target, T_cam_world);
+        for (const auto& [target, T_flange_target] : robot.T_flange_target) {
+          measure(target, T_cam_world * robot.T_world_base * T_base_flange * T_flange_target);
         }
       }
-      ++pose_id;
     }
   }
   if (truth) {
@@ -75,6 +130,16 @@ Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* tr
       const auto& params = robot.model->parameters();
       for (size_t i = 0; i < params.size(); ++i) {
         truth->model[robot.name + ".model." + params[i].name] = robot.model_values[i];
+      }
+    }
+    for (const auto& robot : spec.robots) {
+      for (const auto* list : {&robot.effects, &spec.measurement_effects}) {
+        for (const auto& e : *list) {
+          const auto& params = e.effect->parameters();
+          for (size_t i = 0; i < params.size(); ++i) {
+            truth->model[e.name + "." + params[i].name] = e.values[i];
+          }
+        }
       }
     }
     for (const auto& [camera, pose] : spec.T_world_cam) truth->frames[camera] = {"world", pose};
@@ -212,10 +277,41 @@ WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const Workcell
   return evaluation;
 }
 
+// `effects:` entries: {effect: {type: ..., <options>}, values: {<parameter>: <value>}}; a
+// parameter not given is zero.
+std::vector<SimulatedEffect> ReadSimulatedEffects(const ConfigNode& list, const std::string& owner,
+                                                  const RobotModel& model, Registry& registry) {
+  std::vector<SimulatedEffect> effects;
+  for (const auto& entry : list.Elements()) {
+    entry.ExpectKeys({"effect", "values"});
+    SimulatedEffect e;
+    const ConfigNode config = entry["effect"];
+    e.effect = registry.CreateEffect(config["type"].AsString(), config, model);
+    e.name = owner + "." + config["type"].AsString();
+    const auto& params = e.effect->parameters();
+    e.values.assign(params.size(), 0.0);
+    if (entry.Has("values")) {
+      const ConfigNode values = entry["values"];
+      for (const auto& name : values.Keys()) {
+        const int index = FindParameter(params, name);
+        if (index < 0) {
+          std::string known;
+          for (const auto& p : params) known += (known.empty() ? "" : ", ") + p.name;
+          throw values[name].Error("the effect has no parameter '" + name + "'",
+                                   "Its parameters are: " + known);
+        }
+        e.values[index] = values[name].AsDouble();
+      }
+    }
+    effects.push_back(e);
+  }
+  return effects;
+}
+
 WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"simulation", "description", "seed", "robots", "cameras", "world_target",
-                   "noise", "repeats", "images"});
+                   "noise", "repeats", "images", "effects", "timeline"});
   if (root["simulation"].AsString() != "workcell") {
     throw root["simulation"].Error("unknown simulation kind", "This version simulates: workcell");
   }
@@ -228,7 +324,7 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
   const ConfigNode robots = root["robots"];
   for (const auto& name : robots.Keys()) {
     const ConfigNode node = robots[name];
-    node.ExpectKeys({"model", "base", "tools", "model_errors", "poses"});
+    node.ExpectKeys({"model", "base", "tools", "model_errors", "poses", "effects"});
     SimulatedRobot robot;
     robot.name = name;
     const ConfigNode config = ConfigNode::LoadFile(node.ResolvePath(node["model"].AsString()));
@@ -270,7 +366,28 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
         robot.joint_poses.push_back(q);
       }
     }
+    if (node.Has("effects")) {
+      robot.effects = ReadSimulatedEffects(node["effects"], name, *robot.model, registry);
+    }
     spec.robots.push_back(robot);
+  }
+  if (root.Has("effects")) {
+    if (spec.robots.empty()) throw root["effects"].Error("effects need a robot");
+    spec.measurement_effects =
+        ReadSimulatedEffects(root["effects"], "camera", *spec.robots.front().model, registry);
+    for (const auto& e : spec.measurement_effects) {
+      if (e.effect->stage() != EffectStage::kMeasurement) {
+        throw root["effects"].Error("'" + e.name + "' acts on a robot's joints or flange",
+                                    "List it under that robot's effects:");
+      }
+    }
+  }
+  if (root.Has("timeline")) {
+    const ConfigNode t = root["timeline"];
+    t.ExpectKeys({"seconds_per_sample", "temperature_start_c", "temperature_end_c"});
+    spec.timeline.seconds_per_sample = t.GetDouble("seconds_per_sample", 0.0);
+    if (t.Has("temperature_start_c")) spec.timeline.temperature_start_c = t["temperature_start_c"].AsDouble();
+    if (t.Has("temperature_end_c")) spec.timeline.temperature_end_c = t["temperature_end_c"].AsDouble();
   }
   const ConfigNode cameras = root["cameras"];
   for (const auto& camera : cameras.Keys()) spec.T_world_cam[camera] = ReadPose(cameras[camera]);

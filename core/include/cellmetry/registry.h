@@ -23,6 +23,7 @@
 
 #include "cellmetry/config_node.h"
 #include "cellmetry/detector.h"
+#include "cellmetry/effect.h"
 #include "cellmetry/robot_model.h"
 #include "cellmetry/solver.h"
 
@@ -30,7 +31,8 @@ namespace cellmetry {
 
 // Bumped whenever a plugin-facing header changes incompatibly; plugins built against another
 // version are refused with a message saying so.
-inline constexpr int kPluginAbiVersion = 2;  // 2: inverse kinematics, limits, detectors
+inline constexpr int kPluginAbiVersion = 3;  // 2: inverse kinematics, limits, detectors;
+                                             // 3: effects, joint offsets and frames
 
 enum class PluginKind { kDetector, kRobotModel, kSolver, kEffect };
 std::string KindName(PluginKind kind);
@@ -54,6 +56,10 @@ using RobotModelFactory = std::function<std::unique_ptr<RobotModel>(const Config
 using SolverFactory = std::function<std::unique_ptr<Solver>(const ConfigNode& config)>;
 // Detector factories are called once per worker thread (detector.h).
 using DetectorFactory = std::function<std::unique_ptr<Detector>(const ConfigNode& config)>;
+// Effect factories get the effect's YAML node and the robot model it will act on (joint count,
+// parameter names), so that per-joint parameters can be named and checked.
+using EffectFactory =
+    std::function<std::unique_ptr<Effect>(const ConfigNode& config, const RobotModel& robot)>;
 
 class Registry {
  public:
@@ -63,6 +69,7 @@ class Registry {
   void AddRobotModel(PluginInfo info, RobotModelFactory factory);
   void AddSolver(PluginInfo info, SolverFactory factory);
   void AddDetector(PluginInfo info, DetectorFactory factory);
+  void AddEffect(PluginInfo info, EffectFactory factory);
 
   // Build a plugin object of `type`; raise InputError at `config` naming the known types if
   // `type` is not registered.
@@ -71,6 +78,8 @@ class Registry {
   std::unique_ptr<Solver> CreateSolver(const std::string& type, const ConfigNode& config) const;
   std::unique_ptr<Detector> CreateDetector(const std::string& type,
                                            const ConfigNode& config) const;
+  std::unique_ptr<Effect> CreateEffect(const std::string& type, const ConfigNode& config,
+                                       const RobotModel& robot) const;
 
   std::vector<PluginInfo> List() const;
   std::vector<std::string> Names(PluginKind kind) const;
@@ -89,6 +98,7 @@ class Registry {
   std::map<std::string, RobotModelFactory> robot_models_;
   std::map<std::string, SolverFactory> solvers_;
   std::map<std::string, DetectorFactory> detectors_;
+  std::map<std::string, EffectFactory> effects_;
   std::set<std::string> loaded_libraries_;
   std::string loading_library_;
 };

@@ -70,6 +70,17 @@ class RobotModel {
   virtual bool Forward(const double* q, const double* params, Transform<double>* out) const = 0;
   virtual bool Forward(const double* q, const Jet* params, Transform<Jet>* out) const = 0;
 
+  // Index into parameters() of the angle added to joint i's reading (theta_i = q_i + param_i),
+  // or -1 when the model has none. Joint effects (effect.h) act through it.
+  virtual int JointOffsetParameter(int /*joint*/) const { return -1; }
+  // The frame of every joint axis (z along the axis, origin on it), then the flange, in the base
+  // frame at (q, params): num_joints() + 1 poses. False when the model has no such chain (a delta
+  // arm's motors do not carry each other); effects that need gravity torques then cannot act.
+  virtual bool JointFrames(const double* /*q*/, const double* /*params*/,
+                           std::vector<Pose>* /*T_base_joint*/) const {
+    return false;
+  }
+
   // Warnings about the model's conditioning (e.g. near-parallel axes), for the report.
   virtual std::vector<std::string> Warnings() const { return {}; }
   virtual const RobotLimits& limits() const {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "cellmetry/effect_context.h"
 #include "cellmetry/noise_model.h"
 #include "cellmetry/problem.h"
 #include "cellmetry/recording.h"
@@ -35,6 +36,7 @@ struct WorkcellData {
   std::vector<ToolMeasurement> tools;
   std::vector<int> world_observations;          // indices of world-target observations
   std::map<std::string, int> skipped;           // reason -> count
+  std::vector<SampleFacts> facts;               // per sample, when the problem has effects
 };
 
 // Pairs observations; raises InputError naming observations.csv when nothing is usable.
@@ -46,6 +48,7 @@ struct AssembledWorkcell {
   std::vector<int> model_block;                 // per robot
   std::vector<std::vector<int>> tool_block;     // per robot, per tool
   std::map<std::string, int> camera_block;      // static cameras
+  std::vector<int> effect_block;                // per WorkcellProblem::effects entry
   // Starting rotations of each frame block (frame_block.h); block id -> R_ref.
   std::map<int, Eigen::Matrix3d> R_ref;
 };

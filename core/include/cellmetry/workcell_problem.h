@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "cellmetry/effect.h"
 #include "cellmetry/frame_block.h"
 #include "cellmetry/robot_model.h"
 
@@ -41,6 +42,15 @@ struct WorkcellRobot {
   std::vector<WorkcellTool> tools;
 };
 
+// An effect (effect.h) in the prediction chain: joint and flange effects act on one robot's
+// chain, measurement effects on every observation of their cameras. Its parameters start at
+// zero (no effect) unless the start estimate has values for it.
+struct WorkcellEffect {
+  std::string name;   // block name, "<robot>.<effect>[_<what>]", e.g. "ur3.backlash_j2"
+  std::string robot;  // the robot whose chain it is in
+  std::shared_ptr<const Effect> effect;
+};
+
 // Measurement noise, per camera, along the camera's x, y and z (depth) axes.
 struct NoiseSpec {
   std::map<std::string, Eigen::Vector3d> position_sigma_mm;   // camera -> sigma (given by job)
@@ -61,6 +71,8 @@ struct WorkcellProblem {
   int folds = 5;                         // k-fold cross-validation by pose (0 = off)
   unsigned seed = 1;                     // fold assignment
   bool compare_camera_models = false;    // also report the other observation model's held-out RMS
+  std::vector<WorkcellEffect> effects;   // none: the geometric model alone
+  Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2 in every base frame
 };
 
 // Where everything is, at the start or at the answer of an identification.
@@ -69,6 +81,7 @@ struct WorkcellEstimate {
   std::map<std::string, std::vector<double>> model;   // robot -> model parameter values
   std::map<std::string, Pose> T_flange_target;        // target -> tool offset
   std::map<std::string, Pose> T_world_cam;            // camera -> pose (static cameras only)
+  std::map<std::string, std::vector<double>> effects; // effect -> parameter values (none: zero)
 };
 
 }  // namespace cellmetry

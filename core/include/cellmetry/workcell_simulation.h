@@ -6,6 +6,12 @@
 // them. Every camera sees every target (no images, no occlusion). The truth (every frame, every
 // model parameter) travels in truth.yaml, which a calibration never reads.
 //
+// Effects (effect.h) can be concealed in the recording: `effects:` under a robot (joint and
+// flange effects) or at the top level (measurement effects), each
+//   {effect: {type: backlash, joints: [2]}, values: {j2.backlash: 0.002}}
+// with `timeline: {seconds_per_sample, temperature_start_c, temperature_end_c}` for drifts. The
+// true values go to truth.yaml's model section as <robot>.<type>.<parameter>.
+//
 // With an `images:` section (image_simulation.h) the recording carries rendered images of every
 // camera instead of observations (WorkcellViews says what each camera sees): `cellmetry detect`
 // measures them, with occlusion, perspective and the detector's own errors.
@@ -23,12 +29,20 @@
 #include <vector>
 
 #include "cellmetry/config_node.h"
+#include "cellmetry/effect.h"
 #include "cellmetry/image_simulation.h"
 #include "cellmetry/recording.h"
 #include "cellmetry/registry.h"
 #include "cellmetry/robot_model.h"
 
 namespace cellmetry {
+
+// An effect concealed in a simulation: its plugin and the true values of its parameters.
+struct SimulatedEffect {
+  std::string name;                     // "<robot>.<type>" (truth.yaml: <name>.<parameter>)
+  std::shared_ptr<const Effect> effect;
+  std::vector<double> values;
+};
 
 struct SimulatedRobot {
   std::string name;
@@ -37,6 +51,13 @@ struct SimulatedRobot {
   Pose T_world_base;
   std::map<std::string, Pose> T_flange_target;       // carried targets
   std::vector<std::vector<double>> joint_poses;      // q per commanded pose
+  std::vector<SimulatedEffect> effects;              // joint and flange effects it has
+};
+
+// Clock and temperature of the captures (samples.csv t, temperature), for drifting effects.
+struct SimulatedTimeline {
+  double seconds_per_sample = 0.0;     // 0: no times recorded
+  std::optional<double> temperature_start_c, temperature_end_c;  // linear ramp over the run
 };
 
 struct WorkcellSimulationSpec {
@@ -47,6 +68,9 @@ struct WorkcellSimulationSpec {
   Eigen::Vector3d sigma_rotation_rad = Eigen::Vector3d::Zero();
   int repeats = 1;          // captures per commanded pose
   unsigned seed = 1;
+  std::vector<SimulatedEffect> measurement_effects;  // depth bias and the like
+  SimulatedTimeline timeline;
+  Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);
   std::optional<ConfigNode> images;  // render images instead of writing observations
 };
 

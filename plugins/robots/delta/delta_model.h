@@ -47,6 +47,7 @@ class DeltaModel : public InvertibleRobotModelFromTemplate<DeltaModel> {
   const RobotLimits& limits() const override { return limits_; }
   std::string ForwardFailure(const double* q, const double* params) const override;
   std::string InverseFailure(const double* position, const double* params) const override;
+  int JointOffsetParameter(int joint) const override { return kParamsPerArm * joint + kHoming; }
 
   template <typename T>
   bool ForwardT(const double* q, const T* params, Transform<T>* T_base_flange) const {

@@ -38,6 +38,20 @@ class SerialMdhModel : public RobotModelFromTemplate<SerialMdhModel> {
   int num_joints() const override { return static_cast<int>(joints_.size()); }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
   std::vector<std::string> Warnings() const override;
+  int JointOffsetParameter(int joint) const override { return kParamsPerJoint * joint + kOffset; }
+  // Frame i of the chain (A_1 ... A_i) has joint i's axis as its z axis; the flange is frame n.
+  bool JointFrames(const double* q, const double* params,
+                   std::vector<Pose>* T_base_joint) const override {
+    T_base_joint->clear();
+    Pose chain = Pose::Identity();
+    for (size_t i = 0; i < joints_.size(); ++i) {
+      const double* p = params + kParamsPerJoint * i;
+      chain = chain * Link(p[kAlpha], p[kA], p[kBeta], q[i] + p[kOffset], p[kD]);
+      T_base_joint->push_back(chain);
+    }
+    T_base_joint->push_back(chain);
+    return true;
+  }
 
   template <typename T>
   bool ForwardT(const double* q, const T* params, Transform<T>* T_base_flange) const {

@@ -1,0 +1,125 @@
+// Registers the effect library: joint_compliance, backlash, transmission_error, joint_scale,
+// thermal_drift, depth_bias (one header each says its physics).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backlash.h"
+#include "cellmetry/registry.h"
+#include "depth_bias.h"
+#include "joint_compliance.h"
+#include "joint_scale.h"
+#include "joint_selection.h"
+#include "thermal_drift.h"
+#include "transmission_error.h"
+
+namespace cellmetry::effects {
+namespace {
+
+std::unique_ptr<Effect> CreateCompliance(const ConfigNode& config, const RobotModel& robot) {
+  config.ExpectKeys({"type", "joints", "link_masses_kg"});
+  std::vector<double> masses(robot.num_joints(), 1.0);
+  if (config.Has("link_masses_kg")) masses = config["link_masses_kg"].AsDoubles(robot.num_joints());
+  return std::make_unique<JointCompliance>(SelectJoints(config, robot), masses);
+}
+
+std::unique_ptr<Effect> CreateBacklash(const ConfigNode& config, const RobotModel& robot) {
+  config.ExpectKeys({"type", "joints"});
+  return std::make_unique<Backlash>(SelectJoints(config, robot));
+}
+
+std::unique_ptr<Effect> CreateTransmission(const ConfigNode& config, const RobotModel& robot) {
+  config.ExpectKeys({"type", "joints", "harmonics"});
+  std::vector<int> harmonics = {1, 2};
+  if (config.Has("harmonics")) {
+    harmonics.clear();
+    for (const auto& node : config["harmonics"].Elements()) {
+      if (node.AsInt() < 1) throw node.Error("a harmonic is a whole number of cycles per turn, >= 1");
+      harmonics.push_back(node.AsInt());
+    }
+  }
+  return std::make_unique<TransmissionError>(SelectJoints(config, robot), harmonics);
+}
+
+std::unique_ptr<Effect> CreateScale(const ConfigNode& config, const RobotModel& robot) {
+  config.ExpectKeys({"type", "joints"});
+  return std::make_unique<JointScale>(SelectJoints(config, robot));
+}
+
+std::unique_ptr<Effect> CreateThermal(const ConfigNode& config, const RobotModel&) {
+  config.ExpectKeys({"type", "model", "reference_c", "time_constant_s"});
+  const std::string model = config.GetString("model", "temperature");
+  if (model != "temperature" && model != "warmup") {
+    throw config["model"].Error("unknown thermal model '" + model + "'", "Use temperature or warmup");
+  }
+  const double tau = config.GetDouble("time_constant_s", 1800.0);
+  if (!(tau > 0)) throw config["time_constant_s"].Error("must be positive");
+  return std::make_unique<ThermalDrift>(
+      model == "temperature" ? ThermalDrift::Model::kTemperature : ThermalDrift::Model::kWarmup,
+      config.GetDouble("reference_c", 20.0), tau);
+}
+
+std::unique_ptr<Effect> CreateDepthBias(const ConfigNode& config, const RobotModel&) {
+  config.ExpectKeys({"type", "cameras", "terms"});
+  std::vector<std::string> cameras;
+  for (const auto& node : config["cameras"].Elements()) cameras.push_back(node.AsString());
+  if (cameras.empty()) throw config["cameras"].Error("lists no camera", "e.g. cameras: [cam1]");
+  bool scale = true, quadratic = true;
+  if (config.Has("terms")) {
+    scale = quadratic = false;
+    for (const auto& node : config["terms"].Elements()) {
+      const std::string term = node.AsString();
+      if (term == "scale") {
+        scale = true;
+      } else if (term == "quadratic") {
+        quadratic = true;
+      } else {
+        throw node.Error("unknown depth term '" + term + "'", "Use scale and/or quadratic");
+      }
+    }
+  }
+  return std::make_unique<DepthBias>(cameras, scale, quadratic);
+}
+
+PluginInfo Info(std::string name, std::string description, std::vector<OptionDoc> options) {
+  PluginInfo info;
+  info.kind = PluginKind::kEffect;
+  info.name = std::move(name);
+  info.description = std::move(description);
+  info.options = std::move(options);
+  return info;
+}
+
+}  // namespace
+}  // namespace cellmetry::effects
+
+CELLMETRY_PLUGIN_ENTRY(registry) {
+  namespace fx = cellmetry::effects;
+  using fx::Info;
+  const cellmetry::OptionDoc joints{"joints", "", "all", "1-based joints it acts on"};
+  registry->AddEffect(Info("joint_compliance",
+                       "joints giving under gravity: dq_i = c_i tau_g,i(q)",
+                       {joints, {"link_masses_kg", "kg", "1 per link", "lumped link masses"}}),
+                      &fx::CreateCompliance);
+  registry->AddEffect(Info("backlash",
+                       "gear play: dq_i = -b_i/2 * (direction of the last move)", {joints}),
+                      &fx::CreateBacklash);
+  registry->AddEffect(Info("transmission_error",
+                       "gear error repeating with the joint: dq_i = s sin(h q_i) + c cos(h q_i)",
+                       {joints, {"harmonics", "", "[1, 2]", "cycles per joint revolution"}}),
+                      &fx::CreateTransmission);
+  registry->AddEffect(Info("joint_scale",
+                       "gear ratio error: dq_i = s_i q_i", {joints}),
+                      &fx::CreateScale);
+  registry->AddEffect(Info("thermal_drift",
+                       "links growing with temperature or warm-up time (flange distance scale)",
+                       {{"model", "", "temperature", "temperature | warmup"},
+                        {"reference_c", "degC", "20", "temperature of the nominal geometry"},
+                        {"time_constant_s", "s", "1800", "warm-up time constant"}}),
+                      &fx::CreateThermal);
+  registry->AddEffect(Info("depth_bias",
+                       "camera distance error: p' = p (1 + a + b Z) per camera",
+                       {{"cameras", "", "", "cameras it acts on"},
+                        {"terms", "", "[scale, quadratic]", "which terms"}}),
+                      &fx::CreateDepthBias);
+}

@@ -1,0 +1,85 @@
+// Constructors and descriptions of the joint effects (joint_compliance.h, backlash.h,
+// transmission_error.h, joint_scale.h).
+#include <cstdio>
+
+#include "backlash.h"
+#include "joint_compliance.h"
+#include "joint_scale.h"
+#include "joint_selection.h"
+#include "transmission_error.h"
+
+namespace cellmetry::effects {
+namespace {
+
+std::string Number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.3g", value);
+  return buffer;
+}
+
+// "joint 2 <what>, <name> = <value> <unit>; ..." for every parameter.
+std::string PerParameter(const std::string& what, const std::vector<Parameter>& parameters,
+                         const std::vector<double>& values) {
+  std::string out = what;
+  for (size_t k = 0; k < parameters.size() && k < values.size(); ++k) {
+    out += (k ? ", " : ": ") + parameters[k].name + " = " + Number(values[k]) + " " +
+           parameters[k].unit;
+  }
+  return out;
+}
+
+}  // namespace
+
+JointCompliance::JointCompliance(std::vector<int> joints, std::vector<double> link_masses_kg)
+    : joints_(std::move(joints)), link_masses_kg_(std::move(link_masses_kg)) {
+  for (int j : joints_) {
+    parameters_.push_back({JointName(j) + ".compliance", "rad/(N m)", 0.0, false, {}, {}, {},
+                           "joint deflection per N m of gravity torque"});
+  }
+}
+
+std::string JointCompliance::Describe(const std::vector<double>& params) const {
+  return PerParameter(JointsInWords(joints_) + " compliance under gravity", parameters_, params);
+}
+
+Backlash::Backlash(std::vector<int> joints) : joints_(std::move(joints)) {
+  for (int j : joints_) {
+    parameters_.push_back({JointName(j) + ".backlash", "rad", 0.0, false, {}, {}, {},
+                           "play in the gear train (the joint lags by half of it)"});
+  }
+}
+
+std::string Backlash::Describe(const std::vector<double>& params) const {
+  return PerParameter(JointsInWords(joints_) + " backlash", parameters_, params);
+}
+
+TransmissionError::TransmissionError(std::vector<int> joints, std::vector<int> harmonics)
+    : joints_(std::move(joints)), harmonics_(std::move(harmonics)) {
+  for (int j : joints_) {
+    for (int h : harmonics_) {
+      const std::string name = JointName(j) + ".h" + std::to_string(h);
+      parameters_.push_back({name + ".sin", "rad", 0.0, false, {}, {}, {},
+                             "transmission error, sine of harmonic " + std::to_string(h)});
+      parameters_.push_back({name + ".cos", "rad", 0.0, false, {}, {}, {},
+                             "transmission error, cosine of harmonic " + std::to_string(h)});
+    }
+  }
+}
+
+std::string TransmissionError::Describe(const std::vector<double>& params) const {
+  return PerParameter(JointsInWords(joints_) + " gear transmission error", parameters_, params);
+}
+
+JointScale::JointScale(std::vector<int> joints) : joints_(std::move(joints)) {
+  for (int j : joints_) {
+    parameters_.push_back({JointName(j) + ".scale", "1", 0.0, false, {}, {}, {},
+                           "relative error of the gear ratio"});
+  }
+}
+
+std::string JointScale::Describe(const std::vector<double>& params) const {
+  return PerParameter(JointsInWords(joints_) + " gear ratio (joint scale) error", parameters_,
+                      params);
+}
+
+}  // namespace cellmetry::effects

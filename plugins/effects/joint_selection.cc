@@ -1,0 +1,34 @@
+#include "joint_selection.h"
+
+namespace cellmetry::effects {
+
+std::vector<int> SelectJoints(const ConfigNode& config, const RobotModel& robot) {
+  std::vector<int> joints;
+  if (!config.Has("joints")) {
+    for (int i = 0; i < robot.num_joints(); ++i) joints.push_back(i);
+    return joints;
+  }
+  for (const auto& node : config["joints"].Elements()) {
+    const int joint = node.AsInt();
+    if (joint < 1 || joint > robot.num_joints()) {
+      throw node.Error("no joint " + std::to_string(joint) + " on a " +
+                           std::to_string(robot.num_joints()) + "-joint robot",
+                       "Joints are numbered from 1");
+    }
+    joints.push_back(joint - 1);
+  }
+  if (joints.empty()) throw config["joints"].Error("lists no joint", "e.g. joints: [2, 3]");
+  return joints;
+}
+
+std::string JointName(int joint) { return "j" + std::to_string(joint + 1); }
+
+std::string JointsInWords(const std::vector<int>& joints) {
+  std::string out = joints.size() == 1 ? "joint " : "joints ";
+  for (size_t i = 0; i < joints.size(); ++i) {
+    out += (i ? ", " : "") + std::to_string(joints[i] + 1);
+  }
+  return out;
+}
+
+}  // namespace cellmetry::effects

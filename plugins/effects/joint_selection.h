@@ -1,0 +1,23 @@
+// Which joints a per-joint effect acts on (`joints: [2, 3]`, 1-based as in reports; default all),
+// and the per-joint parameters it then has.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cellmetry/config_node.h"
+#include "cellmetry/parameter.h"
+#include "cellmetry/robot_model.h"
+
+namespace cellmetry::effects {
+
+// 0-based joint indices; an index outside the robot is an InputError at `joints:`.
+std::vector<int> SelectJoints(const ConfigNode& config, const RobotModel& robot);
+
+// "j<i>.<what>" for each selected joint (1-based in the name).
+std::string JointName(int joint);
+
+// "joint 2" / "joints 2, 3".
+std::string JointsInWords(const std::vector<int>& joints);
+
+}  // namespace cellmetry::effects
