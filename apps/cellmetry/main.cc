@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   app::AddHomeCommand(cli, context);
   app::AddCompareCommand(cli, context);
   app::AddDetectCommand(cli, context);
+  app::AddDiagnoseCommand(cli, context);
   app::AddPluginsCommand(cli, context);
   try {
     cli.parse(argc, argv);

@@ -170,7 +170,8 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"job", "description", "recording", "output", "plugin_paths", "world_target",
                    "camera_model", "use_tool_rotation", "robots", "noise", "solver",
-                   "validation", "identifiability_tolerance", "effects", "gravity_base"});
+                   "validation", "identifiability_tolerance", "effects", "gravity_base",
+                   "diagnosis"});
   WorkcellJob job;
   job.file = path;
   const std::string kind = root["job"].AsString();

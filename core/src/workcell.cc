@@ -116,11 +116,15 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     Fit fit = FitOnce(spec, recording, data, noise, answer, train, held, make_solver);
     const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
     auto held_out = AssembleWorkcell(spec, recording, data, noise, trained, test);
+    ResidualRms fold;
     for (const auto& row : ResidualRows(*held_out)) {
       if (row.kind != "position" || !IsCarried(recording, row.target)) continue;
       out.total.Add(row.error);
       out.per_camera[row.camera].Add(row.error);
+      fold.Add(row.error);
     }
+    fold.Finish();
+    out.per_fold.push_back(fold);
     progress.Advance();
   }
   out.total.Finish();

@@ -78,6 +78,7 @@ struct HeldOut {
   int folds = 0;
   ResidualRms total;                         // target positions, mm
   std::map<std::string, ResidualRms> per_camera;
+  std::vector<ResidualRms> per_fold;         // the same folds for the same poses and seed
 };
 
 struct WorkcellResult {

@@ -1,0 +1,43 @@
+// `cellmetry diagnose JOB.yaml`: the physics finder (diagnosis.h) on a workcell job.
+#include <cstdio>
+#include <filesystem>
+
+#include "cellmetry/atomic_file.h"
+#include "cellmetry/diagnosis_job.h"
+#include "cellmetry/progress.h"
+#include "cellmetry/result_io.h"
+#include "commands.h"
+
+namespace cellmetry::app {
+
+void AddDiagnoseCommand(CLI::App& app, Context& context) {
+  CLI::App* cmd = app.add_subcommand(
+      "diagnose", "find the physics a workcell's geometric model leaves out (effects)");
+  static std::string job_path, output;
+  cmd->add_option("job", job_path, "workcell job (YAML), with an optional diagnosis: section")
+      ->required();
+  cmd->add_option("-o,--output", output, "folder (default: <job output>/diagnosis)");
+  cmd->callback([&context] {
+    Progress::SetQuiet(context.quiet);
+    LoadPlugins(context);
+    Registry& registry = Registry::Global();
+    const DiagnosisJob job = LoadDiagnosisJob(job_path, registry);
+    const Recording recording = ReadRecording(job.workcell.recording);
+    ValidateJobAgainstRecording(job.workcell, recording);
+    const SolverMaker make_solver = [&] {
+      return registry.CreateSolver(job.workcell.solver_type, *job.workcell.solver_config);
+    };
+    const DiagnosisResult result =
+        DiagnoseWorkcell(job.workcell.problem, recording, make_solver,
+                         JobCandidates(job, recording, registry), job.options, job_path);
+    const std::string folder = output.empty() ? job.workcell.output + "/diagnosis" : output;
+    std::filesystem::create_directories(folder);
+    AtomicWriteFile(folder + "/diagnosis.json", DiagnosisJson(result).dump(2) + "\n");
+    AtomicWriteFile(folder + "/report.txt", DiagnosisReport(result));
+    WriteWorkcellResult(result.final_fit, folder + "/final_fit");
+    std::printf("%s", DiagnosisReport(result).c_str());
+    std::printf("  written: %s/{report.txt,diagnosis.json,final_fit/}\n", folder.c_str());
+  });
+}
+
+}  // namespace cellmetry::app

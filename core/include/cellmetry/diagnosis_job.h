@@ -1,0 +1,37 @@
+// `cellmetry diagnose JOB.yaml`: a workcell job (job.h) with an optional `diagnosis:` section.
+//
+//   diagnosis:
+//     alpha: 0.01            # family-wise error rate of every test
+//     bootstrap: 40          # resamples of poses
+//     bootstrap_share: 0.8   # how often the chosen effect must win them
+//     folds: 5               # blocked cross-validation by pose
+//     max_effects: 4
+//     min_poses: 20
+//     link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]   # the gravity-torque regressor
+//     candidates:            # default: the whole library on every joint and camera
+//       - {type: backlash, joints: [2]}
+//
+// Output: <job output>/diagnosis/{report.txt, diagnosis.json, result.json of the final fit}.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cellmetry/diagnosis.h"
+#include "cellmetry/job.h"
+
+namespace cellmetry {
+
+struct DiagnosisJob {
+  WorkcellJob workcell;
+  DiagnosisOptions options;
+  std::vector<ConfigNode> candidate_configs;  // empty: DefaultCandidates
+};
+
+DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry);
+
+// The job's candidates: its own list (each named "<robot>.<type>_<k>") or the defaults.
+std::vector<CandidateEffect> JobCandidates(const DiagnosisJob& job, const Recording& recording,
+                                           Registry& registry);
+
+}  // namespace cellmetry

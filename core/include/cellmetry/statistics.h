@@ -1,0 +1,28 @@
+// Small statistics the physics finder needs: tail probabilities of the chi-square and normal
+// distributions, the Durbin-Watson statistic, and the Holm correction.
+#pragma once
+
+#include <vector>
+
+namespace cellmetry {
+
+// P(X > x) for X ~ chi-square with k degrees of freedom (regularized upper incomplete gamma
+// Q(k/2, x/2): series below a + 1, Lentz's continued fraction above; Numerical Recipes 6.2).
+double ChiSquareSurvival(double x, double k);
+
+// log P(X > x), accurate where P itself underflows (x in the thousands): compares statistics of
+// different degrees of freedom however strong they are.
+double ChiSquareLogSurvival(double x, double k);
+
+// P(Z > z) for a standard normal Z.
+double NormalSurvival(double z);
+
+// sum (e_t - e_{t-1})^2 / sum e_t^2 over a sequence in capture order: about 2 when neighbours
+// are independent, towards 0 when errors drift slowly (Durbin & Watson 1950).
+double DurbinWatson(const std::vector<double>& residuals);
+
+// Holm's step-down adjusted p-values (Holm 1979): the family-wise error rate stays at alpha when
+// each hypothesis is rejected at adjusted p < alpha. Same order as `p`.
+std::vector<double> HolmAdjusted(const std::vector<double>& p);
+
+}  // namespace cellmetry

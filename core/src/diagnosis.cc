@@ -1,0 +1,285 @@
+#include "cellmetry/diagnosis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "cellmetry/error.h"
+#include "cellmetry/progress.h"
+#include "cellmetry/statistics.h"
+#include "cellmetry/workcell.h"
+#include "diagnosis_linear.h"
+#include "diagnosis_regressors.h"
+
+namespace cellmetry {
+namespace {
+
+// A model (geometry + accepted effects) fitted to the whole recording.
+struct Fitted {
+  WorkcellProblem spec;
+  WorkcellResult result;
+  FitSummary summary;
+  int rows = 0;  // scalar residuals
+};
+
+bool Carried(const Recording& recording, const std::string& target) {
+  return recording.targets.at(target) != kWorldCarrier;
+}
+
+Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
+           const SolverMaker& make_solver, int folds) {
+  Fitted f;
+  f.spec = spec;
+  f.spec.folds = folds;
+  f.spec.compare_camera_models = false;
+  f.result = IdentifyWorkcell(f.spec, recording, make_solver);
+  ResidualRms tool;
+  for (const auto& row : f.result.residuals) {
+    f.summary.chi2 += row.normalized.squaredNorm();
+    f.rows += 3;
+    if (row.kind == "position" && Carried(recording, row.target)) tool.Add(row.error);
+  }
+  tool.Finish();
+  f.summary.rms_mm = tool.norm;
+  f.summary.dof = f.rows - static_cast<double>(f.result.uncertainty.names.size());
+  f.summary.p_value = ChiSquareSurvival(f.summary.chi2, f.summary.dof);
+  f.summary.held_out_rms_mm = f.result.held_out.total.norm;
+  return f;
+}
+
+WorkcellProblem With(const WorkcellProblem& spec, const CandidateEffect& candidate) {
+  WorkcellProblem out = spec;
+  out.effects.push_back(candidate.effect);
+  return out;
+}
+
+// Fold-wise held-out gain of `after` over `before` (same folds), its mean and standard error.
+std::pair<double, double> CvGain(const HeldOut& before, const HeldOut& after) {
+  std::vector<double> gains;
+  for (size_t f = 0; f < before.per_fold.size() && f < after.per_fold.size(); ++f) {
+    gains.push_back(before.per_fold[f].norm - after.per_fold[f].norm);
+  }
+  if (gains.size() < 2) return {0.0, INFINITY};
+  double mean = 0.0, ss = 0.0;
+  for (double g : gains) mean += g;
+  mean /= gains.size();
+  for (double g : gains) ss += (g - mean) * (g - mean);
+  return {mean, std::sqrt(ss / (gains.size() - 1) / gains.size())};
+}
+
+// Checks the recording can support the tests at all.
+void CheckInputs(const WorkcellProblem& spec, const Recording& recording,
+                 const DiagnosisOptions& options, const std::string& origin,
+                 std::string* noise_source) {
+  std::set<int> poses;
+  for (const auto& s : recording.samples) poses.insert(s.pose);
+  if (static_cast<int>(poses.size()) < options.min_poses) {
+    throw InputError({origin, 0, 0},
+                     "too few samples for the tests: " + std::to_string(poses.size()) +
+                         " poses, the diagnosis needs at least " +
+                         std::to_string(options.min_poses),
+                     "Record more poses spread over the workspace");
+  }
+  const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
+  std::set<std::string> sources;
+  for (const auto& obs : recording.observations) {
+    const TargetNoise& n = noise.at(obs.camera, obs.target);
+    if (n.source == "unknown") {
+      throw InputError({origin, 0, 0},
+                       "no noise floor for " + obs.camera + "/" + obs.target +
+                           ": no repeated captures and no sigma given",
+                       "Capture some poses two or more times (samples sharing a pose id), or "
+                       "give noise: {cameras: {" + obs.camera + ": {position_mm: [...]}}} in the "
+                       "job");
+    }
+    sources.insert(n.source);
+  }
+  for (const auto& s : sources) *noise_source += (noise_source->empty() ? "" : "; ") + s;
+}
+
+double FloorRms(const Fitted& fit, const Recording& recording) {
+  ResidualRms floor;
+  for (const auto& row : fit.result.residuals) {
+    if (row.kind != "position" || !Carried(recording, row.target)) continue;
+    const Eigen::Vector3d sigma = row.error.cwiseQuotient(row.normalized);
+    floor.Add(sigma.unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; }));
+  }
+  floor.Finish();
+  return floor.norm;
+}
+
+// The largest tool displacement (mm) an effect with parameters `theta` predicts, to first order.
+double PeakMm(const Linearization& lin, const Recording& recording, const Eigen::VectorXd& theta) {
+  const Eigen::VectorXd whitened = lin.J_candidate * theta;
+  std::map<int, Eigen::Vector3d> per_observation;
+  for (Eigen::Index i = 0; i < whitened.size(); ++i) {
+    const ResidualInfo& info = lin.rows[i];
+    if (info.kind != ResidualInfo::Kind::kPosition || info.observation < 0 ||
+        !Carried(recording, info.target)) {
+      continue;
+    }
+    auto& d = per_observation.try_emplace(info.observation, Eigen::Vector3d::Zero()).first->second;
+    d[lin.row_axis[i]] = whitened[i] * info.sigma[lin.row_axis[i]];
+  }
+  double peak = 0.0;
+  for (const auto& [obs, d] : per_observation) peak = std::max(peak, d.norm());
+  return peak;
+}
+
+// How strongly a chi-square statistic with `dof` degrees of freedom speaks against "no effect",
+// comparable across dof even where its p-value underflows.
+double Strength(double statistic, int dof) { return -ChiSquareLogSurvival(statistic, dof); }
+
+}  // namespace
+
+DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& recording,
+                                 const SolverMaker& make_solver,
+                                 const std::vector<CandidateEffect>& candidates,
+                                 const DiagnosisOptions& options, const std::string& origin) {
+  DiagnosisResult out;
+  CheckInputs(spec, recording, options, origin, &out.noise_source);
+  WorkcellProblem all = spec;
+  for (const auto& c : candidates) all.effects.push_back(c.effect);
+  const WorkcellData data = PrepareWorkcellData(all, recording);  // with every sample's facts
+  const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
+  const std::vector<Regressor> regressors = SampleRegressors(
+      recording, data.facts, options.link_masses_kg, spec.gravity_base);
+
+  Progress::Note("fitting the geometry alone");
+  Fitted current = Fit(spec, recording, make_solver, options.folds);
+  out.geometric = current.summary;
+  out.floor_rms_mm = FloorRms(current, recording);
+  {
+    const Linearization lin = Linearize(spec, recording, data, noise, current.result.estimate, false);
+    out.regressors = CorrelateRegressors(lin, recording, regressors);
+    out.durbin_watson = DurbinWatsonByAxis(lin, recording);
+  }
+  std::set<std::string> done;  // accepted or untestable
+  while (static_cast<int>(out.accepted.size()) < options.max_effects &&
+         current.summary.p_value <= options.alpha) {
+    Progress::Note("round " + std::to_string(out.rounds.size() + 1) + ": scoring " +
+                   std::to_string(candidates.size() - done.size()) + " candidate effects");
+    const Linearization base =
+        Linearize(current.spec, recording, data, noise, current.result.estimate, false);
+    const Eigen::MatrixXd Q = OrthonormalBasis(base.J_model);
+    DiagnosisRound round;
+    std::vector<const CandidateEffect*> testable;
+    std::vector<Eigen::MatrixXd> signatures;
+    for (const auto& c : candidates) {
+      if (done.count(c.effect.name)) continue;
+      const Linearization lin = Linearize(With(current.spec, c), recording, data, noise,
+                                          current.result.estimate, true);
+      CandidateFinding f;
+      f.name = c.effect.name;
+      f.label = c.label;
+      const ScoreTest test = Score(base.r, lin.J_candidate, ProjectOut(Q, lin.J_candidate));
+      f.unabsorbed = test.unabsorbed;
+      f.dof = test.dof;
+      f.score = test.statistic;
+      f.p_holm = test.p_value;
+      const std::string missing = MissingFacts(c.effect.effect->needs(), data.facts);
+      if (!missing.empty() || test.unabsorbed < options.min_unabsorbed || test.dof == 0) {
+        f.testable = false;
+        f.untestable_because =
+            !missing.empty() ? "the recording has no " + missing
+            : lin.J_candidate.norm() == 0.0
+                ? "it does not act on these poses"
+                : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
+                      " % of its signature is absorbed by the geometry";
+        f.data_needed = !missing.empty() ? missing : c.data_hint;
+        out.untestable.push_back(f);
+        done.insert(c.effect.name);
+        continue;
+      }
+      round.candidates.push_back(f);
+      testable.push_back(&c);
+      signatures.push_back(lin.J_candidate);
+    }
+    if (round.candidates.empty()) break;
+    // Holm over the round's candidates, on the score tests.
+    std::vector<double> p;
+    for (const auto& f : round.candidates) p.push_back(f.p_holm);
+    const std::vector<double> adjusted = HolmAdjusted(p);
+    for (size_t i = 0; i < p.size(); ++i) round.candidates[i].p_holm = adjusted[i];
+    std::vector<size_t> order(round.candidates.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return Strength(round.candidates[a].score, round.candidates[a].dof) >
+             Strength(round.candidates[b].score, round.candidates[b].dof);
+    });
+    // Full nonlinear refits of the best few.
+    int best = -1;
+    Fitted best_fit;
+    const double n_rows = current.rows;
+    for (size_t k = 0; k < order.size() && static_cast<int>(k) < options.refits; ++k) {
+      CandidateFinding& f = round.candidates[order[k]];
+      Fitted refit = Fit(With(current.spec, *testable[order[k]]), recording, make_solver, 0);
+      f.refitted = true;
+      f.likelihood_ratio = std::max(0.0, current.summary.chi2 - refit.summary.chi2);
+      f.p_lr_holm = std::min(1.0, ChiSquareSurvival(f.likelihood_ratio, f.dof) *
+                                      static_cast<double>(round.candidates.size()));
+      f.delta_bic = f.dof * std::log(n_rows) - f.likelihood_ratio;
+      const auto& incumbent = round.candidates[std::max(best, 0)];
+      if (best < 0 || Strength(f.likelihood_ratio, f.dof) >
+                          Strength(incumbent.likelihood_ratio, incumbent.dof)) {
+        best = static_cast<int>(order[k]);
+        best_fit = std::move(refit);
+      }
+    }
+    CandidateFinding& chosen = round.candidates[best];
+    Progress::Note("cross-validating and bootstrapping " + chosen.label);
+    Fitted with_cv = Fit(best_fit.spec, recording, make_solver, options.folds);
+    const auto [gain, se] = CvGain(current.result.held_out, with_cv.result.held_out);
+    chosen.cv_rms_mm = with_cv.summary.held_out_rms_mm;
+    chosen.cv_gain_mm = gain;
+    chosen.cv_gain_se_mm = se;
+    const std::vector<double> wins =
+        BootstrapWins(base.r, base.J_model, signatures,
+                      [&] {
+                        std::vector<int> poses;
+                        for (const auto& info : base.rows) poses.push_back(info.pose);
+                        return poses;
+                      }(),
+                      options.bootstrap, 17u + static_cast<unsigned>(out.rounds.size()));
+    chosen.bootstrap_share = wins[best];
+    chosen.accepted = chosen.p_lr_holm < options.alpha && chosen.delta_bic < 0 && gain > se &&
+                      chosen.bootstrap_share >= options.bootstrap_share;
+    if (chosen.accepted) {
+      round.accepted = chosen.name;
+      const CandidateEffect& c = *testable[best];
+      AcceptedEffect a;
+      a.name = c.effect.name;
+      const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);
+      a.description = c.effect.effect->Describe(values);
+      for (const auto& s : with_cv.result.model_parameters) {
+        if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
+      }
+      a.peak_mm = PeakMm(Linearize(best_fit.spec, recording, data, noise,
+                                   current.result.estimate, true),
+                         recording, Eigen::Map<const Eigen::VectorXd>(values.data(), values.size()));
+      out.accepted.push_back(a);
+      done.insert(c.effect.name);
+      current = std::move(with_cv);
+    }
+    out.rounds.push_back(round);
+    if (!chosen.accepted) break;
+  }
+  out.final = current.summary;
+  out.final_fit = current.result;
+  if (!out.final.consistent_with_noise()) {
+    const Linearization lin =
+        Linearize(current.spec, recording, data, noise, current.result.estimate, false);
+    const auto findings = CorrelateRegressors(lin, recording, regressors);
+    if (!findings.empty() && findings.front().p_value < options.alpha) {
+      const auto& f = findings.front();
+      out.unexplained = "structure remains along " + f.regressor + " (" + f.axis +
+                        " residuals, partial correlation " +
+                        std::to_string(f.partial_correlation).substr(0, 5) + ")";
+    } else {
+      out.unexplained = "the residuals exceed the floor but follow none of the recorded regressors";
+    }
+  }
+  return out;
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,154 @@
+#include "diagnosis_regressors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "cellmetry/statistics.h"
+
+namespace cellmetry {
+namespace {
+
+const char* kAxes[3] = {"x", "y", "depth"};
+
+bool Varies(const std::vector<double>& values) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (double v : values) {
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  return hi > lo + 1e-12 * (1 + std::abs(hi));
+}
+
+// The rows of carried targets' position residuals.
+bool IsToolPositionRow(const Linearization& lin, const Recording& recording, Eigen::Index i) {
+  const ResidualInfo& info = lin.rows[i];
+  return info.kind == ResidualInfo::Kind::kPosition && info.observation >= 0 &&
+         recording.targets.at(info.target) != kWorldCarrier;
+}
+
+}  // namespace
+
+std::vector<Regressor> SampleRegressors(const Recording& recording,
+                                        const std::vector<SampleFacts>& facts,
+                                        const std::vector<double>& link_masses_kg,
+                                        const Eigen::Vector3d& gravity_base) {
+  const size_t n = recording.samples.size();
+  std::vector<Regressor> out;
+  size_t joints = 0;
+  for (const auto& f : facts) joints = std::max(joints, f.q.size());
+  for (size_t j = 0; j < joints; ++j) {
+    const std::string joint = "joint " + std::to_string(j + 1);
+    Regressor angle{joint + " angle", std::vector<double>(n, NAN)};
+    Regressor torque{joint + " gravity torque", std::vector<double>(n, NAN)};
+    Regressor approach{joint + " approach direction", std::vector<double>(n, NAN)};
+    for (size_t i = 0; i < n; ++i) {
+      const SampleFacts& f = facts[i];
+      if (j >= f.q.size()) continue;
+      angle.per_sample[i] = f.q[j];
+      approach.per_sample[i] = f.approach[j];
+      if (!f.T_base_joint.empty()) {
+        std::vector<double> masses = link_masses_kg;
+        masses.resize(f.q.size(), 1.0);
+        torque.per_sample[i] = GravityTorques(f.T_base_joint, masses, f.payload_kg, gravity_base)[j];
+      }
+    }
+    for (auto* r : {&angle, &torque, &approach}) {
+      if (Varies(r->per_sample)) out.push_back(*r);
+    }
+  }
+  Regressor order{"capture order", {}}, time{"time", {}}, temperature{"temperature", {}},
+      payload{"payload", {}};
+  for (size_t i = 0; i < n; ++i) {
+    order.per_sample.push_back(static_cast<double>(i));
+    time.per_sample.push_back(recording.samples[i].time_s.value_or(NAN));
+    temperature.per_sample.push_back(recording.samples[i].temperature_c.value_or(NAN));
+    payload.per_sample.push_back(recording.samples[i].payload_kg.value_or(NAN));
+  }
+  for (auto* r : {&order, &time, &temperature, &payload}) {
+    if (Varies(r->per_sample)) out.push_back(*r);
+  }
+  return out;
+}
+
+std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
+                                                  const Recording& recording,
+                                                  const std::vector<Regressor>& regressors) {
+  const Eigen::MatrixXd Q = OrthonormalBasis(lin.J_model);
+  // Per row: the regressors' values (sample regressors, then depth and image position).
+  std::vector<std::string> names;
+  for (const auto& r : regressors) names.push_back(r.name);
+  names.insert(names.end(), {"measured depth", "image x", "image y"});
+  std::vector<RegressorFinding> findings;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<Eigen::Index> rows;
+    for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
+      if (lin.row_axis[i] == axis && IsToolPositionRow(lin, recording, i)) rows.push_back(i);
+    }
+    if (rows.size() < 10) continue;
+    Eigen::VectorXd r_axis = Eigen::VectorXd::Zero(lin.r.size());
+    for (auto i : rows) r_axis[i] = lin.r[i];
+    for (size_t k = 0; k < names.size(); ++k) {
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(lin.r.size());
+      std::vector<Eigen::Index> known_rows;
+      double mean = 0.0;
+      for (auto i : rows) {
+        const ResidualInfo& info = lin.rows[i];
+        const Observation& obs = recording.observations[info.observation];
+        const int sample = recording.SampleIndex(info.sample);
+        double v = NAN;
+        if (k < regressors.size()) {
+          v = regressors[k].per_sample[sample];
+        } else if (k == regressors.size()) {
+          v = obs.position_mm.z();
+        } else {
+          v = obs.position_mm[k - regressors.size() - 1] / obs.position_mm.z();
+        }
+        if (!std::isfinite(v)) continue;
+        x[i] = v;
+        mean += v;
+        known_rows.push_back(i);
+      }
+      const int known = static_cast<int>(known_rows.size());
+      if (known < 10) continue;
+      mean /= known;
+      for (auto i : known_rows) x[i] -= mean;
+      const Eigen::VectorXd x_perp = ProjectOut(Q, x);
+      const double denominator = x_perp.norm() * r_axis.norm();
+      if (denominator <= 0) continue;
+      RegressorFinding f;
+      f.regressor = names[k];
+      f.axis = kAxes[axis];
+      f.partial_correlation = r_axis.dot(x_perp) / denominator;
+      const double c = std::min(std::abs(f.partial_correlation), 0.999999);
+      const double z = std::atanh(c) * std::sqrt(std::max(1.0, double(known) - 3.0));
+      f.p_value = 2.0 * NormalSurvival(z);  // Fisher's z; Bonferroni below
+      findings.push_back(f);
+    }
+  }
+  for (auto& f : findings) f.p_value = std::min(1.0, f.p_value * findings.size());
+  std::sort(findings.begin(), findings.end(), [](const auto& a, const auto& b) {
+    return std::abs(a.partial_correlation) > std::abs(b.partial_correlation);
+  });
+  return findings;
+}
+
+std::map<std::string, double> DurbinWatsonByAxis(const Linearization& lin,
+                                                 const Recording& recording) {
+  std::map<std::string, double> out;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<std::pair<int, double>> ordered;  // (sample index, residual)
+    for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
+      if (lin.row_axis[i] != axis || !IsToolPositionRow(lin, recording, i)) continue;
+      ordered.push_back({recording.SampleIndex(lin.rows[i].sample), lin.r[i]});
+    }
+    if (ordered.size() < 3) continue;
+    std::stable_sort(ordered.begin(), ordered.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<double> e;
+    for (const auto& [sample, value] : ordered) e.push_back(value);
+    out[kAxes[axis]] = DurbinWatson(e);
+  }
+  return out;
+}
+
+}  // namespace cellmetry

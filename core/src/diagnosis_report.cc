@@ -1,0 +1,123 @@
+// The physics finder's report (diagnosis.h): ten seconds of words, and the same in JSON.
+#include <cstdio>
+#include <sstream>
+
+#include "cellmetry/diagnosis.h"
+
+namespace cellmetry {
+namespace {
+
+std::string Mm(double v) {
+  char b[32];
+  std::snprintf(b, sizeof(b), "%.3g mm", v);
+  return b;
+}
+
+std::string Value(const ScalarEstimate& s) {
+  char b[96];
+  std::snprintf(b, sizeof(b), "%s = %.3g +- %.2g %s", s.name.c_str(), s.value, s.sigma,
+                s.unit.c_str());
+  return b;
+}
+
+}  // namespace
+
+std::string DiagnosisReport(const DiagnosisResult& r) {
+  std::ostringstream out;
+  out << "Mismatch: " << Mm(r.geometric.rms_mm) << " RMS against a " << Mm(r.floor_rms_mm)
+      << " floor (" << r.noise_source << "); chi-square/dof "
+      << r.geometric.chi2 / std::max(1.0, r.geometric.dof);
+  out << (r.geometric.consistent_with_noise() ? ": consistent with noise.\n" : ".\n");
+  if (!r.geometric.consistent_with_noise() && !r.regressors.empty()) {
+    const auto& f = r.regressors.front();
+    out << "It follows " << f.regressor << " (" << f.axis << " residuals, partial correlation "
+        << std::to_string(f.partial_correlation).substr(0, 5) << ").\n";
+  }
+  for (const auto& a : r.accepted) {
+    out << "Left out: " << a.description << " (up to " << Mm(a.peak_mm) << " at the tool).\n";
+    for (const auto& p : a.parameters) out << "  " << Value(p) << "\n";
+  }
+  if (!r.accepted.empty()) {
+    out << "Held-out RMS " << Mm(r.geometric.held_out_rms_mm) << " -> "
+        << Mm(r.final.held_out_rms_mm) << "; fit RMS " << Mm(r.final.rms_mm) << " against the "
+        << Mm(r.floor_rms_mm) << " floor.\n";
+  } else if (!r.geometric.consistent_with_noise()) {
+    out << "No effect in the library passed every test.\n";
+  }
+  if (!r.unexplained.empty()) out << "Unexplained: " << r.unexplained << ".\n";
+  if (!r.untestable.empty()) {
+    out << "Not testable here:";
+    for (size_t i = 0; i < r.untestable.size(); ++i) {
+      const auto& u = r.untestable[i];
+      out << (i ? ";" : "") << " " << u.label << " (" << u.untestable_because << "; needs "
+          << u.data_needed << ")";
+    }
+    out << ".\n";
+  }
+  return out.str();
+}
+
+nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
+  auto summary = [](const FitSummary& s) {
+    return nlohmann::json{{"chi2", s.chi2},         {"dof", s.dof},
+                          {"p_value", s.p_value},   {"rms_mm", s.rms_mm},
+                          {"held_out_rms_mm", s.held_out_rms_mm},
+                          {"consistent_with_noise", s.consistent_with_noise()}};
+  };
+  auto candidate = [](const CandidateFinding& f) {
+    return nlohmann::json{{"name", f.name},
+                          {"label", f.label},
+                          {"testable", f.testable},
+                          {"untestable_because", f.untestable_because},
+                          {"data_needed", f.data_needed},
+                          {"unabsorbed", f.unabsorbed},
+                          {"dof", f.dof},
+                          {"score", f.score},
+                          {"p_holm", f.p_holm},
+                          {"refitted", f.refitted},
+                          {"likelihood_ratio", f.likelihood_ratio},
+                          {"p_lr_holm", f.p_lr_holm},
+                          {"delta_bic", f.delta_bic},
+                          {"cv_rms_mm", f.cv_rms_mm},
+                          {"cv_gain_mm", f.cv_gain_mm},
+                          {"cv_gain_se_mm", f.cv_gain_se_mm},
+                          {"bootstrap_share", f.bootstrap_share},
+                          {"accepted", f.accepted}};
+  };
+  nlohmann::json j;
+  j["format"] = "cellmetry-diagnosis/1";
+  j["noise_source"] = r.noise_source;
+  j["floor_rms_mm"] = r.floor_rms_mm;
+  j["geometric"] = summary(r.geometric);
+  j["final"] = summary(r.final);
+  j["durbin_watson"] = r.durbin_watson;
+  j["regressors"] = nlohmann::json::array();
+  for (const auto& f : r.regressors) {
+    j["regressors"].push_back({{"regressor", f.regressor}, {"axis", f.axis},
+                               {"partial_correlation", f.partial_correlation},
+                               {"p_value", f.p_value}});
+  }
+  j["untestable"] = nlohmann::json::array();
+  for (const auto& f : r.untestable) j["untestable"].push_back(candidate(f));
+  j["rounds"] = nlohmann::json::array();
+  for (const auto& round : r.rounds) {
+    nlohmann::json jr{{"accepted", round.accepted}, {"candidates", nlohmann::json::array()}};
+    for (const auto& f : round.candidates) jr["candidates"].push_back(candidate(f));
+    j["rounds"].push_back(jr);
+  }
+  j["accepted"] = nlohmann::json::array();
+  for (const auto& a : r.accepted) {
+    nlohmann::json ja{{"name", a.name}, {"description", a.description}, {"peak_mm", a.peak_mm},
+                      {"parameters", nlohmann::json::array()}};
+    for (const auto& p : a.parameters) {
+      ja["parameters"].push_back(
+          {{"name", p.name}, {"unit", p.unit}, {"value", p.value}, {"sigma", p.sigma}});
+    }
+    j["accepted"].push_back(ja);
+  }
+  j["unexplained"] = r.unexplained;
+  j["report"] = DiagnosisReport(r);
+  return j;
+}
+
+}  // namespace cellmetry
