@@ -1,10 +1,13 @@
 // `cellmetry compare SPEC.yaml`: the report's Table 7 (`compare: kinematic`, kinematic_compare.h)
-// or its Tables 3 and 4 (`compare: markers`, marker_comparison.h); writes table.md and table.csv.
+// or its Tables 3 and 4 (`compare: markers`, marker_comparison.h), writing table.md and
+// table.csv; or the physics finder's concealed-effect suite (`compare: physics`,
+// physics_suite.h), writing one markdown file.
 #include <cstdio>
 
 #include "cellmetry/atomic_file.h"
 #include "cellmetry/kinematic_compare.h"
 #include "cellmetry/marker_comparison.h"
+#include "cellmetry/physics_suite.h"
 #include "cellmetry/progress.h"
 #include "commands.h"
 
@@ -22,6 +25,14 @@ void AddCompareCommand(CLI::App& app, Context& context) {
     const ConfigNode root = ConfigNode::LoadFile(spec_path);
     const std::string kind = root["compare"].AsString();
     std::string table, csv, folder;
+    if (kind == "physics") {
+      const PhysicsSuiteSpec spec = LoadPhysicsSuite(spec_path);
+      const auto results = RunPhysicsSuite(spec, Registry::Global());
+      table = PhysicsSuiteMarkdown(spec, results);
+      AtomicWriteFile(output.empty() ? spec.output : output, table);
+      std::printf("%s  written: %s\n", table.c_str(), (output.empty() ? spec.output : output).c_str());
+      return;
+    }
     if (kind == "markers") {
       const MarkerComparisonSpec spec = LoadMarkerComparison(spec_path, Registry::Global());
       const auto rows = CompareMarkers(spec, Registry::Global());

@@ -41,9 +41,14 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
       out.push_back(Make("{type: backlash, joints: [" + J + "]}", prefix + "backlash_j" + J,
                          robot, joint + " backlash",
                          "moves into poses from both directions on " + joint, registry));
-      out.push_back(Make("{type: transmission_error, joints: [" + J + "], harmonics: [1, 2]}",
-                         prefix + "transmission_j" + J, robot, joint + " transmission error",
-                         "a wider range of " + joint + " (at least half a turn)", registry));
+      // One candidate per harmonic: two parameters each, so that a single harmonic does not pay
+      // for four (a later round adds the other when it is there too).
+      for (const std::string h : {"1", "2"}) {
+        out.push_back(Make("{type: transmission_error, joints: [" + J + "], harmonics: [" + h + "]}",
+                           prefix + "transmission_j" + J + "_h" + h, robot,
+                           joint + " transmission error (harmonic " + h + ")",
+                           "a wider range of " + joint + " (at least half a turn)", registry));
+      }
       out.push_back(Make("{type: joint_scale, joints: [" + J + "]}", prefix + "scale_j" + J,
                          robot, joint + " gear ratio error", "a wider range of " + joint,
                          registry));

@@ -2,9 +2,10 @@
 
 namespace cellmetry {
 
-DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry) {
+DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
+                              bool recording_must_exist) {
   DiagnosisJob job;
-  job.workcell = LoadWorkcellJob(path, registry);
+  job.workcell = LoadWorkcellJob(path, registry, recording_must_exist);
   const ConfigNode root = ConfigNode::LoadFile(path);
   if (!root.Has("diagnosis")) return job;
   const ConfigNode d = root["diagnosis"];

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "cellmetry/statistics.h"
 
@@ -70,64 +71,85 @@ std::vector<Regressor> SampleRegressors(const Recording& recording,
   return out;
 }
 
+namespace {
+
+// The value of regressor k (sample regressors, then measured depth, image x, image y) on a row.
+double RowValue(const Linearization& lin, const Recording& recording,
+                const std::vector<Regressor>& regressors, size_t k, Eigen::Index row) {
+  const Observation& obs = recording.observations[lin.rows[row].observation];
+  if (k < regressors.size()) return regressors[k].per_sample[recording.SampleIndex(obs.sample)];
+  if (k == regressors.size()) return obs.position_mm.z();
+  return obs.position_mm[k - regressors.size() - 1] / obs.position_mm.z();
+}
+
+// Partial correlation of the residuals on `rows` with regressor values `x` (on those rows),
+// after projecting out span(Q); none when too few rows know the regressor.
+std::optional<RegressorFinding> Correlate(const Linearization& lin, const Eigen::MatrixXd& Q,
+                                          const std::vector<Eigen::Index>& rows,
+                                          const std::vector<double>& values) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(lin.r.size()), r = Eigen::VectorXd::Zero(lin.r.size());
+  std::vector<Eigen::Index> known;
+  double mean = 0.0;
+  for (size_t k = 0; k < rows.size(); ++k) {
+    if (!std::isfinite(values[k])) continue;
+    x[rows[k]] = values[k];
+    r[rows[k]] = lin.r[rows[k]];
+    mean += values[k];
+    known.push_back(rows[k]);
+  }
+  if (known.size() < 10) return std::nullopt;
+  mean /= known.size();
+  for (auto i : known) x[i] -= mean;
+  const Eigen::VectorXd x_perp = ProjectOut(Q, x);
+  const double denominator = x_perp.norm() * r.norm();
+  if (!(denominator > 0)) return std::nullopt;
+  RegressorFinding f;
+  f.partial_correlation = r.dot(x_perp) / denominator;
+  const double c = std::min(std::abs(f.partial_correlation), 0.999999);
+  f.p_value = 2.0 * NormalSurvival(std::atanh(c) * std::sqrt(double(known.size()) - 3.0));
+  return f;
+}
+
+}  // namespace
+
 std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
                                                   const Recording& recording,
                                                   const std::vector<Regressor>& regressors) {
   const Eigen::MatrixXd Q = OrthonormalBasis(lin.J_model);
-  // Per row: the regressors' values (sample regressors, then depth and image position).
   std::vector<std::string> names;
   for (const auto& r : regressors) names.push_back(r.name);
   names.insert(names.end(), {"measured depth", "image x", "image y"});
+  // Every regressor over all cameras' rows, and over each camera's alone (a camera that moved,
+  // or one whose depth is off, shows in its own rows).
+  std::vector<std::string> scopes = {""};
+  if (recording.cameras.size() > 1) scopes.insert(scopes.end(), recording.cameras.begin(), recording.cameras.end());
   std::vector<RegressorFinding> findings;
   for (int axis = 0; axis < 3; ++axis) {
-    std::vector<Eigen::Index> rows;
-    for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
-      if (lin.row_axis[i] == axis && IsToolPositionRow(lin, recording, i)) rows.push_back(i);
-    }
-    if (rows.size() < 10) continue;
-    Eigen::VectorXd r_axis = Eigen::VectorXd::Zero(lin.r.size());
-    for (auto i : rows) r_axis[i] = lin.r[i];
-    for (size_t k = 0; k < names.size(); ++k) {
-      Eigen::VectorXd x = Eigen::VectorXd::Zero(lin.r.size());
-      std::vector<Eigen::Index> known_rows;
-      double mean = 0.0;
-      for (auto i : rows) {
-        const ResidualInfo& info = lin.rows[i];
-        const Observation& obs = recording.observations[info.observation];
-        const int sample = recording.SampleIndex(info.sample);
-        double v = NAN;
-        if (k < regressors.size()) {
-          v = regressors[k].per_sample[sample];
-        } else if (k == regressors.size()) {
-          v = obs.position_mm.z();
-        } else {
-          v = obs.position_mm[k - regressors.size() - 1] / obs.position_mm.z();
+    for (const auto& scope : scopes) {
+      std::vector<Eigen::Index> rows;
+      for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
+        if (lin.row_axis[i] == axis && IsToolPositionRow(lin, recording, i) &&
+            (scope.empty() || lin.rows[i].camera == scope)) {
+          rows.push_back(i);
         }
-        if (!std::isfinite(v)) continue;
-        x[i] = v;
-        mean += v;
-        known_rows.push_back(i);
       }
-      const int known = static_cast<int>(known_rows.size());
-      if (known < 10) continue;
-      mean /= known;
-      for (auto i : known_rows) x[i] -= mean;
-      const Eigen::VectorXd x_perp = ProjectOut(Q, x);
-      const double denominator = x_perp.norm() * r_axis.norm();
-      if (denominator <= 0) continue;
-      RegressorFinding f;
-      f.regressor = names[k];
-      f.axis = kAxes[axis];
-      f.partial_correlation = r_axis.dot(x_perp) / denominator;
-      const double c = std::min(std::abs(f.partial_correlation), 0.999999);
-      const double z = std::atanh(c) * std::sqrt(std::max(1.0, double(known) - 3.0));
-      f.p_value = 2.0 * NormalSurvival(z);  // Fisher's z; Bonferroni below
-      findings.push_back(f);
+      for (size_t k = 0; k < names.size(); ++k) {
+        std::vector<double> values;
+        for (auto i : rows) values.push_back(RowValue(lin, recording, regressors, k, i));
+        auto f = Correlate(lin, Q, rows, values);
+        if (!f) continue;
+        f->regressor = names[k] + (scope.empty() ? "" : " in " + scope);
+        f->axis = kAxes[axis];
+        findings.push_back(*f);
+      }
     }
   }
   for (auto& f : findings) f.p_value = std::min(1.0, f.p_value * findings.size());
+  // Most significant first (a strong correlation over a few rows can mean less than a weaker
+  // one over many).
   std::sort(findings.begin(), findings.end(), [](const auto& a, const auto& b) {
-    return std::abs(a.partial_correlation) > std::abs(b.partial_correlation);
+    return std::make_pair(a.p_value, -std::abs(a.partial_correlation)) <
+           std::make_pair(b.p_value, -std::abs(b.partial_correlation));
   });
   return findings;
 }

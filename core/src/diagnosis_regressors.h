@@ -24,7 +24,8 @@ std::vector<Regressor> SampleRegressors(const Recording& recording,
                                         const Eigen::Vector3d& gravity_base);
 
 // Partial correlations of the position residuals of carried targets, per camera axis, with every
-// sample regressor and with the measured depth and image position; strongest first.
+// sample regressor and with the measured depth and image position, over all cameras and over
+// each camera alone; most significant first (p-values Bonferroni-corrected over all of them).
 std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
                                                   const Recording& recording,
                                                   const std::vector<Regressor>& regressors);

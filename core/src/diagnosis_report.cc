@@ -79,8 +79,8 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
                           {"p_lr_holm", f.p_lr_holm},
                           {"delta_bic", f.delta_bic},
                           {"cv_rms_mm", f.cv_rms_mm},
-                          {"cv_gain_mm", f.cv_gain_mm},
-                          {"cv_gain_se_mm", f.cv_gain_se_mm},
+                          {"cv_gain_sigma", f.cv_gain},
+                          {"cv_gain_se_sigma", f.cv_gain_se},
                           {"bootstrap_share", f.bootstrap_share},
                           {"accepted", f.accepted}};
   };

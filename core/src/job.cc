@@ -166,7 +166,8 @@ void AddEffects(const ConfigNode& list, const std::string& robot, const std::str
   }
 }
 
-WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
+WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
+                            bool recording_must_exist) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"job", "description", "recording", "output", "plugin_paths", "world_target",
                    "camera_model", "use_tool_rotation", "robots", "noise", "solver",
@@ -183,7 +184,9 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry) {
       registry.LoadFolder(root.ResolvePath(folder));
     }
   }
-  job.recording = ReadRecordingPath(root["recording"]);
+  job.recording = recording_must_exist
+                      ? ReadRecordingPath(root["recording"])
+                      : root["recording"].ResolvePath(root["recording"].AsString());
   const std::string stem = std::filesystem::path(path).stem().string();
   job.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
                                   : "results/" + stem;

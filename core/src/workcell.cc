@@ -117,12 +117,16 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
     auto held_out = AssembleWorkcell(spec, recording, data, noise, trained, test);
     ResidualRms fold;
+    double normalized_ss = 0.0;
     for (const auto& row : ResidualRows(*held_out)) {
       if (row.kind != "position" || !IsCarried(recording, row.target)) continue;
       out.total.Add(row.error);
       out.per_camera[row.camera].Add(row.error);
       fold.Add(row.error);
+      normalized_ss += row.normalized.squaredNorm();
     }
+    out.per_fold_normalized_rms.push_back(
+        fold.count > 0 ? std::sqrt(normalized_ss / (3.0 * fold.count)) : 0.0);
     fold.Finish();
     out.per_fold.push_back(fold);
     progress.Advance();

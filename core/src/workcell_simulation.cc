@@ -95,22 +95,42 @@ Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* tr
     std::vector<const Effect*> effects;
     std::vector<const double*> values;
     ChainEffects(spec, robot, &effects, &values);
+    std::vector<std::pair<const ConcealedPhysics*, std::vector<ConcealedAction>>> hidden;
+    for (const auto& c : spec.concealed) {
+      if (c.robot.empty() || c.robot == robot.name) {
+        hidden.push_back({&c, ConcealedActions(c, recording, facts, spec.gravity_base)});
+      }
+    }
     for (size_t i = 0; i < recording.samples.size(); ++i) {
       const Sample& sample = recording.samples[i];
       if (sample.robot != robot.name) continue;
+      std::vector<double> params = robot.model_values;
+      double flange_scale = 0.0;
+      for (const auto& [physics, actions] : hidden) {
+        for (size_t j = 0; j < actions[i].dq.size(); ++j) {
+          const int offset = robot.model->JointOffsetParameter(static_cast<int>(j));
+          if (offset >= 0) params[offset] += actions[i].dq[j];
+        }
+        flange_scale += actions[i].flange_scale;
+      }
       Pose T_base_flange;
       EffectContext context = ContextOf(facts[i], spec.gravity_base);
-      if (!FlangeWithEffects(*robot.model, robot.model_values.data(), effects, values.data(),
-                             context, &T_base_flange)) {
+      if (!FlangeWithEffects(*robot.model, params.data(), effects, values.data(), context,
+                             &T_base_flange)) {
         throw InputError({"", 0, 0}, "the concealed effects move sample " +
                                          std::to_string(sample.id) + " out of the robot's reach",
                          "Use smaller effect values");
       }
+      T_base_flange.t *= 1.0 + flange_scale;
       for (const auto& [camera, T_world_cam] : spec.T_world_cam) {
         context.camera = camera;
         auto measure = [&](const std::string& target, Pose T_cam_target) {
           ApplyStage(EffectStage::kMeasurement, effects, values.data(), context,
                      T_cam_target.t.data());
+          for (const auto& [physics, actions] : hidden) {
+            const auto& shift = actions[i].camera_shift_mm;
+            if (shift && physics->camera == camera) T_cam_target.t += *shift;
+          }
           recording.observations.push_back(Measure(sample.id, camera, target, T_cam_target, spec, rng));
         };
         const Pose T_cam_world = T_world_cam.inverse();
@@ -143,6 +163,7 @@ Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* tr
       }
     }
     for (const auto& [camera, pose] : spec.T_world_cam) truth->frames[camera] = {"world", pose};
+    for (const auto& c : spec.concealed) truth->model["concealed." + c.kind + ".magnitude"] = c.magnitude;
   }
   return recording;
 }
@@ -311,7 +332,7 @@ std::vector<SimulatedEffect> ReadSimulatedEffects(const ConfigNode& list, const 
 WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"simulation", "description", "seed", "robots", "cameras", "world_target",
-                   "noise", "repeats", "images", "effects", "timeline"});
+                   "noise", "repeats", "images", "effects", "timeline", "concealed"});
   if (root["simulation"].AsString() != "workcell") {
     throw root["simulation"].Error("unknown simulation kind", "This version simulates: workcell");
   }
@@ -380,6 +401,11 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
         throw root["effects"].Error("'" + e.name + "' acts on a robot's joints or flange",
                                     "List it under that robot's effects:");
       }
+    }
+  }
+  if (root.Has("concealed")) {
+    for (const auto& node : root["concealed"].Elements()) {
+      spec.concealed.push_back(ReadConcealedPhysics(node));
     }
   }
   if (root.Has("timeline")) {

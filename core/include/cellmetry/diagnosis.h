@@ -17,16 +17,20 @@
 //      `refits` are refitted in full (nonlinear). The best refit is accepted only if
 //        a. its likelihood-ratio test passes at `alpha` after Holm's correction over the round,
 //        b. BIC falls,
-//        c. blocked cross-validated RMS (folds of whole poses) falls by more than its standard
-//           error over the folds,
+//        c. blocked cross-validated RMS (folds of whole poses; normalized by sigma, so that every
+//           axis weighs by its significance) falls by more than its standard error over folds,
 //        d. it is the best candidate in >= `bootstrap_share` of bootstrap resamples of poses
 //           (score statistics on the resampled, reweighted linearization);
-//      rounds stop when the residuals are consistent with the floor (chi-square at `alpha`)
-//   6. what remains: consistent with noise, or structured along the strongest regressor
+//      rounds stop when no candidate passes them all: the residuals are then consistent with the
+//      floor as far as the library can tell (the omnibus chi-square is reported too, but one
+//      effect among thousands of residual rows barely moves it)
+//   6. what remains: structured (a regressor still correlates with the residuals, Bonferroni
+//      at `alpha`, or the chi-square exceeds the floor) along the strongest regressor, or noise
 //
 // Candidates (default): for every robot joint, joint_compliance, backlash, transmission_error
-// (harmonics 1 and 2) and joint_scale, each on that joint alone; thermal_drift when the
-// recording has temperatures (or times: the warm-up model); depth_bias on every camera.
+// (harmonic 1 and harmonic 2, separately) and joint_scale, each on that joint alone;
+// thermal_drift (by temperature, or the warm-up model when the recording has only times);
+// depth_bias on every camera.
 #pragma once
 
 #include <map>
@@ -47,7 +51,8 @@ struct DiagnosisOptions {
   double alpha = 0.01;             // family-wise error rate of every test
   int bootstrap = 40;              // resamples of poses
   double bootstrap_share = 0.8;    // how often the chosen effect must win them
-  int folds = 5;                   // blocked cross-validation, by pose
+  int folds = 10;                  // blocked cross-validation, by pose (10: the standard error
+                                   // of the gain is steadier than with 5)
   int refits = 3;                  // best candidates by score refitted in full each round
   double min_unabsorbed = 0.05;    // below this share of its signature outside the geometry's
                                    // span, an effect is untestable with these poses
@@ -79,8 +84,8 @@ struct CandidateFinding {
   double p_lr_holm = 1.0;
   double delta_bic = 0.0;
   double cv_rms_mm = 0.0;           // held-out RMS with it, mm
-  double cv_gain_mm = 0.0;          // held-out RMS without it minus with it
-  double cv_gain_se_mm = 0.0;       // standard error of that gain over the folds
+  double cv_gain = 0.0;             // held-out normalized RMS without it minus with it (sigmas)
+  double cv_gain_se = 0.0;          // standard error of that gain over the folds
   double bootstrap_share = 0.0;
   bool accepted = false;
 };

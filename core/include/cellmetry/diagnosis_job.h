@@ -28,7 +28,8 @@ struct DiagnosisJob {
   std::vector<ConfigNode> candidate_configs;  // empty: DefaultCandidates
 };
 
-DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry);
+DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
+                              bool recording_must_exist = true);
 
 // The job's candidates: its own list (each named "<robot>.<type>_<k>") or the defaults.
 std::vector<CandidateEffect> JobCandidates(const DiagnosisJob& job, const Recording& recording,

@@ -32,7 +32,10 @@ struct WorkcellJob {
   SourceLocation Where(const std::string& key) const;
 };
 
-WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry);
+// `recording_must_exist`: false when the caller supplies the recording itself (the physics
+// suite simulates one per run); the job's `recording:` is then only resolved.
+WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
+                            bool recording_must_exist = true);
 
 // The `job:` kind of a job file ("workcell", "kinematic", "homing").
 std::string JobKind(const std::string& path);

@@ -79,6 +79,7 @@ struct HeldOut {
   ResidualRms total;                         // target positions, mm
   std::map<std::string, ResidualRms> per_camera;
   std::vector<ResidualRms> per_fold;         // the same folds for the same poses and seed
+  std::vector<double> per_fold_normalized_rms;  // the same, in sigmas (all axes weigh alike)
 };
 
 struct WorkcellResult {

@@ -10,7 +10,9 @@
 // flange effects) or at the top level (measurement effects), each
 //   {effect: {type: backlash, joints: [2]}, values: {j2.backlash: 0.002}}
 // with `timeline: {seconds_per_sample, temperature_start_c, temperature_end_c}` for drifts. The
-// true values go to truth.yaml's model section as <robot>.<type>.<parameter>.
+// true values go to truth.yaml's model section as <robot>.<type>.<parameter>. `concealed:` lists
+// physics that is not the library's (concealed_physics.h); truth.yaml records its magnitude as
+// concealed.<kind>.magnitude.
 //
 // With an `images:` section (image_simulation.h) the recording carries rendered images of every
 // camera instead of observations (WorkcellViews says what each camera sees): `cellmetry detect`
@@ -28,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "cellmetry/concealed_physics.h"
 #include "cellmetry/config_node.h"
 #include "cellmetry/effect.h"
 #include "cellmetry/image_simulation.h"
@@ -69,6 +72,7 @@ struct WorkcellSimulationSpec {
   int repeats = 1;          // captures per commanded pose
   unsigned seed = 1;
   std::vector<SimulatedEffect> measurement_effects;  // depth bias and the like
+  std::vector<ConcealedPhysics> concealed;           // physics outside the effect library
   SimulatedTimeline timeline;
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);
   std::optional<ConfigNode> images;  // render images instead of writing observations
