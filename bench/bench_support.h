@@ -9,16 +9,26 @@
 
 namespace cellmetry::bench {
 
-// A detector from its YAML block, with this build's plugins loaded (once) and progress quiet.
-inline std::unique_ptr<Detector> MakeDetector(const std::string& yaml) {
+// The registry with this build's plugins loaded (once), progress quiet.
+inline Registry& Plugins() {
   static const bool loaded = [] {
     Progress::SetQuiet(true);
     Registry::Global().LoadFolder(CELLMETRY_PLUGIN_DIR);
     return true;
   }();
   (void)loaded;
+  return Registry::Global();
+}
+
+// A file of the source tree, e.g. Source("configs/jobs/ur3_diagnose.yaml").
+inline std::string Source(const std::string& relative) {
+  return std::string(CELLMETRY_SOURCE_DIR) + "/" + relative;
+}
+
+// A detector from its YAML block.
+inline std::unique_ptr<Detector> MakeDetector(const std::string& yaml) {
   const ConfigNode config = ConfigNode::LoadString(yaml, "bench");
-  return Registry::Global().CreateDetector(config["type"].AsString(), config);
+  return Plugins().CreateDetector(config["type"].AsString(), config);
 }
 
 }  // namespace cellmetry::bench

@@ -127,9 +127,14 @@ std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
   for (int axis = 0; axis < 3; ++axis) {
     for (const auto& scope : scopes) {
       std::vector<Eigen::Index> rows;
+      // Over all cameras: the carried targets' rows (robot physics). Per camera: every position
+      // row of that camera, the world target's too (a camera that moved shifts them all).
       for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
-        if (lin.row_axis[i] == axis && IsToolPositionRow(lin, recording, i) &&
-            (scope.empty() || lin.rows[i].camera == scope)) {
+        const bool position = lin.rows[i].kind == ResidualInfo::Kind::kPosition &&
+                              lin.rows[i].observation >= 0;
+        if (lin.row_axis[i] == axis &&
+            (scope.empty() ? IsToolPositionRow(lin, recording, i)
+                           : position && lin.rows[i].camera == scope)) {
           rows.push_back(i);
         }
       }

@@ -1,0 +1,120 @@
+// The physics finder (diagnosis.h) on simulated UR3 cells: a concealed effect is found and named
+// with its joint, a clean recording gets no claim, a knocked camera is reported as unexplained,
+// and recordings that cannot support the tests are refused in words.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "cellmetry/diagnosis_job.h"
+#include "cellmetry/workcell_simulation.h"
+#include "support/test_support.h"
+
+namespace cellmetry {
+namespace {
+
+using ::testing::HasSubstr;
+
+class Diagnosis : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing::TempDirForThisTest("diagnosis");
+    std::string sim =
+        testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
+    sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+    sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");  // quick, still wide
+    testing::WriteText(dir_ + "/sim.yaml", sim);
+    base_ = LoadWorkcellSimulation(dir_ + "/sim.yaml", testing::Plugins());
+    std::string job = testing::ReadText(testing::Source("configs/jobs/ur3_diagnose.yaml"));
+    job = testing::ReplaceOnce(job, "model: ../robots/ur3.yaml",
+                               "model: " + testing::Source("configs/robots/ur3.yaml"));
+    testing::WriteText(dir_ + "/job.yaml", job);
+    job_ = LoadDiagnosisJob(dir_ + "/job.yaml", testing::Plugins(), false);
+    job_.options.bootstrap = 30;
+  }
+
+  DiagnosisResult Diagnose(const Recording& recording) {
+    const SolverMaker make_solver = [this] {
+      return testing::Plugins().CreateSolver(job_.workcell.solver_type,
+                                             *job_.workcell.solver_config);
+    };
+    return DiagnoseWorkcell(job_.workcell.problem, recording, make_solver,
+                            JobCandidates(job_, recording, testing::Plugins()), job_.options,
+                            dir_ + "/job.yaml");
+  }
+
+  std::string dir_;
+  WorkcellSimulationSpec base_;
+  DiagnosisJob job_;
+};
+
+TEST_F(Diagnosis, ConcealedComplianceIsNamedWithItsJointAndModelled) {
+  WorkcellSimulationSpec spec = base_;
+  SimulatedEffect e;
+  e.name = "ur3.joint_compliance";
+  e.effect = testing::Plugins().CreateEffect(
+      "joint_compliance",
+      ConfigNode::LoadString("{type: joint_compliance, joints: [3], "
+                             "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}", "test"),
+      *spec.robots[0].model);
+  e.values = {4e-5};
+  spec.robots[0].effects.push_back(e);
+  const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
+  ASSERT_FALSE(d.accepted.empty()) << DiagnosisReport(d);
+  EXPECT_EQ(d.accepted.front().name, "ur3.compliance_j3") << DiagnosisReport(d);
+  EXPECT_NEAR(d.accepted.front().parameters.at(0).value, 4e-5,
+              3 * d.accepted.front().parameters.at(0).sigma);
+  EXPECT_LT(d.final.held_out_rms_mm, 1.2 * d.floor_rms_mm);
+  EXPECT_GT(d.geometric.held_out_rms_mm, d.final.held_out_rms_mm);
+  EXPECT_THAT(DiagnosisReport(d), HasSubstr("Left out: joint 3 compliance under gravity"));
+}
+
+TEST_F(Diagnosis, CleanRecordingGetsNoClaim) {
+  const DiagnosisResult d = Diagnose(SimulateWorkcell(base_, nullptr));
+  EXPECT_TRUE(d.accepted.empty()) << DiagnosisReport(d);
+  EXPECT_TRUE(d.geometric.consistent_with_noise());
+  // Joint 1 turns about the vertical: its compliance cannot act, and the report says so.
+  EXPECT_THAT(DiagnosisReport(d), HasSubstr("joint 1 compliance (it does not act"));
+}
+
+TEST_F(Diagnosis, KnockedCameraIsUnexplainedNotForcedIntoAName) {
+  WorkcellSimulationSpec spec = base_;
+  ConcealedPhysics bump;
+  bump.kind = "camera_bump";
+  bump.camera = "cam1";
+  bump.magnitude = 0.15;  // mm, from the middle of the run on
+  spec.concealed.push_back(bump);
+  const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
+  EXPECT_TRUE(d.accepted.empty()) << DiagnosisReport(d);
+  EXPECT_THAT(d.unexplained, HasSubstr("in cam1")) << DiagnosisReport(d);
+}
+
+TEST_F(Diagnosis, TooFewPosesIsRefusedInWords) {
+  WorkcellSimulationSpec spec = base_;
+  spec.robots[0].joint_poses.resize(12);
+  const InputError e = testing::CatchInputError([&] { Diagnose(SimulateWorkcell(spec, nullptr)); });
+  EXPECT_THAT(e.message(), HasSubstr("too few samples for the tests: 12 poses"));
+  EXPECT_THAT(e.hint(), HasSubstr("Record more poses"));
+}
+
+TEST_F(Diagnosis, NoRepeatsAndNoSigmaIsRefusedInWords) {
+  job_.workcell.problem.noise = NoiseSpec{};
+  const InputError e = testing::CatchInputError([&] { Diagnose(SimulateWorkcell(base_, nullptr)); });
+  EXPECT_THAT(e.message(), HasSubstr("no repeated captures and no sigma given"));
+  EXPECT_THAT(e.hint(), HasSubstr("two or more times"));
+}
+
+TEST_F(Diagnosis, RegressorColumnWithNanIsRefusedWithFileAndLine) {
+  WorkcellTruth truth;
+  WriteRecording(SimulateWorkcell(base_, &truth), dir_ + "/rec");
+  const std::string samples = testing::ReadText(dir_ + "/rec/samples.csv");
+  std::string line5 = samples;
+  for (int i = 0; i < 4; ++i) line5 = line5.substr(line5.find('\n') + 1);
+  line5 = line5.substr(0, line5.find('\n'));
+  // samples.csv ends with t,temperature: the temperature of line 5 becomes NaN.
+  testing::EditLine(dir_ + "/rec/samples.csv", 5, line5.substr(0, line5.rfind(',')) + ",nan");
+  const InputError e = testing::CatchInputError([&] { ReadRecording(dir_ + "/rec"); });
+  EXPECT_THAT(e.what(), HasSubstr("samples.csv:5"));
+  EXPECT_THAT(e.message(), HasSubstr("temperature"));
+}
+
+}  // namespace
+}  // namespace cellmetry

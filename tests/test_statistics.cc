@@ -1,0 +1,48 @@
+// The physics finder's statistics against textbook values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cellmetry/statistics.h"
+
+namespace cellmetry {
+namespace {
+
+TEST(Statistics, ChiSquareTailsMatchTables) {
+  EXPECT_NEAR(ChiSquareSurvival(3.841459, 1), 0.05, 1e-6);
+  EXPECT_NEAR(ChiSquareSurvival(6.634897, 1), 0.01, 1e-7);
+  EXPECT_NEAR(ChiSquareSurvival(18.307038, 10), 0.05, 1e-6);
+  EXPECT_NEAR(ChiSquareSurvival(3000.0, 3000), 0.4949, 2e-3);  // about the median
+  EXPECT_DOUBLE_EQ(ChiSquareSurvival(0.0, 4), 1.0);
+  // Far in the tail the log stays exact where the probability underflows: for k = 2,
+  // P(X > x) = exp(-x / 2) exactly.
+  EXPECT_NEAR(ChiSquareLogSurvival(4000.0, 2), -2000.0, 1e-9);
+  EXPECT_NEAR(ChiSquareLogSurvival(18.307038, 10), std::log(0.05), 1e-5);
+}
+
+TEST(Statistics, NormalTail) {
+  EXPECT_NEAR(NormalSurvival(1.959964), 0.025, 1e-7);
+  EXPECT_NEAR(NormalSurvival(0.0), 0.5, 1e-15);
+}
+
+TEST(Statistics, HolmStepsDownAndStaysMonotone) {
+  // Holm (1979): sorted p 0.01, 0.02, 0.04 of three -> 0.03, 0.04, 0.04.
+  const auto adjusted = HolmAdjusted({0.04, 0.01, 0.02});
+  EXPECT_NEAR(adjusted[1], 0.03, 1e-15);
+  EXPECT_NEAR(adjusted[2], 0.04, 1e-15);
+  EXPECT_NEAR(adjusted[0], 0.04, 1e-15);
+  EXPECT_DOUBLE_EQ(HolmAdjusted({0.9, 0.8})[0], 1.0);  // capped at 1
+}
+
+TEST(Statistics, DurbinWatsonSeesDrift) {
+  std::vector<double> alternating, drifting;
+  for (int i = 0; i < 100; ++i) {
+    alternating.push_back(i % 2 ? 1.0 : -1.0);
+    drifting.push_back(std::sin(i * 0.05));
+  }
+  EXPECT_NEAR(DurbinWatson(alternating), 4.0, 0.05);  // negative correlation
+  EXPECT_LT(DurbinWatson(drifting), 0.1);              // slow drift
+}
+
+}  // namespace
+}  // namespace cellmetry
