@@ -1,34 +1,13 @@
 // Constructors and descriptions of the joint effects (joint_compliance.h, backlash.h,
 // transmission_error.h, joint_scale.h).
-#include <cstdio>
-
 #include "backlash.h"
+#include "describe.h"
 #include "joint_compliance.h"
 #include "joint_scale.h"
 #include "joint_selection.h"
 #include "transmission_error.h"
 
 namespace cellmetry::effects {
-namespace {
-
-std::string Number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", value);
-  return buffer;
-}
-
-// "joint 2 <what>, <name> = <value> <unit>; ..." for every parameter.
-std::string PerParameter(const std::string& what, const std::vector<Parameter>& parameters,
-                         const std::vector<double>& values) {
-  std::string out = what;
-  for (size_t k = 0; k < parameters.size() && k < values.size(); ++k) {
-    out += (k ? ", " : ": ") + parameters[k].name + " = " + Number(values[k]) + " " +
-           parameters[k].unit;
-  }
-  return out;
-}
-
-}  // namespace
 
 JointCompliance::JointCompliance(std::vector<int> joints, std::vector<double> link_masses_kg)
     : joints_(std::move(joints)), link_masses_kg_(std::move(link_masses_kg)) {
@@ -39,7 +18,7 @@ JointCompliance::JointCompliance(std::vector<int> joints, std::vector<double> li
 }
 
 std::string JointCompliance::Describe(const std::vector<double>& params) const {
-  return PerParameter(JointsInWords(joints_) + " compliance under gravity", parameters_, params);
+  return WithParameters(JointsInWords(joints_) + " compliance under gravity", parameters_, params);
 }
 
 Backlash::Backlash(std::vector<int> joints) : joints_(std::move(joints)) {
@@ -50,7 +29,7 @@ Backlash::Backlash(std::vector<int> joints) : joints_(std::move(joints)) {
 }
 
 std::string Backlash::Describe(const std::vector<double>& params) const {
-  return PerParameter(JointsInWords(joints_) + " backlash", parameters_, params);
+  return WithParameters(JointsInWords(joints_) + " backlash", parameters_, params);
 }
 
 TransmissionError::TransmissionError(std::vector<int> joints, std::vector<int> harmonics)
@@ -67,7 +46,7 @@ TransmissionError::TransmissionError(std::vector<int> joints, std::vector<int> h
 }
 
 std::string TransmissionError::Describe(const std::vector<double>& params) const {
-  return PerParameter(JointsInWords(joints_) + " gear transmission error", parameters_, params);
+  return WithParameters(JointsInWords(joints_) + " gear transmission error", parameters_, params);
 }
 
 JointScale::JointScale(std::vector<int> joints) : joints_(std::move(joints)) {
@@ -78,7 +57,7 @@ JointScale::JointScale(std::vector<int> joints) : joints_(std::move(joints)) {
 }
 
 std::string JointScale::Describe(const std::vector<double>& params) const {
-  return PerParameter(JointsInWords(joints_) + " gear ratio (joint scale) error", parameters_,
+  return WithParameters(JointsInWords(joints_) + " gear ratio (joint scale) error", parameters_,
                       params);
 }
 

@@ -1,20 +1,10 @@
 // Constructors and descriptions of the effects outside the joints (thermal_drift.h,
 // depth_bias.h).
-#include <cstdio>
-
 #include "depth_bias.h"
+#include "describe.h"
 #include "thermal_drift.h"
 
 namespace cellmetry::effects {
-namespace {
-
-std::string Number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", value);
-  return buffer;
-}
-
-}  // namespace
 
 ThermalDrift::ThermalDrift(Model model, double reference_c, double time_constant_s)
     : model_(model), reference_c_(reference_c), time_constant_s_(time_constant_s) {
@@ -51,12 +41,7 @@ DepthBias::DepthBias(std::vector<std::string> cameras, bool scale, bool quadrati
 }
 
 std::string DepthBias::Describe(const std::vector<double>& params) const {
-  std::string out = "camera depth bias";
-  for (size_t k = 0; k < parameters_.size() && k < params.size(); ++k) {
-    out += (k ? ", " : ": ") + parameters_[k].name + " = " + Number(params[k]) + " " +
-           parameters_[k].unit;
-  }
-  return out;
+  return WithParameters("camera depth bias", parameters_, params);
 }
 
 }  // namespace cellmetry::effects
