@@ -34,6 +34,8 @@ const std::vector<std::string>& EffectConfigs() {
       "{type: thermal_drift, reference_c: 20}",
       "{type: thermal_drift, model: warmup, time_constant_s: 600}",
       "{type: depth_bias, cameras: [cam1, cam2]}",
+      "{type: detection_bias, cameras: [cam2], targets: [world, tool], frame: target}",
+      "{type: detection_bias, cameras: [cam1, cam2], targets: [tool]}",
   };
   return configs;
 }
@@ -56,14 +58,25 @@ struct ContextFixture {
     context.temperature_c = 27.5;
     context.payload_kg = 0.5;
     context.camera = "cam2";
+    context.target = "tool";
   }
 };
 
+// The stage's values before the effect: joint errors, or a position (and, for measurements, the
+// target's rotation after it, column-major: a turn about (1, 2, 3)).
+std::vector<double> Untouched(const Effect& effect) {
+  if (effect.stage() == EffectStage::kJoint) return std::vector<double>(6, 0.0);
+  std::vector<double> values = {120.0, -80.0, 650.0};
+  if (effect.stage() == EffectStage::kMeasurement) {
+    const Eigen::Matrix3d R = RotationFromRvec(Eigen::Vector3d(0.1, 0.2, 0.3).data());
+    values.insert(values.end(), R.data(), R.data() + 9);
+  }
+  return values;
+}
+
 std::vector<double> Values(const Effect& effect, const EffectContext& context,
                            const std::vector<double>& params) {
-  std::vector<double> values =
-      effect.stage() == EffectStage::kJoint ? std::vector<double>(6, 0.0)
-                                            : std::vector<double>{120.0, -80.0, 650.0};
+  std::vector<double> values = Untouched(effect);
   effect.Apply(context, params.data(), values.data());
   return values;
 }
@@ -85,10 +98,8 @@ TEST(Effects, JetDerivativesMatchCentralDifferences) {
       std::vector<Jet> jets(n);
       for (size_t i = 0; i < n; ++i) jets[i] = Jet(params[i]);
       jets[k].v[0] = 1.0;
-      std::vector<Jet> values(base.size(), Jet(0.0));
-      if (effect->stage() != EffectStage::kJoint) {
-        values = {Jet(120.0), Jet(-80.0), Jet(650.0)};
-      }
+      std::vector<Jet> values;
+      for (double v : Untouched(*effect)) values.push_back(Jet(v));
       effect->Apply(fixture.context, jets.data(), values.data());
       const double h = 1e-7;
       std::vector<double> plus = params, minus = params;
@@ -112,11 +123,7 @@ TEST(Effects, ZeroParametersAreNoEffect) {
     SCOPED_TRACE(yaml);
     const auto effect = MakeEffect(yaml, *ur3);
     const std::vector<double> zero(effect->parameters().size(), 0.0);
-    const auto values = Values(*effect, fixture.context, zero);
-    const std::vector<double> untouched =
-        effect->stage() == EffectStage::kJoint ? std::vector<double>(6, 0.0)
-                                               : std::vector<double>{120.0, -80.0, 650.0};
-    EXPECT_EQ(values, untouched);
+    EXPECT_EQ(Values(*effect, fixture.context, zero), Untouched(*effect));
     EXPECT_FALSE(effect->Describe(zero).empty());
   }
 }

@@ -26,6 +26,22 @@ void ApplyStage(EffectStage stage, const std::vector<const Effect*>& effects,
   }
 }
 
+// The measurement effects on a predicted target pose, position and rotation (effect.h).
+template <typename T>
+void ApplyMeasurement(const std::vector<const Effect*>& effects, T const* const* effect_params,
+                      const EffectContext& context, Transform<T>* T_cam_target) {
+  T values[12];
+  for (int i = 0; i < 3; ++i) values[i] = T_cam_target->t[i];
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) values[3 + 3 * c + r] = T_cam_target->R(r, c);
+  }
+  ApplyStage(EffectStage::kMeasurement, effects, effect_params, context, values);
+  for (int i = 0; i < 3; ++i) T_cam_target->t[i] = values[i];
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) T_cam_target->R(r, c) = values[3 + 3 * c + r];
+  }
+}
+
 // T_base_flange with the joint and flange effects: the joint effects' dq enters through the
 // model's joint offset parameters. False where the model has no pose.
 template <typename T>
@@ -68,7 +84,7 @@ class EffectChainResidual {
                                                     : T_cam_world_measured_.cast<T>();
     Transform<T> predicted = T_cam_world * FrameFromBlock(blocks[0], refs_.world_base) *
                              T_base_flange * FrameFromBlock(blocks[1], refs_.flange_target);
-    ApplyStage(EffectStage::kMeasurement, effects_, effect_params, context_, predicted.t.data());
+    ApplyMeasurement(effects_, effect_params, context_, &predicted);
     comparison_.Compare(predicted, residual);
     return true;
   }
@@ -95,7 +111,7 @@ class WorldEffectResidual {
   template <typename T>
   bool operator()(T const* const* blocks, T* residual) const {
     Transform<T> predicted = CameraFromWorld(blocks[0], R_ref_camera_);
-    ApplyStage(EffectStage::kMeasurement, effects_, blocks + 1, context_, predicted.t.data());
+    ApplyMeasurement(effects_, blocks + 1, context_, &predicted);
     comparison_.Compare(predicted, residual);
     return true;
   }

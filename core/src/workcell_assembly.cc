@@ -215,9 +215,10 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
       chain_effects(robot.name, &effects, &effect_blocks);
       if (!effects.empty()) {
         const SampleFacts& facts = data.facts.at(m.sample_index);
-        auto* functor = new EffectChainResidual(
-            comparison, refs, robot.model.get(), ContextOf(facts, spec.gravity_base, obs.camera),
-            static_cameras, m.T_cam_world, effects);
+        EffectContext context = ContextOf(facts, spec.gravity_base, obs.camera);
+        context.target = obs.target;
+        auto* functor = new EffectChainResidual(comparison, refs, robot.model.get(), context,
+                                                static_cameras, m.T_cam_world, effects);
         auto* dynamic = new ceres::DynamicAutoDiffCostFunction<EffectChainResidual, kJetStride>(
             functor);
         blocks.push_back(out->model_block[m.robot]);
@@ -276,6 +277,7 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
         if (!effects.empty()) {
           EffectContext context;
           context.camera = obs.camera;
+          context.target = obs.target;
           auto* dynamic = new ceres::DynamicAutoDiffCostFunction<WorldEffectResidual, kJetStride>(
               new WorldEffectResidual(comparison, out->R_ref.at(camera), context, effects));
           for (int b : blocks) dynamic->AddParameterBlock(out->problem.block_parameters(b).size());

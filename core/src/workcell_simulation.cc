@@ -125,8 +125,8 @@ Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* tr
       for (const auto& [camera, T_world_cam] : spec.T_world_cam) {
         context.camera = camera;
         auto measure = [&](const std::string& target, Pose T_cam_target) {
-          ApplyStage(EffectStage::kMeasurement, effects, values.data(), context,
-                     T_cam_target.t.data());
+          context.target = target;
+          ApplyMeasurement(effects, values.data(), context, &T_cam_target);
           for (const auto& [physics, actions] : hidden) {
             const auto& shift = actions[i].camera_shift_mm;
             if (shift && physics->camera == camera) T_cam_target.t += *shift;
@@ -281,6 +281,13 @@ WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const Workcell
     if (p.at("held").get<bool>()) continue;
     const std::string name = p.at("name");
     const auto it = truth.model.find(name);
+    // A block the simulation has no truth for at all (a nuisance effect the job added, such as
+    // a detection bias) is not scored; a missing entry of a simulated block is an error.
+    const std::string block = name.substr(0, name.find('.', name.find('.') + 1) + 1);
+    const bool block_simulated = std::any_of(truth.model.begin(), truth.model.end(), [&](const auto& t) {
+      return t.first.rfind(block, 0) == 0;
+    });
+    if (it == truth.model.end() && !block_simulated) continue;
     if (it == truth.model.end()) {
       throw InputError({truth_origin, 0, 0}, "the truth has no model parameter '" + name + "'",
                        "Evaluate a result against the truth of the same simulation");

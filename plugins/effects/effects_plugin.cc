@@ -7,6 +7,7 @@
 #include "backlash.h"
 #include "cellmetry/registry.h"
 #include "depth_bias.h"
+#include "detection_bias.h"
 #include "joint_compliance.h"
 #include "joint_scale.h"
 #include "joint_selection.h"
@@ -81,6 +82,30 @@ std::unique_ptr<Effect> CreateDepthBias(const ConfigNode& config, const RobotMod
   return std::make_unique<DepthBias>(cameras, scale, quadratic);
 }
 
+std::unique_ptr<Effect> CreateDetectionBias(const ConfigNode& config, const RobotModel&) {
+  config.ExpectKeys({"type", "cameras", "targets", "prior_mm", "prior_rad", "frame"});
+  const std::string frame = config.GetString("frame", "camera");
+  if (frame != "camera" && frame != "target") {
+    throw config["frame"].Error("unknown frame '" + frame + "'", "Use camera or target");
+  }
+  std::vector<std::string> cameras, targets;
+  for (const auto& node : config["cameras"].Elements()) cameras.push_back(node.AsString());
+  for (const auto& node : config["targets"].Elements()) targets.push_back(node.AsString());
+  if (cameras.empty() || targets.empty()) {
+    throw config.Error("needs cameras: and targets:", "e.g. cameras: [cam1], targets: [tool]");
+  }
+  Eigen::Vector3d prior(0.1, 0.1, 0.3);
+  if (config.Has("prior_mm")) {
+    const ConfigNode node = config["prior_mm"];
+    const auto values = node.IsSequence() ? node.AsDoubles(3) : std::vector<double>(3, node.AsDouble());
+    prior = Eigen::Vector3d(values[0], values[1], values[2]);
+    if (!(prior.minCoeff() > 0)) throw node.Error("must be positive");
+  }
+  const double prior_rad = config.GetDouble("prior_rad", 0.5e-3);
+  if (!(prior_rad > 0)) throw config["prior_rad"].Error("must be positive");
+  return std::make_unique<DetectionBias>(cameras, targets, prior, prior_rad, frame == "target");
+}
+
 PluginInfo Info(std::string name, std::string description, std::vector<OptionDoc> options) {
   PluginInfo info;
   info.kind = PluginKind::kEffect;
@@ -122,4 +147,13 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                        {{"cameras", "", "", "cameras it acts on"},
                         {"terms", "", "[scale, quadratic]", "which terms"}}),
                       &fx::CreateDepthBias);
+  registry->AddEffect(Info("detection_bias",
+                           "a detector's systematic error repeating in one camera's view: p' = p + b",
+                           {{"cameras", "", "", "cameras it acts on"},
+                            {"targets", "", "", "targets it acts on"},
+                            {"prior_mm", "mm", "[0.1, 0.1, 0.3]",
+                             "expected size along x, y, z (Gaussian prior)"},
+                            {"prior_rad", "rad", "0.5e-3", "expected rotation error (prior)"},
+                            {"frame", "", "camera", "camera | target: the axes it is fixed in"}}),
+                      &fx::CreateDetectionBias);
 }

@@ -1,6 +1,7 @@
 // Constructors and descriptions of the effects outside the joints (thermal_drift.h,
 // depth_bias.h).
 #include "depth_bias.h"
+#include "detection_bias.h"
 #include "describe.h"
 #include "thermal_drift.h"
 
@@ -42,6 +43,30 @@ DepthBias::DepthBias(std::vector<std::string> cameras, bool scale, bool quadrati
 
 std::string DepthBias::Describe(const std::vector<double>& params) const {
   return WithParameters("camera depth bias", parameters_, params);
+}
+
+DetectionBias::DetectionBias(std::vector<std::string> cameras, std::vector<std::string> targets,
+                             const Eigen::Vector3d& prior_mm, double prior_rad,
+                             bool in_target_frame)
+    : cameras_(std::move(cameras)), targets_(std::move(targets)),
+      in_target_frame_(in_target_frame) {
+  for (const auto& camera : cameras_) {
+    for (const auto& target : targets_) {
+      const std::string axes = in_target_frame ? ", target axes" : ", camera axes";
+      for (int axis = 0; axis < 3; ++axis) {
+        parameters_.push_back({camera + "." + target + ".bias_" + "xyz"[axis], "mm", 0.0, false,
+                               {}, {}, prior_mm[axis], "systematic detection error" + axes});
+      }
+      for (int axis = 0; axis < 3; ++axis) {
+        parameters_.push_back({camera + "." + target + ".bias_r" + "xyz"[axis], "rad", 0.0, false,
+                               {}, {}, prior_rad, "systematic detection rotation" + axes});
+      }
+    }
+  }
+}
+
+std::string DetectionBias::Describe(const std::vector<double>& params) const {
+  return WithParameters("systematic detection error", parameters_, params);
 }
 
 }  // namespace cellmetry::effects

@@ -11,7 +11,8 @@
 //                 joint offset parameters (RobotModel::JointOffsetParameter), so every model that
 //                 has them (serial MDH offsets, delta homing) composes with every joint effect.
 //   kFlange       moves the flange position in the base frame (mm): thermal growth of the links.
-//   kMeasurement  changes a target position predicted in a camera frame (mm): depth bias.
+//   kMeasurement  changes a target position predicted in a camera frame (mm): depth bias, a
+//                 detector's systematic error.
 //
 // How much it acts depends on the sample (EffectContext): joint readings, the direction each
 // joint last moved (backlash), the joint frames (gravity torques), time, temperature, payload,
@@ -24,7 +25,8 @@
 //   void ApplyT(const EffectContext& context, const T* params, T* values) const;
 //
 // with `values` the stage's quantity: kJoint dq[num_joints] (zero on entry; add to it), kFlange
-// the flange position p_base_flange[3], kMeasurement the target position p_cam[3] (modify them).
+// the flange position p_base_flange[3] (modify it), kMeasurement the target position p_cam[3]
+// followed by its rotation R_cam_target[9], column-major (modify either).
 #pragma once
 
 #include <cmath>
@@ -53,6 +55,7 @@ struct EffectContext {
   double temperature_c = NAN;
   double payload_kg = 0.0;
   std::string camera;                    // kMeasurement: the camera of the observation
+  std::string target;                    // kMeasurement: the target it measured
 };
 
 // What an effect needs from a recording; the diagnosis calls an effect untestable, and says what
