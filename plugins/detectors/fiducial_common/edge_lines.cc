@@ -1,7 +1,5 @@
 #include "edge_lines.h"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -16,6 +14,7 @@ constexpr double kClean = 0.1;         // px an edge may move when its scans are
 constexpr double kMaxBand = 4.0;       // px: wider adds noise, not accuracy
 constexpr double kMinBand = 1.5;       // px: narrower cannot hold a ramp and its plateaus
 constexpr double kMinContrast = 15.0;  // gray levels between the plateaus
+constexpr double kMinOutlier = 0.1;    // px off a side's line: never an outlier below this
 constexpr int kMaxSamples = 64;
 constexpr int kMinPoints = 6;
 constexpr int kMaxPasses = 1;        // after the first, which measures the blur
@@ -27,15 +26,19 @@ struct Line {
   Eigen::Vector2d direction;  // unit
 };
 
-// Total least squares through `points`.
+// Total least squares through `points`: the scatter's major axis, in closed form (a 2 x 2
+// eigen-solver costs more than the rest of the fit).
 Line Fit(const std::vector<Eigen::Vector2d>& points) {
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
   for (const auto& p : points) mean += p;
   mean /= static_cast<double>(points.size());
-  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  for (const auto& p : points) scatter += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(scatter);
-  return {mean, eigen.eigenvectors().col(1)};  // the larger eigenvalue's vector
+  double xx = 0.0, xy = 0.0, yy = 0.0;
+  for (const auto& p : points) {
+    const Eigen::Vector2d d = p - mean;
+    xx += d.x() * d.x(), xy += d.x() * d.y(), yy += d.y() * d.y();
+  }
+  const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
+  return {mean, Eigen::Vector2d(std::cos(angle), std::sin(angle))};
 }
 
 // Samples v[k] at scan positions i0 + k, joined linearly. Positions are relative to i0 and
@@ -71,6 +74,20 @@ bool AreaEdge(const Scan& s, double lo, double hi, double plateau, double* edge)
   return true;
 }
 
+// The ramp's second moment about `edge`: steps of the edge's polarity (end minus start of the
+// scan) weighted by their size. Branch-free with one division: noise makes the sign of small
+// steps random, and a mispredicted branch per sample cost more than the sums.
+double RampWidth(const Scan& s, double guess, double w, double edge) {
+  const double polarity = s.At(guess + w) - s.At(guess - w) >= 0 ? 1.0 : -1.0;
+  double mass = 0.0, moment = 0.0;
+  for (int k = 0; k + 1 < s.n; ++k) {
+    const double step = std::max(0.0, polarity * (s.v[k + 1] - s.v[k]));
+    const double t = s.i0 + k + 0.5 - edge;
+    mass += step, moment += step * t * t;
+  }
+  return mass > 0 ? std::sqrt(moment / mass) : w;
+}
+
 // One scan along a pixel row (along_x) or column, at index `line`, around `guess` (px along the
 // scan), reaching w px either way: the edge crossing by the area method (edge_lines.h), the
 // ramp's second moment, and how much the crossing moves when the scan is cut to 0.6 w (a clean
@@ -98,17 +115,7 @@ bool ScanEdge(const ImageView& im, bool along_x, int line, double guess, double 
     if (!AreaEdge(scan, guess - 0.6 * w, guess + 0.6 * w, plateau, &inner)) return false;
     *shift = inner - *edge;
   }
-  if (width != nullptr) {
-    const double contrast = scan.At(guess + w) - scan.At(guess - w);
-    double mass = 0.0, moment = 0.0;
-    for (int k = 0; k + 1 < n; ++k) {
-      const double slope = (v[k + 1] - v[k]) / contrast;  // of the edge's polarity when positive
-      if (slope <= 0) continue;
-      const double t = i0 + k + 0.5 - *edge;
-      mass += slope, moment += slope * t * t;
-    }
-    *width = mass > 0 ? std::sqrt(moment / mass) : w;
-  }
+  if (width != nullptr) *width = RampWidth(scan, guess, w, *edge);
   return std::abs(*edge - guess) < w - plateau;
 }
 
@@ -121,6 +128,29 @@ struct SideScratch {
 double Median(std::vector<double>* values) {
   std::nth_element(values->begin(), values->begin() + values->size() / 2, values->end());
   return (*values)[values->size() / 2];
+}
+
+// `line` once more without the points far off it (a speck of dirt, a neighbour's edge): beyond 3
+// robust sigmas (1.4826 median absolute residual) and kMinOutlier. When no residual exceeds
+// kMinOutlier nothing can go, and the median (the costliest step of a side) is skipped.
+bool Refit(SideScratch* x, Line* line) {
+  const Eigen::Vector2d n(-line->direction.y(), line->direction.x());
+  x->residual.clear();
+  double largest = 0.0;
+  for (const auto& p : x->points) {
+    x->residual.push_back(std::abs((p - line->point).dot(n)));
+    largest = std::max(largest, x->residual.back());
+  }
+  if (largest <= kMinOutlier) return true;
+  x->sorted = x->residual;
+  const double limit = std::max(kMinOutlier, 3.0 * 1.4826 * Median(&x->sorted));
+  x->kept.clear();
+  for (size_t i = 0; i < x->points.size(); ++i) {
+    if (x->residual[i] <= limit) x->kept.push_back(x->points[i]);
+  }
+  if (static_cast<int>(x->kept.size()) < kMinPoints) return false;
+  if (x->kept.size() < x->points.size()) *line = Fit(x->kept);
+  return true;
 }
 
 // Edge points on the side p0 -> p1 (its first `skip0` and last `skip1` px left out), one per
@@ -156,19 +186,7 @@ bool SideLine(const ImageView& im, const Eigen::Vector2d& p0, const Eigen::Vecto
   if (sigma != nullptr) *sigma = Median(&x.widths);
   if (shift != nullptr) *shift = Median(&x.shifts);
   *line = Fit(x.points);
-  // Once more without the points far off the line (a speck of dirt, a neighbour's edge).
-  const Eigen::Vector2d n(-line->direction.y(), line->direction.x());
-  x.residual.clear();
-  for (const auto& p : x.points) x.residual.push_back(std::abs((p - line->point).dot(n)));
-  x.sorted = x.residual;
-  const double limit = std::max(0.1, 3.0 * 1.4826 * Median(&x.sorted));
-  x.kept.clear();
-  for (size_t i = 0; i < x.points.size(); ++i) {
-    if (x.residual[i] <= limit) x.kept.push_back(x.points[i]);
-  }
-  if (static_cast<int>(x.kept.size()) < kMinPoints) return false;
-  if (x.kept.size() < x.points.size()) *line = Fit(x.kept);
-  return true;
+  return Refit(&x, line);
 }
 
 bool Intersect(const Line& a, const Line& b, Eigen::Vector2d* point) {
