@@ -70,7 +70,7 @@ std::pair<double, double> CvGain(const HeldOut& before, const HeldOut& after) {
 }
 
 // Checks the recording can support the tests at all.
-void CheckInputs(const WorkcellProblem& spec, const Recording& recording,
+void CheckInputs(const NoiseModel& noise, const Recording& recording,
                  const DiagnosisOptions& options, const std::string& origin,
                  std::string* noise_source) {
   std::set<int> poses;
@@ -82,7 +82,6 @@ void CheckInputs(const WorkcellProblem& spec, const Recording& recording,
                          std::to_string(options.min_poses),
                      "Record more poses spread over the workspace");
   }
-  const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
   std::set<std::string> sources;
   for (const auto& obs : recording.observations) {
     const TargetNoise& n = noise.at(obs.camera, obs.target);
@@ -139,11 +138,11 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
                                  const std::vector<CandidateEffect>& candidates,
                                  const DiagnosisOptions& options, const std::string& origin) {
   DiagnosisResult out;
-  CheckInputs(spec, recording, options, origin, &out.noise_source);
+  const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
+  CheckInputs(noise, recording, options, origin, &out.noise_source);
   WorkcellProblem all = spec;
   for (const auto& c : candidates) all.effects.push_back(c.effect);
   const WorkcellData data = PrepareWorkcellData(all, recording);  // with every sample's facts
-  const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
   const std::vector<Regressor> regressors = SampleRegressors(
       recording, data.facts, options.link_masses_kg, spec.gravity_base);
 
