@@ -91,7 +91,12 @@ void InitialBaseAndTools(const WorkcellRobot& robot, const std::vector<RobotPoin
       }
       b.segment<3>(3 * i) = rhs;
     }
-    const Eigen::VectorXd x = A.colPivHouseholderQr().solve(b);
+    // Minimum norm: where the poses cannot separate base and tool translations (a delta's
+    // flange never turns, so only their sum is seen), neither runs off to 1e12 mm; the fit's
+    // identifiability check then says which to hold.
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    svd.setThreshold(1e-9);
+    const Eigen::VectorXd x = svd.solve(b);
     double change = 0.0;
     for (size_t c = 0; c < columns.size(); ++c) {
       const auto [tool, axis] = columns[c];
