@@ -174,6 +174,144 @@ TEST(EffectContext, ApproachDirectionFollowsCaptureOrderAndSurvivesRepeats) {
   EXPECT_THAT(MissingFacts({.joint_frames = true}, facts), ::testing::HasSubstr("joint frames"));
 }
 
+// Compliance follows the load: the same pose with a payload deflects each joint by c times the
+// payload's own gravity torque more.
+TEST(Effects, ComplianceFollowsThePayload) {
+  const auto ur3 = Ur3();
+  ContextFixture fixture(*ur3);
+  const auto compliance = MakeEffect("{type: joint_compliance, joints: [2, 3]}", *ur3);
+  const std::vector<double> c = {2e-4, 1e-4};
+  fixture.context.payload_kg = 0.0;
+  const std::vector<double> empty = Values(*compliance, fixture.context, c);
+  fixture.context.payload_kg = 1.5;
+  const std::vector<double> loaded = Values(*compliance, fixture.context, c);
+  const std::vector<double> payload_only = GravityTorques(
+      fixture.frames, std::vector<double>(6, 0.0), 1.5, fixture.context.gravity_base);
+  EXPECT_NEAR(loaded[1] - empty[1], c[0] * payload_only[1], 1e-15);
+  EXPECT_NEAR(loaded[2] - empty[2], c[1] * payload_only[2], 1e-15);
+  EXPECT_GT(std::abs(payload_only[1]), 1.0);  // N m: the pose loads joint 2
+}
+
+// A simulation cycles its payloads over the poses and records them.
+TEST(EffectsInWorkcell, SimulatedPayloadsCycleOverThePoses) {
+  const std::string dir = testing::TempDirForThisTest("payloads");
+  std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "payloads_kg: [0, 1.0]", "payloads_kg: [0, 1.0, 2.5]");
+  testing::WriteText(dir + "/sim.yaml", sim);
+  const Recording recording =
+      SimulateWorkcell(LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins()), nullptr);
+  WriteRecording(recording, dir + "/rec");
+  const Recording read = ReadRecording(dir + "/rec");
+  ASSERT_GE(read.samples.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    ASSERT_TRUE(read.samples[i].payload_kg.has_value());
+    EXPECT_EQ(*read.samples[i].payload_kg, std::vector<double>({0, 1.0, 2.5})[read.samples[i].pose % 3]);
+  }
+}
+
+// The delta arm's effects (platform_tilt, ball_joint_clearance) read its rods.
+std::shared_ptr<const RobotModel> Delta() {
+  return testing::Plugins().CreateRobotModel(
+      "delta", ConfigNode::LoadFile(testing::Source("configs/robots/delta.yaml")));
+}
+
+struct DeltaContext {
+  std::vector<double> q;
+  std::vector<ParallelLink> links;
+  EffectContext context;
+  DeltaContext(const RobotModel& delta, std::vector<double> q_rad) : q(std::move(q_rad)) {
+    std::vector<double> nominal;
+    for (const auto& p : delta.parameters()) nominal.push_back(p.nominal);
+    EXPECT_TRUE(delta.ParallelLinks(q.data(), nominal.data(), &links));
+    context.num_joints = 3;
+    context.q = q.data();
+    context.links = &links;
+  }
+};
+
+// A flange pose as the flange stage's values: position, then rotation column-major.
+std::vector<double> FlangeValues() {
+  std::vector<double> values = {20.0, -35.0, -610.0};
+  const Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  values.insert(values.end(), R.data(), R.data() + 9);
+  return values;
+}
+
+TEST(DeltaEffects, JetDerivativesMatchCentralDifferences) {
+  const auto delta = Delta();
+  const DeltaContext fixture(*delta, {0.2, 0.7, -0.1});
+  for (const std::string yaml : {"{type: platform_tilt}", "{type: ball_joint_clearance, arms: [1, 3]}"}) {
+    SCOPED_TRACE(yaml);
+    const auto effect = MakeEffect(yaml, *delta);
+    const size_t n = effect->parameters().size();
+    const std::vector<double> params = {2e-3, -1e-3, 3e-3};
+    auto apply = [&](const std::vector<double>& p) {
+      std::vector<double> values = FlangeValues();
+      effect->Apply(fixture.context, p.data(), values.data());
+      return values;
+    };
+    for (size_t k = 0; k < n; ++k) {
+      std::vector<Jet> jets(n), values;
+      for (size_t i = 0; i < n; ++i) jets[i] = Jet(params[i]);
+      jets[k].v[0] = 1.0;
+      for (double v : FlangeValues()) values.push_back(Jet(v));
+      effect->Apply(fixture.context, jets.data(), values.data());
+      std::vector<double> plus(params.begin(), params.begin() + n), minus = plus;
+      plus[k] += 1e-7, minus[k] -= 1e-7;
+      const auto up = apply(plus), down = apply(minus);
+      for (size_t i = 0; i < values.size(); ++i) {
+        const double numeric = (up[i] - down[i]) / 2e-7;
+        EXPECT_NEAR(values[i].v[0], numeric, 1e-6 * (1 + std::abs(numeric))) << i;
+      }
+    }
+  }
+}
+
+// Equal skew on all three parallelograms at the symmetric pose twists the platform about the
+// vertical; equal clearance lowers it straight down (the rods lengthen alike).
+TEST(DeltaEffects, SymmetricArmsTwistAndLowerThePlatformAboutTheVertical) {
+  const auto delta = Delta();
+  const DeltaContext symmetric(*delta, {0.4, 0.4, 0.4});
+  const auto tilt = MakeEffect("{type: platform_tilt}", *delta);
+  std::vector<double> values = FlangeValues();
+  const std::vector<double> skew = {1e-3, 1e-3, 1e-3};
+  tilt->Apply(symmetric.context, skew.data(), values.data());
+  const Eigen::Map<const Eigen::Matrix3d> R(values.data() + 3);
+  const Eigen::Vector3d w = RvecFromRotation(R);
+  EXPECT_GT(w.norm(), 1e-4);
+  EXPECT_NEAR(w.head<2>().norm(), 0.0, 1e-9 * w.norm() + 1e-12) << w.transpose();
+  // Each arm's constraint holds: (e_i x u_i) . w = skew_i.
+  for (const auto& link : symmetric.links) {
+    EXPECT_NEAR(link.pair_axis.cross(link.direction).dot(w), 1e-3, 1e-9);
+  }
+
+  const auto clearance = MakeEffect("{type: ball_joint_clearance}", *delta);
+  values = FlangeValues();
+  const std::vector<double> play = {0.1, 0.1, 0.1};
+  clearance->Apply(symmetric.context, play.data(), values.data());
+  const Eigen::Vector3d moved = Eigen::Vector3d(values[0], values[1], values[2]) -
+                                Eigen::Vector3d(20.0, -35.0, -610.0);
+  EXPECT_LT(moved.z(), 0.0);  // the platform sinks
+  EXPECT_NEAR(moved.head<2>().norm(), 0.0, 1e-12);
+  // The tensions' shares of the weight add up to it along the vertical.
+  Eigen::Vector3d pull = Eigen::Vector3d::Zero();
+  for (const auto& link : symmetric.links) pull += link.direction;
+  EXPECT_GT(pull.z(), 0.0);  // the rods hold the platform up
+}
+
+TEST(DeltaEffects, SerialArmIsRefusedInWords) {
+  const auto ur3 = Ur3();
+  try {
+    MakeEffect("{type: platform_tilt}", *ur3);
+    FAIL() << "a serial arm has no parallelograms";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("delta"));
+  }
+  const auto delta = Delta();
+  EXPECT_THROW(MakeEffect("{type: ball_joint_clearance, arms: [4]}", *delta), InputError);
+}
+
 // Synthetic ground truth: the UR3 on the simulation-B path with a concealed effect; the
 // identification with that effect in the chain recovers it within 3 sigma.
 void ExpectRecovered(const std::string& robot_effects, const std::string& camera_effects,

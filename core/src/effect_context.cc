@@ -27,6 +27,7 @@ std::vector<SampleFacts> GatherSampleFacts(const Recording& recording, const std
     if (!model.JointFrames(sample.q.data(), nominal_params.data(), &f.T_base_joint)) {
       f.T_base_joint.clear();
     }
+    if (!model.ParallelLinks(sample.q.data(), nominal_params.data(), &f.links)) f.links.clear();
     f.time_s = sample.time_s.value_or(NAN);
     f.temperature_c = sample.temperature_c.value_or(NAN);
     f.payload_kg = sample.payload_kg.value_or(0.0);
@@ -41,6 +42,7 @@ EffectContext ContextOf(const SampleFacts& facts, const Eigen::Vector3d& gravity
   context.q = facts.q.data();
   context.approach = facts.approach.data();
   context.T_base_joint = &facts.T_base_joint;
+  context.links = &facts.links;
   context.gravity_base = gravity_base;
   context.time_s = facts.time_s;
   context.temperature_c = facts.temperature_c;
@@ -50,11 +52,12 @@ EffectContext ContextOf(const SampleFacts& facts, const Eigen::Vector3d& gravity
 }
 
 std::string MissingFacts(const EffectNeeds& needs, const std::vector<SampleFacts>& facts) {
-  bool frames = false, time = false, temperature = false;
+  bool frames = false, links = false, time = false, temperature = false;
   std::vector<bool> up, down;
   for (const auto& f : facts) {
     if (f.q.empty()) continue;
     frames |= !f.T_base_joint.empty();
+    links |= !f.links.empty();
     time |= std::isfinite(f.time_s);
     temperature |= std::isfinite(f.temperature_c);
     up.resize(f.approach.size()), down.resize(f.approach.size());
@@ -64,6 +67,7 @@ std::string MissingFacts(const EffectNeeds& needs, const std::vector<SampleFacts
     }
   }
   if (needs.joint_frames && !frames) return "a robot model with joint frames (gravity torques)";
+  if (needs.parallel_links && !links) return "a parallel arm (a delta's rods)";
   if (needs.time && !time) return "capture times (samples.csv column t)";
   if (needs.temperature && !temperature) return "temperatures (samples.csv column temperature)";
   if (needs.approach) {

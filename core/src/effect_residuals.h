@@ -3,7 +3,7 @@
 // The prediction of workcell_residuals.h with the effects of effect.h in the chain:
 //
 //   q -> dq (joint effects, through the model's joint offsets) -> T_base_flange
-//     -> flange effects (position) -> T_cam_target -> measurement effects (position in camera)
+//     -> flange effects (pose) -> T_cam_target -> measurement effects (position in camera)
 //
 // Blocks: base, tool, [camera,] robot model, then one block per effect in `effects` order.
 // Evaluated with ceres::DynamicAutoDiffCostFunction: effects and robot models are templates.
@@ -26,20 +26,31 @@ void ApplyStage(EffectStage stage, const std::vector<const Effect*>& effects,
   }
 }
 
+// A pose as a stage's values (effect.h): position, then rotation column-major.
+template <typename T>
+void PackPose(const Transform<T>& pose, T* values) {
+  for (int i = 0; i < 3; ++i) values[i] = pose.t[i];
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) values[3 + 3 * c + r] = pose.R(r, c);
+  }
+}
+
+template <typename T>
+void UnpackPose(const T* values, Transform<T>* pose) {
+  for (int i = 0; i < 3; ++i) pose->t[i] = values[i];
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) pose->R(r, c) = values[3 + 3 * c + r];
+  }
+}
+
 // The measurement effects on a predicted target pose, position and rotation (effect.h).
 template <typename T>
 void ApplyMeasurement(const std::vector<const Effect*>& effects, T const* const* effect_params,
                       const EffectContext& context, Transform<T>* T_cam_target) {
   T values[12];
-  for (int i = 0; i < 3; ++i) values[i] = T_cam_target->t[i];
-  for (int c = 0; c < 3; ++c) {
-    for (int r = 0; r < 3; ++r) values[3 + 3 * c + r] = T_cam_target->R(r, c);
-  }
+  PackPose(*T_cam_target, values);
   ApplyStage(EffectStage::kMeasurement, effects, effect_params, context, values);
-  for (int i = 0; i < 3; ++i) T_cam_target->t[i] = values[i];
-  for (int c = 0; c < 3; ++c) {
-    for (int r = 0; r < 3; ++r) T_cam_target->R(r, c) = values[3 + 3 * c + r];
-  }
+  UnpackPose(values, T_cam_target);
 }
 
 // T_base_flange with the joint and flange effects: the joint effects' dq enters through the
@@ -57,7 +68,10 @@ bool FlangeWithEffects(const RobotModel& model, const T* model_params,
     if (offset >= 0) params[offset] += dq[j];
   }
   if (!model.Forward(context.q, params.data(), T_base_flange)) return false;
-  ApplyStage(EffectStage::kFlange, effects, effect_params, context, T_base_flange->t.data());
+  T values[12];
+  PackPose(*T_base_flange, values);
+  ApplyStage(EffectStage::kFlange, effects, effect_params, context, values);
+  UnpackPose(values, T_base_flange);
   return true;
 }
 

@@ -1,16 +1,19 @@
 // Registers the effect library: joint_compliance, backlash, transmission_error, joint_scale,
-// thermal_drift, depth_bias (one header each says its physics).
+// thermal_drift, depth_bias, detection_bias, platform_tilt, ball_joint_clearance (one header
+// each says its physics).
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "backlash.h"
+#include "ball_joint_clearance.h"
 #include "cellmetry/registry.h"
 #include "depth_bias.h"
 #include "detection_bias.h"
 #include "joint_compliance.h"
 #include "joint_scale.h"
 #include "joint_selection.h"
+#include "platform_tilt.h"
 #include "thermal_drift.h"
 #include "transmission_error.h"
 
@@ -106,6 +109,43 @@ std::unique_ptr<Effect> CreateDetectionBias(const ConfigNode& config, const Robo
   return std::make_unique<DetectionBias>(cameras, targets, prior, prior_rad, frame == "target");
 }
 
+// `arms: [1, 3]` (1-based; default all three) of a parallel arm; an error for a serial arm.
+std::vector<int> SelectArms(const ConfigNode& config, const RobotModel& robot) {
+  std::vector<ParallelLink> links;
+  const std::vector<double> q(robot.num_joints(), 0.0);
+  std::vector<double> nominal;
+  for (const auto& p : robot.parameters()) nominal.push_back(p.nominal);
+  if (!robot.ParallelLinks(q.data(), nominal.data(), &links)) {
+    throw config["type"].Error("'" + config["type"].AsString() + "' acts on a parallel arm's "
+                               "links (a delta arm); this robot model has none",
+                               "Use it with a delta robot, or remove it");
+  }
+  std::vector<int> arms;
+  if (!config.Has("arms")) {
+    for (size_t i = 0; i < links.size(); ++i) arms.push_back(static_cast<int>(i));
+    return arms;
+  }
+  for (const auto& node : config["arms"].Elements()) {
+    const int arm = node.AsInt();
+    if (arm < 1 || arm > static_cast<int>(links.size())) {
+      throw node.Error("no arm " + std::to_string(arm) + " (the robot has " +
+                       std::to_string(links.size()) + ")");
+    }
+    arms.push_back(arm - 1);
+  }
+  return arms;
+}
+
+std::unique_ptr<Effect> CreatePlatformTilt(const ConfigNode& config, const RobotModel& robot) {
+  config.ExpectKeys({"type", "arms"});
+  return std::make_unique<PlatformTilt>(SelectArms(config, robot));
+}
+
+std::unique_ptr<Effect> CreateClearance(const ConfigNode& config, const RobotModel& robot) {
+  config.ExpectKeys({"type", "arms"});
+  return std::make_unique<BallJointClearance>(SelectArms(config, robot));
+}
+
 PluginInfo Info(std::string name, std::string description, std::vector<OptionDoc> options) {
   PluginInfo info;
   info.kind = PluginKind::kEffect;
@@ -156,4 +196,13 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                             {"prior_rad", "rad", "0.5e-3", "expected rotation error (prior)"},
                             {"frame", "", "camera", "camera | target: the axes it is fixed in"}}),
                       &fx::CreateDetectionBias);
+  const cellmetry::OptionDoc arms{"arms", "", "all", "1-based arms of a delta it acts on"};
+  registry->AddEffect(Info("platform_tilt",
+                           "delta parallelograms out of true: the platform tilts, (e_i x u_i).w = k_i",
+                           {arms}),
+                      &fx::CreatePlatformTilt);
+  registry->AddEffect(Info("ball_joint_clearance",
+                           "delta ball-joint play along the rod force: u_i.dp = -c_i s_i",
+                           {arms}),
+                      &fx::CreateClearance);
 }

@@ -10,13 +10,14 @@
 //   kJoint        adds dq (rad) to the joint angles. The core adds it through the robot model's
 //                 joint offset parameters (RobotModel::JointOffsetParameter), so every model that
 //                 has them (serial MDH offsets, delta homing) composes with every joint effect.
-//   kFlange       moves the flange position in the base frame (mm): thermal growth of the links.
+//   kFlange       moves and turns the flange in the base frame (mm, rotation matrix): thermal
+//                 growth of the links, a delta platform tilted by its parallelograms.
 //   kMeasurement  changes a target position predicted in a camera frame (mm): depth bias, a
 //                 detector's systematic error.
 //
 // How much it acts depends on the sample (EffectContext): joint readings, the direction each
 // joint last moved (backlash), the joint frames (gravity torques), time, temperature, payload,
-// camera. A zero parameter vector is always "no effect".
+// camera, a parallel arm's links (delta rods). A zero parameter vector is always "no effect".
 //
 // Derivatives are exact: an effect is written once as a template on the scalar type and exposed
 // through a double and a Jet overload. Derive from EffectFromTemplate<YourEffect> and give it
@@ -25,8 +26,9 @@
 //   void ApplyT(const EffectContext& context, const T* params, T* values) const;
 //
 // with `values` the stage's quantity: kJoint dq[num_joints] (zero on entry; add to it), kFlange
-// the flange position p_base_flange[3] (modify it), kMeasurement the target position p_cam[3]
-// followed by its rotation R_cam_target[9], column-major (modify either).
+// the flange position p_base_flange[3] followed by its rotation R_base_flange[9], column-major,
+// kMeasurement the target position p_cam[3] followed by its rotation R_cam_target[9] (modify
+// either).
 #pragma once
 
 #include <cmath>
@@ -50,6 +52,8 @@ struct EffectContext {
   const std::vector<Pose>* T_base_joint = nullptr;  // joint i's frame (z = its axis) at nominal
                                                     // geometry, then the flange; empty when the
                                                     // robot model has no joint frames
+  const std::vector<ParallelLink>* links = nullptr;  // a parallel arm's links at nominal
+                                                     // geometry; empty for serial arms
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2, in the base frame
   double time_s = NAN;
   double temperature_c = NAN;
@@ -66,6 +70,7 @@ struct EffectNeeds {
   bool time = false;
   bool temperature = false;
   bool payload = false;
+  bool parallel_links = false;  // a parallel arm (RobotModel::ParallelLinks)
 };
 
 class Effect {

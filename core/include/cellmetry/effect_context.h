@@ -5,6 +5,7 @@
 //                 (samples.csv order); repeated captures of a pose keep the sign they came with;
 //                 0 until the joint first moves
 //   joint frames  RobotModel::JointFrames at the nominal parameters (gravity torques)
+//   links         RobotModel::ParallelLinks at the nominal parameters (delta rods)
 //   time, temperature, payload   from samples.csv when recorded
 #pragma once
 
@@ -21,6 +22,7 @@ struct SampleFacts {
   std::vector<double> q;
   std::vector<int> approach;
   std::vector<Pose> T_base_joint;  // empty when the model has no joint frames
+  std::vector<ParallelLink> links;  // empty for serial arms
   double time_s = NAN;
   double temperature_c = NAN;
   double payload_kg = 0.0;

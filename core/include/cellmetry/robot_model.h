@@ -56,6 +56,13 @@ struct RobotLimits {
   std::optional<CylinderWorkspace> workspace;
 };
 
+// One link of a parallel arm between its moving platform and an arm (a delta's rod pair), in the
+// base frame. Effects on the links (a tilted platform, ball-joint clearance) act through them.
+struct ParallelLink {
+  Eigen::Vector3d direction;  // unit, from the platform joint toward the arm's elbow
+  Eigen::Vector3d pair_axis;  // unit, along which the parallelogram's two rods are spaced
+};
+
 class RobotModel {
  public:
   virtual ~RobotModel() = default;
@@ -78,6 +85,12 @@ class RobotModel {
   // arm's motors do not carry each other); effects that need gravity torques then cannot act.
   virtual bool JointFrames(const double* /*q*/, const double* /*params*/,
                            std::vector<Pose>* /*T_base_joint*/) const {
+    return false;
+  }
+
+  // A parallel arm's links at (q, params), one per arm. False for serial arms.
+  virtual bool ParallelLinks(const double* /*q*/, const double* /*params*/,
+                             std::vector<ParallelLink>* /*links*/) const {
     return false;
   }
 

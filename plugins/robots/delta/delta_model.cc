@@ -32,6 +32,23 @@ DeltaModel::DeltaModel(std::array<Arm, kArms> arms, Pose marker_offset, RobotLim
   }
 }
 
+bool DeltaModel::ParallelLinks(const double* q, const double* params,
+                               std::vector<ParallelLink>* links) const {
+  Transform<double> T_base_flange;
+  if (!ForwardT(q, params, &T_base_flange)) return false;
+  links->clear();
+  for (int i = 0; i < kArms; ++i) {
+    const double* arm = params + kParamsPerArm * i;
+    const double theta = q[i] + arm[kHoming];
+    const double rho = arm[kR] - arm[kSmallR] + arm[kL] * std::cos(theta);
+    const Vector3<double> centre(rho * sin_alpha_[i], -rho * cos_alpha_[i],
+                                 -arm[kL] * std::sin(theta));
+    links->push_back({(centre - T_base_flange.t).normalized(),
+                      Eigen::Vector3d(cos_alpha_[i], sin_alpha_[i], 0.0)});
+  }
+  return true;
+}
+
 std::string DeltaModel::ForwardFailure(const double* q, const double* params) const {
   std::array<Vector3<double>, kArms> centre;
   std::array<double, kArms> radius;

@@ -48,6 +48,10 @@ class DeltaModel : public InvertibleRobotModelFromTemplate<DeltaModel> {
   std::string ForwardFailure(const double* q, const double* params) const override;
   std::string InverseFailure(const double* position, const double* params) const override;
   int JointOffsetParameter(int joint) const override { return kParamsPerArm * joint + kHoming; }
+  // Rod pair i: from the effector joint toward the elbow (J'_i - E, the forward model's sphere
+  // centre minus the effector centre), spaced along the motor axis (the arm plane's normal).
+  bool ParallelLinks(const double* q, const double* params,
+                     std::vector<ParallelLink>* links) const override;
 
   template <typename T>
   bool ForwardT(const double* q, const T* params, Transform<T>* T_base_flange) const {
