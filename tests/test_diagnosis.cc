@@ -109,11 +109,54 @@ TEST_F(Diagnosis, RegressorColumnWithNanIsRefusedWithFileAndLine) {
   std::string line5 = samples;
   for (int i = 0; i < 4; ++i) line5 = line5.substr(line5.find('\n') + 1);
   line5 = line5.substr(0, line5.find('\n'));
-  // samples.csv ends with t,temperature: the temperature of line 5 becomes NaN.
+  // samples.csv ends with t,temperature,payload: the payload of line 5 becomes NaN.
+  ASSERT_THAT(samples.substr(0, samples.find('\n')), ::testing::EndsWith(",payload"));
   testing::EditLine(dir_ + "/rec/samples.csv", 5, line5.substr(0, line5.rfind(',')) + ",nan");
   const InputError e = testing::CatchInputError([&] { ReadRecording(dir_ + "/rec"); });
   EXPECT_THAT(e.what(), HasSubstr("samples.csv:5"));
-  EXPECT_THAT(e.message(), HasSubstr("temperature"));
+  EXPECT_THAT(e.message(), HasSubstr("payload"));
+}
+
+// The delta cell (configs/simulations/delta_physics_base.yaml): a parallelogram out of true is
+// found and named with its arm, with the delta's geometry calibrated alongside.
+TEST(DeltaDiagnosis, SkewedParallelogramIsNamedWithItsArm) {
+  const std::string dir = testing::TempDirForThisTest("delta_diagnosis");
+  const std::string delta = testing::Source("configs/robots/delta.yaml");
+  std::string sim =
+      testing::ReadText(testing::Source("configs/simulations/delta_physics_base.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/delta.yaml", delta);
+  sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");
+  testing::WriteText(dir + "/sim.yaml", sim);
+  WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
+  std::string job = testing::ReadText(testing::Source("configs/jobs/delta_diagnose.yaml"));
+  job = testing::ReplaceOnce(job, "model: ../robots/delta.yaml", "model: " + delta);
+  testing::WriteText(dir + "/job.yaml", job);
+  DiagnosisJob loaded = LoadDiagnosisJob(dir + "/job.yaml", testing::Plugins(), false);
+  loaded.options.bootstrap = 30;
+
+  SimulatedEffect e;
+  e.name = "delta.platform_tilt";
+  e.effect = testing::Plugins().CreateEffect(
+      "platform_tilt", ConfigNode::LoadString("{type: platform_tilt, arms: [1]}", "test"),
+      *spec.robots[0].model);
+  e.values = {2e-3};  // rad: rods 0.1 mm apart on 50 mm spacing
+  spec.robots[0].effects.push_back(e);
+  const Recording recording = SimulateWorkcell(spec, nullptr);
+  const SolverMaker make_solver = [&] {
+    return testing::Plugins().CreateSolver(loaded.workcell.solver_type,
+                                           *loaded.workcell.solver_config);
+  };
+  const DiagnosisResult d =
+      DiagnoseWorkcell(loaded.workcell.problem, recording, make_solver,
+                       JobCandidates(loaded, recording, testing::Plugins()), loaded.options,
+                       dir + "/job.yaml");
+  ASSERT_FALSE(d.accepted.empty()) << DiagnosisReport(d);
+  EXPECT_EQ(d.accepted.front().name, "delta.tilt_arm1") << DiagnosisReport(d);
+  EXPECT_NEAR(d.accepted.front().parameters.at(0).value, 2e-3,
+              3 * d.accepted.front().parameters.at(0).sigma);
+  EXPECT_LT(d.final.held_out_rms_mm, 1.2 * d.floor_rms_mm);
+  // A delta's motors do not carry each other: no gravity torques, and the report says why.
+  EXPECT_THAT(DiagnosisReport(d), HasSubstr("joint 1 compliance (not in this recording"));
 }
 
 }  // namespace

@@ -127,6 +127,57 @@ double PeakMm(const Linearization& lin, const Recording& recording, const Eigen:
   return peak;
 }
 
+// The candidates (other families) whose unabsorbed signatures correlate with `chosen`'s by at
+// least `threshold` (largest canonical correlation: the cosine of the smallest angle between
+// the two subspaces), strongest first.
+std::vector<LookAlike> LookAlikes(const std::vector<Eigen::MatrixXd>& unabsorbed_bases,
+                                  const std::vector<const CandidateEffect*>& candidates,
+                                  size_t chosen, double threshold) {
+  std::vector<LookAlike> out;
+  const Eigen::MatrixXd& U = unabsorbed_bases[chosen];
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    if (candidates[c]->family_name() == candidates[chosen]->family_name()) continue;
+    const Eigen::MatrixXd overlap = U.transpose() * unabsorbed_bases[c];
+    if (overlap.size() == 0) continue;
+    const double correlation = Eigen::JacobiSVD<Eigen::MatrixXd>(overlap).singularValues()[0];
+    if (correlation >= threshold) out.push_back({candidates[c]->label, correlation});
+  }
+  std::sort(out.begin(), out.end(),
+            [](const LookAlike& a, const LookAlike& b) { return a.correlation > b.correlation; });
+  return out;
+}
+
+std::vector<int> RowPoses(const Linearization& lin) {
+  std::vector<int> poses;
+  for (const auto& info : lin.rows) poses.push_back(info.pose);
+  return poses;
+}
+
+// The share of bootstrap resamples that included a candidate of `chosen`'s family, and the
+// label of the other family included most often ("" when none was).
+std::pair<double, std::string> FamilyInclusion(const std::vector<std::vector<int>>& inclusions,
+                                               const std::vector<const CandidateEffect*>& candidates,
+                                               size_t chosen) {
+  std::map<std::string, int> resamples_including;
+  std::map<std::string, std::string> label;
+  for (const auto& included : inclusions) {
+    std::set<std::string> families;
+    for (int c : included) {
+      families.insert(candidates[c]->family_name());
+      label.try_emplace(candidates[c]->family_name(), candidates[c]->label);
+    }
+    for (const auto& f : families) ++resamples_including[f];
+  }
+  const std::string& own = candidates[chosen]->family_name();
+  std::string rival;
+  int rival_count = 0;
+  for (const auto& [family, count] : resamples_including) {
+    if (family != own && count > rival_count) rival_count = count, rival = label[family];
+  }
+  const double n = std::max<size_t>(1, inclusions.size());
+  return {resamples_including[own] / n, rival};
+}
+
 // How strongly a chi-square statistic with `dof` degrees of freedom speaks against "no effect",
 // comparable across dof even where its p-value underflows.
 double Strength(double statistic, int dof) { return -ChiSquareLogSurvival(statistic, dof); }
@@ -167,7 +218,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     const Eigen::MatrixXd Q = OrthonormalBasis(base.J_model);
     DiagnosisRound round;
     std::vector<const CandidateEffect*> testable;
-    std::vector<Eigen::MatrixXd> signatures;
+    std::vector<Eigen::MatrixXd> signatures, unabsorbed_bases;
     for (const auto& c : candidates) {
       if (done.count(c.effect.name)) continue;
       const Linearization lin = Linearize(With(current.spec, c), recording, data, noise,
@@ -175,7 +226,8 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
       CandidateFinding f;
       f.name = c.effect.name;
       f.label = c.label;
-      const ScoreTest test = Score(base.r, lin.J_candidate, ProjectOut(Q, lin.J_candidate));
+      const Eigen::MatrixXd unabsorbed = ProjectOut(Q, lin.J_candidate);
+      const ScoreTest test = Score(base.r, lin.J_candidate, unabsorbed);
       f.unabsorbed = test.unabsorbed;
       f.dof = test.dof;
       f.score = test.statistic;
@@ -184,7 +236,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
       if (!missing.empty() || test.unabsorbed < options.min_unabsorbed || test.dof == 0) {
         f.testable = false;
         f.untestable_because =
-            !missing.empty() ? "the recording has no " + missing
+            !missing.empty() ? std::string("not in this recording or robot model")
             : lin.J_candidate.norm() == 0.0
                 ? "it does not act on these poses"
                 : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
@@ -197,6 +249,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
       round.candidates.push_back(f);
       testable.push_back(&c);
       signatures.push_back(lin.J_candidate);
+      unabsorbed_bases.push_back(OrthonormalBasis(unabsorbed));
     }
     if (round.candidates.empty()) break;
     // Holm over the round's candidates, on the score tests.
@@ -236,15 +289,14 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     chosen.cv_rms_mm = with_cv.summary.held_out_rms_mm;
     chosen.cv_gain = gain;
     chosen.cv_gain_se = se;
-    const std::vector<double> wins =
-        BootstrapWins(base.r, base.J_model, signatures,
-                      [&] {
-                        std::vector<int> poses;
-                        for (const auto& info : base.rows) poses.push_back(info.pose);
-                        return poses;
-                      }(),
-                      options.bootstrap, 17u + static_cast<unsigned>(out.rounds.size()));
-    chosen.bootstrap_share = wins[best];
+    const std::vector<std::vector<int>> inclusions = BootstrapInclusions(
+        base.r, base.J_model, signatures, RowPoses(base), options.bootstrap, options.alpha,
+        options.max_effects - static_cast<int>(out.accepted.size()),
+        17u + static_cast<unsigned>(out.rounds.size()));
+    const auto [share, rival] = FamilyInclusion(inclusions, testable, best);
+    chosen.bootstrap_share = share;
+    chosen.bootstrap_rival = rival;
+    chosen.look_alikes = LookAlikes(unabsorbed_bases, testable, best, 0.8);
     chosen.accepted = chosen.p_lr_holm < options.alpha && chosen.delta_bic < 0 && gain > se &&
                       chosen.bootstrap_share >= options.bootstrap_share;
     if (chosen.accepted) {
@@ -261,7 +313,9 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
                                    current.result.estimate, true),
                          recording, Eigen::Map<const Eigen::VectorXd>(values.data(), values.size()));
       out.accepted.push_back(a);
-      done.insert(c.effect.name);
+      for (const auto& other : candidates) {  // its nested variants would repeat its parameters
+        if (other.family_name() == c.family_name()) done.insert(other.effect.name);
+      }
       current = std::move(with_cv);
     }
     out.rounds.push_back(round);

@@ -20,14 +20,26 @@ CandidateEffect Make(const std::string& yaml, const std::string& name, const Wor
   return c;
 }
 
+// A parallel arm's links (a delta's three rod pairs) at its nominal geometry's zero joint
+// readings; 0 for a serial arm.
+int ParallelLinkCount(const RobotModel& model) {
+  std::vector<double> q(model.num_joints(), 0.0), nominal;
+  for (const auto& p : model.parameters()) nominal.push_back(p.nominal);
+  std::vector<ParallelLink> links;
+  return model.ParallelLinks(q.data(), nominal.data(), &links) ? static_cast<int>(links.size()) : 0;
+}
+
 }  // namespace
 
 std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
                                                const Recording& recording,
-                                               const std::vector<double>& link_masses_kg,
+                                               const DiagnosisOptions& options,
                                                Registry& registry) {
-  std::string masses;
-  for (double m : link_masses_kg) masses += (masses.empty() ? "" : ", ") + std::to_string(m);
+  std::string masses, harmonics = "1, 2";
+  for (double m : options.link_masses_kg) masses += (masses.empty() ? "" : ", ") + std::to_string(m);
+  for (int h : options.gear_harmonics) {
+    if (h > 2) harmonics += ", " + std::to_string(h);
+  }
   std::vector<CandidateEffect> out;
   for (const auto& robot : spec.robots) {
     for (int j = 1; j <= robot.model->num_joints(); ++j) {
@@ -41,17 +53,34 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
       out.push_back(Make("{type: backlash, joints: [" + J + "]}", prefix + "backlash_j" + J,
                          robot, joint + " backlash",
                          "moves into poses from both directions on " + joint, registry));
-      // One candidate per harmonic: two parameters each, so that a single harmonic does not pay
-      // for four (a later round adds the other when it is there too).
-      for (const std::string h : {"1", "2"}) {
+      // One candidate per harmonic (two parameters each, so that a single harmonic does not pay
+      // for four) and one with them all (where the error has several, each alone carries only
+      // its share); one family, since all name the same physics.
+      const std::string family = prefix + "transmission_j" + J;
+      for (const std::string& h : std::vector<std::string>{"1", "2", harmonics}) {
+        const bool all = h == harmonics;
         out.push_back(Make("{type: transmission_error, joints: [" + J + "], harmonics: [" + h + "]}",
-                           prefix + "transmission_j" + J + "_h" + h, robot,
-                           joint + " transmission error (harmonic " + h + ")",
+                           all ? family : family + "_h" + h, robot,
+                           joint + " transmission error" + (all ? "" : " (harmonic " + h + ")"),
                            "a wider range of " + joint + " (at least half a turn)", registry));
+        out.back().family = family;
       }
       out.push_back(Make("{type: joint_scale, joints: [" + J + "]}", prefix + "scale_j" + J,
                          robot, joint + " gear ratio error", "a wider range of " + joint,
                          registry));
+    }
+    const int links = ParallelLinkCount(*robot.model);
+    for (int i = 1; i <= links; ++i) {
+      {
+        const std::string I = std::to_string(i), arm = "arm " + I;
+        out.push_back(Make("{type: platform_tilt, arms: [" + I + "]}",
+                           robot.name + ".tilt_arm" + I, robot, arm + " parallelogram skew",
+                           "poses that turn " + arm + "'s rods further", registry));
+        out.push_back(Make("{type: ball_joint_clearance, arms: [" + I + "]}",
+                           robot.name + ".clearance_arm" + I, robot, arm + " ball-joint clearance",
+                           "poses near the workspace edge, where " + arm + "'s load share changes "
+                           "most", registry));
+      }
     }
     bool temperatures = false, times = false;
     for (const auto& s : recording.samples) {

@@ -10,7 +10,7 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   if (!root.Has("diagnosis")) return job;
   const ConfigNode d = root["diagnosis"];
   d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "folds", "max_effects", "min_poses",
-                "link_masses_kg", "candidates", "refits", "min_unabsorbed"});
+                "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed"});
   DiagnosisOptions& o = job.options;
   o.alpha = d.GetDouble("alpha", o.alpha);
   o.bootstrap = d.GetInt("bootstrap", o.bootstrap);
@@ -23,6 +23,13 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   if (!(o.alpha > 0 && o.alpha < 1)) throw d["alpha"].Error("must be between 0 and 1");
   if (o.folds < 2) throw d["folds"].Error("needs at least 2 folds", "5 is usual");
   if (d.Has("link_masses_kg")) o.link_masses_kg = d["link_masses_kg"].AsDoubles();
+  if (d.Has("gear_harmonics")) {
+    for (const auto& h : d["gear_harmonics"].Elements()) {
+      const int value = h.AsInt();
+      if (value < 1) throw h.Error("a harmonic is a whole number of cycles per turn, 1 or more");
+      o.gear_harmonics.push_back(value);
+    }
+  }
   if (d.Has("candidates")) {
     for (const auto& c : d["candidates"].Elements()) job.candidate_configs.push_back(c);
   }
@@ -33,7 +40,7 @@ std::vector<CandidateEffect> JobCandidates(const DiagnosisJob& job, const Record
                                            Registry& registry) {
   const WorkcellProblem& spec = job.workcell.problem;
   if (job.candidate_configs.empty()) {
-    return DefaultCandidates(spec, recording, job.options.link_masses_kg, registry);
+    return DefaultCandidates(spec, recording, job.options, registry);
   }
   std::vector<CandidateEffect> out;
   const WorkcellRobot& robot = spec.robots.front();

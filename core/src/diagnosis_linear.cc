@@ -76,10 +76,45 @@ ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,
   return test;
 }
 
-std::vector<double> BootstrapWins(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
-                                  const std::vector<Eigen::MatrixXd>& candidates,
-                                  const std::vector<int>& row_pose, int resamples,
-                                  unsigned seed) {
+namespace {
+
+// One resample's greedy selection (BootstrapInclusions) on whitened, reweighted rows.
+std::vector<int> GreedyInclusions(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
+                                  const std::vector<Eigen::MatrixXd>& candidates, double alpha,
+                                  int max_steps) {
+  std::vector<int> included;
+  std::vector<bool> taken(candidates.size(), false);
+  Eigen::MatrixXd model = J_model;
+  for (int step = 0; step < max_steps; ++step) {
+    const Eigen::MatrixXd Q = OrthonormalBasis(model);
+    const Eigen::VectorXd r_refit = ProjectOut(Q, r);  // the model refitted on the resample
+    double best_z = -INFINITY, best_p = 1.0;
+    int best = -1, left = 0;
+    for (size_t c = 0; c < candidates.size(); ++c) {
+      if (taken[c]) continue;
+      ++left;
+      const ScoreTest test = Score(r_refit, candidates[c], ProjectOut(Q, candidates[c]));
+      if (test.dof == 0) continue;
+      const double z = -ChiSquareLogSurvival(test.statistic, test.dof);
+      if (z > best_z) best_z = z, best_p = test.p_value, best = static_cast<int>(c);
+    }
+    if (best < 0 || best_p * left >= alpha) break;  // Holm's first step over those left
+    included.push_back(best);
+    taken[best] = true;
+    Eigen::MatrixXd grown(model.rows(), model.cols() + candidates[best].cols());
+    grown << model, candidates[best];
+    model = std::move(grown);
+  }
+  return included;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
+                                                  const Eigen::MatrixXd& J_model,
+                                                  const std::vector<Eigen::MatrixXd>& candidates,
+                                                  const std::vector<int>& row_pose, int resamples,
+                                                  double alpha, int max_steps, unsigned seed) {
   std::vector<int> poses;
   std::map<int, int> index_of;
   for (int p : row_pose) {
@@ -88,8 +123,8 @@ std::vector<double> BootstrapWins(const Eigen::VectorXd& r, const Eigen::MatrixX
       poses.push_back(p);
     }
   }
-  std::vector<double> wins(candidates.size(), 0.0);
-  if (poses.empty() || candidates.empty()) return wins;
+  std::vector<std::vector<int>> out;
+  if (poses.empty() || candidates.empty()) return out;
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> pick(0, static_cast<int>(poses.size()) - 1);
   for (int b = 0; b < resamples; ++b) {
@@ -100,20 +135,12 @@ std::vector<double> BootstrapWins(const Eigen::VectorXd& r, const Eigen::MatrixX
     for (Eigen::Index i = 0; i < r.size(); ++i) {
       sqrt_w[i] = row_pose[i] < 0 ? 1.0 : std::sqrt(count[index_of.at(row_pose[i])]);
     }
-    const Eigen::VectorXd rw = sqrt_w.asDiagonal() * r;
-    const Eigen::MatrixXd Q = OrthonormalBasis(sqrt_w.asDiagonal() * J_model);
-    const Eigen::VectorXd r_refit = ProjectOut(Q, rw);  // the model refitted on the resample
-    double best_z = -INFINITY;
-    int best = -1;
-    for (size_t c = 0; c < candidates.size(); ++c) {
-      const Eigen::MatrixXd Jw = sqrt_w.asDiagonal() * candidates[c];
-      const ScoreTest test = Score(r_refit, Jw, ProjectOut(Q, Jw));
-      const double z = -ChiSquareLogSurvival(test.statistic, test.dof);  // comparable across dof
-      if (test.dof > 0 && z > best_z) best_z = z, best = static_cast<int>(c);
-    }
-    if (best >= 0) wins[best] += 1.0 / resamples;
+    std::vector<Eigen::MatrixXd> weighted;
+    for (const auto& J : candidates) weighted.push_back(sqrt_w.asDiagonal() * J);
+    out.push_back(GreedyInclusions(sqrt_w.asDiagonal() * r, sqrt_w.asDiagonal() * J_model,
+                                   weighted, alpha, max_steps));
   }
-  return wins;
+  return out;
 }
 
 }  // namespace cellmetry

@@ -44,6 +44,17 @@ std::string DiagnosisReport(const DiagnosisResult& r) {
   } else if (!r.geometric.consistent_with_noise()) {
     out << "No effect in the library passed every test.\n";
   }
+  if (!r.rounds.empty()) {  // the last round's chosen one failed: say what it could not be told from
+    for (const auto& f : r.rounds.back().candidates) {
+      if (f.accepted || f.look_alikes.empty()) continue;
+      out << "Closest candidate, " << f.label << ", looks like";
+      for (size_t i = 0; i < f.look_alikes.size() && i < 3; ++i) {
+        out << (i ? "," : "") << " " << f.look_alikes[i].label << " ("
+            << std::to_string(f.look_alikes[i].correlation).substr(0, 4) << ")";
+      }
+      out << " in these poses (canonical correlation of what the geometry leaves of them).\n";
+    }
+  }
   if (!r.unexplained.empty()) out << "Unexplained: " << r.unexplained << ".\n";
   if (!r.untestable.empty()) {
     out << "Not testable here:";
@@ -64,7 +75,14 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
                           {"held_out_rms_mm", s.held_out_rms_mm},
                           {"consistent_with_noise", s.consistent_with_noise()}};
   };
-  auto candidate = [](const CandidateFinding& f) {
+  auto look_alikes = [](const CandidateFinding& f) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& l : f.look_alikes) {
+      j.push_back({{"label", l.label}, {"correlation", l.correlation}});
+    }
+    return j;
+  };
+  auto candidate = [&look_alikes](const CandidateFinding& f) {
     return nlohmann::json{{"name", f.name},
                           {"label", f.label},
                           {"testable", f.testable},
@@ -82,6 +100,8 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
                           {"cv_gain_sigma", f.cv_gain},
                           {"cv_gain_se_sigma", f.cv_gain_se},
                           {"bootstrap_share", f.bootstrap_share},
+                          {"look_alikes", look_alikes(f)},
+                          {"bootstrap_rival", f.bootstrap_rival},
                           {"accepted", f.accepted}};
   };
   nlohmann::json j;

@@ -81,6 +81,82 @@ std::string Fixed(double v, int digits) {
   return b;
 }
 
+
+// The tests the round's chosen candidate failed, for the misses column.
+std::string FailedTests(const CandidateFinding& f, const DiagnosisOptions& options) {
+  std::string failed = f.name + ":";
+  if (!(f.p_lr_holm < options.alpha)) failed += " LR";
+  if (!(f.delta_bic < 0)) failed += " BIC";
+  if (!(f.cv_gain > f.cv_gain_se)) failed += " CV";
+  if (f.bootstrap_share < options.bootstrap_share) {
+    failed += " bootstrap " + Fixed(f.bootstrap_share, 2);
+    if (!f.bootstrap_rival.empty()) failed += " vs " + f.bootstrap_rival;
+  }
+  if (!f.look_alikes.empty()) {
+    failed += " (like " + f.look_alikes.front().label + ", " +
+              Fixed(f.look_alikes.front().correlation, 2) + ")";
+  }
+  return failed;
+}
+
+SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
+                        const WorkcellSimulationSpec& base, const DiagnosisJob& job,
+                        const SuiteCase& c, Registry& registry, Progress* progress) {
+  SuiteCaseResult result;
+  result.cell = cell.name;
+  result.spec = c;
+  const bool has_physics = c.effect || c.concealed;
+  result.magnitude = has_physics ? MagnitudeForSnr(suite, base, job, c, registry) : 0.0;
+  for (int seed = 1; seed <= suite.seeds; ++seed) {
+    const auto start = std::chrono::steady_clock::now();
+    const WorkcellSimulationSpec spec =
+        CaseSimulation(base, c, result.magnitude, 1000u + seed, true, registry);
+    const Recording recording = SimulateWorkcell(spec, nullptr);
+    const DiagnosisResult d =
+        DiagnoseWorkcell(job.workcell.problem, recording, MakerOf(job.workcell, registry),
+                         JobCandidates(job, recording, registry), job.options, cell.job);
+    SuiteRun run;
+    run.named = !d.accepted.empty()      ? d.accepted.front().name
+                : !d.unexplained.empty() ? "unexplained"
+                                         : "none";
+    run.held_out_over_floor = d.final.held_out_rms_mm / d.floor_rms_mm;
+    for (const auto& f : d.rounds.empty() ? std::vector<CandidateFinding>{}
+                                          : d.rounds.back().candidates) {
+      if (!f.accepted && f.cv_rms_mm != 0.0) run.failed = FailedTests(f, job.options);
+    }
+    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.runs.push_back(run);
+    progress->Advance();
+  }
+  return result;
+}
+
+// Rows: the cell's cases; columns: what the finder named first.
+std::string ConfusionMatrix(const std::string& cell, const std::vector<SuiteCaseResult>& results) {
+  std::set<std::string> named_set;
+  for (const auto& r : results) {
+    if (r.cell != cell) continue;
+    for (const auto& run : r.runs) named_set.insert(run.named);
+  }
+  std::ostringstream out;
+  out << "\n" << cell
+      << " confusion matrix (rows: expected; columns: what the finder named first):\n\n| |";
+  const std::vector<std::string> named(named_set.begin(), named_set.end());
+  for (const auto& n : named) out << " " << n << " |";
+  out << "\n|---|";
+  for (size_t i = 0; i < named.size(); ++i) out << "---|";
+  out << "\n";
+  for (const auto& r : results) {
+    if (r.cell != cell) continue;
+    std::map<std::string, int> counts;
+    for (const auto& run : r.runs) ++counts[run.named];
+    out << "| " << r.spec.name << " |";
+    for (const auto& n : named) out << " " << (counts.count(n) ? std::to_string(counts[n]) : "") << " |";
+    out << "\n";
+  }
+  return out.str();
+}
+
 }  // namespace
 
 int SuiteCaseResult::right() const {
@@ -95,65 +171,47 @@ int SuiteCaseResult::right() const {
 
 PhysicsSuiteSpec LoadPhysicsSuite(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.ExpectKeys({"compare", "description", "simulation", "job", "seeds", "snr", "cases",
-                   "output"});
+  root.ExpectKeys({"compare", "description", "seeds", "snr", "cells", "output"});
   PhysicsSuiteSpec spec;
   spec.file = path;
-  spec.simulation = root.ResolvePath(root["simulation"].AsString());
-  spec.job = root.ResolvePath(root["job"].AsString());
   spec.seeds = root.GetInt("seeds", spec.seeds);
   spec.snr = root.GetDouble("snr", spec.snr);
-  spec.output = root.ResolvePath(root.GetString("output", "../../results/physics"));
-  for (const auto& node : root["cases"].Elements()) {
-    node.ExpectKeys({"name", "expect", "effect", "concealed"});
-    SuiteCase c;
-    c.name = node["name"].AsString();
-    c.expect = node["expect"].AsString();
-    if (node.Has("effect")) c.effect = node["effect"];
-    if (node.Has("concealed")) c.concealed = node["concealed"];
-    if (c.effect && c.concealed) throw node.Error("give effect: or concealed:, not both");
-    spec.cases.push_back(c);
+  if (spec.seeds < 1) throw root["seeds"].Error("needs at least 1 run per case");
+  if (!(spec.snr > 0)) throw root["snr"].Error("must be positive", "6 is the issue's bar");
+  spec.output = root.ResolvePath(root.GetString("output", "../../results/physics_suite.md"));
+  for (const auto& cell_node : root["cells"].Elements()) {
+    cell_node.ExpectKeys({"name", "simulation", "job", "cases"});
+    SuiteCell cell;
+    cell.name = cell_node["name"].AsString();
+    cell.simulation = cell_node.ResolvePath(cell_node["simulation"].AsString());
+    cell.job = cell_node.ResolvePath(cell_node["job"].AsString());
+    for (const auto& node : cell_node["cases"].Elements()) {
+      node.ExpectKeys({"name", "expect", "effect", "concealed"});
+      SuiteCase c;
+      c.name = node["name"].AsString();
+      c.expect = node["expect"].AsString();
+      if (node.Has("effect")) c.effect = node["effect"];
+      if (node.Has("concealed")) c.concealed = node["concealed"];
+      if (c.effect && c.concealed) throw node.Error("give effect: or concealed:, not both");
+      cell.cases.push_back(c);
+    }
+    spec.cells.push_back(cell);
   }
+  if (spec.cells.empty()) throw root["cells"].Error("lists no cell");
   return spec;
 }
 
 std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& suite, Registry& registry) {
-  const WorkcellSimulationSpec base = LoadWorkcellSimulation(suite.simulation, registry);
-  const DiagnosisJob job = LoadDiagnosisJob(suite.job, registry, /*recording_must_exist=*/false);
+  int runs = 0;
+  for (const auto& cell : suite.cells) runs += static_cast<int>(cell.cases.size()) * suite.seeds;
+  Progress progress("physics suite runs", runs);
   std::vector<SuiteCaseResult> results;
-  Progress progress("physics suite runs", static_cast<int>(suite.cases.size()) * suite.seeds);
-  for (const auto& c : suite.cases) {
-    SuiteCaseResult result;
-    result.spec = c;
-    const bool has_physics = c.effect || c.concealed;
-    result.magnitude = has_physics ? MagnitudeForSnr(suite, base, job, c, registry) : 0.0;
-    for (int seed = 1; seed <= suite.seeds; ++seed) {
-      const auto start = std::chrono::steady_clock::now();
-      const WorkcellSimulationSpec spec =
-          CaseSimulation(base, c, result.magnitude, 1000u + seed, true, registry);
-      const Recording recording = SimulateWorkcell(spec, nullptr);
-      const DiagnosisResult d =
-          DiagnoseWorkcell(job.workcell.problem, recording, MakerOf(job.workcell, registry),
-                           JobCandidates(job, recording, registry), job.options, suite.job);
-      SuiteRun run;
-      run.named = !d.accepted.empty()      ? d.accepted.front().name
-                  : !d.unexplained.empty() ? "unexplained"
-                                           : "none";
-      run.held_out_over_floor = d.final.held_out_rms_mm / d.floor_rms_mm;
-      for (const auto& f : d.rounds.empty() ? std::vector<CandidateFinding>{}
-                                            : d.rounds.back().candidates) {
-        if (f.accepted || f.cv_rms_mm == 0.0) continue;  // the round's chosen one was tested
-        run.failed = f.name + ":";
-        if (!(f.p_lr_holm < job.options.alpha)) run.failed += " LR";
-        if (!(f.delta_bic < 0)) run.failed += " BIC";
-        if (!(f.cv_gain > f.cv_gain_se)) run.failed += " CV";
-        if (f.bootstrap_share < job.options.bootstrap_share) run.failed += " bootstrap";
-      }
-      run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      result.runs.push_back(run);
-      progress.Advance();
+  for (const auto& cell : suite.cells) {
+    const WorkcellSimulationSpec base = LoadWorkcellSimulation(cell.simulation, registry);
+    const DiagnosisJob job = LoadDiagnosisJob(cell.job, registry, /*recording_must_exist=*/false);
+    for (const auto& c : cell.cases) {
+      results.push_back(RunCase(suite, cell, base, job, c, registry, &progress));
     }
-    results.push_back(result);
   }
   return results;
 }
@@ -164,7 +222,6 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
   int effect_runs = 0, effect_right = 0, clean_runs = 0, clean_right = 0, outside_runs = 0,
       outside_right = 0;
   std::vector<double> ratios, seconds;
-  std::set<std::string> named_set;
   for (const auto& r : results) {
     const int right = r.right();
     const int n = static_cast<int>(r.runs.size());
@@ -176,7 +233,7 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
       effect_runs += n, effect_right += right;
       for (const auto& run : r.runs) ratios.push_back(run.held_out_over_floor);
     }
-    for (const auto& run : r.runs) named_set.insert(run.named), seconds.push_back(run.seconds);
+    for (const auto& run : r.runs) seconds.push_back(run.seconds);
   }
   auto rate = [](int right, int n) {
     return n ? Fixed(100.0 * right / n, 0) + " % (" + std::to_string(right) + "/" +
@@ -195,8 +252,8 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
   out << "| held-out RMS / noise floor after modelling (median) | " << Fixed(Median(ratios), 2)
       << " | <= 1.2 |\n";
   out << "| seconds per diagnosis (median) | " << Fixed(Median(seconds), 1) << " | |\n\n";
-  out << "| case | expected | effect size | right | held-out / floor (median) | misses: best "
-         "candidate and the tests it failed |\n|---|---|---|---|---|---|\n";
+  out << "| cell | case | expected | effect size | right | held-out / floor (median) | misses: "
+         "best candidate and the tests it failed |\n|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     std::vector<double> v;
     for (const auto& run : r.runs) v.push_back(run.held_out_over_floor);
@@ -208,23 +265,12 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
         misses += (misses.empty() ? "" : "; ") + run.failed;
       }
     }
-    out << "| " << r.spec.name << " | " << r.spec.expect << " | " << size << " | "
+    out << "| " << r.cell << " | " << r.spec.name << " | " << r.spec.expect << " | " << size
+        << " | "
         << r.right() << "/" << r.runs.size() << " | " << Fixed(Median(v), 2) << " | " << misses
         << " |\n";
   }
-  out << "\nConfusion matrix (rows: expected; columns: what the finder named first):\n\n| |";
-  const std::vector<std::string> named(named_set.begin(), named_set.end());
-  for (const auto& n : named) out << " " << n << " |";
-  out << "\n|---|";
-  for (size_t i = 0; i < named.size(); ++i) out << "---|";
-  out << "\n";
-  for (const auto& r : results) {
-    std::map<std::string, int> counts;
-    for (const auto& run : r.runs) ++counts[run.named];
-    out << "| " << r.spec.name << " |";
-    for (const auto& n : named) out << " " << (counts.count(n) ? std::to_string(counts[n]) : "") << " |";
-    out << "\n";
-  }
+  for (const auto& cell : spec.cells) out << ConfusionMatrix(cell.name, results);
   return out.str();
 }
 

@@ -38,7 +38,8 @@ std::vector<Sample> PlanSamples(const WorkcellSimulationSpec& spec) {
   std::vector<Sample> samples;
   int pose_id = 0;
   for (const auto& robot : spec.robots) {
-    for (const auto& q : robot.joint_poses) {
+    for (size_t k = 0; k < robot.joint_poses.size(); ++k) {
+      const std::vector<double>& q = robot.joint_poses[k];
       Pose T_base_flange;
       if (!robot.model->Forward(q.data(), robot.model_values.data(), &T_base_flange)) continue;
       for (int repeat = 0; repeat < spec.repeats; ++repeat) {
@@ -47,6 +48,9 @@ std::vector<Sample> PlanSamples(const WorkcellSimulationSpec& spec) {
         sample.robot = robot.name;
         sample.pose = pose_id;
         sample.q = q;
+        if (!robot.payloads_kg.empty()) {
+          sample.payload_kg = robot.payloads_kg[k % robot.payloads_kg.size()];
+        }
         samples.push_back(sample);
       }
       ++pose_id;
@@ -352,7 +356,7 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
   const ConfigNode robots = root["robots"];
   for (const auto& name : robots.Keys()) {
     const ConfigNode node = robots[name];
-    node.ExpectKeys({"model", "base", "tools", "model_errors", "poses", "effects"});
+    node.ExpectKeys({"model", "base", "tools", "model_errors", "poses", "payloads_kg", "effects"});
     SimulatedRobot robot;
     robot.name = name;
     const ConfigNode config = ConfigNode::LoadFile(node.ResolvePath(node["model"].AsString()));
@@ -392,6 +396,12 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
         std::vector<double> q(n);
         for (int j = 0; j < n; ++j) q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);
         robot.joint_poses.push_back(q);
+      }
+    }
+    if (node.Has("payloads_kg")) {
+      robot.payloads_kg = node["payloads_kg"].AsDoubles();
+      for (double m : robot.payloads_kg) {
+        if (!(m >= 0)) throw node["payloads_kg"].Error("a payload is a mass, 0 kg or more");
       }
     }
     if (node.Has("effects")) {

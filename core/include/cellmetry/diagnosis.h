@@ -19,8 +19,9 @@
 //        b. BIC falls,
 //        c. blocked cross-validated RMS (folds of whole poses; normalized by sigma, so that every
 //           axis weighs by its significance) falls by more than its standard error over folds,
-//        d. it is the best candidate in >= `bootstrap_share` of bootstrap resamples of poses
-//           (score statistics on the resampled, reweighted linearization);
+//        d. its family (nested variants of the same physics) is included in >= `bootstrap_share`
+//           of bootstrap resamples of poses, each running the greedy selection on the
+//           resampled, reweighted linearization (Sauerbrei & Schumacher 1992);
 //      rounds stop when no candidate passes them all: the residuals are then consistent with the
 //      floor as far as the library can tell (the omnibus chi-square is reported too, but one
 //      effect among thousands of residual rows barely moves it)
@@ -28,7 +29,8 @@
 //      at `alpha`, or the chi-square exceeds the floor) along the strongest regressor, or noise
 //
 // Candidates (default): for every robot joint, joint_compliance, backlash, transmission_error
-// (harmonic 1 and harmonic 2, separately) and joint_scale, each on that joint alone;
+// (harmonic 1, harmonic 2, and all of 1, 2 and the configured gear harmonics together) and
+// joint_scale, each on that joint alone;
 // thermal_drift (by temperature, or the warm-up model when the recording has only times);
 // depth_bias on every camera.
 #pragma once
@@ -50,7 +52,7 @@ namespace cellmetry {
 struct DiagnosisOptions {
   double alpha = 0.01;             // family-wise error rate of every test
   int bootstrap = 40;              // resamples of poses
-  double bootstrap_share = 0.8;    // how often the chosen effect must win them
+  double bootstrap_share = 0.8;    // how often their selection must include the chosen effect
   int folds = 10;                  // blocked cross-validation, by pose (10: the standard error
                                    // of the gain is steadier than with 5)
   int refits = 3;                  // best candidates by score refitted in full each round
@@ -59,6 +61,7 @@ struct DiagnosisOptions {
   int max_effects = 4;
   int min_poses = 20;              // fewer: too few samples for the tests
   std::vector<double> link_masses_kg;  // gravity-torque regressor (default 1 kg per link)
+  std::vector<int> gear_harmonics;     // of the drives, beyond 1 and 2 (e.g. a gearbox's stages)
 };
 
 // One candidate: an effect plugin instance on one joint, camera or the whole arm.
@@ -67,6 +70,17 @@ struct CandidateEffect {
   std::string type;        // the plugin's type, "backlash"
   std::string label;       // "joint 2 backlash"
   std::string data_hint;   // what data separates it from the geometry ("a wider joint 2 range")
+  // The physics it names, shared by nested variants of it ("ur3.transmission_j4" for harmonic 1,
+  // harmonic 2 and both): the bootstrap counts a resample won by any of them as won by the
+  // family, since they name the same physics on the same joint. Empty: effect.name.
+  std::string family;
+  const std::string& family_name() const { return family.empty() ? effect.name : family; }
+};
+
+// Another candidate whose unabsorbed signature this pose set can hardly tell apart from one's own.
+struct LookAlike {
+  std::string label;
+  double correlation = 0.0;  // largest canonical correlation of the unabsorbed signatures
 };
 
 struct CandidateFinding {
@@ -86,7 +100,9 @@ struct CandidateFinding {
   double cv_rms_mm = 0.0;           // held-out RMS with it, mm
   double cv_gain = 0.0;             // held-out normalized RMS without it minus with it (sigmas)
   double cv_gain_se = 0.0;          // standard error of that gain over the folds
-  double bootstrap_share = 0.0;
+  double bootstrap_share = 0.0;     // resamples whose selection included its family
+  std::string bootstrap_rival;      // the other family included most often ("" if none)
+  std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
   bool accepted = false;
 };
 
@@ -133,10 +149,10 @@ struct DiagnosisResult {
 };
 
 // The default candidate list for `spec`'s robots and `recording`'s cameras; compliance uses
-// `link_masses_kg` (empty: 1 kg per link).
+// `options.link_masses_kg` (empty: 1 kg per link), transmission `options.gear_harmonics`.
 std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
                                                const Recording& recording,
-                                               const std::vector<double>& link_masses_kg,
+                                               const DiagnosisOptions& options,
                                                Registry& registry);
 
 // Raises InputError (naming `origin`) for too few poses or no noise floor.

@@ -3,11 +3,12 @@
 //   diagnosis:
 //     alpha: 0.01            # family-wise error rate of every test
 //     bootstrap: 40          # resamples of poses
-//     bootstrap_share: 0.8   # how often the chosen effect must win them
-//     folds: 5               # blocked cross-validation by pose
+//     bootstrap_share: 0.8   # how often their selection must include the chosen effect
+//     folds: 10              # blocked cross-validation by pose
 //     max_effects: 4
 //     min_poses: 20
 //     link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]   # the gravity-torque regressor
+//     gear_harmonics: [3, 7] # of the drives: joined to 1 and 2 in each joint's transmission candidate
 //     candidates:            # default: the whole library on every joint and camera
 //       - {type: backlash, joints: [2]}
 //

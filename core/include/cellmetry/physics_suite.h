@@ -4,16 +4,18 @@
 // outside the library is reported as unexplained, and the held-out RMS against the floor.
 //
 //   compare: physics
-//   simulation: ../simulations/ur3_physics_base.yaml  # the cell, poses and noise (no effects)
-//   job: ../jobs/ur3_diagnose.yaml                      # the diagnosis job (its recording unused)
-//   seeds: 5                                            # runs per case
-//   snr: 6                                              # of the unabsorbed part, whitened
-//   cases:
-//     - {name: clean, expect: none}
-//     - {name: joint 2 compliance, expect: ur3.compliance_j2,
-//        effect: {type: joint_compliance, joints: [2]}}            # a library effect, or
-//     - {name: camera bumped, expect: unexplained,
-//        concealed: {kind: camera_bump, camera: cam1}}             # concealed_physics.h
+//   seeds: 5                                              # runs per case
+//   snr: 6                                                # of the unabsorbed part, whitened
+//   cells:                                                # one per robot cell
+//     - name: UR3
+//       simulation: ../simulations/ur3_physics_base.yaml  # the cell, poses and noise (no effects)
+//       job: ../jobs/ur3_diagnose.yaml                    # the diagnosis job (recording unused)
+//       cases:
+//         - {name: clean, expect: none}
+//         - {name: joint 2 compliance, expect: ur3.compliance_j2,
+//            effect: {type: joint_compliance, joints: [2]}}          # a library effect, or
+//         - {name: camera bumped, expect: unexplained,
+//            concealed: {kind: camera_bump, camera: cam1}}           # concealed_physics.h
 //   output: ../../docs/physics_suite.md
 //
 // The SNR: the case's effect at a trial size is simulated without noise and the geometry fitted
@@ -37,13 +39,18 @@ struct SuiteCase {
   std::optional<ConfigNode> concealed;  // or physics outside the library's equations
 };
 
+struct SuiteCell {
+  std::string name;        // "UR3"
+  std::string simulation;  // workcell simulation without effects
+  std::string job;         // diagnosis job
+  std::vector<SuiteCase> cases;
+};
+
 struct PhysicsSuiteSpec {
   std::string file;
-  std::string simulation;
-  std::string job;
   int seeds = 5;
   double snr = 6.0;
-  std::vector<SuiteCase> cases;
+  std::vector<SuiteCell> cells;
   std::string output;
 };
 
@@ -57,6 +64,7 @@ struct SuiteRun {
 };
 
 struct SuiteCaseResult {
+  std::string cell;
   SuiteCase spec;
   double magnitude = 0.0;       // the effect size giving the SNR
   std::vector<SuiteRun> runs;

@@ -54,6 +54,8 @@ struct SimulatedRobot {
   Pose T_world_base;
   std::map<std::string, Pose> T_flange_target;       // carried targets
   std::vector<std::vector<double>> joint_poses;      // q per commanded pose
+  std::vector<double> payloads_kg;                   // cycled over the commanded poses
+                                                     // (samples.csv payload); empty: none
   std::vector<SimulatedEffect> effects;              // joint and flange effects it has
 };
 
