@@ -18,8 +18,9 @@ void BM_Diagnose250Poses(benchmark::State& state) {
       LoadWorkcellSimulation(bench::Source("configs/simulations/ur3_physics_base.yaml"), registry);
   spec.robots[0].joint_poses.clear();
   std::mt19937 rng(3);
-  const std::vector<double> lower = {-3.1, 2.4, -2.2, 0.5, 3.2, -3.1},
-                            upper = {3.1, 4.2, 2.2, 5.5, 6.0, 3.1};
+  // The proof cell's ranges (configs/simulations/ur3_physics_base.yaml), 250 poses.
+  const std::vector<double> lower = {-6.2, 2.4, -2.2, -6.2, -6.2, -6.2},
+                            upper = {6.2, 4.2, 2.2, 6.2, 6.2, 6.2};
   for (int i = 0; i < 250; ++i) {
     std::vector<double> q(6);
     for (int j = 0; j < 6; ++j) q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);

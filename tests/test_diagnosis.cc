@@ -13,6 +13,16 @@ namespace {
 
 using ::testing::HasSubstr;
 
+// The job's diagnosis of `recording`, with the job's solver and candidates.
+DiagnosisResult RunDiagnosis(const DiagnosisJob& job, const Recording& recording,
+                             const std::string& origin) {
+  const SolverMaker make_solver = [&job] {
+    return testing::Plugins().CreateSolver(job.workcell.solver_type, *job.workcell.solver_config);
+  };
+  return DiagnoseWorkcell(job.workcell.problem, recording, make_solver,
+                          JobCandidates(job, recording, testing::Plugins()), job.options, origin);
+}
+
 class Diagnosis : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -32,13 +42,7 @@ class Diagnosis : public ::testing::Test {
   }
 
   DiagnosisResult Diagnose(const Recording& recording) {
-    const SolverMaker make_solver = [this] {
-      return testing::Plugins().CreateSolver(job_.workcell.solver_type,
-                                             *job_.workcell.solver_config);
-    };
-    return DiagnoseWorkcell(job_.workcell.problem, recording, make_solver,
-                            JobCandidates(job_, recording, testing::Plugins()), job_.options,
-                            dir_ + "/job.yaml");
+    return RunDiagnosis(job_, recording, dir_ + "/job.yaml");
   }
 
   std::string dir_;
@@ -85,6 +89,7 @@ TEST_F(Diagnosis, KnockedCameraIsUnexplainedNotForcedIntoAName) {
   const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
   EXPECT_TRUE(d.accepted.empty()) << DiagnosisReport(d);
   EXPECT_THAT(d.unexplained, HasSubstr("in cam1")) << DiagnosisReport(d);
+  EXPECT_THAT(d.unexplained, HasSubstr("a step after capture")) << DiagnosisReport(d);
 }
 
 TEST_F(Diagnosis, TooFewPosesIsRefusedInWords) {
@@ -117,39 +122,45 @@ TEST_F(Diagnosis, RegressorColumnWithNanIsRefusedWithFileAndLine) {
   EXPECT_THAT(e.message(), HasSubstr("payload"));
 }
 
-// The delta cell (configs/simulations/delta_physics_base.yaml): a parallelogram out of true is
-// found and named with its arm, with the delta's geometry calibrated alongside.
-TEST(DeltaDiagnosis, SkewedParallelogramIsNamedWithItsArm) {
-  const std::string dir = testing::TempDirForThisTest("delta_diagnosis");
-  const std::string delta = testing::Source("configs/robots/delta.yaml");
-  std::string sim =
-      testing::ReadText(testing::Source("configs/simulations/delta_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/delta.yaml", delta);
-  sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");
-  testing::WriteText(dir + "/sim.yaml", sim);
-  WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
-  std::string job = testing::ReadText(testing::Source("configs/jobs/delta_diagnose.yaml"));
-  job = testing::ReplaceOnce(job, "model: ../robots/delta.yaml", "model: " + delta);
-  testing::WriteText(dir + "/job.yaml", job);
-  DiagnosisJob loaded = LoadDiagnosisJob(dir + "/job.yaml", testing::Plugins(), false);
-  loaded.options.bootstrap = 30;
+// The delta cell (configs/simulations/delta_physics_base.yaml), 80 poses, with one hidden effect.
+class DeltaDiagnosis : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing::TempDirForThisTest("delta_diagnosis");
+    const std::string delta = testing::Source("configs/robots/delta.yaml");
+    std::string sim =
+        testing::ReadText(testing::Source("configs/simulations/delta_physics_base.yaml"));
+    sim = testing::ReplaceOnce(sim, "../robots/delta.yaml", delta);
+    sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");
+    testing::WriteText(dir_ + "/sim.yaml", sim);
+    spec_ = LoadWorkcellSimulation(dir_ + "/sim.yaml", testing::Plugins());
+    std::string job = testing::ReadText(testing::Source("configs/jobs/delta_diagnose.yaml"));
+    job = testing::ReplaceOnce(job, "model: ../robots/delta.yaml", "model: " + delta);
+    testing::WriteText(dir_ + "/job.yaml", job);
+    job_ = LoadDiagnosisJob(dir_ + "/job.yaml", testing::Plugins(), false);
+    job_.options.bootstrap = 30;
+  }
 
-  SimulatedEffect e;
-  e.name = "delta.platform_tilt";
-  e.effect = testing::Plugins().CreateEffect(
-      "platform_tilt", ConfigNode::LoadString("{type: platform_tilt, arms: [1]}", "test"),
-      *spec.robots[0].model);
-  e.values = {2e-3};  // rad: rods 0.1 mm apart on 50 mm spacing
-  spec.robots[0].effects.push_back(e);
-  const Recording recording = SimulateWorkcell(spec, nullptr);
-  const SolverMaker make_solver = [&] {
-    return testing::Plugins().CreateSolver(loaded.workcell.solver_type,
-                                           *loaded.workcell.solver_config);
-  };
-  const DiagnosisResult d =
-      DiagnoseWorkcell(loaded.workcell.problem, recording, make_solver,
-                       JobCandidates(loaded, recording, testing::Plugins()), loaded.options,
-                       dir + "/job.yaml");
+  DiagnosisResult DiagnoseWith(const std::string& yaml, double value) {
+    SimulatedEffect e;
+    const ConfigNode config = ConfigNode::LoadString(yaml, "test");
+    e.name = "delta.hidden";
+    e.effect = testing::Plugins().CreateEffect(config["type"].AsString(), config,
+                                               *spec_.robots[0].model);
+    e.values = {value};
+    spec_.robots[0].effects.push_back(e);
+    return RunDiagnosis(job_, SimulateWorkcell(spec_, nullptr), dir_ + "/job.yaml");
+  }
+
+  std::string dir_;
+  WorkcellSimulationSpec spec_;
+  DiagnosisJob job_;
+};
+
+// A parallelogram out of true is found and named with its arm, with the delta's geometry
+// calibrated alongside.
+TEST_F(DeltaDiagnosis, SkewedParallelogramIsNamedWithItsArm) {
+  const DiagnosisResult d = DiagnoseWith("{type: platform_tilt, arms: [1]}", 2e-3);  // rad
   ASSERT_FALSE(d.accepted.empty()) << DiagnosisReport(d);
   EXPECT_EQ(d.accepted.front().name, "delta.tilt_arm1") << DiagnosisReport(d);
   EXPECT_NEAR(d.accepted.front().parameters.at(0).value, 2e-3,
@@ -157,6 +168,18 @@ TEST(DeltaDiagnosis, SkewedParallelogramIsNamedWithItsArm) {
   EXPECT_LT(d.final.held_out_rms_mm, 1.2 * d.floor_rms_mm);
   // A delta's motors do not carry each other: no gravity torques, and the report says why.
   EXPECT_THAT(DiagnosisReport(d), HasSubstr("joint 1 compliance (not in this recording"));
+}
+
+// Motor 1 swings 2 rad, less than a turn: its gear ratio error and its once-per-turn
+// transmission error are one signature here. The finding is made, and both names are given.
+TEST_F(DeltaDiagnosis, GearRatioOverLessThanATurnIsNamedWithItsAlias) {
+  const DiagnosisResult d = DiagnoseWith("{type: joint_scale, joints: [1]}", 4e-3);
+  ASSERT_FALSE(d.accepted.empty()) << DiagnosisReport(d);
+  const AcceptedEffect& a = d.accepted.front();
+  const bool scale = a.name == "delta.scale_j1";
+  EXPECT_TRUE(scale || a.name.rfind("delta.transmission_j1", 0) == 0) << DiagnosisReport(d);
+  ASSERT_FALSE(a.aliases.empty()) << DiagnosisReport(d);
+  EXPECT_THAT(DiagnosisReport(d), HasSubstr("indistinguishable from joint 1"));
 }
 
 }  // namespace

@@ -34,6 +34,7 @@ const std::vector<std::string>& EffectConfigs() {
       "{type: thermal_drift, reference_c: 20}",
       "{type: thermal_drift, model: warmup, time_constant_s: 600}",
       "{type: depth_bias, cameras: [cam1, cam2]}",
+      "{type: depth_bias, cameras: [cam2], terms: [scale, tilt]}",
       "{type: detection_bias, cameras: [cam2], targets: [world, tool], frame: target}",
       "{type: detection_bias, cameras: [cam1, cam2], targets: [tool]}",
   };

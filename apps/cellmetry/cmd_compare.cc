@@ -29,7 +29,7 @@ void AddCompareCommand(CLI::App& app, Context& context) {
       const PhysicsSuiteSpec spec = LoadPhysicsSuite(spec_path);
       const auto results = RunPhysicsSuite(spec, Registry::Global());
       table = PhysicsSuiteMarkdown(spec, results);
-      AtomicWriteFile(output.empty() ? spec.output : output, table);
+      WritePhysicsSuite(spec, output.empty() ? spec.output : output, table);
       std::printf("%s  written: %s\n", table.c_str(), (output.empty() ? spec.output : output).c_str());
       return;
     }

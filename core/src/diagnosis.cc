@@ -44,6 +44,10 @@ Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
   f.summary.dof = f.rows - static_cast<double>(f.result.uncertainty.names.size());
   f.summary.p_value = ChiSquareSurvival(f.summary.chi2, f.summary.dof);
   f.summary.held_out_rms_mm = f.result.held_out.total.norm;
+  double ss = 0.0;
+  for (double fold : f.result.held_out.per_fold_normalized_rms) ss += fold * fold;
+  const size_t n_folds = f.result.held_out.per_fold_normalized_rms.size();
+  f.summary.held_out_sigma = n_folds ? std::sqrt(ss / n_folds) : 0.0;
   return f;
 }
 
@@ -127,23 +131,27 @@ double PeakMm(const Linearization& lin, const Recording& recording, const Eigen:
   return peak;
 }
 
+// Largest canonical correlation of two candidates' unabsorbed signatures: the cosine of the
+// smallest angle between the two subspaces (orthonormal bases).
+double CanonicalCorrelation(const Eigen::MatrixXd& U_a, const Eigen::MatrixXd& U_b) {
+  const Eigen::MatrixXd overlap = U_a.transpose() * U_b;
+  if (overlap.size() == 0) return 0.0;
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(overlap).singularValues()[0];
+}
+
 // The candidates (other families) whose unabsorbed signatures correlate with `chosen`'s by at
-// least `threshold` (largest canonical correlation: the cosine of the smallest angle between
-// the two subspaces), strongest first.
-std::vector<LookAlike> LookAlikes(const std::vector<Eigen::MatrixXd>& unabsorbed_bases,
-                                  const std::vector<const CandidateEffect*>& candidates,
-                                  size_t chosen, double threshold) {
-  std::vector<LookAlike> out;
-  const Eigen::MatrixXd& U = unabsorbed_bases[chosen];
+// least `threshold`, strongest first, as indices into `candidates`.
+std::vector<std::pair<size_t, double>> LookAlikes(
+    const std::vector<Eigen::MatrixXd>& unabsorbed_bases,
+    const std::vector<const CandidateEffect*>& candidates, size_t chosen, double threshold) {
+  std::vector<std::pair<size_t, double>> out;
   for (size_t c = 0; c < candidates.size(); ++c) {
     if (candidates[c]->family_name() == candidates[chosen]->family_name()) continue;
-    const Eigen::MatrixXd overlap = U.transpose() * unabsorbed_bases[c];
-    if (overlap.size() == 0) continue;
-    const double correlation = Eigen::JacobiSVD<Eigen::MatrixXd>(overlap).singularValues()[0];
-    if (correlation >= threshold) out.push_back({candidates[c]->label, correlation});
+    const double correlation =
+        CanonicalCorrelation(unabsorbed_bases[chosen], unabsorbed_bases[c]);
+    if (correlation >= threshold) out.push_back({c, correlation});
   }
-  std::sort(out.begin(), out.end(),
-            [](const LookAlike& a, const LookAlike& b) { return a.correlation > b.correlation; });
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
   return out;
 }
 
@@ -153,11 +161,13 @@ std::vector<int> RowPoses(const Linearization& lin) {
   return poses;
 }
 
-// The share of bootstrap resamples that included a candidate of `chosen`'s family, and the
-// label of the other family included most often ("" when none was).
+// The share of bootstrap resamples that included a candidate of one of `own` families (the
+// chosen one's and its aliases), and the label of the other family included most often ("" when
+// none was).
 std::pair<double, std::string> FamilyInclusion(const std::vector<std::vector<int>>& inclusions,
                                                const std::vector<const CandidateEffect*>& candidates,
-                                               size_t chosen) {
+                                               const std::set<std::string>& own) {
+  int resamples_own = 0;
   std::map<std::string, int> resamples_including;
   std::map<std::string, std::string> label;
   for (const auto& included : inclusions) {
@@ -166,16 +176,26 @@ std::pair<double, std::string> FamilyInclusion(const std::vector<std::vector<int
       families.insert(candidates[c]->family_name());
       label.try_emplace(candidates[c]->family_name(), candidates[c]->label);
     }
-    for (const auto& f : families) ++resamples_including[f];
+    bool any_own = false;
+    for (const auto& f : families) {
+      ++resamples_including[f];
+      any_own |= own.count(f) > 0;
+    }
+    resamples_own += any_own;
   }
-  const std::string& own = candidates[chosen]->family_name();
   std::string rival;
   int rival_count = 0;
   for (const auto& [family, count] : resamples_including) {
-    if (family != own && count > rival_count) rival_count = count, rival = label[family];
+    if (!own.count(family) && count > rival_count) rival_count = count, rival = label[family];
   }
   const double n = std::max<size_t>(1, inclusions.size());
-  return {resamples_including[own] / n, rival};
+  return {resamples_own / n, rival};
+}
+
+int CountPoses(const Recording& recording) {
+  std::set<int> poses;
+  for (const auto& s : recording.samples) poses.insert(s.pose);
+  return static_cast<int>(poses.size());
 }
 
 // How strongly a chi-square statistic with `dof` degrees of freedom speaks against "no effect",
@@ -213,10 +233,16 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   while (static_cast<int>(out.accepted.size()) < options.max_effects) {
     Progress::Note("round " + std::to_string(out.rounds.size() + 1) + ": scoring " +
                    std::to_string(candidates.size() - done.size()) + " candidate effects");
-    const Linearization base =
+    Linearization base =
         Linearize(current.spec, recording, data, noise, current.result.estimate, false);
-    const Eigen::MatrixXd Q = OrthonormalBasis(base.J_model);
+    // Quasi-likelihood (McCullagh & Nelder 1989, sec. 9.2): where the residuals scatter wider
+    // than the floor, an effect is judged against the scatter the model leaves, not against the
+    // floor; a real recording whose mismatch is 10x the floor's chi-square otherwise passes every
+    // candidate that takes a sliver of it. At the floor the dispersion is 1 and nothing changes.
     DiagnosisRound round;
+    round.dispersion = std::max(1.0, current.summary.chi2 / std::max(1.0, current.summary.dof));
+    base.r /= std::sqrt(round.dispersion);
+    const Eigen::MatrixXd Q = OrthonormalBasis(base.J_model);
     std::vector<const CandidateEffect*> testable;
     std::vector<Eigen::MatrixXd> signatures, unabsorbed_bases;
     for (const auto& c : candidates) {
@@ -266,15 +292,18 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     // Full nonlinear refits of the best few.
     int best = -1;
     Fitted best_fit;
-    const double n_rows = current.rows;
+    // BIC's n: the poses, the experiment's independent units (cross-validation and bootstrap
+    // draw whole poses too); a pose's rows are not independent draws of an effect's signature.
+    const double n_poses = CountPoses(recording);
     for (size_t k = 0; k < order.size() && static_cast<int>(k) < options.refits; ++k) {
       CandidateFinding& f = round.candidates[order[k]];
       Fitted refit = Fit(With(current.spec, *testable[order[k]]), recording, make_solver, 0);
       f.refitted = true;
-      f.likelihood_ratio = std::max(0.0, current.summary.chi2 - refit.summary.chi2);
+      f.likelihood_ratio =
+          std::max(0.0, current.summary.chi2 - refit.summary.chi2) / round.dispersion;
       f.p_lr_holm = std::min(1.0, ChiSquareSurvival(f.likelihood_ratio, f.dof) *
                                       static_cast<double>(round.candidates.size()));
-      f.delta_bic = f.dof * std::log(n_rows) - f.likelihood_ratio;
+      f.delta_bic = f.dof * std::log(n_poses) - f.likelihood_ratio;
       const auto& incumbent = round.candidates[std::max(best, 0)];
       if (best < 0 || Strength(f.likelihood_ratio, f.dof) >
                           Strength(incumbent.likelihood_ratio, incumbent.dof)) {
@@ -289,14 +318,25 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     chosen.cv_rms_mm = with_cv.summary.held_out_rms_mm;
     chosen.cv_gain = gain;
     chosen.cv_gain_se = se;
+    // Aliases: candidates whose unabsorbed signatures these poses cannot tell from the chosen
+    // one's at all (correlation >= options.alias_correlation: a gear ratio and a once-per-turn
+    // error over less than a turn). No estimator can pick between them, so the bootstrap asks
+    // whether the finding is stable, not which of its names wins, and the report names both.
+    std::set<std::string> own = {testable[best]->family_name()};
+    for (const auto& [c, correlation] : LookAlikes(unabsorbed_bases, testable, best, 0.8)) {
+      chosen.look_alikes.push_back({testable[c]->label, correlation});
+      if (correlation >= options.alias_correlation) {
+        own.insert(testable[c]->family_name());
+        chosen.aliases.push_back(testable[c]->label);
+      }
+    }
     const std::vector<std::vector<int>> inclusions = BootstrapInclusions(
-        base.r, base.J_model, signatures, RowPoses(base), options.bootstrap, options.alpha,
+        base.r, base.J_model, signatures, RowPoses(base), options.bootstrap, std::log(n_poses),
         options.max_effects - static_cast<int>(out.accepted.size()),
         17u + static_cast<unsigned>(out.rounds.size()));
-    const auto [share, rival] = FamilyInclusion(inclusions, testable, best);
+    const auto [share, rival] = FamilyInclusion(inclusions, testable, own);
     chosen.bootstrap_share = share;
     chosen.bootstrap_rival = rival;
-    chosen.look_alikes = LookAlikes(unabsorbed_bases, testable, best, 0.8);
     chosen.accepted = chosen.p_lr_holm < options.alpha && chosen.delta_bic < 0 && gain > se &&
                       chosen.bootstrap_share >= options.bootstrap_share;
     if (chosen.accepted) {
@@ -306,6 +346,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
       a.name = c.effect.name;
       const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);
       a.description = c.effect.effect->Describe(values);
+      a.aliases = chosen.aliases;
       for (const auto& s : with_cv.result.model_parameters) {
         if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
       }

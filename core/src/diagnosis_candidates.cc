@@ -101,6 +101,10 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
     out.push_back(Make("{type: depth_bias, cameras: [" + camera + "]}", "camera.depth_" + camera,
                        spec.robots.front(), camera + " depth bias",
                        "targets at more varied distances from " + camera, registry));
+    out.push_back(Make("{type: depth_bias, cameras: [" + camera + "], terms: [tilt]}",
+                       "camera.depth_tilt_" + camera, spec.robots.front(),
+                       camera + " depth error tilting across the image",
+                       "targets spread across " + camera + "'s image", registry));
   }
   return out;
 }

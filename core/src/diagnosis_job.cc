@@ -10,7 +10,7 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   if (!root.Has("diagnosis")) return job;
   const ConfigNode d = root["diagnosis"];
   d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "folds", "max_effects", "min_poses",
-                "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed"});
+                "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed", "alias_correlation"});
   DiagnosisOptions& o = job.options;
   o.alpha = d.GetDouble("alpha", o.alpha);
   o.bootstrap = d.GetInt("bootstrap", o.bootstrap);
@@ -20,6 +20,10 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   o.min_poses = d.GetInt("min_poses", o.min_poses);
   o.refits = d.GetInt("refits", o.refits);
   o.min_unabsorbed = d.GetDouble("min_unabsorbed", o.min_unabsorbed);
+  o.alias_correlation = d.GetDouble("alias_correlation", o.alias_correlation);
+  if (!(o.alias_correlation > 0 && o.alias_correlation <= 1)) {
+    throw d["alias_correlation"].Error("must be in (0, 1]", "1 keeps every candidate apart");
+  }
   if (!(o.alpha > 0 && o.alpha < 1)) throw d["alpha"].Error("must be between 0 and 1");
   if (o.folds < 2) throw d["folds"].Error("needs at least 2 folds", "5 is usual");
   if (d.Has("link_masses_kg")) o.link_masses_kg = d["link_masses_kg"].AsDoubles();

@@ -80,25 +80,27 @@ namespace {
 
 // One resample's greedy selection (BootstrapInclusions) on whitened, reweighted rows.
 std::vector<int> GreedyInclusions(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
-                                  const std::vector<Eigen::MatrixXd>& candidates, double alpha,
-                                  int max_steps) {
+                                  const std::vector<Eigen::MatrixXd>& candidates,
+                                  double penalty_per_dof, int max_steps) {
   std::vector<int> included;
   std::vector<bool> taken(candidates.size(), false);
   Eigen::MatrixXd model = J_model;
   for (int step = 0; step < max_steps; ++step) {
     const Eigen::MatrixXd Q = OrthonormalBasis(model);
     const Eigen::VectorXd r_refit = ProjectOut(Q, r);  // the model refitted on the resample
-    double best_z = -INFINITY, best_p = 1.0;
-    int best = -1, left = 0;
+    double best_z = -INFINITY, best_gain = 0.0;
+    int best = -1;
     for (size_t c = 0; c < candidates.size(); ++c) {
       if (taken[c]) continue;
-      ++left;
       const ScoreTest test = Score(r_refit, candidates[c], ProjectOut(Q, candidates[c]));
       if (test.dof == 0) continue;
       const double z = -ChiSquareLogSurvival(test.statistic, test.dof);
-      if (z > best_z) best_z = z, best_p = test.p_value, best = static_cast<int>(c);
+      if (z > best_z) {
+        best_z = z, best = static_cast<int>(c);
+        best_gain = test.statistic - test.dof * penalty_per_dof;
+      }
     }
-    if (best < 0 || best_p * left >= alpha) break;  // Holm's first step over those left
+    if (best < 0 || best_gain <= 0.0) break;  // BIC would not fall
     included.push_back(best);
     taken[best] = true;
     Eigen::MatrixXd grown(model.rows(), model.cols() + candidates[best].cols());
@@ -114,7 +116,8 @@ std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
                                                   const Eigen::MatrixXd& J_model,
                                                   const std::vector<Eigen::MatrixXd>& candidates,
                                                   const std::vector<int>& row_pose, int resamples,
-                                                  double alpha, int max_steps, unsigned seed) {
+                                                  double penalty_per_dof, int max_steps,
+                                                  unsigned seed) {
   std::vector<int> poses;
   std::map<int, int> index_of;
   for (int p : row_pose) {
@@ -138,7 +141,7 @@ std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
     std::vector<Eigen::MatrixXd> weighted;
     for (const auto& J : candidates) weighted.push_back(sqrt_w.asDiagonal() * J);
     out.push_back(GreedyInclusions(sqrt_w.asDiagonal() * r, sqrt_w.asDiagonal() * J_model,
-                                   weighted, alpha, max_steps));
+                                   weighted, penalty_per_dof, max_steps));
   }
   return out;
 }

@@ -53,16 +53,20 @@ ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,
 // Bootstrap inclusion (Sauerbrei & Schumacher 1992) on the linearization: resample poses with
 // replacement, refit the current model's linear part on the resample, and run the greedy
 // selection there: the candidate whose score statistic speaks most strongly (the smallest log
-// p-value, comparable across degrees of freedom) is included when its p-value, Holm-corrected
-// over the candidates left, is below `alpha`; its columns join the model and the next step
-// scores the rest, for up to `max_steps` inclusions. Counting inclusion rather than first
-// place keeps a chance winner of one resample (a signature concentrated on few poses swings
-// most under resampling) from voting the real effect out.
+// p-value, comparable across degrees of freedom) is included when it lowers BIC to first order
+// (statistic > dof * `penalty_per_dof`, ln of the rows); its columns join the model and the
+// next step scores the rest, for up to `max_steps` inclusions. What the bootstrap measures is
+// which effect the data picks, not whether it is significant (the full data's likelihood-ratio
+// test with Holm's correction says that); a Holm gate on resamples, whose statistics scatter
+// about twice as widely as the data's, dropped real effects at SNR 6 in a quarter of resamples.
+// Counting inclusion rather than first place keeps a chance winner of one resample (a signature
+// concentrated on few poses swings most under resampling) from voting the real effect out.
 // Returns, per resample, the indices (into `candidates`) it included.
 std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
                                                   const Eigen::MatrixXd& J_model,
                                                   const std::vector<Eigen::MatrixXd>& candidates,
                                                   const std::vector<int>& row_pose, int resamples,
-                                                  double alpha, int max_steps, unsigned seed);
+                                                  double penalty_per_dof, int max_steps,
+                                                  unsigned seed);
 
 }  // namespace cellmetry

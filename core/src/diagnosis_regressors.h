@@ -17,7 +17,8 @@ struct Regressor {
 };
 
 // Joint angles, gravity torques (lumped masses), approach directions, capture order, time,
-// temperature, payload: those that vary in the recording.
+// temperature, payload: those that vary in the recording; and a step in capture order after
+// every tenth of the run (something that moved once).
 std::vector<Regressor> SampleRegressors(const Recording& recording,
                                         const std::vector<SampleFacts>& facts,
                                         const std::vector<double>& link_masses_kg,

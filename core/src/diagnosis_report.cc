@@ -13,6 +13,12 @@ std::string Mm(double v) {
   return b;
 }
 
+std::string Fixed(double v, int digits = 1) {
+  char b[32];
+  std::snprintf(b, sizeof(b), "%.*f", digits, v);
+  return b;
+}
+
 std::string Value(const ScalarEstimate& s) {
   char b[96];
   std::snprintf(b, sizeof(b), "%s = %.3g +- %.2g %s", s.name.c_str(), s.value, s.sigma,
@@ -35,14 +41,26 @@ std::string DiagnosisReport(const DiagnosisResult& r) {
   }
   for (const auto& a : r.accepted) {
     out << "Left out: " << a.description << " (up to " << Mm(a.peak_mm) << " at the tool).\n";
+    if (!a.aliases.empty()) {
+      out << "  In these poses it is indistinguishable from";
+      for (size_t i = 0; i < a.aliases.size(); ++i) out << (i ? "," : "") << " " << a.aliases[i];
+      out << "; poses that tell them apart would settle which.\n";
+    }
     for (const auto& p : a.parameters) out << "  " << Value(p) << "\n";
   }
   if (!r.accepted.empty()) {
     out << "Held-out RMS " << Mm(r.geometric.held_out_rms_mm) << " -> "
-        << Mm(r.final.held_out_rms_mm) << "; fit RMS " << Mm(r.final.rms_mm) << " against the "
+        << Mm(r.final.held_out_rms_mm) << " (positions), " << Fixed(r.geometric.held_out_sigma, 2)
+        << " -> " << Fixed(r.final.held_out_sigma, 2)
+        << " sigma (every row fitted); fit RMS " << Mm(r.final.rms_mm) << " against the "
         << Mm(r.floor_rms_mm) << " floor.\n";
   } else if (!r.geometric.consistent_with_noise()) {
-    out << "No effect in the library passed every test.\n";
+    out << "No effect in the library passed every test";
+    if (!r.rounds.empty() && r.rounds.front().dispersion > 1.5) {
+      out << " (each judged against the residuals' own scatter, " << Fixed(r.rounds.front().dispersion)
+          << "x the floor's chi-square)";
+    }
+    out << ".\n";
   }
   if (!r.rounds.empty()) {  // the last round's chosen one failed: say what it could not be told from
     for (const auto& f : r.rounds.back().candidates) {
@@ -73,6 +91,7 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
     return nlohmann::json{{"chi2", s.chi2},         {"dof", s.dof},
                           {"p_value", s.p_value},   {"rms_mm", s.rms_mm},
                           {"held_out_rms_mm", s.held_out_rms_mm},
+                          {"held_out_sigma", s.held_out_sigma},
                           {"consistent_with_noise", s.consistent_with_noise()}};
   };
   auto look_alikes = [](const CandidateFinding& f) {
@@ -102,6 +121,7 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
                           {"bootstrap_share", f.bootstrap_share},
                           {"look_alikes", look_alikes(f)},
                           {"bootstrap_rival", f.bootstrap_rival},
+                          {"aliases", f.aliases},
                           {"accepted", f.accepted}};
   };
   nlohmann::json j;
@@ -121,13 +141,16 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
   for (const auto& f : r.untestable) j["untestable"].push_back(candidate(f));
   j["rounds"] = nlohmann::json::array();
   for (const auto& round : r.rounds) {
-    nlohmann::json jr{{"accepted", round.accepted}, {"candidates", nlohmann::json::array()}};
+    nlohmann::json jr{{"accepted", round.accepted},
+                      {"dispersion", round.dispersion},
+                      {"candidates", nlohmann::json::array()}};
     for (const auto& f : round.candidates) jr["candidates"].push_back(candidate(f));
     j["rounds"].push_back(jr);
   }
   j["accepted"] = nlohmann::json::array();
   for (const auto& a : r.accepted) {
     nlohmann::json ja{{"name", a.name}, {"description", a.description}, {"peak_mm", a.peak_mm},
+                      {"aliases", a.aliases},
                       {"parameters", nlohmann::json::array()}};
     for (const auto& p : a.parameters) {
       ja["parameters"].push_back(

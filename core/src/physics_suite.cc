@@ -4,11 +4,16 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
+#include "cellmetry/atomic_file.h"
 #include "cellmetry/diagnosis_job.h"
+#include "cellmetry/error.h"
 #include "cellmetry/progress.h"
 #include "cellmetry/workcell.h"
 #include "cellmetry/workcell_simulation.h"
@@ -131,6 +136,52 @@ SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
   return result;
 }
 
+// The checkpoint of finished cases (<output>.partial.json), keyed so that a changed suite does
+// not reuse stale cases.
+std::string CheckpointPath(const PhysicsSuiteSpec& suite) { return suite.output + ".partial.json"; }
+
+std::string CaseKey(const PhysicsSuiteSpec& suite, const SuiteCell& cell, const SuiteCase& c) {
+  return cell.name + "/" + c.name + "/" + std::to_string(suite.seeds) + "/" + Fixed(suite.snr, 3);
+}
+
+nlohmann::json ToJson(const SuiteCaseResult& r) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (const auto& run : r.runs) {
+    runs.push_back({{"named", run.named}, {"failed", run.failed},
+                    {"held_out_over_floor", run.held_out_over_floor}, {"seconds", run.seconds}});
+  }
+  return {{"magnitude", r.magnitude}, {"runs", runs}};
+}
+
+SuiteCaseResult FromJson(const nlohmann::json& j, const std::string& cell, const SuiteCase& c) {
+  SuiteCaseResult r;
+  r.cell = cell;
+  r.spec = c;
+  r.magnitude = j.at("magnitude").get<double>();
+  for (const auto& run : j.at("runs")) {
+    r.runs.push_back({run.at("named").get<std::string>(), run.at("failed").get<std::string>(),
+                      run.at("held_out_over_floor").get<double>(), run.at("seconds").get<double>()});
+  }
+  return r;
+}
+
+nlohmann::json ReadCheckpoint(const PhysicsSuiteSpec& suite) {
+  std::ifstream in(CheckpointPath(suite));
+  if (!in) return nlohmann::json::object();
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return nlohmann::json::object();  // a torn file from an old crash: start over
+  }
+}
+
+// Whether a run named what its case expected: nothing claimed for "none", the expected name or
+// a nested variant of it ("ur3.transmission_j4" is named by its harmonics' candidates too).
+bool IsRight(const SuiteCase& c, const SuiteRun& run) {
+  const bool claimed = run.named != "none" && run.named != "unexplained";
+  return c.expect == "none" ? !claimed : run.named.rfind(c.expect, 0) == 0;
+}
+
 // Rows: the cell's cases; columns: what the finder named first.
 std::string ConfusionMatrix(const std::string& cell, const std::vector<SuiteCaseResult>& results) {
   std::set<std::string> named_set;
@@ -161,11 +212,7 @@ std::string ConfusionMatrix(const std::string& cell, const std::vector<SuiteCase
 
 int SuiteCaseResult::right() const {
   int n = 0;
-  for (const auto& r : runs) {
-    const bool claimed = r.named != "none" && r.named != "unexplained";
-    // "ur3.transmission_j4" is named by any of its harmonics' candidates too.
-    n += spec.expect == "none" ? !claimed : r.named.rfind(spec.expect, 0) == 0;
-  }
+  for (const auto& r : runs) n += IsRight(spec, r);
   return n;
 }
 
@@ -205,15 +252,42 @@ std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& suite, Regi
   int runs = 0;
   for (const auto& cell : suite.cells) runs += static_cast<int>(cell.cases.size()) * suite.seeds;
   Progress progress("physics suite runs", runs);
+  nlohmann::json done = ReadCheckpoint(suite);
   std::vector<SuiteCaseResult> results;
   for (const auto& cell : suite.cells) {
     const WorkcellSimulationSpec base = LoadWorkcellSimulation(cell.simulation, registry);
     const DiagnosisJob job = LoadDiagnosisJob(cell.job, registry, /*recording_must_exist=*/false);
     for (const auto& c : cell.cases) {
+      const std::string key = CaseKey(suite, cell, c);
+      if (done.contains(key)) {
+        Progress::Note("resuming: " + cell.name + " / " + c.name + " done before");
+        results.push_back(FromJson(done[key], cell.name, c));
+        for (int s = 0; s < suite.seeds; ++s) progress.Advance();
+        continue;
+      }
       results.push_back(RunCase(suite, cell, base, job, c, registry, &progress));
+      done[key] = ToJson(results.back());
+      AtomicWriteFile(CheckpointPath(suite), done.dump(1));
     }
   }
   return results;
+}
+
+void WritePhysicsSuite(const PhysicsSuiteSpec& spec, const std::string& path,
+                       const std::string& markdown) {
+  static const std::string kBegin = "<!-- physics-suite:begin -->";
+  static const std::string kEnd = "<!-- physics-suite:end -->";
+  std::string text = markdown;
+  std::ifstream in(path);
+  if (in) {
+    const std::string document((std::istreambuf_iterator<char>(in)), {});
+    const size_t begin = document.find(kBegin), end = document.find(kEnd);
+    if (begin != std::string::npos && end != std::string::npos && end > begin) {
+      text = document.substr(0, begin + kBegin.size()) + "\n" + markdown + document.substr(end);
+    }
+  }
+  AtomicWriteFile(path, text);
+  std::filesystem::remove(CheckpointPath(spec));
 }
 
 std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
@@ -261,7 +335,7 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
     std::snprintf(size, sizeof(size), "%.3g", r.magnitude);
     std::string misses;
     for (const auto& run : r.runs) {
-      if (!run.failed.empty() && run.named != r.spec.expect) {
+      if (!run.failed.empty() && !IsRight(r.spec, run)) {
         misses += (misses.empty() ? "" : "; ") + run.failed;
       }
     }

@@ -117,16 +117,19 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
     auto held_out = AssembleWorkcell(spec, recording, data, noise, trained, test);
     ResidualRms fold;
-    double normalized_ss = 0.0;
+    double normalized_ss = 0.0;  // every carried-target row the fit uses: rotations too, where
+    int normalized_rows = 0;     // an effect may show most (a delta platform's tilt)
     for (const auto& row : ResidualRows(*held_out)) {
-      if (row.kind != "position" || !IsCarried(recording, row.target)) continue;
+      if (!IsCarried(recording, row.target)) continue;
+      normalized_ss += row.normalized.squaredNorm();
+      normalized_rows += 3;
+      if (row.kind != "position") continue;
       out.total.Add(row.error);
       out.per_camera[row.camera].Add(row.error);
       fold.Add(row.error);
-      normalized_ss += row.normalized.squaredNorm();
     }
     out.per_fold_normalized_rms.push_back(
-        fold.count > 0 ? std::sqrt(normalized_ss / (3.0 * fold.count)) : 0.0);
+        normalized_rows > 0 ? std::sqrt(normalized_ss / normalized_rows) : 0.0);
     fold.Finish();
     out.per_fold.push_back(fold);
     progress.Advance();

@@ -16,21 +16,14 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "cellmetry/effect.h"
+#include "parallel_link_effect.h"
 
 namespace cellmetry::effects {
 
-class BallJointClearance : public EffectFromTemplate<BallJointClearance> {
+class BallJointClearance : public ParallelLinkEffect<BallJointClearance> {
  public:
   explicit BallJointClearance(std::vector<int> arms);
 
-  EffectStage stage() const override { return EffectStage::kFlange; }
-  const std::vector<Parameter>& parameters() const override { return parameters_; }
-  EffectNeeds needs() const override {
-    EffectNeeds n;
-    n.parallel_links = true;
-    return n;
-  }
   std::string Describe(const std::vector<double>& params) const override;
 
   // values: p_base_flange[3] (moved), then the rotation (unchanged).
@@ -46,9 +39,6 @@ class BallJointClearance : public EffectFromTemplate<BallJointClearance> {
  private:
   // Column i: the platform's move (mm) per mm of arm i's clearance; false without three links.
   static bool MovePerClearance(const EffectContext& context, Eigen::Matrix3d* move_per_clearance);
-
-  std::vector<int> arms_;
-  std::vector<Parameter> parameters_;
 };
 
 }  // namespace cellmetry::effects

@@ -3,11 +3,17 @@
 // the focal length scales that distance, and a disparity offset adds a term that grows with Z^2
 // (Z = f b / d: an offset dd in d moves Z by -Z^2 dd / (f b)):
 //
-//   p' = p (1 + a + b Z)       along the ray; per camera: "<camera>.depth_scale" (a, unitless),
-//                              "<camera>.depth_quadratic" (b, 1/mm), Z = p's depth
+//   p' = p (1 + a + b Z + t_x X/Z + t_y Y/Z)
 //
-// `cameras: [cam1, cam2]` names the cameras (required); `terms: [scale, quadratic]` (default
-// both) picks the terms.
+// along the ray; per camera: "<camera>.depth_scale" (a, unitless), "<camera>.depth_quadratic"
+// (b, 1/mm), Z = p's depth, and the tilt "<camera>.depth_tilt_x/y" (unitless): a distance error
+// that changes across the image (X/Z, Y/Z are the ray's image coordinates), as a stereo rig's
+// rectification turned slightly about an image axis, or a PnP with the principal point or the
+// lens distortion off, makes it. A rigid move of the camera cannot take it up: it changes the
+// distance alone, not the direction.
+//
+// `cameras: [cam1, cam2]` names the cameras (required); `terms: [scale, quadratic, tilt]`
+// (default scale and quadratic) picks the terms.
 #pragma once
 
 #include <string>
@@ -19,7 +25,7 @@ namespace cellmetry::effects {
 
 class DepthBias : public EffectFromTemplate<DepthBias> {
  public:
-  DepthBias(std::vector<std::string> cameras, bool scale, bool quadratic);
+  DepthBias(std::vector<std::string> cameras, bool scale, bool quadratic, bool tilt);
 
   EffectStage stage() const override { return EffectStage::kMeasurement; }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
@@ -33,14 +39,15 @@ class DepthBias : public EffectFromTemplate<DepthBias> {
       T factor = T(1.0);
       int k = 0;
       if (scale_) factor += p[k++];
-      if (quadratic_) factor += p[k] * p_cam[2];
+      if (quadratic_) factor += p[k++] * p_cam[2];
+      if (tilt_) factor += (p[k] * p_cam[0] + p[k + 1] * p_cam[1]) / p_cam[2];
       for (int i = 0; i < 3; ++i) p_cam[i] *= factor;
     }
   }
 
  private:
   std::vector<std::string> cameras_;
-  bool scale_, quadratic_;
+  bool scale_, quadratic_, tilt_;
   int terms_per_camera_;
   std::vector<Parameter> parameters_;
 };

@@ -68,7 +68,7 @@ std::unique_ptr<Effect> CreateDepthBias(const ConfigNode& config, const RobotMod
   std::vector<std::string> cameras;
   for (const auto& node : config["cameras"].Elements()) cameras.push_back(node.AsString());
   if (cameras.empty()) throw config["cameras"].Error("lists no camera", "e.g. cameras: [cam1]");
-  bool scale = true, quadratic = true;
+  bool scale = true, quadratic = true, tilt = false;
   if (config.Has("terms")) {
     scale = quadratic = false;
     for (const auto& node : config["terms"].Elements()) {
@@ -77,12 +77,14 @@ std::unique_ptr<Effect> CreateDepthBias(const ConfigNode& config, const RobotMod
         scale = true;
       } else if (term == "quadratic") {
         quadratic = true;
+      } else if (term == "tilt") {
+        tilt = true;
       } else {
-        throw node.Error("unknown depth term '" + term + "'", "Use scale and/or quadratic");
+        throw node.Error("unknown depth term '" + term + "'", "Use scale, quadratic and/or tilt");
       }
     }
   }
-  return std::make_unique<DepthBias>(cameras, scale, quadratic);
+  return std::make_unique<DepthBias>(cameras, scale, quadratic, tilt);
 }
 
 std::unique_ptr<Effect> CreateDetectionBias(const ConfigNode& config, const RobotModel&) {
@@ -183,9 +185,9 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                         {"time_constant_s", "s", "1800", "warm-up time constant"}}),
                       &fx::CreateThermal);
   registry->AddEffect(Info("depth_bias",
-                       "camera distance error: p' = p (1 + a + b Z) per camera",
+                       "camera distance error: p' = p (1 + a + b Z + t_x X/Z + t_y Y/Z) per camera",
                        {{"cameras", "", "", "cameras it acts on"},
-                        {"terms", "", "[scale, quadratic]", "which terms"}}),
+                        {"terms", "", "[scale, quadratic]", "which of scale, quadratic, tilt"}}),
                       &fx::CreateDepthBias);
   registry->AddEffect(Info("detection_bias",
                            "a detector's systematic error repeating in one camera's view: p' = p + b",

@@ -26,9 +26,9 @@ std::string ThermalDrift::Describe(const std::vector<double>& params) const {
                    " ppm (time constant " + Number(time_constant_s_) + " s)";
 }
 
-DepthBias::DepthBias(std::vector<std::string> cameras, bool scale, bool quadratic)
-    : cameras_(std::move(cameras)), scale_(scale), quadratic_(quadratic),
-      terms_per_camera_(int(scale) + int(quadratic)) {
+DepthBias::DepthBias(std::vector<std::string> cameras, bool scale, bool quadratic, bool tilt)
+    : cameras_(std::move(cameras)), scale_(scale), quadratic_(quadratic), tilt_(tilt),
+      terms_per_camera_(int(scale) + int(quadratic) + 2 * int(tilt)) {
   for (const auto& camera : cameras_) {
     if (scale_) {
       parameters_.push_back({camera + ".depth_scale", "1", 0.0, false, {}, {}, {},
@@ -38,11 +38,20 @@ DepthBias::DepthBias(std::vector<std::string> cameras, bool scale, bool quadrati
       parameters_.push_back({camera + ".depth_quadratic", "1/mm", 0.0, false, {}, {}, {},
                              "distance error growing with Z^2 (a disparity offset)"});
     }
+    if (tilt_) {
+      for (const char* axis : {"x", "y"}) {
+        parameters_.push_back({camera + ".depth_tilt_" + axis, "1", 0.0, false, {}, {}, {},
+                               std::string("distance error per unit image ") + axis +
+                                   " (X/Z, Y/Z): a tilted depth field"});
+      }
+    }
   }
 }
 
 std::string DepthBias::Describe(const std::vector<double>& params) const {
-  return WithParameters("camera depth bias", parameters_, params);
+  return WithParameters(tilt_ && !scale_ && !quadratic_ ? "camera depth error tilting across the image"
+                                                        : "camera depth bias",
+                        parameters_, params);
 }
 
 DetectionBias::DetectionBias(std::vector<std::string> cameras, std::vector<std::string> targets,

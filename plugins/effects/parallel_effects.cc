@@ -36,9 +36,8 @@ bool Links(const EffectContext& context, Eigen::Matrix3d* U, Eigen::Matrix3d* A)
 }  // namespace
 
 PlatformTilt::PlatformTilt(std::vector<int> arms)
-    : arms_(std::move(arms)),
-      parameters_(PerArm(arms_, "skew", "rad",
-                         "parallelogram rod length difference over the rod spacing")) {}
+    : ParallelLinkEffect(arms, PerArm(arms, "skew", "rad",
+                                      "parallelogram rod length difference over the rod spacing")) {}
 
 std::string PlatformTilt::Describe(const std::vector<double>& params) const {
   return WithParameters(ArmsInWords(arms_) + " parallelogram out of true (platform tilt)",
@@ -55,9 +54,9 @@ bool PlatformTilt::TiltPerSkew(const EffectContext& context, Eigen::Matrix3d* ti
 }
 
 BallJointClearance::BallJointClearance(std::vector<int> arms)
-    : arms_(std::move(arms)),
-      parameters_(PerArm(arms_, "clearance", "mm",
-                         "ball-joint play along the rods, taken up at a full share of the load")) {}
+    : ParallelLinkEffect(arms, PerArm(arms, "clearance", "mm",
+                                      "ball-joint play along the rods, taken up at a full share "
+                                      "of the load")) {}
 
 std::string BallJointClearance::Describe(const std::vector<double>& params) const {
   return WithParameters(ArmsInWords(arms_) + " ball-joint clearance along the rod force",

@@ -15,22 +15,15 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "cellmetry/effect.h"
 #include "cellmetry/transform.h"
+#include "parallel_link_effect.h"
 
 namespace cellmetry::effects {
 
-class PlatformTilt : public EffectFromTemplate<PlatformTilt> {
+class PlatformTilt : public ParallelLinkEffect<PlatformTilt> {
  public:
   explicit PlatformTilt(std::vector<int> arms);
 
-  EffectStage stage() const override { return EffectStage::kFlange; }
-  const std::vector<Parameter>& parameters() const override { return parameters_; }
-  EffectNeeds needs() const override {
-    EffectNeeds n;
-    n.parallel_links = true;
-    return n;
-  }
   std::string Describe(const std::vector<double>& params) const override;
 
   // values: p_base_flange[3], then R_base_flange[9] column-major (effect.h).
@@ -51,9 +44,6 @@ class PlatformTilt : public EffectFromTemplate<PlatformTilt> {
  private:
   // Column i: the tilt (rad) per unit skew of arm i; false without three links.
   static bool TiltPerSkew(const EffectContext& context, Eigen::Matrix3d* tilt_per_skew);
-
-  std::vector<int> arms_;
-  std::vector<Parameter> parameters_;
 };
 
 }  // namespace cellmetry::effects

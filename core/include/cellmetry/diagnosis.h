@@ -12,16 +12,22 @@
 //   4. per candidate effect: the part of its signature (its Jacobian columns) outside the span
 //      of the geometric Jacobian; an effect whose signature the geometry absorbs, or whose facts
 //      the recording lacks, is "untestable here", with the data that would make it testable
-//   5. greedy selection, one effect per round. Every testable candidate gets its score statistic
+//   5. greedy selection, one effect per round, every statistic divided by the dispersion (the
+//      current fit's chi-square/dof, at least 1: quasi-likelihood, so that on a recording whose
+//      mismatch is mostly unexplained an effect must explain a share of what is left, not beat
+//      the floor). Every testable candidate gets its score statistic
 //      (the likelihood-ratio test to first order, from one Jacobian, Rao 1948); the best
 //      `refits` are refitted in full (nonlinear). The best refit is accepted only if
 //        a. its likelihood-ratio test passes at `alpha` after Holm's correction over the round,
-//        b. BIC falls,
+//        b. BIC falls (n = the poses, the independent units),
 //        c. blocked cross-validated RMS (folds of whole poses; normalized by sigma, so that every
 //           axis weighs by its significance) falls by more than its standard error over folds,
 //        d. its family (nested variants of the same physics) is included in >= `bootstrap_share`
-//           of bootstrap resamples of poses, each running the greedy selection on the
-//           resampled, reweighted linearization (Sauerbrei & Schumacher 1992);
+//           of bootstrap resamples of poses, each running the greedy selection (BIC-gated) on
+//           the resampled, reweighted linearization (Sauerbrei & Schumacher 1992);
+//      candidates whose unabsorbed signatures correlate >= `alias_correlation` with the chosen
+//      one are its aliases: one finding with two names, counted together by the bootstrap and
+//      named together in the report;
 //      rounds stop when no candidate passes them all: the residuals are then consistent with the
 //      floor as far as the library can tell (the omnibus chi-square is reported too, but one
 //      effect among thousands of residual rows barely moves it)
@@ -52,6 +58,7 @@ namespace cellmetry {
 struct DiagnosisOptions {
   double alpha = 0.01;             // family-wise error rate of every test
   int bootstrap = 40;              // resamples of poses
+  double alias_correlation = 0.99; // candidates this alike are one finding with two names
   double bootstrap_share = 0.8;    // how often their selection must include the chosen effect
   int folds = 10;                  // blocked cross-validation, by pose (10: the standard error
                                    // of the gain is steadier than with 5)
@@ -94,7 +101,7 @@ struct CandidateFinding {
   double score = 0.0;               // score statistic (chi-square, dof)
   double p_holm = 1.0;
   bool refitted = false;
-  double likelihood_ratio = 0.0;    // chi-square drop of the full refit
+  double likelihood_ratio = 0.0;    // chi-square drop of the full refit, over the dispersion
   double p_lr_holm = 1.0;
   double delta_bic = 0.0;
   double cv_rms_mm = 0.0;           // held-out RMS with it, mm
@@ -103,6 +110,7 @@ struct CandidateFinding {
   double bootstrap_share = 0.0;     // resamples whose selection included its family
   std::string bootstrap_rival;      // the other family included most often ("" if none)
   std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
+  std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
   bool accepted = false;
 };
 
@@ -114,6 +122,8 @@ struct RegressorFinding {
 };
 
 struct DiagnosisRound {
+  double dispersion = 1.0;                   // chi-square/dof of the model the round starts from
+                                             // (>= 1); every test statistic is divided by it
   std::vector<CandidateFinding> candidates;  // testable ones, best score first
   std::string accepted;                      // "" when none passed
 };
@@ -123,6 +133,7 @@ struct AcceptedEffect {
   std::string description;                   // Effect::Describe at the estimate
   std::vector<ScalarEstimate> parameters;
   double peak_mm = 0.0;                      // largest tool displacement it predicts
+  std::vector<std::string> aliases;          // candidates these poses cannot tell from it
 };
 
 struct FitSummary {
@@ -131,6 +142,8 @@ struct FitSummary {
   double p_value = 1.0;                      // chi-square against the floor
   double rms_mm = 0.0;                       // carried targets' positions
   double held_out_rms_mm = 0.0;
+  double held_out_sigma = 0.0;               // held-out RMS in sigmas over every carried-target
+                                             // row the fit uses (rotations too)
   bool consistent_with_noise() const { return p_value > 0.01; }
 };
 

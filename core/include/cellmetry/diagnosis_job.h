@@ -4,6 +4,7 @@
 //     alpha: 0.01            # family-wise error rate of every test
 //     bootstrap: 40          # resamples of poses
 //     bootstrap_share: 0.8   # how often their selection must include the chosen effect
+//     alias_correlation: 0.99  # candidates this alike here are one finding with two names
 //     folds: 10              # blocked cross-validation by pose
 //     max_effects: 4
 //     min_poses: 20

@@ -16,7 +16,10 @@
 //            effect: {type: joint_compliance, joints: [2]}}          # a library effect, or
 //         - {name: camera bumped, expect: unexplained,
 //            concealed: {kind: camera_bump, camera: cam1}}           # concealed_physics.h
-//   output: ../../docs/physics_suite.md
+//   output: ../../docs/physics.md   # between <!-- physics-suite:begin/end --> when present
+//
+// Each finished case is kept in <output>.partial.json; an interrupted run resumes from there
+// (cases with the same cell, name, seeds and SNR), and the file goes when the suite is done.
 //
 // The SNR: the case's effect at a trial size is simulated without noise and the geometry fitted
 // to it; what the geometry cannot absorb is left in the whitened residuals, whose norm scales
@@ -72,6 +75,12 @@ struct SuiteCaseResult {
 };
 
 std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& spec, Registry& registry);
+
+// Writes the suite's markdown to spec.output: between the markers "<!-- physics-suite:begin -->"
+// and "<!-- physics-suite:end -->" when the file has them (the rest of the document stays),
+// otherwise the whole file. Atomic.
+void WritePhysicsSuite(const PhysicsSuiteSpec& spec, const std::string& path,
+                       const std::string& markdown);
 
 // Rates, the confusion matrix and the held-out RMS, as markdown.
 std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,

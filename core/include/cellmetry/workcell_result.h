@@ -79,7 +79,8 @@ struct HeldOut {
   ResidualRms total;                         // target positions, mm
   std::map<std::string, ResidualRms> per_camera;
   std::vector<ResidualRms> per_fold;         // the same folds for the same poses and seed
-  std::vector<double> per_fold_normalized_rms;  // the same, in sigmas (all axes weigh alike)
+  std::vector<double> per_fold_normalized_rms;  // the same folds in sigmas, over every carried-
+                                                // target row (positions and used rotations)
 };
 
 struct WorkcellResult {

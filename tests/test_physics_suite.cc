@@ -1,0 +1,74 @@
+// The physics finder's proof harness (physics_suite.h): its tables go into docs/physics.md
+// between markers, an interrupted suite resumes from its checkpoint without rerunning finished
+// cases, and a bad suite file is refused with its line.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "cellmetry/physics_suite.h"
+#include "support/test_support.h"
+
+namespace cellmetry {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string SuiteYaml(const std::string& seeds) {
+  return "compare: physics\nseeds: " + seeds + "\nsnr: 6\ncells:\n  - name: delta\n"
+         "    simulation: " + testing::Source("configs/simulations/delta_physics_base.yaml") +
+         "\n    job: " + testing::Source("configs/jobs/delta_diagnose.yaml") +
+         "\n    cases:\n      - {name: clean, expect: none}\n"
+         "      - {name: arm 1 skew, expect: delta.tilt_arm1, effect: {type: platform_tilt, arms: [1]}}\n"
+         "output: doc.md\n";
+}
+
+TEST(PhysicsSuite, TablesGoBetweenTheMarkersAndTheRestStays) {
+  const std::string dir = testing::TempDirForThisTest("suite");
+  testing::WriteText(dir + "/suite.yaml", SuiteYaml("1"));
+  const PhysicsSuiteSpec spec = LoadPhysicsSuite(dir + "/suite.yaml");
+  testing::WriteText(dir + "/doc.md",
+                     "# Before\n<!-- physics-suite:begin -->\nold table\n"
+                     "<!-- physics-suite:end -->\n## After\n");
+  WritePhysicsSuite(spec, dir + "/doc.md", "new table\n");
+  EXPECT_EQ(testing::ReadText(dir + "/doc.md"),
+            "# Before\n<!-- physics-suite:begin -->\nnew table\n<!-- physics-suite:end -->\n"
+            "## After\n");
+  WritePhysicsSuite(spec, dir + "/plain.md", "only the table\n");  // no markers: whole file
+  EXPECT_EQ(testing::ReadText(dir + "/plain.md"), "only the table\n");
+}
+
+// Both cases finished before the interruption: the resumed suite reads them back and diagnoses
+// nothing (it would take seconds per run otherwise), then the checkpoint goes with the write.
+TEST(PhysicsSuite, InterruptedSuiteResumesFromItsCheckpoint) {
+  const std::string dir = testing::TempDirForThisTest("suite_resume");
+  testing::WriteText(dir + "/suite.yaml", SuiteYaml("1"));
+  const PhysicsSuiteSpec spec = LoadPhysicsSuite(dir + "/suite.yaml");
+  testing::WriteText(
+      dir + "/doc.md.partial.json",
+      R"({"delta/clean/1/6.000": {"magnitude": 0, "runs": [{"named": "none", "failed": "",
+          "held_out_over_floor": 0.97, "seconds": 2.0}]},
+          "delta/arm 1 skew/1/6.000": {"magnitude": 5e-4, "runs": [{"named": "delta.tilt_arm1",
+          "failed": "", "held_out_over_floor": 0.99, "seconds": 2.5}]}})");
+  const auto results = RunPhysicsSuite(spec, testing::Plugins());
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_EQ(results[1].runs.at(0).named, "delta.tilt_arm1");
+  EXPECT_EQ(results[1].right(), 1);
+  EXPECT_DOUBLE_EQ(results[1].magnitude, 5e-4);
+  EXPECT_DOUBLE_EQ(results[1].runs.at(0).seconds, 2.5);  // read back, not rerun
+  const std::string table = PhysicsSuiteMarkdown(spec, results);
+  EXPECT_THAT(table, HasSubstr("| right effect named (library and richer variants) | 100 % (1/1)"));
+  WritePhysicsSuite(spec, dir + "/doc.md", table);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/doc.md.partial.json"));
+}
+
+TEST(PhysicsSuite, NoRunsPerCaseIsRefusedWithItsLine) {
+  const std::string dir = testing::TempDirForThisTest("suite_bad");
+  testing::WriteText(dir + "/suite.yaml", SuiteYaml("0"));
+  const InputError e = testing::CatchInputError([&] { LoadPhysicsSuite(dir + "/suite.yaml"); });
+  EXPECT_THAT(e.what(), HasSubstr("suite.yaml:2"));
+  EXPECT_THAT(e.message(), HasSubstr("at least 1 run per case"));
+}
+
+}  // namespace
+}  // namespace cellmetry
