@@ -20,6 +20,11 @@ std::shared_ptr<const RobotModel> Ur3() {
       "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
 }
 
+std::shared_ptr<const RobotModel> Delta() {
+  return testing::Plugins().CreateRobotModel(
+      "delta", ConfigNode::LoadFile(testing::Source("configs/robots/delta.yaml")));
+}
+
 std::unique_ptr<Effect> MakeEffect(const std::string& yaml, const RobotModel& robot) {
   const ConfigNode config = ConfigNode::LoadString(yaml, "test");
   return testing::Plugins().CreateEffect(config["type"].AsString(), config, robot);
@@ -114,6 +119,25 @@ TEST(Effects, JetDerivativesMatchCentralDifferences) {
             << effect->parameters()[k].name << " -> value " << i;
       }
     }
+  }
+}
+
+// Every effect says how large its physics usually is, so that a report can flag a finding far
+// beyond it; a prior-carrying nuisance (detection_bias) has its prior instead.
+TEST(Effects, EveryParameterHasAPlausibleSizeOrAPrior) {
+  const auto ur3 = Ur3();
+  for (const auto& yaml : EffectConfigs()) {
+    SCOPED_TRACE(yaml);
+    for (const auto& p : MakeEffect(yaml, *ur3)->parameters()) {
+      EXPECT_TRUE(p.plausible.has_value() != p.prior_sigma.has_value()) << p.name;
+      if (p.plausible) {
+        EXPECT_GT(*p.plausible, 0.0) << p.name;
+      }
+    }
+  }
+  const auto delta = Delta();
+  for (const std::string yaml : {"{type: platform_tilt}", "{type: ball_joint_clearance}"}) {
+    for (const auto& p : MakeEffect(yaml, *delta)->parameters()) EXPECT_TRUE(p.plausible) << p.name;
   }
 }
 
@@ -212,10 +236,6 @@ TEST(EffectsInWorkcell, SimulatedPayloadsCycleOverThePoses) {
 }
 
 // The delta arm's effects (platform_tilt, ball_joint_clearance) read its rods.
-std::shared_ptr<const RobotModel> Delta() {
-  return testing::Plugins().CreateRobotModel(
-      "delta", ConfigNode::LoadFile(testing::Source("configs/robots/delta.yaml")));
-}
 
 struct DeltaContext {
   std::vector<double> q;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
+#include <tuple>
 
 #include "cellmetry/error.h"
 #include "cellmetry/progress.h"
@@ -155,6 +157,20 @@ std::vector<std::pair<size_t, double>> LookAlikes(
   return out;
 }
 
+// The first parameter whose size is unusual for its physics (Parameter::plausible), in words;
+// "" when all are ordinary.
+std::string Unusual(const std::vector<Parameter>& parameters, const std::vector<double>& values) {
+  for (size_t i = 0; i < parameters.size() && i < values.size(); ++i) {
+    const auto& p = parameters[i];
+    if (!p.plausible || std::abs(values[i]) <= *p.plausible) continue;
+    char text[256];
+    std::snprintf(text, sizeof(text), "%s = %.3g %s, where this physics is typically below %.3g",
+                  p.name.c_str(), values[i], p.unit.c_str(), *p.plausible);
+    return text;
+  }
+  return "";
+}
+
 std::vector<int> RowPoses(const Linearization& lin) {
   std::vector<int> poses;
   for (const auto& info : lin.rows) poses.push_back(info.pose);
@@ -202,6 +218,190 @@ int CountPoses(const Recording& recording) {
 // comparable across dof even where its p-value underflows.
 double Strength(double statistic, int dof) { return -ChiSquareLogSurvival(statistic, dof); }
 
+
+// One round's candidates, scored on the current model's linearization.
+struct ScoredRound {
+  DiagnosisRound round;
+  Linearization base;                            // residuals over sqrt(dispersion)
+  std::vector<const CandidateEffect*> testable;  // parallel to round.candidates
+  std::vector<Eigen::MatrixXd> signatures;       // their Jacobian columns
+  std::vector<Eigen::MatrixXd> unabsorbed_bases;  // orthonormal, outside the model's span
+};
+
+// The steps of one diagnosis, over the data every step shares.
+class Diagnoser {
+ public:
+  Diagnoser(const Recording& recording, const SolverMaker& make_solver,
+            const std::vector<CandidateEffect>& candidates, const DiagnosisOptions& options,
+            const NoiseModel& noise, const WorkcellData& data)
+      : recording_(recording), make_solver_(make_solver), candidates_(candidates),
+        options_(options), noise_(noise), data_(data), n_poses_(CountPoses(recording)) {}
+
+  // Linearizes the current model, scores every candidate not `done`; untestable ones go to
+  // `untestable` and join `done`.
+  ScoredRound Score(const Fitted& current, std::set<std::string>* done,
+                    std::vector<CandidateFinding>* untestable) const {
+    ScoredRound s;
+    s.base = Linearize(current.spec, recording_, data_, noise_, current.result.estimate, false);
+    // Quasi-likelihood (McCullagh & Nelder 1989, sec. 9.2): where the residuals scatter wider
+    // than the floor, an effect is judged against the scatter the model leaves, not against the
+    // floor; a real recording whose mismatch is 10x the floor's chi-square otherwise passes
+    // every candidate that takes a sliver of it. At the floor the dispersion is 1.
+    s.round.dispersion = std::max(1.0, current.summary.chi2 / std::max(1.0, current.summary.dof));
+    s.base.r /= std::sqrt(s.round.dispersion);
+    const Eigen::MatrixXd Q = OrthonormalBasis(s.base.J_model);
+    for (const auto& c : candidates_) {
+      if (done->count(c.effect.name)) continue;
+      const Linearization lin = Linearize(With(current.spec, c), recording_, data_, noise_,
+                                          current.result.estimate, true);
+      const Eigen::MatrixXd unabsorbed = ProjectOut(Q, lin.J_candidate);
+      const ScoreTest test = cellmetry::Score(s.base.r, lin.J_candidate, unabsorbed);
+      CandidateFinding f;
+      f.name = c.effect.name;
+      f.label = c.label;
+      f.unabsorbed = test.unabsorbed;
+      f.dof = test.dof;
+      f.score = test.statistic;
+      f.p_holm = test.p_value;
+      const std::string missing = MissingFacts(c.effect.effect->needs(), data_.facts);
+      if (!missing.empty() || test.unabsorbed < options_.min_unabsorbed || test.dof == 0) {
+        f.testable = false;
+        f.untestable_because =
+            !missing.empty() ? std::string("not in this recording or robot model")
+            : lin.J_candidate.norm() == 0.0
+                ? "it does not act on these poses"
+                : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
+                      " % of its signature is absorbed by the geometry";
+        f.data_needed = !missing.empty() ? missing : c.data_hint;
+        untestable->push_back(f);
+        done->insert(c.effect.name);
+        continue;
+      }
+      s.round.candidates.push_back(f);
+      s.testable.push_back(&c);
+      s.signatures.push_back(lin.J_candidate);
+      s.unabsorbed_bases.push_back(OrthonormalBasis(unabsorbed));
+    }
+    // Holm over the round's candidates, on the score tests.
+    std::vector<double> p;
+    for (const auto& f : s.round.candidates) p.push_back(f.p_holm);
+    const std::vector<double> adjusted = HolmAdjusted(p);
+    for (size_t i = 0; i < p.size(); ++i) s.round.candidates[i].p_holm = adjusted[i];
+    return s;
+  }
+
+  // Refits the `options.refits` best-scoring candidates in full (nonlinear); returns the index
+  // of the strongest refit and moves its fit to `best_fit`.
+  int RefitBest(const Fitted& current, ScoredRound* s, Fitted* best_fit) const {
+    auto& candidates = s->round.candidates;
+    std::vector<size_t> order(candidates.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return Strength(candidates[a].score, candidates[a].dof) >
+             Strength(candidates[b].score, candidates[b].dof);
+    });
+    int best = -1;
+    for (size_t k = 0; k < order.size() && static_cast<int>(k) < options_.refits; ++k) {
+      CandidateFinding& f = candidates[order[k]];
+      Fitted refit = Fit(With(current.spec, *s->testable[order[k]]), recording_, make_solver_, 0);
+      f.refitted = true;
+      f.likelihood_ratio =
+          std::max(0.0, current.summary.chi2 - refit.summary.chi2) / s->round.dispersion;
+      f.p_lr_holm = std::min(1.0, ChiSquareSurvival(f.likelihood_ratio, f.dof) *
+                                      static_cast<double>(candidates.size()));
+      // BIC's n: the poses, the experiment's independent units (cross-validation and the
+      // bootstrap draw whole poses too); a pose's rows are not independent draws of a signature.
+      f.delta_bic = f.dof * std::log(n_poses_) - f.likelihood_ratio;
+      const auto& incumbent = candidates[std::max(best, 0)];
+      if (best < 0 || Strength(f.likelihood_ratio, f.dof) >
+                          Strength(incumbent.likelihood_ratio, incumbent.dof)) {
+        best = static_cast<int>(order[k]);
+        *best_fit = std::move(refit);
+      }
+    }
+    return best;
+  }
+
+  // Cross-validation, aliases and bootstrap inclusion of the round's chosen candidate; sets its
+  // verdict and returns its fit with held-out figures.
+  Fitted TestChosen(const Fitted& current, ScoredRound* s, int best, const Fitted& best_fit,
+                    int effects_left, unsigned seed) const {
+    CandidateFinding& chosen = s->round.candidates[best];
+    Progress::Note("cross-validating and bootstrapping " + chosen.label);
+    Fitted with_cv = Fit(best_fit.spec, recording_, make_solver_, options_.folds);
+    const auto [gain, se] = CvGain(current.result.held_out, with_cv.result.held_out);
+    chosen.cv_rms_mm = with_cv.summary.held_out_rms_mm;
+    chosen.cv_gain = gain;
+    chosen.cv_gain_se = se;
+    // Aliases: candidates whose unabsorbed signatures these poses cannot tell from the chosen
+    // one's at all (a gear ratio and a once-per-turn error over less than a turn). No estimator
+    // can pick between them, so the bootstrap asks whether the finding is stable, not which of
+    // its names wins, and the report names both.
+    std::set<std::string> own = {s->testable[best]->family_name()};
+    for (const auto& [c, correlation] : LookAlikes(s->unabsorbed_bases, s->testable, best, 0.8)) {
+      chosen.look_alikes.push_back({s->testable[c]->label, correlation});
+      if (correlation >= options_.alias_correlation) {
+        own.insert(s->testable[c]->family_name());
+        chosen.aliases.push_back(s->testable[c]->label);
+      }
+    }
+    const std::vector<std::vector<int>> inclusions =
+        BootstrapInclusions(s->base.r, s->base.J_model, s->signatures, RowPoses(s->base),
+                            options_.bootstrap, std::log(n_poses_), effects_left, seed);
+    std::tie(chosen.bootstrap_share, chosen.bootstrap_rival) =
+        FamilyInclusion(inclusions, s->testable, own);
+    chosen.accepted = chosen.p_lr_holm < options_.alpha && chosen.delta_bic < 0 && gain > se &&
+                      chosen.bootstrap_share >= options_.bootstrap_share;
+    return with_cv;
+  }
+
+  // The accepted effect in words, with its parameters and the most it moves the tool.
+  AcceptedEffect Describe(const CandidateEffect& c, const CandidateFinding& chosen,
+                          const Fitted& with_cv, const Fitted& current) const {
+    AcceptedEffect a;
+    a.name = c.effect.name;
+    const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);
+    a.description = c.effect.effect->Describe(values);
+    a.aliases = chosen.aliases;
+    a.unusual = Unusual(c.effect.effect->parameters(), values);
+    for (const auto& s : with_cv.result.model_parameters) {
+      if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
+    }
+    a.peak_mm = PeakMm(Linearize(With(current.spec, c), recording_, data_, noise_,
+                                 current.result.estimate, true),
+                       recording_, Eigen::Map<const Eigen::VectorXd>(values.data(), values.size()));
+    return a;
+  }
+
+  // Structure the library did not explain: a regressor the residuals still follow (a more
+  // powerful test than the omnibus chi-square against one concentrated cause), or a chi-square
+  // above the floor; "" when the residuals look like noise.
+  std::string Unexplained(const Fitted& current, const std::vector<Regressor>& regressors) const {
+    const Linearization lin =
+        Linearize(current.spec, recording_, data_, noise_, current.result.estimate, false);
+    const auto findings = CorrelateRegressors(lin, recording_, regressors);
+    if (!findings.empty() && findings.front().p_value < options_.alpha) {
+      const auto& f = findings.front();
+      return "structure remains along " + f.regressor + " (" + f.axis +
+             " residuals, partial correlation " +
+             std::to_string(f.partial_correlation).substr(0, 5) + ")";
+    }
+    if (!current.summary.consistent_with_noise()) {
+      return "the residuals exceed the floor but follow none of the recorded regressors";
+    }
+    return "";
+  }
+
+ private:
+  const Recording& recording_;
+  const SolverMaker& make_solver_;
+  const std::vector<CandidateEffect>& candidates_;
+  const DiagnosisOptions& options_;
+  const NoiseModel& noise_;
+  const WorkcellData& data_;
+  const double n_poses_;
+};
+
 }  // namespace
 
 DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& recording,
@@ -216,6 +416,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   const WorkcellData data = PrepareWorkcellData(all, recording);  // with every sample's facts
   const std::vector<Regressor> regressors = SampleRegressors(
       recording, data.facts, options.link_masses_kg, spec.gravity_base);
+  const Diagnoser diagnoser(recording, make_solver, candidates, options, noise, data);
 
   Progress::Note("fitting the geometry alone");
   Fitted current = Fit(spec, recording, make_solver, options.folds);
@@ -229,155 +430,34 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   std::set<std::string> done;  // accepted or untestable
   // The rounds run whatever the omnibus chi-square says: one effect of SNR 6 among thousands of
   // residual rows moves it by 36 against a spread of sqrt(2 * rows), so it has little power;
-  // the targeted tests below have it. Rounds end when no candidate passes every test.
+  // the targeted tests have it. Rounds end when no candidate passes every test.
   while (static_cast<int>(out.accepted.size()) < options.max_effects) {
     Progress::Note("round " + std::to_string(out.rounds.size() + 1) + ": scoring " +
                    std::to_string(candidates.size() - done.size()) + " candidate effects");
-    Linearization base =
-        Linearize(current.spec, recording, data, noise, current.result.estimate, false);
-    // Quasi-likelihood (McCullagh & Nelder 1989, sec. 9.2): where the residuals scatter wider
-    // than the floor, an effect is judged against the scatter the model leaves, not against the
-    // floor; a real recording whose mismatch is 10x the floor's chi-square otherwise passes every
-    // candidate that takes a sliver of it. At the floor the dispersion is 1 and nothing changes.
-    DiagnosisRound round;
-    round.dispersion = std::max(1.0, current.summary.chi2 / std::max(1.0, current.summary.dof));
-    base.r /= std::sqrt(round.dispersion);
-    const Eigen::MatrixXd Q = OrthonormalBasis(base.J_model);
-    std::vector<const CandidateEffect*> testable;
-    std::vector<Eigen::MatrixXd> signatures, unabsorbed_bases;
-    for (const auto& c : candidates) {
-      if (done.count(c.effect.name)) continue;
-      const Linearization lin = Linearize(With(current.spec, c), recording, data, noise,
-                                          current.result.estimate, true);
-      CandidateFinding f;
-      f.name = c.effect.name;
-      f.label = c.label;
-      const Eigen::MatrixXd unabsorbed = ProjectOut(Q, lin.J_candidate);
-      const ScoreTest test = Score(base.r, lin.J_candidate, unabsorbed);
-      f.unabsorbed = test.unabsorbed;
-      f.dof = test.dof;
-      f.score = test.statistic;
-      f.p_holm = test.p_value;
-      const std::string missing = MissingFacts(c.effect.effect->needs(), data.facts);
-      if (!missing.empty() || test.unabsorbed < options.min_unabsorbed || test.dof == 0) {
-        f.testable = false;
-        f.untestable_because =
-            !missing.empty() ? std::string("not in this recording or robot model")
-            : lin.J_candidate.norm() == 0.0
-                ? "it does not act on these poses"
-                : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
-                      " % of its signature is absorbed by the geometry";
-        f.data_needed = !missing.empty() ? missing : c.data_hint;
-        out.untestable.push_back(f);
-        done.insert(c.effect.name);
-        continue;
-      }
-      round.candidates.push_back(f);
-      testable.push_back(&c);
-      signatures.push_back(lin.J_candidate);
-      unabsorbed_bases.push_back(OrthonormalBasis(unabsorbed));
-    }
-    if (round.candidates.empty()) break;
-    // Holm over the round's candidates, on the score tests.
-    std::vector<double> p;
-    for (const auto& f : round.candidates) p.push_back(f.p_holm);
-    const std::vector<double> adjusted = HolmAdjusted(p);
-    for (size_t i = 0; i < p.size(); ++i) round.candidates[i].p_holm = adjusted[i];
-    std::vector<size_t> order(round.candidates.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-      return Strength(round.candidates[a].score, round.candidates[a].dof) >
-             Strength(round.candidates[b].score, round.candidates[b].dof);
-    });
-    // Full nonlinear refits of the best few.
-    int best = -1;
+    ScoredRound scored = diagnoser.Score(current, &done, &out.untestable);
+    if (scored.round.candidates.empty()) break;
     Fitted best_fit;
-    // BIC's n: the poses, the experiment's independent units (cross-validation and bootstrap
-    // draw whole poses too); a pose's rows are not independent draws of an effect's signature.
-    const double n_poses = CountPoses(recording);
-    for (size_t k = 0; k < order.size() && static_cast<int>(k) < options.refits; ++k) {
-      CandidateFinding& f = round.candidates[order[k]];
-      Fitted refit = Fit(With(current.spec, *testable[order[k]]), recording, make_solver, 0);
-      f.refitted = true;
-      f.likelihood_ratio =
-          std::max(0.0, current.summary.chi2 - refit.summary.chi2) / round.dispersion;
-      f.p_lr_holm = std::min(1.0, ChiSquareSurvival(f.likelihood_ratio, f.dof) *
-                                      static_cast<double>(round.candidates.size()));
-      f.delta_bic = f.dof * std::log(n_poses) - f.likelihood_ratio;
-      const auto& incumbent = round.candidates[std::max(best, 0)];
-      if (best < 0 || Strength(f.likelihood_ratio, f.dof) >
-                          Strength(incumbent.likelihood_ratio, incumbent.dof)) {
-        best = static_cast<int>(order[k]);
-        best_fit = std::move(refit);
-      }
-    }
-    CandidateFinding& chosen = round.candidates[best];
-    Progress::Note("cross-validating and bootstrapping " + chosen.label);
-    Fitted with_cv = Fit(best_fit.spec, recording, make_solver, options.folds);
-    const auto [gain, se] = CvGain(current.result.held_out, with_cv.result.held_out);
-    chosen.cv_rms_mm = with_cv.summary.held_out_rms_mm;
-    chosen.cv_gain = gain;
-    chosen.cv_gain_se = se;
-    // Aliases: candidates whose unabsorbed signatures these poses cannot tell from the chosen
-    // one's at all (correlation >= options.alias_correlation: a gear ratio and a once-per-turn
-    // error over less than a turn). No estimator can pick between them, so the bootstrap asks
-    // whether the finding is stable, not which of its names wins, and the report names both.
-    std::set<std::string> own = {testable[best]->family_name()};
-    for (const auto& [c, correlation] : LookAlikes(unabsorbed_bases, testable, best, 0.8)) {
-      chosen.look_alikes.push_back({testable[c]->label, correlation});
-      if (correlation >= options.alias_correlation) {
-        own.insert(testable[c]->family_name());
-        chosen.aliases.push_back(testable[c]->label);
-      }
-    }
-    const std::vector<std::vector<int>> inclusions = BootstrapInclusions(
-        base.r, base.J_model, signatures, RowPoses(base), options.bootstrap, std::log(n_poses),
-        options.max_effects - static_cast<int>(out.accepted.size()),
+    const int best = diagnoser.RefitBest(current, &scored, &best_fit);
+    Fitted with_cv = diagnoser.TestChosen(
+        current, &scored, best, best_fit, options.max_effects - static_cast<int>(out.accepted.size()),
         17u + static_cast<unsigned>(out.rounds.size()));
-    const auto [share, rival] = FamilyInclusion(inclusions, testable, own);
-    chosen.bootstrap_share = share;
-    chosen.bootstrap_rival = rival;
-    chosen.accepted = chosen.p_lr_holm < options.alpha && chosen.delta_bic < 0 && gain > se &&
-                      chosen.bootstrap_share >= options.bootstrap_share;
-    if (chosen.accepted) {
-      round.accepted = chosen.name;
-      const CandidateEffect& c = *testable[best];
-      AcceptedEffect a;
-      a.name = c.effect.name;
-      const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);
-      a.description = c.effect.effect->Describe(values);
-      a.aliases = chosen.aliases;
-      for (const auto& s : with_cv.result.model_parameters) {
-        if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
-      }
-      a.peak_mm = PeakMm(Linearize(best_fit.spec, recording, data, noise,
-                                   current.result.estimate, true),
-                         recording, Eigen::Map<const Eigen::VectorXd>(values.data(), values.size()));
-      out.accepted.push_back(a);
+    const CandidateFinding& chosen = scored.round.candidates[best];
+    const bool accepted = chosen.accepted;
+    if (accepted) {
+      const CandidateEffect& c = *scored.testable[best];
+      scored.round.accepted = chosen.name;
+      out.accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
       for (const auto& other : candidates) {  // its nested variants would repeat its parameters
         if (other.family_name() == c.family_name()) done.insert(other.effect.name);
       }
       current = std::move(with_cv);
     }
-    out.rounds.push_back(round);
-    if (!chosen.accepted) break;
+    out.rounds.push_back(std::move(scored.round));
+    if (!accepted) break;
   }
   out.final = current.summary;
   out.final_fit = current.result;
-  // Structure the library did not explain: a regressor the residuals still follow (a more
-  // powerful test than the omnibus chi-square against one concentrated cause), or a chi-square
-  // above the floor.
-  const Linearization lin =
-      Linearize(current.spec, recording, data, noise, current.result.estimate, false);
-  const auto findings = CorrelateRegressors(lin, recording, regressors);
-  if (!findings.empty() && findings.front().p_value < options.alpha) {
-    const auto& f = findings.front();
-    out.unexplained = "structure remains along " + f.regressor + " (" + f.axis +
-                      " residuals, partial correlation " +
-                      std::to_string(f.partial_correlation).substr(0, 5) + ")";
-  } else if (!out.final.consistent_with_noise()) {
-    out.unexplained = "the residuals exceed the floor but follow none of the recorded regressors";
-  }
+  out.unexplained = diagnoser.Unexplained(current, regressors);
   return out;
 }
 

@@ -133,29 +133,46 @@ std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
   std::vector<std::string> scopes = {""};
   if (recording.cameras.size() > 1) scopes.insert(scopes.end(), recording.cameras.begin(), recording.cameras.end());
   std::vector<RegressorFinding> findings;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (const auto& scope : scopes) {
-      std::vector<Eigen::Index> rows;
-      // Over all cameras: the carried targets' rows (robot physics). Per camera: every position
-      // row of that camera, the world target's too (a camera that moved shifts them all).
-      for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
-        const bool position = lin.rows[i].kind == ResidualInfo::Kind::kPosition &&
-                              lin.rows[i].observation >= 0;
-        if (lin.row_axis[i] == axis &&
-            (scope.empty() ? IsToolPositionRow(lin, recording, i)
-                           : position && lin.rows[i].camera == scope)) {
-          rows.push_back(i);
-        }
+  for (const auto& scope : scopes) {
+    // Over all cameras: the carried targets' rows (robot physics). Per camera: every position
+    // row of that camera, the world target's too (a camera that moved shifts them all).
+    std::vector<Eigen::Index> rows[3];
+    for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
+      const bool position = lin.rows[i].kind == ResidualInfo::Kind::kPosition &&
+                            lin.rows[i].observation >= 0;
+      if (scope.empty() ? IsToolPositionRow(lin, recording, i)
+                        : position && lin.rows[i].camera == scope) {
+        rows[lin.row_axis[i]].push_back(i);
       }
-      for (size_t k = 0; k < names.size(); ++k) {
+    }
+    const std::string where = scope.empty() ? "" : " in " + scope;
+    for (size_t k = 0; k < names.size(); ++k) {
+      // Each axis alone, and the three together (Fisher's z added in squares, chi-square with 3
+      // dof): a camera knocked sideways and down spreads its shift over the axes, which each
+      // alone may not carry past the multiple-testing correction.
+      double z2 = 0.0, r2_weighted = 0.0;
+      int axes = 0;
+      for (int axis = 0; axis < 3; ++axis) {
         std::vector<double> values;
-        for (auto i : rows) values.push_back(RowValue(lin, recording, regressors, k, i));
-        auto f = Correlate(lin, Q, rows, values);
+        for (auto i : rows[axis]) values.push_back(RowValue(lin, recording, regressors, k, i));
+        auto f = Correlate(lin, Q, rows[axis], values);
         if (!f) continue;
-        f->regressor = names[k] + (scope.empty() ? "" : " in " + scope);
+        const double c = std::min(std::abs(f->partial_correlation), 0.999999);
+        const double z = std::atanh(c) * std::sqrt(double(rows[axis].size()) - 3.0);
+        z2 += z * z;
+        r2_weighted += c * c;
+        ++axes;
+        f->regressor = names[k] + where;
         f->axis = kAxes[axis];
         findings.push_back(*f);
       }
+      if (axes < 2) continue;
+      RegressorFinding all;
+      all.regressor = names[k] + where;
+      all.axis = "x, y and depth";
+      all.partial_correlation = std::sqrt(r2_weighted / axes);  // RMS over the axes, unsigned
+      all.p_value = ChiSquareSurvival(z2, axes);
+      findings.push_back(all);
     }
   }
   for (auto& f : findings) f.p_value = std::min(1.0, f.p_value * findings.size());

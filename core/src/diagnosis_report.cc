@@ -41,6 +41,10 @@ std::string DiagnosisReport(const DiagnosisResult& r) {
   }
   for (const auto& a : r.accepted) {
     out << "Left out: " << a.description << " (up to " << Mm(a.peak_mm) << " at the tool).\n";
+    if (!a.unusual.empty()) {
+      out << "  Its size is unusual (" << a.unusual
+          << "): it may stand in for something the library lacks.\n";
+    }
     if (!a.aliases.empty()) {
       out << "  In these poses it is indistinguishable from";
       for (size_t i = 0; i < a.aliases.size(); ++i) out << (i ? "," : "") << " " << a.aliases[i];
@@ -151,6 +155,7 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
   for (const auto& a : r.accepted) {
     nlohmann::json ja{{"name", a.name}, {"description", a.description}, {"peak_mm", a.peak_mm},
                       {"aliases", a.aliases},
+                      {"unusual", a.unusual},
                       {"parameters", nlohmann::json::array()}};
     for (const auto& p : a.parameters) {
       ja["parameters"].push_back(

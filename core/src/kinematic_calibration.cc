@@ -66,7 +66,7 @@ std::unique_ptr<Assembled> Assemble(const KinematicProblem& spec,
   std::vector<Parameter> marker;
   for (int i = 0; i < 3; ++i) {
     marker.push_back({std::string(1, "xyz"[i]), "mm", start.marker_mm[i], !spec.marker_free,
-                      {}, {}, {}, "marker on the flange"});
+                      {}, {}, {}, "marker on the flange", {}});
   }
   a->marker = a->problem.AddBlock(kMarker, marker);
   std::vector<Parameter> model = spec.model_parameters;

@@ -13,7 +13,8 @@ JointCompliance::JointCompliance(std::vector<int> joints, std::vector<double> li
     : joints_(std::move(joints)), link_masses_kg_(std::move(link_masses_kg)) {
   for (int j : joints_) {
     parameters_.push_back({JointName(j) + ".compliance", "rad/(N m)", 0.0, false, {}, {}, {},
-                           "joint deflection per N m of gravity torque"});
+                           "joint deflection per N m of gravity torque", {}});
+    parameters_.back().plausible = 5e-4;  // a joint softer than 2,000 N m/rad is unusual
   }
 }
 
@@ -24,7 +25,8 @@ std::string JointCompliance::Describe(const std::vector<double>& params) const {
 Backlash::Backlash(std::vector<int> joints) : joints_(std::move(joints)) {
   for (int j : joints_) {
     parameters_.push_back({JointName(j) + ".backlash", "rad", 0.0, false, {}, {}, {},
-                           "play in the gear train (the joint lags by half of it)"});
+                           "play in the gear train (the joint lags by half of it)", {}});
+    parameters_.back().plausible = 5e-3;  // 0.3 deg: spur gears; harmonic drives far less
   }
 }
 
@@ -38,9 +40,11 @@ TransmissionError::TransmissionError(std::vector<int> joints, std::vector<int> h
     for (int h : harmonics_) {
       const std::string name = JointName(j) + ".h" + std::to_string(h);
       parameters_.push_back({name + ".sin", "rad", 0.0, false, {}, {}, {},
-                             "transmission error, sine of harmonic " + std::to_string(h)});
+                             "transmission error, sine of harmonic " + std::to_string(h), {}});
+      parameters_.back().plausible = 2e-3;  // harmonic drives 0.3 mrad, cycloidal 1 mrad
       parameters_.push_back({name + ".cos", "rad", 0.0, false, {}, {}, {},
-                             "transmission error, cosine of harmonic " + std::to_string(h)});
+                             "transmission error, cosine of harmonic " + std::to_string(h), {}});
+      parameters_.back().plausible = 2e-3;  // as the sine
     }
   }
 }
@@ -52,7 +56,8 @@ std::string TransmissionError::Describe(const std::vector<double>& params) const
 JointScale::JointScale(std::vector<int> joints) : joints_(std::move(joints)) {
   for (int j : joints_) {
     parameters_.push_back({JointName(j) + ".scale", "1", 0.0, false, {}, {}, {},
-                           "relative error of the gear ratio"});
+                           "relative error of the gear ratio", {}});
+    parameters_.back().plausible = 5e-3;  // half a percent of gear ratio
   }
 }
 

@@ -14,10 +14,11 @@ std::string ArmsInWords(const std::vector<int>& arms) {
 }
 
 std::vector<Parameter> PerArm(const std::vector<int>& arms, const std::string& what,
-                              const std::string& unit, const std::string& doc) {
+                              const std::string& unit, const std::string& doc, double plausible) {
   std::vector<Parameter> out;
   for (int i : arms) {
-    out.push_back({"arm" + std::to_string(i + 1) + "." + what, unit, 0.0, false, {}, {}, {}, doc});
+    out.push_back(
+        {"arm" + std::to_string(i + 1) + "." + what, unit, 0.0, false, {}, {}, {}, doc, plausible});
   }
   return out;
 }
@@ -37,7 +38,8 @@ bool Links(const EffectContext& context, Eigen::Matrix3d* U, Eigen::Matrix3d* A)
 
 PlatformTilt::PlatformTilt(std::vector<int> arms)
     : ParallelLinkEffect(arms, PerArm(arms, "skew", "rad",
-                                      "parallelogram rod length difference over the rod spacing")) {}
+                                      "parallelogram rod length difference over the rod spacing",
+                                      0.02)) {}  // 1 mm over 50 mm of spacing
 
 std::string PlatformTilt::Describe(const std::vector<double>& params) const {
   return WithParameters(ArmsInWords(arms_) + " parallelogram out of true (platform tilt)",
@@ -56,7 +58,8 @@ bool PlatformTilt::TiltPerSkew(const EffectContext& context, Eigen::Matrix3d* ti
 BallJointClearance::BallJointClearance(std::vector<int> arms)
     : ParallelLinkEffect(arms, PerArm(arms, "clearance", "mm",
                                       "ball-joint play along the rods, taken up at a full share "
-                                      "of the load")) {}
+                                      "of the load",
+                                      1.0)) {}  // mm: a worn joint
 
 std::string BallJointClearance::Describe(const std::vector<double>& params) const {
   return WithParameters(ArmsInWords(arms_) + " ball-joint clearance along the rod force",

@@ -116,8 +116,8 @@ struct CandidateFinding {
 
 struct RegressorFinding {
   std::string regressor;            // "joint 2 gravity torque"
-  std::string axis;                 // x, y, depth
-  double partial_correlation = 0.0;
+  std::string axis;                 // x, y, depth, or "x, y and depth" (tested together)
+  double partial_correlation = 0.0;  // the three axes together: the RMS of theirs, unsigned
   double p_value = 1.0;             // Bonferroni over all regressors and axes
 };
 
@@ -134,6 +134,7 @@ struct AcceptedEffect {
   std::vector<ScalarEstimate> parameters;
   double peak_mm = 0.0;                      // largest tool displacement it predicts
   std::vector<std::string> aliases;          // candidates these poses cannot tell from it
+  std::string unusual;                       // a parameter beyond Parameter::plausible, in words
 };
 
 struct FitSummary {

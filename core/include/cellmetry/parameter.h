@@ -21,6 +21,9 @@ struct Parameter {
   std::optional<double> upper;
   std::optional<double> prior_sigma;  // same unit as the parameter
   std::string description;            // one line, for `cellmetry plugins` and reports
+  // |value| beyond which the physics it stands for is unusual (effects, effect.h): a finding
+  // that large is flagged in the report, not bounded.
+  std::optional<double> plausible;
 };
 
 // Index of the parameter called `name` in `params`, or -1.

@@ -22,13 +22,13 @@ DeltaModel::DeltaModel(std::array<Arm, kArms> arms, Pose marker_offset, RobotLim
     const std::string arm = "arm" + std::to_string(i + 1) + ".";
     const Arm& a = arms[i];
     parameters_.push_back({arm + "R", "mm", a.R, false, {}, {}, {},
-                           "motor axis to the centre of the base (only R - r is identifiable)"});
+                           "motor axis to the centre of the base (only R - r is identifiable)", {}});
     parameters_.push_back({arm + "r", "mm", a.r, false, {}, {}, {},
-                           "effector joint to the centre of the effector"});
-    parameters_.push_back({arm + "L", "mm", a.L, false, {}, {}, {}, "upper arm length"});
-    parameters_.push_back({arm + "l", "mm", a.l, false, {}, {}, {}, "lower arm (rod) length"});
+                           "effector joint to the centre of the effector", {}});
+    parameters_.push_back({arm + "L", "mm", a.L, false, {}, {}, {}, "upper arm length", {}});
+    parameters_.push_back({arm + "l", "mm", a.l, false, {}, {}, {}, "lower arm (rod) length", {}});
     parameters_.push_back({arm + "homing", "rad", a.homing, false, {}, {}, {},
-                           "homing offset: true motor angle = command + homing"});
+                           "homing offset: true motor angle = command + homing", {}});
   }
 }
 

@@ -9,14 +9,14 @@ SerialMdhModel::SerialMdhModel(std::vector<Joint> joints) : joints_(std::move(jo
     const std::string j = "j" + std::to_string(i + 1) + ".";
     const Joint& joint = joints_[i];
     parameters_.push_back({j + "alpha", "rad", joint.alpha, true, {}, {}, {},
-                           "twist about x_{i-1} (Craig alpha_{i-1})"});
+                           "twist about x_{i-1} (Craig alpha_{i-1})", {}});
     parameters_.push_back({j + "a", "mm", joint.a, true, {}, {}, {},
-                           "length along x_{i-1} (Craig a_{i-1})"});
+                           "length along x_{i-1} (Craig a_{i-1})", {}});
     parameters_.push_back({j + "beta", "rad", joint.beta, true, {}, {}, {},
-                           "Hayati tilt about y; use for parallel axes"});
-    parameters_.push_back({j + "d", "mm", joint.d, true, {}, {}, {}, "offset along z_i"});
+                           "Hayati tilt about y; use for parallel axes", {}});
+    parameters_.push_back({j + "d", "mm", joint.d, true, {}, {}, {}, "offset along z_i", {}});
     parameters_.push_back({j + "offset", "rad", joint.offset, true, {}, {}, {},
-                           "joint zero offset added to the reading"});
+                           "joint zero offset added to the reading", {}});
   }
 }
 
