@@ -77,6 +77,8 @@ TEST_F(Diagnosis, CleanRecordingGetsNoClaim) {
   EXPECT_TRUE(d.geometric.consistent_with_noise());
   // Joint 1 turns about the vertical: its compliance cannot act, and the report says so.
   EXPECT_THAT(DiagnosisReport(d), HasSubstr("joint 1 compliance (it does not act"));
+  // The best candidate was tried and refused, and the report says on which test.
+  EXPECT_THAT(DiagnosisReport(d), HasSubstr("not accepted:"));
 }
 
 TEST_F(Diagnosis, KnockedCameraIsUnexplainedNotForcedIntoAName) {

@@ -350,8 +350,11 @@ class Diagnoser {
                             options_.bootstrap, std::log(n_poses_), effects_left, seed);
     std::tie(chosen.bootstrap_share, chosen.bootstrap_rival) =
         FamilyInclusion(inclusions, s->testable, own);
-    chosen.accepted = chosen.p_lr_holm < options_.alpha && chosen.delta_bic < 0 && gain > se &&
-                      chosen.bootstrap_share >= options_.bootstrap_share;
+    if (!(chosen.p_lr_holm < options_.alpha)) chosen.failed.push_back("LR");
+    if (!(chosen.delta_bic < 0)) chosen.failed.push_back("BIC");
+    if (!(gain > se)) chosen.failed.push_back("CV");
+    if (chosen.bootstrap_share < options_.bootstrap_share) chosen.failed.push_back("bootstrap");
+    chosen.accepted = chosen.failed.empty();
     return with_cv;
   }
 

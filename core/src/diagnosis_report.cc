@@ -19,6 +19,17 @@ std::string Fixed(double v, int digits = 1) {
   return b;
 }
 
+// A failed test (CandidateFinding::failed) in words.
+std::string Why(const CandidateFinding& f, const std::string& test) {
+  if (test == "LR") return "its likelihood-ratio test fails after Holm's correction";
+  if (test == "BIC") return "BIC does not fall";
+  if (test == "CV") return "its held-out gain is within its standard error";
+  std::string why = "the bootstrap includes it in " + Fixed(100 * f.bootstrap_share, 0) +
+                    " % of resamples, not 80 %";
+  if (!f.bootstrap_rival.empty()) why += " (" + f.bootstrap_rival + " competes)";
+  return why;
+}
+
 std::string Value(const ScalarEstimate& s) {
   char b[96];
   std::snprintf(b, sizeof(b), "%s = %.3g +- %.2g %s", s.name.c_str(), s.value, s.sigma,
@@ -66,15 +77,21 @@ std::string DiagnosisReport(const DiagnosisResult& r) {
     }
     out << ".\n";
   }
-  if (!r.rounds.empty()) {  // the last round's chosen one failed: say what it could not be told from
+  if (!r.rounds.empty()) {  // the last round's chosen one failed: what it would give, and why not
     for (const auto& f : r.rounds.back().candidates) {
-      if (f.accepted || f.look_alikes.empty()) continue;
-      out << "Closest candidate, " << f.label << ", looks like";
-      for (size_t i = 0; i < f.look_alikes.size() && i < 3; ++i) {
-        out << (i ? "," : "") << " " << f.look_alikes[i].label << " ("
-            << std::to_string(f.look_alikes[i].correlation).substr(0, 4) << ")";
+      if (f.failed.empty()) continue;
+      out << "Closest candidate: " << f.label << " (held-out RMS " << Mm(r.final.held_out_rms_mm)
+          << " -> " << Mm(f.cv_rms_mm) << "), not accepted:";
+      for (size_t i = 0; i < f.failed.size(); ++i) out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
+      out << ".\n";
+      if (!f.look_alikes.empty()) {
+        out << "  In these poses it looks like";
+        for (size_t i = 0; i < f.look_alikes.size() && i < 3; ++i) {
+          out << (i ? "," : "") << " " << f.look_alikes[i].label << " ("
+              << Fixed(f.look_alikes[i].correlation, 2) << ")";
+        }
+        out << " (canonical correlation of what the geometry leaves of them).\n";
       }
-      out << " in these poses (canonical correlation of what the geometry leaves of them).\n";
     }
   }
   if (!r.unexplained.empty()) out << "Unexplained: " << r.unexplained << ".\n";
@@ -126,6 +143,7 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
                           {"look_alikes", look_alikes(f)},
                           {"bootstrap_rival", f.bootstrap_rival},
                           {"aliases", f.aliases},
+                          {"failed", f.failed},
                           {"accepted", f.accepted}};
   };
   nlohmann::json j;

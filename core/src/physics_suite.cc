@@ -88,14 +88,14 @@ std::string Fixed(double v, int digits) {
 
 
 // The tests the round's chosen candidate failed, for the misses column.
-std::string FailedTests(const CandidateFinding& f, const DiagnosisOptions& options) {
+std::string FailedTests(const CandidateFinding& f) {
   std::string failed = f.name + ":";
-  if (!(f.p_lr_holm < options.alpha)) failed += " LR";
-  if (!(f.delta_bic < 0)) failed += " BIC";
-  if (!(f.cv_gain > f.cv_gain_se)) failed += " CV";
-  if (f.bootstrap_share < options.bootstrap_share) {
-    failed += " bootstrap " + Fixed(f.bootstrap_share, 2);
-    if (!f.bootstrap_rival.empty()) failed += " vs " + f.bootstrap_rival;
+  for (const auto& test : f.failed) {
+    failed += " " + test;
+    if (test == "bootstrap") {
+      failed += " " + Fixed(f.bootstrap_share, 2);
+      if (!f.bootstrap_rival.empty()) failed += " vs " + f.bootstrap_rival;
+    }
   }
   if (!f.look_alikes.empty()) {
     failed += " (like " + f.look_alikes.front().label + ", " +
@@ -127,7 +127,7 @@ SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
     run.held_out_over_floor = d.final.held_out_rms_mm / d.floor_rms_mm;
     for (const auto& f : d.rounds.empty() ? std::vector<CandidateFinding>{}
                                           : d.rounds.back().candidates) {
-      if (!f.accepted && f.cv_rms_mm != 0.0) run.failed = FailedTests(f, job.options);
+      if (!f.failed.empty()) run.failed = FailedTests(f);
     }
     run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.runs.push_back(run);

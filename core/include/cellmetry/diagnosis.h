@@ -111,6 +111,8 @@ struct CandidateFinding {
   std::string bootstrap_rival;      // the other family included most often ("" if none)
   std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
   std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
+  std::vector<std::string> failed;     // the round's chosen one: tests it failed, of "LR", "BIC",
+                                       // "CV", "bootstrap"
   bool accepted = false;
 };
 
