@@ -172,7 +172,7 @@ class TwoJoints : public RobotModelFromTemplate<TwoJoints> {
   int num_joints() const override { return 2; }
   const std::vector<Parameter>& parameters() const override { return params_; }
   template <typename T>
-  bool ForwardT(const double*, const T*, Transform<T>*) const { return true; }
+  bool ForwardT(const double*, const T*, Transform<T>*) const { return false; }  // no pose
 
  private:
   std::vector<Parameter> params_;
@@ -237,17 +237,23 @@ TEST(EffectsInWorkcell, SimulatedPayloadsCycleOverThePoses) {
 
 // The delta arm's effects (platform_tilt, ball_joint_clearance) read its rods.
 
+// One delta sample's facts (rods, flange Jacobian) as GatherSampleFacts gives them.
 struct DeltaContext {
-  std::vector<double> q;
-  std::vector<ParallelLink> links;
+  SampleFacts facts;
   EffectContext context;
-  DeltaContext(const RobotModel& delta, std::vector<double> q_rad) : q(std::move(q_rad)) {
+  DeltaContext(const RobotModel& delta, std::vector<double> q_rad, double payload_kg = 0.0) {
+    Recording recording;
+    recording.robots["delta"] = 3;
+    Sample sample;
+    sample.robot = "delta";
+    sample.q = std::move(q_rad);
+    sample.payload_kg = payload_kg;
+    recording.samples.push_back(sample);
     std::vector<double> nominal;
     for (const auto& p : delta.parameters()) nominal.push_back(p.nominal);
-    EXPECT_TRUE(delta.ParallelLinks(q.data(), nominal.data(), &links));
-    context.num_joints = 3;
-    context.q = q.data();
-    context.links = &links;
+    facts = GatherSampleFacts(recording, "delta", delta, nominal).at(0);
+    EXPECT_EQ(facts.links.size(), 3u);
+    context = ContextOf(facts, Eigen::Vector3d(0, 0, -9.81));
   }
 };
 
@@ -303,7 +309,7 @@ TEST(DeltaEffects, SymmetricArmsTwistAndLowerThePlatformAboutTheVertical) {
   EXPECT_GT(w.norm(), 1e-4);
   EXPECT_NEAR(w.head<2>().norm(), 0.0, 1e-9 * w.norm() + 1e-12) << w.transpose();
   // Each arm's constraint holds: (e_i x u_i) . w = skew_i.
-  for (const auto& link : symmetric.links) {
+  for (const auto& link : symmetric.facts.links) {
     EXPECT_NEAR(link.pair_axis.cross(link.direction).dot(w), 1e-3, 1e-9);
   }
 
@@ -317,8 +323,36 @@ TEST(DeltaEffects, SymmetricArmsTwistAndLowerThePlatformAboutTheVertical) {
   EXPECT_NEAR(moved.head<2>().norm(), 0.0, 1e-12);
   // The tensions' shares of the weight add up to it along the vertical.
   Eigen::Vector3d pull = Eigen::Vector3d::Zero();
-  for (const auto& link : symmetric.links) pull += link.direction;
+  for (const auto& link : symmetric.facts.links) pull += link.direction;
   EXPECT_GT(pull.z(), 0.0);  // the rods hold the platform up
+}
+
+// A delta's motors do not carry each other: compliance acts through the load on the flange,
+// tau = J^T m g, which is minus the derivative of the load's potential energy.
+TEST(DeltaEffects, ComplianceTorqueIsTheFlangeLoadsVirtualWork) {
+  const auto delta = Delta();
+  const std::vector<double> q = {0.2, 0.7, -0.1};
+  const DeltaContext fixture(*delta, q, /*payload_kg=*/0.5);
+  ASSERT_EQ(fixture.facts.flange_jacobian_mm.cols(), 3);
+  const std::vector<double> masses = {0.1, 0.1, 0.1};  // 0.3 kg hang on the flange with 0.5
+  const std::vector<double> torque = ContextGravityTorques(fixture.context, masses);
+  std::vector<double> nominal;
+  for (const auto& p : delta->parameters()) nominal.push_back(p.nominal);
+  for (int j = 0; j < 3; ++j) {
+    std::vector<double> plus = q, minus = q;
+    plus[j] += 1e-5, minus[j] -= 1e-5;
+    Pose up, down;
+    ASSERT_TRUE(delta->Forward(plus.data(), nominal.data(), &up));
+    ASSERT_TRUE(delta->Forward(minus.data(), nominal.data(), &down));
+    const double dz_m_per_rad = 1e-3 * (up.t.z() - down.t.z()) / 2e-5;
+    EXPECT_NEAR(torque[j], -0.8 * 9.81 * dz_m_per_rad, 1e-6) << "motor " << j + 1;
+  }
+  const auto compliance = MakeEffect("{type: joint_compliance, link_masses_kg: [0.1, 0.1, 0.1]}",
+                                     *delta);
+  std::vector<double> dq(3, 0.0);
+  const std::vector<double> c = {1e-3, 2e-3, 3e-3};
+  compliance->Apply(fixture.context, c.data(), dq.data());
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(dq[j], c[j] * torque[j], 1e-15);
 }
 
 TEST(DeltaEffects, SerialArmIsRefusedInWords) {

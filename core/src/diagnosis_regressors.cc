@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 
+#include "cellmetry/effect_context.h"
 #include "cellmetry/statistics.h"
 
 namespace cellmetry {
@@ -47,11 +48,10 @@ std::vector<Regressor> SampleRegressors(const Recording& recording,
       if (j >= f.q.size()) continue;
       angle.per_sample[i] = f.q[j];
       approach.per_sample[i] = f.approach[j];
-      if (!f.T_base_joint.empty()) {
-        std::vector<double> masses = link_masses_kg;
-        masses.resize(f.q.size(), 1.0);
-        torque.per_sample[i] = GravityTorques(f.T_base_joint, masses, f.payload_kg, gravity_base)[j];
-      }
+      std::vector<double> masses = link_masses_kg;
+      masses.resize(f.q.size(), 1.0);
+      const auto torques = ContextGravityTorques(ContextOf(f, gravity_base), masses);
+      if (j < torques.size()) torque.per_sample[i] = torques[j];
     }
     for (auto* r : {&angle, &torque, &approach}) {
       if (Varies(r->per_sample)) out.push_back(*r);

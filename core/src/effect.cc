@@ -24,4 +24,25 @@ std::vector<double> GravityTorques(const std::vector<Pose>& T_base_joint,
   return torque;
 }
 
+std::vector<double> FlangeLoadTorques(const Eigen::Matrix3Xd& flange_jacobian_mm,
+                                      double mass_kg, const Eigen::Vector3d& gravity_base) {
+  // Virtual work: the load's force m g does work F . dp = (J^T F) . dq, J in m/rad.
+  const Eigen::VectorXd torque = 1e-3 * flange_jacobian_mm.transpose() * (mass_kg * gravity_base);
+  return std::vector<double>(torque.data(), torque.data() + torque.size());
+}
+
+std::vector<double> ContextGravityTorques(const EffectContext& context,
+                                          const std::vector<double>& link_masses_kg) {
+  if (context.T_base_joint && !context.T_base_joint->empty()) {
+    return GravityTorques(*context.T_base_joint, link_masses_kg, context.payload_kg,
+                          context.gravity_base);
+  }
+  if (context.flange_jacobian_mm && context.flange_jacobian_mm->cols() > 0) {
+    double mass = context.payload_kg;
+    for (double m : link_masses_kg) mass += m;
+    return FlangeLoadTorques(*context.flange_jacobian_mm, mass, context.gravity_base);
+  }
+  return {};
+}
+
 }  // namespace cellmetry

@@ -3,6 +3,28 @@
 #include <cmath>
 
 namespace cellmetry {
+namespace {
+
+// d p_flange / d q (mm/rad) by central differences; no columns where the model has no pose.
+Eigen::Matrix3Xd FlangeJacobian(const RobotModel& model, const std::vector<double>& q,
+                                const std::vector<double>& params) {
+  constexpr double kStep = 1e-6;  // rad: ~1e-9 relative error for lengths of a metre
+  Eigen::Matrix3Xd J(3, q.size());
+  std::vector<double> moved = q;
+  for (size_t j = 0; j < q.size(); ++j) {
+    Pose plus, minus;
+    moved[j] = q[j] + kStep;
+    const bool up = model.Forward(moved.data(), params.data(), &plus);
+    moved[j] = q[j] - kStep;
+    const bool down = model.Forward(moved.data(), params.data(), &minus);
+    moved[j] = q[j];
+    if (!up || !down) return Eigen::Matrix3Xd(3, 0);
+    J.col(j) = (plus.t - minus.t) / (2 * kStep);
+  }
+  return J;
+}
+
+}  // namespace
 
 std::vector<SampleFacts> GatherSampleFacts(const Recording& recording, const std::string& robot,
                                            const RobotModel& model,
@@ -26,6 +48,7 @@ std::vector<SampleFacts> GatherSampleFacts(const Recording& recording, const std
     f.approach = approach;
     if (!model.JointFrames(sample.q.data(), nominal_params.data(), &f.T_base_joint)) {
       f.T_base_joint.clear();
+      f.flange_jacobian_mm = FlangeJacobian(model, sample.q, nominal_params);
     }
     if (!model.ParallelLinks(sample.q.data(), nominal_params.data(), &f.links)) f.links.clear();
     f.time_s = sample.time_s.value_or(NAN);
@@ -43,6 +66,7 @@ EffectContext ContextOf(const SampleFacts& facts, const Eigen::Vector3d& gravity
   context.approach = facts.approach.data();
   context.T_base_joint = &facts.T_base_joint;
   context.links = &facts.links;
+  context.flange_jacobian_mm = &facts.flange_jacobian_mm;
   context.gravity_base = gravity_base;
   context.time_s = facts.time_s;
   context.temperature_c = facts.temperature_c;
@@ -56,7 +80,7 @@ std::string MissingFacts(const EffectNeeds& needs, const std::vector<SampleFacts
   std::vector<bool> up, down;
   for (const auto& f : facts) {
     if (f.q.empty()) continue;
-    frames |= !f.T_base_joint.empty();
+    frames |= !f.T_base_joint.empty() || f.flange_jacobian_mm.cols() > 0;
     links |= !f.links.empty();
     time |= std::isfinite(f.time_s);
     temperature |= std::isfinite(f.temperature_c);

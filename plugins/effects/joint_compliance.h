@@ -5,8 +5,10 @@
 // tau_g,i is the gravity torque about joint i (GravityTorques in effect.h): lumped link masses
 // from the config (`link_masses_kg`, one per joint; default 1 kg each) at the links' midpoints,
 // the sample's payload (samples.csv `payload`) at the flange, gravity along -z of the base unless
-// the recording's context says otherwise. The torque is taken at the nominal geometry: the
-// geometry's own corrections change it by parts per thousand.
+// the recording's context says otherwise. A model without joint frames (a delta, whose motors
+// do not carry each other) takes the links' masses as hanging on the flange with the payload,
+// through the flange Jacobian (FlangeLoadTorques). The torque is taken at the nominal geometry:
+// the geometry's own corrections change it by parts per thousand.
 #pragma once
 
 #include <vector>
@@ -26,9 +28,8 @@ class JointCompliance : public EffectFromTemplate<JointCompliance> {
 
   template <typename T>
   void ApplyT(const EffectContext& context, const T* params, T* dq) const {
-    if (!context.T_base_joint || context.T_base_joint->empty()) return;
-    const std::vector<double> torque = GravityTorques(*context.T_base_joint, link_masses_kg_,
-                                                      context.payload_kg, context.gravity_base);
+    const std::vector<double> torque = ContextGravityTorques(context, link_masses_kg_);
+    if (torque.empty()) return;
     for (size_t k = 0; k < joints_.size(); ++k) dq[joints_[k]] += params[k] * torque[joints_[k]];
   }
 

@@ -54,6 +54,9 @@ struct EffectContext {
                                                     // robot model has no joint frames
   const std::vector<ParallelLink>* links = nullptr;  // a parallel arm's links at nominal
                                                      // geometry; empty for serial arms
+  const Eigen::Matrix3Xd* flange_jacobian_mm = nullptr;  // d p_flange / d q (mm/rad) at
+                                                        // nominal geometry, for models without
+                                                        // joint frames; empty otherwise
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2, in the base frame
   double time_s = NAN;
   double temperature_c = NAN;
@@ -65,7 +68,7 @@ struct EffectContext {
 // What an effect needs from a recording; the diagnosis calls an effect untestable, and says what
 // to record, when the recording lacks it.
 struct EffectNeeds {
-  bool joint_frames = false;   // gravity torques
+  bool joint_frames = false;   // gravity torques (joint frames, or a flange Jacobian)
   bool approach = false;       // capture order with moves in both directions
   bool time = false;
   bool temperature = false;
@@ -107,5 +110,16 @@ class EffectFromTemplate : public Effect {
 std::vector<double> GravityTorques(const std::vector<Pose>& T_base_joint,
                                    const std::vector<double>& link_masses_kg, double payload_kg,
                                    const Eigen::Vector3d& gravity_base);
+
+// Gravity torques (N m) of a load of `mass_kg` at the flange, through the flange position's
+// Jacobian (mm/rad): tau = J^T m g (virtual work). For arms without joint frames (a delta, whose
+// motors do not carry each other), where the moving mass hangs on the flange.
+std::vector<double> FlangeLoadTorques(const Eigen::Matrix3Xd& flange_jacobian_mm, double mass_kg,
+                                      const Eigen::Vector3d& gravity_base);
+
+// The gravity torques a sample offers: GravityTorques from its joint frames; without them,
+// FlangeLoadTorques with the links' masses and the payload at the flange; empty when neither.
+std::vector<double> ContextGravityTorques(const EffectContext& context,
+                                          const std::vector<double>& link_masses_kg);
 
 }  // namespace cellmetry

@@ -6,6 +6,9 @@
 //                 0 until the joint first moves
 //   joint frames  RobotModel::JointFrames at the nominal parameters (gravity torques)
 //   links         RobotModel::ParallelLinks at the nominal parameters (delta rods)
+//   flange Jacobian  without joint frames: the flange position's derivative in the joint
+//                 readings (central differences of Forward at the nominal parameters), for the
+//                 gravity torques of a load at the flange
 //   time, temperature, payload   from samples.csv when recorded
 #pragma once
 
@@ -23,6 +26,7 @@ struct SampleFacts {
   std::vector<int> approach;
   std::vector<Pose> T_base_joint;  // empty when the model has no joint frames
   std::vector<ParallelLink> links;  // empty for serial arms
+  Eigen::Matrix3Xd flange_jacobian_mm;  // without joint frames: d p_flange / d q (mm/rad)
   double time_s = NAN;
   double temperature_c = NAN;
   double payload_kg = 0.0;
