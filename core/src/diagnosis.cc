@@ -21,7 +21,6 @@ struct Fitted {
   WorkcellProblem spec;
   WorkcellResult result;
   FitSummary summary;
-  int rows = 0;  // scalar residuals
 };
 
 bool Carried(const Recording& recording, const std::string& target) {
@@ -36,14 +35,15 @@ Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
   f.spec.compare_camera_models = false;
   f.result = IdentifyWorkcell(f.spec, recording, make_solver);
   ResidualRms tool;
+  int rows = 0;  // scalar residuals
   for (const auto& row : f.result.residuals) {
     f.summary.chi2 += row.normalized.squaredNorm();
-    f.rows += 3;
+    rows += 3;
     if (row.kind == "position" && Carried(recording, row.target)) tool.Add(row.error);
   }
   tool.Finish();
   f.summary.rms_mm = tool.norm;
-  f.summary.dof = f.rows - static_cast<double>(f.result.uncertainty.names.size());
+  f.summary.dof = rows - static_cast<double>(f.result.uncertainty.names.size());
   f.summary.p_value = ChiSquareSurvival(f.summary.chi2, f.summary.dof);
   f.summary.held_out_rms_mm = f.result.held_out.total.norm;
   double ss = 0.0;
@@ -75,15 +75,20 @@ std::pair<double, double> CvGain(const HeldOut& before, const HeldOut& after) {
   return {mean, std::sqrt(ss / (gains.size() - 1) / gains.size())};
 }
 
+int CountPoses(const Recording& recording) {
+  std::set<int> poses;
+  for (const auto& s : recording.samples) poses.insert(s.pose);
+  return static_cast<int>(poses.size());
+}
+
 // Checks the recording can support the tests at all.
 void CheckInputs(const NoiseModel& noise, const Recording& recording,
                  const DiagnosisOptions& options, const std::string& origin,
                  std::string* noise_source) {
-  std::set<int> poses;
-  for (const auto& s : recording.samples) poses.insert(s.pose);
-  if (static_cast<int>(poses.size()) < options.min_poses) {
+  const int poses = CountPoses(recording);
+  if (poses < options.min_poses) {
     throw InputError({origin, 0, 0},
-                     "too few samples for the tests: " + std::to_string(poses.size()) +
+                     "too few samples for the tests: " + std::to_string(poses) +
                          " poses, the diagnosis needs at least " +
                          std::to_string(options.min_poses),
                      "Record more poses spread over the workspace");
@@ -208,16 +213,9 @@ std::pair<double, std::string> FamilyInclusion(const std::vector<std::vector<int
   return {resamples_own / n, rival};
 }
 
-int CountPoses(const Recording& recording) {
-  std::set<int> poses;
-  for (const auto& s : recording.samples) poses.insert(s.pose);
-  return static_cast<int>(poses.size());
-}
-
 // How strongly a chi-square statistic with `dof` degrees of freedom speaks against "no effect",
 // comparable across dof even where its p-value underflows.
 double Strength(double statistic, int dof) { return -ChiSquareLogSurvival(statistic, dof); }
-
 
 // One round's candidates, scored on the current model's linearization.
 struct ScoredRound {
@@ -376,20 +374,26 @@ class Diagnoser {
     return a;
   }
 
+  // Where the current model's residuals follow the recorded regressors, strongest first.
+  std::vector<RegressorFinding> Regressors(const Fitted& current,
+                                           const std::vector<Regressor>& regressors) const {
+    const Linearization lin =
+        Linearize(current.spec, recording_, data_, noise_, current.result.estimate, false);
+    return CorrelateRegressors(lin, recording_, regressors);
+  }
+
   // Structure the library did not explain: a regressor the residuals still follow (a more
   // powerful test than the omnibus chi-square against one concentrated cause), or a chi-square
   // above the floor; "" when the residuals look like noise.
-  std::string Unexplained(const Fitted& current, const std::vector<Regressor>& regressors) const {
-    const Linearization lin =
-        Linearize(current.spec, recording_, data_, noise_, current.result.estimate, false);
-    const auto findings = CorrelateRegressors(lin, recording_, regressors);
+  std::string Unexplained(const FitSummary& current,
+                          const std::vector<RegressorFinding>& findings) const {
     if (!findings.empty() && findings.front().p_value < options_.alpha) {
       const auto& f = findings.front();
       return "structure remains along " + f.regressor + " (" + f.axis +
              " residuals, partial correlation " +
              std::to_string(f.partial_correlation).substr(0, 5) + ")";
     }
-    if (!current.summary.consistent_with_noise()) {
+    if (!current.consistent_with_noise()) {
       return "the residuals exceed the floor but follow none of the recorded regressors";
     }
     return "";
@@ -460,7 +464,10 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   }
   out.final = current.summary;
   out.final_fit = current.result;
-  out.unexplained = diagnoser.Unexplained(current, regressors);
+  // Without an accepted effect the model is the geometry, whose findings are already known.
+  out.unexplained = diagnoser.Unexplained(
+      current.summary,
+      out.accepted.empty() ? out.regressors : diagnoser.Regressors(current, regressors));
   return out;
 }
 

@@ -91,9 +91,16 @@ double RowValue(const Linearization& lin, const Recording& recording,
   return obs.position_mm[k - regressors.size() - 1] / obs.position_mm.z();
 }
 
+// A partial correlation and its Fisher z (atanh(r) sqrt(n - 3), standard normal without
+// correlation), over the n rows that know the regressor.
+struct Correlation {
+  RegressorFinding finding;
+  double z = 0.0;
+};
+
 // Partial correlation of the residuals on `rows` with regressor values `x` (on those rows),
 // after projecting out span(Q); none when too few rows know the regressor.
-std::optional<RegressorFinding> Correlate(const Linearization& lin, const Eigen::MatrixXd& Q,
+std::optional<Correlation> Correlate(const Linearization& lin, const Eigen::MatrixXd& Q,
                                           const std::vector<Eigen::Index>& rows,
                                           const std::vector<double>& values) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(lin.r.size()), r = Eigen::VectorXd::Zero(lin.r.size());
@@ -112,11 +119,12 @@ std::optional<RegressorFinding> Correlate(const Linearization& lin, const Eigen:
   const Eigen::VectorXd x_perp = ProjectOut(Q, x);
   const double denominator = x_perp.norm() * r.norm();
   if (!(denominator > 0)) return std::nullopt;
-  RegressorFinding f;
-  f.partial_correlation = r.dot(x_perp) / denominator;
-  const double c = std::min(std::abs(f.partial_correlation), 0.999999);
-  f.p_value = 2.0 * NormalSurvival(std::atanh(c) * std::sqrt(double(known.size()) - 3.0));
-  return f;
+  Correlation out;
+  out.finding.partial_correlation = r.dot(x_perp) / denominator;
+  const double c = std::min(std::abs(out.finding.partial_correlation), 0.999999);
+  out.z = std::atanh(c) * std::sqrt(double(known.size()) - 3.0);
+  out.finding.p_value = 2.0 * NormalSurvival(out.z);
+  return out;
 }
 
 }  // namespace
@@ -155,16 +163,14 @@ std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
       for (int axis = 0; axis < 3; ++axis) {
         std::vector<double> values;
         for (auto i : rows[axis]) values.push_back(RowValue(lin, recording, regressors, k, i));
-        auto f = Correlate(lin, Q, rows[axis], values);
-        if (!f) continue;
-        const double c = std::min(std::abs(f->partial_correlation), 0.999999);
-        const double z = std::atanh(c) * std::sqrt(double(rows[axis].size()) - 3.0);
-        z2 += z * z;
-        r2_weighted += c * c;
+        auto c = Correlate(lin, Q, rows[axis], values);
+        if (!c) continue;
+        z2 += c->z * c->z;
+        r2_weighted += c->finding.partial_correlation * c->finding.partial_correlation;
         ++axes;
-        f->regressor = names[k] + where;
-        f->axis = kAxes[axis];
-        findings.push_back(*f);
+        c->finding.regressor = names[k] + where;
+        c->finding.axis = kAxes[axis];
+        findings.push_back(c->finding);
       }
       if (axes < 2) continue;
       RegressorFinding all;
