@@ -13,9 +13,9 @@
 #include <algorithm>
 #include <chrono>
 
-#include "cellmetry/kinematic_calibration.h"
-#include "cellmetry/kinematic_simulation.h"
-#include "cellmetry/progress.h"
+#include "cellmetry/cell/kinematic_calibration.h"
+#include "cellmetry/cell/kinematic_simulation.h"
+#include "cellmetry/basics/progress.h"
 
 namespace cellmetry {
 namespace {

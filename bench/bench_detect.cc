@@ -7,10 +7,10 @@
 
 #include <filesystem>
 
-#include "cellmetry/detection.h"
-#include "cellmetry/image_simulation.h"
-#include "cellmetry/kinematic_simulation.h"
-#include "cellmetry/progress.h"
+#include "cellmetry/imaging/detection.h"
+#include "cellmetry/imaging/image_simulation.h"
+#include "cellmetry/cell/kinematic_simulation.h"
+#include "cellmetry/basics/progress.h"
 
 namespace cellmetry {
 namespace {

@@ -6,8 +6,8 @@
 #include <random>
 
 #include "bench_support.h"
-#include "cellmetry/diagnosis_job.h"
-#include "cellmetry/workcell_simulation.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/cell/workcell_simulation.h"
 
 namespace cellmetry {
 namespace {

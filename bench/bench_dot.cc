@@ -10,10 +10,10 @@
 
 #include <random>
 
-#include "cellmetry/progress.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/registry/registry.h"
 #include "bench_support.h"
-#include "cellmetry/render.h"
+#include "cellmetry/imaging/render.h"
 
 namespace cellmetry {
 namespace {

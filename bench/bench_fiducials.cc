@@ -24,9 +24,9 @@
 #include <random>
 
 #include "bench_support.h"
-#include "cellmetry/progress.h"
-#include "cellmetry/registry.h"
-#include "cellmetry/render.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/registry/registry.h"
+#include "cellmetry/imaging/render.h"
 
 namespace cellmetry {
 namespace {

@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
-#include "cellmetry/progress.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry::bench {
 

@@ -7,12 +7,12 @@
 //  BM_Solve/<solver>   the same assembled sim_b problem from the closed-form start, each solver
 #include <benchmark/benchmark.h>
 
-#include "cellmetry/job.h"
-#include "cellmetry/noise_model.h"
-#include "cellmetry/progress.h"
-#include "cellmetry/workcell.h"
-#include "cellmetry/workcell_assembly.h"
-#include "cellmetry/workcell_initial.h"
+#include "cellmetry/cell/job.h"
+#include "cellmetry/estimation/noise_model.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/cell/workcell_initial.h"
 
 namespace cellmetry {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "cellmetry/so3_jacobians.h"
+#include "cellmetry/basics/so3_jacobians.h"
 #include "chain_cost.h"
 
 namespace cellmetry {

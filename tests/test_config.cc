@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-#include "cellmetry/config_node.h"
+#include "cellmetry/formats/config_node.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

@@ -5,7 +5,7 @@
 
 #include <random>
 
-#include "cellmetry/robot_model.h"
+#include "cellmetry/model/robot_model.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "cellmetry/detection.h"
-#include "cellmetry/image_simulation.h"
-#include "cellmetry/kinematic_simulation.h"
+#include "cellmetry/imaging/detection.h"
+#include "cellmetry/imaging/image_simulation.h"
+#include "cellmetry/cell/kinematic_simulation.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;

@@ -4,8 +4,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "cellmetry/diagnosis_job.h"
-#include "cellmetry/workcell_simulation.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/experiments/concealed_physics.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -87,7 +88,7 @@ TEST_F(Diagnosis, KnockedCameraIsUnexplainedNotForcedIntoAName) {
   bump.kind = "camera_bump";
   bump.camera = "cam1";
   bump.magnitude = 0.15;  // mm, from the middle of the run on
-  spec.concealed.push_back(bump);
+  spec.concealed.push_back(std::make_shared<ConcealedPhysics>(bump));
   const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
   EXPECT_TRUE(d.accepted.empty()) << DiagnosisReport(d);
   EXPECT_THAT(d.unexplained, HasSubstr("in cam1")) << DiagnosisReport(d);

@@ -6,10 +6,10 @@
 
 #include <random>
 
-#include "cellmetry/effect_context.h"
-#include "cellmetry/job.h"
-#include "cellmetry/workcell.h"
-#include "cellmetry/workcell_simulation.h"
+#include "cellmetry/model/effect_context.h"
+#include "cellmetry/cell/job.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

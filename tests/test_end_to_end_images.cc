@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "cellmetry/recording.h"
-#include "cellmetry/workcell_simulation.h"
+#include "cellmetry/formats/recording.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;

@@ -4,9 +4,9 @@
 
 #include <random>
 
-#include "cellmetry/config_node.h"
-#include "cellmetry/workcell.h"
-#include "cellmetry/workcell_simulation.h"
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

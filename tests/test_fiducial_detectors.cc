@@ -16,9 +16,9 @@
 #include <random>
 #include <set>
 
-#include "cellmetry/camera.h"
-#include "cellmetry/config_node.h"
-#include "cellmetry/render.h"
+#include "cellmetry/model/camera.h"
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/imaging/render.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

@@ -2,8 +2,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "cellmetry/homing.h"
-#include "cellmetry/kinematic_simulation.h"
+#include "cellmetry/cell/homing.h"
+#include "cellmetry/cell/kinematic_simulation.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

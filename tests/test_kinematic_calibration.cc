@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <map>
 
-#include "cellmetry/kinematic_calibration.h"
-#include "cellmetry/kinematic_simulation.h"
+#include "cellmetry/cell/kinematic_calibration.h"
+#include "cellmetry/cell/kinematic_simulation.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

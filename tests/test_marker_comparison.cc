@@ -1,7 +1,7 @@
 // The marker comparison (the report's Tables 3 and 4) on rendered stereo images.
 #include <gtest/gtest.h>
 
-#include "cellmetry/marker_comparison.h"
+#include "cellmetry/experiments/marker_comparison.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

@@ -6,7 +6,7 @@
 
 #include <filesystem>
 
-#include "cellmetry/physics_suite.h"
+#include "cellmetry/experiments/physics_suite.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "cellmetry/registry.h"
+#include "cellmetry/registry/registry.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "cellmetry/recording.h"
+#include "cellmetry/formats/recording.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;

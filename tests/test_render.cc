@@ -4,9 +4,9 @@
 
 #include <random>
 
-#include "cellmetry/camera.h"
-#include "cellmetry/error.h"
-#include "cellmetry/render.h"
+#include "cellmetry/model/camera.h"
+#include "cellmetry/basics/error.h"
+#include "cellmetry/imaging/render.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

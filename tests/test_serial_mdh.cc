@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "cellmetry/config_node.h"
+#include "cellmetry/formats/config_node.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "cellmetry/statistics.h"
+#include "cellmetry/basics/statistics.h"
 
 namespace cellmetry {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "cellmetry/stereo.h"
+#include "cellmetry/imaging/stereo.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

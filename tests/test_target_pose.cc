@@ -3,9 +3,9 @@
 
 #include <random>
 
-#include "cellmetry/noise_model.h"
-#include "cellmetry/render.h"
-#include "cellmetry/target_pose.h"
+#include "cellmetry/estimation/noise_model.h"
+#include "cellmetry/imaging/render.h"
+#include "cellmetry/imaging/target_pose.h"
 
 namespace cellmetry {
 namespace {

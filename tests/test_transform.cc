@@ -3,9 +3,9 @@
 
 #include <random>
 
-#include "cellmetry/frame_block.h"
-#include "cellmetry/rigid_fit.h"
-#include "cellmetry/transform.h"
+#include "cellmetry/model/frame_block.h"
+#include "cellmetry/basics/rigid_fit.h"
+#include "cellmetry/basics/transform.h"
 
 namespace cellmetry {
 namespace {

@@ -3,10 +3,10 @@
 
 #include <random>
 
-#include "cellmetry/config_node.h"
-#include "cellmetry/result_io.h"
-#include "cellmetry/workcell.h"
-#include "cellmetry/workcell_simulation.h"
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/cell/result_io.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

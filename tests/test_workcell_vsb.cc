@@ -2,8 +2,8 @@
 // camera model beating the per-frame model on exp_a's three real cameras.
 #include <gtest/gtest.h>
 
-#include "cellmetry/job.h"
-#include "cellmetry/workcell.h"
+#include "cellmetry/cell/job.h"
+#include "cellmetry/cell/workcell.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

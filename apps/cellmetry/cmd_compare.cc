@@ -4,11 +4,11 @@
 // physics_suite.h), writing one markdown file.
 #include <cstdio>
 
-#include "cellmetry/atomic_file.h"
-#include "cellmetry/kinematic_compare.h"
-#include "cellmetry/marker_comparison.h"
-#include "cellmetry/physics_suite.h"
-#include "cellmetry/progress.h"
+#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/experiments/kinematic_compare.h"
+#include "cellmetry/experiments/marker_comparison.h"
+#include "cellmetry/experiments/physics_suite.h"
+#include "cellmetry/basics/progress.h"
 #include "commands.h"
 
 namespace cellmetry::app {

@@ -2,10 +2,10 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "cellmetry/atomic_file.h"
-#include "cellmetry/diagnosis_job.h"
-#include "cellmetry/progress.h"
-#include "cellmetry/result_io.h"
+#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/result_io.h"
 #include "commands.h"
 
 namespace cellmetry::app {

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <fstream>
 
-#include "cellmetry/workcell_simulation.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "commands.h"
 
 namespace cellmetry::app {

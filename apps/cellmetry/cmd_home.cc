@@ -1,10 +1,10 @@
 // `cellmetry home JOB.yaml`: visual homing of a calibrated arm (homing.h).
 #include <cstdio>
 
-#include "cellmetry/homing.h"
-#include "cellmetry/kinematic_job.h"
-#include "cellmetry/kinematic_result_io.h"
-#include "cellmetry/progress.h"
+#include "cellmetry/cell/homing.h"
+#include "cellmetry/cell/kinematic_job.h"
+#include "cellmetry/cell/kinematic_result_io.h"
+#include "cellmetry/basics/progress.h"
 #include "commands.h"
 
 namespace cellmetry::app {

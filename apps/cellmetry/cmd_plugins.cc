@@ -1,7 +1,7 @@
 // `cellmetry plugins`: every loaded plugin, its one-line description and its options.
 #include <cstdio>
 
-#include "cellmetry/registry.h"
+#include "cellmetry/registry/registry.h"
 #include "commands.h"
 
 namespace cellmetry::app {

@@ -2,12 +2,12 @@
 // result folder.
 #include <cstdio>
 
-#include "cellmetry/error.h"
-#include "cellmetry/job.h"
-#include "cellmetry/progress.h"
-#include "cellmetry/recording.h"
-#include "cellmetry/result_io.h"
-#include "cellmetry/workcell.h"
+#include "cellmetry/basics/error.h"
+#include "cellmetry/cell/job.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/formats/recording.h"
+#include "cellmetry/cell/result_io.h"
+#include "cellmetry/cell/workcell.h"
 #include "commands.h"
 
 namespace cellmetry::app {

@@ -1,10 +1,11 @@
 // `cellmetry simulate SPEC.yaml -o FOLDER`: a simulated recording with its truth.yaml.
 #include <cstdio>
 
-#include "cellmetry/image_simulation.h"
-#include "cellmetry/kinematic_simulation.h"
-#include "cellmetry/progress.h"
-#include "cellmetry/workcell_simulation.h"
+#include "cellmetry/experiments/concealed_physics.h"
+#include "cellmetry/imaging/image_simulation.h"
+#include "cellmetry/cell/kinematic_simulation.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -22,7 +23,7 @@ void AddSimulateCommand(CLI::App& app, Context& context) {
     const std::string kind = root["simulation"].AsString();
     Recording recording;
     if (kind == "workcell") {
-      const WorkcellSimulationSpec spec = LoadWorkcellSimulation(spec_path, Registry::Global());
+      const WorkcellSimulationSpec spec = LoadWorkcellSimulation(spec_path, Registry::Global(), ReadConcealedDisturbance);
       WorkcellTruth truth;
       recording = SimulateWorkcell(spec, &truth);
       std::function<void(const std::string&)> images;

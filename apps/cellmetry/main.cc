@@ -4,9 +4,9 @@
 // 1 anything else (a bug: please report it).
 #include <cstdio>
 
-#include "cellmetry/error.h"
-#include "cellmetry/progress.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/basics/error.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/registry/registry.h"
 #include "commands.h"
 
 namespace cellmetry::app {

@@ -1,10 +1,10 @@
 // `cellmetry run` for `job: kinematic`: calibrate, score on fresh positions if given, write.
 #include <cstdio>
 
-#include "cellmetry/kinematic_calibration.h"
-#include "cellmetry/kinematic_job.h"
-#include "cellmetry/kinematic_result_io.h"
-#include "cellmetry/progress.h"
+#include "cellmetry/cell/kinematic_calibration.h"
+#include "cellmetry/cell/kinematic_job.h"
+#include "cellmetry/cell/kinematic_result_io.h"
+#include "cellmetry/basics/progress.h"
 #include "commands.h"
 
 namespace cellmetry::app {

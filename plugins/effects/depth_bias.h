@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/effect.h"
+#include "cellmetry/model/effect.h"
 
 namespace cellmetry::effects {
 

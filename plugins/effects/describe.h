@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/parameter.h"
+#include "cellmetry/basics/parameter.h"
 
 namespace cellmetry::effects {
 

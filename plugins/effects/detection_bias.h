@@ -17,7 +17,7 @@
 
 #include <ceres/rotation.h>
 
-#include "cellmetry/effect.h"
+#include "cellmetry/model/effect.h"
 
 namespace cellmetry::effects {
 

@@ -7,7 +7,7 @@
 
 #include "backlash.h"
 #include "ball_joint_clearance.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/registry/registry.h"
 #include "depth_bias.h"
 #include "detection_bias.h"
 #include "joint_compliance.h"

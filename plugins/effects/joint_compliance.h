@@ -13,7 +13,7 @@
 
 #include <vector>
 
-#include "cellmetry/effect.h"
+#include "cellmetry/model/effect.h"
 
 namespace cellmetry::effects {
 

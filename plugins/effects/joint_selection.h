@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/config_node.h"
-#include "cellmetry/parameter.h"
-#include "cellmetry/robot_model.h"
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/basics/parameter.h"
+#include "cellmetry/model/robot_model.h"
 
 namespace cellmetry::effects {
 

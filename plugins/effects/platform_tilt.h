@@ -15,7 +15,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "cellmetry/transform.h"
+#include "cellmetry/basics/transform.h"
 #include "parallel_link_effect.h"
 
 namespace cellmetry::effects {

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <vector>
 
-#include "cellmetry/effect.h"
+#include "cellmetry/model/effect.h"
 
 namespace cellmetry::effects {
 

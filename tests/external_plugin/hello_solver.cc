@@ -5,8 +5,8 @@
 #include <Eigen/Core>
 #include <memory>
 
-#include "cellmetry/problem.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/estimation/problem.h"
+#include "cellmetry/registry/registry.h"
 
 namespace {
 

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "cellmetry/progress.h"
+#include "cellmetry/basics/progress.h"
 
 namespace fs = std::filesystem;
 

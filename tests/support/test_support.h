@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "cellmetry/error.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/basics/error.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry::testing {
 

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/detector.h"
+#include "cellmetry/model/detector.h"
 #include "tag_board.h"
 #include "tag_family.h"
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "apriltag_detector.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry::apriltag_board {
 namespace {

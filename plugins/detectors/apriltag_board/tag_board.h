@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/detector.h"
+#include "cellmetry/model/detector.h"
 
 namespace cellmetry::apriltag_board {
 

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "aruco_target.h"
-#include "cellmetry/detector.h"
+#include "cellmetry/model/detector.h"
 #include "fiducial_common/edge_lines.h"
 
 namespace cellmetry::aruco {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/config_node.h"
+#include "cellmetry/formats/config_node.h"
 
 namespace cellmetry::aruco {
 

@@ -9,7 +9,7 @@
 
 #include "aruco_detector.h"
 #include "aruco_dictionary.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry::aruco {
 namespace {

@@ -20,7 +20,7 @@
 
 #include <vector>
 
-#include "cellmetry/detector.h"
+#include "cellmetry/model/detector.h"
 #include "fiducial_common/printed_page.h"
 
 namespace cellmetry::aruco {

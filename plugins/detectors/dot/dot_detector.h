@@ -4,7 +4,7 @@
 
 #include <optional>
 
-#include "cellmetry/detector.h"
+#include "cellmetry/model/detector.h"
 #include "dot_common/dot_finder.h"
 
 namespace cellmetry::dot {

@@ -2,7 +2,7 @@
 // sub-pixel ellipse fit to its 50 % edge crossings.
 #include <cmath>
 
-#include "cellmetry/registry.h"
+#include "cellmetry/registry/registry.h"
 #include "dot_common/dot_finder_options.h"
 #include "dot_detector.h"
 

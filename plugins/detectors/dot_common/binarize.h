@@ -10,7 +10,7 @@
 #include <opencv2/core.hpp>
 #include <optional>
 
-#include "cellmetry/image.h"
+#include "cellmetry/formats/image.h"
 
 namespace cellmetry::dot {
 

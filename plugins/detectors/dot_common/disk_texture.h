@@ -4,7 +4,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "cellmetry/detector.h"
+#include "cellmetry/model/detector.h"
 
 namespace cellmetry::dot {
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/image.h"
+#include "cellmetry/formats/image.h"
 #include "dot_common/binarize.h"
 #include "dot_common/blobs.h"
 #include "dot_common/edge_points.h"

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/camera.h"
-#include "cellmetry/config_node.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/model/camera.h"
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/registry/registry.h"
 #include "dot_common/dot_finder.h"
 
 namespace cellmetry::dot {

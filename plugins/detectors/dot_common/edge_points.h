@@ -22,7 +22,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "cellmetry/image.h"
+#include "cellmetry/formats/image.h"
 #include "dot_common/binarize.h"
 #include "dot_common/blobs.h"
 #include "dot_common/edge_profile.h"

@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <optional>
 
-#include "cellmetry/camera.h"
+#include "cellmetry/model/camera.h"
 
 namespace cellmetry::dot {
 

@@ -1,6 +1,6 @@
 // Registers the `dot_pattern` detector: the report's 13-dot pattern (a diamond of white dots on
 // black), its centre and its dots by id.
-#include "cellmetry/registry.h"
+#include "cellmetry/registry/registry.h"
 #include "dot_common/dot_finder_options.h"
 #include "dot_pattern_detector.h"
 

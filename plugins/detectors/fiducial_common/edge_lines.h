@@ -27,8 +27,8 @@
 
 #include <array>
 
-#include "cellmetry/image.h"
-#include "cellmetry/transform.h"
+#include "cellmetry/formats/image.h"
+#include "cellmetry/basics/transform.h"
 
 namespace cellmetry::fiducial {
 

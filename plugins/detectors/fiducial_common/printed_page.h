@@ -10,7 +10,7 @@
 
 #include <vector>
 
-#include "cellmetry/detector.h"
+#include "cellmetry/model/detector.h"
 
 namespace cellmetry::fiducial {
 

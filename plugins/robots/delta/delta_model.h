@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/robot_model.h"
+#include "cellmetry/model/robot_model.h"
 
 namespace cellmetry::delta {
 

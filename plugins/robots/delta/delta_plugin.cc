@@ -2,8 +2,8 @@
 // and workspace from a robot config (configs/robots/delta.yaml).
 #include <cmath>
 
-#include "cellmetry/registry.h"
-#include "cellmetry/units.h"
+#include "cellmetry/registry/registry.h"
+#include "cellmetry/formats/units.h"
 #include "delta_model.h"
 
 namespace cellmetry::delta {

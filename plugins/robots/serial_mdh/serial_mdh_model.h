@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/robot_model.h"
+#include "cellmetry/model/robot_model.h"
 
 namespace cellmetry::serial_mdh {
 

@@ -1,8 +1,8 @@
 // Registers the `serial_mdh` robot model: reads the MDH table from a robot config.
 #include <cmath>
 
-#include "cellmetry/registry.h"
-#include "cellmetry/units.h"
+#include "cellmetry/registry/registry.h"
+#include "cellmetry/formats/units.h"
 #include "serial_mdh_model.h"
 
 namespace cellmetry::serial_mdh {

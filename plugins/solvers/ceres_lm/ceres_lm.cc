@@ -6,8 +6,8 @@
 // linear_solver sparse_normal_cholesky|dense_normal_cholesky|dense_qr.
 #include <chrono>
 
-#include "cellmetry/problem.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/estimation/problem.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry::ceres_lm {
 namespace {

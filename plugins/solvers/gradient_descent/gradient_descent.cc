@@ -28,8 +28,8 @@
 #include <string>
 #include <type_traits>
 
-#include "cellmetry/problem.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/estimation/problem.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry::gradient_descent {
 namespace {

@@ -11,8 +11,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "cellmetry/problem.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/estimation/problem.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry::jacobian_pinv {
 namespace {

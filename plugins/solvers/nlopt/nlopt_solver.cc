@@ -10,8 +10,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "cellmetry/problem.h"
-#include "cellmetry/registry.h"
+#include "cellmetry/estimation/problem.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry::nlopt_solver {
 namespace {

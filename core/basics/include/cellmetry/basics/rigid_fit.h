@@ -1,0 +1,17 @@
+// Closed-form rigid fit between matched point sets (Kabsch 1976; Umeyama 1991 without scale).
+//
+// FitRigidTransform returns T_to_from minimising sum |to_i - T * from_i|^2. It needs at least
+// three points that are not all on one line; with fewer it returns std::nullopt.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "cellmetry/basics/transform.h"
+
+namespace cellmetry {
+
+std::optional<Pose> FitRigidTransform(const std::vector<Eigen::Vector3d>& from,
+                                      const std::vector<Eigen::Vector3d>& to);
+
+}  // namespace cellmetry

@@ -1,0 +1,85 @@
+#include "cellmetry/basics/statistics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace cellmetry {
+namespace {
+
+// Regularized lower incomplete gamma P(a, x) by its series (x < a + 1).
+double LowerGammaSeries(double a, double x) {
+  double term = 1.0 / a, sum = term;
+  for (int n = 1; n < 1000; ++n) {
+    term *= x / (a + n);
+    sum += term;
+    if (std::abs(term) < std::abs(sum) * 1e-15) break;
+  }
+  return sum * std::exp(-x + a * std::log(x) - std::lgamma(a));
+}
+
+// The continued fraction of Q(a, x) without its prefactor exp(-x) x^a / Gamma(a) (x >= a + 1).
+double UpperGammaFractionFactor(double a, double x) {
+  const double tiny = 1e-300;
+  double b = x + 1.0 - a, c = 1.0 / tiny, d = 1.0 / b, h = d;
+  for (int i = 1; i < 1000; ++i) {
+    const double an = -i * (i - a);
+    b += 2.0;
+    d = an * d + b;
+    if (std::abs(d) < tiny) d = tiny;
+    c = b + an / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1.0 / d;
+    const double delta = d * c;
+    h *= delta;
+    if (std::abs(delta - 1.0) < 1e-15) break;
+  }
+  return h;
+}
+
+// Regularized upper incomplete gamma Q(a, x) (x >= a + 1).
+double UpperGammaFraction(double a, double x) {
+  return std::exp(-x + a * std::log(x) - std::lgamma(a)) * UpperGammaFractionFactor(a, x);
+}
+
+}  // namespace
+
+double ChiSquareSurvival(double x, double k) {
+  if (!(x > 0)) return 1.0;
+  const double a = 0.5 * k, half = 0.5 * x;
+  return half < a + 1.0 ? 1.0 - LowerGammaSeries(a, half) : UpperGammaFraction(a, half);
+}
+
+double ChiSquareLogSurvival(double x, double k) {
+  if (!(x > 0)) return 0.0;
+  const double a = 0.5 * k, half = 0.5 * x;
+  if (half < a + 1.0) return std::log1p(-LowerGammaSeries(a, half));
+  return -half + a * std::log(half) - std::lgamma(a) + std::log(UpperGammaFractionFactor(a, half));
+}
+
+double NormalSurvival(double z) { return 0.5 * std::erfc(z / std::sqrt(2.0)); }
+
+double DurbinWatson(const std::vector<double>& e) {
+  double num = 0.0, den = 0.0;
+  for (size_t t = 0; t < e.size(); ++t) {
+    den += e[t] * e[t];
+    if (t > 0) num += (e[t] - e[t - 1]) * (e[t] - e[t - 1]);
+  }
+  return den > 0 ? num / den : 2.0;
+}
+
+std::vector<double> HolmAdjusted(const std::vector<double>& p) {
+  const size_t m = p.size();
+  std::vector<size_t> order(m);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return p[a] < p[b]; });
+  std::vector<double> adjusted(m);
+  double running = 0.0;
+  for (size_t rank = 0; rank < m; ++rank) {
+    running = std::max(running, std::min(1.0, (m - rank) * p[order[rank]]));
+    adjusted[order[rank]] = running;
+  }
+  return adjusted;
+}
+
+}  // namespace cellmetry

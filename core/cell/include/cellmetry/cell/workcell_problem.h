@@ -1,0 +1,80 @@
+// WorkcellProblem: what a workcell identification is asked to find (the "Problem struct in").
+//
+// Unknowns: each robot's base frame in the world (T_world_base), the pose of each target a robot
+// carries on its flange (T_flange_target, "tool offset"), each static camera's pose in the world
+// (T_world_cam) and any entry of a robot model the job frees. The `world` target defines the
+// world frame.
+//
+// Two observation models (DESIGN.md, issue "Foundation"):
+//  - kStaticCameras (default): camera poses are parameters estimated from all captures jointly;
+//    the world target's observations are measurements of them like any other.
+//  - kPerFrame: as in the 2020 paper, each capture's own world-target pose is taken as exact and
+//    no camera pose is estimated.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cellmetry/model/effect.h"
+#include "cellmetry/model/frame_block.h"
+#include "cellmetry/model/robot_model.h"
+#include "cellmetry/estimation/noise_model.h"
+
+namespace cellmetry {
+
+enum class CameraModel { kStaticCameras, kPerFrame };
+std::string CameraModelName(CameraModel model);
+
+struct WorkcellTool {
+  std::string target;          // recording target carried by the robot
+  FrameBlockSpec flange_tool;  // start = nominal T_flange_target
+};
+
+struct WorkcellRobot {
+  std::string name;                               // as in the recording
+  std::shared_ptr<const RobotModel> model;
+  std::string model_file;                         // where the model came from, for the report
+  std::vector<Parameter> model_parameters;        // nominal values and fixed flags for this job
+  FrameBlockSpec base;                            // `free` flags; start is found in closed form
+  std::optional<Pose> base_start;                 // a user-given start (skips the closed form)
+  std::vector<WorkcellTool> tools;
+};
+
+// An effect (effect.h) in the prediction chain: joint and flange effects act on one robot's
+// chain, measurement effects on every observation of their cameras. Its parameters start at
+// zero (no effect) unless the start estimate has values for it.
+struct WorkcellEffect {
+  std::string name;   // block name, "<robot>.<effect>[_<what>]", e.g. "ur3.backlash_j2"
+  std::string robot;  // the robot whose chain it is in
+  std::shared_ptr<const Effect> effect;
+};
+
+struct WorkcellProblem {
+  std::vector<WorkcellRobot> robots;
+  CameraModel camera_model = CameraModel::kStaticCameras;
+  std::string world_target = "world";
+  bool use_tool_rotation = false;        // also fit the carried targets' measured rotations
+  NoiseSpec noise;
+  // A direction of parameter space whose scaled singular value falls below this (relative to
+  // the largest) is not identifiable; the parameter most involved is held at its nominal value.
+  double identifiability_tolerance = 1e-8;
+  int folds = 5;                         // k-fold cross-validation by pose (0 = off)
+  unsigned seed = 1;                     // fold assignment
+  bool compare_camera_models = false;    // also report the other observation model's held-out RMS
+  std::vector<WorkcellEffect> effects;   // none: the geometric model alone
+  Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2 in every base frame
+};
+
+// Where everything is, at the start or at the answer of an identification.
+struct WorkcellEstimate {
+  std::map<std::string, Pose> T_world_base;           // robot -> base
+  std::map<std::string, std::vector<double>> model;   // robot -> model parameter values
+  std::map<std::string, Pose> T_flange_target;        // target -> tool offset
+  std::map<std::string, Pose> T_world_cam;            // camera -> pose (static cameras only)
+  std::map<std::string, std::vector<double>> effects; // effect -> parameter values (none: zero)
+};
+
+}  // namespace cellmetry

@@ -1,0 +1,106 @@
+// WorkcellResult: everything a workcell identification found (the "Result struct out").
+//
+// Written by result_io.h as YAML (frames and model parameters, ready to paste into a robot
+// config), JSON (everything here) and CSV (one row per residual).
+#pragma once
+
+#include <cmath>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cellmetry/estimation/estimation_quality.h"
+#include "cellmetry/estimation/noise_model.h"
+#include "cellmetry/estimation/solver.h"
+#include "cellmetry/cell/workcell_problem.h"
+
+namespace cellmetry {
+
+// A frame with its uncertainty: sigma of the translation (mm) and of small rotations about the
+// parent frame's axes (rad). Entries that were held have sigma 0 and `held` set.
+struct FrameEstimate {
+  std::string name;          // "ur3.base", "tool", "cam1"
+  std::string parent;        // "world" or "<robot>.flange"
+  Pose pose;
+  Eigen::Vector3d sigma_mm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sigma_rad = Eigen::Vector3d::Zero();
+  std::array<bool, 6> held{};
+};
+
+struct ScalarEstimate {
+  std::string name;          // "ur3.model.j2.d"
+  std::string unit;
+  double nominal = 0.0;
+  double value = 0.0;
+  double sigma = 0.0;
+  bool held = false;
+};
+
+// RMS of residuals along the camera's x, y and depth axes, and of their 3D length.
+// Add() errors one by one (running sums of squares), then Finish() once to turn them into RMS.
+struct ResidualRms {
+  int count = 0;
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  double norm = 0.0;
+
+  void Add(const Eigen::Vector3d& error) {
+    axis += error.cwiseAbs2();
+    ++count;
+  }
+  void Finish() {
+    if (count == 0) return;
+    const Eigen::Vector3d mean_square = axis / count;
+    norm = std::sqrt(mean_square.sum());
+    axis = mean_square.cwiseSqrt();
+  }
+};
+
+inline ResidualRms RmsOf(const std::vector<Eigen::Vector3d>& errors) {
+  ResidualRms rms;
+  for (const auto& e : errors) rms.Add(e);
+  rms.Finish();
+  return rms;
+}
+
+struct ResidualRow {
+  int observation = 0;
+  int sample = 0;
+  int pose = 0;
+  std::string camera;
+  std::string target;
+  std::string kind;               // "position" (mm) or "rotation" (rad)
+  Eigen::Vector3d error;          // prediction - measurement, camera axes
+  Eigen::Vector3d normalized;     // error / sigma
+};
+
+struct HeldOut {
+  int folds = 0;
+  ResidualRms total;                         // target positions, mm
+  std::map<std::string, ResidualRms> per_camera;
+  std::vector<ResidualRms> per_fold;         // the same folds for the same poses and seed
+  std::vector<double> per_fold_normalized_rms;  // the same folds in sigmas, over every carried-
+                                                // target row (positions and used rotations)
+};
+
+struct WorkcellResult {
+  CameraModel camera_model = CameraModel::kStaticCameras;
+  SolverSummary solver;
+  std::vector<FrameEstimate> frames;
+  std::vector<ScalarEstimate> model_parameters;   // free or held-for-identifiability entries
+  std::vector<UnidentifiableParameter> unidentifiable;
+  Uncertainty uncertainty;
+  std::vector<CorrelatedPair> strong_correlations;
+  NoiseModel noise;                               // sigma used for weighting
+  NoiseModel repeatability;                       // the noise floor from repeated captures
+  std::map<std::string, ResidualRms> position_rms;  // "camera/target" -> mm
+  std::map<std::string, ResidualRms> rotation_rms;  // "camera/target" -> rad
+  std::vector<ResidualRow> residuals;
+  HeldOut held_out;
+  std::map<std::string, HeldOut> other_models;    // compare_camera_models: name -> held-out
+  std::map<std::string, int> skipped;             // observation skip reasons
+  std::vector<std::string> warnings;
+  WorkcellEstimate estimate;
+};
+
+}  // namespace cellmetry

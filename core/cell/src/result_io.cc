@@ -1,0 +1,175 @@
+#include "cellmetry/cell/result_io.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "cellmetry/formats/atomic_file.h"
+#include "result_yaml.h"
+
+namespace cellmetry {
+namespace {
+
+std::string Fixed(double value, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
+  return buffer;
+}
+
+nlohmann::json HeldOutJson(const HeldOut& h) {
+  nlohmann::json j = {{"folds", h.folds}, {"total_mm", RmsJson(h.total)}};
+  for (const auto& [camera, rms] : h.per_camera) j["per_camera_mm"][camera] = RmsJson(rms);
+  return j;
+}
+
+nlohmann::json NoiseJson(const NoiseModel& noise) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, n] : noise.entries) {
+    j[key.first + "/" + key.second] = {{"position_mm", Vec(n.position_mm)},
+                                       {"rotation_rad", Vec(n.rotation_rad)},
+                                       {"source", n.source}};
+  }
+  return j;
+}
+
+// The 3D repeatability of carried targets: sqrt(sx^2 + sy^2 + sz^2), pooled over cameras.
+double NoiseFloorMm(const WorkcellResult& r, const std::string& camera = "") {
+  double sum = 0.0;
+  int count = 0;
+  for (const auto& [key, n] : r.repeatability.entries) {
+    if (key.second == "world") continue;
+    if (!camera.empty() && key.first != camera) continue;
+    sum += n.position_mm.squaredNorm();
+    ++count;
+  }
+  return count ? std::sqrt(sum / count) : NAN;
+}
+
+}  // namespace
+
+std::string WorkcellResultYaml(const WorkcellResult& result) {
+  YAML::Emitter out;
+  out << YAML::Comment("cellmetry workcell identification (" +
+                       CameraModelName(result.camera_model) + ", " + result.solver.solver +
+                       "); lengths mm, angles rad");
+  out << YAML::BeginMap << YAML::Key << "frames" << YAML::Value << YAML::BeginMap;
+  for (const auto& f : result.frames) EmitFrameYaml(out, f.name, f);
+  out << YAML::EndMap;
+  if (!result.model_parameters.empty()) {
+    out << YAML::Key << "model" << YAML::Value << YAML::BeginMap;
+    for (const auto& p : result.model_parameters) {
+      out << YAML::Key << p.name << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+          << "value" << YAML::Value << p.value << YAML::Key << "sigma" << YAML::Value << p.sigma
+          << YAML::Key << "unit" << YAML::Value << p.unit << YAML::EndMap;
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
+  nlohmann::json j;
+  j["format"] = "cellmetry-result/1";
+  j["camera_model"] = CameraModelName(r.camera_model);
+  j["solver"] = SolverJson(r.solver);
+  for (const auto& f : r.frames) {
+    nlohmann::json held = nlohmann::json::array();
+    for (int i = 0; i < 6; ++i) {
+      if (f.held[i]) held.push_back(kFrameParameterNames[i]);
+    }
+    j["frames"][f.name] = {{"parent", f.parent},
+                           {"xyz_mm", Vec(f.pose.t)},
+                           {"rvec_rad", Vec(RvecFromRotation(f.pose.R))},
+                           {"sigma_xyz_mm", Vec(f.sigma_mm)},
+                           {"sigma_rot_rad", Vec(f.sigma_rad)},
+                           {"held", held}};
+  }
+  j["model_parameters"] = nlohmann::json::array();
+  for (const auto& p : r.model_parameters) {
+    j["model_parameters"].push_back({{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal},
+                                     {"value", p.value}, {"sigma", p.sigma}, {"held", p.held}});
+  }
+  AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
+  j["noise_used"] = NoiseJson(r.noise);
+  j["repeatability"] = NoiseJson(r.repeatability);
+  for (const auto& [key, rms] : r.position_rms) j["residual_rms"]["position_mm"][key] = RmsJson(rms);
+  for (const auto& [key, rms] : r.rotation_rms) j["residual_rms"]["rotation_rad"][key] = RmsJson(rms);
+  j["held_out"] = HeldOutJson(r.held_out);
+  for (const auto& [model, h] : r.other_models) j["other_models"][model] = HeldOutJson(h);
+  const double floor = NoiseFloorMm(r);
+  j["noise_floor_mm"] = std::isnan(floor) ? nlohmann::json(nullptr) : nlohmann::json(floor);
+  j["skipped_observations"] = r.skipped;
+  j["warnings"] = r.warnings;
+  return j;
+}
+
+std::string WorkcellResidualsCsv(const WorkcellResult& result) {
+  std::ostringstream out;
+  out << "observation,sample,pose,camera,target,kind,ex,ey,ez,nx,ny,nz\n";
+  out.precision(9);
+  for (const auto& row : result.residuals) {
+    out << row.observation << "," << row.sample << "," << row.pose << "," << row.camera << ","
+        << row.target << "," << row.kind << "," << row.error.x() << "," << row.error.y() << ","
+        << row.error.z() << "," << row.normalized.x() << "," << row.normalized.y() << ","
+        << row.normalized.z() << "\n";
+  }
+  return out.str();
+}
+
+void WriteWorkcellResult(const WorkcellResult& result, const std::string& folder) {
+  StagedDirectory out(folder);
+  AtomicWriteFile(out.File("result.yaml"), WorkcellResultYaml(result));
+  AtomicWriteFile(out.File("result.json"), WorkcellResultJson(result).dump(2) + "\n");
+  AtomicWriteFile(out.File("residuals.csv"), WorkcellResidualsCsv(result));
+  out.Commit();
+}
+
+std::string WorkcellSummary(const WorkcellResult& r) {
+  std::ostringstream out;
+  out << "Workcell identification (" << CameraModelName(r.camera_model) << ", solver "
+      << r.solver.solver << ": " << r.solver.iterations << " iterations, "
+      << Fixed(r.solver.time_s * 1e3, 1) << " ms, " << r.solver.stop_reason << ")\n";
+  for (const auto& f : r.frames) {
+    const Eigen::Vector3d rvec = RvecFromRotation(f.pose.R);
+    out << "  " << f.name << " in " << f.parent << ": xyz = (" << Fixed(f.pose.t.x(), 2) << ", "
+        << Fixed(f.pose.t.y(), 2) << ", " << Fixed(f.pose.t.z(), 2) << ") mm +- ("
+        << Fixed(f.sigma_mm.x(), 2) << ", " << Fixed(f.sigma_mm.y(), 2) << ", "
+        << Fixed(f.sigma_mm.z(), 2) << "), rvec = (" << Fixed(rvec.x(), 4) << ", "
+        << Fixed(rvec.y(), 4) << ", " << Fixed(rvec.z(), 4) << ") rad\n";
+  }
+  for (const auto& p : r.model_parameters) {
+    out << "  " << p.name << " = " << Fixed(p.value, 5) << " +- " << Fixed(p.sigma, 5) << " "
+        << p.unit << (p.held ? " (held: not identifiable)" : "") << "\n";
+  }
+  for (const auto& u : r.unidentifiable) {
+    out << "  not identifiable, held at nominal: " << u.name << " (" << u.reason << ")\n";
+  }
+  for (const auto& c : r.strong_correlations) {
+    out << "  strongly correlated: " << c.a << " ~ " << c.b << " (" << Fixed(c.correlation, 3)
+        << ")\n";
+  }
+  for (const auto& [key, rms] : r.position_rms) {
+    out << "  residual RMS " << key << ": x " << Fixed(rms.axis.x(), 3) << ", y "
+        << Fixed(rms.axis.y(), 3) << ", depth " << Fixed(rms.axis.z(), 3) << " mm (n="
+        << rms.count << ")\n";
+  }
+  if (r.held_out.folds > 0) {
+    out << "  held-out RMS (" << r.held_out.folds << "-fold by pose): "
+        << Fixed(r.held_out.total.norm, 3) << " mm";
+    for (const auto& [model, h] : r.other_models) {
+      out << "; " << model << " model: " << Fixed(h.total.norm, 3) << " mm";
+    }
+    const double floor = NoiseFloorMm(r);
+    out << "; noise floor "
+        << (std::isnan(floor) ? std::string("unknown (no repeated captures)")
+                              : Fixed(floor, 3) + " mm")
+        << "\n";
+  }
+  for (const auto& w : r.warnings) out << "  warning: " << w << "\n";
+  return out.str();
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,275 @@
+#include "cellmetry/cell/workcell.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/cell/workcell_initial.h"
+
+namespace cellmetry {
+namespace {
+
+struct Fit {
+  std::unique_ptr<AssembledWorkcell> assembled;
+  SolverSummary summary;
+  std::vector<UnidentifiableParameter> unidentifiable;
+};
+
+// Assembles on `poses`, holds `held` and whatever the data cannot determine, and solves.
+Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
+            const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
+            std::set<std::string> held, const SolverMaker& make_solver) {
+  Fit fit;
+  fit.assembled = AssembleWorkcell(spec, recording, data, noise, start, poses);
+  IdentifiedSolve solved = SolveHoldingUnidentifiable(
+      &fit.assembled->problem, spec.identifiability_tolerance, std::move(held), make_solver);
+  fit.summary = solved.summary;
+  fit.unidentifiable = std::move(solved.unidentifiable);
+  return fit;
+}
+
+std::set<std::string> Names(const std::vector<UnidentifiableParameter>& list) {
+  std::set<std::string> names;
+  for (const auto& u : list) names.insert(u.name);
+  return names;
+}
+
+bool IsCarried(const Recording& recording, const std::string& target) {
+  return recording.targets.at(target) != kWorldCarrier;
+}
+
+// Residuals in the measurement's units (mm / rad), one row per measurement block.
+std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled) {
+  Problem& problem = assembled.problem;
+  Eigen::VectorXd r;
+  problem.Evaluate(nullptr, &r, nullptr, false);
+  std::vector<ResidualRow> rows;
+  const auto& infos = problem.residual_infos();
+  for (size_t b = 0; b < infos.size(); ++b) {
+    const ResidualInfo& info = infos[b];
+    if (info.kind == ResidualInfo::Kind::kPrior) continue;
+    ResidualRow row;
+    row.observation = info.observation;
+    row.sample = info.sample;
+    row.pose = info.pose;
+    row.camera = info.camera;
+    row.target = info.target;
+    row.kind = info.kind == ResidualInfo::Kind::kPosition ? "position" : "rotation";
+    row.normalized = r.segment<3>(problem.residual_rows()[b]);
+    row.error = row.normalized.cwiseProduct(info.sigma);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// Replaces "unknown" sigma by the residual RMS per axis, corrected for the fitted parameters.
+bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, NoiseModel* noise) {
+  std::map<NoiseKey, std::pair<ResidualRms, ResidualRms>> sums;  // position, rotation
+  int total_rows = 0;
+  for (const auto& row : rows) {
+    auto& entry = sums[{row.camera, row.target}];
+    (row.kind == "position" ? entry.first : entry.second).Add(row.error);
+    total_rows += 3;
+  }
+  const double dof_correction =
+      total_rows > num_free ? std::sqrt(double(total_rows) / (total_rows - num_free)) : 1.0;
+  bool changed = false;
+  for (auto& [key, target_noise] : noise->entries) {
+    if (target_noise.source != "unknown" || !sums.count(key)) continue;
+    auto& [position, rotation] = sums[key];
+    position.Finish();
+    rotation.Finish();
+    if (position.count > 0) {
+      target_noise.position_mm = (position.axis * dof_correction).cwiseMax(1e-6);
+    }
+    if (rotation.count > 0) {
+      target_noise.rotation_rad = (rotation.axis * dof_correction).cwiseMax(1e-9);
+    }
+    target_noise.source = "residuals of a first fit";
+    changed = true;
+  }
+  return changed;
+}
+
+HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
+                      const WorkcellData& data, const NoiseModel& noise,
+                      const WorkcellEstimate& answer, const std::set<std::string>& held,
+                      const SolverMaker& make_solver) {
+  HeldOut out;
+  std::vector<int> poses;
+  for (const auto& m : data.tools) poses.push_back(recording.samples[m.sample_index].pose);
+  std::sort(poses.begin(), poses.end());
+  poses.erase(std::unique(poses.begin(), poses.end()), poses.end());
+  const int folds = std::min<int>(spec.folds, static_cast<int>(poses.size()));
+  if (folds < 2) return out;
+  std::mt19937 rng(spec.seed);
+  std::shuffle(poses.begin(), poses.end(), rng);
+  out.folds = folds;
+  Progress progress("cross-validation (" + CameraModelName(spec.camera_model) + ") fold", folds);
+  for (int f = 0; f < folds; ++f) {
+    std::set<int> train, test;
+    for (size_t i = 0; i < poses.size(); ++i) {
+      (static_cast<int>(i) % folds == f ? test : train).insert(poses[i]);
+    }
+    Fit fit = FitOnce(spec, recording, data, noise, answer, train, held, make_solver);
+    const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
+    auto held_out = AssembleWorkcell(spec, recording, data, noise, trained, test);
+    ResidualRms fold;
+    double normalized_ss = 0.0;  // every carried-target row the fit uses: rotations too, where
+    int normalized_rows = 0;     // an effect may show most (a delta platform's tilt)
+    for (const auto& row : ResidualRows(*held_out)) {
+      if (!IsCarried(recording, row.target)) continue;
+      normalized_ss += row.normalized.squaredNorm();
+      normalized_rows += 3;
+      if (row.kind != "position") continue;
+      out.total.Add(row.error);
+      out.per_camera[row.camera].Add(row.error);
+      fold.Add(row.error);
+    }
+    out.per_fold_normalized_rms.push_back(
+        normalized_rows > 0 ? std::sqrt(normalized_ss / normalized_rows) : 0.0);
+    fold.Finish();
+    out.per_fold.push_back(fold);
+    progress.Advance();
+  }
+  out.total.Finish();
+  for (auto& [camera, rms] : out.per_camera) rms.Finish();
+  return out;
+}
+
+FrameEstimate MakeFrame(const std::string& name, const std::string& parent, const Pose& pose,
+                        const Uncertainty& u, const std::set<std::string>& held) {
+  FrameEstimate frame;
+  frame.name = name;
+  frame.parent = parent;
+  frame.pose = pose;
+  for (int i = 0; i < 6; ++i) {
+    const std::string full = name + "." + kFrameParameterNames[i];
+    const auto it = std::find(u.names.begin(), u.names.end(), full);
+    const double sigma = it == u.names.end() ? 0.0 : u.sigma[it - u.names.begin()];
+    (i < 3 ? frame.sigma_mm[i] : frame.sigma_rad[i - 3]) = sigma;
+    frame.held[i] = it == u.names.end();
+  }
+  return frame;
+}
+
+void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
+              const std::set<std::string>& held, WorkcellResult* result) {
+  const Uncertainty& u = result->uncertainty;
+  const WorkcellEstimate& e = result->estimate;
+  for (size_t r = 0; r < spec.robots.size(); ++r) {
+    const auto& robot = spec.robots[r];
+    result->frames.push_back(MakeFrame(robot.name + ".base", "world",
+                                       e.T_world_base.at(robot.name), u, held));
+    for (const auto& tool : robot.tools) {
+      result->frames.push_back(MakeFrame(tool.target, robot.name + ".flange",
+                                         e.T_flange_target.at(tool.target), u, held));
+    }
+    const auto& values = e.model.at(robot.name);
+    for (size_t i = 0; i < robot.model_parameters.size(); ++i) {
+      const Parameter& p = robot.model_parameters[i];
+      if (p.fixed) continue;
+      ScalarEstimate s;
+      s.name = robot.name + ".model." + p.name;
+      s.unit = p.unit;
+      s.nominal = p.nominal;
+      s.value = values[i];
+      s.held = held.count(s.name) > 0;
+      const auto it = std::find(u.names.begin(), u.names.end(), s.name);
+      if (it != u.names.end()) s.sigma = u.sigma[it - u.names.begin()];
+      result->model_parameters.push_back(s);
+    }
+    const bool model_free = std::any_of(robot.model_parameters.begin(),
+                                        robot.model_parameters.end(),
+                                        [](const Parameter& p) { return !p.fixed; });
+    if (model_free) {
+      for (const auto& w : robot.model->Warnings()) result->warnings.push_back(robot.name + ": " + w);
+    }
+  }
+  for (const auto& [camera, pose] : e.T_world_cam) {
+    result->frames.push_back(MakeFrame(camera, "world", pose, u, held));
+  }
+  for (const WorkcellEffect& effect : spec.effects) {
+    const auto& params = effect.effect->parameters();
+    const auto& values = e.effects.at(effect.name);
+    for (size_t i = 0; i < params.size(); ++i) {
+      ScalarEstimate s;
+      s.name = effect.name + "." + params[i].name;
+      s.unit = params[i].unit;
+      s.value = values[i];
+      s.held = held.count(s.name) > 0;
+      const auto it = std::find(u.names.begin(), u.names.end(), s.name);
+      if (it != u.names.end()) s.sigma = u.sigma[it - u.names.begin()];
+      result->model_parameters.push_back(s);
+    }
+  }
+}
+
+}  // namespace
+
+std::string CameraModelName(CameraModel model) {
+  return model == CameraModel::kStaticCameras ? "static_cameras" : "per_frame";
+}
+
+WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
+                                const SolverMaker& make_solver) {
+  WorkcellResult result;
+  result.camera_model = spec.camera_model;
+  const WorkcellData data = PrepareWorkcellData(spec, recording);
+  result.skipped = data.skipped;
+  result.noise = BuildNoiseModel(recording, spec.noise);
+  result.repeatability = EstimateRepeatability(recording);
+  const WorkcellEstimate start = InitialEstimate(spec, recording, data);
+
+  Progress::Note("fitting " + std::to_string(data.tools.size()) + " target observations (" +
+                 CameraModelName(spec.camera_model) + ")");
+  Fit fit = FitOnce(spec, recording, data, result.noise, start, {}, {}, make_solver);
+  if (EstimateUnknownSigma(ResidualRows(*fit.assembled), fit.assembled->problem.num_free(),
+                           &result.noise)) {
+    Progress::Note("refitting with sigma estimated from the residuals");
+    const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
+    std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
+    fit = FitOnce(spec, recording, data, result.noise, first, {}, Names(held_first), make_solver);
+    // The refit holds the first fit's findings up front; keep them in the report.
+    held_first.insert(held_first.end(), fit.unidentifiable.begin(), fit.unidentifiable.end());
+    fit.unidentifiable = held_first;
+  }
+  result.solver = fit.summary;
+  result.unidentifiable = fit.unidentifiable;
+  result.estimate = ReadEstimate(spec, *fit.assembled);
+  result.uncertainty = ComputeUncertainty(fit.assembled->problem);
+  result.strong_correlations = StrongCorrelations(result.uncertainty);
+  const std::set<std::string> held = Names(result.unidentifiable);
+  Describe(spec, *fit.assembled, held, &result);
+
+  result.residuals = ResidualRows(*fit.assembled);
+  for (const auto& row : result.residuals) {
+    auto& table = row.kind == "position" ? result.position_rms : result.rotation_rms;
+    table[row.camera + "/" + row.target].Add(row.error);
+  }
+  for (auto& [key, rms] : result.position_rms) rms.Finish();
+  for (auto& [key, rms] : result.rotation_rms) rms.Finish();
+
+  result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,
+                                  make_solver);
+  if (spec.compare_camera_models) {
+    WorkcellProblem other = spec;
+    other.compare_camera_models = false;
+    other.camera_model = spec.camera_model == CameraModel::kStaticCameras
+                             ? CameraModel::kPerFrame
+                             : CameraModel::kStaticCameras;
+    Progress::Note("comparing with the " + CameraModelName(other.camera_model) + " model");
+    result.other_models[CameraModelName(other.camera_model)] =
+        IdentifyWorkcell(other, recording, make_solver).held_out;
+  }
+  if (result.uncertainty.reduced_chi2 > 4.0) {
+    result.warnings.push_back(
+        "residuals are " + std::to_string(std::sqrt(result.uncertainty.reduced_chi2)).substr(0, 4) +
+        "x the stated noise: the model leaves something out; uncertainties were scaled up");
+  }
+  return result;
+}
+
+}  // namespace cellmetry

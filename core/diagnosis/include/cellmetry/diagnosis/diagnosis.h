@@ -1,0 +1,184 @@
+// DiagnoseWorkcell: the physics finder. After the geometric fit, locate where the recording and
+// the model disagree, name the physics left out, model it, and show the held-out fit improve, or
+// say that the residuals are noise, or that what remains matches nothing in the library.
+//
+//   1. noise floor: the job's sigma or the repeatability of repeated captures (noise_model.h);
+//      without either there is no floor to test against, and that is an InputError
+//   2. the geometric fit; chi-square of its residuals against the floor
+//   3. where: the partial correlation of the residuals with every regressor the recording offers
+//      (joint angles, gravity torques, approach directions, capture order, time, temperature,
+//      payload, depth, image position), after removing what the geometry explains; Durbin-Watson
+//      in capture order
+//   4. per candidate effect: the part of its signature (its Jacobian columns) outside the span
+//      of the geometric Jacobian; an effect whose signature the geometry absorbs, or whose facts
+//      the recording lacks, is "untestable here", with the data that would make it testable
+//   5. greedy selection, one effect per round, every statistic divided by the dispersion (the
+//      current fit's chi-square/dof, at least 1: quasi-likelihood, so that on a recording whose
+//      mismatch is mostly unexplained an effect must explain a share of what is left, not beat
+//      the floor). Every testable candidate gets its score statistic
+//      (the likelihood-ratio test to first order, from one Jacobian, Rao 1948); the best
+//      `refits` are refitted in full (nonlinear). The best refit is accepted only if
+//        a. its likelihood-ratio test passes at `alpha` after Holm's correction over the round,
+//        b. BIC falls (n = the poses, the independent units),
+//        c. blocked cross-validated RMS (folds of whole poses; normalized by sigma, so that every
+//           axis weighs by its significance) falls by more than its standard error over folds,
+//        d. its family (nested variants of the same physics) is included in >= `bootstrap_share`
+//           of bootstrap resamples of poses, each running the greedy selection (BIC-gated) on
+//           the resampled, reweighted linearization (Sauerbrei & Schumacher 1992);
+//      candidates whose unabsorbed signatures correlate >= `alias_correlation` with the chosen
+//      one are its aliases: one finding with two names, counted together by the bootstrap and
+//      named together in the report;
+//      rounds stop when no candidate passes them all: the residuals are then consistent with the
+//      floor as far as the library can tell (the omnibus chi-square is reported too, but one
+//      effect among thousands of residual rows barely moves it)
+//   6. what remains: structured (a regressor still correlates with the residuals, Bonferroni
+//      at `alpha`, or the chi-square exceeds the floor) along the strongest regressor, or noise
+//
+// Candidates (default): for every robot joint, joint_compliance, backlash, transmission_error
+// (harmonic 1, harmonic 2, and all of 1, 2 and the configured gear harmonics together) and
+// joint_scale, each on that joint alone;
+// thermal_drift (by temperature, or the warm-up model when the recording has only times);
+// depth_bias on every camera.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cellmetry/formats/recording.h"
+#include "cellmetry/registry/registry.h"
+#include "cellmetry/estimation/solver.h"
+#include "cellmetry/cell/workcell_problem.h"
+#include "cellmetry/cell/workcell_result.h"
+
+namespace cellmetry {
+
+struct DiagnosisOptions {
+  double alpha = 0.01;             // family-wise error rate of every test
+  int bootstrap = 40;              // resamples of poses
+  double alias_correlation = 0.99; // candidates this alike are one finding with two names
+  double bootstrap_share = 0.8;    // how often their selection must include the chosen effect
+  int folds = 10;                  // blocked cross-validation, by pose (10: the standard error
+                                   // of the gain is steadier than with 5)
+  int refits = 3;                  // best candidates by score refitted in full each round
+  double min_unabsorbed = 0.05;    // below this share of its signature outside the geometry's
+                                   // span, an effect is untestable with these poses
+  int max_effects = 4;
+  int min_poses = 20;              // fewer: too few samples for the tests
+  std::vector<double> link_masses_kg;  // gravity-torque regressor (default 1 kg per link)
+  std::vector<int> gear_harmonics;     // of the drives, beyond 1 and 2 (e.g. a gearbox's stages)
+};
+
+// One candidate: an effect plugin instance on one joint, camera or the whole arm.
+struct CandidateEffect {
+  WorkcellEffect effect;   // name, robot, plugin
+  std::string type;        // the plugin's type, "backlash"
+  std::string label;       // "joint 2 backlash"
+  std::string data_hint;   // what data separates it from the geometry ("a wider joint 2 range")
+  // The physics it names, shared by nested variants of it ("ur3.transmission_j4" for harmonic 1,
+  // harmonic 2 and both): the bootstrap counts a resample won by any of them as won by the
+  // family, since they name the same physics on the same joint. Empty: effect.name.
+  std::string family;
+  const std::string& family_name() const { return family.empty() ? effect.name : family; }
+};
+
+// Another candidate whose unabsorbed signature this pose set can hardly tell apart from one's own.
+struct LookAlike {
+  std::string label;
+  double correlation = 0.0;  // largest canonical correlation of the unabsorbed signatures
+};
+
+struct CandidateFinding {
+  std::string name;
+  std::string label;
+  bool testable = true;
+  std::string untestable_because;   // "98 % absorbed by the geometry", "no temperatures", ...
+  std::string data_needed;          // what would make it testable
+  double unabsorbed = 0.0;          // share of the signature's norm outside the geometry's span
+  int dof = 0;                      // its free parameters
+  double score = 0.0;               // score statistic (chi-square, dof)
+  double p_holm = 1.0;
+  bool refitted = false;
+  double likelihood_ratio = 0.0;    // chi-square drop of the full refit, over the dispersion
+  double p_lr_holm = 1.0;
+  double delta_bic = 0.0;
+  double cv_rms_mm = 0.0;           // held-out RMS with it, mm
+  double cv_gain = 0.0;             // held-out normalized RMS without it minus with it (sigmas)
+  double cv_gain_se = 0.0;          // standard error of that gain over the folds
+  double bootstrap_share = 0.0;     // resamples whose selection included its family
+  std::string bootstrap_rival;      // the other family included most often ("" if none)
+  std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
+  std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
+  std::vector<std::string> failed;     // the round's chosen one: tests it failed, of "LR", "BIC",
+                                       // "CV", "bootstrap"
+  bool accepted = false;
+};
+
+struct RegressorFinding {
+  std::string regressor;            // "joint 2 gravity torque"
+  std::string axis;                 // x, y, depth, or "x, y and depth" (tested together)
+  double partial_correlation = 0.0;  // the three axes together: the RMS of theirs, unsigned
+  double p_value = 1.0;             // Bonferroni over all regressors and axes
+};
+
+struct DiagnosisRound {
+  double dispersion = 1.0;                   // chi-square/dof of the model the round starts from
+                                             // (>= 1); every test statistic is divided by it
+  std::vector<CandidateFinding> candidates;  // testable ones, best score first
+  std::string accepted;                      // "" when none passed
+};
+
+struct AcceptedEffect {
+  std::string name;
+  std::string description;                   // Effect::Describe at the estimate
+  std::vector<ScalarEstimate> parameters;
+  double peak_mm = 0.0;                      // largest tool displacement it predicts
+  std::vector<std::string> aliases;          // candidates these poses cannot tell from it
+  std::string unusual;                       // a parameter beyond Parameter::plausible, in words
+};
+
+struct FitSummary {
+  double chi2 = 0.0;
+  double dof = 0.0;
+  double p_value = 1.0;                      // chi-square against the floor
+  double rms_mm = 0.0;                       // carried targets' positions
+  double held_out_rms_mm = 0.0;
+  double held_out_sigma = 0.0;               // held-out RMS in sigmas over every carried-target
+                                             // row the fit uses (rotations too)
+  bool consistent_with_noise() const { return p_value > 0.01; }
+};
+
+struct DiagnosisResult {
+  std::string noise_source;
+  double floor_rms_mm = 0.0;                 // RMS of the noise sigma over the same rows
+  FitSummary geometric;                      // the geometry alone
+  FitSummary final;                          // with the accepted effects
+  std::map<std::string, double> durbin_watson;  // axis -> statistic, capture order
+  std::vector<RegressorFinding> regressors;  // strongest first
+  std::vector<CandidateFinding> untestable;
+  std::vector<DiagnosisRound> rounds;
+  std::vector<AcceptedEffect> accepted;
+  std::string unexplained;                   // "" or where structure remains, in words
+  WorkcellResult final_fit;
+};
+
+// The default candidate list for `spec`'s robots and `recording`'s cameras; compliance uses
+// `options.link_masses_kg` (empty: 1 kg per link), transmission `options.gear_harmonics`.
+std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
+                                               const Recording& recording,
+                                               const DiagnosisOptions& options,
+                                               Registry& registry);
+
+// Raises InputError (naming `origin`) for too few poses or no noise floor.
+DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& recording,
+                                 const SolverMaker& make_solver,
+                                 const std::vector<CandidateEffect>& candidates,
+                                 const DiagnosisOptions& options, const std::string& origin);
+
+// The finding in words a robot engineer reads in ten seconds.
+std::string DiagnosisReport(const DiagnosisResult& result);
+nlohmann::json DiagnosisJson(const DiagnosisResult& result);
+
+}  // namespace cellmetry

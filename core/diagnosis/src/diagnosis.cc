@@ -1,0 +1,474 @@
+#include "cellmetry/diagnosis/diagnosis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <tuple>
+
+#include "cellmetry/basics/error.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/basics/statistics.h"
+#include "cellmetry/cell/workcell.h"
+#include "diagnosis_linear.h"
+#include "diagnosis_regressors.h"
+
+namespace cellmetry {
+namespace {
+
+// A model (geometry + accepted effects) fitted to the whole recording.
+struct Fitted {
+  WorkcellProblem spec;
+  WorkcellResult result;
+  FitSummary summary;
+};
+
+bool Carried(const Recording& recording, const std::string& target) {
+  return recording.targets.at(target) != kWorldCarrier;
+}
+
+Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
+           const SolverMaker& make_solver, int folds) {
+  Fitted f;
+  f.spec = spec;
+  f.spec.folds = folds;
+  f.spec.compare_camera_models = false;
+  f.result = IdentifyWorkcell(f.spec, recording, make_solver);
+  ResidualRms tool;
+  int rows = 0;  // scalar residuals
+  for (const auto& row : f.result.residuals) {
+    f.summary.chi2 += row.normalized.squaredNorm();
+    rows += 3;
+    if (row.kind == "position" && Carried(recording, row.target)) tool.Add(row.error);
+  }
+  tool.Finish();
+  f.summary.rms_mm = tool.norm;
+  f.summary.dof = rows - static_cast<double>(f.result.uncertainty.names.size());
+  f.summary.p_value = ChiSquareSurvival(f.summary.chi2, f.summary.dof);
+  f.summary.held_out_rms_mm = f.result.held_out.total.norm;
+  double ss = 0.0;
+  for (double fold : f.result.held_out.per_fold_normalized_rms) ss += fold * fold;
+  const size_t n_folds = f.result.held_out.per_fold_normalized_rms.size();
+  f.summary.held_out_sigma = n_folds ? std::sqrt(ss / n_folds) : 0.0;
+  return f;
+}
+
+WorkcellProblem With(const WorkcellProblem& spec, const CandidateEffect& candidate) {
+  WorkcellProblem out = spec;
+  out.effects.push_back(candidate.effect);
+  return out;
+}
+
+// Fold-wise held-out gain of `after` over `before` (same folds) in normalized RMS (sigmas: a
+// lateral error counts as much as a depth error of the same significance, where millimetres
+// would let the noisy depth axis drown it), its mean and standard error.
+std::pair<double, double> CvGain(const HeldOut& before, const HeldOut& after) {
+  std::vector<double> gains;
+  const auto& b = before.per_fold_normalized_rms;
+  const auto& a = after.per_fold_normalized_rms;
+  for (size_t f = 0; f < b.size() && f < a.size(); ++f) gains.push_back(b[f] - a[f]);
+  if (gains.size() < 2) return {0.0, INFINITY};
+  double mean = 0.0, ss = 0.0;
+  for (double g : gains) mean += g;
+  mean /= gains.size();
+  for (double g : gains) ss += (g - mean) * (g - mean);
+  return {mean, std::sqrt(ss / (gains.size() - 1) / gains.size())};
+}
+
+int CountPoses(const Recording& recording) {
+  std::set<int> poses;
+  for (const auto& s : recording.samples) poses.insert(s.pose);
+  return static_cast<int>(poses.size());
+}
+
+// Checks the recording can support the tests at all.
+void CheckInputs(const NoiseModel& noise, const Recording& recording,
+                 const DiagnosisOptions& options, const std::string& origin,
+                 std::string* noise_source) {
+  const int poses = CountPoses(recording);
+  if (poses < options.min_poses) {
+    throw InputError({origin, 0, 0},
+                     "too few samples for the tests: " + std::to_string(poses) +
+                         " poses, the diagnosis needs at least " +
+                         std::to_string(options.min_poses),
+                     "Record more poses spread over the workspace");
+  }
+  std::set<std::string> sources;
+  for (const auto& obs : recording.observations) {
+    const TargetNoise& n = noise.at(obs.camera, obs.target);
+    if (n.source == "unknown") {
+      throw InputError({origin, 0, 0},
+                       "no noise floor for " + obs.camera + "/" + obs.target +
+                           ": no repeated captures and no sigma given",
+                       "Capture some poses two or more times (samples sharing a pose id), or "
+                       "give noise: {cameras: {" + obs.camera + ": {position_mm: [...]}}} in the "
+                       "job");
+    }
+    sources.insert(n.source);
+  }
+  for (const auto& s : sources) *noise_source += (noise_source->empty() ? "" : "; ") + s;
+}
+
+double FloorRms(const Fitted& fit, const Recording& recording) {
+  ResidualRms floor;
+  for (const auto& row : fit.result.residuals) {
+    if (row.kind != "position" || !Carried(recording, row.target)) continue;
+    const Eigen::Vector3d sigma = row.error.cwiseQuotient(row.normalized);
+    floor.Add(sigma.unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; }));
+  }
+  floor.Finish();
+  return floor.norm;
+}
+
+// The largest tool displacement (mm) an effect with parameters `theta` predicts, to first order.
+double PeakMm(const Linearization& lin, const Recording& recording, const Eigen::VectorXd& theta) {
+  const Eigen::VectorXd whitened = lin.J_candidate * theta;
+  std::map<int, Eigen::Vector3d> per_observation;
+  for (Eigen::Index i = 0; i < whitened.size(); ++i) {
+    const ResidualInfo& info = lin.rows[i];
+    if (info.kind != ResidualInfo::Kind::kPosition || info.observation < 0 ||
+        !Carried(recording, info.target)) {
+      continue;
+    }
+    auto& d = per_observation.try_emplace(info.observation, Eigen::Vector3d::Zero()).first->second;
+    d[lin.row_axis[i]] = whitened[i] * info.sigma[lin.row_axis[i]];
+  }
+  double peak = 0.0;
+  for (const auto& [obs, d] : per_observation) peak = std::max(peak, d.norm());
+  return peak;
+}
+
+// Largest canonical correlation of two candidates' unabsorbed signatures: the cosine of the
+// smallest angle between the two subspaces (orthonormal bases).
+double CanonicalCorrelation(const Eigen::MatrixXd& U_a, const Eigen::MatrixXd& U_b) {
+  const Eigen::MatrixXd overlap = U_a.transpose() * U_b;
+  if (overlap.size() == 0) return 0.0;
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(overlap).singularValues()[0];
+}
+
+// The candidates (other families) whose unabsorbed signatures correlate with `chosen`'s by at
+// least `threshold`, strongest first, as indices into `candidates`.
+std::vector<std::pair<size_t, double>> LookAlikes(
+    const std::vector<Eigen::MatrixXd>& unabsorbed_bases,
+    const std::vector<const CandidateEffect*>& candidates, size_t chosen, double threshold) {
+  std::vector<std::pair<size_t, double>> out;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    if (candidates[c]->family_name() == candidates[chosen]->family_name()) continue;
+    const double correlation =
+        CanonicalCorrelation(unabsorbed_bases[chosen], unabsorbed_bases[c]);
+    if (correlation >= threshold) out.push_back({c, correlation});
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  return out;
+}
+
+// The first parameter whose size is unusual for its physics (Parameter::plausible), in words;
+// "" when all are ordinary.
+std::string Unusual(const std::vector<Parameter>& parameters, const std::vector<double>& values) {
+  for (size_t i = 0; i < parameters.size() && i < values.size(); ++i) {
+    const auto& p = parameters[i];
+    if (!p.plausible || std::abs(values[i]) <= *p.plausible) continue;
+    char text[256];
+    std::snprintf(text, sizeof(text), "%s = %.3g %s, where this physics is typically below %.3g",
+                  p.name.c_str(), values[i], p.unit.c_str(), *p.plausible);
+    return text;
+  }
+  return "";
+}
+
+std::vector<int> RowPoses(const Linearization& lin) {
+  std::vector<int> poses;
+  for (const auto& info : lin.rows) poses.push_back(info.pose);
+  return poses;
+}
+
+// The share of bootstrap resamples that included a candidate of one of `own` families (the
+// chosen one's and its aliases), and the label of the other family included most often ("" when
+// none was).
+std::pair<double, std::string> FamilyInclusion(const std::vector<std::vector<int>>& inclusions,
+                                               const std::vector<const CandidateEffect*>& candidates,
+                                               const std::set<std::string>& own) {
+  int resamples_own = 0;
+  std::map<std::string, int> resamples_including;
+  std::map<std::string, std::string> label;
+  for (const auto& included : inclusions) {
+    std::set<std::string> families;
+    for (int c : included) {
+      families.insert(candidates[c]->family_name());
+      label.try_emplace(candidates[c]->family_name(), candidates[c]->label);
+    }
+    bool any_own = false;
+    for (const auto& f : families) {
+      ++resamples_including[f];
+      any_own |= own.count(f) > 0;
+    }
+    resamples_own += any_own;
+  }
+  std::string rival;
+  int rival_count = 0;
+  for (const auto& [family, count] : resamples_including) {
+    if (!own.count(family) && count > rival_count) rival_count = count, rival = label[family];
+  }
+  const double n = std::max<size_t>(1, inclusions.size());
+  return {resamples_own / n, rival};
+}
+
+// How strongly a chi-square statistic with `dof` degrees of freedom speaks against "no effect",
+// comparable across dof even where its p-value underflows.
+double Strength(double statistic, int dof) { return -ChiSquareLogSurvival(statistic, dof); }
+
+// One round's candidates, scored on the current model's linearization.
+struct ScoredRound {
+  DiagnosisRound round;
+  Linearization base;                            // residuals over sqrt(dispersion)
+  std::vector<const CandidateEffect*> testable;  // parallel to round.candidates
+  std::vector<Eigen::MatrixXd> signatures;       // their Jacobian columns
+  std::vector<Eigen::MatrixXd> unabsorbed_bases;  // orthonormal, outside the model's span
+};
+
+// The steps of one diagnosis, over the data every step shares.
+class Diagnoser {
+ public:
+  Diagnoser(const Recording& recording, const SolverMaker& make_solver,
+            const std::vector<CandidateEffect>& candidates, const DiagnosisOptions& options,
+            const NoiseModel& noise, const WorkcellData& data)
+      : recording_(recording), make_solver_(make_solver), candidates_(candidates),
+        options_(options), noise_(noise), data_(data), n_poses_(CountPoses(recording)) {}
+
+  // Linearizes the current model, scores every candidate not `done`; untestable ones go to
+  // `untestable` and join `done`.
+  ScoredRound Score(const Fitted& current, std::set<std::string>* done,
+                    std::vector<CandidateFinding>* untestable) const {
+    ScoredRound s;
+    s.base = Linearize(current.spec, recording_, data_, noise_, current.result.estimate, false);
+    // Quasi-likelihood (McCullagh & Nelder 1989, sec. 9.2): where the residuals scatter wider
+    // than the floor, an effect is judged against the scatter the model leaves, not against the
+    // floor; a real recording whose mismatch is 10x the floor's chi-square otherwise passes
+    // every candidate that takes a sliver of it. At the floor the dispersion is 1.
+    s.round.dispersion = std::max(1.0, current.summary.chi2 / std::max(1.0, current.summary.dof));
+    s.base.r /= std::sqrt(s.round.dispersion);
+    const Eigen::MatrixXd Q = OrthonormalBasis(s.base.J_model);
+    for (const auto& c : candidates_) {
+      if (done->count(c.effect.name)) continue;
+      const Linearization lin = Linearize(With(current.spec, c), recording_, data_, noise_,
+                                          current.result.estimate, true);
+      const Eigen::MatrixXd unabsorbed = ProjectOut(Q, lin.J_candidate);
+      const ScoreTest test = cellmetry::Score(s.base.r, lin.J_candidate, unabsorbed);
+      CandidateFinding f;
+      f.name = c.effect.name;
+      f.label = c.label;
+      f.unabsorbed = test.unabsorbed;
+      f.dof = test.dof;
+      f.score = test.statistic;
+      f.p_holm = test.p_value;
+      const std::string missing = MissingFacts(c.effect.effect->needs(), data_.facts);
+      if (!missing.empty() || test.unabsorbed < options_.min_unabsorbed || test.dof == 0) {
+        f.testable = false;
+        f.untestable_because =
+            !missing.empty() ? std::string("not in this recording or robot model")
+            : lin.J_candidate.norm() == 0.0
+                ? "it does not act on these poses"
+                : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
+                      " % of its signature is absorbed by the geometry";
+        f.data_needed = !missing.empty() ? missing : c.data_hint;
+        untestable->push_back(f);
+        done->insert(c.effect.name);
+        continue;
+      }
+      s.round.candidates.push_back(f);
+      s.testable.push_back(&c);
+      s.signatures.push_back(lin.J_candidate);
+      s.unabsorbed_bases.push_back(OrthonormalBasis(unabsorbed));
+    }
+    // Holm over the round's candidates, on the score tests.
+    std::vector<double> p;
+    for (const auto& f : s.round.candidates) p.push_back(f.p_holm);
+    const std::vector<double> adjusted = HolmAdjusted(p);
+    for (size_t i = 0; i < p.size(); ++i) s.round.candidates[i].p_holm = adjusted[i];
+    return s;
+  }
+
+  // Refits the `options.refits` best-scoring candidates in full (nonlinear); returns the index
+  // of the strongest refit and moves its fit to `best_fit`.
+  int RefitBest(const Fitted& current, ScoredRound* s, Fitted* best_fit) const {
+    auto& candidates = s->round.candidates;
+    std::vector<size_t> order(candidates.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return Strength(candidates[a].score, candidates[a].dof) >
+             Strength(candidates[b].score, candidates[b].dof);
+    });
+    int best = -1;
+    for (size_t k = 0; k < order.size() && static_cast<int>(k) < options_.refits; ++k) {
+      CandidateFinding& f = candidates[order[k]];
+      Fitted refit = Fit(With(current.spec, *s->testable[order[k]]), recording_, make_solver_, 0);
+      f.refitted = true;
+      f.likelihood_ratio =
+          std::max(0.0, current.summary.chi2 - refit.summary.chi2) / s->round.dispersion;
+      f.p_lr_holm = std::min(1.0, ChiSquareSurvival(f.likelihood_ratio, f.dof) *
+                                      static_cast<double>(candidates.size()));
+      // BIC's n: the poses, the experiment's independent units (cross-validation and the
+      // bootstrap draw whole poses too); a pose's rows are not independent draws of a signature.
+      f.delta_bic = f.dof * std::log(n_poses_) - f.likelihood_ratio;
+      const auto& incumbent = candidates[std::max(best, 0)];
+      if (best < 0 || Strength(f.likelihood_ratio, f.dof) >
+                          Strength(incumbent.likelihood_ratio, incumbent.dof)) {
+        best = static_cast<int>(order[k]);
+        *best_fit = std::move(refit);
+      }
+    }
+    return best;
+  }
+
+  // Cross-validation, aliases and bootstrap inclusion of the round's chosen candidate; sets its
+  // verdict and returns its fit with held-out figures.
+  Fitted TestChosen(const Fitted& current, ScoredRound* s, int best, const Fitted& best_fit,
+                    int effects_left, unsigned seed) const {
+    CandidateFinding& chosen = s->round.candidates[best];
+    Progress::Note("cross-validating and bootstrapping " + chosen.label);
+    Fitted with_cv = Fit(best_fit.spec, recording_, make_solver_, options_.folds);
+    const auto [gain, se] = CvGain(current.result.held_out, with_cv.result.held_out);
+    chosen.cv_rms_mm = with_cv.summary.held_out_rms_mm;
+    chosen.cv_gain = gain;
+    chosen.cv_gain_se = se;
+    // Aliases: candidates whose unabsorbed signatures these poses cannot tell from the chosen
+    // one's at all (a gear ratio and a once-per-turn error over less than a turn). No estimator
+    // can pick between them, so the bootstrap asks whether the finding is stable, not which of
+    // its names wins, and the report names both.
+    std::set<std::string> own = {s->testable[best]->family_name()};
+    for (const auto& [c, correlation] : LookAlikes(s->unabsorbed_bases, s->testable, best, 0.8)) {
+      chosen.look_alikes.push_back({s->testable[c]->label, correlation});
+      if (correlation >= options_.alias_correlation) {
+        own.insert(s->testable[c]->family_name());
+        chosen.aliases.push_back(s->testable[c]->label);
+      }
+    }
+    const std::vector<std::vector<int>> inclusions =
+        BootstrapInclusions(s->base.r, s->base.J_model, s->signatures, RowPoses(s->base),
+                            options_.bootstrap, std::log(n_poses_), effects_left, seed);
+    std::tie(chosen.bootstrap_share, chosen.bootstrap_rival) =
+        FamilyInclusion(inclusions, s->testable, own);
+    if (!(chosen.p_lr_holm < options_.alpha)) chosen.failed.push_back("LR");
+    if (!(chosen.delta_bic < 0)) chosen.failed.push_back("BIC");
+    if (!(gain > se)) chosen.failed.push_back("CV");
+    if (chosen.bootstrap_share < options_.bootstrap_share) chosen.failed.push_back("bootstrap");
+    chosen.accepted = chosen.failed.empty();
+    return with_cv;
+  }
+
+  // The accepted effect in words, with its parameters and the most it moves the tool.
+  AcceptedEffect Describe(const CandidateEffect& c, const CandidateFinding& chosen,
+                          const Fitted& with_cv, const Fitted& current) const {
+    AcceptedEffect a;
+    a.name = c.effect.name;
+    const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);
+    a.description = c.effect.effect->Describe(values);
+    a.aliases = chosen.aliases;
+    a.unusual = Unusual(c.effect.effect->parameters(), values);
+    for (const auto& s : with_cv.result.model_parameters) {
+      if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
+    }
+    a.peak_mm = PeakMm(Linearize(With(current.spec, c), recording_, data_, noise_,
+                                 current.result.estimate, true),
+                       recording_, Eigen::Map<const Eigen::VectorXd>(values.data(), values.size()));
+    return a;
+  }
+
+  // Where the current model's residuals follow the recorded regressors, strongest first.
+  std::vector<RegressorFinding> Regressors(const Fitted& current,
+                                           const std::vector<Regressor>& regressors) const {
+    const Linearization lin =
+        Linearize(current.spec, recording_, data_, noise_, current.result.estimate, false);
+    return CorrelateRegressors(lin, recording_, regressors);
+  }
+
+  // Structure the library did not explain: a regressor the residuals still follow (a more
+  // powerful test than the omnibus chi-square against one concentrated cause), or a chi-square
+  // above the floor; "" when the residuals look like noise.
+  std::string Unexplained(const FitSummary& current,
+                          const std::vector<RegressorFinding>& findings) const {
+    if (!findings.empty() && findings.front().p_value < options_.alpha) {
+      const auto& f = findings.front();
+      return "structure remains along " + f.regressor + " (" + f.axis +
+             " residuals, partial correlation " +
+             std::to_string(f.partial_correlation).substr(0, 5) + ")";
+    }
+    if (!current.consistent_with_noise()) {
+      return "the residuals exceed the floor but follow none of the recorded regressors";
+    }
+    return "";
+  }
+
+ private:
+  const Recording& recording_;
+  const SolverMaker& make_solver_;
+  const std::vector<CandidateEffect>& candidates_;
+  const DiagnosisOptions& options_;
+  const NoiseModel& noise_;
+  const WorkcellData& data_;
+  const double n_poses_;
+};
+
+}  // namespace
+
+DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& recording,
+                                 const SolverMaker& make_solver,
+                                 const std::vector<CandidateEffect>& candidates,
+                                 const DiagnosisOptions& options, const std::string& origin) {
+  DiagnosisResult out;
+  const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
+  CheckInputs(noise, recording, options, origin, &out.noise_source);
+  WorkcellProblem all = spec;
+  for (const auto& c : candidates) all.effects.push_back(c.effect);
+  const WorkcellData data = PrepareWorkcellData(all, recording);  // with every sample's facts
+  const std::vector<Regressor> regressors = SampleRegressors(
+      recording, data.facts, options.link_masses_kg, spec.gravity_base);
+  const Diagnoser diagnoser(recording, make_solver, candidates, options, noise, data);
+
+  Progress::Note("fitting the geometry alone");
+  Fitted current = Fit(spec, recording, make_solver, options.folds);
+  out.geometric = current.summary;
+  out.floor_rms_mm = FloorRms(current, recording);
+  {
+    const Linearization lin = Linearize(spec, recording, data, noise, current.result.estimate, false);
+    out.regressors = CorrelateRegressors(lin, recording, regressors);
+    out.durbin_watson = DurbinWatsonByAxis(lin, recording);
+  }
+  std::set<std::string> done;  // accepted or untestable
+  // The rounds run whatever the omnibus chi-square says: one effect of SNR 6 among thousands of
+  // residual rows moves it by 36 against a spread of sqrt(2 * rows), so it has little power;
+  // the targeted tests have it. Rounds end when no candidate passes every test.
+  while (static_cast<int>(out.accepted.size()) < options.max_effects) {
+    Progress::Note("round " + std::to_string(out.rounds.size() + 1) + ": scoring " +
+                   std::to_string(candidates.size() - done.size()) + " candidate effects");
+    ScoredRound scored = diagnoser.Score(current, &done, &out.untestable);
+    if (scored.round.candidates.empty()) break;
+    Fitted best_fit;
+    const int best = diagnoser.RefitBest(current, &scored, &best_fit);
+    Fitted with_cv = diagnoser.TestChosen(
+        current, &scored, best, best_fit, options.max_effects - static_cast<int>(out.accepted.size()),
+        17u + static_cast<unsigned>(out.rounds.size()));
+    const CandidateFinding& chosen = scored.round.candidates[best];
+    const bool accepted = chosen.accepted;
+    if (accepted) {
+      const CandidateEffect& c = *scored.testable[best];
+      scored.round.accepted = chosen.name;
+      out.accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
+      for (const auto& other : candidates) {  // its nested variants would repeat its parameters
+        if (other.family_name() == c.family_name()) done.insert(other.effect.name);
+      }
+      current = std::move(with_cv);
+    }
+    out.rounds.push_back(std::move(scored.round));
+    if (!accepted) break;
+  }
+  out.final = current.summary;
+  out.final_fit = current.result;
+  // Without an accepted effect the model is the geometry, whose findings are already known.
+  out.unexplained = diagnoser.Unexplained(
+      current.summary,
+      out.accepted.empty() ? out.regressors : diagnoser.Regressors(current, regressors));
+  return out;
+}
+
+}  // namespace cellmetry

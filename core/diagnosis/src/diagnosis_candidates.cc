@@ -1,0 +1,112 @@
+// The physics finder's default candidates (diagnosis.h): the effect library, each effect on one
+// joint or camera at a time, so that a finding names the joint or camera.
+#include <string>
+
+#include "cellmetry/diagnosis/diagnosis.h"
+
+namespace cellmetry {
+namespace {
+
+CandidateEffect Make(const std::string& yaml, const std::string& name, const WorkcellRobot& robot,
+                     const std::string& label, const std::string& hint, Registry& registry) {
+  const ConfigNode config = ConfigNode::LoadString(yaml, "default candidates");
+  CandidateEffect c;
+  c.type = config["type"].AsString();
+  c.effect.name = name;
+  c.effect.robot = robot.name;
+  c.effect.effect = registry.CreateEffect(c.type, config, *robot.model);
+  c.label = label;
+  c.data_hint = hint;
+  return c;
+}
+
+// A parallel arm's links (a delta's three rod pairs) at its nominal geometry's zero joint
+// readings; 0 for a serial arm.
+int ParallelLinkCount(const RobotModel& model) {
+  std::vector<double> q(model.num_joints(), 0.0), nominal;
+  for (const auto& p : model.parameters()) nominal.push_back(p.nominal);
+  std::vector<ParallelLink> links;
+  return model.ParallelLinks(q.data(), nominal.data(), &links) ? static_cast<int>(links.size()) : 0;
+}
+
+}  // namespace
+
+std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
+                                               const Recording& recording,
+                                               const DiagnosisOptions& options,
+                                               Registry& registry) {
+  std::string masses, harmonics = "1, 2";
+  for (double m : options.link_masses_kg) masses += (masses.empty() ? "" : ", ") + std::to_string(m);
+  for (int h : options.gear_harmonics) {
+    if (h > 2) harmonics += ", " + std::to_string(h);
+  }
+  std::vector<CandidateEffect> out;
+  for (const auto& robot : spec.robots) {
+    for (int j = 1; j <= robot.model->num_joints(); ++j) {
+      const std::string J = std::to_string(j), joint = "joint " + J;
+      const std::string prefix = robot.name + ".";
+      out.push_back(Make("{type: joint_compliance, joints: [" + J + "]" +
+                             (masses.empty() ? "" : ", link_masses_kg: [" + masses + "]") + "}",
+                         prefix + "compliance_j" + J, robot, joint + " compliance", 
+                         "poses that load " + joint + " differently (outstretched and folded)",
+                         registry));
+      out.push_back(Make("{type: backlash, joints: [" + J + "]}", prefix + "backlash_j" + J,
+                         robot, joint + " backlash",
+                         "moves into poses from both directions on " + joint, registry));
+      // One candidate per harmonic (two parameters each, so that a single harmonic does not pay
+      // for four) and one with them all (where the error has several, each alone carries only
+      // its share); one family, since all name the same physics.
+      const std::string family = prefix + "transmission_j" + J;
+      for (const std::string& h : std::vector<std::string>{"1", "2", harmonics}) {
+        const bool all = h == harmonics;
+        out.push_back(Make("{type: transmission_error, joints: [" + J + "], harmonics: [" + h + "]}",
+                           all ? family : family + "_h" + h, robot,
+                           joint + " transmission error" + (all ? "" : " (harmonic " + h + ")"),
+                           "a wider range of " + joint + " (at least half a turn)", registry));
+        out.back().family = family;
+      }
+      out.push_back(Make("{type: joint_scale, joints: [" + J + "]}", prefix + "scale_j" + J,
+                         robot, joint + " gear ratio error", "a wider range of " + joint,
+                         registry));
+    }
+    const int links = ParallelLinkCount(*robot.model);
+    for (int i = 1; i <= links; ++i) {
+      {
+        const std::string I = std::to_string(i), arm = "arm " + I;
+        out.push_back(Make("{type: platform_tilt, arms: [" + I + "]}",
+                           robot.name + ".tilt_arm" + I, robot, arm + " parallelogram skew",
+                           "poses that turn " + arm + "'s rods further", registry));
+        out.push_back(Make("{type: ball_joint_clearance, arms: [" + I + "]}",
+                           robot.name + ".clearance_arm" + I, robot, arm + " ball-joint clearance",
+                           "poses near the workspace edge, where " + arm + "'s load share changes "
+                           "most", registry));
+      }
+    }
+    bool temperatures = false, times = false;
+    for (const auto& s : recording.samples) {
+      temperatures |= s.temperature_c.has_value();
+      times |= s.time_s.has_value();
+    }
+    if (temperatures || !times) {
+      out.push_back(Make("{type: thermal_drift}", robot.name + ".thermal", robot,
+                         "thermal growth of the arm",
+                         "temperatures over a range of several degrees", registry));
+    } else {
+      out.push_back(Make("{type: thermal_drift, model: warmup}", robot.name + ".thermal", robot,
+                         "thermal growth while warming up",
+                         "captures from a cold start over an hour", registry));
+    }
+  }
+  for (const auto& camera : recording.cameras) {
+    out.push_back(Make("{type: depth_bias, cameras: [" + camera + "]}", "camera.depth_" + camera,
+                       spec.robots.front(), camera + " depth bias",
+                       "targets at more varied distances from " + camera, registry));
+    out.push_back(Make("{type: depth_bias, cameras: [" + camera + "], terms: [tilt]}",
+                       "camera.depth_tilt_" + camera, spec.robots.front(),
+                       camera + " depth error tilting across the image",
+                       "targets spread across " + camera + "'s image", registry));
+  }
+  return out;
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,66 @@
+#include "cellmetry/diagnosis/diagnosis_job.h"
+
+namespace cellmetry {
+
+DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
+                              bool recording_must_exist) {
+  DiagnosisJob job;
+  job.workcell = LoadWorkcellJob(path, registry, recording_must_exist);
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  if (!root.Has("diagnosis")) return job;
+  const ConfigNode d = root["diagnosis"];
+  d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "folds", "max_effects", "min_poses",
+                "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed", "alias_correlation"});
+  DiagnosisOptions& o = job.options;
+  o.alpha = d.GetDouble("alpha", o.alpha);
+  o.bootstrap = d.GetInt("bootstrap", o.bootstrap);
+  o.bootstrap_share = d.GetDouble("bootstrap_share", o.bootstrap_share);
+  o.folds = d.GetInt("folds", o.folds);
+  o.max_effects = d.GetInt("max_effects", o.max_effects);
+  o.min_poses = d.GetInt("min_poses", o.min_poses);
+  o.refits = d.GetInt("refits", o.refits);
+  o.min_unabsorbed = d.GetDouble("min_unabsorbed", o.min_unabsorbed);
+  o.alias_correlation = d.GetDouble("alias_correlation", o.alias_correlation);
+  if (!(o.alias_correlation > 0 && o.alias_correlation <= 1)) {
+    throw d["alias_correlation"].Error("must be in (0, 1]", "1 keeps every candidate apart");
+  }
+  if (!(o.alpha > 0 && o.alpha < 1)) throw d["alpha"].Error("must be between 0 and 1");
+  if (o.folds < 2) throw d["folds"].Error("needs at least 2 folds", "5 is usual");
+  if (d.Has("link_masses_kg")) o.link_masses_kg = d["link_masses_kg"].AsDoubles();
+  if (d.Has("gear_harmonics")) {
+    for (const auto& h : d["gear_harmonics"].Elements()) {
+      const int value = h.AsInt();
+      if (value < 1) throw h.Error("a harmonic is a whole number of cycles per turn, 1 or more");
+      o.gear_harmonics.push_back(value);
+    }
+  }
+  if (d.Has("candidates")) {
+    for (const auto& c : d["candidates"].Elements()) job.candidate_configs.push_back(c);
+  }
+  return job;
+}
+
+std::vector<CandidateEffect> JobCandidates(const DiagnosisJob& job, const Recording& recording,
+                                           Registry& registry) {
+  const WorkcellProblem& spec = job.workcell.problem;
+  if (job.candidate_configs.empty()) {
+    return DefaultCandidates(spec, recording, job.options, registry);
+  }
+  std::vector<CandidateEffect> out;
+  const WorkcellRobot& robot = spec.robots.front();
+  for (size_t k = 0; k < job.candidate_configs.size(); ++k) {
+    const ConfigNode& config = job.candidate_configs[k];
+    CandidateEffect c;
+    c.type = config["type"].AsString();
+    c.effect.robot = robot.name;
+    c.effect.effect = registry.CreateEffect(c.type, config, *robot.model);
+    c.effect.name = robot.name + "." + c.type + "_" + std::to_string(k + 1);
+    c.label = c.effect.effect->Describe(std::vector<double>(c.effect.effect->parameters().size()));
+    c.label = c.label.substr(0, c.label.find(':'));
+    c.data_hint = "poses that separate it from the geometry";
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,189 @@
+// The physics finder's report (diagnosis.h): ten seconds of words, and the same in JSON.
+#include <cstdio>
+#include <sstream>
+
+#include "cellmetry/diagnosis/diagnosis.h"
+
+namespace cellmetry {
+namespace {
+
+std::string Mm(double v) {
+  char b[32];
+  std::snprintf(b, sizeof(b), "%.3g mm", v);
+  return b;
+}
+
+std::string Fixed(double v, int digits = 1) {
+  char b[32];
+  std::snprintf(b, sizeof(b), "%.*f", digits, v);
+  return b;
+}
+
+// A failed test (CandidateFinding::failed) in words.
+std::string Why(const CandidateFinding& f, const std::string& test) {
+  if (test == "LR") return "its likelihood-ratio test fails after Holm's correction";
+  if (test == "BIC") return "BIC does not fall";
+  if (test == "CV") return "its held-out gain is within its standard error";
+  std::string why = "the bootstrap includes it in " + Fixed(100 * f.bootstrap_share, 0) +
+                    " % of resamples, not 80 %";
+  if (!f.bootstrap_rival.empty()) why += " (" + f.bootstrap_rival + " competes)";
+  return why;
+}
+
+std::string Value(const ScalarEstimate& s) {
+  char b[96];
+  std::snprintf(b, sizeof(b), "%s = %.3g +- %.2g %s", s.name.c_str(), s.value, s.sigma,
+                s.unit.c_str());
+  return b;
+}
+
+}  // namespace
+
+std::string DiagnosisReport(const DiagnosisResult& r) {
+  std::ostringstream out;
+  out << "Mismatch: " << Mm(r.geometric.rms_mm) << " RMS against a " << Mm(r.floor_rms_mm)
+      << " floor (" << r.noise_source << "); chi-square/dof "
+      << r.geometric.chi2 / std::max(1.0, r.geometric.dof);
+  out << (r.geometric.consistent_with_noise() ? ": consistent with noise.\n" : ".\n");
+  if (!r.geometric.consistent_with_noise() && !r.regressors.empty()) {
+    const auto& f = r.regressors.front();
+    out << "It follows " << f.regressor << " (" << f.axis << " residuals, partial correlation "
+        << std::to_string(f.partial_correlation).substr(0, 5) << ").\n";
+  }
+  for (const auto& a : r.accepted) {
+    out << "Left out: " << a.description << " (up to " << Mm(a.peak_mm) << " at the tool).\n";
+    if (!a.unusual.empty()) {
+      out << "  Its size is unusual (" << a.unusual
+          << "): it may stand in for something the library lacks.\n";
+    }
+    if (!a.aliases.empty()) {
+      out << "  In these poses it is indistinguishable from";
+      for (size_t i = 0; i < a.aliases.size(); ++i) out << (i ? "," : "") << " " << a.aliases[i];
+      out << "; poses that tell them apart would settle which.\n";
+    }
+    for (const auto& p : a.parameters) out << "  " << Value(p) << "\n";
+  }
+  if (!r.accepted.empty()) {
+    out << "Held-out RMS " << Mm(r.geometric.held_out_rms_mm) << " -> "
+        << Mm(r.final.held_out_rms_mm) << " (positions), " << Fixed(r.geometric.held_out_sigma, 2)
+        << " -> " << Fixed(r.final.held_out_sigma, 2)
+        << " sigma (every row fitted); fit RMS " << Mm(r.final.rms_mm) << " against the "
+        << Mm(r.floor_rms_mm) << " floor.\n";
+  } else if (!r.geometric.consistent_with_noise()) {
+    out << "No effect in the library passed every test";
+    if (!r.rounds.empty() && r.rounds.front().dispersion > 1.5) {
+      out << " (each judged against the residuals' own scatter, " << Fixed(r.rounds.front().dispersion)
+          << "x the floor's chi-square)";
+    }
+    out << ".\n";
+  }
+  if (!r.rounds.empty()) {  // the last round's chosen one failed: what it would give, and why not
+    for (const auto& f : r.rounds.back().candidates) {
+      if (f.failed.empty()) continue;
+      out << "Closest candidate: " << f.label << " (held-out RMS " << Mm(r.final.held_out_rms_mm)
+          << " -> " << Mm(f.cv_rms_mm) << "), not accepted:";
+      for (size_t i = 0; i < f.failed.size(); ++i) out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
+      out << ".\n";
+      if (!f.look_alikes.empty()) {
+        out << "  In these poses it looks like";
+        for (size_t i = 0; i < f.look_alikes.size() && i < 3; ++i) {
+          out << (i ? "," : "") << " " << f.look_alikes[i].label << " ("
+              << Fixed(f.look_alikes[i].correlation, 2) << ")";
+        }
+        out << " (canonical correlation of what the geometry leaves of them).\n";
+      }
+    }
+  }
+  if (!r.unexplained.empty()) out << "Unexplained: " << r.unexplained << ".\n";
+  if (!r.untestable.empty()) {
+    out << "Not testable here:";
+    for (size_t i = 0; i < r.untestable.size(); ++i) {
+      const auto& u = r.untestable[i];
+      out << (i ? ";" : "") << " " << u.label << " (" << u.untestable_because << "; needs "
+          << u.data_needed << ")";
+    }
+    out << ".\n";
+  }
+  return out.str();
+}
+
+nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
+  auto summary = [](const FitSummary& s) {
+    return nlohmann::json{{"chi2", s.chi2},         {"dof", s.dof},
+                          {"p_value", s.p_value},   {"rms_mm", s.rms_mm},
+                          {"held_out_rms_mm", s.held_out_rms_mm},
+                          {"held_out_sigma", s.held_out_sigma},
+                          {"consistent_with_noise", s.consistent_with_noise()}};
+  };
+  auto look_alikes = [](const CandidateFinding& f) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& l : f.look_alikes) {
+      j.push_back({{"label", l.label}, {"correlation", l.correlation}});
+    }
+    return j;
+  };
+  auto candidate = [&look_alikes](const CandidateFinding& f) {
+    return nlohmann::json{{"name", f.name},
+                          {"label", f.label},
+                          {"testable", f.testable},
+                          {"untestable_because", f.untestable_because},
+                          {"data_needed", f.data_needed},
+                          {"unabsorbed", f.unabsorbed},
+                          {"dof", f.dof},
+                          {"score", f.score},
+                          {"p_holm", f.p_holm},
+                          {"refitted", f.refitted},
+                          {"likelihood_ratio", f.likelihood_ratio},
+                          {"p_lr_holm", f.p_lr_holm},
+                          {"delta_bic", f.delta_bic},
+                          {"cv_rms_mm", f.cv_rms_mm},
+                          {"cv_gain_sigma", f.cv_gain},
+                          {"cv_gain_se_sigma", f.cv_gain_se},
+                          {"bootstrap_share", f.bootstrap_share},
+                          {"look_alikes", look_alikes(f)},
+                          {"bootstrap_rival", f.bootstrap_rival},
+                          {"aliases", f.aliases},
+                          {"failed", f.failed},
+                          {"accepted", f.accepted}};
+  };
+  nlohmann::json j;
+  j["format"] = "cellmetry-diagnosis/1";
+  j["noise_source"] = r.noise_source;
+  j["floor_rms_mm"] = r.floor_rms_mm;
+  j["geometric"] = summary(r.geometric);
+  j["final"] = summary(r.final);
+  j["durbin_watson"] = r.durbin_watson;
+  j["regressors"] = nlohmann::json::array();
+  for (const auto& f : r.regressors) {
+    j["regressors"].push_back({{"regressor", f.regressor}, {"axis", f.axis},
+                               {"partial_correlation", f.partial_correlation},
+                               {"p_value", f.p_value}});
+  }
+  j["untestable"] = nlohmann::json::array();
+  for (const auto& f : r.untestable) j["untestable"].push_back(candidate(f));
+  j["rounds"] = nlohmann::json::array();
+  for (const auto& round : r.rounds) {
+    nlohmann::json jr{{"accepted", round.accepted},
+                      {"dispersion", round.dispersion},
+                      {"candidates", nlohmann::json::array()}};
+    for (const auto& f : round.candidates) jr["candidates"].push_back(candidate(f));
+    j["rounds"].push_back(jr);
+  }
+  j["accepted"] = nlohmann::json::array();
+  for (const auto& a : r.accepted) {
+    nlohmann::json ja{{"name", a.name}, {"description", a.description}, {"peak_mm", a.peak_mm},
+                      {"aliases", a.aliases},
+                      {"unusual", a.unusual},
+                      {"parameters", nlohmann::json::array()}};
+    for (const auto& p : a.parameters) {
+      ja["parameters"].push_back(
+          {{"name", p.name}, {"unit", p.unit}, {"value", p.value}, {"sigma", p.sigma}});
+    }
+    j["accepted"].push_back(ja);
+  }
+  j["unexplained"] = r.unexplained;
+  j["report"] = DiagnosisReport(r);
+  return j;
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,87 @@
+// How much to trust an answer: identifiability, covariance, correlations.
+//
+// All of it is computed from the whitened Jacobian J of a Problem at its current values, the
+// same way whichever solver produced them.
+//
+//  - Identifiability: columns of J are scaled to unit norm (so mm and rad compare), and the
+//    singular values of the scaled J are inspected. A singular value below `tolerance` times the
+//    largest marks a direction the data cannot determine; the parameter with the largest share
+//    of that direction is reported and should be held at its nominal value (then repeat).
+//  - Covariance: (J^T J)^-1 from the SVD of the scaled J, times a scale factor: the reduced
+//    chi-square when it exceeds 1 (the model explains the data worse than the stated noise, so
+//    the stated noise is too optimistic), else 1.
+#pragma once
+
+#include <Eigen/Core>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cellmetry/estimation/problem.h"
+#include "cellmetry/estimation/solver.h"
+
+namespace cellmetry {
+
+struct UnidentifiableParameter {
+  std::string name;
+  std::string reason;  // e.g. "no measurement depends on it" / "moves together with a, b"
+};
+
+// Free parameters that the data cannot determine, in the order they should be held.
+std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance);
+
+// Fixes the free parameters called "<block>.<parameter>" in `names` and rebuilds the problem.
+void HoldParameters(Problem* problem, const std::set<std::string>& names);
+
+struct IdentifiedSolve {
+  SolverSummary summary;
+  std::vector<UnidentifiableParameter> unidentifiable;  // held at their starting values
+};
+
+// Holds `held` and whatever the data cannot determine, solves, and checks again at the answer
+// (a direction can become degenerate only there, e.g. at a singular configuration); if it finds
+// more, holds them and solves again.
+IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
+                                           std::set<std::string> held,
+                                           const SolverMaker& make_solver);
+
+struct Uncertainty {
+  std::vector<std::string> names;   // free parameters, in Problem order
+  Eigen::VectorXd sigma;            // 1-sigma, in each parameter's unit
+  Eigen::MatrixXd covariance;
+  Eigen::MatrixXd correlation;
+  double chi2 = 0.0;                // |r|^2 of the whitened measurement residuals
+  int dof = 0;                      // residuals - free parameters
+  double reduced_chi2 = 0.0;
+  double scale = 1.0;               // factor applied to the covariance
+  double condition_number = 0.0;    // of the column-scaled Jacobian
+  // Variance inflation factor per free parameter: how much larger its variance is than if every
+  // other parameter were known, 1 / (1 - R^2) of its Jacobian column on the others. 1 = independent;
+  // thousands = the data can barely tell it from a combination of the others.
+  Eigen::VectorXd variance_inflation;
+};
+
+Uncertainty ComputeUncertainty(Problem& problem);
+
+// Free parameters the data determines only barely: identifiable in exact arithmetic, but with a
+// variance inflation of at least `vif_threshold` (their sigma is sqrt(vif) times what it would be
+// if the others were known), strongest first, each with the parameters it moves with.
+struct WeakParameter {
+  std::string name;
+  double variance_inflation = 0.0;
+  std::string partners;   // "a (0.99), b (-0.97)": |correlation| >= 0.9
+};
+std::vector<WeakParameter> WeaklyIdentified(const Uncertainty& uncertainty,
+                                            double vif_threshold = 1e5);
+
+struct CorrelatedPair {
+  std::string a;
+  std::string b;
+  double correlation = 0.0;
+};
+
+// Pairs with |correlation| >= threshold, strongest first.
+std::vector<CorrelatedPair> StrongCorrelations(const Uncertainty& uncertainty,
+                                               double threshold = 0.9);
+
+}  // namespace cellmetry

@@ -1,0 +1,61 @@
+// NoiseModel: the sigma every residual row is divided by.
+//
+// Per camera and target, along the camera's x, y and depth axes (positions, mm) and about them
+// (rotations, rad). Where the job does not give sigma:
+//   - observations measured by `cellmetry detect` carry their covariance (position and
+//     rotation): sigma is the RMS of their standard deviations, but never below the scatter of
+//     repeated captures. A world-fixed target's captures show a camera one view again and again:
+//     the detector's systematic error repeats, so together they count as one capture (sigma
+//     times sqrt(captures)), and a static camera's pose is not claimed better than one
+//     detection can place it;
+//   - else it is estimated from repeated captures: captures of one commanded pose (same `pose`)
+//     for robot-carried targets, every capture for world-fixed targets; the pooled standard
+//     deviation over groups is used;
+//   - else sigma is left unknown and the workcell identification estimates it from the
+//     residuals of a first fit (variance component estimation).
+#pragma once
+
+#include <map>
+#include <string>
+#include <utility>
+
+#include <Eigen/Core>
+
+#include "cellmetry/formats/recording.h"
+
+namespace cellmetry {
+
+// Measurement noise, per camera, along the camera's x, y and z (depth) axes.
+struct NoiseSpec {
+  std::map<std::string, Eigen::Vector3d> position_sigma_mm;   // camera -> sigma (given by job)
+  std::map<std::string, Eigen::Vector3d> rotation_sigma_rad;  // camera -> sigma (given by job)
+  double floor_mm = 1e-3;     // no sigma is taken smaller than this (exact simulated targets)
+  double floor_rad = 1e-6;
+};
+
+struct TargetNoise {
+  Eigen::Vector3d position_mm = Eigen::Vector3d::Ones();
+  Eigen::Vector3d rotation_rad = Eigen::Vector3d::Constant(1e-3);
+  std::string source = "unknown";  // "job", "repeats (N groups)", "residuals", "unknown"
+  int repeat_groups = 0;           // groups with >= 2 captures that the estimate pooled
+};
+
+using NoiseKey = std::pair<std::string, std::string>;  // (camera, target)
+
+struct NoiseModel {
+  std::map<NoiseKey, TargetNoise> entries;
+  const TargetNoise& at(const std::string& camera, const std::string& target) const;
+};
+
+// Repeatability of each (camera, target): pooled sigma over groups of repeated captures.
+// Entries with no repeated captures are absent.
+NoiseModel EstimateRepeatability(const Recording& recording);
+
+// The detection covariances' sigma per (camera, target) whose every observation carries both.
+NoiseModel DetectionAccuracy(const Recording& recording);
+
+// The sigma used for fitting: job values, else detections or repeatability (floored), else
+// "unknown" (1 mm, 1e-3 rad, to be re-estimated from residuals).
+NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec);
+
+}  // namespace cellmetry

@@ -1,0 +1,116 @@
+// Problem: one assembled least-squares problem that every solver works on.
+//
+// It holds named parameter blocks (a frame, a robot's geometry table), the residual blocks that
+// tie them to measurements, and a ceres::Problem built from both. Residuals are whitened: each
+// row is (prediction - measurement) / sigma, so 0.5 * |r|^2 is the negative log-likelihood and
+// (J^T J)^-1 is the covariance of the free parameters.
+//
+// Ceres solves the ceres::Problem directly; other solvers read and write the free parameters as
+// one vector (FreeValues / SetFreeValues) and call Evaluate() for residuals and the dense
+// Jacobian with respect to that vector. Fixed entries of a block are held by a SubsetManifold,
+// fully fixed blocks are constant, and blocks no residual uses are left out.
+//
+// Build() must be called after adding blocks and residuals, and again after SetFixed() or
+// SetRobustLoss(); it is cheap (no cost function is recreated).
+#pragma once
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cellmetry/basics/parameter.h"
+
+namespace cellmetry {
+
+// What one residual block measures, for statistics and the residual CSV.
+struct ResidualInfo {
+  enum class Kind { kPosition, kRotation, kPrior };
+  Kind kind = Kind::kPosition;
+  int observation = -1;  // index into the recording's observations (-1 for priors)
+  int sample = -1;
+  int pose = -1;
+  std::string camera;
+  std::string target;
+  // The sigma each row was divided by (mm for positions, rad for rotations and priors' unit).
+  Eigen::Vector3d sigma = Eigen::Vector3d::Ones();
+};
+
+enum class RobustLossKind { kNone, kHuber, kCauchy };
+
+struct FreeParameter {
+  int block = 0;
+  int index = 0;
+  std::string name;  // "<block>.<parameter>", e.g. "ur3.base.x"
+  std::string unit;
+};
+
+class Problem {
+ public:
+  Problem();
+  ~Problem();
+  Problem(const Problem&) = delete;
+  Problem& operator=(const Problem&) = delete;
+
+  // Adds a block named `name` whose values start at each parameter's nominal. Returns its id.
+  int AddBlock(const std::string& name, std::vector<Parameter> params);
+  int FindBlock(const std::string& name) const;  // -1 if absent
+  int num_blocks() const { return static_cast<int>(blocks_.size()); }
+  const std::string& block_name(int block) const;
+  const std::vector<Parameter>& block_parameters(int block) const;
+  double* values(int block);
+  const double* values(int block) const;
+  void SetFixed(int block, int index, bool fixed);
+
+  // Adds a residual block over `blocks` (ids from AddBlock). The Problem owns `cost`.
+  void AddResidual(std::unique_ptr<ceres::CostFunction> cost, std::vector<int> blocks,
+                   ResidualInfo info);
+
+  // A robust loss on every measurement block; `scale` is in the measurement's unit (mm or rad)
+  // and is divided by the block's RMS sigma to act on whitened residuals.
+  void SetRobustLoss(RobustLossKind kind, double scale);
+
+  void Build();
+  ceres::Problem& ceres_problem() { return *ceres_problem_; }
+
+  const std::vector<FreeParameter>& free_parameters() const { return free_; }
+  int num_free() const { return static_cast<int>(free_.size()); }
+  int num_residuals() const { return num_residuals_; }
+  const std::vector<ResidualInfo>& residual_infos() const { return infos_; }
+  // First row of each residual block in Evaluate()'s output.
+  const std::vector<int>& residual_rows() const { return rows_; }
+
+  Eigen::VectorXd FreeValues() const;
+  void SetFreeValues(const Eigen::VectorXd& x);
+  Eigen::VectorXd LowerBounds() const;  // -inf where unbounded
+  Eigen::VectorXd UpperBounds() const;  // +inf where unbounded
+
+  // Residuals (whitened) and, when `jacobian` is not null, the dense Jacobian with respect to
+  // FreeValues(), at the current values. Returns false if a cost function failed.
+  bool Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd* jacobian,
+                bool apply_loss = true);
+
+ private:
+  struct Block;
+  struct Residual;
+
+  std::vector<std::unique_ptr<Block>> blocks_;
+  std::vector<Residual> residuals_;
+  std::vector<ResidualInfo> infos_;
+  std::vector<std::unique_ptr<ceres::CostFunction>> prior_costs_;
+  std::vector<std::unique_ptr<ceres::LossFunction>> losses_;
+  std::vector<std::unique_ptr<ceres::Manifold>> manifolds_;
+  std::unique_ptr<ceres::Problem> ceres_problem_;
+  std::vector<ceres::ResidualBlockId> residual_ids_;
+  std::vector<double*> variable_blocks_;
+  std::vector<FreeParameter> free_;
+  std::vector<int> rows_;
+  int num_residuals_ = 0;
+  RobustLossKind loss_kind_ = RobustLossKind::kNone;
+  double loss_scale_ = 1.0;
+  int num_measurement_residuals_ = 0;
+};
+
+}  // namespace cellmetry

@@ -1,0 +1,185 @@
+#include "cellmetry/estimation/estimation_quality.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace cellmetry {
+namespace {
+
+// Thin SVD of a tall matrix through its R factor: same singular values and V, much cheaper.
+Eigen::JacobiSVD<Eigen::MatrixXd> TallSvd(const Eigen::MatrixXd& A) {
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
+  const Eigen::Index n = A.cols();
+  const Eigen::MatrixXd R =
+      qr.matrixQR().topRows(std::min<Eigen::Index>(n, A.rows())).triangularView<Eigen::Upper>();
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(R, Eigen::ComputeFullV);
+}
+
+Eigen::VectorXd ColumnNorms(const Eigen::MatrixXd& J) {
+  Eigen::VectorXd norms(J.cols());
+  for (Eigen::Index j = 0; j < J.cols(); ++j) norms[j] = J.col(j).norm();
+  return norms;
+}
+
+}  // namespace
+
+std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance) {
+  std::vector<UnidentifiableParameter> found;
+  Eigen::MatrixXd J;
+  if (problem.num_free() == 0 || !problem.Evaluate(nullptr, nullptr, &J, false)) return found;
+  const auto& free = problem.free_parameters();
+  std::vector<int> active;
+  const Eigen::VectorXd norms = ColumnNorms(J);
+  const double largest = norms.maxCoeff();
+  for (int j = 0; j < J.cols(); ++j) {
+    if (norms[j] <= 1e-12 * largest) {
+      found.push_back({free[j].name, "no measurement depends on it"});
+    } else {
+      active.push_back(j);
+    }
+  }
+  while (active.size() > 1) {
+    Eigen::MatrixXd scaled(J.rows(), active.size());
+    for (size_t k = 0; k < active.size(); ++k) scaled.col(k) = J.col(active[k]) / norms[active[k]];
+    const auto svd = TallSvd(scaled);
+    const Eigen::VectorXd s = svd.singularValues();
+    const Eigen::Index last = s.size() - 1;
+    if (s[last] >= tolerance * s[0]) break;
+    const Eigen::VectorXd v = svd.matrixV().col(last);
+    Eigen::Index worst = 0;
+    v.cwiseAbs().maxCoeff(&worst);
+    std::string partners;
+    for (Eigen::Index k = 0; k < v.size(); ++k) {
+      if (k != worst && std::abs(v[k]) > 0.1) {
+        partners += (partners.empty() ? "" : ", ") + free[active[k]].name;
+      }
+    }
+    found.push_back({free[active[worst]].name,
+                     partners.empty() ? "the data cannot separate it"
+                                      : "moves together with " + partners});
+    active.erase(active.begin() + worst);
+  }
+  return found;
+}
+
+void HoldParameters(Problem* problem, const std::set<std::string>& names) {
+  for (int b = 0; b < problem->num_blocks(); ++b) {
+    const auto& params = problem->block_parameters(b);
+    for (size_t i = 0; i < params.size(); ++i) {
+      if (names.count(problem->block_name(b) + "." + params[i].name)) {
+        problem->SetFixed(b, static_cast<int>(i), true);
+      }
+    }
+  }
+  problem->Build();
+}
+
+IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
+                                           std::set<std::string> held,
+                                           const SolverMaker& make_solver) {
+  IdentifiedSolve out;
+  if (!held.empty()) HoldParameters(problem, held);
+  auto hold_unidentifiable = [&] {
+    const auto found = FindUnidentifiable(*problem, tolerance);
+    for (const auto& f : found) held.insert(f.name);
+    out.unidentifiable.insert(out.unidentifiable.end(), found.begin(), found.end());
+    if (!found.empty()) HoldParameters(problem, held);
+    return !found.empty();
+  };
+  hold_unidentifiable();
+  out.summary = make_solver()->Solve(*problem);
+  if (hold_unidentifiable()) out.summary = make_solver()->Solve(*problem);
+  return out;
+}
+
+Uncertainty ComputeUncertainty(Problem& problem) {
+  Uncertainty u;
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  problem.Evaluate(nullptr, &r, &J, false);
+  const int n = problem.num_free();
+  for (const auto& p : problem.free_parameters()) u.names.push_back(p.name);
+  // chi-square over measurement rows only: priors are not measurements of the noise.
+  int measurement_rows = 0;
+  const auto& infos = problem.residual_infos();
+  const auto& rows = problem.residual_rows();
+  for (size_t b = 0; b < infos.size(); ++b) {
+    if (infos[b].kind == ResidualInfo::Kind::kPrior) continue;
+    const int end = b + 1 < rows.size() ? rows[b + 1] : static_cast<int>(r.size());
+    for (int i = rows[b]; i < end; ++i) {
+      u.chi2 += r[i] * r[i];
+      ++measurement_rows;
+    }
+  }
+  u.dof = measurement_rows - n;
+  u.reduced_chi2 = u.dof > 0 ? u.chi2 / u.dof : 0.0;
+  u.scale = std::max(1.0, u.reduced_chi2);
+  u.covariance = Eigen::MatrixXd::Zero(n, n);
+  u.sigma = Eigen::VectorXd::Zero(n);
+  u.variance_inflation = Eigen::VectorXd::Ones(n);
+  u.correlation = Eigen::MatrixXd::Identity(n, n);
+  if (n == 0) return u;
+
+  const Eigen::VectorXd norms = ColumnNorms(J).cwiseMax(1e-300);
+  Eigen::MatrixXd scaled = J;
+  for (int j = 0; j < n; ++j) scaled.col(j) /= norms[j];
+  const auto svd = TallSvd(scaled);
+  const Eigen::VectorXd s = svd.singularValues();
+  u.condition_number = s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
+  Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    if (s[i] > 1e-14 * s[0]) inv_s2[i] = 1.0 / (s[i] * s[i]);
+  }
+  const Eigen::MatrixXd& V = svd.matrixV();
+  const Eigen::MatrixXd scaled_cov = V * inv_s2.asDiagonal() * V.transpose();
+  u.variance_inflation = scaled_cov.diagonal();  // columns have unit norm
+  const Eigen::VectorXd inv_norms = norms.cwiseInverse();
+  u.covariance = inv_norms.asDiagonal() * scaled_cov * inv_norms.asDiagonal() * u.scale;
+  u.sigma = u.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double d = u.sigma[i] * u.sigma[j];
+      u.correlation(i, j) = d > 0 ? u.covariance(i, j) / d : (i == j ? 1.0 : 0.0);
+    }
+  }
+  return u;
+}
+
+std::vector<WeakParameter> WeaklyIdentified(const Uncertainty& u, double vif_threshold) {
+  std::vector<WeakParameter> weak;
+  for (Eigen::Index i = 0; i < u.variance_inflation.size(); ++i) {
+    if (u.variance_inflation[i] < vif_threshold) continue;
+    WeakParameter w{u.names[i], u.variance_inflation[i], ""};
+    for (Eigen::Index k = 0; k < u.correlation.cols(); ++k) {
+      if (k == i || std::abs(u.correlation(i, k)) < 0.9) continue;
+      char text[32];
+      std::snprintf(text, sizeof(text), " (%.2f)", u.correlation(i, k));
+      w.partners += (w.partners.empty() ? "" : ", ") + u.names[k] + text;
+    }
+    weak.push_back(w);
+  }
+  std::sort(weak.begin(), weak.end(), [](const WeakParameter& a, const WeakParameter& b) {
+    return a.variance_inflation > b.variance_inflation;
+  });
+  return weak;
+}
+
+std::vector<CorrelatedPair> StrongCorrelations(const Uncertainty& u, double threshold) {
+  std::vector<CorrelatedPair> pairs;
+  const Eigen::Index n = u.correlation.rows();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      if (std::abs(u.correlation(i, j)) >= threshold) {
+        pairs.push_back({u.names[i], u.names[j], u.correlation(i, j)});
+      }
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const CorrelatedPair& a, const CorrelatedPair& b) {
+    return std::abs(a.correlation) > std::abs(b.correlation);
+  });
+  return pairs;
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,140 @@
+#include "cellmetry/estimation/noise_model.h"
+
+#include <cmath>
+#include <map>
+#include <tuple>
+#include <vector>
+
+#include "cellmetry/basics/transform.h"
+
+namespace cellmetry {
+namespace {
+
+struct Accumulator {
+  Eigen::Vector3d position_ss = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rotation_ss = Eigen::Vector3d::Zero();
+  int position_dof = 0;
+  int rotation_dof = 0;
+  int groups = 0;
+};
+
+}  // namespace
+
+const TargetNoise& NoiseModel::at(const std::string& camera, const std::string& target) const {
+  static const TargetNoise kUnknown;
+  const auto it = entries.find({camera, target});
+  return it == entries.end() ? kUnknown : it->second;
+}
+
+NoiseModel EstimateRepeatability(const Recording& recording) {
+  // Group captures that should measure the same thing.
+  std::map<std::tuple<std::string, std::string, int>, std::vector<const Observation*>> groups;
+  for (const auto& obs : recording.observations) {
+    const bool on_world = recording.targets.at(obs.target) == kWorldCarrier;
+    const int pose = on_world ? -1 : recording.samples[recording.SampleIndex(obs.sample)].pose;
+    groups[{obs.camera, obs.target, pose}].push_back(&obs);
+  }
+  std::map<NoiseKey, Accumulator> sums;
+  for (const auto& [key, members] : groups) {
+    if (members.size() < 2) continue;
+    Accumulator& acc = sums[{std::get<0>(key), std::get<1>(key)}];
+    ++acc.groups;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto* o : members) mean += o->position_mm;
+    mean /= static_cast<double>(members.size());
+    for (const auto* o : members) acc.position_ss += (o->position_mm - mean).cwiseAbs2();
+    acc.position_dof += static_cast<int>(members.size()) - 1;
+
+    std::vector<Eigen::Matrix3d> rotations;
+    for (const auto* o : members) {
+      if (o->rvec) rotations.push_back(RotationFromRvec(o->rvec->data()));
+    }
+    if (rotations.size() >= 2) {
+      const Eigen::Matrix3d R_mean = MeanRotation(rotations);
+      for (const auto& R : rotations) acc.rotation_ss += RotationError(R, R_mean).cwiseAbs2();
+      acc.rotation_dof += static_cast<int>(rotations.size()) - 1;
+    }
+  }
+  NoiseModel model;
+  for (const auto& [key, acc] : sums) {
+    TargetNoise noise;
+    noise.position_mm = (acc.position_ss / acc.position_dof).cwiseSqrt();
+    if (acc.rotation_dof > 0) noise.rotation_rad = (acc.rotation_ss / acc.rotation_dof).cwiseSqrt();
+    noise.repeat_groups = acc.groups;
+    noise.source = "repeats (" + std::to_string(acc.groups) + " groups)";
+    model.entries[key] = noise;
+  }
+  return model;
+}
+
+NoiseModel DetectionAccuracy(const Recording& recording) {
+  struct Sums {
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
+    int count = 0;
+    bool complete = true;  // every observation carries both covariances
+  };
+  std::map<NoiseKey, Sums> sums;
+  for (const auto& obs : recording.observations) {
+    Sums& s = sums[{obs.camera, obs.target}];
+    if (!obs.covariance_mm2 || !obs.rotation_covariance_rad2) {
+      s.complete = false;
+      continue;
+    }
+    s.position += obs.covariance_mm2->diagonal();
+    s.rotation += obs.rotation_covariance_rad2->diagonal();
+    ++s.count;
+  }
+  NoiseModel model;
+  for (const auto& [key, s] : sums) {
+    if (!s.complete || s.count == 0) continue;
+    TargetNoise noise;
+    noise.position_mm = (s.position / s.count).cwiseSqrt();
+    noise.rotation_rad = (s.rotation / s.count).cwiseSqrt();
+    noise.source = "detections (" + std::to_string(s.count) + ")";
+    if (recording.targets.at(key.second) == kWorldCarrier) {
+      // Every capture of a world-fixed target shows the camera the same view: the detector's
+      // systematic error repeats, and only its noise averages out. Together they weigh as one.
+      noise.position_mm *= std::sqrt(double(s.count));
+      noise.rotation_rad *= std::sqrt(double(s.count));
+      noise.source += ", one view repeated";
+    }
+    model.entries[key] = noise;
+  }
+  return model;
+}
+
+NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec) {
+  const NoiseModel repeats = EstimateRepeatability(recording);
+  const NoiseModel detections = DetectionAccuracy(recording);
+  NoiseModel model;
+  for (const auto& camera : recording.cameras) {
+    for (const auto& [target, carrier] : recording.targets) {
+      TargetNoise noise;
+      const auto repeat = repeats.entries.find({camera, target});
+      if (repeat != repeats.entries.end()) noise = repeat->second;
+      const auto detected = detections.entries.find({camera, target});
+      if (detected != detections.entries.end()) {
+        const bool has_repeats = repeat != repeats.entries.end();
+        noise.position_mm = has_repeats ? detected->second.position_mm.cwiseMax(noise.position_mm)
+                                        : detected->second.position_mm;
+        noise.rotation_rad = has_repeats ? detected->second.rotation_rad.cwiseMax(noise.rotation_rad)
+                                         : detected->second.rotation_rad;
+        noise.source = detected->second.source;
+      }
+      const auto job_position = spec.position_sigma_mm.find(camera);
+      if (job_position != spec.position_sigma_mm.end()) {
+        noise.position_mm = job_position->second;
+        noise.source = "job";
+      }
+      const auto job_rotation = spec.rotation_sigma_rad.find(camera);
+      if (job_rotation != spec.rotation_sigma_rad.end()) noise.rotation_rad = job_rotation->second;
+      noise.position_mm = noise.position_mm.cwiseMax(spec.floor_mm);
+      noise.rotation_rad = noise.rotation_rad.cwiseMax(spec.floor_rad);
+      model.entries[{camera, target}] = noise;
+    }
+  }
+  return model;
+}
+
+}  // namespace cellmetry

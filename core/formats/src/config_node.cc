@@ -1,0 +1,219 @@
+#include "cellmetry/formats/config_node.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace cellmetry {
+namespace {
+
+size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string Join(const std::vector<std::string>& words) {
+  std::string text;
+  for (const auto& w : words) text += (text.empty() ? "" : ", ") + w;
+  return text;
+}
+
+std::string Describe(const YAML::Node& node) {
+  if (!node || node.IsNull()) return "nothing";
+  if (node.IsMap()) return "a map";
+  if (node.IsSequence()) return "a list";
+  return "'" + node.Scalar() + "'";
+}
+
+}  // namespace
+
+std::string NearestWord(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  size_t best_distance = std::max<size_t>(2, word.size() / 3) + 1;
+  for (const auto& candidate : candidates) {
+    const size_t d = EditDistance(word, candidate);
+    if (d < best_distance) {
+      best_distance = d;
+      best = candidate;
+    }
+  }
+  return best;
+}
+
+ConfigNode ConfigNode::LoadFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) {
+    throw InputError({path, 0, 0}, "cannot open file",
+                     "Check the path (relative paths in a job are relative to the job file)");
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  return LoadString(text.str(), path);
+}
+
+ConfigNode ConfigNode::LoadString(const std::string& text, const std::string& origin) {
+  try {
+    return ConfigNode(YAML::Load(text), origin, "");
+  } catch (const YAML::Exception& e) {
+    throw InputError({origin, e.mark.line + 1, e.mark.column + 1}, "YAML syntax: " + e.msg,
+                     "Fix the YAML syntax (indentation, colons, brackets)");
+  }
+}
+
+ConfigNode::ConfigNode(YAML::Node node, std::string file, std::string key_path)
+    : node_(std::move(node)), file_(std::move(file)), key_path_(std::move(key_path)) {}
+
+SourceLocation ConfigNode::location() const {
+  const YAML::Mark mark = node_ ? node_.Mark() : YAML::Mark::null_mark();
+  if (mark.is_null()) return {file_, 0, 0};
+  return {file_, mark.line + 1, mark.column + 1};
+}
+
+std::string ConfigNode::ChildPath(const std::string& key) const {
+  return key_path_.empty() ? key : key_path_ + "." + key;
+}
+
+InputError ConfigNode::Error(const std::string& what, const std::string& hint) const {
+  return InputError(location(), (key_path_.empty() ? "" : key_path_ + ": ") + what, hint);
+}
+
+bool ConfigNode::Has(const std::string& key) const {
+  return node_.IsMap() && node_[key] && !node_[key].IsNull();
+}
+
+ConfigNode ConfigNode::operator[](const std::string& key) const {
+  ExpectMap();
+  const YAML::Node child = node_[key];
+  if (!child || child.IsNull()) {
+    throw Error("missing key '" + key + "'", "Add '" + key + ":' here");
+  }
+  return ConfigNode(child, file_, ChildPath(key));
+}
+
+std::optional<ConfigNode> ConfigNode::Optional(const std::string& key) const {
+  if (!Has(key)) return std::nullopt;
+  return (*this)[key];
+}
+
+std::vector<std::string> ConfigNode::Keys() const {
+  ExpectMap();
+  std::vector<std::string> keys;
+  for (const auto& entry : node_) keys.push_back(entry.first.as<std::string>());
+  return keys;
+}
+
+std::vector<ConfigNode> ConfigNode::Elements() const {
+  ExpectSequence();
+  std::vector<ConfigNode> elements;
+  for (size_t i = 0; i < node_.size(); ++i) {
+    elements.emplace_back(node_[i], file_, key_path_ + "[" + std::to_string(i) + "]");
+  }
+  return elements;
+}
+
+void ConfigNode::ExpectMap() const {
+  if (!node_.IsMap()) throw Error("expected a map of keys, got " + Describe(node_));
+}
+
+void ConfigNode::ExpectSequence() const {
+  if (!node_.IsSequence()) throw Error("expected a list, got " + Describe(node_));
+}
+
+void ConfigNode::ExpectKeys(const std::vector<std::string>& allowed) const {
+  ExpectMap();
+  for (const auto& entry : node_) {
+    const std::string key = entry.first.as<std::string>();
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    const std::string nearest = NearestWord(key, allowed);
+    const YAML::Mark mark = entry.first.Mark();
+    const std::string hint = nearest.empty() ? "Known keys: " + Join(allowed)
+                                             : "Did you mean '" + nearest + "'? Known keys: " +
+                                                   Join(allowed);
+    throw InputError({file_, mark.line + 1, mark.column + 1},
+                     ChildPath(key) + ": unknown key", hint);
+  }
+}
+
+double ConfigNode::AsDouble() const {
+  double value = 0;
+  if (!node_.IsScalar() || !YAML::convert<double>::decode(node_, value)) {
+    throw Error("expected a number, got " + Describe(node_), "Write a plain number");
+  }
+  if (!std::isfinite(value)) {
+    throw Error("expected a finite number, got " + Describe(node_), "Write a finite number");
+  }
+  return value;
+}
+
+int ConfigNode::AsInt() const {
+  int value = 0;
+  if (!node_.IsScalar() || !YAML::convert<int>::decode(node_, value)) {
+    throw Error("expected a whole number, got " + Describe(node_), "Write a whole number");
+  }
+  return value;
+}
+
+bool ConfigNode::AsBool() const {
+  bool value = false;
+  if (!node_.IsScalar() || !YAML::convert<bool>::decode(node_, value)) {
+    throw Error("expected true or false, got " + Describe(node_));
+  }
+  return value;
+}
+
+std::string ConfigNode::AsString() const {
+  if (!node_.IsScalar()) throw Error("expected a text value, got " + Describe(node_));
+  return node_.Scalar();
+}
+
+std::vector<double> ConfigNode::AsDoubles(std::optional<size_t> expected_size) const {
+  ExpectSequence();
+  if (expected_size && node_.size() != *expected_size) {
+    throw Error("expected a list of " + std::to_string(*expected_size) + " numbers, got " +
+                std::to_string(node_.size()));
+  }
+  std::vector<double> values;
+  for (const auto& element : Elements()) values.push_back(element.AsDouble());
+  return values;
+}
+
+std::vector<std::string> ConfigNode::AsStrings() const {
+  if (node_.IsScalar()) return {node_.Scalar()};
+  std::vector<std::string> values;
+  for (const auto& element : Elements()) values.push_back(element.AsString());
+  return values;
+}
+
+double ConfigNode::GetDouble(const std::string& key, double fallback) const {
+  return Has(key) ? (*this)[key].AsDouble() : fallback;
+}
+int ConfigNode::GetInt(const std::string& key, int fallback) const {
+  return Has(key) ? (*this)[key].AsInt() : fallback;
+}
+bool ConfigNode::GetBool(const std::string& key, bool fallback) const {
+  return Has(key) ? (*this)[key].AsBool() : fallback;
+}
+std::string ConfigNode::GetString(const std::string& key, const std::string& fallback) const {
+  return Has(key) ? (*this)[key].AsString() : fallback;
+}
+
+std::string ConfigNode::ResolvePath(const std::string& path) const {
+  const std::filesystem::path p(path);
+  if (p.is_absolute() || file_.empty()) return p.lexically_normal().string();
+  const std::filesystem::path base = std::filesystem::path(file_).parent_path();
+  return (base / p).lexically_normal().string();
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,151 @@
+#include "cellmetry/formats/csv_table.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+#include "cellmetry/formats/config_node.h"
+
+namespace cellmetry {
+namespace {
+
+std::string Trim(const std::string& s) {
+  const size_t begin = s.find_first_not_of(" \t\r");
+  if (begin == std::string::npos) return "";
+  const size_t end = s.find_last_not_of(" \t\r");
+  return s.substr(begin, end - begin + 1);
+}
+
+std::vector<std::string> SplitCsvLine(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      cells.push_back(Trim(cell));
+      cell.clear();
+    } else {
+      cell += c;
+    }
+  }
+  cells.push_back(Trim(cell));
+  return cells;
+}
+
+}  // namespace
+
+CsvTable CsvTable::Read(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError({path, 0, 0}, "cannot open file", "Check that the file exists");
+  CsvTable table;
+  table.path_ = path;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (Trim(line).empty() || line[0] == '#') continue;
+    if (table.header_.empty()) {
+      table.header_ = SplitCsvLine(line);
+      continue;
+    }
+    auto cells = SplitCsvLine(line);
+    if (cells.size() > table.header_.size()) {
+      throw InputError({path, line_number, 0},
+                       "row has " + std::to_string(cells.size()) + " cells but the header has " +
+                           std::to_string(table.header_.size()),
+                       "Remove the extra cells or add their column to the header");
+    }
+    cells.resize(table.header_.size());  // short rows: trailing optional cells left empty
+    table.rows_.push_back(std::move(cells));
+    table.lines_.push_back(line_number);
+  }
+  if (table.header_.empty()) {
+    throw InputError({path, 1, 0}, "file is empty", "The first line must be the column header");
+  }
+  return table;
+}
+
+std::optional<size_t> CsvTable::ColumnIndex(const std::string& name) const {
+  for (size_t i = 0; i < header_.size(); ++i) {
+    if (header_[i] == name) return i;
+  }
+  return std::nullopt;
+}
+
+void CsvTable::RequireColumns(const std::vector<std::string>& names) const {
+  for (const auto& name : names) {
+    if (HasColumn(name)) continue;
+    std::string present;
+    for (const auto& h : header_) present += (present.empty() ? "" : ",") + h;
+    throw InputError({path_, 1, 0}, "missing column '" + name + "'",
+                     "The header must name it; the header is: " + present);
+  }
+}
+
+void CsvTable::RejectUnknownColumns(const std::vector<std::string>& known) const {
+  for (size_t i = 0; i < header_.size(); ++i) {
+    bool ok = false;
+    for (const auto& k : known) ok = ok || k == header_[i];
+    if (ok) continue;
+    const std::string nearest = NearestWord(header_[i], known);
+    throw InputError({path_, 1, static_cast<int>(i + 1)}, "unknown column '" + header_[i] + "'",
+                     nearest.empty() ? "Remove it or rename it to a known column"
+                                     : "Did you mean '" + nearest + "'?");
+  }
+}
+
+InputError CsvTable::Error(size_t row, const std::string& column, const std::string& what,
+                           const std::string& hint) const {
+  const auto index = ColumnIndex(column);
+  return InputError({path_, lines_[row], index ? static_cast<int>(*index + 1) : 0},
+                    "column '" + column + "': " + what, hint);
+}
+
+const std::string& CsvTable::Cell(size_t row, const std::string& column) const {
+  const auto index = ColumnIndex(column);
+  if (!index) RequireColumns({column});
+  return rows_[row][*index];
+}
+
+bool CsvTable::HasValue(size_t row, const std::string& column) const {
+  return HasColumn(column) && !Cell(row, column).empty();
+}
+
+std::string CsvTable::Text(size_t row, const std::string& column) const {
+  const std::string& cell = Cell(row, column);
+  if (cell.empty()) throw Error(row, column, "empty cell", "Fill in a value");
+  return cell;
+}
+
+double CsvTable::Number(size_t row, const std::string& column) const {
+  const std::string& cell = Cell(row, column);
+  if (cell.empty()) throw Error(row, column, "empty cell", "Fill in a number");
+  char* end = nullptr;
+  const double value = std::strtod(cell.c_str(), &end);
+  if (end == cell.c_str() || *end != '\0') {
+    throw Error(row, column, "'" + cell + "' is not a number", "Write a plain decimal number");
+  }
+  if (!std::isfinite(value)) {
+    throw Error(row, column, "'" + cell + "' is not a finite number",
+                "Remove the row or replace the value with a measurement");
+  }
+  return value;
+}
+
+int CsvTable::Integer(size_t row, const std::string& column) const {
+  const double value = Number(row, column);
+  if (value != std::floor(value) || std::fabs(value) > 2e9) {
+    throw Error(row, column, "'" + Cell(row, column) + "' is not a whole number",
+                "Write a whole number");
+  }
+  return static_cast<int>(value);
+}
+
+std::optional<double> CsvTable::OptionalNumber(size_t row, const std::string& column) const {
+  if (!HasValue(row, column)) return std::nullopt;
+  return Number(row, column);
+}
+
+}  // namespace cellmetry

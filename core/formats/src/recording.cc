@@ -1,0 +1,365 @@
+#include "cellmetry/formats/recording.h"
+
+#include <charconv>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+
+#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/formats/csv_table.h"
+#include "cellmetry/formats/units.h"
+
+namespace cellmetry {
+namespace {
+
+// recording.yaml must say its units (DESIGN.md): no silent default.
+Units ReadRecordingUnits(const ConfigNode& root) {
+  if (!root.Has("units")) {
+    throw root.Error("missing key 'units'", "Add 'units: {length: mm, angle: rad}'");
+  }
+  return ReadUnits(root["units"]);
+}
+void ReadHeader(const std::string& path, Recording* recording, Units* units) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"format", "description", "units", "robots", "cameras", "targets"});
+  const std::string format = root["format"].AsString();
+  if (format != kRecordingFormat) {
+    throw root["format"].Error("unsupported format '" + format + "'",
+                               std::string("This version reads ") + kRecordingFormat);
+  }
+  recording->description = root.GetString("description", "");
+  *units = ReadRecordingUnits(root);
+  const ConfigNode robots = root["robots"];
+  for (const auto& name : robots.Keys()) {
+    const ConfigNode robot = robots[name];
+    robot.ExpectKeys({"joints"});
+    const int joints = robot["joints"].AsInt();
+    if (joints < 1) throw robot["joints"].Error("joint count must be at least 1");
+    recording->robots[name] = joints;
+  }
+  recording->cameras = root["cameras"].AsStrings();
+  const ConfigNode targets = root["targets"];
+  for (const auto& name : targets.Keys()) {
+    const ConfigNode target = targets[name];
+    target.ExpectKeys({"on"});
+    const std::string carrier = target["on"].AsString();
+    if (carrier != kWorldCarrier && !recording->robots.count(carrier)) {
+      throw target["on"].Error("target '" + name + "' is on unknown robot '" + carrier + "'",
+                               "Use 'world' or a robot listed under 'robots'");
+    }
+    recording->targets[name] = carrier;
+  }
+}
+
+void ReadSamples(const std::string& path, const Units& units, Recording* recording) {
+  const CsvTable table = CsvTable::Read(path);
+  table.RequireColumns({"sample", "robot", "pose"});
+  int max_joints = 0;
+  for (const auto& [name, joints] : recording->robots) max_joints = std::max(max_joints, joints);
+  std::vector<std::string> known = {"sample", "robot", "pose", "t", "temperature", "payload"};
+  for (int j = 1; j <= max_joints; ++j) known.push_back("q" + std::to_string(j));
+  table.RejectUnknownColumns(known);
+  std::set<int> seen;
+  for (size_t row = 0; row < table.num_rows(); ++row) {
+    Sample sample;
+    sample.line = table.line_of(row);
+    sample.id = table.Integer(row, "sample");
+    if (!seen.insert(sample.id).second) {
+      throw table.Error(row, "sample", "sample " + std::to_string(sample.id) + " appears twice",
+                        "Give every captured state its own sample id");
+    }
+    sample.robot = table.Text(row, "robot");
+    const auto robot = recording->robots.find(sample.robot);
+    if (robot == recording->robots.end()) {
+      throw table.Error(row, "robot", "unknown robot '" + sample.robot + "'",
+                        "List it under 'robots' in recording.yaml");
+    }
+    sample.pose = table.Integer(row, "pose");
+    for (int j = 1; j <= max_joints; ++j) {
+      const std::string column = "q" + std::to_string(j);
+      const bool present = table.HasValue(row, column);
+      if (j <= robot->second && !present) {
+        throw table.Error(row, column,
+                          "robot '" + sample.robot + "' has " + std::to_string(robot->second) +
+                              " joints but this sample has no " + column,
+                          "Give one joint value per joint");
+      }
+      if (j > robot->second && present) {
+        throw table.Error(row, column,
+                          "robot '" + sample.robot + "' has only " +
+                              std::to_string(robot->second) + " joints",
+                          "Leave " + column + " empty for this robot or fix its joint count");
+      }
+      if (present) sample.q.push_back(table.Number(row, column) * units.to_rad);
+    }
+    sample.time_s = table.OptionalNumber(row, "t");
+    sample.temperature_c = table.OptionalNumber(row, "temperature");
+    sample.payload_kg = table.OptionalNumber(row, "payload");
+    recording->samples.push_back(std::move(sample));
+  }
+}
+
+std::vector<std::string> CovarianceColumns(const std::string& prefix) {
+  std::vector<std::string> columns;
+  for (const char* entry : {"xx", "xy", "xz", "yy", "yz", "zz"}) columns.push_back(prefix + entry);
+  return columns;
+}
+
+// A symmetric 3x3 covariance given by its upper triangle (prefix xx, xy, xz, yy, yz, zz), in the
+// file's units squared; none when the columns are absent or the row leaves them empty.
+std::optional<Eigen::Matrix3d> ReadCovariance(const CsvTable& table, size_t row,
+                                              const std::string& prefix, double scale) {
+  const std::vector<std::string> columns = CovarianceColumns(prefix);
+  for (const auto& c : columns) {
+    if (!table.HasColumn(c)) return std::nullopt;
+  }
+  if (!table.HasValue(row, columns[0])) return std::nullopt;
+  const auto v = [&](int i) { return table.Number(row, columns[i]); };
+  Eigen::Matrix3d c;
+  c << v(0), v(1), v(2), v(1), v(3), v(4), v(2), v(4), v(5);
+  return c * scale;
+}
+
+void ReadObservations(const std::string& path, const Units& units, Recording* recording,
+                      bool allow_empty) {
+  const CsvTable table = CsvTable::Read(path);
+  table.RequireColumns({"sample", "camera", "target", "x", "y", "z"});
+  std::vector<std::string> known = {"sample", "camera", "target", "x", "y", "z", "rx", "ry", "rz"};
+  for (const char* prefix : {"cov_", "rcov_"}) {
+    for (const auto& column : CovarianceColumns(prefix)) known.push_back(column);
+  }
+  table.RejectUnknownColumns(known);
+  const bool has_rotation = table.HasColumn("rx") && table.HasColumn("ry") &&
+                            table.HasColumn("rz");
+  std::set<int> sample_ids;
+  for (const auto& s : recording->samples) sample_ids.insert(s.id);
+  for (size_t row = 0; row < table.num_rows(); ++row) {
+    Observation obs;
+    obs.line = table.line_of(row);
+    obs.sample = table.Integer(row, "sample");
+    if (!sample_ids.count(obs.sample)) {
+      throw table.Error(row, "sample", "unknown sample " + std::to_string(obs.sample),
+                        "Every observation must name a sample listed in samples.csv");
+    }
+    obs.camera = table.Text(row, "camera");
+    if (!recording->HasCamera(obs.camera)) {
+      throw table.Error(row, "camera", "unknown camera '" + obs.camera + "'",
+                        "List it under 'cameras' in recording.yaml");
+    }
+    obs.target = table.Text(row, "target");
+    if (!recording->targets.count(obs.target)) {
+      throw table.Error(row, "target", "unknown target '" + obs.target + "'",
+                        "List it under 'targets' in recording.yaml");
+    }
+    obs.position_mm = Eigen::Vector3d(table.Number(row, "x"), table.Number(row, "y"),
+                                      table.Number(row, "z")) * units.to_mm;
+    if (has_rotation) {
+      const int filled = table.HasValue(row, "rx") + table.HasValue(row, "ry") +
+                         table.HasValue(row, "rz");
+      if (filled == 3) {
+        obs.rvec = Eigen::Vector3d(table.Number(row, "rx"), table.Number(row, "ry"),
+                                   table.Number(row, "rz")) * units.to_rad;
+      } else if (filled != 0) {
+        throw table.Error(row, "rx", "rotation is partly filled in",
+                          "Give all of rx,ry,rz or leave all three empty");
+      }
+    }
+    obs.covariance_mm2 = ReadCovariance(table, row, "cov_", units.to_mm * units.to_mm);
+    obs.rotation_covariance_rad2 = ReadCovariance(table, row, "rcov_", units.to_rad * units.to_rad);
+    recording->observations.push_back(std::move(obs));
+  }
+  if (recording->observations.empty() && !allow_empty) {
+    throw InputError({path, 0, 0}, "no observations",
+                     "A recording needs at least one measured target pose");
+  }
+}
+
+void ReadImages(const std::string& path, Recording* recording) {
+  const CsvTable table = CsvTable::Read(path);
+  table.RequireColumns({"sample", "camera", "view", "path"});
+  table.RejectUnknownColumns({"sample", "camera", "view", "path"});
+  for (size_t row = 0; row < table.num_rows(); ++row) {
+    ImageRef image;
+    image.sample = table.Integer(row, "sample");
+    if (recording->SampleIndex(image.sample) < 0) {
+      throw table.Error(row, "sample", "unknown sample " + std::to_string(image.sample),
+                        "Every image must name a sample listed in samples.csv");
+    }
+    image.camera = table.Text(row, "camera");
+    if (!recording->HasCamera(image.camera)) {
+      throw table.Error(row, "camera", "unknown camera '" + image.camera + "'",
+                        "List it under 'cameras' in recording.yaml");
+    }
+    image.view = table.Text(row, "view");
+    if (image.view != "left" && image.view != "right" && image.view != "mono") {
+      throw table.Error(row, "view", "unknown view '" + image.view + "'",
+                        "Use left, right or mono");
+    }
+    image.path = table.Text(row, "path");
+    recording->images.push_back(std::move(image));
+  }
+}
+
+// Shortest text that reads back to the same double (simulated truth must round-trip exactly).
+std::string Number(double value) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), value).ptr;
+  return std::string(buffer, end);
+}
+
+
+void WriteCovariance(const std::optional<Eigen::Matrix3d>& covariance, std::ostream& out) {
+  if (!covariance) {
+    out << ",,,,,,";
+    return;
+  }
+  const Eigen::Matrix3d& c = *covariance;
+  for (const auto& [i, k] : {std::pair{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}}) {
+    out << "," << Number(c(i, k));
+  }
+}
+
+}  // namespace
+
+std::string ObservationsCsv(const std::vector<Observation>& list) {
+  const bool any_covariance = std::any_of(list.begin(), list.end(), [](const Observation& o) {
+    return o.covariance_mm2.has_value();
+  });
+  const bool any_rotation_covariance = std::any_of(
+      list.begin(), list.end(), [](const Observation& o) { return o.rotation_covariance_rad2.has_value(); });
+  std::ostringstream out;
+  out << "sample,camera,target,x,y,z,rx,ry,rz";
+  if (any_covariance) {
+    for (const auto& c : CovarianceColumns("cov_")) out << "," << c;
+  }
+  if (any_rotation_covariance) {
+    for (const auto& c : CovarianceColumns("rcov_")) out << "," << c;
+  }
+  out << "\n";
+  for (const auto& o : list) {
+    out << o.sample << "," << o.camera << "," << o.target << "," << Number(o.position_mm.x())
+        << "," << Number(o.position_mm.y()) << "," << Number(o.position_mm.z());
+    if (o.rvec) {
+      out << "," << Number(o.rvec->x()) << "," << Number(o.rvec->y()) << "," << Number(o.rvec->z());
+    } else {
+      out << ",,,";
+    }
+    if (any_covariance) WriteCovariance(o.covariance_mm2, out);
+    if (any_rotation_covariance) WriteCovariance(o.rotation_covariance_rad2, out);
+    out << "\n";
+  }
+  return out.str();
+}
+
+int Recording::SampleIndex(int id) const {
+  // Samples are usually numbered 0..n-1 in order; try the direct hit first.
+  if (id >= 0 && id < static_cast<int>(samples.size()) && samples[id].id == id) return id;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (samples[i].id == id) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+bool Recording::HasCamera(const std::string& name) const {
+  return std::find(cameras.begin(), cameras.end(), name) != cameras.end();
+}
+
+Recording ReadRecording(const std::string& folder) {
+  namespace fs = std::filesystem;
+  if (!fs::is_directory(folder)) {
+    throw InputError({folder, 0, 0}, "recording folder not found",
+                     "Give the folder that holds recording.yaml, samples.csv, observations.csv");
+  }
+  Recording recording;
+  recording.folder = folder;
+  Units units;
+  ReadHeader(folder + "/recording.yaml", &recording, &units);
+  ReadSamples(folder + "/samples.csv", units, &recording);
+  const bool has_images = fs::exists(folder + "/images.csv");
+  // A recording of images has no observations until `cellmetry detect` writes them.
+  if (!has_images || fs::exists(folder + "/observations.csv")) {
+    // Detection may have found nothing yet in a recording of images.
+    ReadObservations(folder + "/observations.csv", units, &recording, /*allow_empty=*/has_images);
+  }
+  if (has_images) ReadImages(folder + "/images.csv", &recording);
+  return recording;
+}
+
+void WriteRecording(const Recording& recording, const std::string& folder,
+                    const std::string& truth_yaml,
+                    const std::function<void(const std::string&)>& write_extra) {
+  StagedDirectory out(folder);
+
+  YAML::Emitter header;
+  header << YAML::BeginMap << YAML::Key << "format" << YAML::Value << kRecordingFormat;
+  header << YAML::Key << "description" << YAML::Value << recording.description;
+  header << YAML::Key << "units" << YAML::Value << YAML::Flow << YAML::BeginMap
+         << YAML::Key << "length" << YAML::Value << "mm" << YAML::Key << "angle" << YAML::Value
+         << "rad" << YAML::EndMap;
+  header << YAML::Key << "robots" << YAML::Value << YAML::BeginMap;
+  for (const auto& [name, joints] : recording.robots) {
+    header << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+           << "joints" << YAML::Value << joints << YAML::EndMap;
+  }
+  header << YAML::EndMap << YAML::Key << "cameras" << YAML::Value << YAML::Flow
+         << recording.cameras;
+  header << YAML::Key << "targets" << YAML::Value << YAML::BeginMap;
+  for (const auto& [name, carrier] : recording.targets) {
+    header << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+           << "on" << YAML::Value << carrier << YAML::EndMap;
+  }
+  header << YAML::EndMap << YAML::EndMap;
+  AtomicWriteFile(out.File("recording.yaml"), std::string(header.c_str()) + "\n");
+
+  int max_joints = 0;
+  for (const auto& [name, joints] : recording.robots) max_joints = std::max(max_joints, joints);
+  bool has_t = false, has_temperature = false, has_payload = false;
+  for (const auto& s : recording.samples) {
+    has_t |= s.time_s.has_value();
+    has_temperature |= s.temperature_c.has_value();
+    has_payload |= s.payload_kg.has_value();
+  }
+  std::ostringstream samples;
+  samples << "sample,robot,pose";
+  for (int j = 1; j <= max_joints; ++j) samples << ",q" << j;
+  if (has_t) samples << ",t";
+  if (has_temperature) samples << ",temperature";
+  if (has_payload) samples << ",payload";
+  samples << "\n";
+  auto optional = [](const std::optional<double>& v) { return v ? Number(*v) : std::string(); };
+  for (const auto& s : recording.samples) {
+    samples << s.id << "," << s.robot << "," << s.pose;
+    for (int j = 0; j < max_joints; ++j) {
+      samples << "," << (j < static_cast<int>(s.q.size()) ? Number(s.q[j]) : "");
+    }
+    if (has_t) samples << "," << optional(s.time_s);
+    if (has_temperature) samples << "," << optional(s.temperature_c);
+    if (has_payload) samples << "," << optional(s.payload_kg);
+    samples << "\n";
+  }
+  AtomicWriteFile(out.File("samples.csv"), samples.str());
+
+  if (!recording.observations.empty()) {
+    AtomicWriteFile(out.File("observations.csv"), ObservationsCsv(recording.observations));
+  }
+
+  if (!recording.images.empty()) {
+    std::ostringstream images;
+    images << "sample,camera,view,path\n";
+    for (const auto& i : recording.images) {
+      images << i.sample << "," << i.camera << "," << i.view << "," << i.path << "\n";
+    }
+    AtomicWriteFile(out.File("images.csv"), images.str());
+  }
+  if (!truth_yaml.empty()) AtomicWriteFile(out.File("truth.yaml"), truth_yaml);
+  if (write_extra) write_extra(out.staging());
+  out.Commit();
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,306 @@
+#include "cellmetry/imaging/detection.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <tuple>
+
+#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/basics/error.h"
+#include "cellmetry/formats/image.h"
+#include "cellmetry/formats/config_fields.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/formats/recording.h"
+#include "cellmetry/basics/so3_jacobians.h"
+#include "cellmetry/imaging/target_pose.h"
+
+namespace cellmetry {
+namespace {
+
+constexpr const char* kLog = "detections.jsonl";
+using DoneKey = std::tuple<int, std::string, std::string, std::string>;  // sample, camera, view, target
+using Detectors = std::map<std::string, std::unique_ptr<Detector>>;     // by target
+
+nlohmann::json ToJson(const ImageDetection& d) {
+  nlohmann::json keypoints = nlohmann::json::array();
+  for (const auto& k : d.detection.keypoints) {
+    keypoints.push_back({k.id, k.pixel.x(), k.pixel.y(), k.covariance_px2(0, 0),
+                         k.covariance_px2(0, 1), k.covariance_px2(1, 1)});
+  }
+  return {{"sample", d.sample}, {"camera", d.camera},   {"view", d.view},
+          {"target", d.target}, {"path", d.path},       {"failure", d.detection.failure},
+          {"keypoints", keypoints}, {"time_ms", d.time_ms}};
+}
+
+ImageDetection FromJson(const nlohmann::json& j) {
+  ImageDetection d;
+  d.sample = j.at("sample").get<int>();
+  d.camera = j.at("camera").get<std::string>();
+  d.view = j.at("view").get<std::string>();
+  d.target = j.at("target").get<std::string>();
+  d.path = j.at("path").get<std::string>();
+  d.detection.failure = j.at("failure").get<std::string>();
+  d.time_ms = j.at("time_ms").get<double>();
+  for (const auto& k : j.at("keypoints")) {
+    Keypoint kp;
+    kp.id = k.at(0).get<int>();
+    kp.pixel = Eigen::Vector2d(k.at(1).get<double>(), k.at(2).get<double>());
+    kp.covariance_px2 << k.at(3).get<double>(), k.at(4).get<double>(), k.at(4).get<double>(),
+        k.at(5).get<double>();
+    d.detection.keypoints.push_back(kp);
+  }
+  return d;
+}
+
+// The finished images of earlier runs. A torn last line (a run killed mid-write) is dropped and
+// the log rewritten without it, so that appending continues on a clean line.
+std::vector<ImageDetection> ReadLog(const std::string& path) {
+  std::vector<ImageDetection> done;
+  if (!std::filesystem::exists(path)) return done;
+  std::ifstream in(path);
+  std::string line, clean;
+  bool torn = false;
+  while (std::getline(in, line)) {
+    try {
+      done.push_back(FromJson(nlohmann::json::parse(line)));
+      clean += line + "\n";
+    } catch (const std::exception&) {
+      torn = true;
+      break;
+    }
+  }
+  if (torn) AtomicWriteFile(path, clean);
+  return done;
+}
+
+Detectors MakeDetectors(const DetectJob& job, Registry& registry) {
+  Detectors detectors;
+  for (const auto& marker : job.targets) {
+    detectors[marker.target] = registry.CreateDetector(marker.detector_type, *marker.detector_config);
+  }
+  return detectors;
+}
+
+// Reads the image once and runs the detector of every target in `targets` on it. An unreadable
+// image or one of the wrong size is a failure of each of them.
+std::vector<ImageDetection> DetectOne(const DetectJob& job, const ImageRef& ref,
+                                      const std::vector<std::string>& targets,
+                                      Detectors& detectors) {
+  std::vector<ImageDetection> out;
+  const auto start = std::chrono::steady_clock::now();
+  std::string failure;
+  GrayImage image;
+  try {
+    image = ReadGrayImage(job.recording + "/" + ref.path);
+    failure = job.cameras.at(ref.camera).View(ref.view).SizeMismatch(image.width(), image.height());
+  } catch (const InputError& e) {
+    failure = e.what();
+  }
+  const double read_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  for (const auto& target : targets) {
+    ImageDetection d;
+    d.sample = ref.sample;
+    d.camera = ref.camera;
+    d.view = ref.view;
+    d.target = target;
+    d.path = ref.path;
+    const auto begin = std::chrono::steady_clock::now();
+    d.detection.failure = failure;
+    if (failure.empty()) d.detection = detectors.at(target)->Detect(image.view());
+    d.time_ms = read_ms / targets.size() +
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+std::vector<Observation> MakeObservations(const DetectJob& job, const Detectors& detectors,
+                                          const std::vector<ImageDetection>& log,
+                                          std::map<std::string, int>* failures) {
+  using ViewKey = std::tuple<std::string, std::string, int>;  // camera, target, sample
+  std::map<ViewKey, const ImageDetection*> left, right, mono;
+  for (const auto& d : log) {
+    if (!job.cameras.count(d.camera) || !detectors.count(d.target) || !d.detection.found()) continue;
+    auto& side = d.view == "right" ? right : d.view == "left" ? left : mono;
+    side[{d.camera, d.target, d.sample}] = &d;
+  }
+  std::vector<Observation> out;
+  auto add = [&](const ViewKey& key, const Eigen::Vector3d& p, const Eigen::Matrix3d& cov) {
+    Observation o;
+    std::tie(o.camera, o.target, o.sample) = key;
+    o.position_mm = p;
+    o.covariance_mm2 = cov;
+    out.push_back(o);
+  };
+  std::map<std::string, int> origin_id;
+  for (const auto& marker : job.targets) origin_id[marker.target] = marker.origin_id;
+  for (const auto& [key, l] : left) {
+    const auto r = right.find(key);
+    if (r == right.end()) continue;
+    const auto& [camera, target, sample] = key;
+    const auto point = TargetOriginFromStereo(*job.cameras.at(camera).rig, l->detection.keypoints,
+                                              r->second->detection.keypoints,
+                                              detectors.at(target)->layout(), origin_id.at(target));
+    if (!point) {
+      ++(*failures)[target + ": the two views do not share enough keypoints to place the target"];
+      continue;
+    }
+    add(key, point->p_left_mm, point->covariance_mm2);
+  }
+  for (const auto& [key, m] : mono) {
+    const auto& [camera, target, sample] = key;
+    const auto pose = EstimateTargetPose(*job.cameras.at(camera).mono, m->detection.keypoints,
+                                         detectors.at(target)->layout());
+    if (!pose) {
+      ++(*failures)[target + ": too few layout keypoints for a pose (need 4)"];
+      continue;
+    }
+    add(key, pose->T_cam_target.t, pose->covariance.bottomRightCorner<3, 3>());
+    // The rotation vector's covariance, as small rotations about the camera axes (the
+    // calibrations' rotation error): R(rvec + d) = Exp(J_l(rvec) d) R(rvec).
+    const Eigen::Vector3d rvec = RvecFromRotation(pose->T_cam_target.R);
+    const Eigen::Matrix3d J_l = LeftJacobian(rvec);
+    out.back().rvec = rvec;
+    out.back().rotation_covariance_rad2 = J_l * pose->covariance.topLeftCorner<3, 3>() * J_l.transpose();
+  }
+  std::sort(out.begin(), out.end(), [](const Observation& a, const Observation& b) {
+    return std::tie(a.sample, a.camera, a.target) < std::tie(b.sample, b.camera, b.target);
+  });
+  return out;
+}
+
+// The one-target, one-camera form of the job (detection.h).
+void ReadSingleForm(const ConfigNode& root, Registry& registry, DetectJob* job) {
+  TargetMarker marker = ReadTargetMarker(root["target"].AsString(), root["detector"], registry);
+  marker.origin_id = root.GetInt("origin_id", 0);
+  job->targets.push_back(marker);
+  const ConfigNode camera = root["camera"];
+  camera.ExpectKeys({"name", "stereo", "mono"});
+  job->cameras[camera["name"].AsString()] = ReadImagingCamera(camera);
+}
+
+void ReadMultipleForm(const ConfigNode& root, Registry& registry, DetectJob* job) {
+  const ConfigNode targets = root["targets"];
+  for (const auto& name : targets.Keys()) {
+    const ConfigNode node = targets[name];
+    node.ExpectKeys({"detector", "origin_id"});
+    TargetMarker marker = ReadTargetMarker(name, node["detector"], registry);
+    marker.origin_id = node.GetInt("origin_id", 0);
+    job->targets.push_back(marker);
+  }
+  const ConfigNode cameras = root["cameras"];
+  for (const auto& name : cameras.Keys()) {
+    cameras[name].ExpectKeys({"stereo", "mono"});
+    job->cameras[name] = ReadImagingCamera(cameras[name]);
+  }
+}
+
+}  // namespace
+
+DetectJob LoadDetectJob(const std::string& path, Registry& registry) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"job", "description", "recording", "detector", "target", "camera",
+                   "origin_id", "targets", "cameras", "threads"});
+  DetectJob job;
+  job.file = path;
+  job.recording = root.ResolvePath(root["recording"].AsString());
+  if (!std::filesystem::is_regular_file(job.recording + "/images.csv")) {
+    throw root["recording"].Error("no images.csv in '" + job.recording + "'",
+                                  "Point 'recording:' at a recording of images");
+  }
+  const bool single = root.Has("detector") || root.Has("target") || root.Has("camera");
+  if (single == (root.Has("targets") || root.Has("cameras"))) {
+    throw root.Error("give either detector:, target: and camera: (one of each) or targets: and "
+                     "cameras: (several)",
+                     "See docs/formats.md, `job: detect`");
+  }
+  if (single) {
+    ReadSingleForm(root, registry, &job);
+  } else {
+    ReadMultipleForm(root, registry, &job);
+  }
+  job.threads = root.GetInt("threads", 0);
+  return job;
+}
+
+DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit) {
+  const Recording recording = ReadRecording(job.recording);
+  for (const auto& [camera, imaging] : job.cameras) {
+    if (!recording.HasCamera(camera)) {
+      throw InputError({job.file, 0, 0}, "the recording has no camera '" + camera + "'",
+                       "Name the cameras of " + job.recording + "/recording.yaml");
+    }
+  }
+  const std::string log_path = job.recording + "/" + kLog;
+  std::vector<ImageDetection> log = ReadLog(log_path);
+  std::set<DoneKey> done;
+  for (const auto& d : log) done.insert({d.sample, d.camera, d.view, d.target});
+  DetectSummary summary;
+  struct Work {
+    const ImageRef* image;
+    std::vector<std::string> targets;  // not yet in the log
+  };
+  std::vector<Work> pending;
+  for (const auto& ref : recording.images) {
+    const auto camera = job.cameras.find(ref.camera);
+    if (camera == job.cameras.end() || !camera->second.HasView(ref.view)) continue;
+    ++summary.images;
+    Work work{&ref, {}};
+    for (const auto& marker : job.targets) {
+      if (done.count({ref.sample, ref.camera, ref.view, marker.target})) {
+        ++summary.already_done;
+      } else {
+        work.targets.push_back(marker.target);
+      }
+    }
+    if (!work.targets.empty() && (limit <= 0 || static_cast<int>(pending.size()) < limit)) {
+      pending.push_back(work);
+    }
+  }
+  std::FILE* out = std::fopen(log_path.c_str(), "a");
+  if (!out) throw InputError({log_path, 0, 0}, "cannot append to the detection log", "Check permissions");
+  std::mutex mutex;
+  Progress progress("detecting images", static_cast<int>(pending.size()));
+  tbb::enumerable_thread_specific<Detectors> detectors([&] { return MakeDetectors(job, registry); });
+  tbb::task_arena arena(job.threads > 0 ? job.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(size_t(0), pending.size(), [&](size_t i) {
+      const std::vector<ImageDetection> found =
+          DetectOne(job, *pending[i].image, pending[i].targets, detectors.local());
+      std::string lines;
+      for (const auto& d : found) lines += ToJson(d).dump() + "\n";
+      std::lock_guard<std::mutex> lock(mutex);
+      std::fwrite(lines.data(), 1, lines.size(), out);
+      std::fflush(out);  // finished work survives an interruption
+      log.insert(log.end(), found.begin(), found.end());
+      summary.processed += static_cast<int>(found.size());
+      progress.Advance();
+    });
+  });
+  std::fclose(out);
+  const Detectors layouts = MakeDetectors(job, registry);
+  for (const auto& d : log) {
+    if (!job.cameras.count(d.camera) || !layouts.count(d.target)) continue;
+    if (d.detection.found()) {
+      ++summary.found;
+    } else {
+      ++summary.failures[d.target + ": " + d.detection.failure];
+    }
+  }
+  const std::vector<Observation> observations =
+      MakeObservations(job, layouts, log, &summary.failures);
+  summary.observations = static_cast<int>(observations.size());
+  AtomicWriteFile(job.recording + "/observations.csv", ObservationsCsv(observations));
+  return summary;
+}
+
+}  // namespace cellmetry

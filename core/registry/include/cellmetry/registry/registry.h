@@ -1,0 +1,113 @@
+// Registry: where plugins announce themselves, and how the core finds them.
+//
+// A plugin is a shared library that exports one C function,
+//
+//   CELLMETRY_PLUGIN_ENTRY(registry) { registry->AddSolver(info, factory); ... }
+//
+// which the loader calls once after dlopen(). The registry maps a `type:` name from a job to a
+// factory that builds the object from the rest of that YAML node. The core never names a plugin:
+// it asks the registry for whatever type the job says.
+//
+// Search order for plugin libraries (all are loaded; a name registered twice is an error):
+//   1. <folder of the executable>/plugins
+//   2. each folder in $CELLMETRY_PLUGIN_PATH (colon-separated)
+//   3. each folder in a job's `plugin_paths:`
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/model/detector.h"
+#include "cellmetry/model/effect.h"
+#include "cellmetry/model/robot_model.h"
+#include "cellmetry/estimation/solver.h"
+
+namespace cellmetry {
+
+// Bumped whenever a plugin-facing header changes incompatibly; plugins built against another
+// version are refused with a message saying so.
+inline constexpr int kPluginAbiVersion = 3;  // 2: inverse kinematics, limits, detectors;
+                                             // 3: effects, joint offsets and frames
+
+enum class PluginKind { kDetector, kRobotModel, kSolver, kEffect };
+std::string KindName(PluginKind kind);
+
+struct OptionDoc {
+  std::string name;
+  std::string unit;           // "" when unitless
+  std::string default_value;  // "" when required
+  std::string description;
+};
+
+struct PluginInfo {
+  PluginKind kind = PluginKind::kSolver;
+  std::string name;          // the `type:` a job uses
+  std::string description;   // one line
+  std::vector<OptionDoc> options;
+  std::string library;       // filled in by the loader
+};
+
+using RobotModelFactory = std::function<std::unique_ptr<RobotModel>(const ConfigNode& config)>;
+using SolverFactory = std::function<std::unique_ptr<Solver>(const ConfigNode& config)>;
+// Detector factories are called once per worker thread (detector.h).
+using DetectorFactory = std::function<std::unique_ptr<Detector>(const ConfigNode& config)>;
+// Effect factories get the effect's YAML node and the robot model it will act on (joint count,
+// parameter names), so that per-joint parameters can be named and checked.
+using EffectFactory =
+    std::function<std::unique_ptr<Effect>(const ConfigNode& config, const RobotModel& robot)>;
+
+class Registry {
+ public:
+  // The process-wide registry that plugin libraries register into.
+  static Registry& Global();
+
+  void AddRobotModel(PluginInfo info, RobotModelFactory factory);
+  void AddSolver(PluginInfo info, SolverFactory factory);
+  void AddDetector(PluginInfo info, DetectorFactory factory);
+  void AddEffect(PluginInfo info, EffectFactory factory);
+
+  // Build a plugin object of `type`; raise InputError at `config` naming the known types if
+  // `type` is not registered.
+  std::unique_ptr<RobotModel> CreateRobotModel(const std::string& type,
+                                               const ConfigNode& config) const;
+  std::unique_ptr<Solver> CreateSolver(const std::string& type, const ConfigNode& config) const;
+  std::unique_ptr<Detector> CreateDetector(const std::string& type,
+                                           const ConfigNode& config) const;
+  std::unique_ptr<Effect> CreateEffect(const std::string& type, const ConfigNode& config,
+                                       const RobotModel& robot) const;
+
+  std::vector<PluginInfo> List() const;
+  std::vector<std::string> Names(PluginKind kind) const;
+
+  // Loads every lib*.so in `folder` (missing folders are ignored).
+  void LoadFolder(const std::string& folder);
+  // Loads one plugin library; raises InputError when it cannot be loaded or is not a plugin.
+  void LoadLibrary(const std::string& path);
+  // Loads from <executable folder>/plugins and $CELLMETRY_PLUGIN_PATH.
+  void LoadDefaultFolders(const std::string& executable_path);
+
+ private:
+  void AddInfo(PluginInfo info);
+
+  std::vector<PluginInfo> infos_;
+  std::map<std::string, RobotModelFactory> robot_models_;
+  std::map<std::string, SolverFactory> solvers_;
+  std::map<std::string, DetectorFactory> detectors_;
+  std::map<std::string, EffectFactory> effects_;
+  std::set<std::string> loaded_libraries_;
+  std::string loading_library_;
+};
+
+}  // namespace cellmetry
+
+#define CELLMETRY_PLUGIN_ENTRY(registry_arg)                                              \
+  extern "C" __attribute__((visibility("default"))) int cellmetry_plugin_abi_version() { \
+    return ::cellmetry::kPluginAbiVersion;                                                \
+  }                                                                                       \
+  extern "C" __attribute__((visibility("default"))) void cellmetry_register_plugin(      \
+      ::cellmetry::Registry* registry_arg)

@@ -1,0 +1,58 @@
+// ConcealedPhysics: physics a simulation hides in a recording that is NOT one of the effect
+// library's equations, so that the physics finder (diagnosis.h) is tested against the world
+// rather than against the formula it fits.
+//
+//   distributed_compliance  joint `joint` gives under gravity, with each link's mass spread
+//                           along it (five points per link, not one) and a spring that stiffens
+//                           with load: dq = c tau (1 - stiffening |tau| / tau_max)
+//   dead_zone_backlash      joint `joint` follows its command through a dead zone of width b:
+//                           a move drags it against one side of the play, short moves take up
+//                           only part of it (friction), and a move that does not cross the play
+//                           leaves it where it was: the error depends on the history of moves,
+//                           not only on the direction of the last one
+//   gear_harmonics          three harmonics (default 1, 3, 7 cycles per turn) of joint `joint`
+//                           with fixed phases, where the library fits harmonics 1 and 2
+//   warmup                  the arm grows as 1 - exp(-t / tau) over the run (sample times)
+//   camera_bump             (outside the library) camera `camera` is knocked at the middle of
+//                           the run and sits `magnitude` mm off along `direction` afterwards
+//
+// `magnitude` is the one scale a test sets (rad, 1, or mm); everything else is shape.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cellmetry/cell/disturbance.h"
+#include "cellmetry/formats/config_node.h"
+
+namespace cellmetry {
+
+struct ConcealedPhysics : Disturbance {
+  std::string kind;
+  std::string robot;                   // empty: every robot
+  int joint = 0;                       // 0-based
+  std::string camera;
+  double magnitude = 0.0;
+  std::vector<double> link_masses_kg;  // distributed_compliance (default 1 kg per link)
+  double stiffening = 0.3;
+  std::vector<int> harmonics = {1, 3, 7};
+  double time_constant_s = 1200.0;
+  Eigen::Vector3d direction = Eigen::Vector3d(0.6, 0.0, 0.8);  // camera_bump, camera axes
+
+  std::string name() const override { return kind; }
+  double size() const override { return magnitude; }
+  bool ActsOn(const std::string& r) const override { return robot.empty() || robot == r; }
+  std::string camera_name() const override { return camera; }
+  std::vector<DisturbanceAction> Actions(const Recording& recording,
+                                         const std::vector<SampleFacts>& facts,
+                                         const Eigen::Vector3d& gravity_base) const override;
+};
+
+// {kind: ..., robot: ur3, joint: 2 (1-based), camera: cam1, magnitude: ..., <shape options>}
+ConcealedPhysics ReadConcealedPhysics(const ConfigNode& node);
+
+// The same, as the simulation reader takes it (workcell_simulation.h).
+std::shared_ptr<const Disturbance> ReadConcealedDisturbance(const ConfigNode& node);
+
+}  // namespace cellmetry

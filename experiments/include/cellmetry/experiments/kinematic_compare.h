@@ -1,0 +1,53 @@
+// The 2023 report's Table 7, for any pose sets, sizes, formulations and solvers: calibrate a
+// simulated arm (one drawn truth) on each pose set and score the answer on fresh positions.
+//
+// Compare spec (YAML, `compare: kinematic`):
+//   simulation: <kinematic simulation spec>     # arm, camera, truth errors, noise, seed
+//   pose_sets: [camera_view, uniform_workspace, boundaries]
+//   sizes: [24, 64, 125]
+//   formulations: [inverse, forward]
+//   solvers: {<label>: <solver block>, ...}       # e.g. lm: {type: ceres_lm}
+//   validation_points: 200
+//   output: <folder for table.md and table.csv>
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cellmetry/cell/kinematic_simulation.h"
+
+namespace cellmetry {
+
+struct CompareSpec {
+  std::string file;
+  KinematicSimulationSpec simulation;
+  std::vector<PoseSet> pose_sets;
+  std::vector<int> sizes;
+  std::vector<Formulation> formulations;
+  std::vector<std::pair<std::string, ConfigNode>> solvers;  // label, solver block
+  int validation_points = 200;
+  std::string output;
+};
+
+struct CompareRow {
+  PoseSet pose_set = PoseSet::kUniformWorkspace;
+  int size = 0;
+  Formulation formulation = Formulation::kForward;
+  std::string solver;            // label
+  PredictionError validation;    // against the truth, on fresh positions (mm)
+  double floor_rms_mm = 0.0;     // Cramer-Rao floor of the RMS (0 without noise)
+  int iterations = 0;            // LM iterations / Adam epochs / NLopt evaluations
+  double time_s = 0.0;           // solver time
+  std::string stop_reason;
+};
+
+CompareSpec LoadCompareSpec(const std::string& path, Registry& registry);
+
+// One row per (pose set, size, formulation, solver), in that nesting order.
+std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registry);
+
+std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<CompareRow>& rows);
+std::string CompareTableCsv(const std::vector<CompareRow>& rows);
+
+}  // namespace cellmetry

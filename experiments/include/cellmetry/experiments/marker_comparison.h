@@ -1,0 +1,65 @@
+// The 2023 report's Tables 3 and 4 for any set of detector plugins, on rendered stereo images:
+//
+//   repeatability  sigma of X, Y and depth of the triangulated target origin over `captures`
+//                  renders of one static pose (new noise each time), beside its floor;
+//   accuracy       mean and RMS distance to the true origin, over the workspace positions;
+//   detection rate over `positions` random poses in the workspace (depth, lateral spread, tilt);
+//   time per frame of the detector (one image).
+// The floor is the Cramer-Rao bound of the target's image position in each view
+// (ImageShiftCramerRao of the ideal render) propagated through the stereo geometry
+// (Triangulate's covariance): no detector can be more repeatable on these images.
+//
+// Spec (YAML, `compare: markers`):
+//   detectors: {<label>: <detector block>, ...}
+//   stereo: rig.yaml                  # default: OakDLikeRig() (75 mm, 1280 x 800, f 880 px)
+//   static_pose: {xyz: [0, 0, 450], rvec: [3.14159, 0, 0]}   # T_cam_target (left camera)
+//   captures: 100
+//   workspace: {positions: 125, depth_mm: [300, 600], lateral_mm: 120, tilt_rad: 0.35}
+//   render: {noise_sigma: 2, blur_sigma_px: 0.6, supersampling: 4}
+//   seed: 1
+//   output: <folder for markers.md and markers.csv>
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/registry/registry.h"
+#include "cellmetry/imaging/render.h"
+#include "cellmetry/imaging/stereo.h"
+
+namespace cellmetry {
+
+struct MarkerComparisonSpec {
+  std::vector<std::pair<std::string, ConfigNode>> detectors;  // label, detector block
+  StereoRig rig = OakDLikeRig();
+  Pose static_pose;
+  int captures = 100;
+  int positions = 125;
+  Eigen::Vector2d depth_mm = Eigen::Vector2d(300, 600);
+  double lateral_mm = 120.0;
+  double tilt_rad = 0.35;
+  RenderOptions render;
+  unsigned seed = 1;
+  std::string output;
+};
+
+struct MarkerRow {
+  std::string label;
+  Eigen::Vector3d repeatability_mm = Eigen::Vector3d::Zero();   // sigma X, Y, depth
+  Eigen::Vector3d floor_mm = Eigen::Vector3d::Zero();           // Cramer-Rao, same axes
+  double static_bias_mm = 0.0;      // |mean - truth| at the static pose
+  double workspace_rms_mm = 0.0;    // over detected workspace positions
+  int captures_found = 0;
+  int positions_found = 0;
+  int positions = 0;
+  double ms_per_frame = 0.0;        // median detection time of one image
+};
+
+MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& registry);
+std::vector<MarkerRow> CompareMarkers(const MarkerComparisonSpec& spec, Registry& registry);
+std::string MarkerTableMarkdown(const MarkerComparisonSpec& spec, const std::vector<MarkerRow>& rows);
+std::string MarkerTableCsv(const std::vector<MarkerRow>& rows);
+
+}  // namespace cellmetry

@@ -1,0 +1,89 @@
+// The physics finder's proof (`compare: physics`): recordings with one hidden effect each, at a
+// set signal-to-noise ratio of the effect's unabsorbed part, diagnosed (diagnosis.h); how often
+// the right effect is named, how often a clean recording gets a false claim, whether physics
+// outside the library is reported as unexplained, and the held-out RMS against the floor.
+//
+//   compare: physics
+//   seeds: 5                                              # runs per case
+//   snr: 6                                                # of the unabsorbed part, whitened
+//   cells:                                                # one per robot cell
+//     - name: UR3
+//       simulation: ../simulations/ur3_physics_base.yaml  # the cell, poses and noise (no effects)
+//       job: ../jobs/ur3_diagnose.yaml                    # the diagnosis job (recording unused)
+//       cases:
+//         - {name: clean, expect: none}
+//         - {name: joint 2 compliance, expect: ur3.compliance_j2,
+//            effect: {type: joint_compliance, joints: [2]}}          # a library effect, or
+//         - {name: camera bumped, expect: unexplained,
+//            concealed: {kind: camera_bump, camera: cam1}}           # concealed_physics.h
+//   output: ../../docs/physics.md   # between <!-- physics-suite:begin/end --> when present
+//
+// Each finished case is kept in <output>.partial.json; an interrupted run resumes from there
+// (cases with the same cell, name, seeds and SNR), and the file goes when the suite is done.
+//
+// The SNR: the case's effect at a trial size is simulated without noise and the geometry fitted
+// to it; what the geometry cannot absorb is left in the whitened residuals, whose norm scales
+// linearly with the effect's size. The size is set so that this norm is `snr`.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/registry/registry.h"
+
+namespace cellmetry {
+
+struct SuiteCase {
+  std::string name;
+  std::string expect;                   // a candidate's name, "none" or "unexplained"
+  std::optional<ConfigNode> effect;     // a library effect, all parameters equal at trial size
+  std::optional<ConfigNode> concealed;  // or physics outside the library's equations
+};
+
+struct SuiteCell {
+  std::string name;        // "UR3"
+  std::string simulation;  // workcell simulation without effects
+  std::string job;         // diagnosis job
+  std::vector<SuiteCase> cases;
+};
+
+struct PhysicsSuiteSpec {
+  std::string file;
+  int seeds = 5;
+  double snr = 6.0;
+  std::vector<SuiteCell> cells;
+  std::string output;
+};
+
+PhysicsSuiteSpec LoadPhysicsSuite(const std::string& path);
+
+struct SuiteRun {
+  std::string named;            // first accepted effect, "none" or "unexplained"
+  std::string failed;           // when none was accepted: the tests the best candidate failed
+  double held_out_over_floor = 0.0;
+  double seconds = 0.0;
+};
+
+struct SuiteCaseResult {
+  std::string cell;
+  SuiteCase spec;
+  double magnitude = 0.0;       // the effect size giving the SNR
+  std::vector<SuiteRun> runs;
+  int right() const;            // runs that named what was expected
+};
+
+std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& spec, Registry& registry);
+
+// Writes the suite's markdown to spec.output: between the markers "<!-- physics-suite:begin -->"
+// and "<!-- physics-suite:end -->" when the file has them (the rest of the document stays),
+// otherwise the whole file. Atomic.
+void WritePhysicsSuite(const PhysicsSuiteSpec& spec, const std::string& path,
+                       const std::string& markdown);
+
+// Rates, the confusion matrix and the held-out RMS, as markdown.
+std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
+                                 const std::vector<SuiteCaseResult>& results);
+
+}  // namespace cellmetry

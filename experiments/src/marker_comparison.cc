@@ -1,0 +1,198 @@
+#include "cellmetry/experiments/marker_comparison.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <random>
+#include <sstream>
+
+#include "cellmetry/formats/config_fields.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/imaging/target_pose.h"
+
+namespace cellmetry {
+namespace {
+
+struct StereoShot {
+  std::optional<TriangulatedPoint> origin;
+  double ms = 0.0;  // left image's detection time
+};
+
+StereoShot Shoot(const MarkerComparisonSpec& spec, Detector& detector,
+                 const std::vector<MarkerFace>& faces, const Pose& T_cam_target, std::mt19937& rng) {
+  const GrayImage left = RenderView(spec.rig.left, {{T_cam_target, &faces}}, spec.render, rng);
+  const GrayImage right = RenderView(spec.rig.right, {{spec.rig.T_right_left * T_cam_target, &faces}},
+                                     spec.render, rng);
+  StereoShot shot;
+  const auto start = std::chrono::steady_clock::now();
+  const Detection l = detector.Detect(left.view());
+  shot.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const Detection r = detector.Detect(right.view());
+  if (l.found() && r.found()) {
+    shot.origin = TargetOriginFromStereo(spec.rig, l.keypoints, r.keypoints, detector.layout(), 0);
+  }
+  return shot;
+}
+
+// Cramer-Rao floor of the origin: each view's image-position bound as keypoint covariance,
+// triangulated.
+Eigen::Vector3d Floor(const MarkerComparisonSpec& spec, const std::vector<MarkerFace>& faces) {
+  const Pose& T = spec.static_pose;
+  const Pose T_right = spec.rig.T_right_left * T;
+  const auto l_ideal = RenderIdeal(spec.rig.left, {{T, &faces}}, spec.render);
+  const auto r_ideal = RenderIdeal(spec.rig.right, {{T_right, &faces}}, spec.render);
+  const Eigen::Vector2d l_crb = ImageShiftCramerRao(l_ideal, spec.rig.left.width, spec.rig.left.height, spec.render.noise_sigma);
+  const Eigen::Vector2d r_crb = ImageShiftCramerRao(r_ideal, spec.rig.right.width, spec.rig.right.height, spec.render.noise_sigma);
+  Keypoint l, r;
+  l.pixel = spec.rig.left.Project(T.t);
+  r.pixel = spec.rig.right.Project(T_right.t);
+  l.covariance_px2 = l_crb.cwiseAbs2().asDiagonal();
+  r.covariance_px2 = r_crb.cwiseAbs2().asDiagonal();
+  const auto point = Triangulate(spec.rig, l, r);
+  return point ? Eigen::Vector3d(point->covariance_mm2.diagonal().cwiseSqrt()) : Eigen::Vector3d::Zero();
+}
+
+Pose RandomWorkspacePose(const MarkerComparisonSpec& spec, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), depth(spec.depth_mm.x(), spec.depth_mm.y());
+  const Eigen::Vector3d tilt(spec.tilt_rad * u(rng), spec.tilt_rad * u(rng), M_PI * u(rng));
+  // Facing the camera (z out of the paper toward it), then tilted.
+  const Eigen::Matrix3d facing = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  return Pose{RotationFromRvec(tilt.data()) * facing,
+              Eigen::Vector3d(spec.lateral_mm * u(rng), spec.lateral_mm * 0.6 * u(rng), depth(rng))};
+}
+
+MarkerRow CompareOne(const MarkerComparisonSpec& spec, const std::string& label,
+                     Detector& detector) {
+  MarkerRow row;
+  row.label = label;
+  const std::vector<MarkerFace> faces = detector.Faces(20.0);
+  std::mt19937 rng(spec.seed);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> ms;
+  for (int i = 0; i < spec.captures; ++i) {
+    const StereoShot shot = Shoot(spec, detector, faces, spec.static_pose, rng);
+    ms.push_back(shot.ms);
+    if (shot.origin) points.push_back(shot.origin->p_left_mm);
+  }
+  row.captures_found = static_cast<int>(points.size());
+  if (points.size() >= 2) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& p : points) mean += p;
+    mean /= points.size();
+    Eigen::Vector3d var = Eigen::Vector3d::Zero();
+    for (const auto& p : points) var += (p - mean).cwiseAbs2();
+    row.repeatability_mm = (var / (points.size() - 1)).cwiseSqrt();
+    row.static_bias_mm = (mean - spec.static_pose.t).norm();
+  }
+  row.floor_mm = Floor(spec, faces);
+  double sum2 = 0.0;
+  for (int i = 0; i < spec.positions; ++i) {
+    const Pose pose = RandomWorkspacePose(spec, rng);
+    const StereoShot shot = Shoot(spec, detector, faces, pose, rng);
+    ms.push_back(shot.ms);
+    if (!shot.origin) continue;
+    ++row.positions_found;
+    sum2 += (shot.origin->p_left_mm - pose.t).squaredNorm();
+  }
+  row.positions = spec.positions;
+  row.workspace_rms_mm = row.positions_found ? std::sqrt(sum2 / row.positions_found) : 0.0;
+  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
+  row.ms_per_frame = ms.empty() ? 0.0 : ms[ms.size() / 2];
+  return row;
+}
+
+std::string F(double value, int digits = 4) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.*f", digits, value);
+  return text;
+}
+
+}  // namespace
+
+MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& registry) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"compare", "description", "detectors", "stereo", "static_pose", "captures",
+                   "workspace", "render", "seed", "output"});
+  MarkerComparisonSpec spec;
+  const ConfigNode detectors = root["detectors"];
+  for (const auto& label : detectors.Keys()) {
+    const ConfigNode block = detectors[label];
+    registry.CreateDetector(block["type"].AsString(), block);
+    spec.detectors.emplace_back(label, block);
+  }
+  if (root.Has("stereo")) spec.rig = ReadStereoRig(root.ResolvePath(root["stereo"].AsString()));
+  spec.static_pose = root.Has("static_pose")
+                         ? ReadPose(root["static_pose"])
+                         : Pose{Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(),
+                                Eigen::Vector3d(0, 0, 450)};
+  spec.captures = root.GetInt("captures", spec.captures);
+  if (root.Has("workspace")) {
+    const ConfigNode w = root["workspace"];
+    w.ExpectKeys({"positions", "depth_mm", "lateral_mm", "tilt_rad"});
+    spec.positions = w.GetInt("positions", spec.positions);
+    if (w.Has("depth_mm")) {
+      const auto d = w["depth_mm"].AsDoubles(2);
+      spec.depth_mm = Eigen::Vector2d(d[0], d[1]);
+    }
+    spec.lateral_mm = w.GetDouble("lateral_mm", spec.lateral_mm);
+    spec.tilt_rad = w.GetDouble("tilt_rad", spec.tilt_rad);
+  }
+  if (root.Has("render")) {
+    const ConfigNode r = root["render"];
+    r.ExpectKeys({"noise_sigma", "blur_sigma_px", "supersampling"});
+    spec.render.noise_sigma = r.GetDouble("noise_sigma", spec.render.noise_sigma);
+    spec.render.blur_sigma_px = r.GetDouble("blur_sigma_px", spec.render.blur_sigma_px);
+    spec.render.supersampling = r.GetInt("supersampling", spec.render.supersampling);
+  }
+  spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
+  spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString()) : "results/markers";
+  if (spec.captures < 2) throw root["captures"].Error("need at least 2 captures for a sigma");
+  return spec;
+}
+
+std::vector<MarkerRow> CompareMarkers(const MarkerComparisonSpec& spec, Registry& registry) {
+  std::vector<MarkerRow> rows;
+  Progress progress("comparing detectors", static_cast<int>(spec.detectors.size()));
+  for (const auto& [label, block] : spec.detectors) {
+    const auto detector = registry.CreateDetector(block["type"].AsString(), block);
+    rows.push_back(CompareOne(spec, label, *detector));
+    progress.Advance();
+  }
+  return rows;
+}
+
+std::string MarkerTableMarkdown(const MarkerComparisonSpec& spec, const std::vector<MarkerRow>& rows) {
+  std::ostringstream out;
+  out << "Stereo rig: baseline " << F(-spec.rig.T_right_left.t.x(), 1) << " mm, "
+      << spec.rig.left.width << "x" << spec.rig.left.height << ", f " << F(spec.rig.left.fx, 0)
+      << " px; static pose at " << F(spec.static_pose.t.z(), 0) << " mm; " << spec.captures
+      << " captures; render noise " << F(spec.render.noise_sigma, 1) << " gray levels.\n\n";
+  out << "| detector | sigma X (mm) | sigma Y (mm) | sigma depth (mm) | floor depth (mm) | depth / floor "
+         "| bias at the static pose (mm) | workspace RMS error (mm) | detected | ms / frame |\n";
+  out << "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    const double ratio = r.floor_mm.z() > 0 ? r.repeatability_mm.z() / r.floor_mm.z() : 0.0;
+    out << "| " << r.label << " | " << F(r.repeatability_mm.x()) << " | " << F(r.repeatability_mm.y())
+        << " | " << F(r.repeatability_mm.z()) << " | " << F(r.floor_mm.z()) << " | " << F(ratio, 2)
+        << " | " << F(r.static_bias_mm) << " | " << F(r.workspace_rms_mm) << " | "
+        << r.positions_found << "/" << r.positions << " | " << F(r.ms_per_frame, 2) << " |\n";
+  }
+  return out.str();
+}
+
+std::string MarkerTableCsv(const std::vector<MarkerRow>& rows) {
+  std::ostringstream out;
+  out.precision(9);
+  out << "detector,sigma_x_mm,sigma_y_mm,sigma_depth_mm,floor_x_mm,floor_y_mm,floor_depth_mm,"
+         "static_bias_mm,workspace_rms_mm,captures_found,positions_found,positions,ms_per_frame\n";
+  for (const auto& r : rows) {
+    out << r.label << "," << r.repeatability_mm.x() << "," << r.repeatability_mm.y() << ","
+        << r.repeatability_mm.z() << "," << r.floor_mm.x() << "," << r.floor_mm.y() << ","
+        << r.floor_mm.z() << "," << r.static_bias_mm << "," << r.workspace_rms_mm << ","
+        << r.captures_found << "," << r.positions_found << "," << r.positions << ","
+        << r.ms_per_frame << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace cellmetry

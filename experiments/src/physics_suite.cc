@@ -1,0 +1,352 @@
+#include "cellmetry/experiments/physics_suite.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "cellmetry/experiments/concealed_physics.h"
+#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/basics/error.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_simulation.h"
+
+namespace cellmetry {
+namespace {
+
+constexpr double kTrialMagnitude = 1e-5;  // small enough for the linear regime
+
+WorkcellSimulationSpec CaseSimulation(const WorkcellSimulationSpec& base, const SuiteCase& c,
+                                      double magnitude, unsigned seed, bool noise,
+                                      Registry& registry) {
+  WorkcellSimulationSpec spec = base;
+  spec.seed = seed;
+  if (!noise) {
+    spec.sigma_position_mm.setZero();
+    spec.sigma_rotation_rad.setZero();
+  }
+  SimulatedRobot& robot = spec.robots.front();
+  if (c.effect) {
+    SimulatedEffect e;
+    const std::string type = (*c.effect)["type"].AsString();
+    e.effect = registry.CreateEffect(type, *c.effect, *robot.model);
+    e.values.assign(e.effect->parameters().size(), magnitude);
+    const bool measurement = e.effect->stage() == EffectStage::kMeasurement;
+    e.name = (measurement ? std::string("camera") : robot.name) + "." + type;
+    (measurement ? spec.measurement_effects : robot.effects).push_back(e);
+  }
+  if (c.concealed) {
+    ConcealedPhysics physics = ReadConcealedPhysics(*c.concealed);
+    physics.magnitude = magnitude;
+    if (physics.robot.empty() && physics.kind != "camera_bump") physics.robot = robot.name;
+    spec.concealed.push_back(std::make_shared<ConcealedPhysics>(physics));
+  }
+  return spec;
+}
+
+SolverMaker MakerOf(const WorkcellJob& job, Registry& registry) {
+  return [&job, &registry] { return registry.CreateSolver(job.solver_type, *job.solver_config); };
+}
+
+// The effect size at which the part of the case's physics the geometry cannot absorb has
+// whitened norm `snr` (noise-free simulation, geometric fit, linear scaling).
+double MagnitudeForSnr(const PhysicsSuiteSpec& suite, const WorkcellSimulationSpec& base,
+                       const DiagnosisJob& job, const SuiteCase& c, Registry& registry) {
+  const WorkcellSimulationSpec spec = CaseSimulation(base, c, kTrialMagnitude, 1, false, registry);
+  const Recording recording = SimulateWorkcell(spec, nullptr);
+  WorkcellProblem problem = job.workcell.problem;
+  problem.folds = 0;
+  for (const auto& [camera, pose] : base.T_world_cam) {  // whiten by the simulation's noise
+    problem.noise.position_sigma_mm[camera] = base.sigma_position_mm;
+    problem.noise.rotation_sigma_rad[camera] = base.sigma_rotation_rad;
+  }
+  const WorkcellResult fit = IdentifyWorkcell(problem, recording, MakerOf(job.workcell, registry));
+  double chi2 = 0.0;
+  for (const auto& row : fit.residuals) chi2 += row.normalized.squaredNorm();
+  if (!(chi2 > 0)) return 0.0;
+  return kTrialMagnitude * suite.snr / std::sqrt(chi2);
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+std::string Fixed(double v, int digits) {
+  char b[32];
+  std::snprintf(b, sizeof(b), "%.*f", digits, v);
+  return b;
+}
+
+
+// The tests the round's chosen candidate failed, for the misses column.
+std::string FailedTests(const CandidateFinding& f) {
+  std::string failed = f.name + ":";
+  for (const auto& test : f.failed) {
+    failed += " " + test;
+    if (test == "bootstrap") {
+      failed += " " + Fixed(f.bootstrap_share, 2);
+      if (!f.bootstrap_rival.empty()) failed += " vs " + f.bootstrap_rival;
+    }
+  }
+  if (!f.look_alikes.empty()) {
+    failed += " (like " + f.look_alikes.front().label + ", " +
+              Fixed(f.look_alikes.front().correlation, 2) + ")";
+  }
+  return failed;
+}
+
+SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
+                        const WorkcellSimulationSpec& base, const DiagnosisJob& job,
+                        const SuiteCase& c, Registry& registry, Progress* progress) {
+  SuiteCaseResult result;
+  result.cell = cell.name;
+  result.spec = c;
+  const bool has_physics = c.effect || c.concealed;
+  result.magnitude = has_physics ? MagnitudeForSnr(suite, base, job, c, registry) : 0.0;
+  for (int seed = 1; seed <= suite.seeds; ++seed) {
+    const auto start = std::chrono::steady_clock::now();
+    const WorkcellSimulationSpec spec =
+        CaseSimulation(base, c, result.magnitude, 1000u + seed, true, registry);
+    const Recording recording = SimulateWorkcell(spec, nullptr);
+    const DiagnosisResult d =
+        DiagnoseWorkcell(job.workcell.problem, recording, MakerOf(job.workcell, registry),
+                         JobCandidates(job, recording, registry), job.options, cell.job);
+    SuiteRun run;
+    run.named = !d.accepted.empty()      ? d.accepted.front().name
+                : !d.unexplained.empty() ? "unexplained"
+                                         : "none";
+    run.held_out_over_floor = d.final.held_out_rms_mm / d.floor_rms_mm;
+    for (const auto& f : d.rounds.empty() ? std::vector<CandidateFinding>{}
+                                          : d.rounds.back().candidates) {
+      if (!f.failed.empty()) run.failed = FailedTests(f);
+    }
+    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.runs.push_back(run);
+    progress->Advance();
+  }
+  return result;
+}
+
+// The checkpoint of finished cases (<output>.partial.json), keyed so that a changed suite does
+// not reuse stale cases.
+std::string CheckpointPath(const PhysicsSuiteSpec& suite) { return suite.output + ".partial.json"; }
+
+std::string CaseKey(const PhysicsSuiteSpec& suite, const SuiteCell& cell, const SuiteCase& c) {
+  return cell.name + "/" + c.name + "/" + std::to_string(suite.seeds) + "/" + Fixed(suite.snr, 3);
+}
+
+nlohmann::json ToJson(const SuiteCaseResult& r) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (const auto& run : r.runs) {
+    runs.push_back({{"named", run.named}, {"failed", run.failed},
+                    {"held_out_over_floor", run.held_out_over_floor}, {"seconds", run.seconds}});
+  }
+  return {{"magnitude", r.magnitude}, {"runs", runs}};
+}
+
+SuiteCaseResult FromJson(const nlohmann::json& j, const std::string& cell, const SuiteCase& c) {
+  SuiteCaseResult r;
+  r.cell = cell;
+  r.spec = c;
+  r.magnitude = j.at("magnitude").get<double>();
+  for (const auto& run : j.at("runs")) {
+    r.runs.push_back({run.at("named").get<std::string>(), run.at("failed").get<std::string>(),
+                      run.at("held_out_over_floor").get<double>(), run.at("seconds").get<double>()});
+  }
+  return r;
+}
+
+nlohmann::json ReadCheckpoint(const PhysicsSuiteSpec& suite) {
+  std::ifstream in(CheckpointPath(suite));
+  if (!in) return nlohmann::json::object();
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return nlohmann::json::object();  // a torn file from an old crash: start over
+  }
+}
+
+// Whether a run named what its case expected: nothing claimed for "none", the expected name or
+// a nested variant of it ("ur3.transmission_j4" is named by its harmonics' candidates too).
+bool IsRight(const SuiteCase& c, const SuiteRun& run) {
+  const bool claimed = run.named != "none" && run.named != "unexplained";
+  return c.expect == "none" ? !claimed : run.named.rfind(c.expect, 0) == 0;
+}
+
+// Rows: the cell's cases; columns: what the finder named first.
+std::string ConfusionMatrix(const std::string& cell, const std::vector<SuiteCaseResult>& results) {
+  std::set<std::string> named_set;
+  for (const auto& r : results) {
+    if (r.cell != cell) continue;
+    for (const auto& run : r.runs) named_set.insert(run.named);
+  }
+  std::ostringstream out;
+  out << "\n" << cell
+      << " confusion matrix (rows: expected; columns: what the finder named first):\n\n| |";
+  const std::vector<std::string> named(named_set.begin(), named_set.end());
+  for (const auto& n : named) out << " " << n << " |";
+  out << "\n|---|";
+  for (size_t i = 0; i < named.size(); ++i) out << "---|";
+  out << "\n";
+  for (const auto& r : results) {
+    if (r.cell != cell) continue;
+    std::map<std::string, int> counts;
+    for (const auto& run : r.runs) ++counts[run.named];
+    out << "| " << r.spec.name << " |";
+    for (const auto& n : named) out << " " << (counts.count(n) ? std::to_string(counts[n]) : "") << " |";
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace
+
+int SuiteCaseResult::right() const {
+  int n = 0;
+  for (const auto& r : runs) n += IsRight(spec, r);
+  return n;
+}
+
+PhysicsSuiteSpec LoadPhysicsSuite(const std::string& path) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"compare", "description", "seeds", "snr", "cells", "output"});
+  PhysicsSuiteSpec spec;
+  spec.file = path;
+  spec.seeds = root.GetInt("seeds", spec.seeds);
+  spec.snr = root.GetDouble("snr", spec.snr);
+  if (spec.seeds < 1) throw root["seeds"].Error("needs at least 1 run per case");
+  if (!(spec.snr > 0)) throw root["snr"].Error("must be positive", "6 is the issue's bar");
+  spec.output = root.ResolvePath(root.GetString("output", "../../results/physics_suite.md"));
+  for (const auto& cell_node : root["cells"].Elements()) {
+    cell_node.ExpectKeys({"name", "simulation", "job", "cases"});
+    SuiteCell cell;
+    cell.name = cell_node["name"].AsString();
+    cell.simulation = cell_node.ResolvePath(cell_node["simulation"].AsString());
+    cell.job = cell_node.ResolvePath(cell_node["job"].AsString());
+    for (const auto& node : cell_node["cases"].Elements()) {
+      node.ExpectKeys({"name", "expect", "effect", "concealed"});
+      SuiteCase c;
+      c.name = node["name"].AsString();
+      c.expect = node["expect"].AsString();
+      if (node.Has("effect")) c.effect = node["effect"];
+      if (node.Has("concealed")) c.concealed = node["concealed"];
+      if (c.effect && c.concealed) throw node.Error("give effect: or concealed:, not both");
+      cell.cases.push_back(c);
+    }
+    spec.cells.push_back(cell);
+  }
+  if (spec.cells.empty()) throw root["cells"].Error("lists no cell");
+  return spec;
+}
+
+std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& suite, Registry& registry) {
+  int runs = 0;
+  for (const auto& cell : suite.cells) runs += static_cast<int>(cell.cases.size()) * suite.seeds;
+  Progress progress("physics suite runs", runs);
+  nlohmann::json done = ReadCheckpoint(suite);
+  std::vector<SuiteCaseResult> results;
+  for (const auto& cell : suite.cells) {
+    const WorkcellSimulationSpec base = LoadWorkcellSimulation(cell.simulation, registry, ReadConcealedDisturbance);
+    const DiagnosisJob job = LoadDiagnosisJob(cell.job, registry, /*recording_must_exist=*/false);
+    for (const auto& c : cell.cases) {
+      const std::string key = CaseKey(suite, cell, c);
+      if (done.contains(key)) {
+        Progress::Note("resuming: " + cell.name + " / " + c.name + " done before");
+        results.push_back(FromJson(done[key], cell.name, c));
+        for (int s = 0; s < suite.seeds; ++s) progress.Advance();
+        continue;
+      }
+      results.push_back(RunCase(suite, cell, base, job, c, registry, &progress));
+      done[key] = ToJson(results.back());
+      AtomicWriteFile(CheckpointPath(suite), done.dump(1));
+    }
+  }
+  return results;
+}
+
+void WritePhysicsSuite(const PhysicsSuiteSpec& spec, const std::string& path,
+                       const std::string& markdown) {
+  static const std::string kBegin = "<!-- physics-suite:begin -->";
+  static const std::string kEnd = "<!-- physics-suite:end -->";
+  std::string text = markdown;
+  std::ifstream in(path);
+  if (in) {
+    const std::string document((std::istreambuf_iterator<char>(in)), {});
+    const size_t begin = document.find(kBegin), end = document.find(kEnd);
+    if (begin != std::string::npos && end != std::string::npos && end > begin) {
+      text = document.substr(0, begin + kBegin.size()) + "\n" + markdown + document.substr(end);
+    }
+  }
+  AtomicWriteFile(path, text);
+  std::filesystem::remove(CheckpointPath(spec));
+}
+
+std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
+                                 const std::vector<SuiteCaseResult>& results) {
+  std::ostringstream out;
+  int effect_runs = 0, effect_right = 0, clean_runs = 0, clean_right = 0, outside_runs = 0,
+      outside_right = 0;
+  std::vector<double> ratios, seconds;
+  for (const auto& r : results) {
+    const int right = r.right();
+    const int n = static_cast<int>(r.runs.size());
+    if (r.spec.expect == "none") {
+      clean_runs += n, clean_right += right;
+    } else if (r.spec.expect == "unexplained") {
+      outside_runs += n, outside_right += right;
+    } else {
+      effect_runs += n, effect_right += right;
+      for (const auto& run : r.runs) ratios.push_back(run.held_out_over_floor);
+    }
+    for (const auto& run : r.runs) seconds.push_back(run.seconds);
+  }
+  auto rate = [](int right, int n) {
+    return n ? Fixed(100.0 * right / n, 0) + " % (" + std::to_string(right) + "/" +
+                   std::to_string(n) + ")"
+             : std::string("-");
+  };
+  out << "Concealed-effect suite: " << spec.seeds << " seeds per case, unabsorbed SNR "
+      << Fixed(spec.snr, 1) << ".\n\n";
+  out << "| measure | result | target |\n|---|---|---|\n";
+  out << "| right effect named (library and richer variants) | " << rate(effect_right, effect_runs)
+      << " | >= 90 % |\n";
+  out << "| no effect claimed on clean recordings | " << rate(clean_right, clean_runs)
+      << " | >= 95 % |\n";
+  out << "| outside the library reported as unexplained | " << rate(outside_right, outside_runs)
+      << " | all |\n";
+  out << "| held-out RMS / noise floor after modelling (median) | " << Fixed(Median(ratios), 2)
+      << " | <= 1.2 |\n";
+  out << "| seconds per diagnosis (median) | " << Fixed(Median(seconds), 1) << " | |\n\n";
+  out << "| cell | case | expected | effect size | right | held-out / floor (median) | misses: "
+         "best candidate and the tests it failed |\n|---|---|---|---|---|---|---|\n";
+  for (const auto& r : results) {
+    std::vector<double> v;
+    for (const auto& run : r.runs) v.push_back(run.held_out_over_floor);
+    char size[32];
+    std::snprintf(size, sizeof(size), "%.3g", r.magnitude);
+    std::string misses;
+    for (const auto& run : r.runs) {
+      if (!run.failed.empty() && !IsRight(r.spec, run)) {
+        misses += (misses.empty() ? "" : "; ") + run.failed;
+      }
+    }
+    out << "| " << r.cell << " | " << r.spec.name << " | " << r.spec.expect << " | " << size
+        << " | "
+        << r.right() << "/" << r.runs.size() << " | " << Fixed(Median(v), 2) << " | " << misses
+        << " |\n";
+  }
+  for (const auto& cell : spec.cells) out << ConfusionMatrix(cell.name, results);
+  return out.str();
+}
+
+}  // namespace cellmetry
