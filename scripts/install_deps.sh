@@ -6,7 +6,7 @@ packages=(
   build-essential cmake ninja-build
   libeigen3-dev libceres-dev libnlopt-cxx-dev libnlopt-dev libyaml-cpp-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
-  libopencv-dev libopencv-contrib-dev libapriltag-dev libtbb-dev
+  libopencv-dev libopencv-contrib-dev libapriltag-dev libtbb-dev libboost-math-dev
 )
 missing=()
 for p in "${packages[@]}"; do

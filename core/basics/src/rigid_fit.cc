@@ -1,32 +1,39 @@
+// Closed-form rigid fit: Eigen's Umeyama (1991) without scale, after the checks a fit needs.
 #include "cellmetry/basics/rigid_fit.h"
 
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 namespace cellmetry {
+namespace {
+
+// Whether the points span at least a line's worth of directions: two non-negligible principal
+// spreads (all points on one line leave the rotation about that line undetermined).
+bool SpansAPlane(const Eigen::Matrix3Xd& points) {
+  const Eigen::Matrix3Xd centred = points.colwise() - points.rowwise().mean();
+  const Eigen::Matrix3d scatter = centred * centred.transpose();
+  const Eigen::Vector3d spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues();
+  return spread[1] > 1e-9 * std::max(1.0, spread[2]);
+}
+
+}  // namespace
 
 std::optional<Pose> FitRigidTransform(const std::vector<Eigen::Vector3d>& from,
                                       const std::vector<Eigen::Vector3d>& to) {
   const size_t n = from.size();
   if (n < 3 || to.size() != n) return std::nullopt;
-  Eigen::Vector3d mean_from = Eigen::Vector3d::Zero(), mean_to = Eigen::Vector3d::Zero();
+  Eigen::Matrix3Xd src(3, n), dst(3, n);
   for (size_t i = 0; i < n; ++i) {
-    mean_from += from[i];
-    mean_to += to[i];
+    src.col(i) = from[i];
+    dst.col(i) = to[i];
   }
-  mean_from /= static_cast<double>(n);
-  mean_to /= static_cast<double>(n);
-  Eigen::Matrix3d cross = Eigen::Matrix3d::Zero();  // sum (to_i - mean)(from_i - mean)^T
-  for (size_t i = 0; i < n; ++i) cross += (to[i] - mean_to) * (from[i] - mean_from).transpose();
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Vector3d s = svd.singularValues();
-  // All points on one line (or one point): the rotation about that line is undetermined.
-  if (s[1] <= 1e-9 * std::max(1.0, s[0])) return std::nullopt;
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  Pose T;
-  T.R = svd.matrixU() * D * svd.matrixV().transpose();
-  T.t = mean_to - T.R * mean_from;
-  return T;
+  if (!src.allFinite() || !dst.allFinite()) return std::nullopt;
+  if (!SpansAPlane(src) || !SpansAPlane(dst)) return std::nullopt;
+  const Eigen::Matrix4d T = Eigen::umeyama(src, dst, /*with_scaling=*/false);
+  Pose pose;
+  pose.R = T.topLeftCorner<3, 3>();
+  pose.t = T.topRightCorner<3, 1>();
+  return pose;
 }
 
 }  // namespace cellmetry

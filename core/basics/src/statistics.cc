@@ -4,22 +4,15 @@
 #include <cmath>
 #include <numeric>
 
+#include <boost/math/special_functions/gamma.hpp>
+
 namespace cellmetry {
 namespace {
 
-// Regularized lower incomplete gamma P(a, x) by its series (x < a + 1).
-double LowerGammaSeries(double a, double x) {
-  double term = 1.0 / a, sum = term;
-  for (int n = 1; n < 1000; ++n) {
-    term *= x / (a + n);
-    sum += term;
-    if (std::abs(term) < std::abs(sum) * 1e-15) break;
-  }
-  return sum * std::exp(-x + a * std::log(x) - std::lgamma(a));
-}
-
-// The continued fraction of Q(a, x) without its prefactor exp(-x) x^a / Gamma(a) (x >= a + 1).
-double UpperGammaFractionFactor(double a, double x) {
+// log Q(a, x) by Lentz's continued fraction (Numerical Recipes 6.2), for x >= a + 1 where Q
+// underflows a double. Boost.Math gives Q itself but not its logarithm, which the physics finder
+// needs to compare statistics of thousands of sigma with different degrees of freedom.
+double LogUpperGammaFraction(double a, double x) {
   const double tiny = 1e-300;
   double b = x + 1.0 - a, c = 1.0 / tiny, d = 1.0 / b, h = d;
   for (int i = 1; i < 1000; ++i) {
@@ -34,27 +27,21 @@ double UpperGammaFractionFactor(double a, double x) {
     h *= delta;
     if (std::abs(delta - 1.0) < 1e-15) break;
   }
-  return h;
-}
-
-// Regularized upper incomplete gamma Q(a, x) (x >= a + 1).
-double UpperGammaFraction(double a, double x) {
-  return std::exp(-x + a * std::log(x) - std::lgamma(a)) * UpperGammaFractionFactor(a, x);
+  return -x + a * std::log(x) - std::lgamma(a) + std::log(h);
 }
 
 }  // namespace
 
 double ChiSquareSurvival(double x, double k) {
   if (!(x > 0)) return 1.0;
-  const double a = 0.5 * k, half = 0.5 * x;
-  return half < a + 1.0 ? 1.0 - LowerGammaSeries(a, half) : UpperGammaFraction(a, half);
+  return boost::math::gamma_q(0.5 * k, 0.5 * x);
 }
 
 double ChiSquareLogSurvival(double x, double k) {
   if (!(x > 0)) return 0.0;
-  const double a = 0.5 * k, half = 0.5 * x;
-  if (half < a + 1.0) return std::log1p(-LowerGammaSeries(a, half));
-  return -half + a * std::log(half) - std::lgamma(a) + std::log(UpperGammaFractionFactor(a, half));
+  const double q = boost::math::gamma_q(0.5 * k, 0.5 * x);
+  if (q > 1e-250) return std::log(q);
+  return LogUpperGammaFraction(0.5 * k, 0.5 * x);
 }
 
 double NormalSurvival(double z) { return 0.5 * std::erfc(z / std::sqrt(2.0)); }

@@ -1,7 +1,7 @@
 // Closed-form rigid fit between matched point sets (Kabsch 1976; Umeyama 1991 without scale).
 //
-// FitRigidTransform returns T_to_from minimising sum |to_i - T * from_i|^2. It needs at least
-// three points that are not all on one line; with fewer it returns std::nullopt.
+// FitRigidTransform returns T_to_from minimising sum |to_i - T * from_i|^2 (Eigen::umeyama). It
+// needs at least three finite points that are not all on one line; otherwise std::nullopt.
 #pragma once
 
 #include <optional>

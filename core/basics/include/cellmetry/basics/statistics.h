@@ -6,12 +6,13 @@
 
 namespace cellmetry {
 
-// P(X > x) for X ~ chi-square with k degrees of freedom (regularized upper incomplete gamma
-// Q(k/2, x/2): series below a + 1, Lentz's continued fraction above; Numerical Recipes 6.2).
+// P(X > x) for X ~ chi-square with k degrees of freedom: the regularized upper incomplete gamma
+// Q(k/2, x/2) of Boost.Math.
 double ChiSquareSurvival(double x, double k);
 
 // log P(X > x), accurate where P itself underflows (x in the thousands): compares statistics of
-// different degrees of freedom however strong they are.
+// different degrees of freedom however strong they are. Boost.Math's Q where it is a normal
+// double; below 1e-250, log Q from Lentz's continued fraction (Boost.Math has no log Q).
 double ChiSquareLogSurvival(double x, double k);
 
 // P(Z > z) for a standard normal Z.
