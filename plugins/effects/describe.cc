@@ -1,3 +1,5 @@
+// Plain words for effects' findings (describe.h): each parameter as "name = value unit", values
+// to three significant digits.
 #include "describe.h"
 
 #include <cstdio>

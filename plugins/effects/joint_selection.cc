@@ -1,3 +1,5 @@
+// The joints a per-joint effect acts on (joint_selection.h): the 1-based `joints:` list read and
+// checked against the robot, and joint names in words.
 #include "joint_selection.h"
 
 namespace cellmetry::effects {

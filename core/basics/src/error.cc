@@ -1,3 +1,5 @@
+// InputError's one-line message (error.h): FILE:LINE:COLUMN: error: WHAT. HINT, with the unknown
+// parts of the location left out (FormatLocation).
 #include "cellmetry/basics/error.h"
 
 namespace cellmetry {

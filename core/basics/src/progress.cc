@@ -1,3 +1,5 @@
+// Progress reports on stderr (progress.h): a line at most every 0.5 s and at the end, all behind
+// one process-wide quiet switch for tests and benchmarks.
 #include "cellmetry/basics/progress.h"
 
 #include <atomic>

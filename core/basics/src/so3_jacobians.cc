@@ -1,3 +1,5 @@
+// SO(3) left Jacobian and its inverse (so3_jacobians.h): the closed forms, switching to their
+// Taylor series at small angles where the closed forms lose digits to cancellation.
 #include "cellmetry/basics/so3_jacobians.h"
 
 #include <cmath>

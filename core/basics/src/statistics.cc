@@ -1,3 +1,5 @@
+// Chi-square and normal tails, Durbin-Watson and Holm (statistics.h): Boost.Math's gamma_q for
+// the chi-square tail, Lentz's continued fraction for its logarithm where Q underflows.
 #include "cellmetry/basics/statistics.h"
 
 #include <algorithm>

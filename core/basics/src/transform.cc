@@ -1,3 +1,5 @@
+// Rotation helpers of transform.h: the nearest rotation to a matrix by SVD (det = +1), and the
+// chordal mean of rotations as the rotation nearest to their sum.
 #include "cellmetry/basics/transform.h"
 
 #include <Eigen/SVD>

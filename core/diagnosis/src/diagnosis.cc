@@ -1,3 +1,5 @@
+// The physics finder (diagnosis.h): the geometric fit, then rounds that score every candidate
+// effect, refit the best and accept it only if every test passes, then what remains unexplained.
 #include "cellmetry/diagnosis/diagnosis.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// Diagnosis jobs (diagnosis_job.h): the workcell job plus its optional `diagnosis:` section, and
+// the candidate effects it lists (the default library when it lists none).
 #include "cellmetry/diagnosis/diagnosis_job.h"
 
 namespace cellmetry {

@@ -1,3 +1,5 @@
+// The physics finder's linear algebra (diagnosis_linear.h): the model linearized at its estimate,
+// projections out of its span, score tests, and greedy selection on bootstrap resamples of poses.
 #include "diagnosis_linear.h"
 
 #include <Eigen/QR>

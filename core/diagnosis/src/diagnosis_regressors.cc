@@ -1,3 +1,5 @@
+// Where residuals follow something (diagnosis_regressors.h): the recording's regressors, their
+// partial correlations with the residuals, and Durbin-Watson per camera axis.
 #include "diagnosis_regressors.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// How much to trust an answer (estimation_quality.h): unidentifiable directions, covariance, weak
+// and correlated parameters, all from the SVD of the column-scaled whitened Jacobian.
 #include "cellmetry/estimation/estimation_quality.h"
 
 #include <Eigen/Dense>

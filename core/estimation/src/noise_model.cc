@@ -1,3 +1,5 @@
+// The noise model (noise_model.h): sigma per camera and target, the job's, else the detections'
+// covariance (never below the scatter of repeated captures), else that pooled scatter.
 #include "cellmetry/estimation/noise_model.h"
 
 #include <cmath>

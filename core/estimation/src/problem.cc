@@ -1,3 +1,5 @@
+// Problem (problem.h): named parameter blocks and whitened residuals rebuilt into a ceres::Problem
+// with fixed entries, bounds and priors, and the free-parameter vector view other solvers use.
 #include "cellmetry/estimation/problem.h"
 
 #include <cmath>

@@ -1,3 +1,5 @@
+// Whole-or-absent output (atomic_file.h): a file is written to a temporary beside its target and
+// renamed over it; a folder is staged in a temporary sibling and renamed into place.
 #include "cellmetry/formats/atomic_file.h"
 
 #include <unistd.h>

@@ -1,3 +1,5 @@
+// Fields shared by job, simulation and comparison files (config_fields.h): a pose, a recording
+// folder, a job file's kind, each an InputError at its node when wrong.
 #include "cellmetry/formats/config_fields.h"
 
 #include <filesystem>

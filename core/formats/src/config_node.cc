@@ -1,3 +1,5 @@
+// ConfigNode (config_node.h): YAML nodes that know their file, line and key path, so that every
+// complaint names where it is, with a "did you mean" for a misspelt key.
 #include "cellmetry/formats/config_node.h"
 
 #include <algorithm>

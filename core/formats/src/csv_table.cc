@@ -1,3 +1,5 @@
+// CsvTable (csv_table.h): a CSV file read with its line numbers, so that a missing, non-numeric
+// or non-finite cell is an InputError naming its file, line and column.
 #include "cellmetry/formats/csv_table.h"
 
 #include <cmath>

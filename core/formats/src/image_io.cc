@@ -1,3 +1,5 @@
+// Gray image files (image.h): any image OpenCV decodes, read as 8-bit gray with an InputError for
+// a missing, empty or corrupt file; PNGs written atomically.
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 

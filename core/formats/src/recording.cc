@@ -1,3 +1,5 @@
+// The cellmetry-recording/1 folder (recording.h): read with every cross reference checked and
+// converted to mm and rad, and written back in mm and rad with numbers that round-trip exactly.
 #include "cellmetry/formats/recording.h"
 
 #include <charconv>

@@ -1,3 +1,4 @@
+// A file's `units:` key (units.h): mm or m, rad or deg, as factors to mm and rad.
 #include "cellmetry/formats/units.h"
 
 #include <cmath>

@@ -1,3 +1,5 @@
+// `cellmetry detect` (detection.h): the pending (image, target) pairs detected in parallel and
+// appended to a resumable log, then the whole log turned into observations (stereo or PnP).
 #include "cellmetry/imaging/detection.h"
 
 #include <tbb/enumerable_thread_specific.h>

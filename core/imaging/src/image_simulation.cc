@@ -1,3 +1,5 @@
+// Rendered images for `cellmetry simulate` (image_simulation.h): the `images:` section read, each
+// view listed in images.csv and rendered in parallel (one seed per image), exact keypoints kept.
 #include "cellmetry/imaging/image_simulation.h"
 
 #include <tbb/parallel_for.h>

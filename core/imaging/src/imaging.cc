@@ -1,3 +1,5 @@
+// Imaging cameras and target markers (imaging.h): a camera's views (mono, or a rig's left and
+// right) and the YAML readers of both.
 #include "cellmetry/imaging/imaging.h"
 
 #include <algorithm>

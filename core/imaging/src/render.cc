@@ -1,3 +1,5 @@
+// The rendering simulator (render.h): marker faces ray traced with supersampling, then light
+// falloff, blur, noise and quantisation; the exact keypoints and the image-shift Cramer-Rao bound.
 #include "cellmetry/imaging/render.h"
 
 #include <opencv2/imgproc.hpp>

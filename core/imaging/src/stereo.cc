@@ -1,3 +1,5 @@
+// StereoRig (stereo.h): a rig read from our YAML or OpenCV's stereo calibration, and
+// maximum-likelihood triangulation of a keypoint pair with the point's covariance.
 #include "cellmetry/imaging/stereo.h"
 
 #include <ceres/jet.h>

@@ -1,3 +1,5 @@
+// Target poses from keypoints (target_pose.h): PnP started by OpenCV, finished by weighted
+// Gauss-Newton with outliers dropped; a target's origin from stereo triangulation.
 #include "cellmetry/imaging/target_pose.h"
 
 #include <ceres/jet.h>

@@ -1,3 +1,5 @@
+// PinholeCamera (camera.h): a camera read from our YAML or OpenCV's calibration output, and Ray(),
+// which inverts the distortion by Newton's method.
 #include "cellmetry/model/camera.h"
 
 #include <ceres/jet.h>

@@ -1,3 +1,5 @@
+// The gravity torques effects share (effect.h): from lumped link masses at the joint frames or,
+// without joint frames, from the load on the flange by virtual work.
 #include "cellmetry/model/effect.h"
 
 namespace cellmetry {

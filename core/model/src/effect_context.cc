@@ -1,3 +1,5 @@
+// The facts effects depend on (effect_context.h): gathered per sample once before any fit, handed
+// to an effect as its context, and what a candidate needs that the recording lacks.
 #include "cellmetry/model/effect_context.h"
 
 #include <cmath>

@@ -1,3 +1,5 @@
+// FrameBlock (frame_block.h): a frame's six parameters (x y z in mm, rx ry rz in rad) and the
+// `free:` list that frees them.
 #include "cellmetry/model/frame_block.h"
 
 namespace cellmetry {

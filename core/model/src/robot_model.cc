@@ -1,3 +1,5 @@
+// RobotModel's defaults (robot_model.h): the failure messages, and no position inverse kinematics
+// unless a model offers it.
 #include "cellmetry/model/robot_model.h"
 
 namespace cellmetry {

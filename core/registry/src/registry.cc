@@ -1,3 +1,5 @@
+// The plugin registry (registry.h): factories by `type:` name (an unknown one gets a "did you
+// mean" and the known names), and plugin libraries loaded with dlopen from the search folders.
 #include "cellmetry/registry/registry.h"
 
 #include <dlfcn.h>

@@ -1,3 +1,5 @@
+// The `apriltag_board` detector (apriltag_detector.h): the AprilTag 3 library's tags of this board
+// seen once, corners moved to OpenCV's convention and order and refined by edge lines.
 #include "apriltag_detector.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// TagBoard (tag_board.h): where each tag's corners lie in the target frame and the printed faces,
+// for one flat grid or grids on a cube's faces.
 #include "tag_board.h"
 
 #include "fiducial_common/printed_page.h"

@@ -1,3 +1,5 @@
+// AprilTag families by name (tag_family.h): each created and destroyed by the library's own
+// matching pair of functions.
 #include "tag_family.h"
 
 #include <tag16h5.h>

@@ -1,3 +1,5 @@
+// One AprilTag's printed cells (tag_pattern.h): apriltag_to_image()'s layout, rebuilt from the
+// family's code table.
 #include "tag_pattern.h"
 
 namespace cellmetry::apriltag_board {

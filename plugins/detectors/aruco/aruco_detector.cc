@@ -1,3 +1,5 @@
+// The `aruco` detector (aruco_detector.h): OpenCV's detectMarkers, this target's markers seen once
+// kept, corners refined by edge lines or a shrunk cornerSubPix; says why when none is found.
 #include "aruco_detector.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// ArUco dictionaries by name (aruco_dictionary.h): OpenCV 4.6's predefined ones, or a custom one
+// read from a file.
 #include "aruco_dictionary.h"
 
 #include <filesystem>

@@ -1,3 +1,5 @@
+// ArucoTarget (aruco_target.h): its marker ids, where their corners lie in the target frame
+// (OpenCV 4.6's frames), and the printed faces.
 #include "aruco_target.h"
 
 namespace cellmetry::aruco {

@@ -1,3 +1,5 @@
+// The `dot` detector (dot_detector.h): the one dot the finder returns, its centre corrected for
+// perspective when asked; no dot or several dots is a failure.
 #include "dot_detector.h"
 
 #include <sstream>

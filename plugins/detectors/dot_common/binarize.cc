@@ -1,3 +1,5 @@
+// Gamma table, threshold and binary image (binarize.h): the automatic threshold halfway between
+// the median and the bright level of a histogram of every other row and column.
 #include "dot_common/binarize.h"
 
 #include <algorithm>

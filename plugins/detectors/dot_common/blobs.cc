@@ -1,3 +1,5 @@
+// White blobs (blobs.h): outer borders by cv::findContours, filtered by pixel area and by
+// circularity (Vossepoel-Smeulders perimeter), with their centroid and second moments.
 #include "dot_common/blobs.h"
 
 #include <opencv2/imgproc.hpp>

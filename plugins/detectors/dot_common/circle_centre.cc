@@ -1,3 +1,5 @@
+// Perspective eccentricity correction (circle_centre.h): the two circles of known radius whose
+// image is the ellipse, from the cone's eigen-decomposition, and the one nearer a normal hint.
 #include "dot_common/circle_centre.h"
 
 #include <Eigen/Dense>

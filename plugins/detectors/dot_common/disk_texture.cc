@@ -1,3 +1,5 @@
+// Dot marker faces (disk_texture.h): white disks on a black square, each texel holding the disk's
+// covered fraction so that the edges are anti-aliased.
 #include "dot_common/disk_texture.h"
 
 #include <algorithm>

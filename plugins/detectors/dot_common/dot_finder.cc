@@ -1,3 +1,5 @@
+// The white-dot finder (dot_finder.h): threshold and blobs, then local levels, edge points and an
+// ellipse per blob, counting why blobs were dropped to say why no dot was found.
 #include "dot_common/dot_finder.h"
 
 #include <Eigen/Dense>

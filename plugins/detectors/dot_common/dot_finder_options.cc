@@ -1,3 +1,5 @@
+// The options both dot detectors share (dot_finder_options.h): their documentation, and reading
+// them from YAML with an InputError for a value out of range.
 #include "dot_common/dot_finder_options.h"
 
 #include <string>

@@ -1,3 +1,5 @@
+// A dot's sub-pixel edge points (edge_points.h): local levels from its moment ellipse, then 50 %
+// crossings along rows and columns, placed by interpolation or by the fitted edge profile.
 #include "dot_common/edge_points.h"
 
 #include <Eigen/Dense>
@@ -111,6 +113,116 @@ void CollectSamples(const Level& level, int first_inside, int steps_in, int step
   }
 }
 
+// What every row and column through one dot shares: its outline, the local 50 % level `t`, the
+// levels and noise the crossings are placed with, and how they are placed.
+struct EdgeSearch {
+  const Outline& outline;
+  double t = 0.0, black = 0.0, contrast = 0.0, sigma2 = 0.0;
+  EdgeMethod method = EdgeMethod::kProfile;
+};
+
+// The pixels a crossing of this dot may lie in, clipped to the image.
+struct PixelBox {
+  int xmin = 0, xmax = 0, ymin = 0, ymax = 0;
+};
+
+PixelBox SearchBox(const ImageView& image, const Outline& o) {
+  const double reach = o.RingInner();  // a crossing further out than the ring is not this dot's
+  PixelBox box;
+  box.xmin = std::max(0, static_cast<int>(std::floor(o.centre.x() - reach * o.half_width)));
+  box.xmax =
+      std::min(image.width - 1, static_cast<int>(std::ceil(o.centre.x() + reach * o.half_width)));
+  box.ymin = std::max(0, static_cast<int>(std::floor(o.centre.y() - reach * o.half_height)));
+  box.ymax =
+      std::min(image.height - 1, static_cast<int>(std::ceil(o.centre.y() + reach * o.half_height)));
+  return box;
+}
+
+// One line (a row or a column) through the dot: walk from `start` both ways to the 50 % level.
+// `at(i)` reads position i along the line, [lo, hi] bounds it, `other` is the fixed coordinate.
+template <typename At>
+void WalkLine(const EdgeSearch& s, const At& at, int start, int lo, int hi, double other,
+              bool is_row, std::vector<Crossing>* crossings) {
+  const double t = s.t;
+  if (start < lo || start > hi || at(start) <= t) return;
+  for (int step : {-1, 1}) {
+    int i = start;
+    while (i + step >= lo && i + step <= hi && at(i + step) > t) i += step;
+    if (i + step < lo || i + step > hi) continue;  // never crossed: not an enclosed dot here
+    const double a = at(i), b = at(i + step);
+    const double along = i + step * (a - t) / (a - b);
+    const Eigen::Vector2d p =
+        is_row ? Eigen::Vector2d(along, other) : Eigen::Vector2d(other, along);
+    const Eigen::Vector2d n = s.outline.Normal(p.x(), p.y());
+    // Measured across the outline only: rows where it is nearer vertical, columns elsewhere.
+    if (is_row ? std::abs(n.x()) < std::abs(n.y()) : std::abs(n.y()) <= std::abs(n.x())) continue;
+    Crossing c;
+    c.outward = (is_row ? Eigen::Vector2d::UnitX() : Eigen::Vector2d::UnitY()) * step;
+    c.origin = is_row ? Eigen::Vector2d(i, other) : Eigen::Vector2d(other, i);
+    c.stretch = n.norm() / std::abs(is_row ? n.x() : n.y());
+    c.linear_t = (a - t) / (a - b);
+    c.linear_variance = CrossingVariance(a, b, t, s.sigma2);
+    if (s.method == EdgeMethod::kProfile) {
+      // Outward sample k is at i + step k along the line.
+      const auto outward = [&](int k) { return static_cast<double>(at(i + step * k)); };
+      const int room_in = step > 0 ? i - lo : hi - i;
+      const int room_out = step > 0 ? hi - i : i - lo;
+      CollectSamples(outward, 0, std::min(room_in + 1, 4), std::min(room_out, 4), s.black,
+                     s.contrast, &c);
+    }
+    crossings->push_back(c);
+  }
+}
+
+// Rows: walk from the chord's middle (the ellipse's chords at height y are centred on the line
+// x = cx + m_xy / m_yy (y - cy)).
+void WalkRows(const ImageView& image, const GrayTransform& transform, const EdgeSearch& s,
+              const Eigen::Matrix2d& m, const PixelBox& box, std::vector<Crossing>* crossings) {
+  const Outline& o = s.outline;
+  const auto& L = transform.level;
+  const size_t stride = static_cast<size_t>(image.stride);
+  for (int y = static_cast<int>(std::ceil(o.centre.y() - o.half_height));
+       y <= static_cast<int>(std::floor(o.centre.y() + o.half_height)); ++y) {
+    if (y < 0 || y >= image.height) continue;
+    const std::uint8_t* row = image.data + static_cast<size_t>(y) * stride;
+    const int start =
+        static_cast<int>(std::lround(o.centre.x() + m(0, 1) / m(1, 1) * (y - o.centre.y())));
+    WalkLine(s, [&](int x) { return L[row[x]]; }, start, box.xmin, box.xmax, y, true, crossings);
+  }
+}
+
+// Columns, the same way (chords at x centred on y = cy + m_xy / m_xx (x - cx)).
+void WalkColumns(const ImageView& image, const GrayTransform& transform, const EdgeSearch& s,
+                 const Eigen::Matrix2d& m, const PixelBox& box, std::vector<Crossing>* crossings) {
+  const Outline& o = s.outline;
+  const auto& L = transform.level;
+  const size_t stride = static_cast<size_t>(image.stride);
+  for (int x = static_cast<int>(std::ceil(o.centre.x() - o.half_width));
+       x <= static_cast<int>(std::floor(o.centre.x() + o.half_width)); ++x) {
+    if (x < 0 || x >= image.width) continue;
+    const std::uint8_t* column = image.data + x;
+    const int start =
+        static_cast<int>(std::lround(o.centre.y() + m(0, 1) / m(0, 0) * (x - o.centre.x())));
+    WalkLine(s, [&](int y) { return L[column[y * stride]]; }, start, box.ymin, box.ymax, x, false,
+             crossings);
+  }
+}
+
+// Each crossing's edge point: with kProfile, placed by the blurred-step profile whose width is
+// fitted over all the dot's crossings (sets levels->edge_width_px); else the interpolated one.
+void PlaceEdgePoints(const std::vector<Crossing>& crossings, const EdgeSearch& s,
+                     LocalLevels* levels, std::vector<EdgePoint>* points) {
+  levels->edge_width_px = s.method == EdgeMethod::kProfile ? FitEdgeWidth(crossings, 0.7) : 0.0;
+  const double sigma = std::sqrt(s.sigma2);
+  for (const Crossing& c : crossings) {
+    double along = c.linear_t, variance = c.linear_variance;
+    if (s.method == EdgeMethod::kProfile && c.count > 0) {
+      RefineCrossing(c, levels->edge_width_px, sigma, s.contrast, &along, &variance);
+    }
+    points->push_back({c.origin + along * c.outward, c.outward.cwiseAbs(), variance});
+  }
+}
+
 }  // namespace
 
 void FindEdgePoints(const ImageView& image, const GrayTransform& transform, const Blob& blob,
@@ -119,82 +231,13 @@ void FindEdgePoints(const ImageView& image, const GrayTransform& transform, cons
   points->clear();
   crossings->clear();
   const Outline o(blob);
-  const double t = levels->half(), black = levels->black, contrast = levels->contrast();
   // A noiseless image still has quantisation noise (1/12 gray level^2).
   const double sigma2 = std::max(levels->noise_sigma * levels->noise_sigma, 1.0 / 12.0);
-  const auto& L = transform.level;
-  const double reach = o.RingInner();  // a crossing further out than the ring is not this dot's
-  const Eigen::Matrix2d& m = blob.moments;
-  const int xmin = std::max(0, static_cast<int>(std::floor(o.centre.x() - reach * o.half_width)));
-  const int xmax =
-      std::min(image.width - 1, static_cast<int>(std::ceil(o.centre.x() + reach * o.half_width)));
-  const int ymin = std::max(0, static_cast<int>(std::floor(o.centre.y() - reach * o.half_height)));
-  const int ymax =
-      std::min(image.height - 1, static_cast<int>(std::ceil(o.centre.y() + reach * o.half_height)));
-  const size_t stride = static_cast<size_t>(image.stride);
-
-  // One line (a row or a column) through the dot: walk from `start` both ways to the 50 % level.
-  // `at(i)` reads position i along the line, [lo, hi] bounds it, `other` is the fixed coordinate.
-  auto walk = [&](const auto& at, int start, int lo, int hi, double other, bool is_row) {
-    if (start < lo || start > hi || at(start) <= t) return;
-    for (int step : {-1, 1}) {
-      int i = start;
-      while (i + step >= lo && i + step <= hi && at(i + step) > t) i += step;
-      if (i + step < lo || i + step > hi) continue;  // never crossed: not an enclosed dot here
-      const double a = at(i), b = at(i + step);
-      const double along = i + step * (a - t) / (a - b);
-      const Eigen::Vector2d p =
-          is_row ? Eigen::Vector2d(along, other) : Eigen::Vector2d(other, along);
-      const Eigen::Vector2d n = o.Normal(p.x(), p.y());
-      // Measured across the outline only: rows where it is nearer vertical, columns elsewhere.
-      if (is_row ? std::abs(n.x()) < std::abs(n.y()) : std::abs(n.y()) <= std::abs(n.x())) continue;
-      Crossing c;
-      c.outward = (is_row ? Eigen::Vector2d::UnitX() : Eigen::Vector2d::UnitY()) * step;
-      c.origin = is_row ? Eigen::Vector2d(i, other) : Eigen::Vector2d(other, i);
-      c.stretch = n.norm() / std::abs(is_row ? n.x() : n.y());
-      c.linear_t = (a - t) / (a - b);
-      c.linear_variance = CrossingVariance(a, b, t, sigma2);
-      if (method == EdgeMethod::kProfile) {
-        // Outward sample k is at i + step k along the line.
-        const auto outward = [&](int k) { return static_cast<double>(at(i + step * k)); };
-        const int room_in = step > 0 ? i - lo : hi - i;
-        const int room_out = step > 0 ? hi - i : i - lo;
-        CollectSamples(outward, 0, std::min(room_in + 1, 4), std::min(room_out, 4), black, contrast,
-                       &c);
-      }
-      crossings->push_back(c);
-    }
-  };
-
-  // Rows: walk from the chord's middle (the ellipse's chords at height y are centred on the line
-  // x = cx + m_xy / m_yy (y - cy)).
-  for (int y = static_cast<int>(std::ceil(o.centre.y() - o.half_height));
-       y <= static_cast<int>(std::floor(o.centre.y() + o.half_height)); ++y) {
-    if (y < 0 || y >= image.height) continue;
-    const std::uint8_t* row = image.data + static_cast<size_t>(y) * stride;
-    const int start =
-        static_cast<int>(std::lround(o.centre.x() + m(0, 1) / m(1, 1) * (y - o.centre.y())));
-    walk([&](int x) { return L[row[x]]; }, start, xmin, xmax, y, true);
-  }
-  // Columns, the same way.
-  for (int x = static_cast<int>(std::ceil(o.centre.x() - o.half_width));
-       x <= static_cast<int>(std::floor(o.centre.x() + o.half_width)); ++x) {
-    if (x < 0 || x >= image.width) continue;
-    const std::uint8_t* column = image.data + x;
-    const int start =
-        static_cast<int>(std::lround(o.centre.y() + m(0, 1) / m(0, 0) * (x - o.centre.x())));
-    walk([&](int y) { return L[column[y * stride]]; }, start, ymin, ymax, x, false);
-  }
-
-  levels->edge_width_px = method == EdgeMethod::kProfile ? FitEdgeWidth(*crossings, 0.7) : 0.0;
-  const double sigma = std::sqrt(sigma2);
-  for (const Crossing& c : *crossings) {
-    double along = c.linear_t, variance = c.linear_variance;
-    if (method == EdgeMethod::kProfile && c.count > 0) {
-      RefineCrossing(c, levels->edge_width_px, sigma, contrast, &along, &variance);
-    }
-    points->push_back({c.origin + along * c.outward, c.outward.cwiseAbs(), variance});
-  }
+  const EdgeSearch search{o, levels->half(), levels->black, levels->contrast(), sigma2, method};
+  const PixelBox box = SearchBox(image, o);
+  WalkRows(image, transform, search, blob.moments, box, crossings);
+  WalkColumns(image, transform, search, blob.moments, box, crossings);
+  PlaceEdgePoints(*crossings, search, levels, points);
 }
 
 }  // namespace cellmetry::dot

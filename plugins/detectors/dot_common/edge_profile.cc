@@ -1,3 +1,5 @@
+// The blurred-step edge profile (edge_profile.h): Acklam's inverse normal CDF, the blur width
+// fitted over a dot's crossings, and each crossing's weighted position and variance.
 #include "dot_common/edge_profile.h"
 
 #include <algorithm>

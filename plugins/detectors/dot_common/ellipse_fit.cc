@@ -1,3 +1,5 @@
+// Ellipse fit (ellipse_fit.h): Halir-Flusser direct least squares on normalised points,
+// Gauss-Newton on the Sampson distance, the centre's covariance by first-order propagation.
 #include "dot_common/ellipse_fit.h"
 
 #include <Eigen/Dense>

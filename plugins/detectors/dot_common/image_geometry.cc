@@ -1,3 +1,5 @@
+// ImageGeometry (image_geometry.h): distorted <-> ideal pixels through the camera's Ray() and
+// Project(), the identity without a camera or distortion.
 #include "dot_common/image_geometry.h"
 
 #include <Eigen/Dense>

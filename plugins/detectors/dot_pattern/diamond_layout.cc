@@ -1,3 +1,5 @@
+// The 13-dot diamond (diamond_layout.h): the grid offsets |i| + |j| <= 2, row by row from the
+// top, built once.
 #include "diamond_layout.h"
 
 #include <cstdlib>

@@ -1,3 +1,5 @@
+// Plane-to-image homography (homography.h): the normalised DLT, its null vector taken as the
+// eigenvector of A^T A with the smallest eigenvalue.
 #include "homography.h"
 
 #include <Eigen/Dense>

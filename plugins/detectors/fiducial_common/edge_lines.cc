@@ -1,3 +1,5 @@
+// Corner refinement by edge lines (edge_lines.h): area-method edge points across each side, a
+// robust line through them, corners where lines meet, passes repeated until they settle.
 #include "edge_lines.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// PrintedPage (printed_page.h): a texel size that puts every rectangle edge on a texel boundary,
+// and the page printed into a MarkerFace texture by area coverage.
 #include "printed_page.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// DeltaModel's non-template parts (delta_model.h): its parameters, the rods' directions
+// (ParallelLinks), and why a pose or a point is out of reach, in words.
 #include "delta_model.h"
 
 #include <cstdio>

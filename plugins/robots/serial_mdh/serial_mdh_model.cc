@@ -1,3 +1,5 @@
+// SerialMdhModel's non-template parts (serial_mdh_model.h): the per-joint parameters, and a
+// warning where consecutive axes are parallel and modified DH is ill-conditioned.
 #include "serial_mdh_model.h"
 
 #include <cmath>
