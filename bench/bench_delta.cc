@@ -1,7 +1,7 @@
 // Delta arm kinematic calibration speed (issue 3): 125 simulated positions with the report's
 // dot-detector noise, every geometric parameter and homing offset free, camera pose free.
 //
-//  BM_DeltaCalibrate/lm_forward      CalibrateKinematics with ceres_lm, Cartesian residual
+//  BM_DeltaCalibrate/lm_forward      IdentifyWorkcell with ceres_lm, Cartesian residual
 //                                    (closed-form camera, identifiability, covariance included)
 //  BM_DeltaCalibrate/lm_inverse      the same, joint-space residual (two passes: re-weighting)
 //  BM_DeltaCalibrate/adam_forward    gradient_descent (Adam) until its cost is within 1e-4 of
@@ -13,26 +13,27 @@
 #include <algorithm>
 #include <chrono>
 
-#include "cellmetry/cell/kinematic_calibration.h"
-#include "cellmetry/cell/kinematic_simulation.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/prediction.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_simulation.h"
 
 namespace cellmetry {
 namespace {
 
 struct Scenario {
-  KinematicSimulationSpec spec;
-  KinematicState truth;
-  std::vector<PointSample> samples;
+  WorkcellSimulationSpec spec;
+  WorkcellSimulationSpec truth;
+  Recording recording;
   std::vector<std::vector<double>> validation;
   double lm_forward_cost = 0.0;   // LM's minimum, the target for Adam
   double lm_forward_s = 0.0;      // LM's time (median of 9), for Adam's ratio
 };
 
 // Only R - r is identifiable: hold r, as configs/jobs/delta_calibration.yaml does.
-KinematicProblem Problem(const Scenario& s, Formulation formulation) {
-  KinematicProblem problem = SimulatedProblem(s.spec, formulation);
-  HoldParametersNamed(".r", &problem);
+WorkcellProblem Problem(const Scenario& s, ResidualForm residual) {
+  WorkcellProblem problem = SimulatedProblem(s.spec, residual);
+  HoldModelParameters(".r", &problem);
   return problem;
 }
 
@@ -48,21 +49,21 @@ Scenario& Load() {
     Progress::SetQuiet(true);
     Registry::Global().LoadFolder(CELLMETRY_PLUGIN_DIR);
     Scenario s;
-    s.spec = LoadKinematicSimulation(
+    s.spec = LoadWorkcellSimulation(
         std::string(CELLMETRY_SOURCE_DIR) + "/configs/simulations/delta_uniform_125.yaml",
         Registry::Global());
     std::mt19937 rng(s.spec.seed);
-    s.truth = DrawTruth(s.spec, rng);
-    const auto commands = MakePoseSet(s.spec, s.spec.pose_set, s.spec.count, rng);
-    const Recording recording = SimulateKinematic(s.spec, s.truth, commands, rng);
-    const KinematicProblem problem = Problem(s, Formulation::kForward);
-    s.samples = CollectPointSamples(problem, recording);
-    s.validation = MakePoseSet(s.spec, PoseSet::kUniformWorkspace, 200, rng);
+    const SimulatedDraw draw = DrawAndSimulate(s.spec, rng);
+    s.truth = draw.truth;
+    s.recording = draw.recording;
+    const WorkcellProblem problem = Problem(s, ResidualForm::kCartesian);
+    s.validation = DrawPoseSet(PoseSetGeometryOf(s.spec, s.spec.robots.front(), ""),
+                               PoseSet::kUniformWorkspace, 200, rng);
     std::vector<double> times;
     for (int i = 0; i < 9; ++i) {
       const auto start = std::chrono::steady_clock::now();
       s.lm_forward_cost =
-          CalibrateKinematics(problem, s.samples, Maker("type: ceres_lm")).solver.final_cost;
+          IdentifyWorkcell(problem, s.recording, Maker("type: ceres_lm")).solver.final_cost;
       times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
     std::nth_element(times.begin(), times.begin() + 4, times.end());
@@ -72,32 +73,34 @@ Scenario& Load() {
   return s;
 }
 
-void BM_DeltaCalibrate(benchmark::State& state, Formulation formulation, std::string solver) {
+void BM_DeltaCalibrate(benchmark::State& state, ResidualForm residual, std::string solver) {
   Scenario& s = Load();
   if (solver == "adam") {
     solver = "{type: gradient_descent, learning_rate: 0.05, epochs: 200000, cost_tolerance: " +
              std::to_string(s.lm_forward_cost * (1 + 1e-4)) + "}";
   }
-  const KinematicProblem problem = Problem(s, formulation);
-  KinematicResult result;
+  const WorkcellProblem problem = Problem(s, residual);
+  WorkcellResult result;
   double seconds = 0.0;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
-    result = CalibrateKinematics(problem, s.samples, Maker(solver));
+    result = IdentifyWorkcell(problem, s.recording, Maker(solver));
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    benchmark::DoNotOptimize(result.state.model_values.data());
+    benchmark::DoNotOptimize(result.estimate.model.at("delta").data());
   }
   state.counters["x_lm_forward"] = seconds / s.lm_forward_s;  // time ratio to LM, last iteration
   state.counters["iterations"] = result.solver.iterations;
   state.counters["val_rms_um"] =
-      1e3 * ComparePredictions(*s.spec.model, result.state, s.truth, s.validation).rms_mm;
+      1e3 * ComparePredictions(*s.spec.robots.front().model, result.estimate,
+                               TruthEstimate(s.truth), {"delta", "marker", "stereo"},
+                               s.validation).rms_mm;
 }
 
-BENCHMARK_CAPTURE(BM_DeltaCalibrate, lm_forward, Formulation::kForward, std::string("type: ceres_lm"))
+BENCHMARK_CAPTURE(BM_DeltaCalibrate, lm_forward, ResidualForm::kCartesian, std::string("type: ceres_lm"))
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_DeltaCalibrate, lm_inverse, Formulation::kInverse, std::string("type: ceres_lm"))
+BENCHMARK_CAPTURE(BM_DeltaCalibrate, lm_inverse, ResidualForm::kJointSpace, std::string("type: ceres_lm"))
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_DeltaCalibrate, adam_forward, Formulation::kForward, std::string("adam"))
+BENCHMARK_CAPTURE(BM_DeltaCalibrate, adam_forward, ResidualForm::kCartesian, std::string("adam"))
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 

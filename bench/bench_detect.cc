@@ -9,7 +9,7 @@
 
 #include "cellmetry/imaging/detection.h"
 #include "cellmetry/imaging/image_simulation.h"
-#include "cellmetry/cell/kinematic_simulation.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/basics/progress.h"
 
 namespace cellmetry {
@@ -23,17 +23,17 @@ const std::string& Recording2000() {
     Progress::SetQuiet(true);
     Registry::Global().LoadFolder(CELLMETRY_PLUGIN_DIR);
     const std::string dir = (std::filesystem::temp_directory_path() / "cellmetry_bench_detect").string();
-    KinematicSimulationSpec spec = LoadKinematicSimulation(
+    WorkcellSimulationSpec spec = LoadWorkcellSimulation(
         std::string(CELLMETRY_SOURCE_DIR) + "/configs/simulations/delta_images.yaml",
         Registry::Global());
+    spec.robots.front().pose_set = PoseSetSpec{PoseSet::kCameraView, kSamples, ""};
     std::mt19937 rng(1);
-    const KinematicState truth = DrawTruth(spec, rng);
-    Recording recording = SimulateKinematic(
-        spec, truth, MakePoseSet(spec, PoseSet::kCameraView, kSamples, rng), rng);
+    const SimulatedDraw draw = DrawAndSimulate(spec, rng);
+    Recording recording = draw.recording;
     recording.observations.clear();
-    const std::vector<SampleView> views = MarkerViews(spec, truth, recording);
+    const std::vector<SampleView> views = WorkcellViews(draw.truth, recording);
     const auto write = PlanImages(
-        ReadImageRenderSpec(*spec.images, {spec.camera}, {spec.target}, Registry::Global()),
+        ReadImageRenderSpec(*spec.images, CameraNames(spec), TargetNames(spec), Registry::Global()),
         views, 1, Registry::Global(), &recording);
     WriteRecording(recording, dir, "", write);
     return dir;

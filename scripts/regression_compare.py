@@ -5,6 +5,9 @@ Every file the steps wrote is compared after timings are masked: JSON keys and C
 columns whose name says time, and numbers followed by s / ms / per second in text. Exits 1 and
 lists the files that differ (with the first differing line) if any does, 0 otherwise.
 
+JSON files are compared key by key: a key only the newer run has (a field added to a result) is
+listed as added, not as a difference.
+
 With --tolerance REL, numbers that differ by at most REL relative (or 1e-12 absolute) count as
 equal: for a change that swaps one numerical method for an equivalent one (the last bits move).
 """
@@ -87,6 +90,33 @@ def same_line(x, y, tolerance):
     return True
 
 
+def flatten(value, path=""):
+    if isinstance(value, dict):
+        out = {}
+        for k, v in value.items():
+            out.update(flatten(v, path + "/" + k))
+        return out
+    if isinstance(value, list) and any(isinstance(v, (dict, list)) for v in value):
+        out = {}
+        for i, v in enumerate(value):
+            out.update(flatten(v, path + "[%d]" % i))
+        return out
+    return {path: json.dumps(value)}
+
+
+def compare_json(path_a, path_b, tolerance):
+    """(differences, added keys) of two JSON files, or None if either is not JSON."""
+    try:
+        a = flatten(mask_json(json.load(open(path_a))))
+        b = flatten(mask_json(json.load(open(path_b))))
+    except ValueError:
+        return None
+    diffs = ["%s: %s -> %s" % (k, a[k][:80], b.get(k, "(absent)")[:80])
+             for k in sorted(a) if k not in b or not same_line(a[k], b[k], tolerance)]
+    added = sorted(k for k in b if k not in a)
+    return diffs, added
+
+
 def files_under(root):
     found = set()
     for folder, _, names in os.walk(root):
@@ -106,7 +136,7 @@ def main(before, after, tolerance=0.0):
                         skipped.add(n[:-3])
     a_files = {f for f in files_under(before) if not f.endswith(".err")}
     b_files = {f for f in files_under(after) if not f.endswith(".err")}
-    differ = []
+    differ, added = [], []
     for f in sorted(a_files | b_files):
         if f.startswith("logs/") and f.endswith(".rc"):
             a = open(os.path.join(before, f)).read().split()[0] if f in a_files else None
@@ -119,6 +149,15 @@ def main(before, after, tolerance=0.0):
         if f not in a_files or f not in b_files:
             differ.append((f, "only in " + ("after" if f in b_files else "before")))
             continue
+        if f.endswith(".json"):
+            result = compare_json(os.path.join(before, f), os.path.join(after, f), tolerance)
+            if result is not None:
+                diffs, new_keys = result
+                if diffs:
+                    differ.append((f, "%d values differ, first %s" % (len(diffs), diffs[0])))
+                if new_keys:
+                    added.append((f, "%d keys added (%s ...)" % (len(new_keys), new_keys[0])))
+                continue
         la = normalized_lines(os.path.join(before, f))
         lb = normalized_lines(os.path.join(after, f))
         if len(la) != len(lb) or not all(same_line(x, y, tolerance) for x, y in zip(la, lb)):
@@ -128,6 +167,8 @@ def main(before, after, tolerance=0.0):
                     break
     for name in sorted(skipped):
         print("not compared (over the time limit): %s" % name)
+    for f, why in added:
+        print("ADDED   %s: %s" % (f, why))
     for f, why in differ:
         print("DIFFERS %s: %s" % (f, why))
     print("%d files compared, %d differ" % (len((a_files | b_files)), len(differ)))

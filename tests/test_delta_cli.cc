@@ -26,24 +26,33 @@ class DeltaBadInput : public ::testing::Test {
     output_ = dir_ + "/result";
     fs::copy_file(testing::Source("configs/robots/delta.yaml"), robot_);
     testing::WriteText(dir_ + "/sim.yaml",
-                       "simulation: kinematic\n"
-                       "robot: {name: delta, model: " + robot_ + "}\n"
-                       "camera: {name: stereo, xyz: [0, 250, -150], rvec: [3.0, 0, 0]}\n"
-                       "target: marker\n"
-                       "noise: {position_mm: [0.013, 0.012, 0.058]}\n"
-                       "poses: {set: uniform_workspace, count: 40}\n");
+                       "simulation: workcell\n"
+                       "world_target: none\n"
+                       "robots:\n"
+                       "  delta:\n"
+                       "    model: " + robot_ + "\n"
+                       "    errors: {dimensions_mm: 1.0, homing_increments: 5}\n"
+                       "    tools: {marker: {measures: position}}\n"
+                       "    poses: {set: uniform_workspace, count: 40}\n"
+                       "cameras:\n"
+                       "  stereo: {xyz: [0, 250, -150], rvec: [3.0, 0, 0],\n"
+                       "           errors: {mm: 1.0, rad: 0.01}}\n"
+                       "noise: {position_mm: [0.013, 0.012, 0.058]}\n");
     const auto sim = testing::RunCellmetry("simulate " + dir_ + "/sim.yaml -o " + recording_);
     ASSERT_EQ(sim.exit_code, 0) << sim.output;
   }
 
-  std::string CalibrationJob(const std::string& formulation) const {
-    return "job: kinematic\n"
+  // The delta's calibration as the one pipeline's job: one robot, its model free, one camera.
+  std::string CalibrationJob(const std::string& residual) const {
+    return "job: workcell\n"
            "recording: " + recording_ + "\n"
            "output: " + output_ + "\n"
-           "robot: {name: delta, model: " + robot_ + ", free: [all]}\n"
-           "camera: {name: stereo}\n"
-           "target: marker\n"
-           "formulation: " + formulation + "\n"
+           "world_target: none\n"
+           "robots:\n"
+           "  delta: {model: " + robot_ + ", free_model: [all], tools: {marker: {free: none}}}\n"
+           "cameras: {stereo: {free: all}}\n"
+           "residual: " + residual + "\n"
+           "validation: {folds: 0}\n"
            "solver: {type: ceres_lm}\n";
   }
 
@@ -70,14 +79,14 @@ class DeltaBadInput : public ::testing::Test {
 };
 
 TEST_F(DeltaBadInput, TheUnmodifiedJobRuns) {
-  const auto r = Run("run", CalibrationJob("inverse"));
+  const auto r = Run("run", CalibrationJob("joint_space"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(output_ + "/result.yaml"));
 }
 
 TEST_F(DeltaBadInput, UnreachableCommand) {
   testing::EditLine(recording_ + "/samples.csv", 5, "3,delta,3,2.5,0.1,0.1");
-  ExpectRejected(Run("run", CalibrationJob("forward")), "samples.csv:5:4:",
+  ExpectRejected(Run("run", CalibrationJob("cartesian")), "samples.csv:5:4:",
                  "unreachable command: q1 = 2.5000 rad is outside the joint limits");
 }
 
@@ -86,21 +95,26 @@ TEST_F(DeltaBadInput, CommandWhereTheRodSpheresDoNotMeet) {
   // no pose under it.
   testing::WriteText(robot_, ReplaceOnce(ReadText(robot_), "arms:\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}",
                                          "arms:\n  - {R: 150, r: 40, L: 250, l: 300}\n  - {R: 150, r: 40, L: 250, l: 300}\n  - {R: 150, r: 40, L: 250, l: 300}"));
-  ExpectRejected(Run("run", CalibrationJob("forward")), "samples.csv:2:",
+  ExpectRejected(Run("run", CalibrationJob("cartesian")), "samples.csv:2:",
                  "the three rod spheres do not meet");
 }
 
 TEST_F(DeltaBadInput, MeasuredPointOutOfReach) {
   testing::EditLine(recording_ + "/observations.csv", 4, "2,stereo,marker,0,0,5000,,,");
-  ExpectRejected(Run("run", CalibrationJob("inverse")), "observations.csv:4:",
+  ExpectRejected(Run("run", CalibrationJob("joint_space")), "observations.csv:4:",
                  "the measured point is out of the arm's reach: arm 1 cannot reach");
 }
 
-TEST_F(DeltaBadInput, FewerSamplesThanFreeParameters) {
-  Truncate("samples.csv", 10);
-  Truncate("observations.csv", 10);
-  ExpectRejected(Run("run", CalibrationJob("forward")), "samples.csv:",
-                 "the pose set has 10 samples for 21 free parameters");
+TEST_F(DeltaBadInput, FewerMeasuredValuesThanFreeParameters) {
+  Truncate("samples.csv", 6);
+  Truncate("observations.csv", 6);
+  ExpectRejected(Run("run", CalibrationJob("cartesian")), "observations.csv:",
+                 "the recording gives 18 measured values for 21 free parameters");
+}
+
+TEST_F(DeltaBadInput, TheOldKinematicJobSaysHowToWriteItNow) {
+  ExpectRejected(Run("run", "job: kinematic\nrecording: " + recording_ + "\n"), "job.yaml:1:6:",
+                 "'job: kinematic' is now a workcell job");
 }
 
 TEST_F(DeltaBadInput, HomingWithTooFewPositions) {
@@ -109,10 +123,10 @@ TEST_F(DeltaBadInput, HomingWithTooFewPositions) {
   const std::string job = "job: homing\n"
                           "recording: " + recording_ + "\n"
                           "output: " + output_ + "\n"
-                          "robot: {name: delta, model: " + robot_ + "}\n"
-                          "camera: {name: stereo, xyz: [0, 250, -150], rvec: [3.0, 0, 0]}\n"
-                          "target: marker\n"
-                          "noise: {position_mm: [0.013, 0.012, 0.058]}\n";
+                          "world_target: none\n"
+                          "robots: {delta: {model: " + robot_ + ", tools: {marker: }}}\n"
+                          "cameras: {stereo: {xyz: [0, 250, -150], rvec: [3.0, 0, 0]}}\n"
+                          "noise: {cameras: {stereo: {position_mm: [0.013, 0.012, 0.058]}}}\n";
   ExpectRejected(Run("home", job), "samples.csv:",
                  "homing needs at least 3 measured positions, the recording has 2");
 }

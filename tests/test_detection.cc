@@ -10,7 +10,7 @@
 
 #include "cellmetry/imaging/detection.h"
 #include "cellmetry/imaging/image_simulation.h"
-#include "cellmetry/cell/kinematic_simulation.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -80,19 +80,18 @@ class Detection : public ::testing::Test {
   void SetUp() override {
     RegisterCentroidDetector();
     dir_ = testing::TempDirForThisTest("detection");
-    spec_ = LoadKinematicSimulation(testing::Source("configs/simulations/delta_uniform_125.yaml"),
-                                    testing::Plugins());
-    spec_.count = 12;
+    WorkcellSimulationSpec spec = LoadWorkcellSimulation(
+        testing::Source("configs/simulations/delta_uniform_125.yaml"), testing::Plugins());
+    spec.robots.front().pose_set = PoseSetSpec{PoseSet::kCameraView, 12, ""};
     std::mt19937 rng(3);
-    truth_ = DrawTruth(spec_, rng);
-    Recording recording =
-        SimulateKinematic(spec_, truth_, MakePoseSet(spec_, PoseSet::kCameraView, 12, rng), rng);
+    const SimulatedDraw draw = DrawAndSimulate(spec, rng);
+    Recording recording = draw.recording;
     recording.observations.clear();
-    views_ = MarkerViews(spec_, truth_, recording);
+    views_ = WorkcellViews(draw.truth, recording);
     ImageRenderSpec images;
-    images.markers = {ReadTargetMarker(spec_.target, ConfigNode::LoadString("type: test_centroid", "test"),
+    images.markers = {ReadTargetMarker(kTarget, ConfigNode::LoadString("type: test_centroid", "test"),
                                        testing::Plugins())};
-    images.cameras[spec_.camera].rig = OakDLikeRig();
+    images.cameras[kCamera].rig = OakDLikeRig();
     images.render.noise_sigma = 1.0;
     images.render.supersampling = 3;
     const auto write = PlanImages(images, views_, 5, testing::Plugins(), &recording);
@@ -110,8 +109,7 @@ class Detection : public ::testing::Test {
   }
 
   std::string dir_;
-  KinematicSimulationSpec spec_;
-  KinematicState truth_;
+  const std::string kTarget = "marker", kCamera = "stereo";
   std::vector<SampleView> views_;
   DetectJob job_;
 };
@@ -145,17 +143,17 @@ TEST_F(Detection, TriangulatedObservationsAreWhereTheMarkerIs) {
     // This test's centroid is biased by perspective (a few hundredths of a pixel, differently in
     // the two views), which depth magnifies: within 2 mm at 0.35-0.55 m. Detector accuracy is
     // the detector plugins' tests' business; this checks the pipeline puts points in place.
-    EXPECT_LT((o.position_mm - view->T_cam_target.at(spec_.target).t).norm(), 2.0) << "sample " << o.sample;
+    EXPECT_LT((o.position_mm - view->T_cam_target.at(kTarget).t).norm(), 2.0) << "sample " << o.sample;
     EXPECT_GT((*o.covariance_mm2)(2, 2), (*o.covariance_mm2)(0, 0));  // depth is the weak axis
   }
 }
 
 TEST_F(Detection, BadImagesAreRecordedWithTheirReasonAndTheRunGoesOn) {
-  testing::WriteText(dir_ + "/rec/images/0_" + spec_.camera + "_left.png", "this is not a png");
-  testing::WriteText(dir_ + "/rec/images/1_" + spec_.camera + "_left.png", "");
-  WriteGrayImage(GrayImage(640, 480, 128), dir_ + "/rec/images/2_" + spec_.camera + "_left.png");
-  WriteGrayImage(GrayImage(1280, 800, 200), dir_ + "/rec/images/3_" + spec_.camera + "_left.png");  // no marker
-  fs::remove(dir_ + "/rec/images/4_" + spec_.camera + "_left.png");
+  testing::WriteText(dir_ + "/rec/images/0_" + kCamera + "_left.png", "this is not a png");
+  testing::WriteText(dir_ + "/rec/images/1_" + kCamera + "_left.png", "");
+  WriteGrayImage(GrayImage(640, 480, 128), dir_ + "/rec/images/2_" + kCamera + "_left.png");
+  WriteGrayImage(GrayImage(1280, 800, 200), dir_ + "/rec/images/3_" + kCamera + "_left.png");  // no marker
+  fs::remove(dir_ + "/rec/images/4_" + kCamera + "_left.png");
   const DetectSummary s = RunDetection(job_, testing::Plugins());
   EXPECT_EQ(s.processed, 24);
   EXPECT_EQ(s.found, 19);

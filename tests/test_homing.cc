@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cellmetry/cell/homing.h"
-#include "cellmetry/cell/kinematic_simulation.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -13,24 +13,41 @@ using ::testing::HasSubstr;
 
 const Eigen::Vector3d kDotNoise(0.013, 0.012, 0.058);
 
-KinematicSimulationSpec Spec() {
-  KinematicSimulationSpec spec = LoadKinematicSimulation(
+WorkcellSimulationSpec Spec() {
+  WorkcellSimulationSpec spec = LoadWorkcellSimulation(
       testing::Source("configs/simulations/delta_uniform_125.yaml"), testing::Plugins());
-  spec.sigma_mm = kDotNoise;
-  spec.errors.homing_increments = 20;  // the report's Table 5 went up to 20 increments
+  spec.sigma_position_mm = kDotNoise;
+  spec.robots.front().errors.homing_increments = 20;  // the report's Table 5 went up to 20
   return spec;
 }
 
-// The homing problem for a calibrated arm: true geometry and camera, homing unknown (0 start).
-KinematicProblem HomingProblem(const KinematicSimulationSpec& spec, const KinematicState& truth) {
-  KinematicProblem problem = SimulatedProblem(spec, Formulation::kInverse);
-  for (size_t i = 0; i < truth.model_values.size(); ++i) {
-    const bool homing = problem.model_parameters[i].unit == "rad";
-    problem.model_parameters[i].nominal = homing ? 0.0 : truth.model_values[i];
+double Increment(const WorkcellSimulationSpec& spec) {
+  return spec.robots.front().model->limits().joint_increment_rad;
+}
+
+// The arm as homing knows it: true geometry and camera, homing unknown (0 start).
+HomingArm CalibratedArm(const WorkcellSimulationSpec& truth) {
+  const SimulatedRobot& robot = truth.robots.front();
+  HomingArm arm;
+  arm.model = robot.model;
+  arm.model_parameters = robot.model->parameters();
+  for (size_t i = 0; i < arm.model_parameters.size(); ++i) {
+    const bool homing = arm.model_parameters[i].unit == "rad";
+    arm.model_parameters[i].nominal = homing ? 0.0 : robot.model_values[i];
   }
-  problem.T_base_cam_start = truth.T_base_cam;
-  problem.marker_mm = truth.marker_mm;
-  return problem;
+  arm.T_base_cam = truth.T_world_cam.at("stereo");
+  arm.marker_mm = robot.T_flange_target.at("marker").t;
+  return arm;
+}
+
+std::vector<PointSample> Points(const Recording& recording) {
+  std::vector<PointSample> points;
+  for (const auto& obs : recording.observations) {
+    const Sample& s = recording.samples[recording.SampleIndex(obs.sample)];
+    points.push_back({s.id, s.q, obs.position_mm, {"samples.csv", s.line, 0},
+                      {"observations.csv", obs.line, 0}});
+  }
+  return points;
 }
 
 struct HomingRunResult {
@@ -38,21 +55,19 @@ struct HomingRunResult {
   Eigen::Vector3d truth_rad;
 };
 
-HomingRunResult Home(const KinematicSimulationSpec& spec, int positions, unsigned seed) {
+HomingRunResult Home(WorkcellSimulationSpec spec, int positions, unsigned seed) {
+  spec.robots.front().pose_set = PoseSetSpec{PoseSet::kUniformWorkspace, positions, ""};
   std::mt19937 rng(seed);
-  const KinematicState truth = DrawTruth(spec, rng);
-  const auto commands = MakePoseSet(spec, PoseSet::kUniformWorkspace, positions, rng);
-  const Recording recording = SimulateKinematic(spec, truth, commands, rng);
-  const KinematicProblem problem = HomingProblem(spec, truth);
+  const SimulatedDraw draw = DrawAndSimulate(spec, rng);
   HomingRunResult out;
-  out.result = HomeVisually(problem, CollectPointSamples(problem, recording), kDotNoise, {});
-  for (int i = 0; i < 3; ++i) out.truth_rad[i] = truth.model_values[5 * i + 4];
+  out.result = HomeVisually(CalibratedArm(draw.truth), Points(draw.recording), kDotNoise, {});
+  for (int i = 0; i < 3; ++i) out.truth_rad[i] = draw.truth.robots.front().model_values[5 * i + 4];
   return out;
 }
 
 TEST(Homing, WithinOneIncrementOfTheTruthIn97PercentOfRuns) {
-  const KinematicSimulationSpec spec = Spec();
-  const double increment = spec.model->limits().joint_increment_rad;
+  const WorkcellSimulationSpec spec = Spec();
+  const double increment = Increment(spec);
   const int runs = 200;
   int interval_ok = 0, lsq_ok = 0, lsq_inside_3_sigma = 0;
   double worst_interval = 0.0, worst_lsq = 0.0, truth_size = 0.0;
@@ -82,7 +97,7 @@ TEST(Homing, SaysHowManyPositionsItUsedAndHowWideTheIntervalIs) {
   ASSERT_GE(run.result.runs.size(), 2u);  // first run and a validation rerun
   EXPECT_GE(run.result.runs.front().samples.size(), 3u);
   EXPECT_LE(run.result.runs.front().samples.size(), 30u);
-  const double increment = Spec().model->limits().joint_increment_rad;
+  const double increment = Increment(Spec());
   EXPECT_LT(run.result.interval_width_rad.maxCoeff(), increment);
   EXPECT_TRUE(run.result.validated) << run.result.validation;
   EXPECT_THAT(run.result.validation, HasSubstr("fresh positions"));

@@ -1,12 +1,14 @@
-// Kinematic calibration of the delta arm on simulated recordings with known truth.
+// Kinematic calibration of the delta arm on simulated recordings with known truth: a cell with
+// one robot, its model free, one camera and no world target, through the one pipeline.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <map>
 
-#include "cellmetry/cell/kinematic_calibration.h"
-#include "cellmetry/cell/kinematic_simulation.h"
+#include "cellmetry/cell/prediction.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -14,12 +16,11 @@ namespace {
 
 using ::testing::HasSubstr;
 
-KinematicSimulationSpec Spec(PoseSet set, int count, const Eigen::Vector3d& sigma) {
-  KinematicSimulationSpec spec = LoadKinematicSimulation(
+WorkcellSimulationSpec Spec(PoseSet set, int count, const Eigen::Vector3d& sigma) {
+  WorkcellSimulationSpec spec = LoadWorkcellSimulation(
       testing::Source("configs/simulations/delta_uniform_125.yaml"), testing::Plugins());
-  spec.pose_set = set;
-  spec.count = count;
-  spec.sigma_mm = sigma;
+  spec.robots.front().pose_set = PoseSetSpec{set, count, ""};
+  spec.sigma_position_mm = sigma;
   return spec;
 }
 
@@ -30,27 +31,34 @@ SolverMaker Lm() {
   };
 }
 
+PredictedTarget Marker() { return {"delta", "marker", "stereo"}; }
+
+std::string FormName(ResidualForm form) {
+  return form == ResidualForm::kJointSpace ? "inverse" : "forward";
+}
+
 struct SimulatedRun {
-  KinematicResult result;
+  WorkcellResult result;
   PredictionError validation;
   double floor_mm = 0.0;
-  KinematicState truth;
+  WorkcellSimulationSpec truth;
 };
 
-SimulatedRun Calibrate(const KinematicSimulationSpec& spec, Formulation formulation, unsigned seed,
-              bool with_floor = false) {
+SimulatedRun Calibrate(const WorkcellSimulationSpec& spec, ResidualForm form, unsigned seed,
+                       bool with_floor = false) {
   std::mt19937 rng(seed);
   SimulatedRun run;
-  run.truth = DrawTruth(spec, rng);
-  const auto commands = MakePoseSet(spec, spec.pose_set, spec.count, rng);
-  const Recording recording = SimulateKinematic(spec, run.truth, commands, rng);
-  const KinematicProblem problem = SimulatedProblem(spec, formulation);
-  const auto samples = CollectPointSamples(problem, recording);
-  run.result = CalibrateKinematics(problem, samples, Lm());
-  const auto validation = MakePoseSet(spec, PoseSet::kUniformWorkspace, 200, rng);
-  run.validation = ComparePredictions(*spec.model, run.result.state, run.truth, validation);
+  const SimulatedDraw draw = DrawAndSimulate(spec, rng);
+  run.truth = draw.truth;
+  const WorkcellProblem problem = SimulatedProblem(spec, form);
+  run.result = IdentifyWorkcell(problem, draw.recording, Lm());
+  const auto validation = DrawPoseSet(PoseSetGeometryOf(spec, spec.robots.front(), ""),
+                                      PoseSet::kUniformWorkspace, 200, rng);
+  const WorkcellEstimate truth = TruthEstimate(draw.truth);
+  run.validation = ComparePredictions(*spec.robots.front().model, run.result.estimate, truth,
+                                      Marker(), validation);
   if (with_floor) {
-    run.floor_mm = PredictionErrorFloorMm(problem, samples, validation, run.truth, spec.sigma_mm,
+    run.floor_mm = PredictionErrorFloorMm(problem, draw.recording, Marker(), validation, truth,
                                           run.result.unidentifiable);
   }
   return run;
@@ -59,7 +67,7 @@ SimulatedRun Calibrate(const KinematicSimulationSpec& spec, Formulation formulat
 struct Case {
   PoseSet set;
   int count;
-  Formulation formulation;
+  ResidualForm form;
 };
 
 class NoiseFree : public ::testing::TestWithParam<Case> {};
@@ -67,15 +75,15 @@ class NoiseFree : public ::testing::TestWithParam<Case> {};
 // The report reached ~2e-4 mm after 5000 Adam epochs (inverse) and never converged (forward).
 TEST_P(NoiseFree, LevenbergMarquardtRecoversTheArmToTheMicrometre) {
   const Case c = GetParam();
-  const SimulatedRun run = Calibrate(Spec(c.set, c.count, Eigen::Vector3d::Zero()), c.formulation, 5);
+  const SimulatedRun run = Calibrate(Spec(c.set, c.count, Eigen::Vector3d::Zero()), c.form, 5);
   EXPECT_LT(run.validation.max_mm, 1e-6) << run.result.solver.stop_reason;
   EXPECT_TRUE(run.result.weakly_identified.empty()) << run.result.weakly_identified.front().name;
   // Only R - r enters the kinematics: per arm, one of the two is reported, by name, as moving
   // together with the other, and held.
   ASSERT_EQ(run.result.unidentifiable.size(), 3u);
   for (int arm = 1; arm <= 3; ++arm) {
-    const std::string R = "model.arm" + std::to_string(arm) + ".R";
-    const std::string r = "model.arm" + std::to_string(arm) + ".r";
+    const std::string R = "delta.model.arm" + std::to_string(arm) + ".R";
+    const std::string r = "delta.model.arm" + std::to_string(arm) + ".r";
     const auto u = std::find_if(
         run.result.unidentifiable.begin(), run.result.unidentifiable.end(),
         [&](const UnidentifiableParameter& p) { return p.name == R || p.name == r; });
@@ -86,14 +94,16 @@ TEST_P(NoiseFree, LevenbergMarquardtRecoversTheArmToTheMicrometre) {
 
 std::string CaseName(const ::testing::TestParamInfo<Case>& info) {
   return PoseSetName(info.param.set) + "_" + std::to_string(info.param.count) + "_" +
-         FormulationName(info.param.formulation);
+         FormName(info.param.form);
 }
 
 std::vector<Case> AllCases() {
   std::vector<Case> cases;
   for (PoseSet set : {PoseSet::kCameraView, PoseSet::kUniformWorkspace, PoseSet::kBoundaries}) {
     for (int count : {24, 64, 125}) {
-      for (Formulation f : {Formulation::kInverse, Formulation::kForward}) cases.push_back({set, count, f});
+      for (ResidualForm f : {ResidualForm::kJointSpace, ResidualForm::kCartesian}) {
+        cases.push_back({set, count, f});
+      }
     }
   }
   return cases;
@@ -109,7 +119,7 @@ const Eigen::Vector3d kDotNoise(0.013, 0.012, 0.058);
 std::map<std::string, double> NormalizedErrors(const SimulatedRun& run) {
   std::map<std::string, double> out;
   const auto& est = run.result.model_parameters;
-  const auto& truth = run.truth.model_values;
+  const auto& truth = run.truth.robots.front().model_values;
   for (int arm = 0; arm < 3; ++arm) {
     const int b = 5 * arm;
     const std::string prefix = "arm" + std::to_string(arm + 1) + ".";
@@ -120,11 +130,11 @@ std::map<std::string, double> NormalizedErrors(const SimulatedRun& run) {
   return out;
 }
 
-class WithDotNoise : public ::testing::TestWithParam<Formulation> {};
+class WithDotNoise : public ::testing::TestWithParam<ResidualForm> {};
 
 // Held-out error within 1.2x of the Cramer-Rao floor, and every dimension inside its 3 sigma.
 TEST_P(WithDotNoise, HeldOutErrorIsNearTheFloorAndDimensionsInsideThreeSigma) {
-  const KinematicSimulationSpec spec = Spec(PoseSet::kUniformWorkspace, 125, kDotNoise);
+  const WorkcellSimulationSpec spec = Spec(PoseSet::kUniformWorkspace, 125, kDotNoise);
   const int runs = 40;
   double achieved2 = 0.0, floor2 = 0.0;
   std::map<std::string, int> inside;
@@ -144,14 +154,15 @@ TEST_P(WithDotNoise, HeldOutErrorIsNearTheFloorAndDimensionsInsideThreeSigma) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Formulations, WithDotNoise,
-                         ::testing::Values(Formulation::kForward, Formulation::kInverse),
-                         [](const ::testing::TestParamInfo<Formulation>& info) {
-                           return FormulationName(info.param);
+                         ::testing::Values(ResidualForm::kCartesian, ResidualForm::kJointSpace),
+                         [](const ::testing::TestParamInfo<ResidualForm>& info) {
+                           return FormName(info.param);
                          });
 
 // Every solver plugin works on the same kinematic problem (noise-free, 64 uniform positions).
 TEST(EverySolver, CalibratesTheArm) {
-  const KinematicSimulationSpec spec = Spec(PoseSet::kUniformWorkspace, 64, Eigen::Vector3d::Zero());
+  const WorkcellSimulationSpec spec =
+      Spec(PoseSet::kUniformWorkspace, 64, Eigen::Vector3d::Zero());
   const std::vector<std::pair<std::string, double>> solvers = {
       {"type: ceres_lm", 1e-6},
       {"type: jacobian_pinv", 1e-6},
@@ -159,21 +170,21 @@ TEST(EverySolver, CalibratesTheArm) {
       {"{type: gradient_descent, learning_rate: 0.05, epochs: 3000}", 0.05}};
   for (const auto& [yaml, tolerance_mm] : solvers) {
     std::mt19937 rng(12);
-    const KinematicState truth = DrawTruth(spec, rng);
-    const Recording recording =
-        SimulateKinematic(spec, truth, MakePoseSet(spec, spec.pose_set, spec.count, rng), rng);
-    const auto validation = MakePoseSet(spec, PoseSet::kUniformWorkspace, 100, rng);
-    KinematicProblem problem = SimulatedProblem(spec, Formulation::kForward);
-    HoldParametersNamed(".r", &problem);
+    const SimulatedDraw draw = DrawAndSimulate(spec, rng);
+    const auto validation = DrawPoseSet(PoseSetGeometryOf(spec, spec.robots.front(), ""),
+                                        PoseSet::kUniformWorkspace, 100, rng);
+    WorkcellProblem problem = SimulatedProblem(spec, ResidualForm::kCartesian);
+    HoldModelParameters(".r", &problem);
     const SolverMaker make = [yaml = yaml] {
       const ConfigNode config = ConfigNode::LoadString(yaml, "test");
       return testing::Plugins().CreateSolver(config["type"].AsString(), config);
     };
-    const KinematicResult result =
-        CalibrateKinematics(problem, CollectPointSamples(problem, recording), make);
-    const PredictionError before =
-        ComparePredictions(*spec.model, NominalState(spec), truth, validation);
-    const PredictionError after = ComparePredictions(*spec.model, result.state, truth, validation);
+    const WorkcellResult result = IdentifyWorkcell(problem, draw.recording, make);
+    const WorkcellEstimate truth = TruthEstimate(draw.truth);
+    const PredictionError before = ComparePredictions(*spec.robots.front().model, result.start,
+                                                      truth, Marker(), validation);
+    const PredictionError after = ComparePredictions(*spec.robots.front().model, result.estimate,
+                                                     truth, Marker(), validation);
     EXPECT_LT(after.max_mm, tolerance_mm) << yaml << ": " << result.solver.stop_reason;
     EXPECT_GT(before.rms_mm, 0.3) << "the simulated arm should start visibly off";
   }
@@ -181,34 +192,34 @@ TEST(EverySolver, CalibratesTheArm) {
 
 // All positions at one height: the data cannot tell some parameters apart, and says which.
 TEST(Identifiability, PosesAtOneHeightAreReportedByName) {
-  const KinematicSimulationSpec spec = Spec(PoseSet::kUniformWorkspace, 60, Eigen::Vector3d::Zero());
+  WorkcellSimulationSpec spec = Spec(PoseSet::kUniformWorkspace, 60, Eigen::Vector3d::Zero());
   std::mt19937 rng(8);
-  const KinematicState truth = DrawTruth(spec, rng);
-  const KinematicState nominal = NominalState(spec);
-  std::vector<std::vector<double>> commands;
+  DrawTruth(&spec, rng);
+  SimulatedRobot& robot = spec.robots.front();
+  robot.pose_set.reset();
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  while (commands.size() < 60) {
+  while (robot.joint_poses.size() < 60) {
     const Eigen::Vector3d p(140 * u(rng), 140 * u(rng), -590.0);
     if (p.head<2>().norm() > 150) continue;
     std::vector<double> q(3);
-    ASSERT_TRUE(spec.model->Inverse(p.data(), nominal.model_values.data(), q.data()));
-    commands.push_back(q);
+    ASSERT_TRUE(robot.model->Inverse(p.data(), robot.nominal_values.data(), q.data()));
+    robot.joint_poses.push_back(q);
   }
-  const Recording recording = SimulateKinematic(spec, truth, commands, rng);
-  KinematicProblem problem = SimulatedProblem(spec, Formulation::kForward);
-  HoldParametersNamed(".r", &problem);
-  const KinematicResult result =
-      CalibrateKinematics(problem, CollectPointSamples(problem, recording), Lm());
+  const Recording recording = SimulateWorkcell(spec, nullptr, rng);
+  WorkcellProblem problem = SimulatedProblem(spec, ResidualForm::kCartesian);
+  HoldModelParameters(".r", &problem);
+  const WorkcellResult result = IdentifyWorkcell(problem, recording, Lm());
   // Exactly identifiable (noise-free), so nothing is held; but the rod lengths, the homing
   // offsets and the camera's height move together and are named as barely identified.
   std::vector<std::string> weak;
   for (const auto& w : result.weakly_identified) weak.push_back(w.name);
-  for (const std::string name : {"camera.z", "model.arm1.l", "model.arm2.l", "model.arm3.l",
-                                 "model.arm1.homing", "model.arm2.homing", "model.arm3.homing"}) {
+  for (const std::string name :
+       {"stereo.z", "delta.model.arm1.l", "delta.model.arm2.l", "delta.model.arm3.l",
+        "delta.model.arm1.homing", "delta.model.arm2.homing", "delta.model.arm3.homing"}) {
     EXPECT_NE(std::find(weak.begin(), weak.end(), name), weak.end()) << name;
   }
   ASSERT_FALSE(result.warnings.empty());
-  EXPECT_THAT(result.warnings.back(), HasSubstr("other heights"));
+  EXPECT_THAT(result.warnings.front(), HasSubstr("other heights"));
 }
 
 }  // namespace

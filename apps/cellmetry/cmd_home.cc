@@ -1,10 +1,9 @@
 // `cellmetry home JOB.yaml`: visual homing of a calibrated arm (homing.h).
 #include <cstdio>
 
-#include "cellmetry/cell/homing.h"
-#include "cellmetry/cell/kinematic_job.h"
-#include "cellmetry/cell/kinematic_result_io.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/homing_io.h"
+#include "cellmetry/cell/homing_job.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -19,10 +18,9 @@ void AddHomeCommand(CLI::App& app, Context& context) {
     Progress::SetQuiet(context.quiet);
     LoadPlugins(context);
     const HomingJob job = LoadHomingJob(job_path, Registry::Global());
-    const std::vector<PointSample> samples =
-        CollectPointSamples(job.problem, ReadRecording(job.recording));
-    const HomingResult result = HomeVisually(job.problem, samples, job.sigma_mm, job.options);
-    const std::string folder = output.empty() ? job.output : output;
+    const std::vector<PointSample> samples = CollectPoints(job, ReadRecording(job.job.recording));
+    const HomingResult result = HomeVisually(job.arm, samples, job.sigma_mm, job.options);
+    const std::string folder = output.empty() ? job.job.output : output;
     WriteHomingResult(result, folder);
     std::printf("%s", HomingSummary(result).c_str());
     std::printf("  written: %s/homing.yaml\n", folder.c_str());

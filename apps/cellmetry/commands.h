@@ -25,7 +25,4 @@ void AddCompareCommand(CLI::App& app, Context& context);
 void AddDetectCommand(CLI::App& app, Context& context);
 void AddDiagnoseCommand(CLI::App& app, Context& context);
 
-// `cellmetry run` for `job: kinematic` (run_kinematic.cc).
-void RunKinematicJob(const std::string& job_path, const std::string& output);
-
 }  // namespace cellmetry::app

@@ -1,4 +1,7 @@
+// The delta report's Table 7 on the one cell pipeline (kinematic_compare.h).
 #include "cellmetry/experiments/kinematic_compare.h"
+
+#include "cellmetry/cell/workcell.h"
 
 #include <cstdio>
 #include <sstream>
@@ -8,6 +11,11 @@
 
 namespace cellmetry {
 namespace {
+
+// The report's words for the two residual forms.
+std::string FormulationName(ResidualForm form) {
+  return form == ResidualForm::kJointSpace ? "inverse" : "forward";
+}
 
 std::string Number(double value) {
   char text[32];
@@ -32,7 +40,14 @@ CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
   CompareSpec spec;
   spec.file = path;
   spec.simulation =
-      LoadKinematicSimulation(root.ResolvePath(root["simulation"].AsString()), registry);
+      LoadWorkcellSimulation(root.ResolvePath(root["simulation"].AsString()), registry);
+  if (!spec.simulation.world_target.empty() || spec.simulation.robots.size() != 1 ||
+      spec.simulation.robots[0].T_flange_target.size() != 1 ||
+      spec.simulation.T_world_cam.size() != 1) {
+    throw root["simulation"].Error("Table 7 calibrates one arm with one marker seen by one "
+                                   "camera, without a world target",
+                                   "Point simulation: at such a spec (world_target: none)");
+  }
   for (const auto& node : root["pose_sets"].Elements()) spec.pose_sets.push_back(ParsePoseSet(node));
   for (const auto& node : root["sizes"].Elements()) {
     spec.sizes.push_back(node.AsInt());
@@ -43,7 +58,8 @@ CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
     if (name != "forward" && name != "inverse") {
       throw node.Error("unknown formulation '" + name + "'", "Use forward or inverse");
     }
-    spec.formulations.push_back(name == "forward" ? Formulation::kForward : Formulation::kInverse);
+    spec.formulations.push_back(name == "forward" ? ResidualForm::kCartesian
+                                                  : ResidualForm::kJointSpace);
   }
   const ConfigNode solvers = root["solvers"];
   for (const auto& label : solvers.Keys()) {
@@ -57,12 +73,46 @@ CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
   return spec;
 }
 
-std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registry) {
-  const KinematicSimulationSpec& sim = spec.simulation;
+namespace {
+
+// What the table scores: the one marker in the one camera.
+PredictedTarget Scored(const WorkcellSimulationSpec& sim) {
+  const SimulatedRobot& robot = sim.robots.front();
+  return {robot.name, robot.T_flange_target.begin()->first, sim.T_world_cam.begin()->first};
+}
+
+// The fresh positions: drawn from the truth's stream after the truth itself, as before the
+// pipelines were one (the truth drawn again from `seed` is the simulation's own).
+std::vector<std::vector<double>> ValidationCommands(const WorkcellSimulationSpec& sim, int count) {
+  WorkcellSimulationSpec again = sim;
   std::mt19937 truth_rng(sim.seed);
-  const KinematicState truth = DrawTruth(sim, truth_rng);
-  const auto validation = MakePoseSet(sim, PoseSet::kUniformWorkspace, spec.validation_points,
-                                      truth_rng);
+  DrawTruth(&again, truth_rng);
+  return DrawPoseSet(PoseSetGeometryOf(sim, sim.robots.front(), ""), PoseSet::kUniformWorkspace,
+                     count, truth_rng);
+}
+
+CompareRow Score(const WorkcellSimulationSpec& sim, const WorkcellProblem& problem,
+                 const Recording& recording, const WorkcellResult& result,
+                 const std::vector<std::vector<double>>& validation) {
+  CompareRow row;
+  const WorkcellEstimate truth = TruthEstimate(sim);
+  row.validation = ComparePredictions(*sim.robots.front().model, result.estimate, truth,
+                                      Scored(sim), validation);
+  if (!sim.sigma_position_mm.isZero()) {
+    row.floor_rms_mm = PredictionErrorFloorMm(problem, recording, Scored(sim), validation, truth,
+                                              result.unidentifiable);
+  }
+  row.iterations = result.solver.iterations;
+  row.time_s = result.solver.time_s;
+  row.stop_reason = result.solver.stop_reason;
+  return row;
+}
+
+}  // namespace
+
+std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registry) {
+  const WorkcellSimulationSpec& sim = spec.simulation;
+  const auto validation = ValidationCommands(sim, spec.validation_points);
   std::vector<CompareRow> rows;
   Progress progress("comparison row", static_cast<int>(spec.pose_sets.size() * spec.sizes.size() *
                                                        spec.formulations.size() *
@@ -71,29 +121,21 @@ std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registr
     for (int size : spec.sizes) {
       // One recording per (pose set, size), shared by every formulation and solver.
       std::mt19937 rng(sim.seed * 7919u + static_cast<unsigned>(set) * 131u + size);
-      const auto commands = MakePoseSet(sim, set, size, rng);
-      const Recording recording = SimulateKinematic(sim, truth, commands, rng);
-      for (Formulation formulation : spec.formulations) {
-        const KinematicProblem problem = SimulatedProblem(sim, formulation);  // all free
-        const auto samples = CollectPointSamples(problem, recording);
+      WorkcellSimulationSpec drawn = sim;
+      drawn.robots.front().pose_set = PoseSetSpec{set, size, ""};
+      const Recording recording = SimulateWorkcell(drawn, nullptr, rng);
+      for (ResidualForm formulation : spec.formulations) {
+        const WorkcellProblem problem = SimulatedProblem(sim, formulation);  // all free
         for (const auto& [label, block] : spec.solvers) {
           const SolverMaker make = [&, &block = block] {
             return registry.CreateSolver(block["type"].AsString(), block);
           };
-          const KinematicResult result = CalibrateKinematics(problem, samples, make);
-          CompareRow row;
+          CompareRow row = Score(sim, problem, recording,
+                                 IdentifyWorkcell(problem, recording, make), validation);
           row.pose_set = set;
           row.size = size;
           row.formulation = formulation;
           row.solver = label;
-          row.validation = ComparePredictions(*sim.model, result.state, truth, validation);
-          if (!sim.sigma_mm.isZero()) {
-            row.floor_rms_mm = PredictionErrorFloorMm(problem, samples, validation, truth,
-                                                      sim.sigma_mm, result.unidentifiable);
-          }
-          row.iterations = result.solver.iterations;
-          row.time_s = result.solver.time_s;
-          row.stop_reason = result.solver.stop_reason;
           rows.push_back(row);
           progress.Advance();
         }
@@ -104,7 +146,7 @@ std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registr
 }
 
 std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<CompareRow>& rows) {
-  const Eigen::Vector3d& s = spec.simulation.sigma_mm;
+  const Eigen::Vector3d& s = spec.simulation.sigma_position_mm;
   std::ostringstream out;
   out << "Validation error against the truth on " << spec.validation_points
       << " fresh positions (marker in the camera frame, mm); noise sigma (x, y, depth) = ("

@@ -1,3 +1,4 @@
+// Visual homing (homing.h): the interval algorithm and weighted least squares, side by side.
 #include "cellmetry/cell/homing.h"
 
 #include <algorithm>
@@ -17,31 +18,49 @@ struct MeasuredOffset {
   Eigen::Matrix3d weight;  // (J Sigma J^T)^-1
 };
 
-std::vector<MeasuredOffset> MeasureOffsets(const KinematicProblem& problem,
+// Joint values that put the marker at `p_cam` (inverse kinematics through the camera pose and
+// marker offset) and their derivative d q / d p_cam, on Jets; false where out of reach.
+bool InverseInCamera(const HomingArm& arm, const std::vector<double>& values,
+                     const Eigen::Vector3d& p_cam, Eigen::Vector3d* q_out,
+                     Eigen::Matrix3d* d_q_d_p_cam) {
+  const Eigen::Vector3d flange = arm.T_base_cam * p_cam - arm.marker_mm;
+  const std::vector<Jet> params(values.begin(), values.end());
+  Jet position[3], q[3];
+  for (int i = 0; i < 3; ++i) {
+    position[i] = Jet(flange[i]);
+    for (int k = 0; k < 3; ++k) position[i].v[k] = arm.T_base_cam.R(i, k);  // d flange / d p_cam
+  }
+  if (!arm.model->Inverse(position, params.data(), q)) return false;
+  for (int i = 0; i < 3; ++i) {
+    (*q_out)[i] = q[i].a;
+    for (int k = 0; k < 3; ++k) (*d_q_d_p_cam)(i, k) = q[i].v[k];
+  }
+  return true;
+}
+
+std::vector<MeasuredOffset> MeasureOffsets(const HomingArm& arm,
                                            const std::vector<PointSample>& samples,
                                            const Eigen::Vector3d& sigma_mm) {
-  KinematicState state;
-  state.T_base_cam = *problem.T_base_cam_start;
-  state.marker_mm = problem.marker_mm;
-  for (const auto& p : problem.model_parameters) state.model_values.push_back(p.nominal);
+  std::vector<double> values;
+  for (const auto& p : arm.model_parameters) values.push_back(p.nominal);
   std::vector<MeasuredOffset> out;
   for (const PointSample& s : samples) {
     Eigen::Vector3d q;
     Eigen::Matrix3d J;
-    if (!InverseInCamera(*problem.model, state, s.p_cam_mm, &q, &J)) {
-      const Eigen::Vector3d flange = state.T_base_cam * s.p_cam_mm - state.marker_mm;
+    if (!InverseInCamera(arm, values, s.p_cam_mm, &q, &J)) {
+      const Eigen::Vector3d flange = arm.T_base_cam * s.p_cam_mm - arm.marker_mm;
       throw InputError(s.measured_at,
                        "the measured point is out of the arm's reach: " +
-                           problem.model->InverseFailure(flange.data(), state.model_values.data()),
+                           arm.model->InverseFailure(flange.data(), values.data()),
                        "Check the camera pose and marker offset, or remove this observation");
     }
     // theta = q_ik + homing_estimate; the offset is theta - command (motor i: entry 5 i + 4).
     MeasuredOffset m;
     m.sample = s.sample;
     for (int i = 0; i < 3; ++i) {
-      const int homing = FindParameter(problem.model_parameters,
+      const int homing = FindParameter(arm.model_parameters,
                                        "arm" + std::to_string(i + 1) + ".homing");
-      const double estimate = homing >= 0 ? problem.model_parameters[homing].nominal : 0.0;
+      const double estimate = homing >= 0 ? arm.model_parameters[homing].nominal : 0.0;
       m.offset_rad[i] = q[i] + estimate - s.q[i];
     }
     const Eigen::Matrix3d cov = J * sigma_mm.cwiseAbs2().asDiagonal() * J.transpose();
@@ -98,15 +117,11 @@ double InIncrements(double rad, double increment_rad) {
   return increment_rad > 0 ? rad / increment_rad : rad;
 }
 
-HomingResult HomeVisually(const KinematicProblem& problem, const std::vector<PointSample>& samples,
+HomingResult HomeVisually(const HomingArm& arm, const std::vector<PointSample>& samples,
                           const Eigen::Vector3d& sigma_mm, const HomingOptions& options) {
-  if (!problem.T_base_cam_start) {
-    throw InputError({"", 0, 0}, "homing needs the camera pose",
-                     "Give camera: {xyz, rvec} from a calibration result");
-  }
   HomingResult result;
-  result.increment_rad = problem.model->limits().joint_increment_rad;
-  std::vector<MeasuredOffset> pool = MeasureOffsets(problem, samples, sigma_mm);
+  result.increment_rad = arm.model->limits().joint_increment_rad;
+  std::vector<MeasuredOffset> pool = MeasureOffsets(arm, samples, sigma_mm);
   result.positions = static_cast<int>(pool.size());
   if (result.positions < options.min_positions) {
     const std::string file = samples.empty() ? "" : samples.front().command_at.file;

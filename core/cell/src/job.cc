@@ -1,3 +1,4 @@
+// The one job reader (job.h): every cell, from a multi-robot workcell to a delta arm.
 #include "cellmetry/cell/job.h"
 
 #include <algorithm>
@@ -7,7 +8,67 @@
 namespace cellmetry {
 namespace {
 
-WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, Registry& registry) {
+// `free_model: [names] | all`: which of the model's parameters the job identifies.
+void ReadFreeModel(const ConfigNode& free, const std::string& type, WorkcellRobot* robot) {
+  for (const auto& entry : free.AsStrings()) {
+    if (entry == "all") {
+      for (auto& p : robot->model_parameters) p.fixed = false;
+      continue;
+    }
+    const int index = FindParameter(robot->model_parameters, entry);
+    if (index < 0) {
+      std::vector<std::string> known;
+      for (const auto& p : robot->model_parameters) known.push_back(p.name);
+      const std::string nearest = NearestWord(entry, known);
+      throw free.Error("robot model '" + type + "' has no parameter '" + entry + "'",
+                       nearest.empty() ? "Run 'cellmetry plugins' to list its parameters"
+                                       : "Did you mean '" + nearest + "'?");
+    }
+    robot->model_parameters[index].fixed = false;
+  }
+}
+
+// `tools: {<target>: {xyz, rvec, free}}`; a target with no value starts at the model's nominal
+// tool (the flange for a serial arm, the marker offset of a delta's config), position free.
+void ReadTools(const ConfigNode& tools, WorkcellRobot* robot) {
+  for (const auto& target : tools.Keys()) {
+    WorkcellTool t;
+    t.target = target;
+    t.flange_tool.start = robot->model->nominal_tool();
+    t.flange_tool.free = {true, true, true, false, false, false};
+    t.flange_tool.description = "target '" + target + "' on the flange of " + robot->name;
+    if (const auto tool = tools.Optional(target)) {
+      tool->ExpectKeys({"xyz", "rvec", "free"});
+      if (tool->Has("xyz") || tool->Has("rvec")) t.flange_tool.start = ReadPose(*tool);
+      t.flange_tool.free = ReadFreeFlags(*tool, t.flange_tool.free);
+    }
+    robot->tools.push_back(t);
+  }
+}
+
+// `base: {free, start}`. Without a world target the base is the world: held, at its start.
+void ReadBase(const ConfigNode& node, bool world_is_base, WorkcellRobot* robot) {
+  robot->base.free.fill(!world_is_base);
+  robot->base.description = "base of " + robot->name + " in the world";
+  if (world_is_base) robot->base_start = Pose::Identity();
+  if (!node.Has("base")) {
+    if (robot->base_start) robot->base.start = *robot->base_start;
+    return;
+  }
+  const ConfigNode base = node["base"];
+  base.ExpectKeys({"free", "start"});
+  robot->base.free = ReadFreeFlags(base, robot->base.free);
+  if (base.Has("start")) robot->base_start = ReadPose(base["start"]);
+  if (world_is_base && std::find(robot->base.free.begin(), robot->base.free.end(), true) !=
+                           robot->base.free.end()) {
+    throw base["free"].Error("without a world target the robot's base is the world frame",
+                             "Hold the base (free: none), or name a world_target");
+  }
+  if (robot->base_start) robot->base.start = *robot->base_start;
+}
+
+WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, bool world_is_base,
+                        Registry& registry) {
   node.ExpectKeys({"model", "base", "tools", "free_model", "effects"});
   WorkcellRobot robot;
   robot.name = name;
@@ -21,51 +82,25 @@ WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, Registr
   robot.model = registry.CreateRobotModel(type, model_config);
   robot.model_parameters = robot.model->parameters();
   for (auto& p : robot.model_parameters) p.fixed = true;  // the job frees what it identifies
-  if (node.Has("free_model")) {
-    const ConfigNode free = node["free_model"];
-    for (const auto& entry : free.AsStrings()) {
-      if (entry == "all") {
-        for (auto& p : robot.model_parameters) p.fixed = false;
-        continue;
-      }
-      const int index = FindParameter(robot.model_parameters, entry);
-      if (index < 0) {
-        std::vector<std::string> known;
-        for (const auto& p : robot.model_parameters) known.push_back(p.name);
-        const std::string nearest = NearestWord(entry, known);
-        throw free.Error("robot model '" + type + "' has no parameter '" + entry + "'",
-                         nearest.empty() ? "Run 'cellmetry plugins' to list its parameters"
-                                         : "Did you mean '" + nearest + "'?");
-      }
-      robot.model_parameters[index].fixed = false;
-    }
-  }
-
-  robot.base.free.fill(true);
-  robot.base.description = "base of " + name + " in the world";
-  if (node.Has("base")) {
-    const ConfigNode base = node["base"];
-    base.ExpectKeys({"free", "start"});
-    robot.base.free = ReadFreeFlags(base, robot.base.free);
-    if (base.Has("start")) robot.base_start = ReadPose(base["start"]);
-  }
-  if (robot.base_start) robot.base.start = *robot.base_start;
-
-  const ConfigNode tools = node["tools"];
-  for (const auto& target : tools.Keys()) {
-    WorkcellTool t;
-    t.target = target;
-    t.flange_tool.free = {true, true, true, false, false, false};
-    t.flange_tool.description = "target '" + target + "' on the flange of " + name;
-    // `target:` with no value is allowed: position free, starting at the flange.
-    if (const auto tool = tools.Optional(target)) {
-      tool->ExpectKeys({"xyz", "rvec", "free"});
-      t.flange_tool.start = ReadPose(*tool);
-      t.flange_tool.free = ReadFreeFlags(*tool, t.flange_tool.free);
-    }
-    robot.tools.push_back(t);
-  }
+  if (node.Has("free_model")) ReadFreeModel(node["free_model"], type, &robot);
+  ReadBase(node, world_is_base, &robot);
+  ReadTools(node["tools"], &robot);
   return robot;
+}
+
+// `cameras: {<name>: {xyz, rvec, free}}`: a start (none: closed form) and the free entries.
+std::map<std::string, WorkcellCamera> ReadCameras(const ConfigNode& cameras) {
+  std::map<std::string, WorkcellCamera> out;
+  for (const auto& name : cameras.Keys()) {
+    WorkcellCamera camera;
+    if (const auto node = cameras.Optional(name)) {
+      node->ExpectKeys({"xyz", "rvec", "free"});
+      if (node->Has("xyz") || node->Has("rvec")) camera.start = ReadPose(*node);
+      camera.free = ReadFreeFlags(*node, camera.free);
+    }
+    out[name] = camera;
+  }
+  return out;
 }
 
 NoiseSpec ReadNoise(const ConfigNode& node) {
@@ -113,83 +148,153 @@ void AddEffects(const ConfigNode& list, const std::string& robot, const std::str
   }
 }
 
-WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
-                            bool recording_must_exist) {
-  const ConfigNode root = ConfigNode::LoadFile(path);
-  root.ExpectKeys({"job", "description", "recording", "output", "plugin_paths", "world_target",
-                   "camera_model", "use_tool_rotation", "robots", "noise", "solver",
-                   "validation", "identifiability_tolerance", "effects", "gravity_base",
-                   "diagnosis"});
-  WorkcellJob job;
-  job.file = path;
-  const std::string kind = root["job"].AsString();
-  if (kind != "workcell") {
-    throw root["job"].Error("unknown job kind '" + kind + "'", "This version runs: workcell");
+namespace {
+
+// The job kinds this reader reads; `kinematic` was the delta's own reader before there was one.
+void CheckKind(const ConfigNode& kind_node) {
+  const std::string kind = kind_node.AsString();
+  if (kind == "workcell" || kind == "homing") return;
+  if (kind == "kinematic") {
+    throw kind_node.Error("'job: kinematic' is now a workcell job",
+                          "Write job: workcell with the robot under robots:, its marker under "
+                          "tools:, world_target: none, the camera under cameras:, and "
+                          "formulation: inverse as residual: joint_space (docs/formats.md)");
   }
-  if (root.Has("plugin_paths")) {
-    for (const auto& folder : root["plugin_paths"].AsStrings()) {
-      registry.LoadFolder(root.ResolvePath(folder));
+  throw kind_node.Error("unknown job kind '" + kind + "'", "Use workcell or homing");
+}
+
+CameraModel ReadCameraModel(const ConfigNode& root) {
+  const std::string name = root.GetString("camera_model", "static_cameras");
+  if (name == "static_cameras") return CameraModel::kStaticCameras;
+  if (name == "per_frame") return CameraModel::kPerFrame;
+  throw root["camera_model"].Error("unknown camera model '" + name + "'",
+                                   "Use static_cameras or per_frame");
+}
+
+// `residual: cartesian | joint_space`; joint space where every robot has inverse kinematics.
+ResidualForm ReadResidual(const ConfigNode& root, const WorkcellProblem& problem) {
+  const std::string name = root.GetString("residual", "cartesian");
+  if (name == "cartesian") return ResidualForm::kCartesian;
+  if (name != "joint_space") {
+    throw root["residual"].Error("unknown residual '" + name + "'", "Use cartesian or joint_space");
+  }
+  const ConfigNode node = root["residual"];
+  for (const auto& robot : problem.robots) {
+    if (!robot.model->has_inverse() || robot.model->num_joints() != 3) {
+      throw node.Error("the joint-space residual needs position inverse kinematics, and '" +
+                           robot.name + "' has none",
+                       "Use residual: cartesian");
     }
   }
-  job.recording = recording_must_exist
-                      ? ReadRecordingPath(root["recording"])
-                      : root["recording"].ResolvePath(root["recording"].AsString());
-  const std::string stem = std::filesystem::path(path).stem().string();
-  job.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
-                                  : "results/" + stem;
-  WorkcellProblem& problem = job.problem;
-  problem.world_target = root.GetString("world_target", problem.world_target);
-  const std::string camera_model = root.GetString("camera_model", "static_cameras");
-  if (camera_model == "static_cameras") {
-    problem.camera_model = CameraModel::kStaticCameras;
-  } else if (camera_model == "per_frame") {
-    problem.camera_model = CameraModel::kPerFrame;
-  } else {
-    throw root["camera_model"].Error("unknown camera model '" + camera_model + "'",
-                                     "Use static_cameras or per_frame");
+  if (problem.camera_model != CameraModel::kStaticCameras || problem.use_tool_rotation ||
+      !problem.effects.empty()) {
+    throw node.Error("the joint-space residual compares positions seen by static cameras, "
+                     "without effects",
+                     "Use residual: cartesian");
   }
-  problem.use_tool_rotation = root.GetBool("use_tool_rotation", false);
-  problem.identifiability_tolerance =
-      root.GetDouble("identifiability_tolerance", problem.identifiability_tolerance);
-  job.locations["world_target"] =
-      root.Has("world_target") ? root["world_target"].location() : root.location();
+  return ResidualForm::kJointSpace;
+}
+
+// `robots:`, their effects and the cell-wide measurement effects; where each is named.
+void ReadRobots(const ConfigNode& root, Registry& registry, WorkcellJob* job) {
+  WorkcellProblem& problem = job->problem;
   const ConfigNode robots = root["robots"];
   for (const auto& name : robots.Keys()) {
     const ConfigNode robot = robots[name];
-    problem.robots.push_back(ReadRobot(name, robot, registry));
-    job.locations["robots." + name] = robot.location();
+    problem.robots.push_back(ReadRobot(name, robot, problem.world_target.empty(), registry));
+    job->locations["robots." + name] = robot.location();
     for (const auto& target : robot["tools"].Keys()) {
       const auto tool = robot["tools"].Optional(target);
-      job.locations["robots." + name + ".tools." + target] =
+      job->locations["robots." + name + ".tools." + target] =
           tool ? tool->location() : robot["tools"].location();
     }
+  }
+  if (problem.world_target.empty() && problem.robots.size() != 1) {
+    throw root["world_target"].Error("without a world target the cell's one robot base is the "
+                                     "world; this job has " +
+                                     std::to_string(problem.robots.size()) + " robots",
+                                     "Name a world_target that every camera can relate to");
   }
   for (const auto& name : robots.Keys()) {
     if (robots[name].Has("effects")) {
       AddEffects(robots[name]["effects"], name, name, registry, &problem);
     }
   }
-  if (root.Has("effects")) {
-    AddEffects(root["effects"], problem.robots.front().name, "camera", registry, &problem);
-    for (const auto& e : problem.effects) {
-      if (e.name.rfind("camera.", 0) == 0 && e.effect->stage() != EffectStage::kMeasurement) {
-        throw root["effects"].Error("'" + e.name + "' acts on a robot's joints or flange",
-                                    "List it under that robot's effects:");
-      }
+  if (!root.Has("effects")) return;
+  AddEffects(root["effects"], problem.robots.front().name, "camera", registry, &problem);
+  for (const auto& e : problem.effects) {
+    if (e.name.rfind("camera.", 0) == 0 && e.effect->stage() != EffectStage::kMeasurement) {
+      throw root["effects"].Error("'" + e.name + "' acts on a robot's joints or flange",
+                                  "List it under that robot's effects:");
     }
   }
+}
+
+// Tolerances, cross-validation and gravity.
+void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
+  problem->use_tool_rotation = root.GetBool("use_tool_rotation", false);
+  problem->identifiability_tolerance =
+      root.GetDouble("identifiability_tolerance", problem->identifiability_tolerance);
+  problem->weak_vif = root.GetDouble("weak_vif", problem->weak_vif);
   if (root.Has("gravity_base")) {
     const auto g = root["gravity_base"].AsDoubles(3);
-    problem.gravity_base = Eigen::Vector3d(g[0], g[1], g[2]);
+    problem->gravity_base = Eigen::Vector3d(g[0], g[1], g[2]);
   }
-  if (root.Has("noise")) problem.noise = ReadNoise(root["noise"]);
-  if (root.Has("validation")) {
-    const ConfigNode v = root["validation"];
-    v.ExpectKeys({"folds", "seed", "compare_camera_models"});
-    problem.folds = v.GetInt("folds", problem.folds);
-    problem.seed = static_cast<unsigned>(v.GetInt("seed", 1));
-    problem.compare_camera_models = v.GetBool("compare_camera_models", false);
+  if (root.Has("noise")) problem->noise = ReadNoise(root["noise"]);
+  if (!root.Has("validation")) return;
+  const ConfigNode v = root["validation"];
+  v.ExpectKeys({"folds", "seed", "compare_camera_models"});
+  problem->folds = v.GetInt("folds", problem->folds);
+  problem->seed = static_cast<unsigned>(v.GetInt("seed", 1));
+  problem->compare_camera_models = v.GetBool("compare_camera_models", false);
+}
+
+// Where the recording is and where the result goes.
+void ReadPaths(const ConfigNode& root, const std::string& path, bool recording_must_exist,
+               WorkcellJob* job) {
+  job->recording = recording_must_exist
+                       ? ReadRecordingPath(root["recording"])
+                       : root["recording"].ResolvePath(root["recording"].AsString());
+  if (root.Has("validation_recording")) {
+    job->validation_recording = ReadRecordingPath(root["validation_recording"]);
   }
+  const std::string stem = std::filesystem::path(path).stem().string();
+  job->output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
+                                   : "results/" + stem;
+}
+
+}  // namespace
+
+WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
+                            bool recording_must_exist) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"job", "description", "recording", "validation_recording", "output",
+                   "plugin_paths", "world_target", "camera_model", "residual",
+                   "use_tool_rotation", "robots", "cameras", "noise", "solver", "validation",
+                   "identifiability_tolerance", "weak_vif", "effects", "gravity_base",
+                   "diagnosis", "homing"});
+  CheckKind(root["job"]);
+  WorkcellJob job;
+  job.file = path;
+  job.kind = root["job"].AsString();
+  if (root.Has("plugin_paths")) {
+    for (const auto& folder : root["plugin_paths"].AsStrings()) {
+      registry.LoadFolder(root.ResolvePath(folder));
+    }
+  }
+  ReadPaths(root, path, recording_must_exist, &job);
+  WorkcellProblem& problem = job.problem;
+  problem.world_target = root.GetString("world_target", problem.world_target);
+  if (problem.world_target == "none") problem.world_target.clear();
+  job.locations["world_target"] =
+      root.Has("world_target") ? root["world_target"].location() : root.location();
+  problem.camera_model = ReadCameraModel(root);
+  ReadOptions(root, &problem);
+  ReadRobots(root, registry, &job);
+  if (root.Has("cameras")) problem.cameras = ReadCameras(root["cameras"]);
+  problem.residual = ReadResidual(root, problem);
+  if (root.Has("homing")) job.homing = root["homing"];
+  if (job.kind == "homing" && !root.Has("solver")) return job;
   const ConfigNode solver = root["solver"];
   job.solver_type = solver["type"].AsString();
   job.solver_config = solver;
@@ -205,7 +310,8 @@ SourceLocation WorkcellJob::Where(const std::string& key) const {
 
 void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& recording) {
   const auto world = recording.targets.find(job.problem.world_target);
-  if (world == recording.targets.end() || world->second != kWorldCarrier) {
+  if (!job.problem.world_target.empty() &&
+      (world == recording.targets.end() || world->second != kWorldCarrier)) {
     throw InputError(job.Where("world_target"), "the recording has no world-fixed target '" +
                                 job.problem.world_target + "'",
                      "Set 'world_target:' to a target that recording.yaml puts 'on: world'");

@@ -1,3 +1,4 @@
+// Writing a WorkcellResult (result_io.h): result.yaml, result.json, residuals.csv, the summary.
 #include "cellmetry/cell/result_io.h"
 
 #include <yaml-cpp/yaml.h>
@@ -47,6 +48,34 @@ double NoiseFloorMm(const WorkcellResult& r, const std::string& camera = "") {
   return count ? std::sqrt(sum / count) : NAN;
 }
 
+nlohmann::json EstimateJson(const WorkcellEstimate& e) {
+  nlohmann::json j = nlohmann::json::object();
+  auto frame = [](const Pose& pose) {
+    return nlohmann::json{{"xyz_mm", Vec(pose.t)}, {"rvec_rad", Vec(RvecFromRotation(pose.R))}};
+  };
+  for (const auto& [robot, pose] : e.T_world_base) j["frames"][robot + ".base"] = frame(pose);
+  for (const auto& [target, pose] : e.T_flange_target) j["frames"][target] = frame(pose);
+  for (const auto& [camera, pose] : e.T_world_cam) j["frames"][camera] = frame(pose);
+  return j;
+}
+
+nlohmann::json ScoreJson(const RecordingScore& v) {
+  return {{"recording", v.recording},
+          {"before_mm", RmsJson(v.before)},
+          {"after_mm", RmsJson(v.after)},
+          {"mean_after_mm", v.mean_after_mm},
+          {"max_after_mm", v.max_after_mm}};
+}
+
+nlohmann::json WeakJson(const std::vector<WeakParameter>& weak) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& w : weak) {
+    j.push_back(
+        {{"name", w.name}, {"variance_inflation", w.variance_inflation}, {"partners", w.partners}});
+  }
+  return j;
+}
+
 }  // namespace
 
 std::string WorkcellResultYaml(const WorkcellResult& result) {
@@ -74,7 +103,9 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   nlohmann::json j;
   j["format"] = "cellmetry-result/1";
   j["camera_model"] = CameraModelName(r.camera_model);
+  j["residual"] = ResidualFormName(r.residual_form);
   j["solver"] = SolverJson(r.solver);
+  j["start"] = EstimateJson(r.start);
   for (const auto& f : r.frames) {
     nlohmann::json held = nlohmann::json::array();
     for (int i = 0; i < 6; ++i) {
@@ -93,12 +124,14 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
                                      {"value", p.value}, {"sigma", p.sigma}, {"held", p.held}});
   }
   AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
+  j["weakly_identified"] = WeakJson(r.weakly_identified);
   j["noise_used"] = NoiseJson(r.noise);
   j["repeatability"] = NoiseJson(r.repeatability);
   for (const auto& [key, rms] : r.position_rms) j["residual_rms"]["position_mm"][key] = RmsJson(rms);
   for (const auto& [key, rms] : r.rotation_rms) j["residual_rms"]["rotation_rad"][key] = RmsJson(rms);
   j["held_out"] = HeldOutJson(r.held_out);
   for (const auto& [model, h] : r.other_models) j["other_models"][model] = HeldOutJson(h);
+  if (r.validation) j["validation"] = ScoreJson(*r.validation);
   const double floor = NoiseFloorMm(r);
   j["noise_floor_mm"] = std::isnan(floor) ? nlohmann::json(nullptr) : nlohmann::json(floor);
   j["skipped_observations"] = r.skipped;
@@ -129,7 +162,9 @@ void WriteWorkcellResult(const WorkcellResult& result, const std::string& folder
 
 std::string WorkcellSummary(const WorkcellResult& r) {
   std::ostringstream out;
-  out << "Workcell identification (" << CameraModelName(r.camera_model) << ", solver "
+  out << "Workcell identification (" << CameraModelName(r.camera_model)
+      << (r.residual_form == ResidualForm::kJointSpace ? ", joint-space residual" : "")
+      << ", solver "
       << r.solver.solver << ": " << r.solver.iterations << " iterations, "
       << Fixed(r.solver.time_s * 1e3, 1) << " ms, " << r.solver.stop_reason << ")\n";
   for (const auto& f : r.frames) {
@@ -167,6 +202,13 @@ std::string WorkcellSummary(const WorkcellResult& r) {
         << (std::isnan(floor) ? std::string("unknown (no repeated captures)")
                               : Fixed(floor, 3) + " mm")
         << "\n";
+  }
+  if (r.validation) {
+    const RecordingScore& v = *r.validation;
+    out << "  on fresh poses (" << v.after.count << " from " << v.recording
+        << "): RMS before " << Fixed(v.before.norm, 3) << " mm (closed-form start), after "
+        << Fixed(v.after.norm, 4) << " mm; mean " << Fixed(v.mean_after_mm, 4) << ", max "
+        << Fixed(v.max_after_mm, 4) << " mm\n";
   }
   for (const auto& w : r.warnings) out << "  warning: " << w << "\n";
   return out.str();

@@ -1,4 +1,7 @@
+// The workcell identification (workcell.h): fit, sigma, uncertainty, residuals, held-out.
 #include "cellmetry/cell/workcell.h"
+
+#include "cellmetry/basics/error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -64,6 +67,20 @@ std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled) {
   return rows;
 }
 
+// Prediction - measurement rows at `estimate`, in the measurement's units (mm / rad), whatever
+// residual form the fit used: a joint-space fit's rows are whitened joint errors, so its
+// measurements are compared again in the camera frame.
+std::vector<ResidualRow> MeasurementRows(const WorkcellProblem& spec, const Recording& recording,
+                                         const WorkcellData& data, const NoiseModel& noise,
+                                         const WorkcellEstimate& estimate,
+                                         const std::set<int>& poses, AssembledWorkcell* fitted) {
+  if (spec.residual == ResidualForm::kCartesian && fitted) return ResidualRows(*fitted);
+  WorkcellProblem cartesian = spec;
+  cartesian.residual = ResidualForm::kCartesian;
+  auto assembled = AssembleWorkcell(cartesian, recording, data, noise, estimate, poses);
+  return ResidualRows(*assembled);
+}
+
 // Replaces "unknown" sigma by the residual RMS per axis, corrected for the fitted parameters.
 bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, NoiseModel* noise) {
   std::map<NoiseKey, std::pair<ResidualRms, ResidualRms>> sums;  // position, rotation
@@ -115,11 +132,11 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     }
     Fit fit = FitOnce(spec, recording, data, noise, answer, train, held, make_solver);
     const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
-    auto held_out = AssembleWorkcell(spec, recording, data, noise, trained, test);
     ResidualRms fold;
     double normalized_ss = 0.0;  // every carried-target row the fit uses: rotations too, where
     int normalized_rows = 0;     // an effect may show most (a delta platform's tilt)
-    for (const auto& row : ResidualRows(*held_out)) {
+    for (const auto& row :
+         MeasurementRows(spec, recording, data, noise, trained, test, nullptr)) {
       if (!IsCarried(recording, row.target)) continue;
       normalized_ss += row.normalized.squaredNorm();
       normalized_rows += 3;
@@ -213,29 +230,100 @@ std::string CameraModelName(CameraModel model) {
   return model == CameraModel::kStaticCameras ? "static_cameras" : "per_frame";
 }
 
+namespace {
+
+// More measured rows than free parameters, or the fit is not a fit.
+void CheckEnoughData(const Recording& recording, const Problem& problem) {
+  if (problem.num_residuals() >= problem.num_free()) return;
+  throw InputError({recording.folder + "/observations.csv", 0, 0},
+                   "the recording gives " + std::to_string(problem.num_residuals()) +
+                       " measured values for " + std::to_string(problem.num_free()) +
+                       " free parameters",
+                   "Record more poses, or free fewer parameters");
+}
+
+// Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
+// (variance component estimation), holding what the first fit found unidentifiable.
+Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
+                 const WorkcellEstimate& start, const SolverMaker& make_solver,
+                 NoiseModel* noise) {
+  Fit fit = FitOnce(spec, recording, data, *noise, start, {}, {}, make_solver);
+  CheckEnoughData(recording, fit.assembled->problem);
+  const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
+  const auto rows = MeasurementRows(spec, recording, data, *noise, first, {}, fit.assembled.get());
+  if (!EstimateUnknownSigma(rows, fit.assembled->problem.num_free(), noise)) return fit;
+  Progress::Note("refitting with sigma estimated from the residuals");
+  std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
+  const SolverSummary first_summary = fit.summary;
+  fit = FitOnce(spec, recording, data, *noise, first, {}, Names(held_first), make_solver);
+  // One solve in the report: iterations and time add up; the refit keeps the first's findings.
+  fit.summary.iterations += first_summary.iterations;
+  fit.summary.evaluations += first_summary.evaluations;
+  fit.summary.time_s += first_summary.time_s;
+  held_first.insert(held_first.end(), fit.unidentifiable.begin(), fit.unidentifiable.end());
+  fit.unidentifiable = held_first;
+  return fit;
+}
+
+// Residual rows and their RMS per camera and target, in the measurement's units.
+void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recording,
+                           const WorkcellData& data, Fit& fit, WorkcellResult* result) {
+  result->residuals = MeasurementRows(spec, recording, data, result->noise, result->estimate, {},
+                                      fit.assembled.get());
+  for (const auto& row : result->residuals) {
+    auto& table = row.kind == "position" ? result->position_rms : result->rotation_rms;
+    table[row.camera + "/" + row.target].Add(row.error);
+  }
+  for (auto& [key, rms] : result->position_rms) rms.Finish();
+  for (auto& [key, rms] : result->rotation_rms) rms.Finish();
+}
+
+void AddWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
+  result->weakly_identified = WeaklyIdentified(result->uncertainty, spec.weak_vif);
+  if (!result->weakly_identified.empty()) {
+    std::string names;
+    for (const auto& w : result->weakly_identified) names += (names.empty() ? "" : ", ") + w.name;
+    result->warnings.push_back("this data barely identifies " + names +
+                               ": they move together; record poses that vary them "
+                               "independently (other heights, the workspace's edges)");
+  }
+  if (result->uncertainty.reduced_chi2 > 4.0) {
+    result->warnings.push_back(
+        "residuals are " + std::to_string(std::sqrt(result->uncertainty.reduced_chi2)).substr(0, 4) +
+        "x the stated noise: the model leaves something out; uncertainties were scaled up");
+  }
+}
+
+// The held-out RMS of the other camera model (compare_camera_models).
+void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording,
+                         const SolverMaker& make_solver, WorkcellResult* result) {
+  WorkcellProblem other = spec;
+  other.compare_camera_models = false;
+  other.camera_model = spec.camera_model == CameraModel::kStaticCameras
+                           ? CameraModel::kPerFrame
+                           : CameraModel::kStaticCameras;
+  Progress::Note("comparing with the " + CameraModelName(other.camera_model) + " model");
+  result->other_models[CameraModelName(other.camera_model)] =
+      IdentifyWorkcell(other, recording, make_solver).held_out;
+}
+
+}  // namespace
+
 WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                 const SolverMaker& make_solver) {
   WorkcellResult result;
   result.camera_model = spec.camera_model;
+  result.residual_form = spec.residual;
   const WorkcellData data = PrepareWorkcellData(spec, recording);
   result.skipped = data.skipped;
   result.noise = BuildNoiseModel(recording, spec.noise);
   result.repeatability = EstimateRepeatability(recording);
-  const WorkcellEstimate start = InitialEstimate(spec, recording, data);
+  result.start = InitialEstimate(spec, recording, data);
 
   Progress::Note("fitting " + std::to_string(data.tools.size()) + " target observations (" +
-                 CameraModelName(spec.camera_model) + ")");
-  Fit fit = FitOnce(spec, recording, data, result.noise, start, {}, {}, make_solver);
-  if (EstimateUnknownSigma(ResidualRows(*fit.assembled), fit.assembled->problem.num_free(),
-                           &result.noise)) {
-    Progress::Note("refitting with sigma estimated from the residuals");
-    const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
-    std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
-    fit = FitOnce(spec, recording, data, result.noise, first, {}, Names(held_first), make_solver);
-    // The refit holds the first fit's findings up front; keep them in the report.
-    held_first.insert(held_first.end(), fit.unidentifiable.begin(), fit.unidentifiable.end());
-    fit.unidentifiable = held_first;
-  }
+                 CameraModelName(spec.camera_model) + ", " + ResidualFormName(spec.residual) +
+                 " residual)");
+  Fit fit = FitWithSigma(spec, recording, data, result.start, make_solver, &result.noise);
   result.solver = fit.summary;
   result.unidentifiable = fit.unidentifiable;
   result.estimate = ReadEstimate(spec, *fit.assembled);
@@ -243,33 +331,44 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   result.strong_correlations = StrongCorrelations(result.uncertainty);
   const std::set<std::string> held = Names(result.unidentifiable);
   Describe(spec, *fit.assembled, held, &result);
-
-  result.residuals = ResidualRows(*fit.assembled);
-  for (const auto& row : result.residuals) {
-    auto& table = row.kind == "position" ? result.position_rms : result.rotation_rms;
-    table[row.camera + "/" + row.target].Add(row.error);
-  }
-  for (auto& [key, rms] : result.position_rms) rms.Finish();
-  for (auto& [key, rms] : result.rotation_rms) rms.Finish();
-
+  AddResidualStatistics(spec, recording, data, fit, &result);
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,
                                   make_solver);
-  if (spec.compare_camera_models) {
-    WorkcellProblem other = spec;
-    other.compare_camera_models = false;
-    other.camera_model = spec.camera_model == CameraModel::kStaticCameras
-                             ? CameraModel::kPerFrame
-                             : CameraModel::kStaticCameras;
-    Progress::Note("comparing with the " + CameraModelName(other.camera_model) + " model");
-    result.other_models[CameraModelName(other.camera_model)] =
-        IdentifyWorkcell(other, recording, make_solver).held_out;
-  }
-  if (result.uncertainty.reduced_chi2 > 4.0) {
-    result.warnings.push_back(
-        "residuals are " + std::to_string(std::sqrt(result.uncertainty.reduced_chi2)).substr(0, 4) +
-        "x the stated noise: the model leaves something out; uncertainties were scaled up");
-  }
+  if (spec.compare_camera_models) CompareCameraModels(spec, recording, make_solver, &result);
+  AddWarnings(spec, &result);
   return result;
+}
+
+RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResult& result,
+                                const Recording& fresh) {
+  RecordingScore score;
+  score.recording = fresh.folder;
+  const WorkcellData data = PrepareWorkcellData(spec, fresh);
+  const NoiseModel noise = BuildNoiseModel(fresh, spec.noise);
+  WorkcellProblem cartesian = spec;
+  cartesian.residual = ResidualForm::kCartesian;
+  auto rms_at = [&](const WorkcellEstimate& estimate, double* mean, double* max) {
+    ResidualRms rms;
+    const auto rows = ResidualRows(*AssembleWorkcell(cartesian, fresh, data, noise, estimate));
+    int count = 0;
+    for (const auto& row : rows) {
+      if (row.kind != "position" || !IsCarried(fresh, row.target)) continue;
+      rms.Add(row.error);
+      if (mean) *mean += row.error.norm();
+      if (max) *max = std::max(*max, row.error.norm());
+      ++count;
+    }
+    if (mean && count > 0) *mean /= count;
+    rms.Finish();
+    return rms;
+  };
+  score.before = rms_at(result.start, nullptr, nullptr);
+  score.after = rms_at(result.estimate, &score.mean_after_mm, &score.max_after_mm);
+  return score;
+}
+
+std::string ResidualFormName(ResidualForm form) {
+  return form == ResidualForm::kCartesian ? "cartesian" : "joint_space";
 }
 
 }  // namespace cellmetry

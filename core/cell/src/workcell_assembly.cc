@@ -1,8 +1,13 @@
+// Turning a recording into a workcell Problem: pairing observations with robots and cameras, the
+// parameter blocks, and one residual per measured quantity (workcell_assembly.h).
 #include "cellmetry/cell/workcell_assembly.h"
+
+#include <cstdio>
 
 #include "cellmetry/basics/error.h"
 #include "chain_cost.h"
 #include "effect_residuals.h"
+#include "joint_space_residual.h"
 #include "workcell_residuals.h"
 
 namespace cellmetry {
@@ -24,110 +29,12 @@ int AddFrameBlock(AssembledWorkcell* out, const std::string& name, FrameBlockSpe
 
 }  // namespace
 
-// Effect facts of every robot's samples, at each robot's nominal model.
-std::vector<SampleFacts> GatherAllFacts(const WorkcellProblem& spec, const Recording& recording) {
-  std::vector<SampleFacts> all(recording.samples.size());
-  for (const auto& robot : spec.robots) {
-    std::vector<double> nominal;
-    for (const auto& p : robot.model_parameters) nominal.push_back(p.nominal);
-    std::vector<SampleFacts> facts = GatherSampleFacts(recording, robot.name, *robot.model, nominal);
-    for (size_t i = 0; i < facts.size(); ++i) {
-      if (recording.samples[i].robot == robot.name) all[i] = std::move(facts[i]);
-    }
-  }
-  return all;
-}
+namespace {
 
-WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& recording) {
-  WorkcellData data;
-  // target -> (robot index, tool index)
-  std::map<std::string, std::pair<int, int>> carried;
-  for (size_t r = 0; r < spec.robots.size(); ++r) {
-    for (size_t t = 0; t < spec.robots[r].tools.size(); ++t) {
-      carried[spec.robots[r].tools[t].target] = {static_cast<int>(r), static_cast<int>(t)};
-    }
-  }
-  // (sample, camera) -> world target observations, for the per-frame model.
-  std::map<std::pair<int, std::string>, std::vector<const Observation*>> world_seen;
-  for (size_t i = 0; i < recording.observations.size(); ++i) {
-    const Observation& obs = recording.observations[i];
-    if (obs.target != spec.world_target) continue;
-    if (!obs.rvec) {
-      ++data.skipped["world target without rotation"];
-      continue;
-    }
-    data.world_observations.push_back(static_cast<int>(i));
-    world_seen[{obs.sample, obs.camera}].push_back(&obs);
-  }
-  for (size_t i = 0; i < recording.observations.size(); ++i) {
-    const Observation& obs = recording.observations[i];
-    if (obs.target == spec.world_target) continue;
-    const auto it = carried.find(obs.target);
-    if (it == carried.end()) {
-      ++data.skipped["target '" + obs.target + "' is not identified by this job"];
-      continue;
-    }
-    ToolMeasurement m;
-    m.observation = static_cast<int>(i);
-    m.sample_index = recording.SampleIndex(obs.sample);
-    m.robot = it->second.first;
-    m.tool = it->second.second;
-    const Sample& sample = recording.samples[m.sample_index];
-    if (sample.robot != spec.robots[m.robot].name) {
-      throw InputError({recording.folder + "/observations.csv", obs.line, 0},
-                       "target '" + obs.target + "' is carried by robot '" +
-                           spec.robots[m.robot].name + "' but sample " +
-                           std::to_string(obs.sample) + " is a state of robot '" + sample.robot +
-                           "'",
-                       "Point the observation at a sample of the robot that carries the target");
-    }
-    if (spec.use_tool_rotation && !obs.rvec) {
-      ++data.skipped["tool observation without rotation"];
-      continue;
-    }
-    const auto world = world_seen.find({obs.sample, obs.camera});
-    if (world != world_seen.end()) {
-      // Several captures of the world target in one sample: use their mean pose.
-      std::vector<Eigen::Matrix3d> rotations;
-      Eigen::Vector3d position = Eigen::Vector3d::Zero();
-      for (const auto* w : world->second) {
-        rotations.push_back(RotationFromRvec(w->rvec->data()));
-        position += w->position_mm;
-      }
-      m.has_world_pose = true;
-      m.T_cam_world = Pose{MeanRotation(rotations),
-                           position / static_cast<double>(world->second.size())};
-    } else if (spec.camera_model == CameraModel::kPerFrame) {
-      ++data.skipped["no world target in the same capture (per-frame model)"];
-      continue;
-    }
-    data.tools.push_back(m);
-  }
-  if (data.tools.empty()) {
-    std::string reasons;
-    for (const auto& [reason, count] : data.skipped) {
-      reasons += (reasons.empty() ? "" : "; ") + std::to_string(count) + " x " + reason;
-    }
-    throw InputError({recording.folder + "/observations.csv", 0, 0},
-                     "no usable observation of a robot-carried target" +
-                         (reasons.empty() ? std::string() : " (" + reasons + ")"),
-                     "Check that the job's robots carry the recording's targets and that "
-                     "observations name them");
-  }
-  if (!spec.effects.empty()) data.facts = GatherAllFacts(spec, recording);
-  return data;
-}
-
-std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
-                                                    const Recording& recording,
-                                                    const WorkcellData& data,
-                                                    const NoiseModel& noise,
-                                                    const WorkcellEstimate& start,
-                                                    const std::set<int>& poses) {
-  auto out = std::make_unique<AssembledWorkcell>();
-  const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
+// The parameter blocks: per robot its base, model and tools; static cameras; effects.
+void AddBlocks(const WorkcellProblem& spec, const WorkcellEstimate& start, AssembledWorkcell* out) {
   for (const auto& robot : spec.robots) {
-    out->base_block.push_back(AddFrameBlock(out.get(), robot.name + ".base", robot.base,
+    out->base_block.push_back(AddFrameBlock(out, robot.name + ".base", robot.base,
                                             start.T_world_base.at(robot.name)));
     std::vector<Parameter> model_params = robot.model_parameters;
     const auto& values = start.model.at(robot.name);
@@ -135,17 +42,19 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
     out->model_block.push_back(out->problem.AddBlock(robot.name + ".model", model_params));
     std::vector<int> tools;
     for (const auto& tool : robot.tools) {
-      tools.push_back(AddFrameBlock(out.get(), tool.target, tool.flange_tool,
+      tools.push_back(AddFrameBlock(out, tool.target, tool.flange_tool,
                                     start.T_flange_target.at(tool.target)));
     }
     out->tool_block.push_back(tools);
   }
-  if (static_cameras) {
-    FrameBlockSpec camera_spec;
-    camera_spec.free.fill(true);
-    camera_spec.description = "camera pose in the world";
+  if (spec.camera_model == CameraModel::kStaticCameras) {
     for (const auto& [camera, T_world_cam] : start.T_world_cam) {
-      out->camera_block[camera] = AddFrameBlock(out.get(), camera, camera_spec, T_world_cam);
+      FrameBlockSpec camera_spec;
+      camera_spec.free.fill(true);
+      const auto given = spec.cameras.find(camera);
+      if (given != spec.cameras.end()) camera_spec.free = given->second.free;
+      camera_spec.description = "camera pose in the world";
+      out->camera_block[camera] = AddFrameBlock(out, camera, camera_spec, T_world_cam);
     }
   }
   for (const WorkcellEffect& e : spec.effects) {
@@ -156,147 +65,256 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
     }
     out->effect_block.push_back(out->problem.AddBlock(e.name, params));
   }
-  // The effects in a robot's chain (its own and every measurement effect), and their blocks.
-  auto chain_effects = [&](const std::string& robot, std::vector<const Effect*>* effects,
-                           std::vector<int>* blocks) {
-    for (size_t k = 0; k < spec.effects.size(); ++k) {
-      const WorkcellEffect& e = spec.effects[k];
-      if (e.effect->stage() == EffectStage::kMeasurement || e.robot == robot) {
-        effects->push_back(e.effect.get());
-        blocks->push_back(out->effect_block[k]);
-      }
+}
+
+// The effects in a robot's chain (its own and every measurement effect) and their blocks;
+// `robot` empty: the measurement effects alone (the world target's chain).
+void ChainEffects(const WorkcellProblem& spec, const AssembledWorkcell& out,
+                  const std::string& robot, std::vector<const Effect*>* effects,
+                  std::vector<int>* blocks) {
+  for (size_t k = 0; k < spec.effects.size(); ++k) {
+    const WorkcellEffect& e = spec.effects[k];
+    if (e.effect->stage() == EffectStage::kMeasurement || (!robot.empty() && e.robot == robot)) {
+      effects->push_back(e.effect.get());
+      blocks->push_back(out.effect_block[k]);
     }
-  };
+  }
+}
 
-  auto info_for = [&](int observation, ResidualInfo::Kind kind, const Eigen::Vector3d& sigma) {
-    const Observation& obs = recording.observations[observation];
-    ResidualInfo info;
-    info.kind = kind;
-    info.observation = observation;
-    info.sample = obs.sample;
-    info.pose = recording.samples[recording.SampleIndex(obs.sample)].pose;
-    info.camera = obs.camera;
-    info.target = obs.target;
-    info.sigma = sigma;
-    return info;
-  };
+ResidualInfo InfoFor(const Recording& recording, int observation, ResidualInfo::Kind kind,
+                     const Eigen::Vector3d& sigma) {
+  const Observation& obs = recording.observations[observation];
+  ResidualInfo info;
+  info.kind = kind;
+  info.observation = observation;
+  info.sample = obs.sample;
+  info.pose = recording.samples[recording.SampleIndex(obs.sample)].pose;
+  info.camera = obs.camera;
+  info.target = obs.target;
+  info.sigma = sigma;
+  return info;
+}
 
+// Wraps a Jet functor over `blocks` (3 residuals).
+template <typename Functor>
+std::unique_ptr<ceres::CostFunction> OnJets(Functor* functor, const Problem& problem,
+                                            const std::vector<int>& blocks) {
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<Functor, kJetStride>(functor);
+  for (int b : blocks) cost->AddParameterBlock(problem.block_parameters(b).size());
+  cost->SetNumResiduals(3);
+  return std::unique_ptr<ceres::CostFunction>(cost);
+}
+
+// Everything one carried-target measurement's residuals need.
+struct ToolContext {
+  const WorkcellProblem& spec;
+  const Recording& recording;
+  const WorkcellData& data;
+  const WorkcellEstimate& start;
+  const ToolMeasurement& m;
+  FrameRefs refs;
+  std::vector<int> blocks;   // base, tool, [camera]
+  bool static_camera = false;
+  bool model_free = false;
+};
+
+// d q / d p_cam at the start: how a measured point's error moves the joints (inverse kinematics
+// differentiated on Jets through the start's camera, base and tool).
+// Where the measured point puts the flange, at the start (base frame, mm).
+Eigen::Vector3d FlangeOfPoint(const ToolContext& c, Pose* T_base_cam) {
+  const Observation& obs = c.recording.observations[c.m.observation];
+  const WorkcellRobot& robot = c.spec.robots[c.m.robot];
+  *T_base_cam = c.start.T_world_base.at(robot.name).inverse() * c.start.T_world_cam.at(obs.camera);
+  return *T_base_cam * obs.position_mm -
+         c.start.T_flange_target.at(robot.tools[c.m.tool].target).t;
+}
+
+bool JointsFromPoint(const ToolContext& c, Eigen::Vector3d* q_out, Eigen::Matrix3d* d_q_d_p) {
+  const WorkcellRobot& robot = c.spec.robots[c.m.robot];
+  Pose T_base_cam;
+  const Eigen::Vector3d flange = FlangeOfPoint(c, &T_base_cam);
+  const auto& values = c.start.model.at(robot.name);
+  const std::vector<Jet> params(values.begin(), values.end());
+  Jet position[3], q[3];
+  for (int i = 0; i < 3; ++i) {
+    position[i] = Jet(flange[i]);
+    for (int k = 0; k < 3; ++k) position[i].v[k] = T_base_cam.R(i, k);
+  }
+  if (!robot.model->Inverse(position, params.data(), q)) return false;
+  for (int i = 0; i < 3; ++i) {
+    (*q_out)[i] = q[i].a;
+    for (int k = 0; k < 3; ++k) (*d_q_d_p)(i, k) = q[i].v[k];
+  }
+  return true;
+}
+
+// The joint-space residual of one measured position (joint_space_residual.h).
+std::unique_ptr<ceres::CostFunction> JointSpaceCost(const ToolContext& c, AssembledWorkcell* out,
+                                                    const Eigen::Vector3d& sigma_mm,
+                                                    std::vector<int>* blocks) {
+  const Observation& obs = c.recording.observations[c.m.observation];
+  const WorkcellRobot& robot = c.spec.robots[c.m.robot];
+  Eigen::Vector3d q;
+  Eigen::Matrix3d J;
+  if (!JointsFromPoint(c, &q, &J)) {
+    Pose T_base_cam;
+    const Eigen::Vector3d flange = FlangeOfPoint(c, &T_base_cam);
+    throw InputError({c.recording.folder + "/observations.csv", obs.line, 0},
+                     "the measured point is out of the arm's reach: " +
+                         robot.model->InverseFailure(flange.data(),
+                                                     c.start.model.at(robot.name).data()),
+                     "Check the camera pose and tool offset, or remove this observation");
+  }
+  blocks->push_back(out->model_block[c.m.robot]);
+  const Sample& sample = c.recording.samples[c.m.sample_index];
+  return OnJets(new JointSpaceResidual(c.refs, robot.model.get(), sample.q, obs.position_mm,
+                                       JointWhitening(J, sigma_mm)),
+                out->problem, *blocks);
+}
+
+// The cost of comparing one carried target's `compared` quantity, and the blocks it reads.
+std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWorkcell* out,
+                                              const TargetComparison& comparison,
+                                              std::vector<int>* blocks) {
+  const Observation& obs = c.recording.observations[c.m.observation];
+  const WorkcellRobot& robot = c.spec.robots[c.m.robot];
+  const Sample& sample = c.recording.samples[c.m.sample_index];
+  std::vector<const Effect*> effects;
+  std::vector<int> effect_blocks;
+  ChainEffects(c.spec, *out, robot.name, &effects, &effect_blocks);
+  if (!effects.empty()) {
+    EffectContext context = ContextOf(c.data.facts.at(c.m.sample_index), c.spec.gravity_base,
+                                      obs.camera);
+    context.target = obs.target;
+    blocks->push_back(out->model_block[c.m.robot]);
+    blocks->insert(blocks->end(), effect_blocks.begin(), effect_blocks.end());
+    return OnJets(new EffectChainResidual(comparison, c.refs, robot.model.get(), context,
+                                          c.static_camera, c.m.T_cam_world, effects),
+                  out->problem, *blocks);
+  }
+  if (c.model_free) {
+    blocks->push_back(out->model_block[c.m.robot]);
+    return OnJets(new ModelChainResidual(comparison, c.refs, robot.model.get(), sample.q,
+                                         c.static_camera, c.m.T_cam_world),
+                  out->problem, *blocks);
+  }
+  Pose T_base_flange;
+  if (!robot.model->Forward(sample.q.data(), c.start.model.at(robot.name).data(),
+                            &T_base_flange)) {
+    throw InputError({c.recording.folder + "/samples.csv", sample.line, 0},
+                     "robot '" + robot.name + "' has no pose for sample " +
+                         std::to_string(sample.id),
+                     "Check the joint values against the robot model");
+  }
+  const ChainBlocks chain{/*base=*/true, /*tool=*/true, /*camera=*/c.static_camera};
+  return std::make_unique<ChainCost>(comparison, c.refs, chain, T_base_flange, c.m.T_cam_world);
+}
+
+bool ModelFree(const AssembledWorkcell& out, int robot) {
+  for (const auto& p : out.problem.block_parameters(out.model_block[robot])) {
+    if (!p.fixed) return true;
+  }
+  return false;
+}
+
+// Residuals of every carried-target measurement of `poses` (empty: all).
+void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
+                      const WorkcellData& data, const NoiseModel& noise,
+                      const WorkcellEstimate& start, const std::set<int>& poses,
+                      AssembledWorkcell* out) {
+  const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
   for (const ToolMeasurement& m : data.tools) {
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
     const Observation& obs = recording.observations[m.observation];
-    const WorkcellRobot& robot = spec.robots[m.robot];
-    const bool model_free = [&] {
-      for (const auto& p : out->problem.block_parameters(out->model_block[m.robot])) {
-        if (!p.fixed) return true;
-      }
-      return false;
-    }();
-    const int base = out->base_block[m.robot];
-    const int tool = out->tool_block[m.robot][m.tool];
-    const int camera = static_cameras ? out->camera_block.at(obs.camera) : -1;
-    FrameRefs refs;
-    refs.world_base = out->R_ref.at(base);
-    refs.flange_target = out->R_ref.at(tool);
-    if (static_cameras) refs.world_cam = out->R_ref.at(camera);
+    ToolContext c{spec, recording, data, start, m};
+    c.static_camera = static_cameras;
+    c.model_free = ModelFree(*out, m.robot);
+    c.blocks = {out->base_block[m.robot], out->tool_block[m.robot][m.tool]};
+    c.refs.world_base = out->R_ref.at(c.blocks[0]);
+    c.refs.flange_target = out->R_ref.at(c.blocks[1]);
+    if (static_cameras) {
+      c.blocks.push_back(out->camera_block.at(obs.camera));
+      c.refs.world_cam = out->R_ref.at(c.blocks[2]);
+    }
     const TargetNoise& sigma = noise.at(obs.camera, obs.target);
-
+    if (spec.residual == ResidualForm::kJointSpace) {
+      std::vector<int> blocks = c.blocks;
+      auto cost = JointSpaceCost(c, out, sigma.position_mm, &blocks);
+      out->problem.AddResidual(std::move(cost), blocks,
+                               InfoFor(recording, m.observation, ResidualInfo::Kind::kPosition,
+                                       Eigen::Vector3d::Ones()));  // rows: whitened joint errors
+      continue;
+    }
     std::vector<Compared> compared = {Compared::kPosition};
     if (spec.use_tool_rotation) compared.push_back(Compared::kRotation);
-    for (Compared c : compared) {
-      const bool position = c == Compared::kPosition;
-      TargetComparison comparison(c, ObservedPose(obs),
-                                  position ? sigma.position_mm : sigma.rotation_rad);
+    for (Compared what : compared) {
+      const bool position = what == Compared::kPosition;
+      const Eigen::Vector3d& s = position ? sigma.position_mm : sigma.rotation_rad;
+      std::vector<int> blocks = c.blocks;
+      auto cost = ToolCost(c, out, TargetComparison(what, ObservedPose(obs), s), &blocks);
+      out->problem.AddResidual(
+          std::move(cost), blocks,
+          InfoFor(recording, m.observation,
+                  position ? ResidualInfo::Kind::kPosition : ResidualInfo::Kind::kRotation, s));
+    }
+  }
+}
+
+// Residuals of the world target's observations: measurements of the static cameras' poses.
+void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
+                       const WorkcellData& data, const NoiseModel& noise,
+                       const std::set<int>& poses, AssembledWorkcell* out) {
+  std::vector<const Effect*> effects;
+  std::vector<int> effect_blocks;
+  ChainEffects(spec, *out, "", &effects, &effect_blocks);
+  for (int index : data.world_observations) {
+    const Observation& obs = recording.observations[index];
+    const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
+    if (!poses.empty() && !poses.count(sample.pose)) continue;
+    const int camera = out->camera_block.at(obs.camera);
+    const TargetNoise& sigma = noise.at(obs.camera, obs.target);
+    for (Compared what : {Compared::kPosition, Compared::kRotation}) {
+      const bool position = what == Compared::kPosition;
+      const Eigen::Vector3d& s = position ? sigma.position_mm : sigma.rotation_rad;
+      const TargetComparison comparison(what, ObservedPose(obs), s);
+      std::vector<int> blocks = {camera};
       std::unique_ptr<ceres::CostFunction> cost;
-      std::vector<int> blocks = {base, tool};
-      if (static_cameras) blocks.push_back(camera);
-      std::vector<const Effect*> effects;
-      std::vector<int> effect_blocks;
-      chain_effects(robot.name, &effects, &effect_blocks);
       if (!effects.empty()) {
-        const SampleFacts& facts = data.facts.at(m.sample_index);
-        EffectContext context = ContextOf(facts, spec.gravity_base, obs.camera);
+        EffectContext context;
+        context.camera = obs.camera;
         context.target = obs.target;
-        auto* functor = new EffectChainResidual(comparison, refs, robot.model.get(), context,
-                                                static_cameras, m.T_cam_world, effects);
-        auto* dynamic = new ceres::DynamicAutoDiffCostFunction<EffectChainResidual, kJetStride>(
-            functor);
-        blocks.push_back(out->model_block[m.robot]);
         blocks.insert(blocks.end(), effect_blocks.begin(), effect_blocks.end());
-        for (int b : blocks) dynamic->AddParameterBlock(out->problem.block_parameters(b).size());
-        dynamic->SetNumResiduals(3);
-        cost.reset(dynamic);
-      } else if (model_free) {
-        auto* functor = new ModelChainResidual(comparison, refs, robot.model.get(), sample.q,
-                                               static_cameras, m.T_cam_world);
-        auto* dynamic = new ceres::DynamicAutoDiffCostFunction<ModelChainResidual, kJetStride>(
-            functor);
-        blocks.push_back(out->model_block[m.robot]);
-        for (int b : blocks) dynamic->AddParameterBlock(out->problem.block_parameters(b).size());
-        dynamic->SetNumResiduals(3);
-        cost.reset(dynamic);
+        cost = OnJets(new WorldEffectResidual(comparison, out->R_ref.at(camera), context, effects),
+                      out->problem, blocks);
       } else {
-        Pose T_base_flange;
-        if (!robot.model->Forward(sample.q.data(), start.model.at(robot.name).data(),
-                                  &T_base_flange)) {
-          throw InputError({recording.folder + "/samples.csv", 0, 0},
-                           "robot '" + robot.name + "' has no pose for sample " +
-                               std::to_string(sample.id),
-                           "Check the joint values against the robot model");
-        }
-        const ChainBlocks chain{/*base=*/true, /*tool=*/true, /*camera=*/static_cameras};
-        cost = std::make_unique<ChainCost>(comparison, refs, chain, T_base_flange, m.T_cam_world);
+        FrameRefs refs;
+        refs.world_cam = out->R_ref.at(camera);
+        const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
+        cost = std::make_unique<ChainCost>(comparison, refs, camera_only, Pose::Identity(),
+                                           Pose::Identity());
       }
       out->problem.AddResidual(
           std::move(cost), blocks,
-          info_for(m.observation,
-                   position ? ResidualInfo::Kind::kPosition : ResidualInfo::Kind::kRotation,
-                   position ? sigma.position_mm : sigma.rotation_rad));
+          InfoFor(recording, index,
+                  position ? ResidualInfo::Kind::kPosition : ResidualInfo::Kind::kRotation, s));
     }
   }
+}
 
-  if (static_cameras) {
-    for (int index : data.world_observations) {
-      const Observation& obs = recording.observations[index];
-      const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
-      if (!poses.empty() && !poses.count(sample.pose)) continue;
-      const int camera = out->camera_block.at(obs.camera);
-      const TargetNoise& sigma = noise.at(obs.camera, obs.target);
-      for (Compared c : {Compared::kPosition, Compared::kRotation}) {
-        const bool position = c == Compared::kPosition;
-        TargetComparison comparison(c, ObservedPose(obs),
-                                    position ? sigma.position_mm : sigma.rotation_rad);
-        std::vector<const Effect*> effects;
-        std::vector<int> blocks = {camera};
-        for (size_t k = 0; k < spec.effects.size(); ++k) {
-          if (spec.effects[k].effect->stage() != EffectStage::kMeasurement) continue;
-          effects.push_back(spec.effects[k].effect.get());
-          blocks.push_back(out->effect_block[k]);
-        }
-        std::unique_ptr<ceres::CostFunction> cost;
-        if (!effects.empty()) {
-          EffectContext context;
-          context.camera = obs.camera;
-          context.target = obs.target;
-          auto* dynamic = new ceres::DynamicAutoDiffCostFunction<WorldEffectResidual, kJetStride>(
-              new WorldEffectResidual(comparison, out->R_ref.at(camera), context, effects));
-          for (int b : blocks) dynamic->AddParameterBlock(out->problem.block_parameters(b).size());
-          dynamic->SetNumResiduals(3);
-          cost.reset(dynamic);
-        } else {
-          FrameRefs refs;
-          refs.world_cam = out->R_ref.at(camera);
-          const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
-          cost = std::make_unique<ChainCost>(comparison, refs, camera_only, Pose::Identity(),
-                                             Pose::Identity());
-        }
-        out->problem.AddResidual(
-            std::move(cost), blocks,
-            info_for(index, position ? ResidualInfo::Kind::kPosition
-                                     : ResidualInfo::Kind::kRotation,
-                     position ? sigma.position_mm : sigma.rotation_rad));
-      }
-    }
+}  // namespace
+
+std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
+                                                    const Recording& recording,
+                                                    const WorkcellData& data,
+                                                    const NoiseModel& noise,
+                                                    const WorkcellEstimate& start,
+                                                    const std::set<int>& poses) {
+  auto out = std::make_unique<AssembledWorkcell>();
+  AddBlocks(spec, start, out.get());
+  AddToolResiduals(spec, recording, data, noise, start, poses, out.get());
+  if (spec.camera_model == CameraModel::kStaticCameras) {
+    AddWorldResiduals(spec, recording, data, noise, poses, out.get());
   }
   out->problem.Build();
   return out;

@@ -1,3 +1,4 @@
+// Closed-form starting values (workcell_initial.h), step by step.
 #include "cellmetry/cell/workcell_initial.h"
 
 #include <Eigen/Dense>
@@ -112,20 +113,12 @@ void InitialBaseAndTools(const WorkcellRobot& robot, const std::vector<RobotPoin
   }
 }
 
-}  // namespace
-
-WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& recording,
-                                 const WorkcellData& data) {
-  WorkcellEstimate estimate;
+// Step 2's input: every carried-target measurement whose camera is placed, in the world frame.
+std::vector<std::vector<RobotPoint>> WorldPoints(const WorkcellProblem& spec,
+                                                 const Recording& recording,
+                                                 const WorkcellData& data,
+                                                 const WorkcellEstimate& estimate) {
   const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
-  if (static_cameras) InitialCameras(spec, recording, data, &estimate);
-  for (const auto& robot : spec.robots) {
-    std::vector<double> nominal;
-    for (const auto& p : robot.model_parameters) nominal.push_back(p.nominal);
-    estimate.model[robot.name] = nominal;
-    for (const auto& tool : robot.tools) estimate.T_flange_target[tool.target] = tool.flange_tool.start;
-  }
-
   std::vector<std::vector<RobotPoint>> points(spec.robots.size());
   for (const ToolMeasurement& m : data.tools) {
     const Observation& obs = recording.observations[m.observation];
@@ -140,7 +133,7 @@ WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& r
     const WorkcellRobot& robot = spec.robots[m.robot];
     RobotPoint point;
     if (!robot.model->Forward(recording.samples[m.sample_index].q.data(),
-                              estimate.model[robot.name].data(), &point.T_base_flange)) {
+                              estimate.model.at(robot.name).data(), &point.T_base_flange)) {
       continue;
     }
     point.p_world = T_world_cam * obs.position_mm;
@@ -148,7 +141,75 @@ WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& r
     point.tool = m.tool;
     points[m.robot].push_back(point);
   }
+  return points;
+}
 
+// Step 3: each tool's rotation as the chordal mean over its captures.
+void InitialToolRotations(const WorkcellRobot& robot, const std::vector<RobotPoint>& points,
+                          WorkcellEstimate* estimate) {
+  for (size_t t = 0; t < robot.tools.size(); ++t) {
+    std::vector<Eigen::Matrix3d> rotations;
+    for (const auto& p : points) {
+      if (p.tool != static_cast<int>(t)) continue;
+      rotations.push_back((estimate->T_world_base[robot.name].R * p.T_base_flange.R).transpose() *
+                          p.R_world_target);
+    }
+    if (!rotations.empty()) {
+      estimate->T_flange_target[robot.tools[t].target].R = MeanRotation(rotations);
+    }
+  }
+}
+
+// Step 4: static cameras that never saw the world target, located through the robots.
+void CamerasThroughRobots(const WorkcellProblem& spec, const Recording& recording,
+                          const WorkcellData& data, WorkcellEstimate* estimate) {
+  std::map<std::string, std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>>>
+      matches;
+  for (const ToolMeasurement& m : data.tools) {
+    const Observation& obs = recording.observations[m.observation];
+    if (estimate->T_world_cam.count(obs.camera)) continue;
+    const WorkcellRobot& robot = spec.robots[m.robot];
+    Pose T_base_flange;
+    if (!robot.model->Forward(recording.samples[m.sample_index].q.data(),
+                              estimate->model[robot.name].data(), &T_base_flange)) {
+      continue;
+    }
+    const Eigen::Vector3d p_world = estimate->T_world_base[robot.name] * T_base_flange *
+                                    estimate->T_flange_target[robot.tools[m.tool].target].t;
+    matches[obs.camera].first.push_back(obs.position_mm);
+    matches[obs.camera].second.push_back(p_world);
+  }
+  for (const auto& [camera, pairs] : matches) {
+    const auto fit = FitRigidTransform(pairs.first, pairs.second);
+    if (!fit) {
+      throw InputError({recording.folder + "/observations.csv", 0, 0},
+                       "camera '" + camera + "' never sees the world target and sees robot "
+                       "targets at fewer than 3 non-collinear places",
+                       "Let the camera see the world target, or record more poses in its view");
+    }
+    estimate->T_world_cam[camera] = *fit;
+  }
+}
+
+}  // namespace
+
+WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& recording,
+                                 const WorkcellData& data) {
+  WorkcellEstimate estimate;
+  const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
+  if (static_cameras) {
+    InitialCameras(spec, recording, data, &estimate);
+    for (const auto& [camera, given] : spec.cameras) {
+      if (given.start) estimate.T_world_cam[camera] = *given.start;
+    }
+  }
+  for (const auto& robot : spec.robots) {
+    std::vector<double> nominal;
+    for (const auto& p : robot.model_parameters) nominal.push_back(p.nominal);
+    estimate.model[robot.name] = nominal;
+    for (const auto& tool : robot.tools) estimate.T_flange_target[tool.target] = tool.flange_tool.start;
+  }
+  const auto points = WorldPoints(spec, recording, data, estimate);
   for (size_t r = 0; r < spec.robots.size(); ++r) {
     const WorkcellRobot& robot = spec.robots[r];
     if (points[r].size() < 3 && !robot.base_start) {
@@ -159,50 +220,9 @@ WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& r
                        "robot's target");
     }
     InitialBaseAndTools(robot, points[r], &estimate);
-    if (spec.use_tool_rotation) {
-      for (size_t t = 0; t < robot.tools.size(); ++t) {
-        std::vector<Eigen::Matrix3d> rotations;
-        for (const auto& p : points[r]) {
-          if (p.tool != static_cast<int>(t)) continue;
-          rotations.push_back((estimate.T_world_base[robot.name].R * p.T_base_flange.R)
-                                  .transpose() * p.R_world_target);
-        }
-        if (!rotations.empty()) {
-          estimate.T_flange_target[robot.tools[t].target].R = MeanRotation(rotations);
-        }
-      }
-    }
+    if (spec.use_tool_rotation) InitialToolRotations(robot, points[r], &estimate);
   }
-
-  // Static cameras that never saw the world target: locate them through the robots.
-  if (static_cameras) {
-    std::map<std::string, std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>>>
-        matches;
-    for (const ToolMeasurement& m : data.tools) {
-      const Observation& obs = recording.observations[m.observation];
-      if (estimate.T_world_cam.count(obs.camera)) continue;
-      const WorkcellRobot& robot = spec.robots[m.robot];
-      Pose T_base_flange;
-      if (!robot.model->Forward(recording.samples[m.sample_index].q.data(),
-                                estimate.model[robot.name].data(), &T_base_flange)) {
-        continue;
-      }
-      const Eigen::Vector3d p_world = estimate.T_world_base[robot.name] * T_base_flange *
-                                      estimate.T_flange_target[robot.tools[m.tool].target].t;
-      matches[obs.camera].first.push_back(obs.position_mm);
-      matches[obs.camera].second.push_back(p_world);
-    }
-    for (const auto& [camera, pairs] : matches) {
-      const auto fit = FitRigidTransform(pairs.first, pairs.second);
-      if (!fit) {
-        throw InputError({recording.folder + "/observations.csv", 0, 0},
-                         "camera '" + camera + "' never sees the world target and sees robot "
-                         "targets at fewer than 3 non-collinear places",
-                         "Let the camera see the world target, or record more poses in its view");
-      }
-      estimate.T_world_cam[camera] = *fit;
-    }
-  }
+  if (static_cameras) CamerasThroughRobots(spec, recording, data, &estimate);
   return estimate;
 }
 

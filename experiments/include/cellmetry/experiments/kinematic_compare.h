@@ -1,11 +1,13 @@
 // The 2023 report's Table 7, for any pose sets, sizes, formulations and solvers: calibrate a
 // simulated arm (one drawn truth) on each pose set and score the answer on fresh positions.
+// Each calibration is the one cell pipeline (workcell.h) on the simulation's problem.
 //
 // Compare spec (YAML, `compare: kinematic`):
-//   simulation: <kinematic simulation spec>     # arm, camera, truth errors, noise, seed
+//   simulation: <simulation spec>                # the arm without a world target, its camera,
+//                                                # truth errors, noise, seed
 //   pose_sets: [camera_view, uniform_workspace, boundaries]
 //   sizes: [24, 64, 125]
-//   formulations: [inverse, forward]
+//   formulations: [inverse, forward]             # the report's words: joint-space, Cartesian
 //   solvers: {<label>: <solver block>, ...}       # e.g. lm: {type: ceres_lm}
 //   validation_points: 200
 //   output: <folder for table.md and table.csv>
@@ -15,16 +17,17 @@
 #include <utility>
 #include <vector>
 
-#include "cellmetry/cell/kinematic_simulation.h"
+#include "cellmetry/cell/prediction.h"
+#include "cellmetry/cell/workcell_simulation.h"
 
 namespace cellmetry {
 
 struct CompareSpec {
   std::string file;
-  KinematicSimulationSpec simulation;
+  WorkcellSimulationSpec simulation;
   std::vector<PoseSet> pose_sets;
   std::vector<int> sizes;
-  std::vector<Formulation> formulations;
+  std::vector<ResidualForm> formulations;
   std::vector<std::pair<std::string, ConfigNode>> solvers;  // label, solver block
   int validation_points = 200;
   std::string output;
@@ -33,7 +36,7 @@ struct CompareSpec {
 struct CompareRow {
   PoseSet pose_set = PoseSet::kUniformWorkspace;
   int size = 0;
-  Formulation formulation = Formulation::kForward;
+  ResidualForm formulation = ResidualForm::kCartesian;
   std::string solver;            // label
   PredictionError validation;    // against the truth, on fresh positions (mm)
   double floor_rms_mm = 0.0;     // Cramer-Rao floor of the RMS (0 without noise)

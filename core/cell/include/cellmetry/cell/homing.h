@@ -19,9 +19,31 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/cell/kinematic_calibration.h"
+#include <memory>
+
+#include "cellmetry/basics/error.h"
+#include "cellmetry/basics/transform.h"
+#include "cellmetry/model/robot_model.h"
 
 namespace cellmetry {
+
+// What homing knows of the arm: its model at its calibrated values (the homing entries are the
+// starting estimate), the camera in its base frame and the marker on its flange.
+struct HomingArm {
+  std::shared_ptr<const RobotModel> model;
+  std::vector<Parameter> model_parameters;  // `nominal` = calibrated value
+  Pose T_base_cam;
+  Eigen::Vector3d marker_mm = Eigen::Vector3d::Zero();
+};
+
+// One measured marker position with the command that produced it.
+struct PointSample {
+  int sample = 0;                 // sample id in the recording
+  std::vector<double> q;          // commanded joint values (rad)
+  Eigen::Vector3d p_cam_mm;       // measured marker position in the camera frame
+  SourceLocation command_at;      // the sample's line in samples.csv (for errors)
+  SourceLocation measured_at;     // the observation's line in observations.csv
+};
 
 struct HomingOptions {
   double n_sigma = 3.0;                  // interval half-width, in propagated sigma
@@ -49,9 +71,8 @@ struct HomingResult {
   std::vector<std::string> warnings;
 };
 
-// `problem` carries the model (its homing entries are the starting estimate), T_base_cam_start
-// (required) and the marker offset; `sigma_mm` the measurement noise along camera x, y, depth.
-HomingResult HomeVisually(const KinematicProblem& problem, const std::vector<PointSample>& samples,
+// `sigma_mm`: the measurement noise along camera x, y, depth.
+HomingResult HomeVisually(const HomingArm& arm, const std::vector<PointSample>& samples,
                           const Eigen::Vector3d& sigma_mm, const HomingOptions& options);
 
 // In motor increments (rad if the model has no increment).

@@ -22,11 +22,14 @@ namespace cellmetry {
 
 struct WorkcellJob {
   std::string file;
+  std::string kind;            // "workcell" or "homing" (homing.h reads `homing:`)
   std::string recording;       // folder, absolute or relative to the working directory
+  std::optional<std::string> validation_recording;  // fresh poses to score the result on
   std::string output;          // result folder
   WorkcellProblem problem;
   std::string solver_type;
   std::optional<ConfigNode> solver_config;
+  std::optional<ConfigNode> homing;  // the `homing:` section, read by homing_job.h
   // Where the job names each robot, tool target and the world target, for errors found later
   // against the recording. Keys: "world_target", "robots.<robot>", "robots.<robot>.tools.<target>".
   std::map<std::string, SourceLocation> locations;

@@ -21,4 +21,10 @@ namespace cellmetry {
 WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                 const SolverMaker& make_solver);
 
+// A result scored on a fresh recording of the same cell (a job's `validation_recording:`):
+// prediction - measurement of the carried targets' positions, with the closed-form start and
+// with the answer.
+RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResult& result,
+                                const Recording& fresh);
+
 }  // namespace cellmetry

@@ -1,9 +1,6 @@
 // Turning a recording into a workcell Problem.
 //
-// WorkcellData pairs the recording's observations with the robots and cameras once: which
-// observations measure a carried target (a "tool" measurement), which measure the world target,
-// and, for the per-frame model, the world-target pose seen in the same capture. Observations that
-// cannot be used are counted with the reason.
+// The recording's observations are paired with the robots and cameras once (workcell_data.h).
 //
 // AssembleWorkcell builds a Problem over a subset of poses (for cross-validation) starting from
 // a WorkcellEstimate; ReadEstimate reads the answer back out of it.
@@ -19,28 +16,11 @@
 #include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/estimation/problem.h"
 #include "cellmetry/formats/recording.h"
+#include "cellmetry/cell/workcell_data.h"
 #include "cellmetry/cell/workcell_problem.h"
 
 namespace cellmetry {
 
-struct ToolMeasurement {
-  int observation = 0;      // index in recording.observations
-  int sample_index = 0;     // index in recording.samples
-  int robot = 0;            // index in WorkcellProblem::robots
-  int tool = 0;             // index in that robot's tools
-  bool has_world_pose = false;
-  Pose T_cam_world;         // the world target measured in the same capture (per-frame model)
-};
-
-struct WorkcellData {
-  std::vector<ToolMeasurement> tools;
-  std::vector<int> world_observations;          // indices of world-target observations
-  std::map<std::string, int> skipped;           // reason -> count
-  std::vector<SampleFacts> facts;               // per sample, when the problem has effects
-};
-
-// Pairs observations; raises InputError naming observations.csv when nothing is usable.
-WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& recording);
 
 struct AssembledWorkcell {
   Problem problem;

@@ -3,7 +3,10 @@
 // Unknowns: each robot's base frame in the world (T_world_base), the pose of each target a robot
 // carries on its flange (T_flange_target, "tool offset"), each static camera's pose in the world
 // (T_world_cam) and any entry of a robot model the job frees. The `world` target defines the
-// world frame.
+// world frame; a cell without one (world_target empty: a delta arm seen by one stereo camera)
+// takes the world to be its one robot's base, held where the job puts it (default: identity).
+//
+// A delta calibration is such a cell: one robot with its model free, one camera, one marker.
 //
 // Two observation models (DESIGN.md, issue "Foundation"):
 //  - kStaticCameras (default): camera poses are parameters estimated from all captures jointly;
@@ -12,6 +15,7 @@
 //    no camera pose is estimated.
 #pragma once
 
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -27,6 +31,16 @@ namespace cellmetry {
 
 enum class CameraModel { kStaticCameras, kPerFrame };
 std::string CameraModelName(CameraModel model);
+
+// How a carried target's measured position is compared with the model (Poree 2023, sec. 6.1);
+// the same maximum-likelihood problem either way:
+//  - kCartesian: prediction - measurement in the camera frame, divided by sigma;
+//  - kJointSpace: W (IK(measured point in the base, less the tool offset) - commanded joints),
+//    where W whitens the joint error by the measurement covariance propagated through the IK
+//    Jacobian at the start (W^T W = (J Sigma J^T)^-1), so both weigh the data alike. Needs a
+//    robot model with position inverse kinematics (a flange that only translates).
+enum class ResidualForm { kCartesian, kJointSpace };
+std::string ResidualFormName(ResidualForm form);
 
 struct WorkcellTool {
   std::string target;          // recording target carried by the robot
@@ -52,15 +66,28 @@ struct WorkcellEffect {
   std::shared_ptr<const Effect> effect;
 };
 
+// A static camera's start and which of its pose entries are free (a job's `cameras:`); a camera
+// the job does not name starts in closed form with every entry free.
+struct WorkcellCamera {
+  std::optional<Pose> start;                      // T_world_cam; none: closed form
+  std::array<bool, 6> free = {true, true, true, true, true, true};
+};
+
 struct WorkcellProblem {
   std::vector<WorkcellRobot> robots;
   CameraModel camera_model = CameraModel::kStaticCameras;
-  std::string world_target = "world";
+  ResidualForm residual = ResidualForm::kCartesian;
+  std::string world_target = "world";    // "": no world target (see above)
+  std::map<std::string, WorkcellCamera> cameras;
   bool use_tool_rotation = false;        // also fit the carried targets' measured rotations
   NoiseSpec noise;
   // A direction of parameter space whose scaled singular value falls below this (relative to
   // the largest) is not identifiable; the parameter most involved is held at its nominal value.
   double identifiability_tolerance = 1e-8;
+  // Variance inflation above which a parameter is reported as weakly identified. A delta arm
+  // calibrated on a spread pose set shows at most ~1e4 (its parameters are coupled); all
+  // positions at one height give ~2e5 for the rod lengths, homing offsets and camera z.
+  double weak_vif = 1e5;
   int folds = 5;                         // k-fold cross-validation by pose (0 = off)
   unsigned seed = 1;                     // fold assignment
   bool compare_camera_models = false;    // also report the other observation model's held-out RMS

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,12 +84,23 @@ struct HeldOut {
                                                 // target row (positions and used rotations)
 };
 
+// Fresh positions a result was scored on (prediction - measurement, camera axes).
+struct RecordingScore {
+  std::string recording;
+  ResidualRms before;   // with the closed-form start (nominal model)
+  ResidualRms after;    // with the answer
+  double mean_after_mm = 0.0;
+  double max_after_mm = 0.0;
+};
+
 struct WorkcellResult {
   CameraModel camera_model = CameraModel::kStaticCameras;
+  ResidualForm residual_form = ResidualForm::kCartesian;
   SolverSummary solver;
   std::vector<FrameEstimate> frames;
   std::vector<ScalarEstimate> model_parameters;   // free or held-for-identifiability entries
   std::vector<UnidentifiableParameter> unidentifiable;
+  std::vector<WeakParameter> weakly_identified;   // see WorkcellProblem::weak_vif
   Uncertainty uncertainty;
   std::vector<CorrelatedPair> strong_correlations;
   NoiseModel noise;                               // sigma used for weighting
@@ -100,7 +112,9 @@ struct WorkcellResult {
   std::map<std::string, HeldOut> other_models;    // compare_camera_models: name -> held-out
   std::map<std::string, int> skipped;             // observation skip reasons
   std::vector<std::string> warnings;
-  WorkcellEstimate estimate;
+  WorkcellEstimate start;                         // the closed-form start
+  WorkcellEstimate estimate;                      // the answer
+  std::optional<RecordingScore> validation;       // set by the caller (ScoreOnRecording)
 };
 
 }  // namespace cellmetry

@@ -6,6 +6,12 @@
 // them. Every camera sees every target (no images, no occlusion). The truth (every frame, every
 // model parameter) travels in truth.yaml, which a calibration never reads.
 //
+// One simulator for every cell. A delta arm's kinematic calibration (the 2023 report's sec. 6
+// setting) is a cell without a world target: its base is the world, its truth is drawn around
+// the nominal arm (`errors:` of the robot and of the camera, simulation_draws.h), its commands
+// come from a pose set (nominal inverse kinematics of points in the workspace), and its marker
+// is a point: `measures: position` writes no rotation.
+//
 // Effects (effect.h) can be concealed in the recording: `effects:` under a robot (joint and
 // flange effects) or at the top level (measurement effects), each
 //   {effect: {type: backlash, joints: [2]}, values: {j2.backlash: 0.002}}
@@ -18,19 +24,21 @@
 // camera instead of observations (WorkcellViews says what each camera sees): `cellmetry detect`
 // measures them, with occlusion, perspective and the detector's own errors.
 //
-// truth.yaml:  format: cellmetry-truth/1
-//              frames: {<name>: {parent, xyz, rvec}}      # same names as result.yaml
-//              model:  {<robot>.model.<param>: value}
 #pragma once
 
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "cellmetry/cell/disturbance.h"
+#include "cellmetry/cell/simulation_draws.h"
+#include "cellmetry/cell/truth.h"
+#include "cellmetry/cell/workcell_problem.h"
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/model/effect.h"
 #include "cellmetry/imaging/image_simulation.h"
@@ -50,9 +58,14 @@ struct SimulatedEffect {
 struct SimulatedRobot {
   std::string name;
   std::shared_ptr<const RobotModel> model;
-  std::vector<double> model_values;                  // true model parameters
+  std::vector<double> nominal_values;                // the model's config values
+  std::vector<double> given_values;                  // nominal plus `model_errors:`
+  std::vector<double> model_values;                  // true: given plus the drawn errors
+  ModelErrors errors;                                // drawn into model_values (none: zero)
+  std::optional<PoseSetSpec> pose_set;               // commands drawn when simulated
   Pose T_world_base;
   std::map<std::string, Pose> T_flange_target;       // carried targets
+  std::set<std::string> point_targets;               // measured as positions only (a dot)
   std::vector<std::vector<double>> joint_poses;      // q per commanded pose
   std::vector<double> payloads_kg;                   // cycled over the commanded poses
                                                      // (samples.csv payload); empty: none
@@ -65,14 +78,27 @@ struct SimulatedTimeline {
   std::optional<double> temperature_start_c, temperature_end_c;  // linear ramp over the run
 };
 
+// A camera as simulated: its nominal pose, the error drawn into the truth, its field of view.
+struct SimulatedCamera {
+  Pose T_world_cam_nominal;
+  CameraErrors errors;
+  // Half angles of the field of view about the camera's x and y axes (rad), for the camera_view
+  // pose set; OAK-D-like default (1280 x 800 px, f = 880 px).
+  Eigen::Vector2d half_fov_rad = Eigen::Vector2d(0.629, 0.427);
+};
+
 struct WorkcellSimulationSpec {
   std::vector<SimulatedRobot> robots;
-  std::map<std::string, Pose> T_world_cam;
-  std::string world_target = "world";
+  std::map<std::string, Pose> T_world_cam;           // the truth
+  std::map<std::string, SimulatedCamera> cameras;
+  std::string world_target = "world";                // "": none (the one robot's base is the world)
   Eigen::Vector3d sigma_position_mm = Eigen::Vector3d::Zero();
   Eigen::Vector3d sigma_rotation_rad = Eigen::Vector3d::Zero();
   int repeats = 1;          // captures per commanded pose
-  unsigned seed = 1;
+  unsigned seed = 1;        // draws the truth (errors), and the noise unless noise_seed is set
+  // Draws the pose sets' commands and the noise: a second recording of the same truth (a
+  // validation set) keeps `seed` and changes this (`poses: {seed}`).
+  unsigned noise_seed = 1;
   std::vector<SimulatedEffect> measurement_effects;  // depth bias and the like
   std::vector<std::shared_ptr<const Disturbance>> concealed;  // physics outside the library
   SimulatedTimeline timeline;
@@ -80,17 +106,43 @@ struct WorkcellSimulationSpec {
   std::optional<ConfigNode> images;  // render images instead of writing observations
 };
 
-struct FrameTruth {
-  std::string parent;
-  Pose pose;
-};
 
-struct WorkcellTruth {
-  std::map<std::string, FrameTruth> frames;
-  std::map<std::string, double> model;
-};
 
 Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* truth);
+// The same with the caller's random stream (pose sets drawn first, then the noise).
+Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* truth,
+                           std::mt19937& rng);
+
+// Draws the truth from `rng`: every robot's model errors around its given values, then every
+// camera's pose errors around its nominal pose (simulation_draws.h). LoadWorkcellSimulation
+// draws it from `seed`; a caller drawing again from the same seed gets the same truth.
+void DrawTruth(WorkcellSimulationSpec* spec, std::mt19937& rng);
+
+// A fresh draw of a simulation from one random stream: the truth, then its recording (pose
+// sets, noise): the report's protocol for repeated simulated calibrations.
+struct SimulatedDraw {
+  WorkcellSimulationSpec truth;
+  Recording recording;
+};
+SimulatedDraw DrawAndSimulate(const WorkcellSimulationSpec& spec, std::mt19937& rng);
+
+// The truth as an estimate (every frame and model value), for predictions and comparisons.
+WorkcellEstimate TruthEstimate(const WorkcellSimulationSpec& spec);
+
+// The calibration problem a simulation without a world target poses (the delta report's):
+// every model parameter free, the base held (it is the world), each tool held at the model's
+// nominal tool, the cameras free from the closed form, the simulation's sigma (or
+// `noise_free_sigma_mm` when it has none: it only scales the weights), no cross-validation.
+WorkcellProblem SimulatedProblem(const WorkcellSimulationSpec& spec, ResidualForm residual,
+                                 double noise_free_sigma_mm = 0.01);
+
+// Where `robot`'s pose sets may put its target (simulation_draws.h), as seen by `camera` ("" with
+// one camera: that one) at its nominal pose.
+PoseSetGeometry PoseSetGeometryOf(const WorkcellSimulationSpec& spec, const SimulatedRobot& robot,
+                                  const std::string& camera);
+
+// Holds every model parameter whose name ends in `suffix` (".r": only R - r is identifiable).
+void HoldModelParameters(const std::string& suffix, WorkcellProblem* problem);
 
 // Where every target is in every camera's frame, per sample of `recording` (SimulateWorkcell's).
 std::vector<SampleView> WorkcellViews(const WorkcellSimulationSpec& spec,
@@ -100,33 +152,11 @@ std::vector<SampleView> WorkcellViews(const WorkcellSimulationSpec& spec,
 std::vector<std::string> CameraNames(const WorkcellSimulationSpec& spec);
 std::vector<std::string> TargetNames(const WorkcellSimulationSpec& spec);
 
-std::string TruthYaml(const WorkcellTruth& truth);
-WorkcellTruth ReadTruth(const std::string& path);
 
 // Reads a simulation spec file (docs/formats.md); robot models come from the registry,
 // `concealed:` entries from `read_disturbance` (an InputError there without one).
 WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry,
                                               const DisturbanceReader& read_disturbance = {});
 
-// Error of each estimate against the truth, in units and in its own sigma.
-struct EvaluatedQuantity {
-  std::string name;         // "ur3.base.x", "ur3.base.rot_x", "ur3.model.j2.d"
-  std::string unit;
-  double error = 0.0;       // estimate - truth (rotations: log(R_est R_true^T), parent axes)
-  double sigma = 0.0;
-  double normalized() const { return sigma > 0 ? error / sigma : (error == 0 ? 0.0 : INFINITY); }
-};
-
-struct WorkcellEvaluation {
-  std::vector<EvaluatedQuantity> quantities;  // held entries (sigma 0) are skipped
-  double max_translation_error_mm = 0.0;
-  double max_rotation_error_rad = 0.0;
-  double max_abs_normalized = 0.0;
-};
-
-// `result` is result.json (result_io.h); frames and model parameters absent from the truth are
-// an InputError naming `truth_origin`.
-WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const WorkcellTruth& truth,
-                                    const std::string& truth_origin);
 
 }  // namespace cellmetry

@@ -1,0 +1,235 @@
+// Reading a simulation spec (workcell_simulation.h, docs/formats.md): robots and their truth,
+// cameras, noise, effects, concealed physics, the timeline.
+#include <cmath>
+
+#include "cellmetry/basics/error.h"
+#include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/formats/config_fields.h"
+
+namespace cellmetry {
+namespace {
+
+// `effects:` entries: {effect: {type: ..., <options>}, values: {<parameter>: <value>}}; a
+// parameter not given is zero.
+std::vector<SimulatedEffect> ReadSimulatedEffects(const ConfigNode& list, const std::string& owner,
+                                                  const RobotModel& model, Registry& registry) {
+  std::vector<SimulatedEffect> effects;
+  for (const auto& entry : list.Elements()) {
+    entry.ExpectKeys({"effect", "values"});
+    SimulatedEffect e;
+    const ConfigNode config = entry["effect"];
+    e.effect = registry.CreateEffect(config["type"].AsString(), config, model);
+    e.name = owner + "." + config["type"].AsString();
+    const auto& params = e.effect->parameters();
+    e.values.assign(params.size(), 0.0);
+    if (entry.Has("values")) {
+      const ConfigNode values = entry["values"];
+      for (const auto& name : values.Keys()) {
+        const int index = FindParameter(params, name);
+        if (index < 0) {
+          std::string known;
+          for (const auto& p : params) known += (known.empty() ? "" : ", ") + p.name;
+          throw values[name].Error("the effect has no parameter '" + name + "'",
+                                   "Its parameters are: " + known);
+        }
+        e.values[index] = values[name].AsDouble();
+      }
+    }
+    effects.push_back(e);
+  }
+  return effects;
+}
+
+// `poses: {from_recording, every} | {random, lower, upper} | {set, count, camera, seed}`.
+void ReadPoses(const ConfigNode& poses, std::mt19937& rng, SimulatedRobot* robot,
+               WorkcellSimulationSpec* spec) {
+  poses.ExpectKeys({"from_recording", "every", "random", "lower", "upper", "set", "count",
+                    "camera", "seed", "repeats"});
+  if (poses.Has("set")) {
+    PoseSetSpec set;
+    set.set = ParsePoseSet(poses["set"]);
+    set.count = poses.GetInt("count", set.count);
+    if (set.count < 1) throw poses["count"].Error("must be at least 1");
+    set.camera = poses.GetString("camera", "");
+    robot->pose_set = set;
+    spec->noise_seed = static_cast<unsigned>(poses.GetInt("seed", static_cast<int>(spec->seed) + 1));
+    if (poses.Has("repeats")) spec->repeats = poses["repeats"].AsInt();
+    return;
+  }
+  if (poses.Has("from_recording")) {
+    const Recording source = ReadRecording(poses.ResolvePath(poses["from_recording"].AsString()));
+    const int every = poses.GetInt("every", 1);
+    if (every < 1) throw poses["every"].Error("must be 1 or more", "1 takes every pose");
+    int last_pose = -1, index = 0;
+    for (const auto& s : source.samples) {
+      if (s.pose == last_pose) continue;  // one entry per commanded pose
+      last_pose = s.pose;
+      if (index++ % every == 0) robot->joint_poses.push_back(s.q);
+    }
+    return;
+  }
+  const int count = poses["random"].AsInt();
+  const int n = robot->model->num_joints();
+  const auto lower = poses.Has("lower") ? poses["lower"].AsDoubles(n) : std::vector<double>(n, -M_PI);
+  const auto upper = poses.Has("upper") ? poses["upper"].AsDoubles(n) : std::vector<double>(n, M_PI);
+  for (int i = 0; i < count; ++i) {
+    std::vector<double> q(n);
+    for (int j = 0; j < n; ++j) q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);
+    robot->joint_poses.push_back(q);
+  }
+}
+
+// `tools: {<target>: {xyz, rvec, measures: pose | position}}`; no pose: the model's nominal tool.
+void ReadTools(const ConfigNode& tools, SimulatedRobot* robot) {
+  for (const auto& target : tools.Keys()) {
+    Pose pose = robot->model->nominal_tool();
+    if (const auto tool = tools.Optional(target)) {
+      tool->ExpectKeys({"xyz", "rvec", "measures"});
+      if (tool->Has("xyz") || tool->Has("rvec")) pose = ReadPose(*tool);
+      const std::string measures = tool->GetString("measures", "pose");
+      if (measures == "position") {
+        robot->point_targets.insert(target);
+      } else if (measures != "pose") {
+        throw (*tool)["measures"].Error("unknown measurement '" + measures + "'",
+                                        "Use pose (position and rotation) or position (a dot)");
+      }
+    }
+    robot->T_flange_target[target] = pose;
+  }
+}
+
+SimulatedRobot ReadRobot(const std::string& name, const ConfigNode& node, Registry& registry,
+                         std::mt19937& rng, WorkcellSimulationSpec* spec) {
+  node.ExpectKeys({"model", "base", "tools", "model_errors", "errors", "poses", "payloads_kg",
+                   "effects"});
+  SimulatedRobot robot;
+  robot.name = name;
+  const ConfigNode config = ConfigNode::LoadFile(node.ResolvePath(node["model"].AsString()));
+  robot.model = registry.CreateRobotModel(config["type"].AsString(), config);
+  for (const auto& p : robot.model->parameters()) robot.nominal_values.push_back(p.nominal);
+  robot.model_values = robot.nominal_values;
+  if (node.Has("model_errors")) {
+    const ConfigNode errors = node["model_errors"];
+    for (const auto& param : errors.Keys()) {
+      const int index = FindParameter(robot.model->parameters(), param);
+      if (index < 0) throw errors[param].Error("no model parameter '" + param + "'");
+      robot.model_values[index] += errors[param].AsDouble();
+    }
+  }
+  robot.given_values = robot.model_values;
+  if (node.Has("errors")) {
+    const ConfigNode e = node["errors"];
+    e.ExpectKeys({"dimensions_mm", "homing_increments"});
+    robot.errors.dimensions_mm = e.GetDouble("dimensions_mm", 0.0);
+    robot.errors.homing_increments = e.GetDouble("homing_increments", 0.0);
+  }
+  if (node.Has("base")) robot.T_world_base = ReadPose(node["base"]);
+  ReadTools(node["tools"], &robot);
+  ReadPoses(node["poses"], rng, &robot, spec);
+  if (node.Has("payloads_kg")) {
+    robot.payloads_kg = node["payloads_kg"].AsDoubles();
+    for (double m : robot.payloads_kg) {
+      if (!(m >= 0)) throw node["payloads_kg"].Error("a payload is a mass, 0 kg or more");
+    }
+  }
+  if (node.Has("effects")) {
+    robot.effects = ReadSimulatedEffects(node["effects"], name, *robot.model, registry);
+  }
+  return robot;
+}
+
+// `cameras: {<name>: {xyz, rvec, errors: {mm, rad}, half_fov_rad}}` (nominal poses).
+void ReadCameras(const ConfigNode& cameras, WorkcellSimulationSpec* spec) {
+  for (const auto& name : cameras.Keys()) {
+    const ConfigNode node = cameras[name];
+    node.ExpectKeys({"xyz", "rvec", "errors", "half_fov_rad"});
+    SimulatedCamera camera;
+    camera.T_world_cam_nominal = ReadPose(node);
+    if (node.Has("errors")) {
+      const ConfigNode e = node["errors"];
+      e.ExpectKeys({"mm", "rad"});
+      camera.errors.mm = e.GetDouble("mm", 0.0);
+      camera.errors.rad = e.GetDouble("rad", 0.0);
+    }
+    if (node.Has("half_fov_rad")) {
+      const auto v = node["half_fov_rad"].AsDoubles(2);
+      camera.half_fov_rad = Eigen::Vector2d(v[0], v[1]);
+    }
+    spec->cameras[name] = camera;
+    spec->T_world_cam[name] = camera.T_world_cam_nominal;
+  }
+}
+
+void ReadNoise(const ConfigNode& noise, WorkcellSimulationSpec* spec) {
+  noise.ExpectKeys({"position_mm", "rotation_rad"});
+  if (noise.Has("position_mm")) {
+    const auto v = noise["position_mm"].AsDoubles(3);
+    spec->sigma_position_mm = Eigen::Vector3d(v[0], v[1], v[2]);
+  }
+  if (noise.Has("rotation_rad")) {
+    const auto v = noise["rotation_rad"].AsDoubles(3);
+    spec->sigma_rotation_rad = Eigen::Vector3d(v[0], v[1], v[2]);
+  }
+}
+
+void ReadTimeline(const ConfigNode& t, SimulatedTimeline* timeline) {
+  t.ExpectKeys({"seconds_per_sample", "temperature_start_c", "temperature_end_c"});
+  timeline->seconds_per_sample = t.GetDouble("seconds_per_sample", 0.0);
+  if (t.Has("temperature_start_c")) timeline->temperature_start_c = t["temperature_start_c"].AsDouble();
+  if (t.Has("temperature_end_c")) timeline->temperature_end_c = t["temperature_end_c"].AsDouble();
+}
+
+}  // namespace
+
+WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry,
+                                              const DisturbanceReader& read_disturbance) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"simulation", "description", "seed", "robots", "cameras", "world_target",
+                   "noise", "repeats", "images", "effects", "timeline", "concealed"});
+  if (root["simulation"].AsString() != "workcell") {
+    throw root["simulation"].Error("unknown simulation kind '" + root["simulation"].AsString() + "'",
+                                   "Use simulation: workcell (a delta arm is a cell too: "
+                                   "docs/formats.md)");
+  }
+  WorkcellSimulationSpec spec;
+  spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
+  spec.noise_seed = spec.seed;
+  spec.repeats = root.GetInt("repeats", 1);
+  spec.world_target = root.GetString("world_target", spec.world_target);
+  if (spec.world_target == "none") spec.world_target.clear();
+  if (root.Has("images")) spec.images = root["images"];
+  ReadCameras(root["cameras"], &spec);
+  std::mt19937 rng(spec.seed + 7919);
+  const ConfigNode robots = root["robots"];
+  for (const auto& name : robots.Keys()) {
+    spec.robots.push_back(ReadRobot(name, robots[name], registry, rng, &spec));
+  }
+  if (spec.repeats < 1) throw root["repeats"].Error("must be at least 1");
+  std::mt19937 truth_rng(spec.seed);
+  DrawTruth(&spec, truth_rng);
+  if (root.Has("effects")) {
+    if (spec.robots.empty()) throw root["effects"].Error("effects need a robot");
+    spec.measurement_effects =
+        ReadSimulatedEffects(root["effects"], "camera", *spec.robots.front().model, registry);
+    for (const auto& e : spec.measurement_effects) {
+      if (e.effect->stage() != EffectStage::kMeasurement) {
+        throw root["effects"].Error("'" + e.name + "' acts on a robot's joints or flange",
+                                    "List it under that robot's effects:");
+      }
+    }
+  }
+  if (root.Has("concealed")) {
+    if (!read_disturbance) {
+      throw root["concealed"].Error("this program reads no concealed physics",
+                                    "Simulate with `cellmetry simulate`, which reads them");
+    }
+    for (const auto& node : root["concealed"].Elements()) {
+      spec.concealed.push_back(read_disturbance(node));
+    }
+  }
+  if (root.Has("timeline")) ReadTimeline(root["timeline"], &spec.timeline);
+  if (root.Has("noise")) ReadNoise(root["noise"], &spec);
+  return spec;
+}
+
+}  // namespace cellmetry
