@@ -4,8 +4,8 @@
 //   r = W (IK(T_world_base^-1 T_world_cam p_measured - t_flange_target) - q_command)
 //
 // For robots whose flange only translates (position inverse kinematics: a delta arm), so the
-// tool offset is a plain translation in the base frame. Blocks (base, tool, camera, robot model);
-// evaluated on Jets with ceres::DynamicAutoDiffCostFunction.
+// tool offset is a plain translation in the base frame. Blocks as JetChainLayout says ([base,]
+// [tool,] camera, robot model); evaluated on Jets with ceres::DynamicAutoDiffCostFunction.
 #pragma once
 
 #include "cellmetry/model/frame_block.h"
@@ -18,17 +18,17 @@ class JointSpaceResidual {
  public:
   JointSpaceResidual(FrameRefs refs, const RobotModel* model, std::vector<double> q,
                      const Eigen::Vector3d& p_cam_mm, const Eigen::Matrix3d& whitening)
-      : refs_(refs), model_(model), q_(std::move(q)), p_cam_(p_cam_mm), W_(whitening) {}
+      : refs_(refs), model_(model), q_(std::move(q)), p_cam_(p_cam_mm), W_(whitening),
+        layout_(JetChainLayout::Of(refs_, /*static_camera=*/true)) {}
 
   template <typename T>
   bool operator()(T const* const* blocks, T* residual) const {
-    const Transform<T> T_world_base = FrameFromBlock(blocks[0], refs_.world_base);
-    const Vector3<T> tool(blocks[1][0], blocks[1][1], blocks[1][2]);
-    const Transform<T> T_world_cam = FrameFromBlock(blocks[2], refs_.world_cam);
-    const Vector3<T> flange =
-        T_world_base.inverse() * (T_world_cam * p_cam_.cast<T>()) - tool;
+    const Vector3<T> tool = layout_.ToolOrigin(blocks, refs_);
+    const Transform<T> T_world_cam = FrameFromBlock(blocks[layout_.camera], refs_.world_cam);
+    const Vector3<T> p_world = T_world_cam.R * p_cam_ + T_world_cam.t;  // Jet times double
+    const Vector3<T> flange = layout_.BaseFromWorld(blocks, refs_, p_world) - tool;
     T q[3];
-    if (!model_->Inverse(flange.data(), blocks[3], q)) return false;
+    if (!model_->Inverse(flange.data(), blocks[layout_.model], q)) return false;
     Vector3<T> dq;
     for (int i = 0; i < 3; ++i) dq[i] = q[i] - T(q_[i]);
     const Vector3<T> r = W_.cast<T>() * dq;
@@ -42,6 +42,7 @@ class JointSpaceResidual {
   std::vector<double> q_;
   Eigen::Vector3d p_cam_;
   Eigen::Matrix3d W_;
+  JetChainLayout layout_;
 };
 
 // W with W^T W = (J Sigma J^T)^-1: whitens a joint error by the measurement noise `sigma_mm`

@@ -7,6 +7,7 @@
 #include "cellmetry/basics/error.h"
 #include "chain_cost.h"
 #include "effect_residuals.h"
+#include "jet_costs.h"
 #include "joint_space_residual.h"
 #include "workcell_residuals.h"
 
@@ -118,6 +119,16 @@ struct ToolContext {
   bool model_free = false;
 };
 
+// The blocks of a Jet chain residual, as JetChainLayout orders them (held frames left out).
+std::vector<int> JetBlocks(const ToolContext& c, const AssembledWorkcell& out) {
+  std::vector<int> blocks;
+  if (!c.refs.held_world_base) blocks.push_back(c.blocks[0]);
+  if (!c.refs.held_flange_target) blocks.push_back(c.blocks[1]);
+  if (c.static_camera) blocks.push_back(c.blocks[2]);
+  blocks.push_back(out.model_block[c.m.robot]);
+  return blocks;
+}
+
 // d q / d p_cam at the start: how a measured point's error moves the joints (inverse kinematics
 // differentiated on Jets through the start's camera, base and tool).
 // Where the measured point puts the flange, at the start (base frame, mm).
@@ -165,11 +176,10 @@ std::unique_ptr<ceres::CostFunction> JointSpaceCost(const ToolContext& c, Assemb
                                                      c.start.model.at(robot.name).data()),
                      "Check the camera pose and tool offset, or remove this observation");
   }
-  blocks->push_back(out->model_block[c.m.robot]);
+  *blocks = JetBlocks(c, *out);
   const Sample& sample = c.recording.samples[c.m.sample_index];
-  return OnJets(new JointSpaceResidual(c.refs, robot.model.get(), sample.q, obs.position_mm,
-                                       JointWhitening(J, sigma_mm)),
-                out->problem, *blocks);
+  return JointSpaceCostFunction(c.refs, robot.model.get(), sample.q, obs.position_mm,
+                                JointWhitening(J, sigma_mm), out->problem, *blocks);
 }
 
 // The cost of comparing one carried target's `compared` quantity, and the blocks it reads.
@@ -193,10 +203,9 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
                   out->problem, *blocks);
   }
   if (c.model_free) {
-    blocks->push_back(out->model_block[c.m.robot]);
-    return OnJets(new ModelChainResidual(comparison, c.refs, robot.model.get(), sample.q,
-                                         c.static_camera, c.m.T_cam_world),
-                  out->problem, *blocks);
+    *blocks = JetBlocks(c, *out);
+    return ModelChainCost(comparison, c.refs, robot.model.get(), sample.q, c.static_camera,
+                          c.m.T_cam_world, out->problem, *blocks);
   }
   Pose T_base_flange;
   if (!robot.model->Forward(sample.q.data(), c.start.model.at(robot.name).data(),
@@ -208,6 +217,13 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
   }
   const ChainBlocks chain{/*base=*/true, /*tool=*/true, /*camera=*/c.static_camera};
   return std::make_unique<ChainCost>(comparison, c.refs, chain, T_base_flange, c.m.T_cam_world);
+}
+
+bool BlockHeld(const AssembledWorkcell& out, int block) {
+  for (const auto& p : out.problem.block_parameters(block)) {
+    if (!p.fixed) return false;
+  }
+  return true;
 }
 
 bool ModelFree(const AssembledWorkcell& out, int robot) {
@@ -232,6 +248,13 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     c.model_free = ModelFree(*out, m.robot);
     c.blocks = {out->base_block[m.robot], out->tool_block[m.robot][m.tool]};
     c.refs.world_base = out->R_ref.at(c.blocks[0]);
+    if (BlockHeld(*out, c.blocks[0])) {
+      c.refs.held_world_base = FrameFromBlock(out->problem.values(c.blocks[0]), c.refs.world_base);
+    }
+    if (BlockHeld(*out, c.blocks[1])) {
+      c.refs.held_flange_target =
+          FrameFromBlock(out->problem.values(c.blocks[1]), c.refs.flange_target);
+    }
     c.refs.flange_target = out->R_ref.at(c.blocks[1]);
     if (static_cameras) {
       c.blocks.push_back(out->camera_block.at(obs.camera));

@@ -12,6 +12,8 @@
 
 #include <ceres/ceres.h>
 
+#include <optional>
+
 #include "cellmetry/model/frame_block.h"
 #include "cellmetry/model/robot_model.h"
 
@@ -28,6 +30,12 @@ class TargetComparison {
   Compared compared() const { return compared_; }
   const Pose& measured() const { return measured_; }
   const Eigen::Vector3d& inv_sigma() const { return inv_sigma_; }
+
+  // A predicted position alone (compared() is kPosition).
+  template <typename T>
+  void ComparePosition(const Vector3<T>& predicted, T* residual) const {
+    for (int i = 0; i < 3; ++i) residual[i] = (predicted[i] - T(measured_.t[i])) * T(inv_sigma_[i]);
+  }
 
   template <typename T>
   void Compare(const Transform<T>& predicted, T* residual) const {
@@ -51,6 +59,63 @@ struct FrameRefs {
   Eigen::Matrix3d world_base = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d flange_target = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d world_cam = Eigen::Matrix3d::Identity();
+  // A base or tool held entirely (a delta's base is the world; its marker is the config's):
+  // their poses as plain numbers, and the Jet residuals leave their blocks out (a constant block
+  // would still cost derivative passes).
+  std::optional<Pose> held_world_base;
+  std::optional<Pose> held_flange_target;
+};
+
+// Where each block is among a Jet residual's blocks: base, tool, camera, robot model in that
+// order, those held or absent left out (-1).
+struct JetChainLayout {
+  int base = -1, tool = -1, camera = -1, model = -1;
+  bool held_base_is_world = false;   // held at the identity (the world is the base)
+
+  static JetChainLayout Of(const FrameRefs& refs, bool static_camera) {
+    JetChainLayout layout;
+    layout.held_base_is_world = refs.held_world_base &&
+                                refs.held_world_base->R == Eigen::Matrix3d::Identity() &&
+                                refs.held_world_base->t.isZero(0.0);
+    int next = 0;
+    layout.base = refs.held_world_base ? -1 : next++;
+    layout.tool = refs.held_flange_target ? -1 : next++;
+    layout.camera = static_camera ? next++ : -1;
+    layout.model = next++;
+    return layout;
+  }
+
+  template <typename T>
+  Transform<T> Base(T const* const* blocks, const FrameRefs& refs) const {
+    return base < 0 ? refs.held_world_base->cast<T>() : FrameFromBlock(blocks[base], refs.world_base);
+  }
+  template <typename T>
+  Transform<T> Tool(T const* const* blocks, const FrameRefs& refs) const {
+    return tool < 0 ? refs.held_flange_target->cast<T>()
+                    : FrameFromBlock(blocks[tool], refs.flange_target);
+  }
+  // `p` (base frame) in the world; a held base that is the world moves nothing.
+  template <typename T>
+  Vector3<T> WorldFromBase(T const* const* blocks, const FrameRefs& refs,
+                           const Vector3<T>& p) const {
+    if (base >= 0) return FrameFromBlock(blocks[base], refs.world_base) * p;
+    if (held_base_is_world) return p;
+    return refs.held_world_base->cast<T>() * p;
+  }
+  // A world point in the base frame.
+  template <typename T>
+  Vector3<T> BaseFromWorld(T const* const* blocks, const FrameRefs& refs,
+                           const Vector3<T>& p) const {
+    if (base >= 0) return FrameFromBlock(blocks[base], refs.world_base).inverse() * p;
+    if (held_base_is_world) return p;
+    return refs.held_world_base->cast<T>().inverse() * p;
+  }
+  // The tool's origin on the flange.
+  template <typename T>
+  Vector3<T> ToolOrigin(T const* const* blocks, const FrameRefs& refs) const {
+    if (tool < 0) return refs.held_flange_target->t.cast<T>();
+    return Vector3<T>(blocks[tool][0], blocks[tool][1], blocks[tool][2]);
+  }
 };
 
 template <typename T>
@@ -58,35 +123,54 @@ Transform<T> CameraFromWorld(const T* world_cam_block, const Eigen::Matrix3d& R_
   return FrameFromBlock(world_cam_block, R_ref).inverse();
 }
 
-// Blocks (base, tool, [camera,] robot model). Evaluated with ceres::DynamicAutoDiffCostFunction.
+// Blocks as JetChainLayout says ([base,] [tool,] [camera,] robot model). Evaluated with
+// ceres::DynamicAutoDiffCostFunction.
 class ModelChainResidual {
  public:
   ModelChainResidual(TargetComparison comparison, FrameRefs refs, const RobotModel* model,
                      std::vector<double> q, bool static_camera, Pose T_cam_world_measured)
       : comparison_(comparison), refs_(refs), model_(model), q_(std::move(q)),
-        static_camera_(static_camera), T_cam_world_measured_(T_cam_world_measured) {}
+        static_camera_(static_camera), T_cam_world_measured_(T_cam_world_measured),
+        layout_(JetChainLayout::Of(refs_, static_camera)) {}
 
   template <typename T>
   bool operator()(T const* const* blocks, T* residual) const {
-    const Transform<T> T_cam_world = static_camera_
-                                         ? CameraFromWorld(blocks[2], refs_.world_cam)
-                                         : T_cam_world_measured_.cast<T>();
-    const T* model_params = blocks[static_camera_ ? 3 : 2];
+    const T* model_params = blocks[layout_.model];
     Transform<T> T_base_flange;
     if (!model_->Forward(q_.data(), model_params, &T_base_flange)) return false;
-    const Transform<T> predicted = T_cam_world * FrameFromBlock(blocks[0], refs_.world_base) *
-                                   T_base_flange * FrameFromBlock(blocks[1], refs_.flange_target);
+    if (comparison_.compared() == Compared::kPosition) {
+      comparison_.ComparePosition(PositionInCamera(blocks, T_base_flange), residual);
+      return true;
+    }
+    const Transform<T> T_cam_world = static_camera_
+                                         ? CameraFromWorld(blocks[layout_.camera], refs_.world_cam)
+                                         : T_cam_world_measured_.cast<T>();
+    const Transform<T> predicted = T_cam_world * layout_.Base(blocks, refs_) * T_base_flange *
+                                   layout_.Tool(blocks, refs_);
     comparison_.Compare(predicted, residual);
     return true;
   }
 
  private:
+  // The target's origin in the camera: no rotation products (the tool's rotation does not move
+  // its origin), and held frames as plain numbers.
+  template <typename T>
+  Vector3<T> PositionInCamera(T const* const* blocks, const Transform<T>& T_base_flange) const {
+    const Vector3<T> tool = layout_.ToolOrigin(blocks, refs_);
+    const Vector3<T> p_base = T_base_flange.t + T_base_flange.R * tool;
+    const Vector3<T> p_world = layout_.WorldFromBase(blocks, refs_, p_base);
+    if (!static_camera_) return T_cam_world_measured_.R * p_world + T_cam_world_measured_.t;
+    const Transform<T> T_world_cam = FrameFromBlock(blocks[layout_.camera], refs_.world_cam);
+    return T_world_cam.R.transpose() * (p_world - T_world_cam.t);
+  }
+
   TargetComparison comparison_;
   FrameRefs refs_;
   const RobotModel* model_;
   std::vector<double> q_;
   bool static_camera_;
   Pose T_cam_world_measured_;
+  JetChainLayout layout_;
 };
 
 }  // namespace cellmetry

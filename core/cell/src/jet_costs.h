@@ -1,0 +1,34 @@
+// The cell's Jet cost functions, each built in jet_costs.cc: a translation unit of its own, so
+// that the compiler's inlining budget goes to their Jet arithmetic (in the assembly's large unit
+// it did not, and a delta calibration ran 1.4x slower).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <ceres/cost_function.h>
+
+#include "cellmetry/estimation/problem.h"
+#include "workcell_residuals.h"
+
+namespace cellmetry {
+
+// ModelChainResidual (workcell_residuals.h) over `blocks` of `problem`.
+std::unique_ptr<ceres::CostFunction> ModelChainCost(const TargetComparison& comparison,
+                                                   const FrameRefs& refs, const RobotModel* model,
+                                                   const std::vector<double>& q,
+                                                   bool static_camera,
+                                                   const Pose& T_cam_world_measured,
+                                                   const Problem& problem,
+                                                   const std::vector<int>& blocks);
+
+// JointSpaceResidual (joint_space_residual.h) over `blocks` of `problem`.
+std::unique_ptr<ceres::CostFunction> JointSpaceCostFunction(const FrameRefs& refs,
+                                                           const RobotModel* model,
+                                                           const std::vector<double>& q,
+                                                           const Eigen::Vector3d& p_cam_mm,
+                                                           const Eigen::Matrix3d& whitening,
+                                                           const Problem& problem,
+                                                           const std::vector<int>& blocks);
+
+}  // namespace cellmetry
