@@ -42,6 +42,12 @@ const std::vector<std::string>& EffectConfigs() {
       "{type: depth_bias, cameras: [cam2], terms: [scale, tilt]}",
       "{type: detection_bias, cameras: [cam2], targets: [world, tool], frame: target}",
       "{type: detection_bias, cameras: [cam1, cam2], targets: [tool]}",
+      "{type: target_scale, targets: [world, tool]}",
+      "{type: camera_intrinsics, cameras: [cam1, cam2]}",
+      "{type: camera_intrinsics, cameras: [cam2], terms: [focal]}",
+      "{type: camera_intrinsics, cameras: [cam2], terms: [principal, radial]}",
+      "{type: target_tilt, targets: [tool]}",
+      "{type: world_frame, target: tool}",
   };
   return configs;
 }
@@ -151,6 +157,64 @@ TEST(Effects, ZeroParametersAreNoEffect) {
     EXPECT_EQ(Values(*effect, fixture.context, zero), Untouched(*effect));
     EXPECT_FALSE(effect->Describe(zero).empty());
   }
+}
+
+// The camera-side effects do what their physics says to a measured pose.
+std::vector<double> Measured(const std::string& yaml, const std::vector<double>& params,
+                             const std::string& target = "tool") {
+  const auto robot = Ur3();
+  const auto effect = MakeEffect(yaml, *robot);
+  ContextFixture fixture(*robot);
+  fixture.context.target = target;
+  std::vector<double> values = Untouched(*effect);
+  effect->Apply(fixture.context, params.data(), values.data());
+  return values;
+}
+
+TEST(CameraEffects, TargetScaleScalesEveryCoordinateOfThatTargetOnly) {
+  const auto v = Measured("{type: target_scale, targets: [tool]}", {0.01});
+  EXPECT_NEAR(v[0], 120.0 * 1.01, 1e-9);
+  EXPECT_NEAR(v[1], -80.0 * 1.01, 1e-9);
+  EXPECT_NEAR(v[2], 650.0 * 1.01, 1e-9);
+  EXPECT_NEAR(Measured("{type: target_scale, targets: [tool]}", {0.01}, "world")[2], 650.0, 1e-12);
+}
+
+TEST(CameraEffects, FocalLengthScalesDepthAloneAndKeepsTheRay) {
+  const auto v = Measured("{type: camera_intrinsics, cameras: [cam2], terms: [focal]}", {0.02});
+  EXPECT_NEAR(v[2], 650.0 * 1.02, 1e-9);
+  EXPECT_NEAR(v[0] / v[2], 120.0 / 650.0, 1e-12);  // same ray
+  EXPECT_NEAR(v[1] / v[2], -80.0 / 650.0, 1e-12);
+}
+
+TEST(CameraEffects, PrincipalPointTurnsTheRayAndTheMeasuredRotation) {
+  const auto v = Measured("{type: camera_intrinsics, cameras: [cam2], terms: [principal]}",
+                          {0.01, -0.005});
+  EXPECT_NEAR(v[0] / v[2], 120.0 / 650.0 - 0.01, 1e-12);
+  EXPECT_NEAR(v[1] / v[2], -80.0 / 650.0 + 0.005, 1e-12);
+  EXPECT_NEAR(v[2], 650.0, 1e-12);
+  const Eigen::Matrix3d before = RotationFromRvec(Eigen::Vector3d(0.1, 0.2, 0.3).data());
+  const Eigen::Matrix3d after = Eigen::Map<const Eigen::Matrix3d>(v.data() + 3);
+  const Eigen::Vector3d turn = RvecFromRotation(after * before.transpose());
+  EXPECT_NEAR(turn.x(), -0.005, 1e-9);  // about x by -py
+  EXPECT_NEAR(turn.y(), -0.01, 1e-9);   // about y by -px
+}
+
+TEST(CameraEffects, RadialErrorVanishesOnTheAxisAndGrowsWithRadius) {
+  const std::string yaml = "{type: camera_intrinsics, cameras: [cam2], terms: [radial]}";
+  const auto v = Measured(yaml, {0.05});
+  const double r2 = (120.0 * 120.0 + 80.0 * 80.0) / (650.0 * 650.0);
+  EXPECT_NEAR(v[2], 650.0 * (1 - 2 * 0.05 * r2), 1e-9);
+  EXPECT_NEAR(v[0] / v[2], 120.0 / 650.0 * (1 + 0.05 * r2), 1e-12);
+}
+
+TEST(CameraEffects, TargetTiltTurnsTheTargetAboutItsOwnAxesAndKeepsItsPosition) {
+  const auto v = Measured("{type: target_tilt, targets: [tool]}", {0.02, 0.0});
+  EXPECT_NEAR(v[0], 120.0, 1e-12);
+  const Eigen::Matrix3d before = RotationFromRvec(Eigen::Vector3d(0.1, 0.2, 0.3).data());
+  const Eigen::Matrix3d after = Eigen::Map<const Eigen::Matrix3d>(v.data() + 3);
+  const Eigen::Vector3d turn = RvecFromRotation(before.transpose() * after);  // target axes
+  EXPECT_NEAR(turn.x(), 0.02, 1e-12);
+  EXPECT_NEAR(turn.y(), 0.0, 1e-12);
 }
 
 TEST(Effects, GravityTorqueOfAHorizontalArmIsMassTimesLever) {

@@ -1,11 +1,12 @@
 // Registers the effect library: joint_compliance, backlash, transmission_error, joint_scale,
-// thermal_drift, depth_bias, detection_bias, platform_tilt, ball_joint_clearance (one header
-// each says its physics).
+// thermal_drift, depth_bias, detection_bias, target_scale, camera_intrinsics, target_tilt,
+// world_frame, platform_tilt, ball_joint_clearance (one header each says its physics).
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "backlash.h"
+#include "camera_intrinsics.h"
 #include "ball_joint_clearance.h"
 #include "cellmetry/registry/registry.h"
 #include "depth_bias.h"
@@ -14,6 +15,8 @@
 #include "joint_scale.h"
 #include "joint_selection.h"
 #include "platform_tilt.h"
+#include "target_scale.h"
+#include "target_tilt.h"
 #include "thermal_drift.h"
 #include "transmission_error.h"
 
@@ -111,6 +114,54 @@ std::unique_ptr<Effect> CreateDetectionBias(const ConfigNode& config, const Robo
   return std::make_unique<DetectionBias>(cameras, targets, prior, prior_rad, frame == "target");
 }
 
+// A list of names under `key`, at least one.
+std::vector<std::string> Names(const ConfigNode& config, const std::string& key,
+                               const std::string& example) {
+  std::vector<std::string> names;
+  for (const auto& node : config[key].Elements()) names.push_back(node.AsString());
+  if (names.empty()) throw config[key].Error("lists no name", "e.g. " + key + ": [" + example + "]");
+  return names;
+}
+
+std::unique_ptr<Effect> CreateTargetScale(const ConfigNode& config, const RobotModel&) {
+  config.ExpectKeys({"type", "targets"});
+  return std::make_unique<TargetScale>(Names(config, "targets", "tool"));
+}
+
+std::unique_ptr<Effect> CreateIntrinsics(const ConfigNode& config, const RobotModel&) {
+  config.ExpectKeys({"type", "cameras", "terms"});
+  bool focal = true, principal = true, radial = true;
+  if (config.Has("terms")) {
+    focal = principal = radial = false;
+    for (const auto& node : config["terms"].Elements()) {
+      const std::string term = node.AsString();
+      if (term == "focal") {
+        focal = true;
+      } else if (term == "principal") {
+        principal = true;
+      } else if (term == "radial") {
+        radial = true;
+      } else {
+        throw node.Error("unknown intrinsics term '" + term + "'",
+                         "Use focal, principal and/or radial");
+      }
+    }
+  }
+  return std::make_unique<CameraIntrinsics>(Names(config, "cameras", "cam1"), focal, principal,
+                                            radial);
+}
+
+std::unique_ptr<Effect> CreateTargetTilt(const ConfigNode& config, const RobotModel&) {
+  config.ExpectKeys({"type", "targets"});
+  return std::make_unique<TargetTilt>(Names(config, "targets", "tool"), /*world=*/false);
+}
+
+std::unique_ptr<Effect> CreateWorldFrame(const ConfigNode& config, const RobotModel&) {
+  config.ExpectKeys({"type", "target"});
+  return std::make_unique<TargetTilt>(std::vector<std::string>{config.GetString("target", "world")},
+                                      /*world=*/true);
+}
+
 // `arms: [1, 3]` (1-based; default all three) of a parallel arm; an error for a serial arm.
 std::vector<int> SelectArms(const ConfigNode& config, const RobotModel& robot) {
   std::vector<ParallelLink> links;
@@ -198,6 +249,24 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                             {"prior_rad", "rad", "0.5e-3", "expected rotation error (prior)"},
                             {"frame", "", "camera", "camera | target: the axes it is fixed in"}}),
                       &fx::CreateDetectionBias);
+  registry->AddEffect(Info("target_scale",
+                           "a target printed at another size: p' = p (1 + s) in every camera",
+                           {{"targets", "", "", "targets it acts on"}}),
+                      &fx::CreateTargetScale);
+  registry->AddEffect(Info("camera_intrinsics",
+                           "a camera's focal length, principal point or radial distortion off, "
+                           "as PnP passes it to the measured pose",
+                           {{"cameras", "", "", "cameras it acts on"},
+                            {"terms", "", "[focal, principal, radial]", "which terms"}}),
+                      &fx::CreateIntrinsics);
+  registry->AddEffect(Info("target_tilt",
+                           "a pose estimator's tilt of a target: R' = R exp([t_x, t_y, 0])",
+                           {{"targets", "", "", "targets it acts on"}}),
+                      &fx::CreateTargetTilt);
+  registry->AddEffect(Info("world_frame",
+                           "the world tag tilted from the frame the placement was measured in",
+                           {{"target", "", "world", "the world target"}}),
+                      &fx::CreateWorldFrame);
   const cellmetry::OptionDoc arms{"arms", "", "all", "1-based arms of a delta it acts on"};
   registry->AddEffect(Info("platform_tilt",
                            "delta parallelograms out of true: the platform tilts, (e_i x u_i).w = k_i",
