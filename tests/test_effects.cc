@@ -48,6 +48,7 @@ const std::vector<std::string>& EffectConfigs() {
       "{type: camera_intrinsics, cameras: [cam2], terms: [principal, radial]}",
       "{type: target_tilt, targets: [tool]}",
       "{type: world_frame, target: tool}",
+      "{type: world_frame, target: tool, axes: [x, y, z]}",
   };
   return configs;
 }

@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "cellmetry/estimation/robust_covariance.h"
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
@@ -59,6 +60,28 @@ TEST(Identifiability, TiedParametersAreNamedAndHeld) {
     }
   }
   EXPECT_LT(result.uncertainty.condition_number, 1e6);
+}
+
+}  // namespace
+}  // namespace cellmetry
+
+namespace cellmetry {
+namespace {
+
+// The jackknife spread of leave-one-out estimates, and a systematic part only beyond chance.
+TEST(RobustCovariance, JackknifeClaimsASystematicPartOnlyBeyondChance) {
+  const std::vector<Eigen::VectorXd> values = {Eigen::Vector2d(1.0, 0.01),
+                                               Eigen::Vector2d(-1.0, -0.01),
+                                               Eigen::Vector2d(0.0, 0.0)};
+  const Jackknife jack = JackknifeSpread(values);
+  EXPECT_NEAR(jack.variance[0], 2.0 / 3.0 * 2.0, 1e-12);  // (n-1)/n sum of squares
+  EXPECT_EQ(jack.groups[0], 3);
+  Uncertainty u;
+  u.sigma = Eigen::Vector2d(0.1, 0.1);
+  CombineUncertainty(Eigen::MatrixXd(), jack, &u);
+  EXPECT_NEAR(u.sigma_systematic[0], std::sqrt(4.0 / 3.0 - 0.01), 1e-12);  // far beyond chance
+  EXPECT_EQ(u.sigma_systematic[1], 0.0);                                 // within chance
+  EXPECT_NEAR(u.sigma[1], 0.1, 1e-12);
 }
 
 }  // namespace

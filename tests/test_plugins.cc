@@ -101,8 +101,8 @@ TEST(LoadLibrary, AFileThatIsNotALibraryIsAnInputErrorNamingIt) {
 }
 
 TEST(LoadLibrary, ALibraryWithoutTheEntryPointIsAnInputErrorNamingIt) {
-  // The core library itself loads fine but registers nothing.
-  const std::string path = std::string(CELLMETRY_BUILD_DIR) + "/lib/libcellmetry.so";
+  // A core layer's library loads fine but registers nothing.
+  const std::string path = std::string(CELLMETRY_BUILD_DIR) + "/lib/libcellmetry_basics.so";
   ASSERT_TRUE(fs::exists(path));
   Registry registry;
   const InputError e = CatchInputError([&] { registry.LoadLibrary(path); });

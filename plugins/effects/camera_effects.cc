@@ -55,14 +55,16 @@ std::string CameraIntrinsics::Describe(const std::vector<double>& params) const 
   return WithParameters(what, parameters_, params);
 }
 
-TargetTilt::TargetTilt(std::vector<std::string> targets, bool world)
-    : targets_(std::move(targets)), world_(world) {
+TargetTilt::TargetTilt(std::vector<std::string> targets, bool world, bool turn)
+    : targets_(std::move(targets)), world_(world), turn_(turn) {
+  const std::vector<std::string> axes =
+      turn_ ? std::vector<std::string>{"x", "y", "z"} : std::vector<std::string>{"x", "y"};
   for (const auto& target : targets_) {
-    for (const char* axis : {"x", "y"}) {
+    for (const auto& axis : axes) {
       const std::string name = (world_ ? std::string("world_frame") : target) + ".tilt_" + axis;
       parameters_.push_back({name, "rad", 0.0, false, {}, {}, {},
-                             world_ ? std::string("world tag plane turned about its ") + axis
-                                    : std::string("pose estimator's tilt about the target's ") + axis,
+                             world_ ? "world tag turned about its " + axis
+                                    : "pose estimator's tilt about the target's " + axis,
                              {}});
       parameters_.back().plausible = world_ ? 0.02 : 0.03;  // 1 deg glued; 2 deg estimated
     }
@@ -70,7 +72,7 @@ TargetTilt::TargetTilt(std::vector<std::string> targets, bool world)
 }
 
 std::string TargetTilt::Describe(const std::vector<double>& params) const {
-  return WithParameters(world_ ? "world tag tilted from the frame the placement was measured in"
+  return WithParameters(world_ ? "world tag turned from the frame the placement was measured in"
                                : "orientation bias of the target's pose estimates",
                         parameters_, params);
 }

@@ -157,9 +157,20 @@ std::unique_ptr<Effect> CreateTargetTilt(const ConfigNode& config, const RobotMo
 }
 
 std::unique_ptr<Effect> CreateWorldFrame(const ConfigNode& config, const RobotModel&) {
-  config.ExpectKeys({"type", "target"});
+  config.ExpectKeys({"type", "target", "axes"});
+  bool turn = false;
+  if (config.Has("axes")) {
+    std::vector<std::string> axes;
+    for (const auto& node : config["axes"].Elements()) axes.push_back(node.AsString());
+    if (axes == std::vector<std::string>{"x", "y", "z"}) {
+      turn = true;
+    } else if (axes != std::vector<std::string>{"x", "y"}) {
+      throw config["axes"].Error("world_frame turns about [x, y] or [x, y, z]",
+                                 "Use [x, y, z] only where every base's rotation is given");
+    }
+  }
   return std::make_unique<TargetTilt>(std::vector<std::string>{config.GetString("target", "world")},
-                                      /*world=*/true);
+                                      /*world=*/true, turn);
 }
 
 // `arms: [1, 3]` (1-based; default all three) of a parallel arm; an error for a serial arm.
@@ -264,8 +275,9 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                            {{"targets", "", "", "targets it acts on"}}),
                       &fx::CreateTargetTilt);
   registry->AddEffect(Info("world_frame",
-                           "the world tag tilted from the frame the placement was measured in",
-                           {{"target", "", "world", "the world target"}}),
+                           "the world tag turned from the frame the placement was measured in",
+                           {{"target", "", "world", "the world target"},
+                            {"axes", "", "[x, y]", "[x, y] (tilt) or [x, y, z] (and turn)"}}),
                       &fx::CreateWorldFrame);
   const cellmetry::OptionDoc arms{"arms", "", "all", "1-based arms of a delta it acts on"};
   registry->AddEffect(Info("platform_tilt",

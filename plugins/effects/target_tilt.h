@@ -7,11 +7,12 @@
 // unflat, or with its corners biased outward tilts in PnP by 10-30 mrad while its position stays
 // within a few mm; every camera sees the same tilt where it comes from the board.
 //
-// `world_frame`: the world tag's plane tilted from the frame in which the robot's placement was
-// measured (the tag glued a little off level). Everything the cell finds is in the tag's frame;
-// with it, in the placement's. A gauge otherwise (tilting the world tilts every base and camera
-// with it): it is determined only where a base's rotation is given, e.g. a robot standing level
-// (`base: {free: [x, y, z, rz]}`).
+// `world_frame`: the world tag turned from the frame in which the robot's placement was measured
+// (glued a little off level): R' = R exp([t_x, t_y, 0]), "world_frame.tilt_x/y"; with
+// `axes: [x, y, z]` also turned in its plane ("tilt_z"). Everything the cell finds is in the tag's frame; with it, in the
+// placement's. A gauge otherwise (turning the world turns every base and camera with it): it is
+// determined only where a base's rotation is given, e.g. a robot placed square to the cell
+// (`base: {free: [x, y, z]}`, its rotation held at the placement's).
 //
 // `targets: [tool]` for target_tilt (required); world_frame acts on the job's world target.
 #pragma once
@@ -27,8 +28,9 @@ namespace cellmetry::effects {
 
 class TargetTilt : public EffectFromTemplate<TargetTilt> {
  public:
-  // `world`: the world_frame reading (its words and parameter names).
-  TargetTilt(std::vector<std::string> targets, bool world);
+  // `world`: the world_frame reading (its words and parameter names); `turn`: also about z
+  // (world_frame only: where every base's rotation is given).
+  TargetTilt(std::vector<std::string> targets, bool world, bool turn = false);
 
   EffectStage stage() const override { return EffectStage::kMeasurement; }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
@@ -38,7 +40,8 @@ class TargetTilt : public EffectFromTemplate<TargetTilt> {
   void ApplyT(const EffectContext& context, const T* params, T* values) const {
     for (size_t t = 0; t < targets_.size(); ++t) {
       if (targets_[t] != context.target) continue;
-      const T tilt[3] = {params[2 * t], params[2 * t + 1], T(0.0)};
+      const int n = turn_ ? 3 : 2;
+      const T tilt[3] = {params[n * t], params[n * t + 1], turn_ ? params[n * t + 2] : T(0.0)};
       T turn[9], out[9];
       ceres::AngleAxisToRotationMatrix(tilt, turn);  // column-major
       const T* R = values + 3;                       // R_cam_target, column-major
@@ -55,7 +58,7 @@ class TargetTilt : public EffectFromTemplate<TargetTilt> {
 
  private:
   std::vector<std::string> targets_;
-  bool world_;
+  bool world_, turn_;
   std::vector<Parameter> parameters_;
 };
 

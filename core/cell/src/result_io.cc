@@ -48,6 +48,10 @@ double NoiseFloorMm(const WorkcellResult& r, const std::string& camera = "") {
   return count ? std::sqrt(sum / count) : NAN;
 }
 
+std::vector<double> Vec6(const Eigen::Matrix<double, 6, 1>& v) {
+  return {v[0], v[1], v[2], v[3], v[4], v[5]};
+}
+
 nlohmann::json EstimateJson(const WorkcellEstimate& e) {
   nlohmann::json j = nlohmann::json::object();
   auto frame = [](const Pose& pose) {
@@ -116,12 +120,16 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
                            {"rvec_rad", Vec(RvecFromRotation(f.pose.R))},
                            {"sigma_xyz_mm", Vec(f.sigma_mm)},
                            {"sigma_rot_rad", Vec(f.sigma_rad)},
+                           {"sigma_statistical", Vec6(f.sigma_statistical)},
+                           {"sigma_systematic", Vec6(f.sigma_systematic)},
                            {"held", held}};
   }
   j["model_parameters"] = nlohmann::json::array();
   for (const auto& p : r.model_parameters) {
     j["model_parameters"].push_back({{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal},
-                                     {"value", p.value}, {"sigma", p.sigma}, {"held", p.held}});
+                                     {"value", p.value}, {"sigma", p.sigma},
+                                     {"sigma_statistical", p.sigma_statistical},
+                                     {"sigma_systematic", p.sigma_systematic}, {"held", p.held}});
   }
   AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
   j["weakly_identified"] = WeakJson(r.weakly_identified);
@@ -174,6 +182,13 @@ std::string WorkcellSummary(const WorkcellResult& r) {
         << Fixed(f.sigma_mm.x(), 2) << ", " << Fixed(f.sigma_mm.y(), 2) << ", "
         << Fixed(f.sigma_mm.z(), 2) << "), rvec = (" << Fixed(rvec.x(), 4) << ", "
         << Fixed(rvec.y(), 4) << ", " << Fixed(rvec.z(), 4) << ") rad\n";
+    if (f.sigma_systematic.head<3>().maxCoeff() > 0) {
+      out << "    sigma parts: statistical (" << Fixed(f.sigma_statistical[0], 2) << ", "
+          << Fixed(f.sigma_statistical[1], 2) << ", " << Fixed(f.sigma_statistical[2], 2)
+          << ") mm, systematic between cameras (" << Fixed(f.sigma_systematic[0], 2) << ", "
+          << Fixed(f.sigma_systematic[1], 2) << ", " << Fixed(f.sigma_systematic[2], 2)
+          << ") mm\n";
+    }
   }
   for (const auto& p : r.model_parameters) {
     out << "  " << p.name << " = " << Fixed(p.value, 5) << " +- " << Fixed(p.sigma, 5) << " "

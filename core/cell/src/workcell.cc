@@ -10,17 +10,11 @@
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_initial.h"
+#include "fit_once.h"
+#include "uncertainty_split.h"
 
 namespace cellmetry {
-namespace {
 
-struct Fit {
-  std::unique_ptr<AssembledWorkcell> assembled;
-  SolverSummary summary;
-  std::vector<UnidentifiableParameter> unidentifiable;
-};
-
-// Assembles on `poses`, holds `held` and whatever the data cannot determine, and solves.
 Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
             const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
             std::set<std::string> held, const SolverMaker& make_solver) {
@@ -32,6 +26,8 @@ Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const Workc
   fit.unidentifiable = std::move(solved.unidentifiable);
   return fit;
 }
+
+namespace {
 
 std::set<std::string> Names(const std::vector<UnidentifiableParameter>& list) {
   std::set<std::string> names;
@@ -156,6 +152,22 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
   return out;
 }
 
+// The total sigma of a free parameter and its parts; all zero where it is not free.
+struct SigmaOf {
+  double total = 0.0, statistical = 0.0, systematic = 0.0;
+  bool free = false;
+};
+
+SigmaOf Sigma(const Uncertainty& u, const std::string& name) {
+  const auto it = std::find(u.names.begin(), u.names.end(), name);
+  if (it == u.names.end()) return {};
+  const auto i = it - u.names.begin();
+  SigmaOf s{u.sigma[i], u.sigma[i], 0.0, true};
+  if (u.sigma_statistical.size() == u.sigma.size()) s.statistical = u.sigma_statistical[i];
+  if (u.sigma_systematic.size() == u.sigma.size()) s.systematic = u.sigma_systematic[i];
+  return s;
+}
+
 FrameEstimate MakeFrame(const std::string& name, const std::string& parent, const Pose& pose,
                         const Uncertainty& u, const std::set<std::string>& held) {
   FrameEstimate frame;
@@ -163,13 +175,29 @@ FrameEstimate MakeFrame(const std::string& name, const std::string& parent, cons
   frame.parent = parent;
   frame.pose = pose;
   for (int i = 0; i < 6; ++i) {
-    const std::string full = name + "." + kFrameParameterNames[i];
-    const auto it = std::find(u.names.begin(), u.names.end(), full);
-    const double sigma = it == u.names.end() ? 0.0 : u.sigma[it - u.names.begin()];
-    (i < 3 ? frame.sigma_mm[i] : frame.sigma_rad[i - 3]) = sigma;
-    frame.held[i] = it == u.names.end();
+    const SigmaOf sigma = Sigma(u, name + "." + kFrameParameterNames[i]);
+    (i < 3 ? frame.sigma_mm[i] : frame.sigma_rad[i - 3]) = sigma.total;
+    frame.sigma_statistical[i] = sigma.statistical;
+    frame.sigma_systematic[i] = sigma.systematic;
+    frame.held[i] = !sigma.free;
   }
   return frame;
+}
+
+// A model or effect parameter's estimate.
+ScalarEstimate MakeScalar(const std::string& name, const std::string& unit, double nominal,
+                          double value, const Uncertainty& u, const std::set<std::string>& held) {
+  ScalarEstimate s;
+  s.name = name;
+  s.unit = unit;
+  s.nominal = nominal;
+  s.value = value;
+  s.held = held.count(name) > 0;
+  const SigmaOf sigma = Sigma(u, name);
+  s.sigma = sigma.total;
+  s.sigma_statistical = sigma.statistical;
+  s.sigma_systematic = sigma.systematic;
+  return s;
 }
 
 void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
@@ -188,15 +216,8 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
     for (size_t i = 0; i < robot.model_parameters.size(); ++i) {
       const Parameter& p = robot.model_parameters[i];
       if (p.fixed) continue;
-      ScalarEstimate s;
-      s.name = robot.name + ".model." + p.name;
-      s.unit = p.unit;
-      s.nominal = p.nominal;
-      s.value = values[i];
-      s.held = held.count(s.name) > 0;
-      const auto it = std::find(u.names.begin(), u.names.end(), s.name);
-      if (it != u.names.end()) s.sigma = u.sigma[it - u.names.begin()];
-      result->model_parameters.push_back(s);
+      result->model_parameters.push_back(
+          MakeScalar(robot.name + ".model." + p.name, p.unit, p.nominal, values[i], u, held));
     }
     const bool model_free = std::any_of(robot.model_parameters.begin(),
                                         robot.model_parameters.end(),
@@ -212,14 +233,8 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
     const auto& params = effect.effect->parameters();
     const auto& values = e.effects.at(effect.name);
     for (size_t i = 0; i < params.size(); ++i) {
-      ScalarEstimate s;
-      s.name = effect.name + "." + params[i].name;
-      s.unit = params[i].unit;
-      s.value = values[i];
-      s.held = held.count(s.name) > 0;
-      const auto it = std::find(u.names.begin(), u.names.end(), s.name);
-      if (it != u.names.end()) s.sigma = u.sigma[it - u.names.begin()];
-      result->model_parameters.push_back(s);
+      result->model_parameters.push_back(MakeScalar(effect.name + "." + params[i].name,
+                                                    params[i].unit, 0.0, values[i], u, held));
     }
   }
 }
@@ -330,6 +345,8 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   result.uncertainty = ComputeUncertainty(fit.assembled->problem);
   result.strong_correlations = StrongCorrelations(result.uncertainty);
   const std::set<std::string> held = Names(result.unidentifiable);
+  SplitUncertainty(spec, recording, result.noise, result.estimate, held, make_solver,
+                   fit.assembled.get(), &result.uncertainty);
   Describe(spec, *fit.assembled, held, &result);
   AddResidualStatistics(spec, recording, data, fit, &result);
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,

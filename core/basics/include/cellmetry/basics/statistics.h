@@ -15,6 +15,9 @@ double ChiSquareSurvival(double x, double k);
 // double; below 1e-250, log Q from Lentz's continued fraction (Boost.Math has no log Q).
 double ChiSquareLogSurvival(double x, double k);
 
+// x with P(X <= x) = p for X ~ chi-square with k degrees of freedom (Boost.Math).
+double ChiSquareQuantile(double p, double k);
+
 // P(Z > z) for a standard normal Z.
 double NormalSurvival(double z);
 

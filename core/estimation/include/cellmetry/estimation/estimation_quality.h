@@ -47,7 +47,15 @@ IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
 
 struct Uncertainty {
   std::vector<std::string> names;   // free parameters, in Problem order
-  Eigen::VectorXd sigma;            // 1-sigma, in each parameter's unit
+  Eigen::VectorXd sigma;            // 1-sigma, in each parameter's unit: the total (below)
+  // Its parts (robust_covariance.h). statistical = the larger of the chi-square-scaled model's
+  // and the cluster-robust sigma; systematic = what errors shared by a whole camera add (the
+  // camera jackknife's spread beyond the statistical); sigma^2 = statistical^2 + systematic^2.
+  // Empty where not computed: sigma is then the model's.
+  Eigen::VectorXd sigma_model;
+  Eigen::VectorXd sigma_cluster;
+  Eigen::VectorXd sigma_statistical;
+  Eigen::VectorXd sigma_systematic;
   Eigen::MatrixXd covariance;
   Eigen::MatrixXd correlation;
   double chi2 = 0.0;                // |r|^2 of the whitened measurement residuals

@@ -1,0 +1,27 @@
+// One fit of a cell (internal to the cell layer): assemble on some poses, hold what the data
+// cannot determine, solve. workcell.cc defines it; the uncertainty split refits with it.
+#pragma once
+
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/estimation/estimation_quality.h"
+
+namespace cellmetry {
+
+struct Fit {
+  std::unique_ptr<AssembledWorkcell> assembled;
+  SolverSummary summary;
+  std::vector<UnidentifiableParameter> unidentifiable;
+};
+
+// Assembles on `poses` (empty: all), holds `held` and whatever the data cannot determine, and
+// solves from `start`.
+Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
+            const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
+            std::set<std::string> held, const SolverMaker& make_solver);
+
+}  // namespace cellmetry

@@ -1,0 +1,26 @@
+// The statistical and systematic parts of a cell's uncertainty (internal to the cell layer;
+// robust_covariance.h says the estimators).
+//
+//   statistical  the larger of the chi-square-scaled model sigma and the cluster-robust one with
+//                a pose as the cluster (every camera's view of one pose may share errors: the
+//                arm's own repeatability, a board seen at that angle);
+//   systematic   with two or more static cameras, each camera left out in turn and the cell
+//                refitted from the answer; what the spread of those answers (jackknife) exceeds
+//                the statistical part by is error shared by everything one camera measured.
+#pragma once
+
+#include <set>
+#include <string>
+
+#include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/estimation/estimation_quality.h"
+#include "cellmetry/estimation/solver.h"
+
+namespace cellmetry {
+
+void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,
+                      const NoiseModel& noise, const WorkcellEstimate& answer,
+                      const std::set<std::string>& held, const SolverMaker& make_solver,
+                      AssembledWorkcell* fitted, Uncertainty* u);
+
+}  // namespace cellmetry

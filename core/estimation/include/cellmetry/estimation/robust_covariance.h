@@ -1,0 +1,52 @@
+// Uncertainty that holds up when the errors are not independent.
+//
+// The covariance ComputeUncertainty gives, (J^T J)^-1 scaled by the reduced chi-square, assumes
+// every residual row is an independent measurement. A real camera's errors are not: what it gets
+// wrong about one view (a board seen at an angle, a lens error at that place in the image) is
+// shared by every row of that view, and by every view of that camera. Two estimates that do not
+// assume it:
+//
+//   ClusterRobustCovariance   the "sandwich" (Liang & Zeger 1986; Cameron & Miller 2015, eq. 11):
+//                               V = B (sum_g J_g^T r_g r_g^T J_g) B * G / (G - 1),
+//                             B = (J^T J)^-1, the sum over clusters g of rows that may share
+//                             errors (a pose: every camera's view of it), G clusters. With
+//                             independent rows it equals the model covariance on average;
+//   JackknifeSpread           the spread of estimates that each leave one group out (a camera),
+//                               var = (n - 1) / n sum_k (theta_k - mean)^2   (Efron 1982),
+//                             which sees errors shared by everything one camera measured.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cellmetry/estimation/estimation_quality.h"
+#include "cellmetry/estimation/problem.h"
+
+namespace cellmetry {
+
+// `cluster_of_block[b]` for each residual block of `problem` (ResidualInfo order); blocks with a
+// negative cluster (priors) are clusters of their own. `model` is ComputeUncertainty's answer on
+// the same problem. Returns the covariance over the free parameters, in their units.
+Eigen::MatrixXd ClusterRobustCovariance(Problem& problem, const std::vector<int>& cluster_of_block,
+                                        const Uncertainty& model);
+
+// The jackknife variance of each entry over the leave-one-out estimates (one vector per left-out
+// group; NaN where that estimate has no value for the entry, which then counts only the groups
+// that have one), and how many groups each counted.
+struct Jackknife {
+  Eigen::VectorXd variance;
+  Eigen::VectorXi groups;
+};
+Jackknife JackknifeSpread(const std::vector<Eigen::VectorXd>& values);
+
+// Splits `u`'s sigma into its parts (Uncertainty) and sets the total: `cluster` from
+// ClusterRobustCovariance (empty: none), `jackknife` (empty: none). A systematic part is claimed
+// only where the jackknife's variance exceeds the statistical one beyond chance: with g groups,
+// var_jack / var_stat is about chi-square(g - 1) / (g - 1) when nothing is shared, so it must
+// pass that distribution's `quantile` (default 0.99: one clean parameter in a hundred gets a
+// systematic part by chance).
+void CombineUncertainty(const Eigen::MatrixXd& cluster, const Jackknife& jackknife,
+                        Uncertainty* u, double quantile = 0.99);
+
+}  // namespace cellmetry
