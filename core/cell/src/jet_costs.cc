@@ -1,24 +1,9 @@
 // The cell's Jet cost functions (jet_costs.h), in a translation unit of their own.
 #include "jet_costs.h"
 
-#include <ceres/dynamic_autodiff_cost_function.h>
-
 #include "joint_space_residual.h"
 
 namespace cellmetry {
-namespace {
-
-template <typename Functor>
-std::unique_ptr<ceres::CostFunction> OnJets(Functor* functor, const Problem& problem,
-                                            const std::vector<int>& blocks) {
-  auto* cost = new ceres::DynamicAutoDiffCostFunction<Functor, kJetStride>(functor);
-  for (int b : blocks) cost->AddParameterBlock(problem.block_parameters(b).size());
-  cost->SetNumResiduals(3);
-  return std::unique_ptr<ceres::CostFunction>(cost);
-}
-
-}  // namespace
-
 std::unique_ptr<ceres::CostFunction> ModelChainCost(const TargetComparison& comparison,
                                                    const FrameRefs& refs, const RobotModel* model,
                                                    const std::vector<double>& q,

@@ -7,11 +7,22 @@
 #include <vector>
 
 #include <ceres/cost_function.h>
+#include <ceres/dynamic_autodiff_cost_function.h>
 
 #include "cellmetry/estimation/problem.h"
 #include "workcell_residuals.h"
 
 namespace cellmetry {
+
+// Wraps a Jet functor over `blocks` of `problem` (3 residuals).
+template <typename Functor>
+std::unique_ptr<ceres::CostFunction> OnJets(Functor* functor, const Problem& problem,
+                                            const std::vector<int>& blocks) {
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<Functor, kJetStride>(functor);
+  for (int b : blocks) cost->AddParameterBlock(problem.block_parameters(b).size());
+  cost->SetNumResiduals(3);
+  return std::unique_ptr<ceres::CostFunction>(cost);
+}
 
 // ModelChainResidual (workcell_residuals.h) over `blocks` of `problem`.
 std::unique_ptr<ceres::CostFunction> ModelChainCost(const TargetComparison& comparison,

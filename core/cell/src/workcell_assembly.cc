@@ -96,16 +96,6 @@ ResidualInfo InfoFor(const Recording& recording, int observation, ResidualInfo::
   return info;
 }
 
-// Wraps a Jet functor over `blocks` (3 residuals).
-template <typename Functor>
-std::unique_ptr<ceres::CostFunction> OnJets(Functor* functor, const Problem& problem,
-                                            const std::vector<int>& blocks) {
-  auto* cost = new ceres::DynamicAutoDiffCostFunction<Functor, kJetStride>(functor);
-  for (int b : blocks) cost->AddParameterBlock(problem.block_parameters(b).size());
-  cost->SetNumResiduals(3);
-  return std::unique_ptr<ceres::CostFunction>(cost);
-}
-
 // Everything one carried-target measurement's residuals need.
 struct ToolContext {
   const WorkcellProblem& spec;
