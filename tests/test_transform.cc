@@ -1,4 +1,5 @@
 // Transforms, rotation helpers and the closed-form rigid fit.
+#include <ceres/jet.h>
 #include <gtest/gtest.h>
 
 #include <random>
@@ -79,6 +80,31 @@ TEST(FrameBlock, ParametersAreACorrectionAroundTheStartRotation) {
   EXPECT_TRUE(at_start.t.isApprox(start.t, 1e-15));
   EXPECT_EQ(params[3].unit, "rad");
   EXPECT_EQ(params[0].unit, "mm");
+}
+
+// The point maps the Jet residuals use agree with the frame they stand for, in value and in
+// derivative (Jets against the matrix form), at a small and a large correction.
+TEST(FrameBlock, PointMapsAgreeWithTheFrameInValueAndDerivative) {
+  using J = ceres::Jet<double, 6>;
+  const Eigen::Matrix3d R_ref = RotationFromRvec(Eigen::Vector3d(0.4, -1.2, 2.1).data());
+  const Eigen::Vector3d p(120.0, -35.0, 410.0);
+  for (double size : {1e-4, 0.3}) {
+    J block[6];
+    const double values[6] = {5.0, -3.0, 700.0, size, -2 * size, 0.5 * size};
+    for (int i = 0; i < 6; ++i) block[i] = J(values[i], i);
+    const Transform<J> frame = FrameFromBlock(block, R_ref);
+    const Vector3<J> p_jet = p.cast<J>();
+    const Vector3<J> mapped = FrameBlockMap(block, R_ref, p_jet);
+    const Vector3<J> expected = frame.R * p_jet + frame.t;
+    const Vector3<J> back = FrameBlockInverseMap(block, R_ref, p_jet);
+    const Vector3<J> expected_back = frame.R.transpose() * (p_jet - frame.t);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(mapped[i].a, expected[i].a, 1e-10);
+      EXPECT_NEAR(back[i].a, expected_back[i].a, 1e-10);
+      EXPECT_TRUE(mapped[i].v.isApprox(expected[i].v, 1e-10)) << mapped[i].v.transpose();
+      EXPECT_TRUE(back[i].v.isApprox(expected_back[i].v, 1e-10)) << back[i].v.transpose();
+    }
+  }
 }
 
 }  // namespace

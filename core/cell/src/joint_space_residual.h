@@ -24,15 +24,14 @@ class JointSpaceResidual {
   template <typename T>
   bool operator()(T const* const* blocks, T* residual) const {
     const Vector3<T> tool = layout_.ToolOrigin(blocks, refs_);
-    const Transform<T> T_world_cam = FrameFromBlock(blocks[layout_.camera], refs_.world_cam);
-    const Vector3<T> p_world = T_world_cam.R * p_cam_ + T_world_cam.t;  // Jet times double
+    const Vector3<T> p_world =
+        FrameBlockMapFixedPoint(blocks[layout_.camera], refs_.world_cam, p_cam_);
     const Vector3<T> flange = layout_.BaseFromWorld(blocks, refs_, p_world) - tool;
     T q[3];
     if (!model_->Inverse(flange.data(), blocks[layout_.model], q)) return false;
-    Vector3<T> dq;
-    for (int i = 0; i < 3; ++i) dq[i] = q[i] - T(q_[i]);
-    const Vector3<T> r = W_.cast<T>() * dq;
-    for (int i = 0; i < 3; ++i) residual[i] = r[i];
+    T dq[3];
+    for (int i = 0; i < 3; ++i) dq[i] = q[i] - q_[i];
+    for (int i = 0; i < 3; ++i) residual[i] = W_(i, 0) * dq[0] + W_(i, 1) * dq[1] + W_(i, 2) * dq[2];
     return true;
   }
 

@@ -89,9 +89,9 @@ std::vector<Eigen::VectorXd> CameraJackknife(const WorkcellProblem& spec,
 void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,
                       const NoiseModel& noise, const WorkcellEstimate& answer,
                       const std::set<std::string>& held, const SolverMaker& make_solver,
-                      AssembledWorkcell* fitted, Uncertainty* u) {
-  Problem& problem = fitted->problem;
-  const Eigen::MatrixXd cluster = ClusterRobustCovariance(problem, PoseClusters(problem), *u);
+                      const AssembledWorkcell& fitted, const Linearization& at, Uncertainty* u) {
+  const Problem& problem = fitted.problem;
+  const Eigen::MatrixXd cluster = ClusterRobustCovariance(problem, at, PoseClusters(problem), *u);
   const auto deviations =
       CameraJackknife(spec, recording, noise, answer, held, make_solver, problem);
   CombineUncertainty(cluster, deviations.size() >= 2 ? JackknifeSpread(deviations) : Jackknife{},

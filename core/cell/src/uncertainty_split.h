@@ -18,9 +18,10 @@
 
 namespace cellmetry {
 
+// `at` is the fitted problem's linearization at `answer`, from which `u` was computed.
 void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,
                       const NoiseModel& noise, const WorkcellEstimate& answer,
                       const std::set<std::string>& held, const SolverMaker& make_solver,
-                      AssembledWorkcell* fitted, Uncertainty* u);
+                      const AssembledWorkcell& fitted, const Linearization& at, Uncertainty* u);
 
 }  // namespace cellmetry

@@ -342,11 +342,12 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   result.solver = fit.summary;
   result.unidentifiable = fit.unidentifiable;
   result.estimate = ReadEstimate(spec, *fit.assembled);
-  result.uncertainty = ComputeUncertainty(fit.assembled->problem);
+  const Linearization at_answer = Linearize(fit.assembled->problem);
+  result.uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
   result.strong_correlations = StrongCorrelations(result.uncertainty);
   const std::set<std::string> held = Names(result.unidentifiable);
   SplitUncertainty(spec, recording, result.noise, result.estimate, held, make_solver,
-                   fit.assembled.get(), &result.uncertainty);
+                   *fit.assembled, at_answer, &result.uncertainty);
   Describe(spec, *fit.assembled, held, &result);
   AddResidualStatistics(spec, recording, data, fit, &result);
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,

@@ -241,11 +241,11 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     if (BlockHeld(*out, c.blocks[0])) {
       c.refs.held_world_base = FrameFromBlock(out->problem.values(c.blocks[0]), c.refs.world_base);
     }
+    c.refs.flange_target = out->R_ref.at(c.blocks[1]);
     if (BlockHeld(*out, c.blocks[1])) {
       c.refs.held_flange_target =
           FrameFromBlock(out->problem.values(c.blocks[1]), c.refs.flange_target);
     }
-    c.refs.flange_target = out->R_ref.at(c.blocks[1]);
     if (static_cameras) {
       c.blocks.push_back(out->camera_block.at(obs.camera));
       c.refs.world_cam = out->R_ref.at(c.blocks[2]);

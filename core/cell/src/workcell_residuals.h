@@ -98,7 +98,7 @@ struct JetChainLayout {
   template <typename T>
   Vector3<T> WorldFromBase(T const* const* blocks, const FrameRefs& refs,
                            const Vector3<T>& p) const {
-    if (base >= 0) return FrameFromBlock(blocks[base], refs.world_base) * p;
+    if (base >= 0) return FrameBlockMap(blocks[base], refs.world_base, p);
     if (held_base_is_world) return p;
     return refs.held_world_base->cast<T>() * p;
   }
@@ -106,7 +106,7 @@ struct JetChainLayout {
   template <typename T>
   Vector3<T> BaseFromWorld(T const* const* blocks, const FrameRefs& refs,
                            const Vector3<T>& p) const {
-    if (base >= 0) return FrameFromBlock(blocks[base], refs.world_base).inverse() * p;
+    if (base >= 0) return FrameBlockInverseMap(blocks[base], refs.world_base, p);
     if (held_base_is_world) return p;
     return refs.held_world_base->cast<T>().inverse() * p;
   }
@@ -160,8 +160,7 @@ class ModelChainResidual {
     const Vector3<T> p_base = T_base_flange.t + T_base_flange.R * tool;
     const Vector3<T> p_world = layout_.WorldFromBase(blocks, refs_, p_base);
     if (!static_camera_) return T_cam_world_measured_.R * p_world + T_cam_world_measured_.t;
-    const Transform<T> T_world_cam = FrameFromBlock(blocks[layout_.camera], refs_.world_cam);
-    return T_world_cam.R.transpose() * (p_world - T_world_cam.t);
+    return FrameBlockInverseMap(blocks[layout_.camera], refs_.world_cam, p_world);
   }
 
   TargetComparison comparison_;

@@ -123,7 +123,8 @@ double FloorRms(const Fitted& fit, const Recording& recording) {
 }
 
 // The largest tool displacement (mm) an effect with parameters `theta` predicts, to first order.
-double PeakMm(const Linearization& lin, const Recording& recording, const Eigen::VectorXd& theta) {
+double PeakMm(const CandidateLinearization& lin, const Recording& recording,
+              const Eigen::VectorXd& theta) {
   const Eigen::VectorXd whitened = lin.J_candidate * theta;
   std::map<int, Eigen::Vector3d> per_observation;
   for (Eigen::Index i = 0; i < whitened.size(); ++i) {
@@ -160,7 +161,8 @@ std::vector<std::pair<size_t, double>> LookAlikes(
         CanonicalCorrelation(unabsorbed_bases[chosen], unabsorbed_bases[c]);
     if (correlation >= threshold) out.push_back({c, correlation});
   }
-  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::sort(out.begin(), out.end(),
+            [](const auto& a, const auto& b) { return a.second > b.second; });
   return out;
 }
 
@@ -178,7 +180,7 @@ std::string Unusual(const std::vector<Parameter>& parameters, const std::vector<
   return "";
 }
 
-std::vector<int> RowPoses(const Linearization& lin) {
+std::vector<int> RowPoses(const CandidateLinearization& lin) {
   std::vector<int> poses;
   for (const auto& info : lin.rows) poses.push_back(info.pose);
   return poses;
@@ -187,9 +189,9 @@ std::vector<int> RowPoses(const Linearization& lin) {
 // The share of bootstrap resamples that included a candidate of one of `own` families (the
 // chosen one's and its aliases), and the label of the other family included most often ("" when
 // none was).
-std::pair<double, std::string> FamilyInclusion(const std::vector<std::vector<int>>& inclusions,
-                                               const std::vector<const CandidateEffect*>& candidates,
-                                               const std::set<std::string>& own) {
+std::pair<double, std::string> FamilyInclusion(
+    const std::vector<std::vector<int>>& inclusions,
+    const std::vector<const CandidateEffect*>& candidates, const std::set<std::string>& own) {
   int resamples_own = 0;
   std::map<std::string, int> resamples_including;
   std::map<std::string, std::string> label;
@@ -222,7 +224,7 @@ double Strength(double statistic, int dof) { return -ChiSquareLogSurvival(statis
 // One round's candidates, scored on the current model's linearization.
 struct ScoredRound {
   DiagnosisRound round;
-  Linearization base;                            // residuals over sqrt(dispersion)
+  CandidateLinearization base;                            // residuals over sqrt(dispersion)
   std::vector<const CandidateEffect*> testable;  // parallel to round.candidates
   std::vector<Eigen::MatrixXd> signatures;       // their Jacobian columns
   std::vector<Eigen::MatrixXd> unabsorbed_bases;  // orthonormal, outside the model's span
@@ -242,7 +244,8 @@ class Diagnoser {
   ScoredRound Score(const Fitted& current, std::set<std::string>* done,
                     std::vector<CandidateFinding>* untestable) const {
     ScoredRound s;
-    s.base = Linearize(current.spec, recording_, data_, noise_, current.result.estimate, false);
+    s.base = LinearizeWithCandidate(current.spec, recording_, data_, noise_,
+                                    current.result.estimate, false);
     // Quasi-likelihood (McCullagh & Nelder 1989, sec. 9.2): where the residuals scatter wider
     // than the floor, an effect is judged against the scatter the model leaves, not against the
     // floor; a real recording whose mismatch is 10x the floor's chi-square otherwise passes
@@ -252,8 +255,8 @@ class Diagnoser {
     const Eigen::MatrixXd Q = OrthonormalBasis(s.base.J_model);
     for (const auto& c : candidates_) {
       if (done->count(c.effect.name)) continue;
-      const Linearization lin = Linearize(With(current.spec, c), recording_, data_, noise_,
-                                          current.result.estimate, true);
+      const CandidateLinearization lin = LinearizeWithCandidate(
+          With(current.spec, c), recording_, data_, noise_, current.result.estimate, true);
       const Eigen::MatrixXd unabsorbed = ProjectOut(Q, lin.J_candidate);
       const ScoreTest test = cellmetry::Score(s.base.r, lin.J_candidate, unabsorbed);
       CandidateFinding f;
@@ -370,7 +373,7 @@ class Diagnoser {
     for (const auto& s : with_cv.result.model_parameters) {
       if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
     }
-    a.peak_mm = PeakMm(Linearize(With(current.spec, c), recording_, data_, noise_,
+    a.peak_mm = PeakMm(LinearizeWithCandidate(With(current.spec, c), recording_, data_, noise_,
                                  current.result.estimate, true),
                        recording_, Eigen::Map<const Eigen::VectorXd>(values.data(), values.size()));
     return a;
@@ -379,8 +382,8 @@ class Diagnoser {
   // Where the current model's residuals follow the recorded regressors, strongest first.
   std::vector<RegressorFinding> Regressors(const Fitted& current,
                                            const std::vector<Regressor>& regressors) const {
-    const Linearization lin =
-        Linearize(current.spec, recording_, data_, noise_, current.result.estimate, false);
+    const CandidateLinearization lin = LinearizeWithCandidate(
+        current.spec, recording_, data_, noise_, current.result.estimate, false);
     return CorrelateRegressors(lin, recording_, regressors);
   }
 
@@ -432,7 +435,8 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   out.geometric = current.summary;
   out.floor_rms_mm = FloorRms(current, recording);
   {
-    const Linearization lin = Linearize(spec, recording, data, noise, current.result.estimate, false);
+    const CandidateLinearization lin =
+        LinearizeWithCandidate(spec, recording, data, noise, current.result.estimate, false);
     out.regressors = CorrelateRegressors(lin, recording, regressors);
     out.durbin_watson = DurbinWatsonByAxis(lin, recording);
   }
@@ -447,9 +451,10 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     if (scored.round.candidates.empty()) break;
     Fitted best_fit;
     const int best = diagnoser.RefitBest(current, &scored, &best_fit);
-    Fitted with_cv = diagnoser.TestChosen(
-        current, &scored, best, best_fit, options.max_effects - static_cast<int>(out.accepted.size()),
-        17u + static_cast<unsigned>(out.rounds.size()));
+    Fitted with_cv =
+        diagnoser.TestChosen(current, &scored, best, best_fit,
+                             options.max_effects - static_cast<int>(out.accepted.size()),
+                             17u + static_cast<unsigned>(out.rounds.size()));
     const CandidateFinding& chosen = scored.round.candidates[best];
     const bool accepted = chosen.accepted;
     if (accepted) {

@@ -10,12 +10,13 @@
 
 namespace cellmetry {
 
-Linearization Linearize(const WorkcellProblem& spec, const Recording& recording,
-                        const WorkcellData& data, const NoiseModel& noise,
-                        const WorkcellEstimate& estimate, bool candidate) {
+CandidateLinearization LinearizeWithCandidate(const WorkcellProblem& spec,
+                                              const Recording& recording, const WorkcellData& data,
+                                              const NoiseModel& noise,
+                                              const WorkcellEstimate& estimate, bool candidate) {
   auto assembled = AssembleWorkcell(spec, recording, data, noise, estimate);
   Problem& problem = assembled->problem;
-  Linearization out;
+  CandidateLinearization out;
   Eigen::MatrixXd J;
   problem.Evaluate(nullptr, &out.r, &J, false);
   const int candidate_block = candidate ? assembled->effect_block.back() : -1;

@@ -20,7 +20,7 @@
 
 namespace cellmetry {
 
-struct Linearization {
+struct CandidateLinearization {
   Eigen::VectorXd r;               // whitened residuals at the estimate
   Eigen::MatrixXd J_model;         // columns of the current model's free parameters
   Eigen::MatrixXd J_candidate;     // columns of the candidate's parameters (none: 0 columns)
@@ -29,9 +29,10 @@ struct Linearization {
 };
 
 // `spec` already holds the candidate as its last effect when `candidate` is true.
-Linearization Linearize(const WorkcellProblem& spec, const Recording& recording,
-                        const WorkcellData& data, const NoiseModel& noise,
-                        const WorkcellEstimate& estimate, bool candidate);
+CandidateLinearization LinearizeWithCandidate(const WorkcellProblem& spec,
+                                              const Recording& recording, const WorkcellData& data,
+                                              const NoiseModel& noise,
+                                              const WorkcellEstimate& estimate, bool candidate);
 
 // An orthonormal basis of the columns' span (rank-revealing QR).
 Eigen::MatrixXd OrthonormalBasis(const Eigen::MatrixXd& columns);

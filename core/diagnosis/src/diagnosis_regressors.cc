@@ -24,7 +24,8 @@ bool Varies(const std::vector<double>& values) {
 }
 
 // The rows of carried targets' position residuals.
-bool IsToolPositionRow(const Linearization& lin, const Recording& recording, Eigen::Index i) {
+bool IsToolPositionRow(const CandidateLinearization& lin, const Recording& recording,
+                       Eigen::Index i) {
   const ResidualInfo& info = lin.rows[i];
   return info.kind == ResidualInfo::Kind::kPosition && info.observation >= 0 &&
          recording.targets.at(info.target) != kWorldCarrier;
@@ -85,7 +86,7 @@ std::vector<Regressor> SampleRegressors(const Recording& recording,
 namespace {
 
 // The value of regressor k (sample regressors, then measured depth, image x, image y) on a row.
-double RowValue(const Linearization& lin, const Recording& recording,
+double RowValue(const CandidateLinearization& lin, const Recording& recording,
                 const std::vector<Regressor>& regressors, size_t k, Eigen::Index row) {
   const Observation& obs = recording.observations[lin.rows[row].observation];
   if (k < regressors.size()) return regressors[k].per_sample[recording.SampleIndex(obs.sample)];
@@ -102,7 +103,7 @@ struct Correlation {
 
 // Partial correlation of the residuals on `rows` with regressor values `x` (on those rows),
 // after projecting out span(Q); none when too few rows know the regressor.
-std::optional<Correlation> Correlate(const Linearization& lin, const Eigen::MatrixXd& Q,
+std::optional<Correlation> Correlate(const CandidateLinearization& lin, const Eigen::MatrixXd& Q,
                                           const std::vector<Eigen::Index>& rows,
                                           const std::vector<double>& values) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(lin.r.size()), r = Eigen::VectorXd::Zero(lin.r.size());
@@ -131,7 +132,7 @@ std::optional<Correlation> Correlate(const Linearization& lin, const Eigen::Matr
 
 }  // namespace
 
-std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
+std::vector<RegressorFinding> CorrelateRegressors(const CandidateLinearization& lin,
                                                   const Recording& recording,
                                                   const std::vector<Regressor>& regressors) {
   const Eigen::MatrixXd Q = OrthonormalBasis(lin.J_model);
@@ -141,7 +142,8 @@ std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
   // Every regressor over all cameras' rows, and over each camera's alone (a camera that moved,
   // or one whose depth is off, shows in its own rows).
   std::vector<std::string> scopes = {""};
-  if (recording.cameras.size() > 1) scopes.insert(scopes.end(), recording.cameras.begin(), recording.cameras.end());
+  if (recording.cameras.size() > 1)
+    scopes.insert(scopes.end(), recording.cameras.begin(), recording.cameras.end());
   std::vector<RegressorFinding> findings;
   for (const auto& scope : scopes) {
     // Over all cameras: the carried targets' rows (robot physics). Per camera: every position
@@ -193,7 +195,7 @@ std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
   return findings;
 }
 
-std::map<std::string, double> DurbinWatsonByAxis(const Linearization& lin,
+std::map<std::string, double> DurbinWatsonByAxis(const CandidateLinearization& lin,
                                                  const Recording& recording) {
   std::map<std::string, double> out;
   for (int axis = 0; axis < 3; ++axis) {

@@ -27,12 +27,12 @@ std::vector<Regressor> SampleRegressors(const Recording& recording,
 // Partial correlations of the position residuals of carried targets, per camera axis, with every
 // sample regressor and with the measured depth and image position, over all cameras and over
 // each camera alone; most significant first (p-values Bonferroni-corrected over all of them).
-std::vector<RegressorFinding> CorrelateRegressors(const Linearization& lin,
+std::vector<RegressorFinding> CorrelateRegressors(const CandidateLinearization& lin,
                                                   const Recording& recording,
                                                   const std::vector<Regressor>& regressors);
 
 // Durbin-Watson per camera axis of the carried targets' position residuals in capture order.
-std::map<std::string, double> DurbinWatsonByAxis(const Linearization& lin,
+std::map<std::string, double> DurbinWatsonByAxis(const CandidateLinearization& lin,
                                                  const Recording& recording);
 
 }  // namespace cellmetry

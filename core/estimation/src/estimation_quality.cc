@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cellmetry/basics/error.h"
+
 namespace cellmetry {
 namespace {
 
@@ -97,10 +99,18 @@ IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
 }
 
 Uncertainty ComputeUncertainty(Problem& problem) {
+  return ComputeUncertainty(problem, Linearize(problem));
+}
+
+Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) {
+  if (!at.valid) {
+    throw InputError({}, "the model cannot be evaluated at the fitted values (a cost function "
+                         "failed: a pose out of reach or a non-finite value)",
+                     "Check the recording for non-finite or far-off values and the start values");
+  }
   Uncertainty u;
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J;
-  problem.Evaluate(nullptr, &r, &J, false);
+  const Eigen::VectorXd& r = at.residuals;
+  const Eigen::MatrixXd& J = at.jacobian;
   const int n = problem.num_free();
   for (const auto& p : problem.free_parameters()) u.names.push_back(p.name);
   // chi-square over measurement rows only: priors are not measurements of the noise.

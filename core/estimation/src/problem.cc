@@ -232,4 +232,10 @@ bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd
   return true;
 }
 
+Linearization Linearize(Problem& problem) {
+  Linearization at;
+  at.valid = problem.Evaluate(nullptr, &at.residuals, &at.jacobian, /*apply_loss=*/false);
+  return at;
+}
+
 }  // namespace cellmetry

@@ -8,13 +8,13 @@
 
 namespace cellmetry {
 
-Eigen::MatrixXd ClusterRobustCovariance(Problem& problem, const std::vector<int>& cluster_of_block,
+Eigen::MatrixXd ClusterRobustCovariance(const Problem& problem, const Linearization& at,
+                                        const std::vector<int>& cluster_of_block,
                                         const Uncertainty& model) {
   const int n = problem.num_free();
-  if (n == 0) return Eigen::MatrixXd::Zero(0, 0);
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J;
-  problem.Evaluate(nullptr, &r, &J, false);
+  if (n == 0 || !at.valid) return Eigen::MatrixXd::Zero(0, 0);
+  const Eigen::VectorXd& r = at.residuals;
+  const Eigen::MatrixXd& J = at.jacobian;
   // Score of each cluster: J_g^T r_g.
   std::map<int, Eigen::VectorXd> score;
   const auto& rows = problem.residual_rows();

@@ -69,7 +69,10 @@ struct Uncertainty {
   Eigen::VectorXd variance_inflation;
 };
 
-Uncertainty ComputeUncertainty(Problem& problem);
+// From `at`, the problem's linearization at its current values (Linearize). Throws InputError
+// when `at` is not valid: a fit that ends where the model cannot be evaluated has no uncertainty.
+Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at);
+Uncertainty ComputeUncertainty(Problem& problem);  // linearizes at the current values
 
 // Free parameters the data determines only barely: identifiable in exact arithmetic, but with a
 // variance inflation of at least `vif_threshold` (their sigma is sqrt(vif) times what it would be

@@ -113,4 +113,14 @@ class Problem {
   int num_measurement_residuals_ = 0;
 };
 
+// The whitened residuals and their dense Jacobian with respect to FreeValues() at the current
+// values, without the robust loss: what the covariance and its robust forms are computed from.
+// Evaluate once at the answer and hand it to each (ComputeUncertainty, ClusterRobustCovariance).
+struct Linearization {
+  Eigen::VectorXd residuals;
+  Eigen::MatrixXd jacobian;
+  bool valid = false;   // false: a cost function failed at these values (no numbers to trust)
+};
+Linearization Linearize(Problem& problem);
+
 }  // namespace cellmetry

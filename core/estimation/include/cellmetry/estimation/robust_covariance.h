@@ -26,9 +26,11 @@
 namespace cellmetry {
 
 // `cluster_of_block[b]` for each residual block of `problem` (ResidualInfo order); blocks with a
-// negative cluster (priors) are clusters of their own. `model` is ComputeUncertainty's answer on
-// the same problem. Returns the covariance over the free parameters, in their units.
-Eigen::MatrixXd ClusterRobustCovariance(Problem& problem, const std::vector<int>& cluster_of_block,
+// negative cluster (priors) are clusters of their own. `at` is the problem's linearization and
+// `model` ComputeUncertainty's answer from it. Returns the covariance over the free parameters,
+// in their units.
+Eigen::MatrixXd ClusterRobustCovariance(const Problem& problem, const Linearization& at,
+                                        const std::vector<int>& cluster_of_block,
                                         const Uncertainty& model);
 
 // The jackknife variance of each entry over the leave-one-out estimates (one vector per left-out

@@ -45,4 +45,46 @@ inline Pose FrameFromBlock(const double* block, const Eigen::Matrix3d& R_ref) {
   return FrameFromBlock<double>(block, R_ref);
 }
 
+// The two maps of a frame block applied to one point without forming R. On Jets this is about
+// half the work of FrameFromBlock and a matrix product: exp() rotates the point directly
+// (Rodrigues, ceres::AngleAxisRotatePoint) and R_ref stays plain numbers.
+//
+//   FrameBlockMap:        p_a = R p_b + t        = exp(w) (R_ref p_b) + t
+//   FrameBlockInverseMap: p_b = R^T (p_a - t)    = R_ref^T exp(-w) (p_a - t)
+template <typename T>
+Vector3<T> FrameBlockMap(const T* block, const Eigen::Matrix3d& R_ref, const Vector3<T>& p_b) {
+  Vector3<T> p_ref, p_a;
+  for (int i = 0; i < 3; ++i) {
+    p_ref[i] = R_ref(i, 0) * p_b[0] + R_ref(i, 1) * p_b[1] + R_ref(i, 2) * p_b[2];
+  }
+  ceres::AngleAxisRotatePoint(block + 3, p_ref.data(), p_a.data());
+  for (int i = 0; i < 3; ++i) p_a[i] += block[i];
+  return p_a;
+}
+
+// A point given as plain numbers (a measurement): R_ref p_b needs no derivatives.
+template <typename T>
+Vector3<T> FrameBlockMapFixedPoint(const T* block, const Eigen::Matrix3d& R_ref,
+                                   const Eigen::Vector3d& p_b) {
+  const Eigen::Vector3d p_ref = R_ref * p_b;
+  const T p_ref_t[3] = {T(p_ref[0]), T(p_ref[1]), T(p_ref[2])};
+  Vector3<T> p_a;
+  ceres::AngleAxisRotatePoint(block + 3, p_ref_t, p_a.data());
+  for (int i = 0; i < 3; ++i) p_a[i] += block[i];
+  return p_a;
+}
+
+template <typename T>
+Vector3<T> FrameBlockInverseMap(const T* block, const Eigen::Matrix3d& R_ref,
+                                const Vector3<T>& p_a) {
+  const T minus_w[3] = {-block[3], -block[4], -block[5]};
+  Vector3<T> shifted, turned, p_b;
+  for (int i = 0; i < 3; ++i) shifted[i] = p_a[i] - block[i];
+  ceres::AngleAxisRotatePoint(minus_w, shifted.data(), turned.data());
+  for (int i = 0; i < 3; ++i) {
+    p_b[i] = R_ref(0, i) * turned[0] + R_ref(1, i) * turned[1] + R_ref(2, i) * turned[2];
+  }
+  return p_b;
+}
+
 }  // namespace cellmetry
