@@ -95,6 +95,52 @@ TEST_F(Diagnosis, KnockedCameraIsUnexplainedNotForcedIntoAName) {
   EXPECT_THAT(d.unexplained, HasSubstr("a step after capture")) << DiagnosisReport(d);
 }
 
+// A hidden effect of `type` (`yaml`) on the UR3 cell, at `values`.
+WorkcellSimulationSpec WithHidden(WorkcellSimulationSpec spec, const std::string& yaml,
+                                  std::vector<double> values) {
+  const ConfigNode config = ConfigNode::LoadString(yaml, "test");
+  SimulatedEffect e;
+  e.name = "hidden";
+  e.effect = testing::Plugins().CreateEffect(config["type"].AsString(), config,
+                                             *spec.robots[0].model);
+  e.values = std::move(values);
+  const bool measurement = e.effect->stage() == EffectStage::kMeasurement;
+  (measurement ? spec.measurement_effects : spec.robots[0].effects).push_back(e);
+  return spec;
+}
+
+TEST_F(Diagnosis, PrintedBoardSizeIsNamedAsTheTarget) {
+  const WorkcellSimulationSpec spec =
+      WithHidden(base_, "{type: target_scale, targets: [tool]}", {0.004});
+  const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
+  ASSERT_FALSE(d.accepted.empty()) << DiagnosisReport(d);
+  EXPECT_EQ(d.accepted.front().name, "target.scale_tool") << DiagnosisReport(d);
+  EXPECT_NEAR(d.accepted.front().parameters.at(0).value, 0.004,
+              3 * d.accepted.front().parameters.at(0).sigma);
+}
+
+// A joint 3 transmission error ten times what a harmonic drive has: the finder may see its
+// signature but must not name a transmission error of that size (the 2020 recording's 22 mrad).
+TEST_F(Diagnosis, ImplausibleSizeIsNeverReportedAsThatPhysics) {
+  const WorkcellSimulationSpec spec = WithHidden(
+      base_, "{type: transmission_error, joints: [3], harmonics: [1]}", {0.02, 0.0});
+  const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
+  for (const auto& a : d.accepted) {
+    EXPECT_EQ(a.name.find("transmission_j3"), std::string::npos) << DiagnosisReport(d);
+  }
+  bool ruled_out = false;
+  for (const auto& round : d.rounds) {
+    for (const auto& f : round.candidates) {
+      if (f.accepted) EXPECT_TRUE(f.implausible.empty()) << f.label << ": " << f.implausible;
+      ruled_out |= f.name.find("transmission_j3") != std::string::npos && !f.implausible.empty();
+    }
+  }
+  EXPECT_TRUE(ruled_out) << DiagnosisReport(d);
+  if (d.accepted.empty()) {
+    EXPECT_THAT(DiagnosisReport(d), HasSubstr("its fitted size rules it out"));
+  }
+}
+
 TEST_F(Diagnosis, TooFewPosesIsRefusedInWords) {
   WorkcellSimulationSpec spec = base_;
   spec.robots[0].joint_poses.resize(12);
@@ -173,12 +219,14 @@ TEST_F(DeltaDiagnosis, SkewedParallelogramIsNamedWithItsArm) {
 
 // A delta's motors do not carry each other; a motor gives under the load the flange puts on it
 // (platform and payload through the Jacobian), which changes with the payload from pose to pose.
+// At 4e-4 rad/(N m), inside the compliance's plausible range (a drive stiffer than 2,000 N m/rad);
+// softer, the finder would rule it out by its size.
 TEST_F(DeltaDiagnosis, MotorComplianceUnderTheFlangeLoadIsNamed) {
   const DiagnosisResult d =
-      DiagnoseWith("{type: joint_compliance, joints: [2], link_masses_kg: [0.1, 0.1, 0.1]}", 2e-3);
+      DiagnoseWith("{type: joint_compliance, joints: [2], link_masses_kg: [0.1, 0.1, 0.1]}", 4e-4);
   ASSERT_FALSE(d.accepted.empty()) << DiagnosisReport(d);
   EXPECT_EQ(d.accepted.front().name, "delta.compliance_j2") << DiagnosisReport(d);
-  EXPECT_NEAR(d.accepted.front().parameters.at(0).value, 2e-3,
+  EXPECT_NEAR(d.accepted.front().parameters.at(0).value, 4e-4,
               3 * d.accepted.front().parameters.at(0).sigma);
 }
 

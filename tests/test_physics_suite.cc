@@ -62,6 +62,22 @@ TEST(PhysicsSuite, InterruptedSuiteResumesFromItsCheckpoint) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/doc.md.partial.json"));
 }
 
+// A case's runs are its seeds: each must draw its own noise, or five runs are one run counted
+// five times (the merged simulator once read the noise seed from elsewhere, and every case came
+// out 5/5 or 0/5).
+TEST(PhysicsSuite, EachSeedDrawsItsOwnNoise) {
+  const std::string dir = testing::TempDirForThisTest("suite_seeds");
+  testing::WriteText(dir + "/suite.yaml",
+                     "compare: physics\nseeds: 2\nsnr: 6\ncells:\n  - name: delta\n"
+                     "    simulation: " + testing::Source("configs/simulations/delta_physics_base.yaml") +
+                     "\n    job: " + testing::Source("configs/jobs/delta_diagnose.yaml") +
+                     "\n    cases:\n      - {name: clean, expect: none}\noutput: doc.md\n");
+  const auto results = RunPhysicsSuite(LoadPhysicsSuite(dir + "/suite.yaml"), testing::Plugins());
+  ASSERT_EQ(results.size(), 1u);
+  ASSERT_EQ(results[0].runs.size(), 2u);
+  EXPECT_NE(results[0].runs[0].held_out_over_floor, results[0].runs[1].held_out_over_floor);
+}
+
 TEST(PhysicsSuite, NoRunsPerCaseIsRefusedWithItsLine) {
   const std::string dir = testing::TempDirForThisTest("suite_bad");
   testing::WriteText(dir + "/suite.yaml", SuiteYaml("0"));

@@ -29,6 +29,7 @@ WorkcellSimulationSpec CaseSimulation(const WorkcellSimulationSpec& base, const 
                                       Registry& registry) {
   WorkcellSimulationSpec spec = base;
   spec.seed = seed;
+  spec.noise_seed = seed;  // the recording's noise is drawn from this one (workcell_simulation.h)
   if (!noise) {
     spec.sigma_position_mm.setZero();
     spec.sigma_rotation_rad.setZero();

@@ -77,6 +77,18 @@ std::pair<double, double> CvGain(const HeldOut& before, const HeldOut& after) {
   return {mean, std::sqrt(ss / (gains.size() - 1) / gains.size())};
 }
 
+// The share of the held-out excess over the floor (mean square in sigmas minus 1) that a model
+// removes against the one before. Where that excess is within chance of the floor (three
+// standard errors of a mean square over the rows, sqrt(2 / rows)) there is nothing to share and
+// the answer is 1: the other tests decide.
+double ExplainedShare(const FitSummary& before, const FitSummary& after) {
+  const double before_ms = before.held_out_sigma * before.held_out_sigma;
+  const double after_ms = after.held_out_sigma * after.held_out_sigma;
+  const double excess = before_ms - 1.0;
+  if (excess <= 3.0 * std::sqrt(2.0 / std::max(1.0, before.dof))) return 1.0;
+  return (before_ms - after_ms) / excess;
+}
+
 int CountPoses(const Recording& recording) {
   std::set<int> poses;
   for (const auto& s : recording.samples) poses.insert(s.pose);
@@ -315,9 +327,17 @@ class Diagnoser {
       // BIC's n: the poses, the experiment's independent units (cross-validation and the
       // bootstrap draw whole poses too); a pose's rows are not independent draws of a signature.
       f.delta_bic = f.dof * std::log(n_poses_) - f.likelihood_ratio;
+      const CandidateEffect& c = *s->testable[order[k]];
+      f.implausible = Unusual(c.effect.effect->parameters(),
+                              refit.result.estimate.effects.at(c.effect.name));
+      // A plausible refit beats every implausible one; among equals the stronger wins.
       const auto& incumbent = candidates[std::max(best, 0)];
-      if (best < 0 || Strength(f.likelihood_ratio, f.dof) >
-                          Strength(incumbent.likelihood_ratio, incumbent.dof)) {
+      const bool better =
+          best < 0 || (f.implausible.empty() && !incumbent.implausible.empty()) ||
+          (f.implausible.empty() == incumbent.implausible.empty() &&
+           Strength(f.likelihood_ratio, f.dof) >
+               Strength(incumbent.likelihood_ratio, incumbent.dof));
+      if (better) {
         best = static_cast<int>(order[k]);
         *best_fit = std::move(refit);
       }
@@ -341,7 +361,10 @@ class Diagnoser {
     // can pick between them, so the bootstrap asks whether the finding is stable, not which of
     // its names wins, and the report names both.
     std::set<std::string> own = {s->testable[best]->family_name()};
-    for (const auto& [c, correlation] : LookAlikes(s->unabsorbed_bases, s->testable, best, 0.8)) {
+    // One whose size rules it out names more of what shares its signature.
+    const double look_alike = chosen.implausible.empty() ? 0.8 : 0.5;
+    for (const auto& [c, correlation] :
+         LookAlikes(s->unabsorbed_bases, s->testable, best, look_alike)) {
       chosen.look_alikes.push_back({s->testable[c]->label, correlation});
       if (correlation >= options_.alias_correlation) {
         own.insert(s->testable[c]->family_name());
@@ -353,9 +376,12 @@ class Diagnoser {
                             options_.bootstrap, std::log(n_poses_), effects_left, seed);
     std::tie(chosen.bootstrap_share, chosen.bootstrap_rival) =
         FamilyInclusion(inclusions, s->testable, own);
+    chosen.explained_share = ExplainedShare(current.summary, with_cv.summary);
+    if (!chosen.implausible.empty()) chosen.failed.push_back("size");
     if (!(chosen.p_lr_holm < options_.alpha)) chosen.failed.push_back("LR");
     if (!(chosen.delta_bic < 0)) chosen.failed.push_back("BIC");
     if (!(gain > se)) chosen.failed.push_back("CV");
+    if (chosen.explained_share < options_.min_explained_share) chosen.failed.push_back("share");
     if (chosen.bootstrap_share < options_.bootstrap_share) chosen.failed.push_back("bootstrap");
     chosen.accepted = chosen.failed.empty();
     return with_cv;
@@ -369,7 +395,6 @@ class Diagnoser {
     const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);
     a.description = c.effect.effect->Describe(values);
     a.aliases = chosen.aliases;
-    a.unusual = Unusual(c.effect.effect->parameters(), values);
     for (const auto& s : with_cv.result.model_parameters) {
       if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
     }

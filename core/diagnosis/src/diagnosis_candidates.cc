@@ -29,6 +29,51 @@ int ParallelLinkCount(const RobotModel& model) {
   return model.ParallelLinks(q.data(), nominal.data(), &links) ? static_cast<int>(links.size()) : 0;
 }
 
+// What a camera and the targets it measures get wrong: per camera its depth (along the ray, and
+// tilting across the image), its focal length, principal point and radial distortion as a pose
+// estimator passes them on; per target its printed size and the estimator's tilt of it; the
+// world tag's tilt from the frame the placement was measured in (testable only where the bases'
+// rotations are held: a gauge otherwise, which the absorption test finds).
+void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording,
+                         Registry& registry, std::vector<CandidateEffect>* out) {
+  const WorkcellRobot& any = spec.robots.front();
+  for (const auto& camera : recording.cameras) {
+    const std::string on = "cameras: [" + camera + "]";
+    out->push_back(Make("{type: depth_bias, " + on + "}", "camera.depth_" + camera, any,
+                        camera + " depth bias", "targets at more varied distances from " + camera,
+                        registry));
+    out->push_back(Make("{type: depth_bias, " + on + ", terms: [tilt]}",
+                        "camera.depth_tilt_" + camera, any,
+                        camera + " depth error tilting across the image",
+                        "targets spread across " + camera + "'s image", registry));
+    out->push_back(Make("{type: camera_intrinsics, " + on + ", terms: [focal]}",
+                        "camera.focal_" + camera, any, camera + " focal length",
+                        "targets at more varied distances from " + camera, registry));
+    out->push_back(Make("{type: camera_intrinsics, " + on + ", terms: [principal]}",
+                        "camera.principal_" + camera, any, camera + " principal point",
+                        "targets turned more and spread across " + camera + "'s image",
+                        registry));
+    out->push_back(Make("{type: camera_intrinsics, " + on + ", terms: [radial]}",
+                        "camera.radial_" + camera, any, camera + " radial distortion",
+                        "targets near the edges of " + camera + "'s image", registry));
+  }
+  for (const auto& [target, carrier] : recording.targets) {
+    out->push_back(Make("{type: target_scale, targets: [" + target + "]}",
+                        "target.scale_" + target, any, target + " printed size",
+                        "targets at more varied distances", registry));
+    // The tilt acts on measured rotations: the world tag's always, a carried target's if used.
+    if (target != spec.world_target && !spec.use_tool_rotation) continue;
+    out->push_back(Make("{type: target_tilt, targets: [" + target + "]}",
+                        "target.tilt_" + target, any, target + " pose estimates tilted",
+                        "the target seen from more directions", registry));
+  }
+  if (!spec.world_target.empty() && recording.targets.count(spec.world_target)) {
+    out->push_back(Make("{type: world_frame, target: " + spec.world_target + "}", "world_frame",
+                        any, "world tag tilted from the placement's frame",
+                        "a base rotation measured independently (held in the job)", registry));
+  }
+}
+
 }  // namespace
 
 std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
@@ -97,15 +142,7 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
                          "captures from a cold start over an hour", registry));
     }
   }
-  for (const auto& camera : recording.cameras) {
-    out.push_back(Make("{type: depth_bias, cameras: [" + camera + "]}", "camera.depth_" + camera,
-                       spec.robots.front(), camera + " depth bias",
-                       "targets at more varied distances from " + camera, registry));
-    out.push_back(Make("{type: depth_bias, cameras: [" + camera + "], terms: [tilt]}",
-                       "camera.depth_tilt_" + camera, spec.robots.front(),
-                       camera + " depth error tilting across the image",
-                       "targets spread across " + camera + "'s image", registry));
-  }
+  AddCameraCandidates(spec, recording, registry, &out);
   return out;
 }
 

@@ -12,7 +12,8 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   if (!root.Has("diagnosis")) return job;
   const ConfigNode d = root["diagnosis"];
   d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "folds", "max_effects", "min_poses",
-                "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed", "alias_correlation"});
+                "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed",
+                "alias_correlation", "min_explained_share"});
   DiagnosisOptions& o = job.options;
   o.alpha = d.GetDouble("alpha", o.alpha);
   o.bootstrap = d.GetInt("bootstrap", o.bootstrap);
@@ -25,6 +26,10 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   o.alias_correlation = d.GetDouble("alias_correlation", o.alias_correlation);
   if (!(o.alias_correlation > 0 && o.alias_correlation <= 1)) {
     throw d["alias_correlation"].Error("must be in (0, 1]", "1 keeps every candidate apart");
+  }
+  o.min_explained_share = d.GetDouble("min_explained_share", o.min_explained_share);
+  if (!(o.min_explained_share >= 0 && o.min_explained_share < 1)) {
+    throw d["min_explained_share"].Error("must be in [0, 1)", "0 turns the test off");
   }
   if (!(o.alpha > 0 && o.alpha < 1)) throw d["alpha"].Error("must be between 0 and 1");
   if (o.folds < 2) throw d["folds"].Error("needs at least 2 folds", "5 is usual");

@@ -21,6 +21,11 @@ std::string Fixed(double v, int digits = 1) {
 
 // A failed test (CandidateFinding::failed) in words.
 std::string Why(const CandidateFinding& f, const std::string& test) {
+  if (test == "size") return "its fitted size rules it out (" + f.implausible + ")";
+  if (test == "share") {
+    return "it removes " + Fixed(100 * f.explained_share, 0) +
+           " % of the held-out excess over the floor, a sliver of something else";
+  }
   if (test == "LR") return "its likelihood-ratio test fails after Holm's correction";
   if (test == "BIC") return "BIC does not fall";
   if (test == "CV") return "its held-out gain is within its standard error";
@@ -52,10 +57,6 @@ std::string DiagnosisReport(const DiagnosisResult& r) {
   }
   for (const auto& a : r.accepted) {
     out << "Left out: " << a.description << " (up to " << Mm(a.peak_mm) << " at the tool).\n";
-    if (!a.unusual.empty()) {
-      out << "  Its size is unusual (" << a.unusual
-          << "): it may stand in for something the library lacks.\n";
-    }
     if (!a.aliases.empty()) {
       out << "  In these poses it is indistinguishable from";
       for (size_t i = 0; i < a.aliases.size(); ++i) out << (i ? "," : "") << " " << a.aliases[i];
@@ -143,6 +144,8 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
                           {"look_alikes", look_alikes(f)},
                           {"bootstrap_rival", f.bootstrap_rival},
                           {"aliases", f.aliases},
+                          {"implausible", f.implausible},
+                          {"explained_share", f.explained_share},
                           {"failed", f.failed},
                           {"accepted", f.accepted}};
   };
@@ -173,7 +176,6 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
   for (const auto& a : r.accepted) {
     nlohmann::json ja{{"name", a.name}, {"description", a.description}, {"peak_mm", a.peak_mm},
                       {"aliases", a.aliases},
-                      {"unusual", a.unusual},
                       {"parameters", nlohmann::json::array()}};
     for (const auto& p : a.parameters) {
       ja["parameters"].push_back(

@@ -17,11 +17,17 @@
 //      mismatch is mostly unexplained an effect must explain a share of what is left, not beat
 //      the floor). Every testable candidate gets its score statistic
 //      (the likelihood-ratio test to first order, from one Jacobian, Rao 1948); the best
-//      `refits` are refitted in full (nonlinear). The best refit is accepted only if
+//      `refits` are refitted in full (nonlinear); a refit whose size is beyond its physics'
+//      plausible range (Parameter::plausible) yields to any plausible one. The best refit is
+//      accepted only if
+//        0. its size is plausible: an implausible one is never reported as that physics; the
+//           report says its size rules it out and names what shares its signature,
 //        a. its likelihood-ratio test passes at `alpha` after Holm's correction over the round,
 //        b. BIC falls (n = the poses, the independent units),
 //        c. blocked cross-validated RMS (folds of whole poses; normalized by sigma, so that every
 //           axis weighs by its significance) falls by more than its standard error over folds,
+//        c'. it removes at least `min_explained_share` of the held-out excess over the floor,
+//           where that excess is beyond chance (a sliver of a large mismatch is not a finding),
 //        d. its family (nested variants of the same physics) is included in >= `bootstrap_share`
 //           of bootstrap resamples of poses, each running the greedy selection (BIC-gated) on
 //           the resampled, reweighted linearization (Sauerbrei & Schumacher 1992);
@@ -38,7 +44,9 @@
 // (harmonic 1, harmonic 2, and all of 1, 2 and the configured gear harmonics together) and
 // joint_scale, each on that joint alone;
 // thermal_drift (by temperature, or the warm-up model when the recording has only times);
-// depth_bias on every camera.
+// per camera depth_bias (scale, tilt) and camera_intrinsics (focal, principal point, radial
+// distortion, each alone); per target target_scale, and target_tilt where its rotation is
+// measured; world_frame where there is a world target.
 #pragma once
 
 #include <map>
@@ -65,6 +73,9 @@ struct DiagnosisOptions {
   int refits = 3;                  // best candidates by score refitted in full each round
   double min_unabsorbed = 0.05;    // below this share of its signature outside the geometry's
                                    // span, an effect is untestable with these poses
+  double min_explained_share = 0.1;  // of the held-out excess over the floor an accepted effect
+                                    // must remove, where the excess is beyond chance; less is
+                                    // a sliver of something else, reported as unexplained
   int max_effects = 4;
   int min_poses = 20;              // fewer: too few samples for the tests
   std::vector<double> link_masses_kg;  // gravity-torque regressor (default 1 kg per link)
@@ -111,8 +122,11 @@ struct CandidateFinding {
   std::string bootstrap_rival;      // the other family included most often ("" if none)
   std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
   std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
-  std::vector<std::string> failed;     // the round's chosen one: tests it failed, of "LR", "BIC",
-                                       // "CV", "bootstrap"
+  std::string implausible;          // refitted: a size beyond its physics' plausible range, in
+                                    // words ("" when plausible); never accepted as that physics
+  double explained_share = 1.0;     // of the held-out excess over the floor, what it removes
+  std::vector<std::string> failed;     // the round's chosen one: tests it failed, of "size",
+                                       // "LR", "BIC", "CV", "share", "bootstrap"
   bool accepted = false;
 };
 
@@ -136,7 +150,6 @@ struct AcceptedEffect {
   std::vector<ScalarEstimate> parameters;
   double peak_mm = 0.0;                      // largest tool displacement it predicts
   std::vector<std::string> aliases;          // candidates these poses cannot tell from it
-  std::string unusual;                       // a parameter beyond Parameter::plausible, in words
 };
 
 struct FitSummary {
