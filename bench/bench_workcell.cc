@@ -51,7 +51,7 @@ void BM_Identify(benchmark::State& state, const std::string& job_file) {
 }
 BENCHMARK_CAPTURE(BM_Identify, sim_b, std::string("configs/jobs/vsb_sim_b.yaml"))
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Identify, exp_a, std::string("configs/jobs/vsb_exp_a.yaml"))
+BENCHMARK_CAPTURE(BM_Identify, exp_a, std::string("configs/jobs/vsb_exp_a_geometry.yaml"))
     ->Unit(benchmark::kMillisecond);
 
 void BM_Solve(benchmark::State& state, const std::string& solver_yaml) {

@@ -230,6 +230,53 @@ void ReadRobots(const ConfigNode& root, Registry& registry, WorkcellJob* job) {
   }
 }
 
+// `uncertain_inputs:` (workcell_problem.h, UncertainInputs): effects held at zero with a sigma,
+// `- {sigma: 0.005, effect: {type: target_scale, targets: [world, tool]}}`, and the robots' held
+// model parameters, `robot_model: {mm: 0.5, rad: 0.001}`.
+void ReadUncertainInputs(const ConfigNode& node, Registry& registry, WorkcellProblem* problem) {
+  node.ExpectKeys({"effects", "robot_model"});
+  auto positive = [](const ConfigNode& value) {
+    const double sigma = value.AsDouble();
+    if (!(sigma > 0.0)) {
+      throw value.Error("an uncertainty must be positive",
+                        "Give the input's standard uncertainty (1 sigma) in its unit");
+    }
+    return sigma;
+  };
+  if (node.Has("effects")) {
+    for (const auto& entry : node["effects"].Elements()) {
+      entry.ExpectKeys({"sigma", "effect"});
+      const ConfigNode config = entry["effect"];
+      const std::string type = config["type"].AsString();
+      WorkcellEffect e;
+      e.robot = problem->robots.front().name;
+      e.effect = registry.CreateEffect(type, config, *problem->robots.front().model);
+      e.name = "uncertain." + type;
+      for (int k = 2; std::any_of(problem->uncertain_inputs.effects.begin(),
+                                  problem->uncertain_inputs.effects.end(),
+                                  [&](const auto& x) { return x.first.name == e.name; });
+           ++k) {
+        e.name = "uncertain." + type + "_" + std::to_string(k);
+      }
+      if (e.effect->stage() != EffectStage::kMeasurement) {
+        throw config["type"].Error("'" + type + "' acts on a robot's joints or flange",
+                                   "Uncertain inputs are measurement effects (a target's size, "
+                                   "a camera's focal length); a robot's are under robot_model:");
+      }
+      problem->uncertain_inputs.effects.push_back({e, positive(entry["sigma"])});
+    }
+  }
+  if (node.Has("robot_model")) {
+    const ConfigNode by_unit = node["robot_model"];
+    by_unit.ExpectKeys({"mm", "rad"});
+    for (const auto& robot : problem->robots) {
+      for (const auto& unit : by_unit.Keys()) {
+        problem->uncertain_inputs.model_sigma[robot.name][unit] = positive(by_unit[unit]);
+      }
+    }
+  }
+}
+
 // Tolerances, cross-validation and gravity.
 void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   problem->use_tool_rotation = root.GetBool("use_tool_rotation", false);
@@ -272,7 +319,7 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
                    "plugin_paths", "world_target", "camera_model", "residual",
                    "use_tool_rotation", "robots", "cameras", "noise", "solver", "validation",
                    "identifiability_tolerance", "weak_vif", "effects", "gravity_base",
-                   "diagnosis", "homing"});
+                   "uncertain_inputs", "diagnosis", "homing"});
   CheckKind(root["job"]);
   WorkcellJob job;
   job.file = path;
@@ -291,6 +338,9 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
   problem.camera_model = ReadCameraModel(root);
   ReadOptions(root, &problem);
   ReadRobots(root, registry, &job);
+  if (root.Has("uncertain_inputs")) {
+    ReadUncertainInputs(root["uncertain_inputs"], registry, &problem);
+  }
   if (root.Has("cameras")) problem.cameras = ReadCameras(root["cameras"]);
   problem.residual = ReadResidual(root, problem);
   if (root.Has("homing")) job.homing = root["homing"];

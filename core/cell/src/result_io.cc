@@ -80,6 +80,21 @@ nlohmann::json WeakJson(const std::vector<WeakParameter>& weak) {
   return j;
 }
 
+// "sigma parts: statistical (..) mm, systematic between cameras (..) mm, from uncertain inputs
+// (..) mm" for a frame's translation, the parts that are there; nothing when only the first is.
+void PrintSigmaParts(const FrameEstimate& f, std::ostream& out) {
+  auto xyz = [](const Eigen::Matrix<double, 6, 1>& v) {
+    return "(" + Fixed(v[0], 2) + ", " + Fixed(v[1], 2) + ", " + Fixed(v[2], 2) + ") mm";
+  };
+  const bool systematic = f.sigma_systematic.head<3>().maxCoeff() > 0;
+  const bool inputs = f.sigma_inputs.head<3>().maxCoeff() > 0;
+  if (!systematic && !inputs) return;
+  out << "    sigma parts: statistical " << xyz(f.sigma_statistical);
+  if (systematic) out << ", systematic between cameras " << xyz(f.sigma_systematic);
+  if (inputs) out << ", from uncertain inputs " << xyz(f.sigma_inputs);
+  out << "\n";
+}
+
 }  // namespace
 
 std::string WorkcellResultYaml(const WorkcellResult& result) {
@@ -122,6 +137,7 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
                            {"sigma_rot_rad", Vec(f.sigma_rad)},
                            {"sigma_statistical", Vec6(f.sigma_statistical)},
                            {"sigma_systematic", Vec6(f.sigma_systematic)},
+                           {"sigma_inputs", Vec6(f.sigma_inputs)},
                            {"held", held}};
   }
   j["model_parameters"] = nlohmann::json::array();
@@ -129,7 +145,8 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
     j["model_parameters"].push_back({{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal},
                                      {"value", p.value}, {"sigma", p.sigma},
                                      {"sigma_statistical", p.sigma_statistical},
-                                     {"sigma_systematic", p.sigma_systematic}, {"held", p.held}});
+                                     {"sigma_systematic", p.sigma_systematic},
+                                     {"sigma_inputs", p.sigma_inputs}, {"held", p.held}});
   }
   AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
   j["weakly_identified"] = WeakJson(r.weakly_identified);
@@ -182,13 +199,7 @@ std::string WorkcellSummary(const WorkcellResult& r) {
         << Fixed(f.sigma_mm.x(), 2) << ", " << Fixed(f.sigma_mm.y(), 2) << ", "
         << Fixed(f.sigma_mm.z(), 2) << "), rvec = (" << Fixed(rvec.x(), 4) << ", "
         << Fixed(rvec.y(), 4) << ", " << Fixed(rvec.z(), 4) << ") rad\n";
-    if (f.sigma_systematic.head<3>().maxCoeff() > 0) {
-      out << "    sigma parts: statistical (" << Fixed(f.sigma_statistical[0], 2) << ", "
-          << Fixed(f.sigma_statistical[1], 2) << ", " << Fixed(f.sigma_statistical[2], 2)
-          << ") mm, systematic between cameras (" << Fixed(f.sigma_systematic[0], 2) << ", "
-          << Fixed(f.sigma_systematic[1], 2) << ", " << Fixed(f.sigma_systematic[2], 2)
-          << ") mm\n";
-    }
+    PrintSigmaParts(f, out);
   }
   for (const auto& p : r.model_parameters) {
     out << "  " << p.name << " = " << Fixed(p.value, 5) << " +- " << Fixed(p.sigma, 5) << " "

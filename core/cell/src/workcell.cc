@@ -11,6 +11,7 @@
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_initial.h"
 #include "fit_once.h"
+#include "input_uncertainty.h"
 #include "uncertainty_split.h"
 
 namespace cellmetry {
@@ -154,7 +155,7 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
 
 // The total sigma of a free parameter and its parts; all zero where it is not free.
 struct SigmaOf {
-  double total = 0.0, statistical = 0.0, systematic = 0.0;
+  double total = 0.0, statistical = 0.0, systematic = 0.0, inputs = 0.0;
   bool free = false;
 };
 
@@ -165,6 +166,7 @@ SigmaOf Sigma(const Uncertainty& u, const std::string& name) {
   SigmaOf s{u.sigma[i], u.sigma[i], 0.0, true};
   if (u.sigma_statistical.size() == u.sigma.size()) s.statistical = u.sigma_statistical[i];
   if (u.sigma_systematic.size() == u.sigma.size()) s.systematic = u.sigma_systematic[i];
+  if (u.sigma_inputs.size() == u.sigma.size()) s.inputs = u.sigma_inputs[i];
   return s;
 }
 
@@ -179,6 +181,7 @@ FrameEstimate MakeFrame(const std::string& name, const std::string& parent, cons
     (i < 3 ? frame.sigma_mm[i] : frame.sigma_rad[i - 3]) = sigma.total;
     frame.sigma_statistical[i] = sigma.statistical;
     frame.sigma_systematic[i] = sigma.systematic;
+    frame.sigma_inputs[i] = sigma.inputs;
     frame.held[i] = !sigma.free;
   }
   return frame;
@@ -197,6 +200,7 @@ ScalarEstimate MakeScalar(const std::string& name, const std::string& unit, doub
   s.sigma = sigma.total;
   s.sigma_statistical = sigma.statistical;
   s.sigma_systematic = sigma.systematic;
+  s.sigma_inputs = sigma.inputs;
   return s;
 }
 
@@ -348,6 +352,7 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   const std::set<std::string> held = Names(result.unidentifiable);
   SplitUncertainty(spec, recording, result.noise, result.estimate, held, make_solver,
                    *fit.assembled, at_answer, &result.uncertainty);
+  AddInputUncertainty(spec, recording, result.noise, result.estimate, &result.uncertainty);
   Describe(spec, *fit.assembled, held, &result);
   AddResidualStatistics(spec, recording, data, fit, &result);
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,

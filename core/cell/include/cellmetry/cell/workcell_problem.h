@@ -66,6 +66,16 @@ struct WorkcellEffect {
   std::shared_ptr<const Effect> effect;
 };
 
+// An input the job holds at a stated value that is itself uncertain (consider_covariance.h):
+// an effect held at zero whose every parameter is uncertain by `sigma` (its unit), e.g. a
+// board's printed size; or a robot's held model parameters, uncertain by `model_sigma` per unit
+// ("mm", "rad"). They widen sigma (its `inputs` part); they never move the answer.
+struct UncertainInputs {
+  std::vector<std::pair<WorkcellEffect, double>> effects;
+  std::map<std::string, std::map<std::string, double>> model_sigma;  // robot -> unit -> sigma
+  bool empty() const { return effects.empty() && model_sigma.empty(); }
+};
+
 // A static camera's start and which of its pose entries are free (a job's `cameras:`); a camera
 // the job does not name starts in closed form with every entry free.
 struct WorkcellCamera {
@@ -92,6 +102,7 @@ struct WorkcellProblem {
   unsigned seed = 1;                     // fold assignment
   bool compare_camera_models = false;    // also report the other observation model's held-out RMS
   std::vector<WorkcellEffect> effects;   // none: the geometric model alone
+  UncertainInputs uncertain_inputs;      // none: sigma from the data alone
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2 in every base frame
 };
 

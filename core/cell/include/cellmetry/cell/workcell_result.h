@@ -26,9 +26,11 @@ struct FrameEstimate {
   Pose pose;
   Eigen::Vector3d sigma_mm = Eigen::Vector3d::Zero();
   Eigen::Vector3d sigma_rad = Eigen::Vector3d::Zero();
-  // Their parts (Uncertainty): statistical and systematic, x y z then rx ry rz.
+  // Their parts (Uncertainty): statistical, systematic and from uncertain inputs, x y z then
+  // rx ry rz.
   Eigen::Matrix<double, 6, 1> sigma_statistical = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 1> sigma_systematic = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 1> sigma_inputs = Eigen::Matrix<double, 6, 1>::Zero();
   std::array<bool, 6> held{};
 };
 
@@ -40,6 +42,7 @@ struct ScalarEstimate {
   double sigma = 0.0;
   double sigma_statistical = 0.0;   // its parts (Uncertainty)
   double sigma_systematic = 0.0;
+  double sigma_inputs = 0.0;
   bool held = false;
 };
 

@@ -48,14 +48,17 @@ IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
 struct Uncertainty {
   std::vector<std::string> names;   // free parameters, in Problem order
   Eigen::VectorXd sigma;            // 1-sigma, in each parameter's unit: the total (below)
-  // Its parts (robust_covariance.h). statistical = the larger of the chi-square-scaled model's
-  // and the cluster-robust sigma; systematic = what errors shared by a whole camera add (the
-  // camera jackknife's spread beyond the statistical); sigma^2 = statistical^2 + systematic^2.
+  // Its parts (robust_covariance.h, consider_covariance.h). statistical = the larger of the
+  // chi-square-scaled model's and the cluster-robust sigma; systematic = what errors shared by a
+  // whole camera add (the camera jackknife's spread beyond the statistical); inputs = what the
+  // uncertainty of inputs held at stated values adds (a nominal kinematic table, a board's
+  // printed size: type B); sigma^2 = statistical^2 + systematic^2 + inputs^2.
   // Empty where not computed: sigma is then the model's.
   Eigen::VectorXd sigma_model;
   Eigen::VectorXd sigma_cluster;
   Eigen::VectorXd sigma_statistical;
   Eigen::VectorXd sigma_systematic;
+  Eigen::VectorXd sigma_inputs;
   Eigen::MatrixXd covariance;
   Eigen::MatrixXd correlation;
   double chi2 = 0.0;                // |r|^2 of the whitened measurement residuals
