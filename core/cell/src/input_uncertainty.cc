@@ -15,7 +15,9 @@ WorkcellProblem WithInputsFree(const WorkcellProblem& spec,
   WorkcellProblem augmented = spec;
   for (const auto& [effect, sigma] : spec.uncertain_inputs.effects) {
     augmented.effects.push_back(effect);
-    for (const auto& p : effect.effect->parameters()) (*input_sigma)[effect.name + "." + p.name] = sigma;
+    for (const auto& p : effect.effect->parameters()) {
+      (*input_sigma)[effect.name + "." + p.name] = sigma;
+    }
   }
   for (auto& robot : augmented.robots) {
     const auto by_unit = spec.uncertain_inputs.model_sigma.find(robot.name);

@@ -10,9 +10,10 @@
 //   d theta = G dc,   G = -(J_t^T J_t)^-1 J_t^T J_c,   Sigma_inputs = G diag(sigma_c^2) G^T,
 //
 // the "consider" covariance of orbit determination (Tapley, Schutz & Born 2004, Statistical
-// Orbit Determination, ch. 6), with J_t the whitened Jacobian's columns of the estimated parameters and J_c
-// those of the held inputs, both at the answer. To first order it is exact: refitting with an
-// input moved by dc moves the estimate by G dc (tests/test_consider_covariance.cc checks that).
+// Orbit Determination, ch. 6), with J_t the whitened Jacobian's columns of the estimated
+// parameters and J_c those of the held inputs, both at the answer. To first order it is exact:
+// refitting with an input moved by dc moves the estimate by G dc
+// (tests/test_consider_covariance.cc checks that).
 #pragma once
 
 #include <map>
