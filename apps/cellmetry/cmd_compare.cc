@@ -35,19 +35,20 @@ void AddCompareCommand(CLI::App& app, Context& context) {
     }
     if (kind == "markers") {
       const MarkerComparisonSpec spec = LoadMarkerComparison(spec_path, Registry::Global());
+      folder = output.empty() ? spec.output : output;
+      CheckReplaceable(folder, "comparison");  // before the work, not after it
       const auto rows = CompareMarkers(spec, Registry::Global());
       table = MarkerTableMarkdown(spec, rows);
       csv = MarkerTableCsv(rows);
-      folder = spec.output;
     } else {
       const CompareSpec spec = LoadCompareSpec(spec_path, Registry::Global());
+      folder = output.empty() ? spec.output : output;
+      CheckReplaceable(folder, "comparison");
       const auto rows = RunComparison(spec, Registry::Global());
       table = CompareTableMarkdown(spec, rows);
       csv = CompareTableCsv(rows);
-      folder = spec.output;
     }
-    if (!output.empty()) folder = output;
-    StagedDirectory out(folder);
+    StagedDirectory out(folder, "comparison");
     AtomicWriteFile(out.File("table.md"), table);
     AtomicWriteFile(out.File("table.csv"), csv);
     out.Commit();

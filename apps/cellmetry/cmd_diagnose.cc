@@ -22,6 +22,8 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
     LoadPlugins(context);
     Registry& registry = Registry::Global();
     const DiagnosisJob job = LoadDiagnosisJob(job_path, registry);
+    const std::string folder = output.empty() ? job.workcell.output + "/diagnosis" : output;
+    CheckReplaceable(folder, "diagnosis");  // before the work, not after it
     const Recording recording = ReadRecording(job.workcell.recording);
     ValidateJobAgainstRecording(job.workcell, recording);
     const SolverMaker make_solver = [&] {
@@ -30,11 +32,11 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
     const DiagnosisResult result =
         DiagnoseWorkcell(job.workcell.problem, recording, make_solver,
                          JobCandidates(job, recording, registry), job.options, job_path);
-    const std::string folder = output.empty() ? job.workcell.output + "/diagnosis" : output;
-    std::filesystem::create_directories(folder);
-    AtomicWriteFile(folder + "/diagnosis.json", DiagnosisJson(result).dump(2) + "\n");
-    AtomicWriteFile(folder + "/report.txt", DiagnosisReport(result));
-    WriteWorkcellResult(result.final_fit, folder + "/final_fit");
+    StagedDirectory out(folder, "diagnosis");
+    AtomicWriteFile(out.File("diagnosis.json"), DiagnosisJson(result).dump(2) + "\n");
+    AtomicWriteFile(out.File("report.txt"), DiagnosisReport(result));
+    WriteWorkcellResult(result.final_fit, out.File("final_fit"));
+    out.Commit();
     std::printf("%s", DiagnosisReport(result).c_str());
     std::printf("  written: %s/{report.txt,diagnosis.json,final_fit/}\n", folder.c_str());
   });

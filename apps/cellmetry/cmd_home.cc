@@ -4,6 +4,7 @@
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/homing_io.h"
 #include "cellmetry/cell/homing_job.h"
+#include "cellmetry/formats/atomic_file.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -18,6 +19,7 @@ void AddHomeCommand(CLI::App& app, Context& context) {
     Progress::SetQuiet(context.quiet);
     LoadPlugins(context);
     const HomingJob job = LoadHomingJob(job_path, Registry::Global());
+    CheckReplaceable(output.empty() ? job.job.output : output, "homing");
     const std::vector<PointSample> samples = CollectPoints(job, ReadRecording(job.job.recording));
     const HomingResult result = HomeVisually(job.arm, samples, job.sigma_mm, job.options);
     const std::string folder = output.empty() ? job.job.output : output;

@@ -8,6 +8,7 @@
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/formats/recording.h"
+#include "cellmetry/formats/atomic_file.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -20,6 +21,8 @@ void RunJob(const std::string& job_path, const std::string& output) {
     throw InputError({job_path, 0, 0}, "a homing job runs with 'cellmetry home'",
                      "Run: cellmetry home " + job_path);
   }
+  const std::string folder = output.empty() ? job.output : output;
+  CheckReplaceable(folder, "result");  // before the fit, not after it
   const Recording recording = ReadRecording(job.recording);
   ValidateJobAgainstRecording(job, recording);
   const SolverMaker make_solver = [&] {
@@ -31,7 +34,6 @@ void RunJob(const std::string& job_path, const std::string& output) {
     ValidateJobAgainstRecording(job, fresh);
     result.validation = ScoreOnRecording(job.problem, result, fresh);
   }
-  const std::string folder = output.empty() ? job.output : output;
   WriteWorkcellResult(result, folder);
   std::printf("%s", WorkcellSummary(result).c_str());
   std::printf("  written: %s/{result.yaml,result.json,residuals.csv}\n", folder.c_str());

@@ -6,6 +6,7 @@
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/experiments/concealed_physics.h"
 #include "cellmetry/imaging/image_simulation.h"
+#include "cellmetry/formats/atomic_file.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -21,6 +22,7 @@ void AddSimulateCommand(CLI::App& app, Context& context) {
     LoadPlugins(context);
     const WorkcellSimulationSpec spec =
         LoadWorkcellSimulation(spec_path, Registry::Global(), ReadConcealedDisturbance);
+    CheckReplaceable(output, "recording");  // before the work, not after it
     WorkcellTruth truth;
     Recording recording = SimulateWorkcell(spec, &truth);
     std::function<void(const std::string&)> images;

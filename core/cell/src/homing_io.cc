@@ -51,7 +51,7 @@ std::string HomingYaml(const HomingResult& r) {
 }
 
 void WriteHomingResult(const HomingResult& result, const std::string& folder) {
-  StagedDirectory out(folder);
+  StagedDirectory out(folder, "homing");
   AtomicWriteFile(out.File("homing.yaml"), HomingYaml(result));
   out.Commit();
 }

@@ -178,7 +178,7 @@ std::string WorkcellResidualsCsv(const WorkcellResult& result) {
 }
 
 void WriteWorkcellResult(const WorkcellResult& result, const std::string& folder) {
-  StagedDirectory out(folder);
+  StagedDirectory out(folder, "result");
   AtomicWriteFile(out.File("result.yaml"), WorkcellResultYaml(result));
   AtomicWriteFile(out.File("result.json"), WorkcellResultJson(result).dump(2) + "\n");
   AtomicWriteFile(out.File("residuals.csv"), WorkcellResidualsCsv(result));

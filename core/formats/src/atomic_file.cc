@@ -2,7 +2,11 @@
 // renamed over it; a folder is staged in a temporary sibling and renamed into place.
 #include "cellmetry/formats/atomic_file.h"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 
 #include <filesystem>
 #include <fstream>
@@ -38,10 +42,93 @@ void AtomicWriteFile(const std::string& path, const std::string& text) {
   }
 }
 
-StagedDirectory::StagedDirectory(std::string final_path) : final_path_(std::move(final_path)) {
-  fs::path target = fs::path(final_path_).lexically_normal();
+namespace {
+
+std::string Normalized(const std::string& path) {
+  fs::path target = fs::path(path).lexically_normal();
   if (target.filename().empty()) target = target.parent_path();
-  final_path_ = target.string();
+  return target.string();
+}
+
+// The kind in `folder`'s marker, "" when it has none.
+std::string MarkerKind(const fs::path& folder) {
+  std::ifstream in(folder / kOutputMarker);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("kind: ", 0) == 0) return line.substr(6);
+  }
+  return "";
+}
+
+// A folder without a marker whose every entry is a folder cellmetry wrote (a job's output
+// folder that so far holds only its diagnosis): nothing in it is the user's.
+bool OnlyCellmetryOutput(const fs::path& folder) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    if (!entry.is_directory() || MarkerKind(entry.path()).empty()) return false;
+  }
+  return !ec;
+}
+
+// `inner` is `outer` or lies inside it.
+bool Contains(const fs::path& outer, const fs::path& inner) {
+  const auto [end, ignored] = std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
+  return end == outer.end();
+}
+
+// Staging and set-aside folders beside `final_path` whose process is gone (a killed run).
+void RemoveStaleStaging(const std::string& final_path) {
+  const fs::path target(final_path);
+  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string name = target.filename().string();
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(parent, ec)) {
+    const std::string other = entry.path().filename().string();
+    for (const std::string suffix : {".partial", ".old"}) {
+      const std::string prefix = name + suffix;
+      if (other.size() <= prefix.size() || other.rfind(prefix, 0) != 0) continue;
+      const std::string pid = other.substr(prefix.size());
+      if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+      if (::kill(std::stoi(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to tell
+      std::error_code ignored;
+      fs::remove_all(entry.path(), ignored);
+    }
+  }
+}
+
+}  // namespace
+
+void CheckReplaceable(const std::string& path, const std::string& kind) {
+  const std::string target = Normalized(path);
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(target, ec);
+  if (!fs::exists(status)) return;
+  const std::string keep = "Choose another output folder (output: in the job, or -o)";
+  if (!fs::is_directory(status)) {
+    throw InputError({target, 0, 0}, "the output path is an existing file; cellmetry writes a "
+                     "folder there and would replace it", keep);
+  }
+  const fs::path absolute = fs::weakly_canonical(target, ec);
+  if (Contains(absolute, fs::current_path(ec))) {
+    throw InputError({target, 0, 0}, "the output folder holds the working directory", keep);
+  }
+  const std::string found = MarkerKind(target);
+  if (found.empty() && OnlyCellmetryOutput(target)) return;
+  if (found.empty()) {
+    throw InputError({target, 0, 0}, "the output folder exists and was not written by cellmetry "
+                     "(no " + std::string(kOutputMarker) + " in it); it is left as it is",
+                     keep + ", or remove it yourself (an older cellmetry's output too)");
+  }
+  if (found != kind) {
+    throw InputError({target, 0, 0}, "the output folder holds a cellmetry " + found +
+                     ", which a " + kind + " would replace", keep);
+  }
+}
+
+StagedDirectory::StagedDirectory(std::string final_path, std::string kind)
+    : final_path_(Normalized(final_path)), kind_(std::move(kind)) {
+  CheckReplaceable(final_path_, kind_);
+  RemoveStaleStaging(final_path_);
   staging_ = final_path_ + ".partial" + std::to_string(::getpid());
   std::error_code ec;
   fs::remove_all(staging_, ec);
@@ -50,6 +137,9 @@ StagedDirectory::StagedDirectory(std::string final_path) : final_path_(std::move
     throw InputError({final_path_, 0, 0}, "cannot create output folder",
                      "Check that the parent folder is writable");
   }
+  std::ofstream(fs::path(staging_) / kOutputMarker)
+      << "kind: " << kind_ << "\nwritten by cellmetry: a later " << kind_
+      << " to this path replaces this folder\n";
 }
 
 StagedDirectory::~StagedDirectory() {
@@ -59,6 +149,7 @@ StagedDirectory::~StagedDirectory() {
 }
 
 void StagedDirectory::Commit() {
+  CheckReplaceable(final_path_, kind_);  // nothing appeared there meanwhile
   std::error_code ec;
   const std::string old = final_path_ + ".old" + std::to_string(::getpid());
   if (fs::exists(final_path_)) fs::rename(final_path_, old, ec);

@@ -296,7 +296,7 @@ Recording ReadRecording(const std::string& folder) {
 void WriteRecording(const Recording& recording, const std::string& folder,
                     const std::string& truth_yaml,
                     const std::function<void(const std::string&)>& write_extra) {
-  StagedDirectory out(folder);
+  StagedDirectory out(folder, "recording");
 
   YAML::Emitter header;
   header << YAML::BeginMap << YAML::Key << "format" << YAML::Value << kRecordingFormat;

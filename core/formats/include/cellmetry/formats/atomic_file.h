@@ -14,11 +14,23 @@ namespace cellmetry {
 // folder cannot be written.
 void AtomicWriteFile(const std::string& path, const std::string& text);
 
+// Never replaces what cellmetry did not write. Every output folder carries a marker file
+// (kOutputMarker) naming its kind ("result", "recording", "homing", "comparison"); a folder is
+// replaced only by output of the same kind. Throws InputError naming `path` when it is a file,
+// a folder without the marker (a user's folder, a bundled recording, an older cellmetry's
+// output), a folder of another kind (a job's output naming its own recording), or a folder that
+// holds the working directory. Commands call it before their work, so that a long fit is not
+// lost to a refusal at the end.
+inline constexpr const char* kOutputMarker = ".cellmetry-output";
+void CheckReplaceable(const std::string& path, const std::string& kind);
+
 // A folder under construction: files go to staging(), Commit() renames it to `final_path`
-// (replacing an older one). If the object dies uncommitted, the staging folder is removed.
+// (replacing an older one of the same kind, CheckReplaceable). If the object dies uncommitted,
+// the staging folder is removed; staging folders that killed runs left beside `final_path` go
+// when the next one starts.
 class StagedDirectory {
  public:
-  explicit StagedDirectory(std::string final_path);
+  StagedDirectory(std::string final_path, std::string kind);
   ~StagedDirectory();
   StagedDirectory(const StagedDirectory&) = delete;
   StagedDirectory& operator=(const StagedDirectory&) = delete;
@@ -29,6 +41,7 @@ class StagedDirectory {
 
  private:
   std::string final_path_;
+  std::string kind_;
   std::string staging_;
   bool committed_ = false;
 };

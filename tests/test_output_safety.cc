@@ -1,0 +1,112 @@
+// Nothing lost: cellmetry replaces only what it wrote itself. Through the real command line, a
+// job or simulation whose output names a user's file, a user's folder, the job's own recording
+// or the working directory is refused (exit 2, the path named) before any work, and the path is
+// left exactly as it was; a result folder cellmetry wrote is replaced by the next run; staging
+// folders a killed run left behind are cleared by the next run.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "cellmetry/formats/atomic_file.h"
+#include "support/test_support.h"
+
+namespace fs = std::filesystem;
+
+namespace cellmetry {
+namespace {
+
+using ::testing::HasSubstr;
+
+class OutputSafety : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing::TempDirForThisTest("output_safety");
+    recording_ = dir_ + "/sim_b";
+    fs::copy(testing::Source("tests/data/vsb/sim_b"), recording_);
+  }
+
+  // configs/jobs/vsb_sim_b.yaml with absolute paths and `output`.
+  void WriteJob(const std::string& output) {
+    testing::WriteText(dir_ + "/job.yaml",
+                       "job: workcell\nrecording: " + recording_ + "\noutput: " + output +
+                           "\nrobots:\n  ur3:\n    model: " +
+                           testing::Source("configs/robots/ur3.yaml") +
+                           "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n"
+                           "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
+  }
+
+  testing::CommandResult Run() { return testing::RunCellmetry("run " + dir_ + "/job.yaml"); }
+
+  std::string dir_, recording_;
+};
+
+TEST_F(OutputSafety, AUsersFileIsNotReplaced) {
+  testing::WriteText(dir_ + "/notes.txt", "my notes\n");
+  WriteJob(dir_ + "/notes.txt");
+  const auto r = Run();
+  EXPECT_EQ(r.exit_code, kInputErrorExitCode) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("notes.txt: error: the output path is an existing file"));
+  EXPECT_EQ(testing::ReadText(dir_ + "/notes.txt"), "my notes\n");
+}
+
+TEST_F(OutputSafety, AUsersFolderIsNotReplaced) {
+  testing::WriteText(dir_ + "/mine/data.csv", "1,2,3\n");
+  WriteJob(dir_ + "/mine");
+  const auto r = Run();
+  EXPECT_EQ(r.exit_code, kInputErrorExitCode) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("was not written by cellmetry"));
+  EXPECT_EQ(testing::ReadText(dir_ + "/mine/data.csv"), "1,2,3\n");
+}
+
+TEST_F(OutputSafety, TheJobsOwnRecordingIsNotReplaced) {
+  WriteJob(recording_);
+  const auto r = Run();
+  EXPECT_EQ(r.exit_code, kInputErrorExitCode) << r.output;
+  EXPECT_TRUE(fs::exists(recording_ + "/observations.csv"));
+  // A recording cellmetry simulated is its output too, but of another kind: still refused.
+  const auto sim = testing::RunCellmetry(
+      "simulate " + testing::Source("configs/simulations/ur3_two_cameras.yaml") + " -o " +
+      dir_ + "/simulated");
+  ASSERT_EQ(sim.exit_code, 0) << sim.output;
+  WriteJob(dir_ + "/simulated");
+  const auto again = Run();
+  EXPECT_EQ(again.exit_code, kInputErrorExitCode) << again.output;
+  EXPECT_THAT(again.output, HasSubstr("holds a cellmetry recording, which a result would replace"));
+  EXPECT_TRUE(fs::exists(dir_ + "/simulated/observations.csv"));
+}
+
+TEST_F(OutputSafety, SimulateDoesNotOverwriteARecordingItDidNotWrite) {
+  const auto r = testing::RunCellmetry(
+      "simulate " + testing::Source("configs/simulations/ur3_two_cameras.yaml") + " -o " +
+      recording_);
+  EXPECT_EQ(r.exit_code, kInputErrorExitCode) << r.output;
+  EXPECT_EQ(testing::ReadText(recording_ + "/observations.csv"),
+            testing::ReadText(testing::Source("tests/data/vsb/sim_b/observations.csv")));
+}
+
+TEST_F(OutputSafety, ItsOwnResultIsReplacedAndStaleStagingCleared) {
+  WriteJob(dir_ + "/result");
+  ASSERT_EQ(Run().exit_code, 0);
+  ASSERT_TRUE(fs::exists(dir_ + "/result/" + std::string(kOutputMarker)));
+  // A run killed while writing left its staging folder (process 999999 is not running).
+  testing::WriteText(dir_ + "/result.partial999999/result.yaml", "half\n");
+  const auto r = Run();
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir_ + "/result/result.json"));
+  EXPECT_FALSE(fs::exists(dir_ + "/result.partial999999"));
+}
+
+TEST(OutputFolder, TheWorkingDirectoryIsNeverReplaced) {
+  const std::string here = fs::current_path().string();
+  try {
+    CheckReplaceable(".", "result");
+    FAIL() << "the working directory was accepted as an output folder";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("holds the working directory"));
+  }
+  EXPECT_EQ(fs::current_path().string(), here);
+}
+
+}  // namespace
+}  // namespace cellmetry
