@@ -1,7 +1,8 @@
 // Nothing lost: cellmetry replaces only what it wrote itself. Through the real command line, a
 // job or simulation whose output names a user's file, a user's folder, the job's own recording
 // or the working directory is refused (exit 2, the path named) before any work, and the path is
-// left exactly as it was; a result folder cellmetry wrote is replaced by the next run; staging
+// left exactly as it was; a result folder cellmetry wrote is replaced by the next run and kept
+// recoverable beside it as <output>.previous; staging
 // folders a killed run left behind are cleared by the next run.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -91,10 +92,27 @@ TEST_F(OutputSafety, ItsOwnResultIsReplacedAndStaleStagingCleared) {
   ASSERT_TRUE(fs::exists(dir_ + "/result/" + std::string(kOutputMarker)));
   // A run killed while writing left its staging folder (process 999999 is not running).
   testing::WriteText(dir_ + "/result.partial999999/result.yaml", "half\n");
+  testing::WriteText(dir_ + "/result/sentinel.txt", "from the first run\n");
   const auto r = Run();
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(dir_ + "/result/result.json"));
   EXPECT_FALSE(fs::exists(dir_ + "/result.partial999999"));
+  // The replaced result is recoverable beside the new one, one generation deep.
+  EXPECT_EQ(testing::ReadText(dir_ + "/result.previous/sentinel.txt"), "from the first run\n");
+  EXPECT_FALSE(fs::exists(dir_ + "/result/sentinel.txt"));
+  ASSERT_EQ(Run().exit_code, 0);
+  EXPECT_FALSE(fs::exists(dir_ + "/result.previous/sentinel.txt"));
+  EXPECT_TRUE(fs::exists(dir_ + "/result.previous/result.json"));
+}
+
+TEST_F(OutputSafety, APreviousSlotHoldingAUsersFolderIsNotReplaced) {
+  WriteJob(dir_ + "/result");
+  ASSERT_EQ(Run().exit_code, 0);
+  testing::WriteText(dir_ + "/result.previous/mine.txt", "mine\n");
+  const auto r = Run();
+  EXPECT_EQ(r.exit_code, kInputErrorExitCode) << r.output;
+  EXPECT_EQ(testing::ReadText(dir_ + "/result.previous/mine.txt"), "mine\n");
+  EXPECT_TRUE(fs::exists(dir_ + "/result/result.json"));
 }
 
 TEST(OutputFolder, TheWorkingDirectoryIsNeverReplaced) {

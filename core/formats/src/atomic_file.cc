@@ -113,16 +113,16 @@ void CheckReplaceable(const std::string& path, const std::string& kind) {
     throw InputError({target, 0, 0}, "the output folder holds the working directory", keep);
   }
   const std::string found = MarkerKind(target);
-  if (found.empty() && OnlyCellmetryOutput(target)) return;
-  if (found.empty()) {
+  if (found.empty() && !OnlyCellmetryOutput(target)) {
     throw InputError({target, 0, 0}, "the output folder exists and was not written by cellmetry "
                      "(no " + std::string(kOutputMarker) + " in it); it is left as it is",
                      keep + ", or remove it yourself (an older cellmetry's output too)");
   }
-  if (found != kind) {
+  if (!found.empty() && found != kind) {
     throw InputError({target, 0, 0}, "the output folder holds a cellmetry " + found +
                      ", which a " + kind + " would replace", keep);
   }
+  CheckReplaceable(target + ".previous", kind);  // where the replaced one will go
 }
 
 StagedDirectory::StagedDirectory(std::string final_path, std::string kind)
@@ -148,17 +148,30 @@ StagedDirectory::~StagedDirectory() {
   fs::remove_all(staging_, ec);
 }
 
+// The output this one replaces stays recoverable beside it, one generation deep:
+// <final>.previous (an older .previous of the same kind goes; anything else there is refused).
 void StagedDirectory::Commit() {
   CheckReplaceable(final_path_, kind_);  // nothing appeared there meanwhile
+  const std::string previous = final_path_ + ".previous";
+  const std::string older = previous + ".old" + std::to_string(::getpid());
   std::error_code ec;
-  const std::string old = final_path_ + ".old" + std::to_string(::getpid());
-  if (fs::exists(final_path_)) fs::rename(final_path_, old, ec);
+  if (fs::exists(final_path_)) {
+    CheckReplaceable(previous, kind_);
+    if (fs::exists(previous)) fs::rename(previous, older, ec);
+    if (!ec) fs::rename(final_path_, previous, ec);
+    if (ec) {
+      throw InputError({final_path_, 0, 0}, "cannot set the previous output aside",
+                       "Check permissions on the parent folder");
+    }
+  }
   fs::rename(staging_, final_path_, ec);
   if (ec) {
+    std::error_code ignored;
+    if (fs::exists(previous) && !fs::exists(final_path_)) fs::rename(previous, final_path_, ignored);
     throw InputError({final_path_, 0, 0}, "cannot move the finished output into place",
                      "Check permissions on the parent folder");
   }
-  fs::remove_all(old, ec);
+  fs::remove_all(older, ec);
   committed_ = true;
 }
 

@@ -25,7 +25,8 @@ inline constexpr const char* kOutputMarker = ".cellmetry-output";
 void CheckReplaceable(const std::string& path, const std::string& kind);
 
 // A folder under construction: files go to staging(), Commit() renames it to `final_path`
-// (replacing an older one of the same kind, CheckReplaceable). If the object dies uncommitted,
+// (replacing an older one of the same kind, CheckReplaceable, which stays recoverable as
+// `<final_path>.previous`, one generation deep). If the object dies uncommitted,
 // the staging folder is removed; staging folders that killed runs left beside `final_path` go
 // when the next one starts.
 class StagedDirectory {
