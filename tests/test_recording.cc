@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -270,7 +271,10 @@ TEST(WriteRecording, ReplacesAnExistingFolderAndLeavesNoStagingFolder) {
   for (const auto& entry : fs::directory_iterator(parent)) {
     entries.push_back(entry.path().filename().string());
   }
-  EXPECT_EQ(entries, (std::vector<std::string>{"rec"}));
+  std::sort(entries.begin(), entries.end());
+  // The replaced recording stays recoverable beside it (atomic_file.h), one generation deep.
+  EXPECT_EQ(entries, (std::vector<std::string>{"rec", "rec.previous"}));
+  EXPECT_TRUE(fs::exists(folder + ".previous/stale.txt"));
   for (const auto& entry : fs::recursive_directory_iterator(folder)) {
     const std::string name = entry.path().filename().string();
     EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;

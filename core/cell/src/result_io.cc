@@ -80,6 +80,13 @@ nlohmann::json WeakJson(const std::vector<WeakParameter>& weak) {
   return j;
 }
 
+// A sigma to two significant digits ("0.063", "2.2", "0.00031"): never "0.00" for a small one.
+std::string SigmaText(double sigma) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.2g", sigma);
+  return text;
+}
+
 // "sigma parts: statistical (..) mm, systematic between cameras (..) mm, from uncertain inputs
 // (..) mm" for a frame's translation, the parts that are there; nothing when only the first is.
 void PrintSigmaParts(const FrameEstimate& f, std::ostream& out) {
@@ -109,8 +116,13 @@ std::string WorkcellResultYaml(const WorkcellResult& result) {
     out << YAML::Key << "model" << YAML::Value << YAML::BeginMap;
     for (const auto& p : result.model_parameters) {
       out << YAML::Key << p.name << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-          << "value" << YAML::Value << p.value << YAML::Key << "sigma" << YAML::Value << p.sigma
-          << YAML::Key << "unit" << YAML::Value << p.unit << YAML::EndMap;
+          << "value" << YAML::Value << p.value << YAML::Key << "sigma" << YAML::Value;
+      if (p.held) {
+        out << "held";
+      } else {
+        out << p.sigma;
+      }
+      out << YAML::Key << "unit" << YAML::Value << p.unit << YAML::EndMap;
     }
     out << YAML::EndMap;
   }
@@ -133,8 +145,8 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
     j["frames"][f.name] = {{"parent", f.parent},
                            {"xyz_mm", Vec(f.pose.t)},
                            {"rvec_rad", Vec(RvecFromRotation(f.pose.R))},
-                           {"sigma_xyz_mm", Vec(f.sigma_mm)},
-                           {"sigma_rot_rad", Vec(f.sigma_rad)},
+                           {"sigma_xyz_mm", SigmaJson(f.sigma_mm, f.held, 0)},
+                           {"sigma_rot_rad", SigmaJson(f.sigma_rad, f.held, 3)},
                            {"sigma_statistical", Vec6(f.sigma_statistical)},
                            {"sigma_systematic", Vec6(f.sigma_systematic)},
                            {"sigma_inputs", Vec6(f.sigma_inputs)},
@@ -143,7 +155,9 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   j["model_parameters"] = nlohmann::json::array();
   for (const auto& p : r.model_parameters) {
     j["model_parameters"].push_back({{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal},
-                                     {"value", p.value}, {"sigma", p.sigma},
+                                     {"value", p.value},
+                                     {"sigma", p.held ? nlohmann::json(nullptr)
+                                                      : nlohmann::json(p.sigma)},
                                      {"sigma_statistical", p.sigma_statistical},
                                      {"sigma_systematic", p.sigma_systematic},
                                      {"sigma_inputs", p.sigma_inputs}, {"held", p.held}});
@@ -194,16 +208,24 @@ std::string WorkcellSummary(const WorkcellResult& r) {
       << Fixed(r.solver.time_s * 1e3, 1) << " ms, " << r.solver.stop_reason << ")\n";
   for (const auto& f : r.frames) {
     const Eigen::Vector3d rvec = RvecFromRotation(f.pose.R);
+    auto sigmas = [&f](const Eigen::Vector3d& sigma, int offset) {
+      std::string text;
+      for (int i = 0; i < 3; ++i) {
+        text += (i ? ", " : "") + (f.held[offset + i] ? std::string("held") : SigmaText(sigma[i]));
+      }
+      return "(" + text + ")";
+    };
     out << "  " << f.name << " in " << f.parent << ": xyz = (" << Fixed(f.pose.t.x(), 2) << ", "
-        << Fixed(f.pose.t.y(), 2) << ", " << Fixed(f.pose.t.z(), 2) << ") mm +- ("
-        << Fixed(f.sigma_mm.x(), 2) << ", " << Fixed(f.sigma_mm.y(), 2) << ", "
-        << Fixed(f.sigma_mm.z(), 2) << "), rvec = (" << Fixed(rvec.x(), 4) << ", "
-        << Fixed(rvec.y(), 4) << ", " << Fixed(rvec.z(), 4) << ") rad\n";
+        << Fixed(f.pose.t.y(), 2) << ", " << Fixed(f.pose.t.z(), 2) << ") mm +- "
+        << sigmas(f.sigma_mm, 0) << ", rvec = (" << Fixed(rvec.x(), 4) << ", "
+        << Fixed(rvec.y(), 4) << ", " << Fixed(rvec.z(), 4) << ") rad +- " << sigmas(f.sigma_rad, 3)
+        << "\n";
     PrintSigmaParts(f, out);
   }
   for (const auto& p : r.model_parameters) {
-    out << "  " << p.name << " = " << Fixed(p.value, 5) << " +- " << Fixed(p.sigma, 5) << " "
-        << p.unit << (p.held ? " (held: not identifiable)" : "") << "\n";
+    out << "  " << p.name << " = " << Fixed(p.value, 5) << " "
+        << (p.held ? "held (not identifiable)" : "+- " + SigmaText(p.sigma)) << " " << p.unit
+        << "\n";
   }
   for (const auto& u : r.unidentifiable) {
     out << "  not identifiable, held at nominal: " << u.name << " (" << u.reason << ")\n";

@@ -12,6 +12,17 @@ namespace cellmetry {
 
 inline std::vector<double> Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
+// A frame's translation (offset 0) or rotation (offset 3) sigma: null where the entry was held,
+// so that no reader takes a held entry for one known perfectly.
+inline nlohmann::json SigmaJson(const Eigen::Vector3d& sigma, const std::array<bool, 6>& held,
+                                int offset) {
+  nlohmann::json j = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) {
+    j.push_back(held[offset + i] ? nlohmann::json(nullptr) : nlohmann::json(sigma[i]));
+  }
+  return j;
+}
+
 inline nlohmann::json RmsJson(const ResidualRms& rms) {
   return {{"count", rms.count}, {"x", rms.axis.x()}, {"y", rms.axis.y()},
           {"depth", rms.axis.z()}, {"norm", rms.norm}};

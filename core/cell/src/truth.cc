@@ -68,7 +68,14 @@ WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const Workcell
     const Eigen::Vector3d dt = t - it->second.pose.t;
     const Eigen::Vector3d dr = RotationError<double>(RotationFromRvec(rvec.data()),
                                                      it->second.pose.R);
-    const Eigen::Vector3d st = vec(frame.at("sigma_xyz_mm")), sr = vec(frame.at("sigma_rot_rad"));
+    // A held entry's sigma is null: it was not estimated, so it is not scored.
+    auto sigma = [](const nlohmann::json& j) {
+      Eigen::Vector3d s;
+      for (int i = 0; i < 3; ++i) s[i] = j[i].is_null() ? 0.0 : j[i].get<double>();
+      return s;
+    };
+    const Eigen::Vector3d st = sigma(frame.at("sigma_xyz_mm"));
+    const Eigen::Vector3d sr = sigma(frame.at("sigma_rot_rad"));
     for (int i = 0; i < 3; ++i) {
       if (st[i] > 0) {
         evaluation.quantities.push_back({name + "." + kAxes[i], "mm", dt[i], st[i]});

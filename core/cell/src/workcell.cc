@@ -163,7 +163,9 @@ SigmaOf Sigma(const Uncertainty& u, const std::string& name) {
   const auto it = std::find(u.names.begin(), u.names.end(), name);
   if (it == u.names.end()) return {};
   const auto i = it - u.names.begin();
-  SigmaOf s{u.sigma[i], u.sigma[i], 0.0, true};
+  SigmaOf s;
+  s.total = s.statistical = u.sigma[i];
+  s.free = true;
   if (u.sigma_statistical.size() == u.sigma.size()) s.statistical = u.sigma_statistical[i];
   if (u.sigma_systematic.size() == u.sigma.size()) s.systematic = u.sigma_systematic[i];
   if (u.sigma_inputs.size() == u.sigma.size()) s.inputs = u.sigma_inputs[i];
