@@ -369,6 +369,7 @@ class Diagnoser {
       if (correlation >= options_.alias_correlation) {
         own.insert(s->testable[c]->family_name());
         chosen.aliases.push_back(s->testable[c]->label);
+        chosen.alias_names.push_back(s->testable[c]->effect.name);
       }
     }
     const std::vector<std::vector<int>> inclusions =
@@ -395,6 +396,7 @@ class Diagnoser {
     const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);
     a.description = c.effect.effect->Describe(values);
     a.aliases = chosen.aliases;
+    a.alias_names = chosen.alias_names;
     for (const auto& s : with_cv.result.model_parameters) {
       if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
     }

@@ -144,6 +144,7 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
                           {"look_alikes", look_alikes(f)},
                           {"bootstrap_rival", f.bootstrap_rival},
                           {"aliases", f.aliases},
+                          {"alias_names", f.alias_names},
                           {"implausible", f.implausible},
                           {"explained_share", f.explained_share},
                           {"failed", f.failed},

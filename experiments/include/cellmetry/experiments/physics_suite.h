@@ -64,6 +64,7 @@ struct SuiteRun {
   std::string failed;           // when none was accepted: the tests the best candidate failed
   double held_out_over_floor = 0.0;
   double seconds = 0.0;
+  std::vector<std::string> aliases;  // the named effect's exact aliases (candidate names)
 };
 
 struct SuiteCaseResult {

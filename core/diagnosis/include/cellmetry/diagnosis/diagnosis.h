@@ -122,6 +122,7 @@ struct CandidateFinding {
   std::string bootstrap_rival;      // the other family included most often ("" if none)
   std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
   std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
+  std::vector<std::string> alias_names;  // the same, by candidate name
   std::string implausible;          // refitted: a size beyond its physics' plausible range, in
                                     // words ("" when plausible); never accepted as that physics
   double explained_share = 1.0;     // of the held-out excess over the floor, what it removes
@@ -150,6 +151,7 @@ struct AcceptedEffect {
   std::vector<ScalarEstimate> parameters;
   double peak_mm = 0.0;                      // largest tool displacement it predicts
   std::vector<std::string> aliases;          // candidates these poses cannot tell from it
+  std::vector<std::string> alias_names;      // the same, by candidate name
 };
 
 struct FitSummary {
