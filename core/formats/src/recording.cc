@@ -20,6 +20,27 @@
 namespace cellmetry {
 namespace {
 
+// What no camera in a robot cell measures, and no joint reads: beyond these a number is a typo,
+// a unit mix-up or a corrupted file, and a fit on it would be garbage with exit 0.
+constexpr double kMaxPositionMm = 1e5;   // 100 m from the camera
+constexpr double kMaxRotationRad = 10.0; // a rotation vector is at most pi long
+constexpr double kMaxJointRad = 100.0;   // sixteen turns
+
+// `column` of `row`, refused with its file, line and column when beyond `max_abs` (file units).
+double Within(const CsvTable& table, size_t row, const std::string& column, double max_abs) {
+  const double value = table.Number(row, column);
+  if (std::abs(value) > max_abs) {
+    char limit[32];
+    std::snprintf(limit, sizeof(limit), "%g", max_abs);
+    throw table.Error(row, column,
+                      "'" + std::to_string(value) + "' is beyond any measurement of it (|value| <= " +
+                          limit + " in this file's units)",
+                      "Fix the value, or check the units declared in recording.yaml");
+  }
+  return value;
+}
+
+
 // recording.yaml must say its units (DESIGN.md): no silent default.
 Units ReadRecordingUnits(const ConfigNode& root) {
   if (!root.Has("units")) {
@@ -98,7 +119,8 @@ void ReadSamples(const std::string& path, const Units& units, Recording* recordi
                               std::to_string(robot->second) + " joints",
                           "Leave " + column + " empty for this robot or fix its joint count");
       }
-      if (present) sample.q.push_back(table.Number(row, column) * units.to_rad);
+      if (present) sample.q.push_back(Within(table, row, column, kMaxJointRad / units.to_rad) *
+                                      units.to_rad);
     }
     sample.time_s = table.OptionalNumber(row, "t");
     sample.temperature_c = table.OptionalNumber(row, "temperature");
@@ -159,14 +181,18 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
       throw table.Error(row, "target", "unknown target '" + obs.target + "'",
                         "List it under 'targets' in recording.yaml");
     }
-    obs.position_mm = Eigen::Vector3d(table.Number(row, "x"), table.Number(row, "y"),
-                                      table.Number(row, "z")) * units.to_mm;
+    obs.position_mm = Eigen::Vector3d(Within(table, row, "x", kMaxPositionMm / units.to_mm),
+                                      Within(table, row, "y", kMaxPositionMm / units.to_mm),
+                                      Within(table, row, "z", kMaxPositionMm / units.to_mm)) *
+                      units.to_mm;
     if (has_rotation) {
       const int filled = table.HasValue(row, "rx") + table.HasValue(row, "ry") +
                          table.HasValue(row, "rz");
       if (filled == 3) {
-        obs.rvec = Eigen::Vector3d(table.Number(row, "rx"), table.Number(row, "ry"),
-                                   table.Number(row, "rz")) * units.to_rad;
+        obs.rvec = Eigen::Vector3d(Within(table, row, "rx", kMaxRotationRad / units.to_rad),
+                                   Within(table, row, "ry", kMaxRotationRad / units.to_rad),
+                                   Within(table, row, "rz", kMaxRotationRad / units.to_rad)) *
+                   units.to_rad;
       } else if (filled != 0) {
         throw table.Error(row, "rx", "rotation is partly filled in",
                           "Give all of rx,ry,rz or leave all three empty");
