@@ -24,5 +24,6 @@ void AddHomeCommand(CLI::App& app, Context& context);
 void AddCompareCommand(CLI::App& app, Context& context);
 void AddDetectCommand(CLI::App& app, Context& context);
 void AddDiagnoseCommand(CLI::App& app, Context& context);
+void AddPlanCommand(CLI::App& app, Context& context);
 
 }  // namespace cellmetry::app

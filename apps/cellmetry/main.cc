@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   app::AddCompareCommand(cli, context);
   app::AddDetectCommand(cli, context);
   app::AddDiagnoseCommand(cli, context);
+  app::AddPlanCommand(cli, context);
   app::AddPluginsCommand(cli, context);
   try {
     cli.parse(argc, argv);

@@ -185,7 +185,8 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
                                               const DisturbanceReader& read_disturbance) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"simulation", "description", "seed", "robots", "cameras", "world_target",
-                   "noise", "repeats", "images", "effects", "timeline", "concealed"});
+                   "noise", "repeats", "images", "effects", "timeline", "concealed",
+                   "gravity_base"});
   if (root["simulation"].AsString() != "workcell") {
     throw root["simulation"].Error("unknown simulation kind '" + root["simulation"].AsString() + "'",
                                    "Use simulation: workcell (a delta arm is a cell too: "
@@ -195,6 +196,10 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
   spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
   spec.noise_seed = spec.seed;
   spec.repeats = root.GetInt("repeats", 1);
+  if (root.Has("gravity_base")) {  // m/s^2 in every base frame (a robot on a wall: not -z)
+    const auto g = root["gravity_base"].AsDoubles(3);
+    spec.gravity_base = Eigen::Vector3d(g[0], g[1], g[2]);
+  }
   spec.world_target = root.GetString("world_target", spec.world_target);
   if (spec.world_target == "none") spec.world_target.clear();
   if (root.Has("images")) spec.images = root["images"];

@@ -27,6 +27,7 @@ std::string Why(const CandidateFinding& f, const std::string& test) {
            " % of the held-out excess over the floor, a sliver of something else";
   }
   if (test == "LR") return "its likelihood-ratio test fails after Holm's correction";
+  if (test == "positions") return "it makes the held-out positions worse";
   if (test == "BIC") return "BIC does not fall";
   if (test == "CV") return "its held-out gain is within its standard error";
   std::string why = "the bootstrap includes it in " + Fixed(100 * f.bootstrap_share, 0) +

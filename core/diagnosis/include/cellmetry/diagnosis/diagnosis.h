@@ -28,6 +28,7 @@
 //           axis weighs by its significance) falls by more than its standard error over folds,
 //        c'. it removes at least `min_explained_share` of the held-out excess over the floor,
 //           where that excess is beyond chance (a sliver of a large mismatch is not a finding),
+//           and does not make the held-out positions worse (by more than 1 %),
 //        d. its family (nested variants of the same physics) is included in >= `bootstrap_share`
 //           of bootstrap resamples of poses, each running the greedy selection (BIC-gated) on
 //           the resampled, reweighted linearization (Sauerbrei & Schumacher 1992);
@@ -127,7 +128,7 @@ struct CandidateFinding {
                                     // words ("" when plausible); never accepted as that physics
   double explained_share = 1.0;     // of the held-out excess over the floor, what it removes
   std::vector<std::string> failed;     // the round's chosen one: tests it failed, of "size",
-                                       // "LR", "BIC", "CV", "share", "bootstrap"
+                                       // "LR", "BIC", "CV", "share", "positions", "bootstrap"
   bool accepted = false;
 };
 

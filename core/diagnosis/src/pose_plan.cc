@@ -1,0 +1,367 @@
+// The pose planner (pose_plan.h): candidate poses in view, their Jacobian rows at the answer,
+// greedy D-optimal choice, and what it predicts.
+#include "cellmetry/diagnosis/pose_plan.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include "cellmetry/basics/error.h"
+#include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/cell/workcell_data.h"
+#include "diagnosis_linear.h"
+
+namespace cellmetry {
+namespace {
+
+// How a camera has seen the carried targets so far: the depths and the angle off its axis.
+struct SeenRange {
+  double min_depth_mm = INFINITY, max_depth_mm = 0.0, max_off_axis_rad = 0.0;
+  bool Contains(const Eigen::Vector3d& p) const {
+    if (p.z() <= 0.0) return false;
+    const double off_axis = std::atan2(p.head<2>().norm(), p.z());
+    return p.z() >= 0.95 * min_depth_mm && p.z() <= 1.05 * max_depth_mm &&
+           off_axis <= max_off_axis_rad;
+  }
+};
+
+std::map<std::string, SeenRange> SeenRanges(const Recording& recording) {
+  std::map<std::string, SeenRange> seen;
+  for (const auto& obs : recording.observations) {
+    if (recording.targets.at(obs.target) == kWorldCarrier) continue;
+    SeenRange& r = seen[obs.camera];
+    const Eigen::Vector3d& p = obs.position_mm;
+    r.min_depth_mm = std::min(r.min_depth_mm, p.z());
+    r.max_depth_mm = std::max(r.max_depth_mm, p.z());
+    r.max_off_axis_rad = std::max(r.max_off_axis_rad, std::atan2(p.head<2>().norm(), p.z()));
+  }
+  return seen;
+}
+
+// A drawn pose and the measured poses of its robot's targets in the cameras that would see them.
+struct Draw {
+  PlannedPose pose;
+  std::vector<Observation> observations;  // sample id filled in later
+};
+
+Draw Predict(const WorkcellProblem& spec, const WorkcellRobot& robot, const WorkcellEstimate& at,
+             const std::map<std::string, SeenRange>& seen, std::vector<double> q) {
+  Draw draw;
+  draw.pose.robot = robot.name;
+  draw.pose.q = std::move(q);
+  Pose T_base_flange;
+  const std::vector<double>& values = at.model.at(robot.name);
+  if (!robot.model->Forward(draw.pose.q.data(), values.data(), &T_base_flange)) return draw;
+  for (const auto& [camera, range] : seen) {
+    const auto cam = at.T_world_cam.find(camera);
+    if (cam == at.T_world_cam.end()) continue;
+    bool sees = false;
+    for (const auto& tool : robot.tools) {
+      const Pose T_cam_target = cam->second.inverse() * at.T_world_base.at(robot.name) *
+                                T_base_flange * at.T_flange_target.at(tool.target);
+      if (!range.Contains(T_cam_target.t)) continue;
+      Observation obs;
+      obs.camera = camera;
+      obs.target = tool.target;
+      obs.position_mm = T_cam_target.t;
+      obs.rvec = RvecFromRotation(T_cam_target.R);
+      draw.observations.push_back(obs);
+      sees = true;
+    }
+    if (sees) draw.pose.cameras.push_back(camera);
+  }
+  return draw;
+}
+
+// Uniform draws inside the joint limits (a full turn either way where there are none), kept
+// when some camera would see them.
+std::vector<Draw> DrawInView(const WorkcellProblem& spec, const Recording& recording,
+                             const WorkcellEstimate& at, const PosePlanOptions& options) {
+  const auto seen = SeenRanges(recording);
+  std::mt19937 rng(options.seed);
+  std::vector<Draw> out;
+  for (const auto& robot : spec.robots) {
+    const RobotLimits& limits = robot.model->limits();
+    for (int k = 0; k < options.draws; ++k) {
+      std::vector<double> q(robot.model->num_joints());
+      for (size_t j = 0; j < q.size(); ++j) {
+        const bool limited = j < limits.joint_min_rad.size();
+        std::uniform_real_distribution<double> u(limited ? limits.joint_min_rad[j] : -M_PI,
+                                                 limited ? limits.joint_max_rad[j] : M_PI);
+        q[j] = u(rng);
+      }
+      Draw draw = Predict(spec, robot, at, seen, std::move(q));
+      if (!draw.observations.empty()) out.push_back(std::move(draw));
+    }
+  }
+  return out;
+}
+
+// `recording` with every draw appended as a sample of a pose of its own; `pose_of_draw` the
+// pose id each got. Facts a draw cannot know (payload, time, temperature) are the last sample's.
+Recording WithDraws(const Recording& recording, std::vector<Draw>& draws,
+                    std::vector<int>* pose_of_draw) {
+  Recording out = recording;
+  int next_id = 0, next_pose = 0;
+  for (const auto& s : recording.samples) {
+    next_id = std::max(next_id, s.id + 1);
+    next_pose = std::max(next_pose, s.pose + 1);
+  }
+  const Sample last = recording.samples.back();
+  for (auto& draw : draws) {
+    Sample s = last;
+    s.id = next_id++;
+    s.pose = next_pose++;
+    s.robot = draw.pose.robot;
+    s.q = draw.pose.q;
+    s.line = 0;
+    out.samples.push_back(s);
+    pose_of_draw->push_back(s.pose);
+    for (Observation obs : draw.observations) {
+      obs.sample = s.id;
+      obs.line = 0;
+      out.observations.push_back(obs);
+    }
+  }
+  return out;
+}
+
+// The whitened Jacobian at the answer over recorded and drawn poses, split by pose and by
+// parameter group: the geometry (every free parameter of the job) and each candidate.
+struct Jacobian {
+  Eigen::MatrixXd J;                     // rows: residual rows; columns: free parameters
+  std::vector<int> row_pose;             // pose id of each row (-1: a prior, always in)
+  std::vector<int> geometry;             // columns
+  std::vector<std::vector<int>> candidate;
+  std::vector<std::string> names, units; // of the geometry columns
+};
+
+Jacobian Linearized(const WorkcellProblem& spec, const Recording& recording,
+                    const WorkcellResult& fitted, const std::vector<CandidateEffect>& candidates) {
+  WorkcellProblem all = spec;
+  for (const auto& c : candidates) all.effects.push_back(c.effect);
+  const WorkcellData data = PrepareWorkcellData(all, recording);
+  const auto assembled = AssembleWorkcell(all, recording, data, fitted.noise, fitted.estimate);
+  const Linearization at = Linearize(assembled->problem);
+  if (!at.valid) {
+    throw InputError({}, "the model cannot be evaluated at some planned poses",
+                     "Narrow the joint limits in the robot config to what the arm can reach");
+  }
+  Jacobian out;
+  out.J = at.jacobian;
+  std::map<int, int> candidate_of_block;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    candidate_of_block[assembled->effect_block[spec.effects.size() + i]] = static_cast<int>(i);
+  }
+  out.candidate.resize(candidates.size());
+  const Problem& problem = assembled->problem;
+  for (int c = 0; c < problem.num_free(); ++c) {
+    const auto& f = problem.free_parameters()[c];
+    const auto it = candidate_of_block.find(f.block);
+    if (it != candidate_of_block.end()) {
+      out.candidate[it->second].push_back(c);
+      continue;
+    }
+    out.geometry.push_back(c);
+    out.names.push_back(f.name);
+    out.units.push_back(f.unit);
+  }
+  const auto& infos = problem.residual_infos();
+  const auto& first = problem.residual_rows();
+  out.row_pose.assign(out.J.rows(), -1);
+  for (size_t b = 0; b < infos.size(); ++b) {
+    const int end = b + 1 < infos.size() ? first[b + 1] : static_cast<int>(out.J.rows());
+    const int pose = infos[b].kind == ResidualInfo::Kind::kPrior ? -1 : infos[b].pose;
+    for (int r = first[b]; r < end; ++r) out.row_pose[r] = pose;
+  }
+  return out;
+}
+
+Eigen::MatrixXd Rows(const Eigen::MatrixXd& J, const std::vector<int>& rows,
+                     const std::vector<int>& columns) {
+  Eigen::MatrixXd out(rows.size(), columns.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    for (size_t j = 0; j < columns.size(); ++j) out(i, j) = J(rows[i], columns[j]);
+  }
+  return out;
+}
+
+// Share of a candidate's signature (its columns over `rows`) outside the geometry's span.
+double Unabsorbed(const Jacobian& jac, const std::vector<int>& rows,
+                  const std::vector<int>& candidate) {
+  const Eigen::MatrixXd Jc = Rows(jac.J, rows, candidate);
+  if (Jc.norm() == 0.0) return 0.0;
+  const Eigen::MatrixXd Q = OrthonormalBasis(Rows(jac.J, rows, jac.geometry));
+  return ProjectOut(Q, Jc).norm() / Jc.norm();
+}
+
+// Each geometry parameter's sigma at the floor from `rows` (infinite where undetermined).
+Eigen::VectorXd SigmaAtFloor(const Jacobian& jac, const std::vector<int>& rows) {
+  const Eigen::MatrixXd G = Rows(jac.J, rows, jac.geometry);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(G, Eigen::ComputeThinV);
+  const Eigen::VectorXd& s = svd.singularValues();
+  Eigen::VectorXd variance = Eigen::VectorXd::Zero(G.cols());
+  for (Eigen::Index k = 0; k < s.size(); ++k) {
+    const Eigen::VectorXd v = svd.matrixV().col(k);
+    variance += v.cwiseAbs2() / std::max(s[k] * s[k], 1e-300);
+  }
+  return variance.cwiseSqrt();
+}
+
+// Greedy D-optimal choice of `count` draws (indices), given the recorded rows.
+std::vector<int> ChooseDOptimal(const Jacobian& jac, const std::vector<int>& recorded_rows,
+                                const std::vector<std::vector<int>>& draw_rows,
+                                const std::vector<int>& columns, int count) {
+  Eigen::MatrixXd scaled = Rows(jac.J, recorded_rows, columns);
+  Eigen::VectorXd norms = Eigen::VectorXd::Zero(columns.size());
+  for (const auto& rows : draw_rows) norms += Rows(jac.J, rows, columns).colwise().squaredNorm().transpose();
+  norms = (norms + scaled.colwise().squaredNorm().transpose()).cwiseSqrt().cwiseMax(1e-300);
+  const Eigen::MatrixXd scale = norms.cwiseInverse().asDiagonal();
+  Eigen::MatrixXd M = (scaled * scale).transpose() * (scaled * scale);
+  M += 1e-9 * std::max(1e-300, M.trace() / M.rows()) *
+       Eigen::MatrixXd::Identity(M.rows(), M.cols());  // finite where nothing is determined yet
+  std::vector<Eigen::MatrixXd> blocks;
+  for (const auto& rows : draw_rows) blocks.push_back(Rows(jac.J, rows, columns) * scale);
+  std::vector<int> chosen;
+  std::vector<bool> taken(blocks.size(), false);
+  for (int step = 0; step < count; ++step) {
+    const Eigen::LDLT<Eigen::MatrixXd> inverse(M);
+    int best = -1;
+    double best_gain = -INFINITY;
+    for (size_t k = 0; k < blocks.size(); ++k) {
+      if (taken[k]) continue;
+      const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(blocks[k].rows(), blocks[k].rows()) +
+                                blocks[k] * inverse.solve(blocks[k].transpose());
+      const double gain = Eigen::LDLT<Eigen::MatrixXd>(S).vectorD().array().log().sum();
+      if (gain > best_gain) best_gain = gain, best = static_cast<int>(k);
+    }
+    if (best < 0) break;
+    taken[best] = true;
+    chosen.push_back(best);
+    M += blocks[best].transpose() * blocks[best];
+  }
+  return chosen;
+}
+
+// The candidates to plan for: those named, or every one the recorded poses leave untestable
+// by absorption that the drawn poses could make testable.
+std::vector<int> Targets(const Jacobian& jac, const std::vector<CandidateEffect>& candidates,
+                         const std::vector<int>& recorded_rows, const std::vector<int>& draw_rows,
+                         const PosePlanOptions& options) {
+  std::vector<int> every_row = recorded_rows;
+  every_row.insert(every_row.end(), draw_rows.begin(), draw_rows.end());
+  std::vector<int> out;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const auto& named = options.effects;
+    if (!named.empty()) {
+      if (std::find(named.begin(), named.end(), candidates[c].effect.name) != named.end()) {
+        out.push_back(static_cast<int>(c));
+      }
+      continue;
+    }
+    if (Rows(jac.J, draw_rows, jac.candidate[c]).norm() == 0.0) continue;  // never acts
+    // Absorbed by the free frames whatever the pose (a constant tilt of a board's estimates is
+    // its carrier's rotation): no plan helps.
+    if (Unabsorbed(jac, every_row, jac.candidate[c]) < options.min_unabsorbed) continue;
+    if (Unabsorbed(jac, recorded_rows, jac.candidate[c]) < options.min_unabsorbed) {
+      out.push_back(static_cast<int>(c));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
+                   const WorkcellResult& fitted, const std::vector<CandidateEffect>& candidates,
+                   const PosePlanOptions& options) {
+  PosePlan plan;
+  std::vector<Draw> draws = DrawInView(spec, recording, fitted.estimate, options);
+  plan.draws_in_view = static_cast<int>(draws.size());
+  if (draws.empty()) {
+    throw InputError({recording.folder, 0, 0},
+                     "no drawn pose inside the joint limits puts a target where a camera has seen "
+                     "one", "Check the robot config's joint limits and the job's cameras");
+  }
+  std::vector<int> pose_of_draw;
+  const Recording extended = WithDraws(recording, draws, &pose_of_draw);
+  const Jacobian jac = Linearized(spec, extended, fitted, candidates);
+  std::map<int, int> draw_of_pose;
+  for (size_t k = 0; k < pose_of_draw.size(); ++k) draw_of_pose[pose_of_draw[k]] = static_cast<int>(k);
+  std::vector<int> recorded_rows, all_draw_rows;
+  std::vector<std::vector<int>> draw_rows(draws.size());
+  for (int r = 0; r < static_cast<int>(jac.row_pose.size()); ++r) {
+    const auto it = draw_of_pose.find(jac.row_pose[r]);
+    if (it == draw_of_pose.end()) {
+      recorded_rows.push_back(r);
+    } else {
+      draw_rows[it->second].push_back(r);
+      all_draw_rows.push_back(r);
+    }
+  }
+  const std::vector<int> targets = Targets(jac, candidates, recorded_rows, all_draw_rows, options);
+  std::vector<int> columns = jac.geometry;
+  for (int c : targets) columns.insert(columns.end(), jac.candidate[c].begin(), jac.candidate[c].end());
+  const std::vector<int> chosen = ChooseDOptimal(jac, recorded_rows, draw_rows, columns, options.poses);
+  std::vector<int> after_rows = recorded_rows;
+  for (int k : chosen) {
+    plan.poses.push_back(draws[k].pose);
+    after_rows.insert(after_rows.end(), draw_rows[k].begin(), draw_rows[k].end());
+  }
+  for (int c : targets) {
+    plan.effects.push_back({candidates[c].effect.name, candidates[c].label,
+                            Unabsorbed(jac, recorded_rows, jac.candidate[c]),
+                            Unabsorbed(jac, after_rows, jac.candidate[c])});
+  }
+  const Eigen::VectorXd before = SigmaAtFloor(jac, recorded_rows);
+  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows);
+  for (size_t i = 0; i < jac.geometry.size(); ++i) {
+    plan.sigma.push_back({jac.names[i], jac.units[i], before[i], after[i]});
+  }
+  return plan;
+}
+
+std::string PosePlanReport(const PosePlan& plan) {
+  std::ostringstream out;
+  out << "Planned " << plan.poses.size() << " poses (D-optimal among " << plan.draws_in_view
+      << " drawn poses in view).\n";
+  for (const auto& e : plan.effects) {
+    char line[256];
+    std::snprintf(line, sizeof(line), "  %s: %.0f %% of its signature outside the geometry -> %.0f %%%s\n",
+                  e.label.c_str(), 100 * e.unabsorbed_before, 100 * e.unabsorbed_after,
+                  e.unabsorbed_after >= 0.05 ? " (testable)" : " (still untestable)");
+    out << line;
+  }
+  out << "  predicted sigma at the floor, before -> after:\n";
+  for (const auto& s : plan.sigma) {
+    char line[256];
+    std::snprintf(line, sizeof(line), "    %s: %.2g -> %.2g %s\n", s.name.c_str(), s.before,
+                  s.after, s.unit.c_str());
+    out << line;
+  }
+  return out.str();
+}
+
+std::string PosePlanCsv(const PosePlan& plan) {
+  std::ostringstream out;
+  size_t joints = 0;
+  for (const auto& p : plan.poses) joints = std::max(joints, p.q.size());
+  out << "robot";
+  for (size_t j = 1; j <= joints; ++j) out << ",q" << j;
+  out << ",cameras\n";
+  out.precision(10);
+  for (const auto& p : plan.poses) {
+    out << p.robot;
+    for (double q : p.q) out << "," << q;
+    std::string cameras;
+    for (const auto& c : p.cameras) cameras += (cameras.empty() ? "" : " ") + c;
+    out << "," << cameras << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,104 @@
+// The pose planner (pose_plan.h): on a simulated UR3 cell whose recorded poses keep joint 1
+// within 0.05 rad, the finder calls joint 1's gear ratio error untestable (the geometry absorbs
+// it); the planned poses make it testable, and recorded too, the finder then names it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/diagnosis/pose_plan.h"
+#include "support/test_support.h"
+
+namespace cellmetry {
+namespace {
+
+class PosePlanning : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing::TempDirForThisTest("pose_plan");
+    std::string sim =
+        testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
+    sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+    sim = testing::ReplaceOnce(sim, "random: 150", "random: 60");
+    sim = testing::ReplaceOnce(sim, "lower: [-6.2,", "lower: [0.5,");   // joint 1 barely moves
+    sim = testing::ReplaceOnce(sim, "upper: [6.2,", "upper: [0.55,");
+    testing::WriteText(dir_ + "/sim.yaml", sim);
+    spec_ = LoadWorkcellSimulation(dir_ + "/sim.yaml", testing::Plugins());
+    const ConfigNode gear = ConfigNode::LoadString("{type: joint_scale, joints: [1]}", "test");
+    SimulatedEffect e;
+    e.name = "ur3.joint_scale";
+    e.effect = testing::Plugins().CreateEffect("joint_scale", gear, *spec_.robots[0].model);
+    e.values = {1e-3};  // 0.1 % of the gear ratio
+    spec_.robots[0].effects.push_back(e);
+    std::string job = testing::ReadText(testing::Source("configs/jobs/ur3_diagnose.yaml"));
+    job = testing::ReplaceOnce(job, "model: ../robots/ur3.yaml",
+                               "model: " + testing::Source("configs/robots/ur3.yaml"));
+    testing::WriteText(dir_ + "/job.yaml", job);
+    job_ = LoadDiagnosisJob(dir_ + "/job.yaml", testing::Plugins(), false);
+    job_.options.bootstrap = 30;
+  }
+
+  SolverMaker Solver() const {
+    return [this] {
+      return testing::Plugins().CreateSolver(job_.workcell.solver_type,
+                                             *job_.workcell.solver_config);
+    };
+  }
+
+  DiagnosisResult Diagnose(const Recording& recording) const {
+    return DiagnoseWorkcell(job_.workcell.problem, recording, Solver(),
+                            JobCandidates(job_, recording, testing::Plugins()), job_.options,
+                            dir_ + "/job.yaml");
+  }
+
+  std::string dir_;
+  WorkcellSimulationSpec spec_;
+  DiagnosisJob job_;
+};
+
+bool Untestable(const DiagnosisResult& d, const std::string& name) {
+  return std::any_of(d.untestable.begin(), d.untestable.end(),
+                     [&](const CandidateFinding& f) { return f.name == name; });
+}
+
+TEST_F(PosePlanning, PlannedPosesMakeAnAbsorbedGearRatioTestableAndItIsThenFound) {
+  const Recording recorded = SimulateWorkcell(spec_, nullptr);
+  const DiagnosisResult before = Diagnose(recorded);
+  ASSERT_TRUE(Untestable(before, "ur3.scale_j1")) << DiagnosisReport(before);
+  for (const auto& a : before.accepted) EXPECT_NE(a.name, "ur3.scale_j1");
+
+  WorkcellProblem problem = job_.workcell.problem;
+  problem.folds = 0;
+  const WorkcellResult fitted = IdentifyWorkcell(problem, recorded, Solver());
+  PosePlanOptions options;
+  options.poses = 15;
+  const PosePlan plan = PlanPoses(problem, recorded, fitted,
+                                  JobCandidates(job_, recorded, testing::Plugins()), options);
+  ASSERT_EQ(plan.poses.size(), 15u);
+  const auto gear = std::find_if(plan.effects.begin(), plan.effects.end(),
+                                 [](const PlannedEffect& e) { return e.name == "ur3.scale_j1"; });
+  ASSERT_NE(gear, plan.effects.end()) << PosePlanReport(plan);
+  EXPECT_LT(gear->unabsorbed_before, 0.05);
+  EXPECT_GT(gear->unabsorbed_after, 0.2) << PosePlanReport(plan);
+  const RobotLimits& limits = spec_.robots[0].model->limits();
+  for (const auto& pose : plan.poses) {
+    EXPECT_FALSE(pose.cameras.empty());
+    for (size_t j = 0; j < pose.q.size() && j < limits.joint_min_rad.size(); ++j) {
+      EXPECT_GE(pose.q[j], limits.joint_min_rad[j]);
+      EXPECT_LE(pose.q[j], limits.joint_max_rad[j]);
+    }
+  }
+
+  // Record the plan too: the same cell, the planned poses after the recorded ones.
+  WorkcellSimulationSpec extended = spec_;
+  for (const auto& pose : plan.poses) extended.robots[0].joint_poses.push_back(pose.q);
+  const DiagnosisResult after = Diagnose(SimulateWorkcell(extended, nullptr));
+  EXPECT_FALSE(Untestable(after, "ur3.scale_j1"));
+  ASSERT_FALSE(after.accepted.empty()) << DiagnosisReport(after);
+  EXPECT_EQ(after.accepted.front().name, "ur3.scale_j1") << DiagnosisReport(after);
+}
+
+}  // namespace
+}  // namespace cellmetry
