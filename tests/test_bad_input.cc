@@ -243,5 +243,84 @@ TEST_F(BadInput, UnknownRobotModelTypeListsTheKnownOnes) {
   EXPECT_THAT(r.output, HasSubstr("Known robot model types: delta, serial_mdh"));
 }
 
+// A job value outside its meaning: `from` in the job text becomes `to` (or `to` is appended when
+// `from` is empty), and the run is rejected at the value, with the message and what to do.
+struct JobEdit {
+  std::string name;
+  std::string from, to;
+  std::string location;  // file:line: of the bad value
+  std::string hint;
+  std::string message;
+};
+
+class BadJobValue : public BadInput, public ::testing::WithParamInterface<JobEdit> {};
+
+TEST_P(BadJobValue, IsRejectedAtItsValue) {
+  const JobEdit& edit = GetParam();
+  WriteJob(edit.from.empty() ? JobText() + edit.to : ReplaceOnce(JobText(), edit.from, edit.to));
+  const auto r = Run();
+  ExpectRejected(r, edit.location, edit.hint);
+  EXPECT_THAT(r.output, HasSubstr(edit.message));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Job, BadJobValue,
+    ::testing::Values(
+        JobEdit{"NegativeFolds", "folds: 5", "folds: -3", "job.yaml:15:10:",
+                "0 turns cross-validation off", "validation.folds: must be between 0 and 1000"},
+        JobEdit{"OneFold", "folds: 5", "folds: 1", "job.yaml:15:10:",
+                "0 turns cross-validation off", "one fold holds nothing out"},
+        JobEdit{"ZeroSigma", "", "noise: {cameras: {cam1: {position_mm: [0, 0.1, 0.4]}}}\n",
+                "job.yaml:16:39:", "give the measurement's real scatter",
+                "every entry must be positive"},
+        JobEdit{"NegativeRotationSigma", "",
+                "noise: {cameras: {cam1: {rotation_rad: [0.001, -0.001, 0.001]}}}\n",
+                "job.yaml:16:40:", "give the measurement's real scatter",
+                "every entry must be positive"},
+        JobEdit{"NegativeFloor", "", "noise: {floor_mm: -1}\n", "job.yaml:16:19:",
+                "the smallest sigma any camera gets", "noise.floor_mm: must be between 0 and"},
+        JobEdit{"NoiseForACameraTheRecordingLacks", "",
+                "noise: {cameras: {cam9: {position_mm: [0.1, 0.1, 0.4]}}}\n", "job.yaml:16:25:",
+                "Name the cameras as recording.yaml does",
+                "camera 'cam9' under noise: is not in the recording"},
+        JobEdit{"NegativeIdentifiabilityTolerance", "", "identifiability_tolerance: -1\n",
+                "job.yaml:16:28:", "1e-8 is the default",
+                "identifiability_tolerance: must be between"},
+        JobEdit{"VifBelowOne", "", "weak_vif: 0.5\n", "job.yaml:16:11:", "at least 1",
+                "weak_vif: must be between 1 and"},
+        JobEdit{"MissingPluginFolder", "", "plugin_paths: [/nonexistent/cellmetry/plugins]\n",
+                "job.yaml:16:16:", "Point plugin_paths at the folder",
+                "no plugin folder at '/nonexistent/cellmetry/plugins'"},
+        JobEdit{"DuplicateKey", "", "validation:\n  folds: 3\n", "job.yaml:16:1:",
+                "Keep one of them", "key 'validation' appears twice in this map"}),
+    [](const ::testing::TestParamInfo<JobEdit>& info) { return info.param.name; });
+
+TEST_F(BadInput, RobotJointWithoutDIsRefusedNotReadAsZero) {
+  WriteJob();
+  testing::WriteText(robot_, ReplaceOnce(ReadText(robot_), "d: 151.90, ", ""));
+  const auto r = Run();
+  ExpectRejected(r, "ur3.yaml:8:5:", "Add 'd:' here");
+  EXPECT_THAT(r.output, HasSubstr("joints[0]: missing key 'd'"));
+}
+
+TEST_F(BadInput, AByteOrderMarkBeforeTheHeaderIsNotPartOfTheFirstColumn) {
+  WriteJob();
+  testing::WriteText(recording_ + "/samples.csv",
+                     "\xEF\xBB\xBF" + ReadText(recording_ + "/samples.csv"));
+  const auto r = Run();
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+TEST_F(BadInput, SimulatingNoPosesIsRefused) {
+  std::string sim = ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
+  sim = ReplaceOnce(sim, "../robots/ur3.yaml", robot_);
+  sim = ReplaceOnce(sim, "random: 150", "random: 0");
+  testing::WriteText(dir_ + "/sim.yaml", sim);
+  const auto r = testing::RunCellmetry("simulate " + dir_ + "/sim.yaml -o " + dir_ + "/sim");
+  EXPECT_EQ(r.exit_code, kInputErrorExitCode) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("random: must be between 1 and"));
+  EXPECT_FALSE(fs::exists(dir_ + "/sim"));
+}
+
 }  // namespace
 }  // namespace cellmetry

@@ -106,19 +106,21 @@ std::map<std::string, WorkcellCamera> ReadCameras(const ConfigNode& cameras) {
 NoiseSpec ReadNoise(const ConfigNode& node) {
   node.ExpectKeys({"floor_mm", "floor_rad", "cameras"});
   NoiseSpec noise;
-  noise.floor_mm = node.GetDouble("floor_mm", noise.floor_mm);
-  noise.floor_rad = node.GetDouble("floor_rad", noise.floor_rad);
+  noise.floor_mm = node.GetDoubleIn("floor_mm", noise.floor_mm, 0.0, 1e3,
+                                    "A floor is the smallest sigma any camera gets, in mm");
+  noise.floor_rad = node.GetDoubleIn("floor_rad", noise.floor_rad, 0.0, 1.0,
+                                     "A floor is the smallest sigma any camera gets, in rad");
   if (node.Has("cameras")) {
     const ConfigNode cameras = node["cameras"];
     for (const auto& camera : cameras.Keys()) {
       const ConfigNode c = cameras[camera];
       c.ExpectKeys({"position_mm", "rotation_rad"});
       if (c.Has("position_mm")) {
-        const auto v = c["position_mm"].AsDoubles(3);
+        const auto v = c["position_mm"].AsPositiveDoubles(3);
         noise.position_sigma_mm[camera] = Eigen::Vector3d(v[0], v[1], v[2]);
       }
       if (c.Has("rotation_rad")) {
-        const auto v = c["rotation_rad"].AsDoubles(3);
+        const auto v = c["rotation_rad"].AsPositiveDoubles(3);
         noise.rotation_sigma_rad[camera] = Eigen::Vector3d(v[0], v[1], v[2]);
       }
     }
@@ -280,9 +282,11 @@ void ReadUncertainInputs(const ConfigNode& node, Registry& registry, WorkcellPro
 // Tolerances, cross-validation and gravity.
 void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   problem->use_tool_rotation = root.GetBool("use_tool_rotation", false);
-  problem->identifiability_tolerance =
-      root.GetDouble("identifiability_tolerance", problem->identifiability_tolerance);
-  problem->weak_vif = root.GetDouble("weak_vif", problem->weak_vif);
+  problem->identifiability_tolerance = root.GetDoubleIn(
+      "identifiability_tolerance", problem->identifiability_tolerance, 1e-16, 0.1,
+      "A relative singular value: 1e-8 is the default");
+  problem->weak_vif = root.GetDoubleIn("weak_vif", problem->weak_vif, 1.0, 1e300,
+                                       "A variance inflation factor is at least 1; 1e5 is the default");
   if (root.Has("gravity_base")) {
     const auto g = root["gravity_base"].AsDoubles(3);
     problem->gravity_base = Eigen::Vector3d(g[0], g[1], g[2]);
@@ -291,7 +295,11 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   if (!root.Has("validation")) return;
   const ConfigNode v = root["validation"];
   v.ExpectKeys({"folds", "seed", "compare_camera_models"});
-  problem->folds = v.GetInt("folds", problem->folds);
+  problem->folds = v.GetIntIn("folds", problem->folds, 0, 1000,
+                              "0 turns cross-validation off; 5 is usual");
+  if (problem->folds == 1) {
+    throw v["folds"].Error("one fold holds nothing out", "0 turns cross-validation off; 5 is usual");
+  }
   problem->seed = static_cast<unsigned>(v.GetInt("seed", 1));
   problem->compare_camera_models = v.GetBool("compare_camera_models", false);
 }
@@ -325,8 +333,13 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
   job.file = path;
   job.kind = root["job"].AsString();
   if (root.Has("plugin_paths")) {
-    for (const auto& folder : root["plugin_paths"].AsStrings()) {
-      registry.LoadFolder(root.ResolvePath(folder));
+    for (const auto& node : root["plugin_paths"].Elements()) {
+      const std::string folder = root.ResolvePath(node.AsString());
+      if (!std::filesystem::is_directory(folder)) {
+        throw node.Error("no plugin folder at '" + folder + "'",
+                         "Point plugin_paths at the folder that holds the plugin libraries");
+      }
+      registry.LoadFolder(folder);
     }
   }
   ReadPaths(root, path, recording_must_exist, &job);
@@ -337,6 +350,11 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
       root.Has("world_target") ? root["world_target"].location() : root.location();
   problem.camera_model = ReadCameraModel(root);
   ReadOptions(root, &problem);
+  if (root.Has("noise") && root["noise"].Has("cameras")) {
+    for (const auto& camera : root["noise"]["cameras"].Keys()) {
+      job.locations["noise.cameras." + camera] = root["noise"]["cameras"][camera].location();
+    }
+  }
   ReadRobots(root, registry, &job);
   if (root.Has("uncertain_inputs")) {
     ReadUncertainInputs(root["uncertain_inputs"], registry, &problem);
@@ -359,6 +377,22 @@ SourceLocation WorkcellJob::Where(const std::string& key) const {
 }
 
 void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& recording) {
+  for (const auto& [camera, sigma] : job.problem.noise.position_sigma_mm) {
+    if (!recording.HasCamera(camera)) {
+      throw InputError(job.Where("noise.cameras." + camera),
+                       "camera '" + camera + "' under noise: is not in the recording " +
+                           recording.folder,
+                       "Name the cameras as recording.yaml does");
+    }
+  }
+  for (const auto& [camera, sigma] : job.problem.noise.rotation_sigma_rad) {
+    if (!recording.HasCamera(camera)) {
+      throw InputError(job.Where("noise.cameras." + camera),
+                       "camera '" + camera + "' under noise: is not in the recording " +
+                           recording.folder,
+                       "Name the cameras as recording.yaml does");
+    }
+  }
   const auto world = recording.targets.find(job.problem.world_target);
   if (!job.problem.world_target.empty() &&
       (world == recording.targets.end() || world->second != kWorldCarrier)) {

@@ -68,7 +68,7 @@ void ReadPoses(const ConfigNode& poses, std::mt19937& rng, SimulatedRobot* robot
     }
     return;
   }
-  const int count = poses["random"].AsInt();
+  const int count = poses.GetIntIn("random", 0, 1, 1000000, "How many random poses to draw");
   const int n = robot->model->num_joints();
   const auto lower = poses.Has("lower") ? poses["lower"].AsDoubles(n) : std::vector<double>(n, -M_PI);
   const auto upper = poses.Has("upper") ? poses["upper"].AsDoubles(n) : std::vector<double>(n, M_PI);
@@ -195,7 +195,7 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
   WorkcellSimulationSpec spec;
   spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
   spec.noise_seed = spec.seed;
-  spec.repeats = root.GetInt("repeats", 1);
+  spec.repeats = root.GetIntIn("repeats", 1, 1, 1000, "Captures per commanded pose");
   if (root.Has("gravity_base")) {  // m/s^2 in every base frame (a robot on a wall: not -z)
     const auto g = root["gravity_base"].AsDoubles(3);
     spec.gravity_base = Eigen::Vector3d(g[0], g[1], g[2]);

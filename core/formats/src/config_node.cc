@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace cellmetry {
@@ -65,13 +66,39 @@ ConfigNode ConfigNode::LoadFile(const std::string& path) {
   return LoadString(text.str(), path);
 }
 
+namespace {
+
+// yaml-cpp keeps the second of two equal keys in a map without a word (and a reader takes the
+// first): a job that says `folds: 5` twice means one of them by mistake.
+void RefuseDuplicateKeys(const YAML::Node& node, const std::string& origin) {
+  if (node.IsSequence()) {
+    for (const auto& element : node) RefuseDuplicateKeys(element, origin);
+  }
+  if (!node.IsMap()) return;
+  std::set<std::string> seen;
+  for (const auto& entry : node) {
+    if (entry.first.IsScalar() && !seen.insert(entry.first.Scalar()).second) {
+      const YAML::Mark mark = entry.first.Mark();
+      throw InputError({origin, mark.line + 1, mark.column + 1},
+                       "key '" + entry.first.Scalar() + "' appears twice in this map",
+                       "Keep one of them");
+    }
+    RefuseDuplicateKeys(entry.second, origin);
+  }
+}
+
+}  // namespace
+
 ConfigNode ConfigNode::LoadString(const std::string& text, const std::string& origin) {
+  YAML::Node root;
   try {
-    return ConfigNode(YAML::Load(text), origin, "");
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw InputError({origin, e.mark.line + 1, e.mark.column + 1}, "YAML syntax: " + e.msg,
                      "Fix the YAML syntax (indentation, colons, brackets)");
   }
+  RefuseDuplicateKeys(root, origin);
+  return ConfigNode(root, origin, "");
 }
 
 ConfigNode::ConfigNode(YAML::Node node, std::string file, std::string key_path)
@@ -203,6 +230,37 @@ double ConfigNode::GetDouble(const std::string& key, double fallback) const {
 }
 int ConfigNode::GetInt(const std::string& key, int fallback) const {
   return Has(key) ? (*this)[key].AsInt() : fallback;
+}
+double ConfigNode::GetDoubleIn(const std::string& key, double fallback, double lo, double hi,
+                               const std::string& hint) const {
+  if (!Has(key)) return fallback;
+  const double value = (*this)[key].AsDouble();
+  if (!(value >= lo && value <= hi)) {
+    char range[96];
+    std::snprintf(range, sizeof(range), "must be between %g and %g", lo, hi);
+    throw (*this)[key].Error(range, hint);
+  }
+  return value;
+}
+int ConfigNode::GetIntIn(const std::string& key, int fallback, int lo, int hi,
+                         const std::string& hint) const {
+  if (!Has(key)) return fallback;
+  const int value = (*this)[key].AsInt();
+  if (value < lo || value > hi) {
+    throw (*this)[key].Error("must be between " + std::to_string(lo) + " and " +
+                             std::to_string(hi), hint);
+  }
+  return value;
+}
+std::vector<double> ConfigNode::AsPositiveDoubles(size_t n) const {
+  const std::vector<double> values = AsDoubles(n);
+  for (double v : values) {
+    if (!(v > 0.0)) {
+      throw Error("every entry must be positive (a standard deviation)",
+                  "A sigma of 0 says 'known perfectly': give the measurement's real scatter");
+    }
+  }
+  return values;
 }
 bool ConfigNode::GetBool(const std::string& key, bool fallback) const {
   return Has(key) ? (*this)[key].AsBool() : fallback;

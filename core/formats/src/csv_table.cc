@@ -47,6 +47,8 @@ CsvTable CsvTable::Read(const std::string& path) {
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
+    // A UTF-8 byte-order mark (spreadsheet exports write one) is not part of the first column.
+    if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     if (Trim(line).empty() || line[0] == '#') continue;
     if (table.header_.empty()) {
       table.header_ = SplitCsvLine(line);

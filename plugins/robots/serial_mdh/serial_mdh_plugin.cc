@@ -15,11 +15,13 @@ std::unique_ptr<RobotModel> Create(const ConfigNode& config) {
   std::vector<Joint> joints;
   for (const auto& node : config["joints"].Elements()) {
     node.ExpectKeys({"alpha", "a", "beta", "d", "offset"});
+    // The table's four entries are required, 0 written out: a forgotten `d` read as 0 moves the
+    // whole arm without a word. beta (Hayati's angle) and offset default to 0.
     Joint joint;
-    joint.alpha = node.GetDouble("alpha", 0.0) * to_rad;
-    joint.a = node.GetDouble("a", 0.0) * to_mm;
+    joint.alpha = node["alpha"].AsDouble() * to_rad;
+    joint.a = node["a"].AsDouble() * to_mm;
     joint.beta = node.GetDouble("beta", 0.0) * to_rad;
-    joint.d = node.GetDouble("d", 0.0) * to_mm;
+    joint.d = node["d"].AsDouble() * to_mm;
     joint.offset = node.GetDouble("offset", 0.0) * to_rad;
     joints.push_back(joint);
   }

@@ -68,6 +68,12 @@ class ConfigNode {
   int GetInt(const std::string& key, int fallback) const;
   bool GetBool(const std::string& key, bool fallback) const;
   std::string GetString(const std::string& key, const std::string& fallback) const;
+  // As GetDouble / GetInt, refused at the value (file:line:column) outside [lo, hi], with `hint`.
+  double GetDoubleIn(const std::string& key, double fallback, double lo, double hi,
+                     const std::string& hint) const;
+  int GetIntIn(const std::string& key, int fallback, int lo, int hi, const std::string& hint) const;
+  // AsDoubles(n), every entry refused unless > 0 (a standard deviation, a size).
+  std::vector<double> AsPositiveDoubles(size_t n) const;
 
   // A path written in this file, made absolute relative to the file's folder.
   std::string ResolvePath(const std::string& path) const;
