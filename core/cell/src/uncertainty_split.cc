@@ -20,10 +20,16 @@ std::vector<int> PoseClusters(const Problem& problem) {
   return clusters;
 }
 
-// Static cameras that see a carried target: those a jackknife can leave out.
-std::vector<std::string> CamerasSeeingTools(const Recording& recording, const WorkcellData& data) {
-  std::set<std::string> seen;
-  for (const auto& m : data.tools) seen.insert(recording.observations[m.observation].camera);
+// Static cameras that see a target the job's robots carry: those a jackknife can leave out.
+std::vector<std::string> CamerasSeeingTools(const WorkcellProblem& spec,
+                                            const Recording& recording) {
+  std::set<std::string> tools, seen;
+  for (const auto& robot : spec.robots) {
+    for (const auto& tool : robot.tools) tools.insert(tool.target);
+  }
+  for (const auto& obs : recording.observations) {
+    if (tools.count(obs.target)) seen.insert(obs.camera);
+  }
   return {seen.begin(), seen.end()};
 }
 
@@ -68,8 +74,7 @@ std::vector<Eigen::VectorXd> CameraJackknife(const WorkcellProblem& spec,
                                              const Problem& full) {
   std::vector<Eigen::VectorXd> deviations;
   if (spec.camera_model != CameraModel::kStaticCameras) return deviations;
-  const WorkcellData data = PrepareWorkcellData(spec, recording);
-  const std::vector<std::string> cameras = CamerasSeeingTools(recording, data);
+  const std::vector<std::string> cameras = CamerasSeeingTools(spec, recording);
   if (cameras.size() < 2) return deviations;
   Progress progress("camera jackknife: refit without camera", static_cast<int>(cameras.size()));
   for (const std::string& camera : cameras) {

@@ -270,6 +270,10 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
                  NoiseModel* noise) {
   Fit fit = FitOnce(spec, recording, data, *noise, start, {}, {}, make_solver);
   CheckEnoughData(recording, fit.assembled->problem);
+  const bool any_unknown =
+      std::any_of(noise->entries.begin(), noise->entries.end(),
+                  [](const auto& entry) { return entry.second.source == "unknown"; });
+  if (!any_unknown) return fit;  // every sigma is known: nothing to re-estimate
   const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
   const auto rows = MeasurementRows(spec, recording, data, *noise, first, {}, fit.assembled.get());
   if (!EstimateUnknownSigma(rows, fit.assembled->problem.num_free(), noise)) return fit;
