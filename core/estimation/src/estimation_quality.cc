@@ -80,6 +80,24 @@ void HoldParameters(Problem* problem, const std::set<std::string>& names) {
   problem->Build();
 }
 
+// A solve that ended on a non-finite parameter or cost has no answer: an error where it ends,
+// never a result with NaN in it (exit 0) or a crash further on.
+void CheckSolveEnded(const Problem& problem, const SolverSummary& summary) {
+  const Eigen::VectorXd x = problem.FreeValues();
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (std::isfinite(x[i])) continue;
+    throw InputError({}, "the fit diverged (" + summary.solver + "): " +
+                             problem.free_parameters()[i].name + " is not a number",
+                     "Check the start values, the recording for gross outliers, and the solver's "
+                     "settings; nothing was written");
+  }
+  if (!std::isfinite(summary.final_cost)) {
+    throw InputError({}, "the fit diverged (" + summary.solver + "): its cost is not finite",
+                     "Check the start values, the recording for gross outliers, and the solver's "
+                     "settings; nothing was written");
+  }
+}
+
 IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
                                            std::set<std::string> held,
                                            const SolverMaker& make_solver) {
@@ -94,7 +112,11 @@ IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
   };
   hold_unidentifiable();
   out.summary = make_solver()->Solve(*problem);
-  if (hold_unidentifiable()) out.summary = make_solver()->Solve(*problem);
+  CheckSolveEnded(*problem, out.summary);
+  if (hold_unidentifiable()) {
+    out.summary = make_solver()->Solve(*problem);
+    CheckSolveEnded(*problem, out.summary);
+  }
   return out;
 }
 

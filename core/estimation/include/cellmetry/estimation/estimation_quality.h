@@ -40,7 +40,8 @@ struct IdentifiedSolve {
 
 // Holds `held` and whatever the data cannot determine, solves, and checks again at the answer
 // (a direction can become degenerate only there, e.g. at a singular configuration); if it finds
-// more, holds them and solves again.
+// more, holds them and solves again. Every solve is checked where it ends: a non-finite
+// parameter or cost throws InputError ("the fit diverged").
 IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
                                            std::set<std::string> held,
                                            const SolverMaker& make_solver);
