@@ -1,12 +1,16 @@
-// Writing a WorkcellResult (result_io.h): result.yaml, result.json, residuals.csv, the summary.
+// Writing a WorkcellResult (result_io.h): result.yaml, result.json, residuals.csv, outliers.csv,
+// the summary.
 #include "cellmetry/cell/result_io.h"
 
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <cstdio>
+#include <set>
 #include <sstream>
+#include <tuple>
 
+#include "cellmetry/cell/outliers.h"
 #include "cellmetry/formats/atomic_file.h"
 #include "result_yaml.h"
 
@@ -164,6 +168,12 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   }
   AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
   j["weakly_identified"] = WeakJson(r.weakly_identified);
+  j["outliers"] = nlohmann::json::array();
+  for (const auto& o : r.outliers) {
+    j["outliers"].push_back({{"line", o.line}, {"sample", o.sample}, {"camera", o.camera},
+                             {"target", o.target}, {"kind", o.kind}, {"score", o.score},
+                             {"threshold", o.threshold}});
+  }
   j["noise_used"] = NoiseJson(r.noise);
   j["repeatability"] = NoiseJson(r.repeatability);
   for (const auto& [key, rms] : r.position_rms) j["residual_rms"]["position_mm"][key] = RmsJson(rms);
@@ -196,6 +206,7 @@ void WriteWorkcellResult(const WorkcellResult& result, const std::string& folder
   AtomicWriteFile(out.File("result.yaml"), WorkcellResultYaml(result));
   AtomicWriteFile(out.File("result.json"), WorkcellResultJson(result).dump(2) + "\n");
   AtomicWriteFile(out.File("residuals.csv"), WorkcellResidualsCsv(result));
+  AtomicWriteFile(out.File("outliers.csv"), OutliersCsv(result.outliers));
   out.Commit();
 }
 
@@ -226,6 +237,12 @@ std::string WorkcellSummary(const WorkcellResult& r) {
     out << "  " << p.name << " = " << Fixed(p.value, 5) << " "
         << (p.held ? "held (not identifiable)" : "+- " + SigmaText(p.sigma)) << " " << p.unit
         << "\n";
+  }
+  if (!r.outliers.empty()) {
+    std::set<std::tuple<int, int, std::string, std::string>> observations;
+    for (const auto& o : r.outliers) observations.insert({o.line, o.sample, o.camera, o.target});
+    out << "  outliers: " << observations.size()
+        << " observations failed the outlier test and were left out (outliers.csv)\n";
   }
   for (const auto& u : r.unidentifiable) {
     out << "  not identifiable, held at nominal: " << u.name << " (" << u.reason << ")\n";

@@ -9,6 +9,7 @@
 
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/workcell_initial.h"
 #include "fit_once.h"
 #include "input_uncertainty.h"
@@ -334,8 +335,9 @@ void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording
 
 }  // namespace
 
-WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
-                                const SolverMaker& make_solver) {
+// One identification on `recording` as it is.
+WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& recording,
+                            const SolverMaker& make_solver) {
   WorkcellResult result;
   result.camera_model = spec.camera_model;
   result.residual_form = spec.residual;
@@ -365,6 +367,26 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
                                   make_solver);
   if (spec.compare_camera_models) CompareCameraModels(spec, recording, make_solver, &result);
   AddWarnings(spec, &result);
+  return result;
+}
+
+WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
+                                const SolverMaker& make_solver) {
+  WorkcellResult result = IdentifyOnce(spec, recording, make_solver);
+  // Gross outliers (outliers.h): left out and the cell identified again, twice at most (what
+  // the first ones masked shows in the second pass). Clean data: the first answer, untouched.
+  std::vector<Outlier> outliers;
+  Recording kept = recording;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::vector<Outlier> found = FindOutliers(result.residuals, kept);
+    if (found.empty()) break;
+    Progress::Note(std::to_string(found.size()) + " residual rows fail the outlier test; "
+                   "identifying again without their observations");
+    outliers.insert(outliers.end(), found.begin(), found.end());
+    kept = WithoutOutliers(kept, found);
+    result = IdentifyOnce(spec, kept, make_solver);
+  }
+  result.outliers = outliers;
   return result;
 }
 

@@ -72,6 +72,15 @@ inline ResidualRms RmsOf(const std::vector<Eigen::Vector3d>& errors) {
   return rms;
 }
 
+// An observation the outlier test left out (outliers.h).
+struct Outlier {
+  int line = 0;            // in observations.csv (0: an observation built in memory)
+  int sample = 0;
+  std::string camera, target, kind;  // kind: "position" | "rotation"
+  double score = 0.0;      // q / s^2: how many times the robust scale it lies out
+  double threshold = 0.0;  // the test's chi-square quantile it exceeded
+};
+
 struct ResidualRow {
   int observation = 0;
   int sample = 0;
@@ -116,6 +125,7 @@ struct WorkcellResult {
   std::map<std::string, ResidualRms> position_rms;  // "camera/target" -> mm
   std::map<std::string, ResidualRms> rotation_rms;  // "camera/target" -> rad
   std::vector<ResidualRow> residuals;
+  std::vector<Outlier> outliers;                  // left out by the outlier test (outliers.h)
   HeldOut held_out;
   std::map<std::string, HeldOut> other_models;    // compare_camera_models: name -> held-out
   std::map<std::string, int> skipped;             // observation skip reasons

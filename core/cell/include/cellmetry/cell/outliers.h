@@ -1,0 +1,42 @@
+// Gross outliers: observations a fit cannot have come from.
+//
+// A mis-detected marker, a board seen through a reflection, a capture taken while the arm still
+// moved: one such observation pulls a least-squares fit by as much as its error, and the result
+// says nothing. After every fit, each residual row (one observation's position, or its rotation)
+// is tested: its whitened squared norm q against the robust scale of its own group (the rows of
+// one camera, target and kind: a world board's repeated views scatter far less than a carried
+// board's),
+//
+//   s^2 = median(q) / median(chi-square, 3 dof),
+//   outlier when q / s^2 > max(chi-square quantile (1 - alpha / N, 3 dof), 3 * 10^2)
+//
+// The first is a Bonferroni test over the N rows (on clean Gaussian data the chance of flagging
+// any row is alpha); the second asks for a gross error, ten robust standard deviations on
+// every axis together, because real recordings' residuals are heavy-tailed where the model is
+// short (the chance test alone left out 27 % of sim_b's observations). The robust scale keeps
+// a recording whose residuals all exceed the floor from flagging half its rows. Flagged observations are left out and the cell is refitted;
+// a second pass catches what the first outliers masked. On clean data nothing is flagged and
+// the answer is the plain fit's, exactly.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cellmetry/cell/workcell_result.h"
+#include "cellmetry/formats/recording.h"
+
+namespace cellmetry {
+
+// (Outlier, the result's record of one, is in workcell_result.h.)
+
+// The rows of `rows` (about observations of `recording`) that fail the test at `alpha`.
+std::vector<Outlier> FindOutliers(const std::vector<ResidualRow>& rows, const Recording& recording,
+                                  double alpha = 0.01);
+
+// `recording` without the observations `outliers` name (by line, else by sample, camera, target).
+Recording WithoutOutliers(const Recording& recording, const std::vector<Outlier>& outliers);
+
+// outliers.csv: line,sample,camera,target,kind,score,threshold.
+std::string OutliersCsv(const std::vector<Outlier>& outliers);
+
+}  // namespace cellmetry
