@@ -135,7 +135,9 @@ TEST(Effects, EveryParameterHasAPlausibleSizeOrAPrior) {
   const auto ur3 = Ur3();
   for (const auto& yaml : EffectConfigs()) {
     SCOPED_TRACE(yaml);
-    for (const auto& p : MakeEffect(yaml, *ur3)->parameters()) {
+    // Held in a variable: a range-for over a temporary's member dangles (AddressSanitizer).
+    const auto effect = MakeEffect(yaml, *ur3);
+    for (const auto& p : effect->parameters()) {
       EXPECT_TRUE(p.plausible.has_value() != p.prior_sigma.has_value()) << p.name;
       if (p.plausible) {
         EXPECT_GT(*p.plausible, 0.0) << p.name;
@@ -144,7 +146,8 @@ TEST(Effects, EveryParameterHasAPlausibleSizeOrAPrior) {
   }
   const auto delta = Delta();
   for (const std::string yaml : {"{type: platform_tilt}", "{type: ball_joint_clearance}"}) {
-    for (const auto& p : MakeEffect(yaml, *delta)->parameters()) EXPECT_TRUE(p.plausible) << p.name;
+    const auto effect = MakeEffect(yaml, *delta);
+    for (const auto& p : effect->parameters()) EXPECT_TRUE(p.plausible) << p.name;
   }
 }
 
