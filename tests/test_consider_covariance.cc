@@ -44,22 +44,10 @@ WorkcellResult Identify(const std::string& dir, const std::string& uncertain_inp
       "job: workcell\nrecording: " + dir + "/rec\n"
       "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3.yaml") +
       "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n" + uncertain_inputs +
-      "noise: {cameras: {cam1: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, 0.001]},"
-      " cam2: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, 0.001]}}}\n"
-      "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
+      testing::kTwoCameraNoiseYaml + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
   testing::WriteText(dir + "/job.yaml", job);
   const WorkcellJob loaded = LoadWorkcellJob(dir + "/job.yaml", testing::Plugins());
-  const SolverMaker make_solver = [&] {
-    return testing::Plugins().CreateSolver(loaded.solver_type, *loaded.solver_config);
-  };
-  return IdentifyWorkcell(loaded.problem, ReadRecording(dir + "/rec"), make_solver);
-}
-
-const FrameEstimate& Frame(const WorkcellResult& result, const std::string& name) {
-  for (const auto& f : result.frames) {
-    if (f.name == name) return f;
-  }
-  throw std::runtime_error("no frame " + name);
+  return testing::Identify(loaded, ReadRecording(dir + "/rec"));
 }
 
 TEST(UncertainInputs, SigmaOfAnInputIsTheShiftItsErrorCauses) {
@@ -68,8 +56,8 @@ TEST(UncertainInputs, SigmaOfAnInputIsTheShiftItsErrorCauses) {
   const WorkcellResult result = Identify(
       dir, "uncertain_inputs:\n  effects:\n    - {sigma: " + std::to_string(kScale) +
                ", effect: {type: target_scale, targets: [tool]}}\n");
-  const FrameEstimate& base = Frame(result, "ur3.base");
-  const FrameEstimate& tool = Frame(result, "tool");
+  const FrameEstimate& base = testing::Frame(result, "ur3.base");
+  const FrameEstimate& tool = testing::Frame(result, "tool");
   const Eigen::Vector3d base_error = base.pose.t - truth.robots[0].T_world_base.t;
   const Eigen::Vector3d tool_error = tool.pose.t - truth.robots[0].T_flange_target.at("tool").t;
   int moved = 0;

@@ -14,16 +14,6 @@ namespace {
 
 using ::testing::HasSubstr;
 
-// The job's diagnosis of `recording`, with the job's solver and candidates.
-DiagnosisResult RunDiagnosis(const DiagnosisJob& job, const Recording& recording,
-                             const std::string& origin) {
-  const SolverMaker make_solver = [&job] {
-    return testing::Plugins().CreateSolver(job.workcell.solver_type, *job.workcell.solver_config);
-  };
-  return DiagnoseWorkcell(job.workcell.problem, recording, make_solver,
-                          JobCandidates(job, recording, testing::Plugins()), job.options, origin);
-}
-
 class Diagnosis : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -34,16 +24,11 @@ class Diagnosis : public ::testing::Test {
     sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");  // quick, still wide
     testing::WriteText(dir_ + "/sim.yaml", sim);
     base_ = LoadWorkcellSimulation(dir_ + "/sim.yaml", testing::Plugins());
-    std::string job = testing::ReadText(testing::Source("configs/jobs/ur3_diagnose.yaml"));
-    job = testing::ReplaceOnce(job, "model: ../robots/ur3.yaml",
-                               "model: " + testing::Source("configs/robots/ur3.yaml"));
-    testing::WriteText(dir_ + "/job.yaml", job);
-    job_ = LoadDiagnosisJob(dir_ + "/job.yaml", testing::Plugins(), false);
-    job_.options.bootstrap = 30;
+    job_ = testing::Ur3DiagnoseJob(dir_);
   }
 
   DiagnosisResult Diagnose(const Recording& recording) {
-    return RunDiagnosis(job_, recording, dir_ + "/job.yaml");
+    return testing::Diagnose(job_, recording, dir_ + "/job.yaml");
   }
 
   std::string dir_;
@@ -198,7 +183,7 @@ class DeltaDiagnosis : public ::testing::Test {
                                                *spec_.robots[0].model);
     e.values = {value};
     spec_.robots[0].effects.push_back(e);
-    return RunDiagnosis(job_, SimulateWorkcell(spec_, nullptr), dir_ + "/job.yaml");
+    return testing::Diagnose(job_, SimulateWorkcell(spec_, nullptr), dir_ + "/job.yaml");
   }
 
   std::string dir_;

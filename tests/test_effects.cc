@@ -456,16 +456,11 @@ void ExpectRecovered(const std::string& robot_effects, const std::string& camera
                     "\n    base: {free: all}\n    tools:\n      tool: {free: all}\n"
                     "    effects: " + job_effects + "\n";
   if (!job_camera_effects.empty()) job += "effects: " + job_camera_effects + "\n";
-  job += "noise: {cameras: {cam1: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, 0.001]},"
-         " cam2: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, 0.001]}}}\n"
+  job += std::string(testing::kTwoCameraNoiseYaml) +
          "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
   testing::WriteText(dir + "/job.yaml", job);
   const WorkcellJob loaded = LoadWorkcellJob(dir + "/job.yaml", testing::Plugins());
-  const SolverMaker make_solver = [&] {
-    return testing::Plugins().CreateSolver(loaded.solver_type, *loaded.solver_config);
-  };
-  const WorkcellResult result =
-      IdentifyWorkcell(loaded.problem, ReadRecording(dir + "/rec"), make_solver);
+  const WorkcellResult result = testing::Identify(loaded, ReadRecording(dir + "/rec"));
   int checked = 0;
   for (const auto& p : result.model_parameters) {
     const auto it = truth.model.find(p.name);

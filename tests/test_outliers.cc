@@ -32,29 +32,18 @@ class Outliers : public ::testing::Test {
         dir + "/job.yaml",
         "job: workcell\nrecording: " + dir + "/none\nrobots:\n  ur3:\n    model: " +
             testing::Source("configs/robots/ur3.yaml") +
-            "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n"
-            "noise: {cameras: {cam1: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, "
-            "0.0005, 0.001]}, cam2: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, "
-            "0.0005, 0.001]}}}\nsolver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
+            "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n" +
+            testing::kTwoCameraNoiseYaml + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
     job_ = LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(), false);
   }
 
   WorkcellResult Identify(const Recording& recording) const {
-    return IdentifyWorkcell(job_.problem, recording, [this] {
-      return testing::Plugins().CreateSolver(job_.solver_type, *job_.solver_config);
-    });
+    return testing::Identify(job_, recording);
   }
 
   Recording clean_;
   WorkcellJob job_;
 };
-
-const FrameEstimate& Frame(const WorkcellResult& r, const std::string& name) {
-  for (const auto& f : r.frames) {
-    if (f.name == name) return f;
-  }
-  throw std::runtime_error("no frame " + name);
-}
 
 TEST_F(Outliers, GrossErrorsInTwoPercentOfPosesMoveNothingByMoreThanItsCleanSigma) {
   const WorkcellResult clean = Identify(clean_);
@@ -73,8 +62,8 @@ TEST_F(Outliers, GrossErrorsInTwoPercentOfPosesMoveNothingByMoreThanItsCleanSigm
   for (const auto& o : r.outliers) flagged.insert(o.sample);
   EXPECT_EQ(flagged, bad_samples);
   for (const char* name : {"ur3.base", "tool"}) {
-    const FrameEstimate& a = Frame(clean, name);
-    const FrameEstimate& b = Frame(r, name);
+    const FrameEstimate& a = testing::Frame(clean, name);
+    const FrameEstimate& b = testing::Frame(r, name);
     for (int i = 0; i < 3; ++i) {
       if (a.held[i]) continue;
       EXPECT_LE(std::abs(b.pose.t[i] - a.pose.t[i]), a.sigma_mm[i])

@@ -32,25 +32,11 @@ class PosePlanning : public ::testing::Test {
     e.effect = testing::Plugins().CreateEffect("joint_scale", gear, *spec_.robots[0].model);
     e.values = {1e-3};  // 0.1 % of the gear ratio
     spec_.robots[0].effects.push_back(e);
-    std::string job = testing::ReadText(testing::Source("configs/jobs/ur3_diagnose.yaml"));
-    job = testing::ReplaceOnce(job, "model: ../robots/ur3.yaml",
-                               "model: " + testing::Source("configs/robots/ur3.yaml"));
-    testing::WriteText(dir_ + "/job.yaml", job);
-    job_ = LoadDiagnosisJob(dir_ + "/job.yaml", testing::Plugins(), false);
-    job_.options.bootstrap = 30;
-  }
-
-  SolverMaker Solver() const {
-    return [this] {
-      return testing::Plugins().CreateSolver(job_.workcell.solver_type,
-                                             *job_.workcell.solver_config);
-    };
+    job_ = testing::Ur3DiagnoseJob(dir_);
   }
 
   DiagnosisResult Diagnose(const Recording& recording) const {
-    return DiagnoseWorkcell(job_.workcell.problem, recording, Solver(),
-                            JobCandidates(job_, recording, testing::Plugins()), job_.options,
-                            dir_ + "/job.yaml");
+    return testing::Diagnose(job_, recording, dir_ + "/job.yaml");
   }
 
   std::string dir_;
@@ -71,7 +57,8 @@ TEST_F(PosePlanning, PlannedPosesMakeAnAbsorbedGearRatioTestableAndItIsThenFound
 
   WorkcellProblem problem = job_.workcell.problem;
   problem.folds = 0;
-  const WorkcellResult fitted = IdentifyWorkcell(problem, recorded, Solver());
+  const WorkcellResult fitted =
+      IdentifyWorkcell(problem, recorded, testing::JobSolver(job_.workcell));
   PosePlanOptions options;
   options.poses = 15;
   const PosePlan plan = PlanPoses(problem, recorded, fitted,

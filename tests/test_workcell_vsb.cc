@@ -27,12 +27,7 @@ WorkcellResult RunJob(const std::string& job_file, const std::string& solver_yam
   });
 }
 
-const FrameEstimate& Frame(const WorkcellResult& r, const std::string& name) {
-  for (const auto& f : r.frames) {
-    if (f.name == name) return f;
-  }
-  throw std::runtime_error("no frame " + name);
-}
+using testing::Frame;
 
 class SimB : public ::testing::TestWithParam<std::string> {};
 

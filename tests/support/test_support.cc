@@ -91,4 +91,39 @@ void ExpectOneLineError(const CommandResult& result, const std::string& location
   EXPECT_EQ(non_empty, 1) << result.output;
 }
 
+SolverMaker JobSolver(const WorkcellJob& job) {
+  return [&job] { return Plugins().CreateSolver(job.solver_type, *job.solver_config); };
+}
+
+WorkcellResult Identify(const WorkcellJob& job, const Recording& recording) {
+  return IdentifyWorkcell(job.problem, recording, JobSolver(job));
+}
+
+const FrameEstimate& Frame(const WorkcellResult& result, const std::string& name) {
+  for (const auto& f : result.frames) {
+    if (f.name == name) return f;
+  }
+  throw std::runtime_error("no frame " + name);
+}
+
+const char kTwoCameraNoiseYaml[] =
+    "noise: {cameras: {cam1: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, "
+    "0.001]}, cam2: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, 0.001]}}}\n";
+
+DiagnosisJob Ur3DiagnoseJob(const std::string& dir) {
+  const std::string job = ReplaceOnce(ReadText(Source("configs/jobs/ur3_diagnose.yaml")),
+                                      "model: ../robots/ur3.yaml",
+                                      "model: " + Source("configs/robots/ur3.yaml"));
+  WriteText(dir + "/job.yaml", job);
+  DiagnosisJob loaded = LoadDiagnosisJob(dir + "/job.yaml", Plugins(), false);
+  loaded.options.bootstrap = 30;
+  return loaded;
+}
+
+DiagnosisResult Diagnose(const DiagnosisJob& job, const Recording& recording,
+                         const std::string& origin) {
+  return DiagnoseWorkcell(job.workcell.problem, recording, JobSolver(job.workcell),
+                          JobCandidates(job, recording, Plugins()), job.options, origin);
+}
+
 }  // namespace cellmetry::testing

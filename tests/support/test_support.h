@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "cellmetry/basics/error.h"
+#include "cellmetry/cell/job.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/registry/registry.h"
 
 namespace cellmetry::testing {
@@ -47,6 +50,24 @@ InputError CatchInputError(Action action) {
   ADD_FAILURE() << "expected an InputError";
   return InputError({}, "no error raised");
 }
+
+// The job's own solver, as `cellmetry run` makes it; and the job's identification of `recording`.
+SolverMaker JobSolver(const WorkcellJob& job);
+WorkcellResult Identify(const WorkcellJob& job, const Recording& recording);
+
+// The frame called `name` in `result` (throws when there is none).
+const FrameEstimate& Frame(const WorkcellResult& result, const std::string& name);
+
+// The job `noise:` of the two static cameras of configs/simulations/ur3_two_cameras.yaml and
+// ur3_physics_base.yaml (their simulated scatter), one line.
+extern const char kTwoCameraNoiseYaml[];
+
+// configs/jobs/ur3_diagnose.yaml written into `dir` with an absolute robot path, loaded, with 30
+// bootstrap resamples (quicker, still stable); and the physics finder's diagnosis of
+// `recording` with that job's solver and candidates.
+DiagnosisJob Ur3DiagnoseJob(const std::string& dir);
+DiagnosisResult Diagnose(const DiagnosisJob& job, const Recording& recording,
+                         const std::string& origin);
 
 // Runs the built `cellmetry` binary with `arguments` (a shell-quoted string).
 CommandResult RunCellmetry(const std::string& arguments);
