@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include <filesystem>
+#include <set>
 
 namespace cellmetry {
 namespace {
@@ -377,21 +378,15 @@ SourceLocation WorkcellJob::Where(const std::string& key) const {
 }
 
 void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& recording) {
-  for (const auto& [camera, sigma] : job.problem.noise.position_sigma_mm) {
-    if (!recording.HasCamera(camera)) {
-      throw InputError(job.Where("noise.cameras." + camera),
-                       "camera '" + camera + "' under noise: is not in the recording " +
-                           recording.folder,
-                       "Name the cameras as recording.yaml does");
-    }
-  }
-  for (const auto& [camera, sigma] : job.problem.noise.rotation_sigma_rad) {
-    if (!recording.HasCamera(camera)) {
-      throw InputError(job.Where("noise.cameras." + camera),
-                       "camera '" + camera + "' under noise: is not in the recording " +
-                           recording.folder,
-                       "Name the cameras as recording.yaml does");
-    }
+  std::set<std::string> noise_cameras;
+  for (const auto& entry : job.problem.noise.position_sigma_mm) noise_cameras.insert(entry.first);
+  for (const auto& entry : job.problem.noise.rotation_sigma_rad) noise_cameras.insert(entry.first);
+  for (const auto& camera : noise_cameras) {
+    if (recording.HasCamera(camera)) continue;
+    throw InputError(job.Where("noise.cameras." + camera),
+                     "camera '" + camera + "' under noise: is not in the recording " +
+                         recording.folder,
+                     "Name the cameras as recording.yaml does");
   }
   const auto world = recording.targets.find(job.problem.world_target);
   if (!job.problem.world_target.empty() &&

@@ -95,7 +95,7 @@ std::string SigmaText(double sigma) {
 // (..) mm" for a frame's translation, the parts that are there; nothing when only the first is.
 void PrintSigmaParts(const FrameEstimate& f, std::ostream& out) {
   auto xyz = [](const Eigen::Matrix<double, 6, 1>& v) {
-    return "(" + Fixed(v[0], 2) + ", " + Fixed(v[1], 2) + ", " + Fixed(v[2], 2) + ") mm";
+    return "(" + SigmaText(v[0]) + ", " + SigmaText(v[1]) + ", " + SigmaText(v[2]) + ") mm";
   };
   const bool systematic = f.sigma_systematic.head<3>().maxCoeff() > 0;
   const bool inputs = f.sigma_inputs.head<3>().maxCoeff() > 0;

@@ -48,7 +48,7 @@ struct Draw {
   std::vector<Observation> observations;  // sample id filled in later
 };
 
-Draw Predict(const WorkcellProblem& spec, const WorkcellRobot& robot, const WorkcellEstimate& at,
+Draw Predict(const WorkcellRobot& robot, const WorkcellEstimate& at,
              const std::map<std::string, SeenRange>& seen, std::vector<double> q) {
   Draw draw;
   draw.pose.robot = robot.name;
@@ -94,7 +94,7 @@ std::vector<Draw> DrawInView(const WorkcellProblem& spec, const Recording& recor
                                                  limited ? limits.joint_max_rad[j] : M_PI);
         q[j] = u(rng);
       }
-      Draw draw = Predict(spec, robot, at, seen, std::move(q));
+      Draw draw = Predict(robot, at, seen, std::move(q));
       if (!draw.observations.empty()) out.push_back(std::move(draw));
     }
   }
@@ -216,16 +216,20 @@ Eigen::VectorXd SigmaAtFloor(const Jacobian& jac, const std::vector<int>& rows) 
 std::vector<int> ChooseDOptimal(const Jacobian& jac, const std::vector<int>& recorded_rows,
                                 const std::vector<std::vector<int>>& draw_rows,
                                 const std::vector<int>& columns, int count) {
-  Eigen::MatrixXd scaled = Rows(jac.J, recorded_rows, columns);
-  Eigen::VectorXd norms = Eigen::VectorXd::Zero(columns.size());
-  for (const auto& rows : draw_rows) norms += Rows(jac.J, rows, columns).colwise().squaredNorm().transpose();
-  norms = (norms + scaled.colwise().squaredNorm().transpose()).cwiseSqrt().cwiseMax(1e-300);
-  const Eigen::MatrixXd scale = norms.cwiseInverse().asDiagonal();
-  Eigen::MatrixXd M = (scaled * scale).transpose() * (scaled * scale);
+  // Columns scaled to unit norm over every row (the determinant's ratios do not change; its
+  // conditioning does).
+  const Eigen::MatrixXd recorded = Rows(jac.J, recorded_rows, columns);
+  std::vector<Eigen::MatrixXd> blocks;
+  Eigen::VectorXd norms = recorded.colwise().squaredNorm().transpose();
+  for (const auto& rows : draw_rows) {
+    blocks.push_back(Rows(jac.J, rows, columns));
+    norms += blocks.back().colwise().squaredNorm().transpose();
+  }
+  const Eigen::MatrixXd scale = norms.cwiseSqrt().cwiseMax(1e-300).cwiseInverse().asDiagonal();
+  for (auto& block : blocks) block *= scale;
+  Eigen::MatrixXd M = (recorded * scale).transpose() * (recorded * scale);
   M += 1e-9 * std::max(1e-300, M.trace() / M.rows()) *
        Eigen::MatrixXd::Identity(M.rows(), M.cols());  // finite where nothing is determined yet
-  std::vector<Eigen::MatrixXd> blocks;
-  for (const auto& rows : draw_rows) blocks.push_back(Rows(jac.J, rows, columns) * scale);
   std::vector<int> chosen;
   std::vector<bool> taken(blocks.size(), false);
   for (int step = 0; step < count; ++step) {

@@ -83,19 +83,16 @@ void HoldParameters(Problem* problem, const std::set<std::string>& names) {
 // A solve that ended on a non-finite parameter or cost has no answer: an error where it ends,
 // never a result with NaN in it (exit 0) or a crash further on.
 void CheckSolveEnded(const Problem& problem, const SolverSummary& summary) {
+  std::string what;
   const Eigen::VectorXd x = problem.FreeValues();
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    if (std::isfinite(x[i])) continue;
-    throw InputError({}, "the fit diverged (" + summary.solver + "): " +
-                             problem.free_parameters()[i].name + " is not a number",
-                     "Check the start values, the recording for gross outliers, and the solver's "
-                     "settings; nothing was written");
+  for (Eigen::Index i = 0; i < x.size() && what.empty(); ++i) {
+    if (!std::isfinite(x[i])) what = problem.free_parameters()[i].name + " is not a number";
   }
-  if (!std::isfinite(summary.final_cost)) {
-    throw InputError({}, "the fit diverged (" + summary.solver + "): its cost is not finite",
-                     "Check the start values, the recording for gross outliers, and the solver's "
-                     "settings; nothing was written");
-  }
+  if (what.empty() && !std::isfinite(summary.final_cost)) what = "its cost is not finite";
+  if (what.empty()) return;
+  throw InputError({}, "the fit diverged (" + summary.solver + "): " + what,
+                   "Check the start values, the recording for gross outliers, and the solver's "
+                   "settings; nothing was written");
 }
 
 IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
