@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libceres-dev libnlopt-cxx-dev libnlopt-dev libyaml-cpp-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   libopencv-dev libopencv-contrib-dev libapriltag-dev libtbb-dev libboost-math-dev
+  libsuitesparse-dev   # SuiteSparseQR: the sparse R factor behind identifiability and sigma
   opencv-doc   # OpenCV's ArUco tutorial photographs: real images the detector tests use
 )
 missing=()

@@ -108,6 +108,8 @@ bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, No
   return changed;
 }
 
+}  // namespace
+
 HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
                       const WorkcellData& data, const NoiseModel& noise,
                       const WorkcellEstimate& answer, const std::set<std::string>& held,
@@ -153,6 +155,8 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
   for (auto& [camera, rms] : out.per_camera) rms.Finish();
   return out;
 }
+
+namespace {
 
 // The total sigma of a free parameter and its parts; all zero where it is not free.
 struct SigmaOf {

@@ -152,7 +152,7 @@ Jacobian Linearized(const WorkcellProblem& spec, const Recording& recording,
                      "Narrow the joint limits in the robot config to what the arm can reach");
   }
   Jacobian out;
-  out.J = at.jacobian;
+  out.J = Eigen::MatrixXd(at.jacobian);
   std::map<int, int> candidate_of_block;
   for (size_t i = 0; i < candidates.size(); ++i) {
     candidate_of_block[assembled->effect_block[spec.effects.size() + i]] = static_cast<int>(i);

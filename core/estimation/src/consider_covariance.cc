@@ -19,12 +19,13 @@ std::vector<int> Columns(const Problem& problem, const std::vector<std::string>&
   return out;
 }
 
-Eigen::MatrixXd Select(const Eigen::MatrixXd& J, const std::vector<int>& columns) {
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(J.rows(), columns.size());
+// The columns `columns` of J (zero where -1), as J times a selection matrix: sparse stays sparse.
+SparseJacobian Select(const SparseJacobian& J, const std::vector<int>& columns) {
+  Eigen::SparseMatrix<double> selection(J.cols(), static_cast<Eigen::Index>(columns.size()));
   for (size_t k = 0; k < columns.size(); ++k) {
-    if (columns[k] >= 0) out.col(k) = J.col(columns[k]);
+    if (columns[k] >= 0) selection.insert(columns[k], static_cast<Eigen::Index>(k)) = 1.0;
   }
-  return out;
+  return J * selection;
 }
 
 }  // namespace
@@ -45,9 +46,10 @@ Eigen::MatrixXd ConsiderCovariance(const Problem& augmented, const Linearization
     sigma[static_cast<Eigen::Index>(inputs.size())] = s;
     inputs.push_back(name);
   }
-  const Eigen::MatrixXd J_t = Select(at.jacobian, Columns(augmented, estimated));
-  const Eigen::MatrixXd J_c = Select(at.jacobian, Columns(augmented, inputs));
-  const Eigen::MatrixXd G = -bread * (J_t.transpose() * J_c);
+  const SparseJacobian J_t = Select(at.jacobian, Columns(augmented, estimated));
+  const SparseJacobian J_c = Select(at.jacobian, Columns(augmented, inputs));
+  const Eigen::MatrixXd cross = Eigen::MatrixXd(J_t.transpose() * J_c);
+  const Eigen::MatrixXd G = -bread * cross;
   if (sensitivity) *sensitivity = G;
   Eigen::MatrixXd cov = G * sigma.cwiseAbs2().asDiagonal() * G.transpose();
   return cov.size() == n * n ? cov : Eigen::MatrixXd::Zero(n, n);

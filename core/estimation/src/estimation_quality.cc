@@ -12,27 +12,27 @@
 namespace cellmetry {
 namespace {
 
-// Thin SVD of a tall matrix through its R factor: same singular values and V, much cheaper.
-Eigen::JacobiSVD<Eigen::MatrixXd> TallSvd(const Eigen::MatrixXd& A) {
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
-  const Eigen::Index n = A.cols();
-  const Eigen::MatrixXd R =
-      qr.matrixQR().topRows(std::min<Eigen::Index>(n, A.rows())).triangularView<Eigen::Upper>();
-  return Eigen::JacobiSVD<Eigen::MatrixXd>(R, Eigen::ComputeFullV);
-}
-
-Eigen::VectorXd ColumnNorms(const Eigen::MatrixXd& J) {
-  Eigen::VectorXd norms(J.cols());
-  for (Eigen::Index j = 0; j < J.cols(); ++j) norms[j] = J.col(j).norm();
-  return norms;
+// SVD of J's columns `columns`, each scaled to unit norm (so mm and rad compare), through J's R
+// factor (r_factor.h): J = Q R, so J[:, c] / norm = Q (R[:, c] / norm) has the singular values
+// and right singular vectors of an n x n matrix, whatever the number of rows.
+Eigen::JacobiSVD<Eigen::MatrixXd> ScaledSvd(const Eigen::MatrixXd& R,
+                                            const std::vector<int>& columns,
+                                            const Eigen::VectorXd& norms) {
+  Eigen::MatrixXd scaled(R.rows(), static_cast<Eigen::Index>(columns.size()));
+  for (size_t k = 0; k < columns.size(); ++k) {
+    scaled.col(static_cast<Eigen::Index>(k)) = R.col(columns[k]) / norms[columns[k]];
+  }
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(scaled, Eigen::ComputeFullV);
 }
 
 }  // namespace
 
 std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance) {
   std::vector<UnidentifiableParameter> found;
-  Eigen::MatrixXd J;
-  if (problem.num_free() == 0 || !problem.Evaluate(nullptr, nullptr, &J, false)) return found;
+  SparseJacobian J;
+  if (problem.num_free() == 0 || !problem.EvaluateSparse(nullptr, &J)) {
+    return found;
+  }
   const auto& free = problem.free_parameters();
   std::vector<int> active;
   const Eigen::VectorXd norms = ColumnNorms(J);
@@ -44,10 +44,9 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
       active.push_back(j);
     }
   }
+  const Eigen::MatrixXd R = active.size() > 1 ? RFactor(J) : Eigen::MatrixXd();
   while (active.size() > 1) {
-    Eigen::MatrixXd scaled(J.rows(), active.size());
-    for (size_t k = 0; k < active.size(); ++k) scaled.col(k) = J.col(active[k]) / norms[active[k]];
-    const auto svd = TallSvd(scaled);
+    const auto svd = ScaledSvd(R, active, norms);
     const Eigen::VectorXd s = svd.singularValues();
     const Eigen::Index last = s.size() - 1;
     if (s[last] >= tolerance * s[0]) break;
@@ -129,7 +128,7 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   }
   Uncertainty u;
   const Eigen::VectorXd& r = at.residuals;
-  const Eigen::MatrixXd& J = at.jacobian;
+  const SparseJacobian& J = at.jacobian;
   const int n = problem.num_free();
   for (const auto& p : problem.free_parameters()) u.names.push_back(p.name);
   // chi-square over measurement rows only: priors are not measurements of the noise.
@@ -154,9 +153,9 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   if (n == 0) return u;
 
   const Eigen::VectorXd norms = ColumnNorms(J).cwiseMax(1e-300);
-  Eigen::MatrixXd scaled = J;
-  for (int j = 0; j < n; ++j) scaled.col(j) /= norms[j];
-  const auto svd = TallSvd(scaled);
+  std::vector<int> every(n);
+  for (int j = 0; j < n; ++j) every[j] = j;
+  const auto svd = ScaledSvd(RFactor(J), every, norms);
   const Eigen::VectorXd s = svd.singularValues();
   u.condition_number = s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());

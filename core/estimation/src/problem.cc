@@ -2,6 +2,11 @@
 // with fixed entries, bounds and priors, and the free-parameter vector view other solvers use.
 #include "cellmetry/estimation/problem.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -110,6 +115,7 @@ void Problem::Build() {
   prior_costs_.clear();
   infos_.resize(num_measurement_residuals_);  // priors are re-derived below
   rows_.clear();
+  evaluation_order_.clear();
   num_residuals_ = 0;
 
   auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss,
@@ -117,6 +123,7 @@ void Problem::Build() {
     std::vector<double*> pointers;
     for (int b : block_ids) pointers.push_back(values(b));
     residual_ids_.push_back(ceres_problem_->AddResidualBlock(cost, loss, pointers));
+    evaluation_order_.emplace_back(cost, block_ids);
     rows_.push_back(num_residuals_);
     num_residuals_ += cost->num_residuals();
   };
@@ -138,8 +145,10 @@ void Problem::Build() {
 
   free_.clear();
   variable_blocks_.clear();
+  free_column_.assign(blocks_.size(), {});
   for (size_t b = 0; b < blocks_.size(); ++b) {
     Block& block = *blocks_[b];
+    free_column_[b].assign(block.params.size(), -1);
     if (!block.used) continue;
     std::vector<int> fixed;
     for (size_t i = 0; i < block.params.size(); ++i) {
@@ -148,6 +157,7 @@ void Problem::Build() {
         fixed.push_back(static_cast<int>(i));
         continue;
       }
+      free_column_[b][i] = static_cast<int>(free_.size());
       free_.push_back({static_cast<int>(b), static_cast<int>(i), block.name + "." + p.name,
                        p.unit});
       if (p.lower) ceres_problem_->SetParameterLowerBound(block.values.data(), i, *p.lower);
@@ -205,22 +215,36 @@ Eigen::VectorXd Problem::UpperBounds() const {
   return upper;
 }
 
-bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd* jacobian,
-                       bool apply_loss) {
+namespace {
+
+// Ceres's evaluation of `problem` over `blocks` (every free block, every residual block).
+bool EvaluateCeres(ceres::Problem& problem, const std::vector<double*>& parameter_blocks,
+                   const std::vector<ceres::ResidualBlockId>& residual_blocks, bool apply_loss,
+                   double* cost, Eigen::VectorXd* residuals, ceres::CRSMatrix* crs) {
   ceres::Problem::EvaluateOptions options;
-  options.parameter_blocks = variable_blocks_;
-  options.residual_blocks = residual_ids_;
+  options.parameter_blocks = parameter_blocks;
+  options.residual_blocks = residual_blocks;
   options.apply_loss_function = apply_loss;
   options.num_threads = 2;
   double local_cost = 0.0;
   std::vector<double> r;
-  ceres::CRSMatrix crs;
-  if (!ceres_problem_->Evaluate(options, &local_cost, residuals ? &r : nullptr, nullptr,
-                                jacobian ? &crs : nullptr)) {
+  if (!problem.Evaluate(options, &local_cost, residuals ? &r : nullptr, nullptr, crs)) {
     return false;
   }
   if (cost) *cost = local_cost;
   if (residuals) *residuals = Eigen::Map<Eigen::VectorXd>(r.data(), r.size());
+  return true;
+}
+
+}  // namespace
+
+bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd* jacobian,
+                       bool apply_loss) {
+  ceres::CRSMatrix crs;
+  if (!EvaluateCeres(*ceres_problem_, variable_blocks_, residual_ids_, apply_loss, cost, residuals,
+                     jacobian ? &crs : nullptr)) {
+    return false;
+  }
   if (jacobian) {
     jacobian->setZero(crs.num_rows, crs.num_cols);
     for (int row = 0; row < crs.num_rows; ++row) {
@@ -232,9 +256,83 @@ bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd
   return true;
 }
 
+bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const {
+  // Each residual block's rows hold the same columns: the free entries of its blocks, in
+  // column order. Their count fixes every row's start before any evaluation.
+  struct Entry {
+    int column, slot, index;  // free column; parameter block of the residual, entry in it
+    bool operator<(const Entry& other) const { return column < other.column; }
+  };
+  const int num_blocks = static_cast<int>(evaluation_order_.size());
+  std::vector<std::vector<Entry>> columns(num_blocks);
+  std::vector<int> row_start(num_residuals_ + 1, 0);
+  for (int k = 0; k < num_blocks; ++k) {
+    const auto& [cost, block_ids] = evaluation_order_[k];
+    for (size_t slot = 0; slot < block_ids.size(); ++slot) {
+      const auto& free_column = free_column_[block_ids[slot]];
+      for (size_t i = 0; i < free_column.size(); ++i) {
+        if (free_column[i] >= 0) {
+          columns[k].push_back({free_column[i], static_cast<int>(slot), static_cast<int>(i)});
+        }
+      }
+    }
+    std::sort(columns[k].begin(), columns[k].end());
+    for (int row = 0; row < cost->num_residuals(); ++row) {
+      row_start[rows_[k] + row + 1] = static_cast<int>(columns[k].size());
+    }
+  }
+  for (int row = 0; row < num_residuals_; ++row) row_start[row + 1] += row_start[row];
+  std::vector<int> column_index(static_cast<size_t>(row_start.back()));
+  std::vector<double> entries(static_cast<size_t>(row_start.back()));
+  Eigen::VectorXd r(num_residuals_);
+  std::atomic<bool> valid{true};
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks, 256), [&](const auto& range) {
+    std::vector<const double*> parameters;
+    std::vector<std::vector<double>> block_jacobians;
+    std::vector<double*> jacobian_pointers;
+    for (int k = range.begin(); k != range.end() && valid; ++k) {
+      const auto& [cost, block_ids] = evaluation_order_[k];
+      const int num_rows = cost->num_residuals();
+      parameters.clear();
+      block_jacobians.resize(block_ids.size());
+      jacobian_pointers.resize(block_ids.size());
+      for (size_t slot = 0; slot < block_ids.size(); ++slot) {
+        parameters.push_back(values(block_ids[slot]));
+        block_jacobians[slot].resize(static_cast<size_t>(num_rows) *
+                                     blocks_[block_ids[slot]]->params.size());
+        jacobian_pointers[slot] = block_jacobians[slot].data();
+      }
+      double* block_residuals = r.data() + rows_[k];
+      if (!cost->Evaluate(parameters.data(), block_residuals,
+                          jacobian ? jacobian_pointers.data() : nullptr)) {
+        valid = false;
+        break;
+      }
+      if (!jacobian) continue;
+      for (int row = 0; row < num_rows; ++row) {
+        int at = row_start[rows_[k] + row];
+        for (const Entry& e : columns[k]) {
+          const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
+          column_index[at] = e.column;
+          entries[at++] = block_jacobians[e.slot][row * width + e.index];  // row-major
+        }
+      }
+    }
+  });
+  if (!valid) return false;
+  if (residuals) *residuals = r;
+  if (jacobian) {
+    *jacobian = Eigen::Map<const SparseJacobian>(num_residuals_, num_free(),
+                                                 static_cast<Eigen::Index>(entries.size()),
+                                                 row_start.data(), column_index.data(),
+                                                 entries.data());
+  }
+  return true;
+}
+
 Linearization Linearize(Problem& problem) {
   Linearization at;
-  at.valid = problem.Evaluate(nullptr, &at.residuals, &at.jacobian, /*apply_loss=*/false);
+  at.valid = problem.EvaluateSparse(&at.residuals, &at.jacobian);
   return at;
 }
 

@@ -14,7 +14,7 @@ Eigen::MatrixXd ClusterRobustCovariance(const Problem& problem, const Linearizat
   const int n = problem.num_free();
   if (n == 0 || !at.valid) return Eigen::MatrixXd::Zero(0, 0);
   const Eigen::VectorXd& r = at.residuals;
-  const Eigen::MatrixXd& J = at.jacobian;
+  const SparseJacobian& J = at.jacobian;
   // Score of each cluster: J_g^T r_g.
   std::map<int, Eigen::VectorXd> score;
   const auto& rows = problem.residual_rows();

@@ -9,17 +9,28 @@
 
 #include <functional>
 #include <memory>
+#include <set>
+#include <string>
 
 #include "cellmetry/formats/recording.h"
+#include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/estimation/solver.h"
+#include "cellmetry/cell/workcell_data.h"
 #include "cellmetry/cell/workcell_problem.h"
 #include "cellmetry/cell/workcell_result.h"
 
 namespace cellmetry {
 
-
 WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                 const SolverMaker& make_solver);
+
+// `spec.folds`-fold cross-validation by pose at `answer` (a part of IdentifyWorkcell, public for
+// its benchmark): each fold refits on the other poses, warm-started from the answer with `held`
+// held, and predicts the carried targets of the poses it left out. Fewer than two folds: none.
+HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
+                      const WorkcellData& data, const NoiseModel& noise,
+                      const WorkcellEstimate& answer, const std::set<std::string>& held,
+                      const SolverMaker& make_solver);
 
 // A result scored on a fresh recording of the same cell (a job's `validation_recording:`):
 // prediction - measurement of the carried targets' positions, with the closed-form start and

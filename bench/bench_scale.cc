@@ -1,0 +1,269 @@
+// A factory's cell (issue 15): how `cellmetry run` scales with robots, cameras and poses.
+//
+// The layout is configs/simulations/scale_10_ur3_8_cameras.yaml's at any size: UR3s in rows of
+// five, 1 m apart, static cameras 2.5 m up, random joint poses, every camera seeing every tool
+// and the world tag at every capture. Observations = robots x poses x cameras x 2.
+//
+//  BM_Run/R/C/P              the whole identification as `cellmetry run` without
+//                            cross-validation: closed form, solve, identifiability, covariance,
+//                            the cluster-robust and camera-jackknife sigma, residual statistics
+//  BM_CrossValidation/R/C/P  5-fold cross-validation at the answer, on its own
+//  BM_Solve, BM_Identifiability, BM_Covariance (10/8/500)   the stages, one by one
+//  BM_RFactor/<method>       the factory cell's Jacobian reduced to its R factor: cellmetry's
+//                            grouped QR (estimation/r_factor.h), SuiteSparseQR, and the dense
+//                            Householder QR the covariance used before
+//
+// Every benchmark reports `peak_MB`: the process's peak resident memory during its iterations
+// (the kernel's high-water mark, reset before each benchmark through /proc/self/clear_refs).
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <Eigen/QR>
+
+#include "bench_support.h"
+#include "spqr_r_factor.h"
+#include "cellmetry/cell/job.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/cell/workcell_initial.h"
+#include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/estimation/estimation_quality.h"
+#include "cellmetry/estimation/noise_model.h"
+
+namespace cellmetry {
+namespace {
+
+struct CellSize {
+  int robots, cameras, poses;
+};
+
+std::string SimulationYaml(const CellSize& size) {
+  std::ostringstream yaml;
+  yaml << "simulation: workcell\nseed: 15\nrepeats: 1\nrobots:\n";
+  for (int r = 0; r < size.robots; ++r) {
+    yaml << "  ur3_" << r << ":\n    model: " << bench::Source("configs/robots/ur3.yaml") << "\n"
+         << "    base: {xyz: [" << 1000 * (r % 5) << ", " << 1200 * (r / 5) << ", 0], rvec: [0, 0, "
+         << 0.3 * r << "]}\n"
+         << "    tools: {tool_" << r << ": {xyz: [0.5, -0.3, 66]}}\n"
+         << "    poses: {random: " << size.poses
+         << ", lower: [-3.1, -2.8, -2.6, -3.1, -3.1, -3.1], upper: [3.1, -0.3, 2.6, 3.1, 3.1, "
+            "3.1]}\n";
+  }
+  yaml << "cameras:\n";
+  for (int c = 0; c < size.cameras; ++c) {
+    yaml << "  cam" << c << ": {xyz: [" << -500 + 5000 * (c % 4) / 3 << ", "
+         << -800 + 2800 * (c / 4) << ", 2500], rvec: [3.1, " << 0.05 * (c - 4) << ", 0]}\n";
+  }
+  yaml << "noise: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, 0.001]}\n";
+  return yaml.str();
+}
+
+std::string JobYaml(const CellSize& size, const std::string& recording) {
+  std::ostringstream yaml;
+  yaml << "job: workcell\nrecording: " << recording << "\noutput: " << recording
+       << "_result\ncamera_model: static_cameras\nrobots:\n";
+  for (int r = 0; r < size.robots; ++r) {
+    yaml << "  ur3_" << r << ":\n    model: " << bench::Source("configs/robots/ur3.yaml")
+         << "\n    base: {free: all}\n    tools:\n      tool_" << r
+         << ": {xyz: [0, 0, 66], free: [x, y, z]}\n";
+  }
+  yaml << "noise:\n  cameras:\n";
+  for (int c = 0; c < size.cameras; ++c) {
+    yaml << "    cam" << c
+         << ": {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, 0.001]}\n";
+  }
+  yaml << "solver: {type: ceres_lm}\nvalidation: {folds: 5}\n";
+  return yaml.str();
+}
+
+void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+struct Cell {
+  WorkcellJob job;
+  Recording recording;
+};
+
+// The cell of `size`, simulated once per process into a temporary folder.
+const Cell& CellOf(const CellSize& size) {
+  static std::map<std::tuple<int, int, int>, Cell> cache;
+  const auto key = std::make_tuple(size.robots, size.cameras, size.poses);
+  auto it = cache.find(key);
+  if (it != cache.end()) return it->second;
+  Registry& registry = bench::Plugins();
+  char folder_template[] = "/tmp/cellmetry_bench_scale_XXXXXX";
+  const std::string folder = mkdtemp(folder_template);
+  WriteText(folder + "/simulation.yaml", SimulationYaml(size));
+  const WorkcellSimulationSpec spec = LoadWorkcellSimulation(folder + "/simulation.yaml", registry);
+  WorkcellTruth truth;
+  WriteRecording(SimulateWorkcell(spec, &truth), folder + "/recording");
+  WriteText(folder + "/job.yaml", JobYaml(size, folder + "/recording"));
+  Cell cell;
+  cell.job = LoadWorkcellJob(folder + "/job.yaml", registry);
+  cell.recording = ReadRecording(folder + "/recording");
+  std::system(("rm -rf '" + folder + "'").c_str());
+  return cache.emplace(key, std::move(cell)).first->second;
+}
+
+SolverMaker CeresLm() {
+  return [] {
+    return bench::Plugins().CreateSolver("ceres_lm",
+                                         ConfigNode::LoadString("type: ceres_lm", "bench"));
+  };
+}
+
+// Peak resident memory: reset before a benchmark, read after it.
+void ResetPeakMemory() { std::ofstream("/proc/self/clear_refs") << "5"; }
+double PeakMemoryMb() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
+  }
+  return 0.0;
+}
+
+CellSize SizeOf(const benchmark::State& state) {
+  return {static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
+          static_cast<int>(state.range(2))};
+}
+
+void Count(benchmark::State& state, const CellSize& size) {
+  state.counters["observations"] = 2.0 * size.robots * size.cameras * size.poses;
+  state.counters["peak_MB"] = PeakMemoryMb();
+}
+
+void BM_Run(benchmark::State& state) {
+  const CellSize size = SizeOf(state);
+  WorkcellProblem spec = CellOf(size).job.problem;
+  spec.folds = 0;
+  const Recording& recording = CellOf(size).recording;
+  ResetPeakMemory();
+  for (auto _ : state) {
+    const WorkcellResult result = IdentifyWorkcell(spec, recording, CeresLm());
+    benchmark::DoNotOptimize(result.frames.front().pose.t.x());
+  }
+  Count(state, size);
+}
+
+void BM_CrossValidation(benchmark::State& state) {
+  const CellSize size = SizeOf(state);
+  const Cell& cell = CellOf(size);
+  WorkcellProblem spec = cell.job.problem;
+  spec.folds = 0;
+  const WorkcellResult answer = IdentifyWorkcell(spec, cell.recording, CeresLm());
+  spec.folds = 5;
+  const WorkcellData data = PrepareWorkcellData(spec, cell.recording);
+  ResetPeakMemory();
+  for (auto _ : state) {
+    const HeldOut held_out = CrossValidate(spec, cell.recording, data, answer.noise,
+                                           answer.estimate, {}, CeresLm());
+    benchmark::DoNotOptimize(held_out.total.norm);
+  }
+  Count(state, size);
+}
+
+// The 10-robot cell's problem, assembled at the closed-form start.
+struct Assembled {
+  std::unique_ptr<AssembledWorkcell> at_start;
+  std::unique_ptr<AssembledWorkcell> at_answer;
+};
+Assembled& FactoryCell() {
+  static Assembled assembled = [] {
+    const Cell& cell = CellOf({10, 8, 500});
+    const WorkcellProblem& spec = cell.job.problem;
+    const WorkcellData data = PrepareWorkcellData(spec, cell.recording);
+    const NoiseModel noise = BuildNoiseModel(cell.recording, spec.noise);
+    const WorkcellEstimate start = InitialEstimate(spec, cell.recording, data);
+    Assembled out;
+    out.at_start = AssembleWorkcell(spec, cell.recording, data, noise, start);
+    out.at_answer = AssembleWorkcell(spec, cell.recording, data, noise, start);
+    CeresLm()()->Solve(out.at_answer->problem);
+    return out;
+  }();
+  return assembled;
+}
+
+void BM_Solve(benchmark::State& state) {
+  Problem& problem = FactoryCell().at_start->problem;
+  const Eigen::VectorXd start = problem.FreeValues();
+  ResetPeakMemory();
+  for (auto _ : state) {
+    problem.SetFreeValues(start);
+    benchmark::DoNotOptimize(CeresLm()()->Solve(problem).final_cost);
+  }
+  Count(state, {10, 8, 500});
+}
+
+void BM_Linearize(benchmark::State& state) {
+  Problem& problem = FactoryCell().at_answer->problem;
+  ResetPeakMemory();
+  for (auto _ : state) benchmark::DoNotOptimize(Linearize(problem).jacobian.nonZeros());
+  Count(state, {10, 8, 500});
+}
+
+void BM_Identifiability(benchmark::State& state) {
+  Problem& problem = FactoryCell().at_answer->problem;
+  ResetPeakMemory();
+  for (auto _ : state) benchmark::DoNotOptimize(FindUnidentifiable(problem, 1e-6).size());
+  Count(state, {10, 8, 500});
+}
+
+void BM_Covariance(benchmark::State& state) {
+  Problem& problem = FactoryCell().at_answer->problem;
+  ResetPeakMemory();
+  for (auto _ : state) benchmark::DoNotOptimize(ComputeUncertainty(problem).sigma[0]);
+  Count(state, {10, 8, 500});
+}
+
+enum class RMethod { kGrouped, kSuiteSparse, kDense };
+
+void BM_RFactor(benchmark::State& state, RMethod method) {
+  Problem& problem = FactoryCell().at_answer->problem;
+  SparseJacobian J;
+  problem.EvaluateSparse(nullptr, &J);
+  ResetPeakMemory();
+  for (auto _ : state) {
+    Eigen::MatrixXd R;
+    if (method == RMethod::kGrouped) R = RFactor(J);
+    if (method == RMethod::kSuiteSparse) R = bench::SuiteSparseRFactor(J);
+    if (method == RMethod::kDense) {
+      const Eigen::HouseholderQR<Eigen::MatrixXd> qr{Eigen::MatrixXd(J)};
+      R = qr.matrixQR().topRows(J.cols()).triangularView<Eigen::Upper>();
+    }
+    benchmark::DoNotOptimize(R(0, 0));
+  }
+  Count(state, {10, 8, 500});
+}
+BENCHMARK_CAPTURE(BM_RFactor, grouped, RMethod::kGrouped)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RFactor, suitesparse, RMethod::kSuiteSparse)
+    ->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_RFactor, dense, RMethod::kDense)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Robots, cameras, poses: from 1,000 to 160,000 observations.
+void Sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"robots", "cameras", "poses"});
+  b->Args({1, 2, 250});     //   1,000
+  b->Args({2, 4, 250});     //   4,000
+  b->Args({5, 4, 500});     //  20,000
+  b->Args({10, 8, 500});    //  80,000: the factory cell
+  b->Args({10, 8, 1000});   // 160,000
+}
+
+BENCHMARK(BM_Run)->Apply(Sizes)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_CrossValidation)->Apply(Sizes)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_Solve)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_Linearize)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Identifiability)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_Covariance)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+}  // namespace
+}  // namespace cellmetry
+
+BENCHMARK_MAIN();

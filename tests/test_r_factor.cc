@@ -1,0 +1,146 @@
+// The sparse path to identifiability and sigma (issue 15): the grouped R factor, the sparse
+// evaluation, and the answers built on them, against the dense computation they replaced.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "cellmetry/cell/job.h"
+#include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/cell/workcell_initial.h"
+#include "cellmetry/estimation/estimation_quality.h"
+#include "cellmetry/estimation/noise_model.h"
+#include "cellmetry/estimation/r_factor.h"
+#include "support/test_support.h"
+
+namespace cellmetry {
+namespace {
+
+using testing::JobSolver;
+using testing::Plugins;
+using testing::Source;
+
+// A cell-like Jacobian: groups of rows that each touch a few of `n` columns, plus some rows
+// with a pattern of their own.
+SparseJacobian CellLikeJacobian(int n, int rows, std::mt19937& rng) {
+  std::uniform_int_distribution<int> column(0, n - 1);
+  std::normal_distribution<double> value(0.0, 1.0);
+  std::vector<Eigen::Triplet<double>> entries;
+  std::vector<std::vector<int>> patterns(12);
+  for (auto& pattern : patterns) {
+    for (int k = 0; k < 5; ++k) pattern.push_back(column(rng));
+  }
+  for (int row = 0; row < rows; ++row) {
+    const auto& pattern = patterns[row % 13 == 0 ? 0 : row % patterns.size()];
+    std::vector<int> columns = pattern;
+    if (row % 13 == 0) columns.push_back(column(rng));  // its own pattern
+    std::sort(columns.begin(), columns.end());
+    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+    for (int c : columns) entries.emplace_back(row, c, value(rng) * (c % 3 == 0 ? 1e3 : 1.0));
+  }
+  SparseJacobian J(rows, n);
+  J.setFromTriplets(entries.begin(), entries.end());
+  return J;
+}
+
+TEST(RFactor, HasTheGramMatrixAndSingularValuesOfTheDenseJacobian) {
+  std::mt19937 rng(3);
+  for (int rows : {7, 40, 900}) {  // fewer rows than columns, a few more, many more
+    const SparseJacobian J = CellLikeJacobian(20, rows, rng);
+    const Eigen::MatrixXd dense(J);
+    const Eigen::MatrixXd R = RFactor(J);
+    ASSERT_EQ(R.rows(), 20);
+    const Eigen::MatrixXd gram = dense.transpose() * dense;
+    EXPECT_LT((R.transpose() * R - gram).norm(), 1e-12 * gram.norm()) << rows << " rows";
+    const Eigen::VectorXd s_dense = Eigen::JacobiSVD<Eigen::MatrixXd>(dense).singularValues();
+    const Eigen::VectorXd s_R = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
+    for (Eigen::Index i = 0; i < s_dense.size(); ++i) {
+      EXPECT_NEAR(s_R[i], s_dense[i], 1e-10 * s_dense[0]) << rows << " rows, singular value " << i;
+    }
+  }
+}
+
+TEST(RFactor, KeepsATinySingularValueTiny) {
+  // Column 3 = column 1 + 1e-9 * noise: unidentifiable at any sensible tolerance. The normal
+  // equations would lose it (1e-18 relative is below double precision); the R factor keeps it.
+  std::mt19937 rng(5);
+  SparseJacobian J = CellLikeJacobian(6, 300, rng);
+  Eigen::MatrixXd dense(J);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (Eigen::Index row = 0; row < dense.rows(); ++row) {
+    dense(row, 3) = dense(row, 1) + 1e-9 * noise(rng);
+  }
+  J = dense.sparseView();
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(RFactor(J)).singularValues();
+  const Eigen::VectorXd s_dense = Eigen::JacobiSVD<Eigen::MatrixXd>(dense).singularValues();
+  EXPECT_LT(s[5], 1e-6 * s[0]);
+  EXPECT_NEAR(s[5], s_dense[5], 1e-3 * s_dense[5]);
+}
+
+// The dense computation the sparse path replaced: SVD of the column-scaled dense Jacobian.
+Eigen::VectorXd DenseSigma(Problem& problem, double scale) {
+  Eigen::MatrixXd J;
+  EXPECT_TRUE(problem.Evaluate(nullptr, nullptr, &J, false));
+  Eigen::VectorXd norms(J.cols());
+  for (Eigen::Index j = 0; j < J.cols(); ++j) norms[j] = J.col(j).norm();
+  const Eigen::MatrixXd scaled = J * norms.cwiseInverse().asDiagonal();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinV);
+  const Eigen::VectorXd s = svd.singularValues();
+  Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    if (s[i] > 1e-14 * s[0]) inv_s2[i] = 1.0 / (s[i] * s[i]);
+  }
+  const Eigen::MatrixXd V = svd.matrixV();
+  const Eigen::VectorXd scaled_variance = (V * inv_s2.asDiagonal() * V.transpose()).diagonal();
+  return (scaled_variance * scale).cwiseSqrt().cwiseQuotient(norms);
+}
+
+// A job's problem assembled at its closed-form start and solved.
+struct Solved {
+  WorkcellJob job;
+  Recording recording;
+  std::unique_ptr<WorkcellData> data;  // the residuals point into it: kept, at a fixed address
+  std::unique_ptr<AssembledWorkcell> assembled;
+};
+Solved Solve(const std::string& job_file) {
+  Solved out;
+  out.job = LoadWorkcellJob(Source(job_file), Plugins());
+  out.recording = ReadRecording(out.job.recording);
+  const WorkcellProblem& spec = out.job.problem;
+  out.data = std::make_unique<WorkcellData>(PrepareWorkcellData(spec, out.recording));
+  const NoiseModel noise = BuildNoiseModel(out.recording, spec.noise);
+  out.assembled = AssembleWorkcell(spec, out.recording, *out.data, noise,
+                                   InitialEstimate(spec, out.recording, *out.data));
+  JobSolver(out.job)()->Solve(out.assembled->problem);
+  return out;
+}
+
+TEST(SparsePath, EvaluatesTheSameJacobianAsCeres) {
+  Solved solved = Solve("configs/jobs/vsb_exp_a.yaml");
+  Problem& problem = solved.assembled->problem;
+  Eigen::MatrixXd dense;
+  Eigen::VectorXd r_dense, r_sparse;
+  SparseJacobian sparse;
+  ASSERT_TRUE(problem.Evaluate(nullptr, &r_dense, &dense, false));
+  ASSERT_TRUE(problem.EvaluateSparse(&r_sparse, &sparse));
+  EXPECT_EQ((r_sparse - r_dense).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_LT((Eigen::MatrixXd(sparse) - dense).cwiseAbs().maxCoeff(),
+            1e-14 * dense.cwiseAbs().maxCoeff());
+}
+
+TEST(SparsePath, SigmaAndVerdictsAreTheDensePathsOnTheBundledJobs) {
+  for (const char* job : {"configs/jobs/vsb_sim_b.yaml", "configs/jobs/vsb_exp_a_geometry.yaml",
+                          "configs/jobs/vsb_exp_a.yaml"}) {
+    Solved solved = Solve(job);
+    Problem& problem = solved.assembled->problem;
+    const Uncertainty u = ComputeUncertainty(problem);
+    const Eigen::VectorXd dense = DenseSigma(problem, u.scale);
+    ASSERT_EQ(u.sigma.size(), dense.size()) << job;
+    for (Eigen::Index i = 0; i < dense.size(); ++i) {
+      EXPECT_NEAR(u.sigma[i], dense[i], 1e-6 * dense[i]) << job << ": " << u.names[i];
+    }
+  }
+}
+
+}  // namespace
+}  // namespace cellmetry
