@@ -8,6 +8,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   libopencv-dev libopencv-contrib-dev libapriltag-dev libtbb-dev libboost-math-dev
   opencv-doc   # OpenCV's ArUco tutorial photographs: real images the detector tests use
+  liburdfdom-dev   # the URDF parser test_exports reads `cellmetry export --format urdf` with
 )
 missing=()
 for p in "${packages[@]}"; do
