@@ -49,8 +49,8 @@ CalibratedRobot ReadRobot(const std::string& name, const json& j, const std::str
   robot.model_file = j.at("model_file").get<std::string>();
   const std::string text = j.at("model_config").get<std::string>();
   if (text.empty()) {
-    throw InputError({json_path, 0, 0}, "the result does not record robot '" + name +
-                     "''s config (the job was built in memory)", kRerun);
+    throw InputError({json_path, 0, 0}, "the result does not record the config of robot '" +
+                     name + "' (the job was built in memory)", kRerun);
   }
   robot.model_config = std::make_shared<ConfigNode>(
       ConfigNode::LoadString(text, robot.model_file + " (as recorded in " + json_path + ")"));

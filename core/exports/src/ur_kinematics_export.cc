@@ -84,8 +84,8 @@ std::string UrKinematicsExport(const CalibratedCell& cell, const CalibratedRobot
                      "kinematics file describes six", "Export it with --format urdf");
   }
   if (!OnLastAxis(chain.T_last_joint_flange)) {
-    throw InputError({cell.json_path, 0, 0}, "robot '" + robot.name + "''s flange is not on its "
-                     "last joint's axis, where ur_description puts tool0",
+    throw InputError({cell.json_path, 0, 0}, "the flange of robot '" + robot.name + "' is not "
+                     "on its last joint's axis, where ur_description puts tool0",
                      "Export it with --format urdf");
   }
   // A turn about and a shift along the last axis commute with the joint: fold them into wrist_3.
