@@ -9,6 +9,7 @@ packages=(
   libopencv-dev libopencv-contrib-dev libapriltag-dev libtbb-dev libboost-math-dev
   libsuitesparse-dev   # SuiteSparseQR: the sparse R factor behind identifiability and sigma
   opencv-doc   # OpenCV's ArUco tutorial photographs: real images the detector tests use
+  liburdfdom-dev   # the URDF parser test_exports reads `cellmetry export --format urdf` with
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -4,10 +4,20 @@
 #include <algorithm>
 
 #include <filesystem>
+#include <fstream>
 #include <set>
+#include <sstream>
 
 namespace cellmetry {
 namespace {
+
+// A file's whole text (the robot config a result records; it was just read, so it is there).
+std::string ReadTextFile(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
 // `free_model: [names] | all`: which of the model's parameters the job identifies.
 void ReadFreeModel(const ConfigNode& free, const std::string& type, WorkcellRobot* robot) {
@@ -79,6 +89,7 @@ WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, bool wo
                               "Give a path relative to the job file");
   }
   const ConfigNode model_config = ConfigNode::LoadFile(robot.model_file);
+  robot.model_config = ReadTextFile(robot.model_file);
   const std::string type = model_config["type"].AsString();
   robot.model = registry.CreateRobotModel(type, model_config);
   robot.model_parameters = robot.model->parameters();

@@ -166,6 +166,16 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
                                      {"sigma_systematic", p.sigma_systematic},
                                      {"sigma_inputs", p.sigma_inputs}, {"held", p.held}});
   }
+  for (const auto& record : r.robot_models) {
+    nlohmann::json values = nlohmann::json::array();
+    for (const auto& p : record.parameters) {
+      values.push_back({{"name", p.name}, {"unit", p.unit}, {"value", p.nominal},
+                        {"free", !p.fixed}});
+    }
+    j["robots"][record.robot] = {{"model_file", record.config_file},
+                                 {"model_config", record.config_text},
+                                 {"model_values", values}};
+  }
   AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
   j["weakly_identified"] = WeakJson(r.weakly_identified);
   j["outliers"] = nlohmann::json::array();

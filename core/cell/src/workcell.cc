@@ -230,6 +230,10 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
       result->model_parameters.push_back(
           MakeScalar(robot.name + ".model." + p.name, p.unit, p.nominal, values[i], u, held));
     }
+    RobotModelRecord record{robot.name, robot.model_file, robot.model_config,
+                            robot.model_parameters};
+    for (size_t i = 0; i < record.parameters.size(); ++i) record.parameters[i].nominal = values[i];
+    result->robot_models.push_back(std::move(record));
     const bool model_free = std::any_of(robot.model_parameters.begin(),
                                         robot.model_parameters.end(),
                                         [](const Parameter& p) { return !p.fixed; });

@@ -3,6 +3,9 @@
 #include "delta_model.h"
 
 #include <cstdio>
+#include <sstream>
+
+#include "cellmetry/formats/exact_number.h"
 
 namespace cellmetry::delta {
 namespace {
@@ -79,6 +82,42 @@ std::string DeltaModel::InverseFailure(const double* position, const double* par
     }
   }
   return "no failure";
+}
+
+std::string DeltaModel::CalibratedConfig(const ConfigNode& config, const double* params) const {
+  std::ostringstream out;
+  out << "type: delta\n";
+  for (const std::string key : {"name", "description"}) {
+    if (!config.Has(key)) continue;
+    YAML::Emitter text;
+    text << config[key].AsString();
+    out << key << ": " << text.c_str() << "\n";
+  }
+  out << "units: {length: mm, angle: rad}\n"
+      << "arms:                   # arm i turned (i-1)*120 deg about z\n";
+  for (int i = 0; i < kArms; ++i) {
+    const double* arm = params + kParamsPerArm * i;
+    out << "  - {R: " << ExactNumber(arm[kR]) << ", r: " << ExactNumber(arm[kSmallR])
+        << ", L: " << ExactNumber(arm[kL]) << ", l: " << ExactNumber(arm[kSmallL])
+        << ", homing: " << ExactNumber(arm[kHoming]) << "}\n";
+  }
+  const Eigen::Vector3d& m = marker_offset_.t;
+  out << "marker_offset: {xyz: [" << ExactNumber(m.x()) << ", " << ExactNumber(m.y()) << ", "
+      << ExactNumber(m.z()) << "]}\n";
+  if (limits_.joint_increment_rad > 0) {
+    out << "motor: {increments_per_revolution: "
+        << std::lround(2.0 * M_PI / limits_.joint_increment_rad) << "}\n";
+  }
+  if (!limits_.joint_min_rad.empty()) {
+    out << "joint_limits: {min: " << ExactNumber(limits_.joint_min_rad[0])
+        << ", max: " << ExactNumber(limits_.joint_max_rad[0]) << "}\n";
+  }
+  if (limits_.workspace) {
+    const CylinderWorkspace& w = *limits_.workspace;
+    out << "workspace: {radius: " << ExactNumber(w.radius_mm) << ", z_min: "
+        << ExactNumber(w.z_min_mm) << ", z_max: " << ExactNumber(w.z_max_mm) << "}\n";
+  }
+  return out.str();
 }
 
 }  // namespace cellmetry::delta

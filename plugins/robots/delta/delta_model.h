@@ -52,6 +52,10 @@ class DeltaModel : public InvertibleRobotModelFromTemplate<DeltaModel> {
   // centre minus the effector centre), spaced along the motor axis (the arm plane's normal).
   bool ParallelLinks(const double* q, const double* params,
                      std::vector<ParallelLink>* links) const override;
+  // The `delta` config with `params` as its arms (mm, rad); marker offset, motor, joint limits
+  // and workspace as this model holds them; name and description kept. A delta arm is no serial
+  // chain (AsSerialChain stays false): its motors do not carry each other.
+  std::string CalibratedConfig(const ConfigNode& config, const double* params) const override;
 
   template <typename T>
   bool ForwardT(const double* q, const T* params, Transform<T>* T_base_flange) const {

@@ -3,6 +3,9 @@
 #include "serial_mdh_model.h"
 
 #include <cmath>
+#include <sstream>
+
+#include "cellmetry/formats/exact_number.h"
 
 namespace cellmetry::serial_mdh {
 
@@ -35,6 +38,46 @@ std::vector<std::string> SerialMdhModel::Warnings() const {
     }
   }
   return warnings;
+}
+
+bool SerialMdhModel::AsSerialChain(const double* params, SerialChain* chain) const {
+  chain->T_parent_joint.clear();
+  for (size_t i = 0; i < joints_.size(); ++i) {
+    const double* p = params + kParamsPerJoint * i;
+    chain->T_parent_joint.push_back(Link(p[kAlpha], p[kA], p[kBeta], p[kOffset], p[kD]));
+  }
+  chain->T_last_joint_flange = Pose::Identity();
+  chain->not_expressible.clear();
+  return true;
+}
+
+namespace {
+
+// `key: value` of a string the config had, quoted as YAML needs; nothing when it had none.
+void CopyText(const ConfigNode& config, const std::string& key, std::ostream& out) {
+  if (!config.Has(key)) return;
+  YAML::Emitter text;
+  text << config[key].AsString();
+  out << key << ": " << text.c_str() << "\n";
+}
+
+}  // namespace
+
+std::string SerialMdhModel::CalibratedConfig(const ConfigNode& config,
+                                             const double* params) const {
+  std::ostringstream out;
+  out << "type: serial_mdh\n";
+  CopyText(config, "name", out);
+  CopyText(config, "description", out);
+  out << "units: {length: mm, angle: rad}\n"
+      << "joints:                 # Craig's alpha_{i-1}, a_{i-1} on joint i's row; Hayati beta\n";
+  for (size_t i = 0; i < joints_.size(); ++i) {
+    const double* p = params + kParamsPerJoint * i;
+    out << "  - {alpha: " << ExactNumber(p[kAlpha]) << ", a: " << ExactNumber(p[kA])
+        << ", beta: " << ExactNumber(p[kBeta]) << ", d: " << ExactNumber(p[kD])
+        << ", offset: " << ExactNumber(p[kOffset]) << "}\n";
+  }
+  return out.str();
 }
 
 }  // namespace cellmetry::serial_mdh

@@ -11,6 +11,12 @@
 //
 // T_base_flange = A_1 ... A_n. Parameters, per joint i: "j<i>.alpha" (rad), "j<i>.a" (mm),
 // "j<i>.beta" (rad), "j<i>.d" (mm), "j<i>.offset" (rad).
+//
+// As a chain of revolute joints (serial_chain.h), for exports: Rz(q + offset) Tz(d) =
+// Rz(offset) Tz(d) Rz(q), since turns and shifts along one axis commute, so joint i's origin at
+// q_i = 0 is A_i(q_i = 0) = Rx(alpha_i) Tx(a_i) Ry(beta_i) Rz(offset_i) Tz(d_i), and the flange
+// is the last joint's frame. Every parameter of this model is rigid geometry: the chain holds
+// all of it.
 #pragma once
 
 #include <string>
@@ -38,6 +44,9 @@ class SerialMdhModel : public RobotModelFromTemplate<SerialMdhModel> {
   int num_joints() const override { return static_cast<int>(joints_.size()); }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
   std::vector<std::string> Warnings() const override;
+  bool AsSerialChain(const double* params, SerialChain* chain) const override;
+  // The `serial_mdh` config with `params` as its table (mm, rad), name and description kept.
+  std::string CalibratedConfig(const ConfigNode& config, const double* params) const override;
   int JointOffsetParameter(int joint) const override { return kParamsPerJoint * joint + kOffset; }
   // Frame i of the chain (A_1 ... A_i) has joint i's axis as its z axis; the flange is frame n.
   bool JointFrames(const double* q, const double* params,

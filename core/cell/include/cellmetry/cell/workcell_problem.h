@@ -51,6 +51,8 @@ struct WorkcellRobot {
   std::string name;                               // as in the recording
   std::shared_ptr<const RobotModel> model;
   std::string model_file;                         // where the model came from, for the report
+  std::string model_config;                       // that file's text, for the result (exports
+                                                  // rebuild the model from it)
   std::vector<Parameter> model_parameters;        // nominal values and fixed flags for this job
   FrameBlockSpec base;                            // `free` flags; start is found in closed form
   std::optional<Pose> base_start;                 // a user-given start (skips the closed form)

@@ -110,12 +110,24 @@ struct RecordingScore {
   double max_after_mm = 0.0;
 };
 
+// What a result records of each robot's model so that it can be rebuilt without the job
+// (`cellmetry export`, core/exports): the robot config it was built from, as text (the file may
+// change or go later), and every model parameter's value at the answer, fitted or held.
+struct RobotModelRecord {
+  std::string robot;              // as in the recording
+  std::string config_file;        // where the config was read, for messages
+  std::string config_text;        // "" when the job was built in memory
+  std::vector<Parameter> parameters;  // every parameter: `nominal` = its value at the answer,
+                                      // `fixed` = held in this job
+};
+
 struct WorkcellResult {
   CameraModel camera_model = CameraModel::kStaticCameras;
   ResidualForm residual_form = ResidualForm::kCartesian;
   SolverSummary solver;
   std::vector<FrameEstimate> frames;
   std::vector<ScalarEstimate> model_parameters;   // free or held-for-identifiability entries
+  std::vector<RobotModelRecord> robot_models;     // each robot's model, whole (exports)
   std::vector<UnidentifiableParameter> unidentifiable;
   std::vector<WeakParameter> weakly_identified;   // see WorkcellProblem::weak_vif
   Uncertainty uncertainty;

@@ -23,6 +23,12 @@
 //
 // Both directions say why they failed through ForwardFailure / InverseFailure, for errors that a
 // user can act on.
+//
+// For exports (`cellmetry export`, core/exports), a model may also describe itself as a chain of
+// revolute joints (AsSerialChain, serial_chain.h: what URDF and vendors' kinematics files hold)
+// and write the robot config that rebuilds it at given parameter values (CalibratedConfig). The
+// model knows its own geometry and config schema; the export knows the file formats; neither
+// names the other.
 #pragma once
 
 #include <ceres/jet.h>
@@ -34,6 +40,8 @@
 
 #include "cellmetry/basics/parameter.h"
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/model/serial_chain.h"
 
 namespace cellmetry {
 
@@ -109,6 +117,21 @@ class RobotModel {
   virtual bool Inverse(const double* flange_position_mm, const double* params, double* q) const;
   virtual bool Inverse(const Jet* flange_position_mm, const Jet* params, Jet* q) const;
   virtual std::string InverseFailure(const double* flange_position_mm, const double* params) const;
+
+  // The model at `params` as a chain of revolute joints (serial_chain.h) whose ChainFlangePose
+  // equals Forward at every q. False when the arm is not one (a delta arm's motors do not carry
+  // each other): exports that need a chain (URDF, vendors' kinematics files) are then refused.
+  virtual bool AsSerialChain(const double* /*params*/, SerialChain* /*chain*/) const {
+    return false;
+  }
+  // The robot config (YAML text, the schema this model's plugin reads) that builds this model
+  // with `params` as its nominal values, so that a calibration becomes the next job's robot.
+  // `config` is the config the model was built from, for what the model does not keep (its name,
+  // description, comments it may quote). "" when the plugin cannot write its config.
+  virtual std::string CalibratedConfig(const ConfigNode& /*config*/,
+                                       const double* /*params*/) const {
+    return "";
+  }
 };
 
 // Turns one templated ForwardT into both virtual overloads (CRTP).

@@ -31,8 +31,9 @@ namespace cellmetry {
 
 // Bumped whenever a plugin-facing header changes incompatibly; plugins built against another
 // version are refused with a message saying so.
-inline constexpr int kPluginAbiVersion = 3;  // 2: inverse kinematics, limits, detectors;
+inline constexpr int kPluginAbiVersion = 4;  // 2: inverse kinematics, limits, detectors;
                                              // 3: effects, joint offsets and frames
+                                             // 4: serial chains and calibrated configs (exports)
 
 enum class PluginKind { kDetector, kRobotModel, kSolver, kEffect };
 std::string KindName(PluginKind kind);

@@ -1,0 +1,85 @@
+// CalibratedCell: what `cellmetry export` reads from a result folder (result.json,
+// cellmetry-result/1): every identified frame with its sigma, and each robot's model rebuilt
+// through the registry at the fitted values.
+//
+// A robot's model comes from the robot config the result recorded (`robots.<name>.model_config`,
+// the file's text at the time of the run) and every parameter's value at the answer
+// (`model_values`), so an export never depends on the config file still being there or
+// unchanged. Lengths mm, angles rad; frames T_parent_child as everywhere in cellmetry.
+//
+// Reading throws InputError (exit code 2) naming result.json for: a missing folder or file, a
+// file that is not a cellmetry result, a result written before results recorded their robots'
+// models, and a recorded model the installed plugin no longer builds with those parameters.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cellmetry/basics/transform.h"
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/model/robot_model.h"
+#include "cellmetry/registry/registry.h"
+
+namespace cellmetry {
+
+// A frame of the result: T_parent_name with the sigma of its translation (mm) and of small
+// rotations about the parent's axes (rad); a held entry has no sigma.
+struct CalibratedFrame {
+  std::string name;    // "ur3.base", "tool", "cam1"
+  std::string parent;  // "world" or "<robot>.flange"
+  Pose T_parent_frame;
+  std::array<std::optional<double>, 6> sigma;  // x y z (mm), rx ry rz (rad); empty = held
+};
+
+// A scalar the fit reports beside the frames: a model parameter ("ur3.model.j2.d") or an
+// effect's ("ur3.joint_compliance.k2", "camera.depth_bias.scale").
+struct FittedScalar {
+  std::string name;
+  std::string unit;
+  double value = 0.0;
+  std::optional<double> sigma;  // empty: held (not identifiable)
+};
+
+struct CalibratedRobot {
+  std::string name;                        // as in the recording
+  std::string model_type;                  // the config's `type:` (a robot-model plugin)
+  std::string model_file;                  // where the config was read at the run
+  std::shared_ptr<const ConfigNode> model_config;   // the recorded config
+  std::shared_ptr<const RobotModel> model;          // built from it by the registry
+  std::vector<double> values;              // every model parameter at the answer, model order
+  std::vector<FittedScalar> fitted;        // its parameters the job freed, with sigma
+  std::vector<FittedScalar> effects;       // effect parameters fitted in its chain
+};
+
+// The covariance of the result's free parameters (result.json `free_parameters`, `sigma`,
+// `correlation`), by name: what relative frames' sigma is propagated from.
+struct ParameterCovariance {
+  std::vector<std::string> names;
+  Eigen::MatrixXd covariance;
+  // Index of `name`, or -1 when it was not free.
+  int Find(const std::string& name) const;
+};
+
+struct CalibratedCell {
+  std::string folder;       // the result folder as given
+  std::string json_path;    // <folder>/result.json, for messages
+  std::vector<CalibratedFrame> frames;
+  std::vector<CalibratedRobot> robots;
+  std::vector<FittedScalar> camera_effects;  // measurement effects ("camera.<type>.<param>")
+  ParameterCovariance covariance;
+};
+
+CalibratedCell ReadCalibratedCell(const std::string& result_folder, const Registry& registry);
+
+// The frame called `name`, or nullptr.
+const CalibratedFrame* FindFrame(const CalibratedCell& cell, const std::string& name);
+
+// The robot an export is about: `requested` by name, or the result's only robot when empty.
+// InputError when the result has no robot, several and none requested, or none of that name.
+const CalibratedRobot& ChooseRobot(const CalibratedCell& cell, const std::string& requested);
+
+}  // namespace cellmetry
