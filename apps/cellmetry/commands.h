@@ -25,5 +25,6 @@ void AddCompareCommand(CLI::App& app, Context& context);
 void AddDetectCommand(CLI::App& app, Context& context);
 void AddDiagnoseCommand(CLI::App& app, Context& context);
 void AddPlanCommand(CLI::App& app, Context& context);
+void AddImportCommand(CLI::App& app, Context& context);
 
 }  // namespace cellmetry::app

@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   app::AddDetectCommand(cli, context);
   app::AddDiagnoseCommand(cli, context);
   app::AddPlanCommand(cli, context);
+  app::AddImportCommand(cli, context);
   app::AddPluginsCommand(cli, context);
   try {
     cli.parse(argc, argv);
