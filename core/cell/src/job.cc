@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <set>
 
+#include "length_scale_check.h"
+
 namespace cellmetry {
 namespace {
 
@@ -421,6 +423,8 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
       }
     }
   }
+  // Lengths a thousand times off (m declared, mm held, or the reverse) against the robot's size.
+  CheckLengthScale(job, recording);
 }
 
 }  // namespace cellmetry
