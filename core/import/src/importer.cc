@@ -174,8 +174,10 @@ class Importer {
     sample.robot = m_.robot;
     for (size_t j = 0; j < joints_.size(); ++j) {
       sample.q.push_back(Limited(row, joints_[j], m_.joint_to_rad, kMaxJointRad,
-                                 "Check the joints' unit in the mapping (robot: {angle: deg} for "
-                                 "degrees)"));
+                                 m_.joint_to_rad == 1.0
+                                     ? "The mapping reads the joints in rad; if they are degrees, "
+                                       "say robot: {angle: deg}"
+                                     : "Check the value (the joints are read in degrees)"));
     }
     if (time_) sample.time_s = Fact(row, *time_, *m_.time_s);
     if (temperature_) sample.temperature_c = Fact(row, *temperature_, *m_.temperature_c);
@@ -254,7 +256,9 @@ class Importer {
                                                "'? Or list it under targets: in the mapping");
     }
     const std::string length_hint =
-        "Check the length unit in the mapping (units: {length: m} for metres)";
+        spec.to_mm == 1.0 ? "Check the value (the mapping reads lengths in mm)"
+                          : "The mapping reads lengths in m; if the table holds millimetres, say "
+                            "units: {length: mm}";
     Pose T;  // as the table gives it, mm
     bool has_rotation = false;
     bool rotation_vector = false;
