@@ -2,6 +2,7 @@
 // the robot config's motion of the flange, at the same joint readings.
 #include "length_scale_check.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -29,54 +30,83 @@ std::string Mm(double value) {
   return text;
 }
 
-// Where the recording says its length unit, and what it says ("" when not from a folder).
-SourceLocation DeclaredLength(const Recording& recording, std::string* unit) {
+// Where `file` (a recording.yaml or a robot config) says its length unit, and what it says;
+// an empty location when the file cannot tell.
+SourceLocation DeclaredLength(const std::string& file, std::string* unit) {
   unit->clear();
-  if (recording.folder.empty()) return {};
-  const std::string header = recording.folder + "/recording.yaml";
+  if (file.empty() || !std::filesystem::is_regular_file(file)) return {};
   try {
-    const ConfigNode root = ConfigNode::LoadFile(header);
+    const ConfigNode root = ConfigNode::LoadFile(file);
+    if (!root.Has("units")) return {file, 0, 0};
     const ConfigNode units = root["units"];
-    if (units.Has("length")) {
-      *unit = units["length"].AsString();
-      return units["length"].location();
-    }
-    return units.location();
+    if (!units.Has("length")) return units.location();
+    *unit = units["length"].AsString();
+    return units["length"].location();
   } catch (const InputError&) {
-    return {header, 0, 0};
+    return {file, 0, 0};
   }
+}
+
+// Where a camera in a robot cell sees a target: 2 cm to 20 m (mm).
+bool PlausibleCameraDistance(double mm) { return mm >= 20.0 && mm <= 2e4; }
+
+double Median(std::vector<double> values) {
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
 }
 
 [[noreturn]] void Refuse(const WorkcellJob& job, const WorkcellRobot& robot,
                          const Recording& recording, const std::string& target,
-                         const std::string& camera, double observed, double flange) {
+                         const std::string& camera, double observed, double flange,
+                         double distance) {
   const double ratio = observed / flange;
-  std::string unit;
-  SourceLocation where = DeclaredLength(recording, &unit);
-  if (where.file.empty()) where = job.Where("robots." + robot.name);
   const bool larger = ratio > 1.0;
   const double factor = larger ? ratio : 1.0 / ratio;
   const bool thousand = factor > 300.0 && factor < 3000.0;
   char size[32];
   std::snprintf(size, sizeof(size), "%.0f", thousand ? 1000.0 : factor);
   const std::string what =
-      "the recording's lengths are about " + std::string(size) + " times too " +
-      (larger ? "large" : "small") + " for robot '" + robot.name + "': target '" + target +
-      "' moves over " + Mm(observed) + " in " + camera + " (RMS about its mean) where " +
+      "the recording and robot " + robot.name + " disagree in size by about " + size +
+      " times: target '" + target + "' moves over " + Mm(observed) + " in " + camera +
+      " (RMS about its mean, seen at a median " + Mm(distance) + " from the camera) where " +
       robot.model_file + " moves the flange over " + Mm(flange) + " at the same joint readings";
-  const std::string right = larger ? "mm" : "m";
-  std::string hint = "Check units: in recording.yaml";
-  if (thousand && unit != right) {
-    hint = std::string("Its numbers look like ") + (larger ? "millimetres" : "metres") +
-           (unit.empty() ? "" : " but recording.yaml declares length: " + unit) +
-           ": declare units: {length: " + right + "}";
+  // Which of the two is off: a camera sees targets between 2 cm and 20 m away.
+  const bool recording_off = !PlausibleCameraDistance(distance);
+  std::string unit;
+  SourceLocation where;
+  std::string hint;
+  if (recording_off) {
+    where = DeclaredLength(recording.folder.empty() ? "" : recording.folder + "/recording.yaml",
+                           &unit);
+    const std::string right = larger ? "mm" : "m";
+    hint = "A camera does not see its target " + Mm(distance) + " away";
+    if (thousand && unit != right) {
+      hint = std::string("The recording's numbers look like ") +
+             (larger ? "millimetres" : "metres") +
+             (unit.empty() ? "" : " but recording.yaml declares length: " + unit) +
+             ": declare units: {length: " + right + "}";
+    } else {
+      hint += ": check units: in recording.yaml";
+    }
+    if (!recording.folder.empty() &&
+        std::filesystem::exists(recording.folder + "/import.yaml")) {
+      hint += "; this recording was imported (import.yaml): fix units: in its mapping and "
+              "import it again";
+    }
+  } else {
+    where = DeclaredLength(robot.model_file, &unit);
+    hint = "The recording's distances are plausible, so the robot config's lengths look " +
+           std::string(size) + " times too " + (larger ? "small" : "large");
+    if (thousand) {
+      const std::string right = larger ? "m" : "mm";
+      hint += unit.empty() || unit == right
+                  ? ": check its numbers and units:"
+                  : ": it declares length: " + unit + "; declare units: {length: " + right + "}";
+    } else {
+      hint += ": check its numbers and units:";
+    }
   }
-  if (!recording.folder.empty() &&
-      std::filesystem::exists(recording.folder + "/import.yaml")) {
-    hint += "; this recording was imported (import.yaml): fix units: in its mapping and import "
-            "it again";
-  }
-  hint += "; or check the units of the robot config " + robot.model_file;
+  if (where.file.empty()) where = job.Where("robots." + robot.name);
   throw InputError(where, what, hint);
 }
 
@@ -100,19 +130,22 @@ void CheckLengthScale(const WorkcellJob& job, const Recording& recording) {
     for (const auto& tool : robot.tools) {
       for (const auto& camera : recording.cameras) {
         std::vector<Eigen::Vector3d> observed, moved;
+        std::vector<double> distances;
         for (const auto& o : recording.observations) {
           if (o.target != tool.target || o.camera != camera) continue;
           const auto f = flange.find(o.sample);
           if (f == flange.end()) continue;
           observed.push_back(o.position_mm);
           moved.push_back(f->second);
+          distances.push_back(o.position_mm.norm());
         }
         if (observed.size() < 3) continue;
         const double flange_spread = Spread(moved);
         if (flange_spread < 1.0) continue;
         const double ratio = Spread(observed) / flange_spread;
         if (ratio > kLengthScaleLimit || ratio < 1.0 / kLengthScaleLimit) {
-          Refuse(job, robot, recording, tool.target, camera, Spread(observed), flange_spread);
+          Refuse(job, robot, recording, tool.target, camera, Spread(observed), flange_spread,
+                 Median(distances));
         }
       }
     }

@@ -6,10 +6,12 @@
 // target positions spread (RMS distance from their mean, in the camera: rotation does not
 // change it) with how far the robot's nominal model moves its flange at the same recorded joint
 // readings (robot config, base frame). The two describe one motion and agree to the tool's
-// offset; a ratio beyond kLengthScaleLimit either way is refused, naming the likely cause
-// (about 1000: the recording's lengths are millimetres declared as metres; about 1/1000: the
-// reverse) at recording.yaml's `units:`. Skipped where the robot barely moves (flange spread
-// below 1 mm) or fewer than three poses were seen.
+// offset; a ratio beyond kLengthScaleLimit either way is refused with the likely cause. Which
+// side is off, the target-to-camera distances tell: a camera sees its target between 2 cm and
+// 20 m away. Outside that, the recording is blamed at recording.yaml's `units:` (about 1000
+// times too large: millimetres declared as metres; too small: the reverse); inside it, the
+// robot config at its `units:`. Skipped where the robot barely moves (flange spread below 1 mm)
+// or fewer than three poses were seen.
 #pragma once
 
 #include "cellmetry/cell/job.h"
