@@ -14,6 +14,8 @@
 #include <tuple>
 
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/cell/job.h"
+#include "cellmetry/cell/result_io.h"
 #include "cellmetry/formats/recording.h"
 #include "cellmetry/import/data_table.h"
 #include "cellmetry/import/importer.h"
@@ -682,6 +684,52 @@ TEST_F(ImportEveryConvention, CommandWritesAMarkedRecordingThatReadsBack) {
   r = testing::RunCellmetry("import " + mapping + " -o " + out);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(out + ".previous/samples.csv"));
+}
+
+// The example docs/your-data.md walks through: the spreadsheet excerpt of VSB experiment A
+// imports to the bundled recording's numbers, and its job finds the measured placement.
+TEST(BundledExample, SpreadsheetExcerptImportsToTheBundledRecordingAndItsJobRuns) {
+  const Recording imported = ImportRecording(testing::Source("configs/import/vsb_exp_a_excerpt.yaml"));
+  const Recording exp_a = ReadRecording(testing::Source("tests/data/vsb/exp_a"));
+  ASSERT_EQ(imported.samples.size(), 96u);
+  ASSERT_EQ(imported.observations.size(), 576u);
+  // Imported sample i is the i-th capture the table names; capture ids are exp_a's sample ids.
+  const DataTable table = ReadCsvTable(testing::Source("configs/import/vsb_exp_a_excerpt.csv"), {});
+  std::vector<int> capture;
+  for (size_t row = 0; row < table.num_rows(); ++row) {
+    const int id = static_cast<int>(table.Number(row, *table.ColumnIndex("capture")));
+    if (capture.empty() || capture.back() != id) capture.push_back(id);
+  }
+  ASSERT_EQ(capture.size(), imported.samples.size());
+  double worst_mm = 0, worst_rad = 0;
+  for (const auto& o : imported.observations) {
+    const Sample& original = exp_a.samples[exp_a.SampleIndex(capture[o.sample])];
+    EXPECT_EQ(imported.samples[o.sample].q, original.q);
+    EXPECT_EQ(imported.samples[o.sample].pose, original.pose / 8);
+    const auto match = std::find_if(exp_a.observations.begin(), exp_a.observations.end(),
+                                    [&](const Observation& e) {
+                                      return e.sample == original.id && e.camera == o.camera &&
+                                             e.target == o.target;
+                                    });
+    ASSERT_NE(match, exp_a.observations.end());
+    worst_mm = std::max(worst_mm, (o.position_mm - match->position_mm).cwiseAbs().maxCoeff());
+    worst_rad = std::max(worst_rad, AngleBetween(RotationFromRvec(o.rvec->data()),
+                                                 RotationFromRvec(match->rvec->data())));
+  }
+  EXPECT_LT(worst_mm, 1e-9);
+  EXPECT_LT(worst_rad, 1e-8);  // the table's angles carry 7 decimals of a degree
+  // Its job, on the imported recording: the base within 3 sigma of the measured placement.
+  const WorkcellJob job = LoadWorkcellJob(testing::Source("configs/jobs/vsb_exp_a_excerpt.yaml"),
+                                          testing::Plugins(), /*recording_must_exist=*/false);
+  ValidateJobAgainstRecording(job, imported);
+  const WorkcellResult result = testing::Identify(job, imported);
+  const FrameEstimate& base = testing::Frame(result, "ur3.base");
+  const Eigen::Vector3d placement(431.0, 555.0, -460.0);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_LT(std::abs(base.pose.t[i] - placement[i]), 3 * base.sigma_mm[i]) << "xyz"[i];
+  }
+  EXPECT_THAT(WorkcellSummary(result),
+              HasSubstr("(spread of 3 repeated captures at each of 32 poses)"));
 }
 
 }  // namespace
