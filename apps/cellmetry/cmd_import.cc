@@ -33,9 +33,8 @@ void Import(const std::string& mapping_path, const std::string& output) {
   const Recording recording = ImportTable(mapping, table);
   // The mapping goes with the recording, for whoever wonders where the numbers came from.
   const std::string provenance =
-      "# The mapping this recording was imported with by `cellmetry import` (never read by\n"
-      "# cellmetry). Mapping: " + std::filesystem::absolute(mapping_path).string() +
-      "\n# Table: " + std::filesystem::absolute(mapping.table_path).string() + "\n" +
+      "# The mapping this recording was imported with by `cellmetry import " + mapping_path +
+      "`\n# (its table: relative to that file). Never read by cellmetry.\n" +
       ReadFile(mapping_path);
   WriteRecording(recording, output, "", [&](const std::string& staging) {
     AtomicWriteFile(staging + "/import.yaml", provenance);
