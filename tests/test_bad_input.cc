@@ -358,23 +358,31 @@ TEST_F(BadInput, RobotConfigInMillimetresDeclaredMetresIsBlamedNotTheRecording) 
   EXPECT_THAT(r.output, HasSubstr("moves the flange over 2.71e+05 mm at the same joint readings"));
 }
 
-TEST_F(BadInput, ImportedRecordingInMillimetresDeclaredMetresPointsAtItsMapping) {
-  // Where the job is loaded, not only through `run`: a recording read with length: m whose
-  // numbers were millimetres (beyond the reader's 100 m for sim_b, so built in memory).
+TEST_F(BadInput, MillimetresReadAsMetresAreRefusedWhereTheJobIsLoaded) {
+  // Where the job is loaded, not only through `run`. Numbers in mm read as m are a thousand
+  // times too large: beyond the reader's 100 m for sim_b, so the recording is built in memory.
   WriteJob();
-  testing::WriteText(recording_ + "/recording.yaml",
-                     ReplaceOnce(ReadText(recording_ + "/recording.yaml"), "length: mm", "length: m"));
-  testing::WriteText(recording_ + "/import.yaml", "# the mapping it was imported with\n");
   Recording recording = ReadRecording(testing::Source("tests/data/vsb/sim_b"));
   recording.folder = recording_;
   for (auto& o : recording.observations) o.position_mm *= 1000.0;
   const WorkcellJob job = LoadWorkcellJob(job_, testing::Plugins());
-  const InputError e = testing::CatchInputError([&] { ValidateJobAgainstRecording(job, recording); });
+  // A recording that declares m.
+  testing::WriteText(recording_ + "/recording.yaml",
+                     ReplaceOnce(ReadText(recording_ + "/recording.yaml"), "length: mm", "length: m"));
+  InputError e = testing::CatchInputError([&] { ValidateJobAgainstRecording(job, recording); });
   EXPECT_EQ(FormatLocation(e.where()), recording_ + "/recording.yaml:3:17: ");
   EXPECT_THAT(e.message(), HasSubstr("disagree in size by about 1000 times"));
-  EXPECT_THAT(e.hint(), HasSubstr("look like millimetres but recording.yaml declares length: m: "
-                                  "declare units: {length: mm}"));
-  EXPECT_THAT(e.hint(), HasSubstr("fix units: in its mapping and import it again"));
+  EXPECT_EQ(e.hint(), "The recording's numbers look like millimetres but recording.yaml "
+                      "declares length: m: declare units: {length: mm}");
+  // An imported recording (always written in mm): the mapping is what to fix.
+  testing::WriteText(recording_ + "/recording.yaml",
+                     ReplaceOnce(ReadText(recording_ + "/recording.yaml"), "length: m", "length: mm"));
+  testing::WriteText(recording_ + "/import.yaml", "# the mapping it was imported with\n");
+  e = testing::CatchInputError([&] { ValidateJobAgainstRecording(job, recording); });
+  EXPECT_EQ(FormatLocation(e.where()), recording_ + "/recording.yaml:3:17: ");
+  EXPECT_EQ(e.hint(), "This recording was imported (its mapping is in import.yaml): the table's "
+                      "lengths look like millimetres; say units: {length: mm} in the mapping and "
+                      "import it again");
   // The same recording at its true scale passes.
   for (auto& o : recording.observations) o.position_mm /= 1000.0;
   ValidateJobAgainstRecording(job, recording);

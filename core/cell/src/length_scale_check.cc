@@ -80,18 +80,21 @@ double Median(std::vector<double> values) {
                            &unit);
     const std::string right = larger ? "mm" : "m";
     hint = "A camera does not see its target " + Mm(distance) + " away";
-    if (thousand && unit != right) {
-      hint = std::string("The recording's numbers look like ") +
-             (larger ? "millimetres" : "metres") +
+    const bool imported = !recording.folder.empty() &&
+                          std::filesystem::exists(recording.folder + "/import.yaml");
+    const std::string looks = std::string(larger ? "millimetres" : "metres");
+    if (imported) {
+      hint = "This recording was imported (its mapping is in import.yaml): " +
+             (thousand ? "the table's lengths look like " + looks + "; say units: {length: " +
+                             right + "} in the mapping"
+                       : std::string("check units: in the mapping")) +
+             " and import it again";
+    } else if (thousand && unit != right) {
+      hint = "The recording's numbers look like " + looks +
              (unit.empty() ? "" : " but recording.yaml declares length: " + unit) +
              ": declare units: {length: " + right + "}";
     } else {
       hint += ": check units: in recording.yaml";
-    }
-    if (!recording.folder.empty() &&
-        std::filesystem::exists(recording.folder + "/import.yaml")) {
-      hint += "; this recording was imported (import.yaml): fix units: in its mapping and "
-              "import it again";
     }
   } else {
     where = DeclaredLength(robot.model_file, &unit);
