@@ -539,7 +539,9 @@ void ExpectSameRecording(const Recording& read, const Recording& truth, bool rot
     for (const auto& [x, y] : {std::pair{s.time_s, t.time_s}, {s.temperature_c, t.temperature_c},
                                {s.payload_kg, t.payload_kg}}) {
       ASSERT_EQ(x.has_value(), y.has_value());
-      if (x) ASSERT_NEAR(*x, *y, kTolerance);
+      if (x) {
+        ASSERT_NEAR(*x, *y, kTolerance);
+      }
     }
   }
   auto sorted = [](std::vector<Observation> list) {

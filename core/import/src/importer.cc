@@ -15,6 +15,8 @@ namespace {
 // What no camera in a robot cell measures and no joint reads (as the recording reader says).
 constexpr double kMaxPositionMm = 1e5;  // 100 m
 constexpr double kMaxJointRad = 100.0;  // sixteen turns
+// No rotation needs an angle beyond a full turn: one is degrees read as radians.
+constexpr double kFullTurn = 2 * M_PI + 1e-6;
 // Rows of one sample are one robot state: their joints and facts agree to rounding.
 constexpr double kSameSampleTolerance = 1e-9;
 
@@ -296,6 +298,15 @@ class Importer {
         double v[9];
         for (size_t i = 0; i < b.rotation.size(); ++i) {
           v[i] = table_.Number(row, b.rotation[i]) * (c.values_are_angles() ? spec.to_rad : 1.0);
+          if (c.values_are_angles() && std::abs(v[i]) > kFullTurn) {
+            throw table_.Error(
+                row, b.rotation[i],
+                "'" + table_.Cell(row, b.rotation[i]) + (spec.to_rad == 1.0 ? " rad" : " deg") +
+                    "' is more than a full turn",
+                spec.to_rad == 1.0 ? "The mapping reads these angles in rad; if they are degrees, "
+                                     "say units: {angle: deg} (or angle: deg in this observation)"
+                                   : "Check the value");
+          }
         }
         T.R = Rotation(row, b.rotation[0], c, v);
         has_rotation = true;

@@ -20,7 +20,7 @@
 // Contract: ReadImportMapping checks every key (unknown keys with a "did you mean", missing
 // required keys with what to add, conventions and units by name) and raises InputError at the
 // mapping's line and column. Whether the named columns exist is checked against the table
-// (CheckMappedColumns, importer.h), at the mapping's line, with the nearest column name.
+// (ImportTable, importer.h), at the mapping's line, with the nearest column name.
 // Every scale factor here turns the table's unit into cellmetry's (mm, rad, s, degC, kg).
 #pragma once
 

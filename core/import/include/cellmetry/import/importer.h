@@ -13,7 +13,8 @@
 //    in the target. A row that leaves all of an entry's cells empty did not see that target;
 //    one that fills some of them is an error.
 //  - Every cell is checked where it is (file:line:column, with its data row): not a number,
-//    not finite, beyond any measurement (a position beyond 100 m, a joint beyond 100 rad), a
+//    not finite, beyond any measurement (a position beyond 100 m, a joint beyond 100 rad, an
+//    Euler, roll-pitch-yaw or rotation-vector angle beyond a full turn), a
 //    rotation matrix not orthonormal, a quaternion not unit within its tolerance, a name with a
 //    comma, a target not under `targets:`, rows of one sample that disagree.
 #pragma once
