@@ -3,10 +3,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "cellmetry/formats/recording.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -309,6 +311,81 @@ TEST_F(BadInput, AByteOrderMarkBeforeTheHeaderIsNotPartOfTheFirstColumn) {
                      "\xEF\xBB\xBF" + ReadText(recording_ + "/samples.csv"));
   const auto r = Run();
   EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// observations.csv with every position multiplied by `scale` (a unit mix-up), rotations kept.
+std::string ScaledObservations(const std::string& text, double scale) {
+  std::istringstream in(text);
+  std::string out;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::stringstream split(line);
+    for (std::string cell; std::getline(split, cell, ',');) cells.push_back(cell);
+    if (out.empty()) {
+      out += line + "\n";  // the header
+      continue;
+    }
+    for (int i = 3; i < 6; ++i) {
+      char number[32];
+      std::snprintf(number, sizeof(number), "%.9g", std::stod(cells[i]) * scale);
+      cells[i] = number;
+    }
+    for (size_t i = 0; i < cells.size(); ++i) out += (i ? "," : "") + cells[i];
+    out += "\n";
+  }
+  return out;
+}
+
+TEST_F(BadInput, RecordingInMetresDeclaredMillimetresIsRefusedWithTheLikelyCause) {
+  WriteJob();
+  testing::WriteText(recording_ + "/observations.csv",
+                     ScaledObservations(ReadText(recording_ + "/observations.csv"), 1e-3));
+  const auto r = Run();
+  ExpectRejected(r, "sim_b/recording.yaml:3:17:",
+                 "The recording's numbers look like metres but recording.yaml declares length: "
+                 "mm: declare units: {length: m}");
+  EXPECT_THAT(r.output, HasSubstr("the recording and robot ur3 disagree in size by about 1000 "
+                                  "times: target 'tool' moves over 0.277 mm in cam1"));
+}
+
+TEST_F(BadInput, RobotConfigInMillimetresDeclaredMetresIsBlamedNotTheRecording) {
+  WriteJob();
+  testing::WriteText(robot_, ReplaceOnce(ReadText(robot_), "length: mm", "length: m"));
+  const auto r = Run();
+  ExpectRejected(r, "ur3.yaml:6:17:",
+                 "the robot config's lengths look 1000 times too large: it declares length: m; "
+                 "declare units: {length: mm}");
+  EXPECT_THAT(r.output, HasSubstr("moves the flange over 2.71e+05 mm at the same joint readings"));
+}
+
+TEST_F(BadInput, MillimetresReadAsMetresAreRefusedWhereTheJobIsLoaded) {
+  // Where the job is loaded, not only through `run`. Numbers in mm read as m are a thousand
+  // times too large: beyond the reader's 100 m for sim_b, so the recording is built in memory.
+  WriteJob();
+  Recording recording = ReadRecording(testing::Source("tests/data/vsb/sim_b"));
+  recording.folder = recording_;
+  for (auto& o : recording.observations) o.position_mm *= 1000.0;
+  const WorkcellJob job = LoadWorkcellJob(job_, testing::Plugins());
+  // A recording that declares m.
+  testing::WriteText(recording_ + "/recording.yaml",
+                     ReplaceOnce(ReadText(recording_ + "/recording.yaml"), "length: mm", "length: m"));
+  InputError e = testing::CatchInputError([&] { ValidateJobAgainstRecording(job, recording); });
+  EXPECT_EQ(FormatLocation(e.where()), recording_ + "/recording.yaml:3:17: ");
+  EXPECT_THAT(e.message(), HasSubstr("disagree in size by about 1000 times"));
+  EXPECT_EQ(e.hint(), "The recording's numbers look like millimetres but recording.yaml "
+                      "declares length: m: declare units: {length: mm}");
+  // An imported recording (always written in mm): the mapping is what to fix.
+  testing::WriteText(recording_ + "/recording.yaml",
+                     ReplaceOnce(ReadText(recording_ + "/recording.yaml"), "length: m", "length: mm"));
+  testing::WriteText(recording_ + "/import.yaml", "# the mapping it was imported with\n");
+  e = testing::CatchInputError([&] { ValidateJobAgainstRecording(job, recording); });
+  EXPECT_EQ(FormatLocation(e.where()), recording_ + "/recording.yaml:3:17: ");
+  EXPECT_EQ(e.hint(), "This recording was imported (its mapping is in import.yaml): the table's "
+                      "lengths look like millimetres; say units: {length: mm} in the mapping and "
+                      "import it again");
+  // The same recording at its true scale passes.
+  for (auto& o : recording.observations) o.position_mm /= 1000.0;
+  ValidateJobAgainstRecording(job, recording);
 }
 
 TEST_F(BadInput, SimulatingNoPosesIsRefused) {

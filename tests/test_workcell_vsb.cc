@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
+#include "cellmetry/estimation/noise_model.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -65,6 +67,29 @@ TEST(ExpA, StaticCamerasPredictHeldOutPosesBetterThanPerFrameWorldTags) {
   }
   ASSERT_EQ(cameras, 3);
   EXPECT_LT(std::sqrt(floor_sq / cameras), static_rms);
+  // And the summary says in words where the floor came from.
+  EXPECT_THAT(WorkcellSummary(r),
+              ::testing::HasSubstr("mm (spread of 10 repeated captures at each of 250 poses)\n"));
+}
+
+TEST(NoiseFloor, SaysInWordsWhereItCameFrom) {
+  Recording exp_a = ReadRecording(testing::Source("tests/data/vsb/exp_a"));
+  const NoiseModel all = EstimateRepeatability(exp_a);
+  EXPECT_EQ(all.at("cam2", "tool").source, "spread of 10 repeated captures at each of 250 poses");
+  EXPECT_EQ(all.at("cam2", "world").source, "spread of 2500 captures of a world-fixed target");
+  // Keep 3 captures of pose 0 and every capture of poses 1 and 2: counts that differ, said so.
+  std::set<int> kept;
+  for (const auto& s : exp_a.samples) {
+    if ((s.pose == 0 && s.id % 10 < 3) || s.pose == 1 || s.pose == 2) kept.insert(s.id);
+  }
+  std::vector<Observation> observations;
+  for (const auto& o : exp_a.observations) {
+    if (kept.count(o.sample)) observations.push_back(o);
+  }
+  exp_a.observations = observations;
+  const NoiseModel few = EstimateRepeatability(exp_a);
+  EXPECT_EQ(few.at("cam1", "tool").source, "spread of 3 to 10 repeated captures at each of 3 poses");
+  EXPECT_EQ(few.at("cam1", "world").source, "spread of 23 captures of a world-fixed target");
 }
 
 // Sigma that covers the independent truth (issue 13): the placement measured when the robot was

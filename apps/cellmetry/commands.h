@@ -26,5 +26,6 @@ void AddDetectCommand(CLI::App& app, Context& context);
 void AddDiagnoseCommand(CLI::App& app, Context& context);
 void AddPlanCommand(CLI::App& app, Context& context);
 void AddExportCommand(CLI::App& app, Context& context);
+void AddImportCommand(CLI::App& app, Context& context);
 
 }  // namespace cellmetry::app

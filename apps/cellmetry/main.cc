@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   app::AddDiagnoseCommand(cli, context);
   app::AddPlanCommand(cli, context);
   app::AddExportCommand(cli, context);
+  app::AddImportCommand(cli, context);
   app::AddPluginsCommand(cli, context);
   try {
     cli.parse(argc, argv);

@@ -8,6 +8,8 @@
 #include <set>
 #include <sstream>
 
+#include "length_scale_check.h"
+
 namespace cellmetry {
 namespace {
 
@@ -432,6 +434,8 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
       }
     }
   }
+  // Lengths a thousand times off (m declared, mm held, or the reverse) against the robot's size.
+  CheckLengthScale(job, recording);
 }
 
 }  // namespace cellmetry

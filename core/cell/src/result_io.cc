@@ -52,6 +52,16 @@ double NoiseFloorMm(const WorkcellResult& r, const std::string& camera = "") {
   return count ? std::sqrt(sum / count) : NAN;
 }
 
+// " (spread of 3 repeated captures at each of 250 poses)": where NoiseFloorMm's floor came
+// from, when every camera's carried targets say the same ("" otherwise).
+std::string NoiseFloorSource(const WorkcellResult& r) {
+  std::set<std::string> sources;
+  for (const auto& [key, n] : r.repeatability.entries) {
+    if (key.second != "world") sources.insert(n.source);
+  }
+  return sources.size() == 1 ? " (" + *sources.begin() + ")" : "";
+}
+
 std::vector<double> Vec6(const Eigen::Matrix<double, 6, 1>& v) {
   return {v[0], v[1], v[2], v[3], v[4], v[5]};
 }
@@ -276,7 +286,7 @@ std::string WorkcellSummary(const WorkcellResult& r) {
     out << "; noise floor "
         << (std::isnan(floor) ? std::string("unknown (no repeated captures)")
                               : Fixed(floor, 3) + " mm")
-        << "\n";
+        << NoiseFloorSource(r) << "\n";
   }
   if (r.validation) {
     const RecordingScore& v = *r.validation;

@@ -2,6 +2,7 @@
 // covariance (never below the scatter of repeated captures), else that pooled scatter.
 #include "cellmetry/estimation/noise_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -18,7 +19,23 @@ struct Accumulator {
   int position_dof = 0;
   int rotation_dof = 0;
   int groups = 0;
+  int fewest = 0;       // captures in the smallest group
+  int most = 0;         // and in the largest
+  bool world = false;   // a world-fixed target: every capture is one group
 };
+
+// Where the floor came from, in words: "spread of 3 repeated captures at each of 250 poses".
+std::string RepeatsLabel(const Accumulator& acc) {
+  if (acc.world) {
+    return "spread of " + std::to_string(acc.most) + " captures of a world-fixed target";
+  }
+  const std::string captures = acc.fewest == acc.most
+                                   ? std::to_string(acc.most)
+                                   : std::to_string(acc.fewest) + " to " + std::to_string(acc.most);
+  return "spread of " + captures + " repeated captures at " +
+         (acc.groups == 1 ? std::string("one pose")
+                          : "each of " + std::to_string(acc.groups) + " poses");
+}
 
 }  // namespace
 
@@ -41,6 +58,10 @@ NoiseModel EstimateRepeatability(const Recording& recording) {
     if (members.size() < 2) continue;
     Accumulator& acc = sums[{std::get<0>(key), std::get<1>(key)}];
     ++acc.groups;
+    const int size = static_cast<int>(members.size());
+    acc.fewest = acc.groups == 1 ? size : std::min(acc.fewest, size);
+    acc.most = std::max(acc.most, size);
+    acc.world = recording.targets.at(std::get<1>(key)) == kWorldCarrier;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (const auto* o : members) mean += o->position_mm;
     mean /= static_cast<double>(members.size());
@@ -63,7 +84,7 @@ NoiseModel EstimateRepeatability(const Recording& recording) {
     noise.position_mm = (acc.position_ss / acc.position_dof).cwiseSqrt();
     if (acc.rotation_dof > 0) noise.rotation_rad = (acc.rotation_ss / acc.rotation_dof).cwiseSqrt();
     noise.repeat_groups = acc.groups;
-    noise.source = "repeats (" + std::to_string(acc.groups) + " groups)";
+    noise.source = RepeatsLabel(acc);
     model.entries[key] = noise;
   }
   return model;

@@ -41,7 +41,7 @@ double Within(const CsvTable& table, size_t row, const std::string& column, doub
 }
 
 
-// recording.yaml must say its units (DESIGN.md): no silent default.
+// recording.yaml must say its units (docs/formats.md): no silent default.
 Units ReadRecordingUnits(const ConfigNode& root) {
   if (!root.Has("units")) {
     throw root.Error("missing key 'units'", "Add 'units: {length: mm, angle: rad}'");

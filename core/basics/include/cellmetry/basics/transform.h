@@ -1,6 +1,6 @@
 // Rigid transforms, templated on the scalar so that one expression serves double and ceres::Jet.
 //
-// Convention (DESIGN.md): Transform T_a_b maps coordinates in frame b into frame a:
+// Convention (docs/formats.md): Transform T_a_b maps coordinates in frame b into frame a:
 //   p_a = T_a_b * p_b,   T_a_c = T_a_b * T_b_c.
 // Rotations are stored as 3x3 matrices; files carry rotation vectors (axis * angle, rad).
 #pragma once

@@ -36,7 +36,10 @@ struct NoiseSpec {
 struct TargetNoise {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Ones();
   Eigen::Vector3d rotation_rad = Eigen::Vector3d::Constant(1e-3);
-  std::string source = "unknown";  // "job", "repeats (N groups)", "residuals", "unknown"
+  // Where sigma came from, in words: "job", "spread of 3 repeated captures at each of 250
+  // poses", "spread of 2500 captures of a world-fixed target", "detections (N)", "residuals of a
+  // first fit", "unknown".
+  std::string source = "unknown";
   int repeat_groups = 0;           // groups with >= 2 captures that the estimate pooled
 };
 

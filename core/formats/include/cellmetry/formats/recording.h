@@ -1,4 +1,4 @@
-// Recording: the `cellmetry-recording/1` folder format (DESIGN.md, docs/formats.md).
+// Recording: the `cellmetry-recording/1` folder format (docs/formats.md).
 //
 //   recording.yaml    units, robots (name -> joint count), cameras, targets (name -> carrier)
 //   samples.csv       sample,robot,pose,q1..qN[,t][,temperature][,payload]

@@ -1,0 +1,111 @@
+// ImportMapping: the small YAML file (`mapping: cellmetry-import/1`) that says how a user's table
+// becomes a cellmetry recording — which columns are the joints, which hold the observed poses of
+// which target in which camera and in which convention and units, which rows repeat a pose, and
+// which columns are facts (time, temperature, payload). docs/formats.md has every key; in short:
+//
+//   mapping: cellmetry-import/1
+//   table: readings.csv                  # or {path, format: csv|jsonl, separator, decimal}
+//   units: {length: m, angle: deg}       # required: no silent default
+//   robot: {name: ur3, joints: [q1, q2, q3, q4, q5, q6], angle: rad}
+//   samples: {column: capture}           # rows sharing it are one robot state (default: a row)
+//   poses: {column: pose}                # or {consecutive_joints: 1e-9} (default: a sample)
+//   targets: {tool: {on: ur3}, world: {on: world}}
+//   observations:
+//     - camera: {column: camera}         # or a fixed name
+//       target: tool                     # or {column: target}
+//       position: [x, y, z]
+//       rotation: {convention: euler, order: XYZ, axes: extrinsic, columns: [a, b, c]}
+//   facts: {time: {column: t, unit: s}}
+//
+// Contract: ReadImportMapping checks every key (unknown keys with a "did you mean", missing
+// required keys with what to add, conventions and units by name) and raises InputError at the
+// mapping's line and column. Whether the named columns exist is checked against the table
+// (ImportTable, importer.h), at the mapping's line, with the nearest column name.
+// Every scale factor here turns the table's unit into cellmetry's (mm, rad, s, degC, kg).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cellmetry/basics/error.h"
+#include "cellmetry/import/data_table.h"
+#include "cellmetry/import/rotation_conventions.h"
+
+namespace cellmetry {
+
+inline constexpr char kImportMappingFormat[] = "cellmetry-import/1";
+
+// A column the mapping names, and where it names it (for "no such column" errors).
+struct ColumnRef {
+  std::string name;
+  SourceLocation where;
+};
+
+// A camera or target name: the same for every row, or read from a column.
+struct NameSource {
+  std::string fixed;
+  std::optional<ColumnRef> column;
+};
+
+struct RotationSpec {
+  RotationConvention convention;
+  std::vector<ColumnRef> columns;  // convention.value_count() of them, in the convention's order
+  SourceLocation where;
+};
+
+// One (camera, target) pose in each row (rows leaving all its cells empty did not see it).
+struct ObservationSpec {
+  NameSource camera;
+  NameSource target;
+  bool camera_in_target = false;   // the table holds T_target_camera (inverted on import)
+  std::vector<ColumnRef> position; // x, y, z; empty when `transform` gives it
+  std::optional<RotationSpec> rotation;  // none: position only (a dot)
+  std::vector<ColumnRef> transform;      // 4x4 (16) or its top three rows (12), row-major
+  bool transform_bottom_optional = false; // from a prefix: T41..T44 read only when the table has them
+  double transform_tolerance = 1e-3;
+  double to_mm = 1.0;              // the table's length unit -> mm
+  double to_rad = 1.0;             // the table's angle unit -> rad
+  SourceLocation where;
+};
+
+// A fact column: value_in_cellmetry_unit = value * scale + offset.
+struct FactSpec {
+  ColumnRef column;
+  double scale = 1.0;
+  double offset = 0.0;
+};
+
+enum class PoseGrouping { kEachSample, kColumn, kConsecutiveJoints };
+
+struct ImportMapping {
+  std::string file;              // the mapping's path
+  std::string description;
+  std::string table_path;        // resolved against the mapping's folder
+  bool json_lines = false;
+  CsvDialect csv;
+  SourceLocation table_where;
+
+  std::string robot;
+  std::vector<ColumnRef> joints;
+  double joint_to_rad = 1.0;
+
+  std::optional<ColumnRef> sample_column;
+  PoseGrouping poses = PoseGrouping::kEachSample;
+  std::optional<ColumnRef> pose_column;
+  double pose_joint_tolerance_rad = 0.0;
+
+  std::vector<std::pair<std::string, std::string>> targets;  // name -> robot or "world"
+  std::vector<ObservationSpec> observations;
+
+  std::optional<FactSpec> time_s;
+  std::optional<FactSpec> temperature_c;
+  std::optional<FactSpec> payload_kg;
+
+  // Every column the mapping names, for checking them against the table.
+  std::vector<const ColumnRef*> AllColumns() const;
+};
+
+ImportMapping ReadImportMapping(const std::string& path);
+
+}  // namespace cellmetry

@@ -1,0 +1,184 @@
+// ReadCsvTable (data_table.h): a spreadsheet's CSV export as it comes — a byte-order mark or
+// none, ',' ';' or tab between fields, quoted fields with separators, doubled quotes and line
+// breaks inside, a decimal comma.
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "cellmetry/import/data_table.h"
+
+namespace cellmetry {
+namespace {
+
+struct Field {
+  std::string text;
+  int position = 0;  // 1-based field number in its record
+};
+
+struct Record {
+  std::vector<Field> fields;
+  int line = 0;  // where the record starts
+};
+
+std::string Trim(const std::string& s) {
+  const size_t begin = s.find_first_not_of(" \t");
+  if (begin == std::string::npos) return "";
+  return s.substr(begin, s.find_last_not_of(" \t") - begin + 1);
+}
+
+std::string SeparatorName(char c) {
+  return c == '\t' ? "tab" : std::string("'") + c + "'";
+}
+
+// The separator the header line holds most of outside quotes (',' when it holds none).
+char DetectSeparator(const std::string& text, char decimal) {
+  std::map<char, int> counts = {{',', 0}, {';', 0}, {'\t', 0}};
+  bool quoted = false;
+  for (char c : text) {
+    if (c == '\n') break;
+    if (c == '"') quoted = !quoted;
+    if (!quoted && counts.count(c)) ++counts[c];
+  }
+  if (decimal == ',') counts.erase(',');
+  char best = decimal == ',' ? ';' : ',';
+  int most = 0;
+  for (const auto& [c, n] : counts) {
+    if (n > most) {
+      most = n;
+      best = c;
+    }
+  }
+  return best;
+}
+
+std::vector<Record> SplitRecords(const std::string& path, const std::string& text, char separator) {
+  std::vector<Record> records;
+  Record record;
+  std::string field;
+  bool quoted = false;       // inside a quoted field
+  bool was_quoted = false;   // this field was quoted (its spaces are its own)
+  int line = 1;
+  int quote_line = 0;
+  record.line = 1;
+  auto end_field = [&] {
+    record.fields.push_back({was_quoted ? field : Trim(field),
+                             static_cast<int>(record.fields.size()) + 1});
+    field.clear();
+    was_quoted = false;
+  };
+  auto end_record = [&] {
+    end_field();
+    const bool blank = record.fields.size() == 1 && record.fields[0].text.empty();
+    if (!blank) records.push_back(std::move(record));
+    record = Record();
+    record.line = line;
+  };
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (quoted) {
+      if (c == '"') {
+        if (i + 1 < text.size() && text[i + 1] == '"') {
+          field += '"';
+          ++i;
+        } else {
+          quoted = false;
+        }
+      } else {
+        if (c == '\n') ++line;
+        if (c != '\r') field += c;
+      }
+      continue;
+    }
+    if (c == '"' && Trim(field).empty()) {
+      quoted = true;
+      was_quoted = true;
+      quote_line = line;
+      field.clear();
+    } else if (c == separator) {
+      end_field();
+    } else if (c == '\n') {
+      ++line;
+      end_record();
+    } else if (c != '\r') {
+      field += c;
+    }
+  }
+  if (quoted) {
+    throw InputError({path, quote_line, static_cast<int>(record.fields.size()) + 1},
+                     "a quoted field is never closed",
+                     "Close the quote; a quote inside a quoted field is written twice (\"\")");
+  }
+  end_record();
+  return records;
+}
+
+}  // namespace
+
+DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw InputError({path, 0, 0}, "cannot open the table",
+                     "Check 'table:' in the mapping (a path relative to the mapping file)");
+  }
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  std::string text = buffer.str();
+  if (text.rfind("\xFF\xFE", 0) == 0 || text.rfind("\xFE\xFF", 0) == 0) {
+    throw InputError({path, 1, 0}, "the table is UTF-16 text",
+                     "Save it as CSV UTF-8 (in a spreadsheet: 'CSV UTF-8 (comma delimited)')");
+  }
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // UTF-8 byte-order mark
+  if (dialect.decimal != '.' && dialect.decimal != ',') {
+    throw InputError({path, 0, 0}, "decimal mark must be '.' or ','");
+  }
+  const char separator = dialect.separator ? dialect.separator
+                                           : DetectSeparator(text, dialect.decimal);
+  if (separator == dialect.decimal) {
+    throw InputError({path, 1, 0},
+                     "the separator and the decimal mark are both " + SeparatorName(separator),
+                     "A table with decimal commas separates its fields with ';' or tabs");
+  }
+  const std::vector<Record> records = SplitRecords(path, text, separator);
+  if (records.empty()) {
+    throw InputError({path, 1, 0}, "the table is empty",
+                     "The first line must be the header: the name of every column");
+  }
+  DataTable table(path, "CSV", dialect.decimal);
+  const Record& header = records.front();
+  std::map<std::string, int> seen;
+  for (const auto& field : header.fields) {
+    const auto [it, fresh] = seen.emplace(field.text, field.position);
+    if (!fresh && !field.text.empty()) {
+      throw InputError({path, header.line, field.position},
+                       "column '" + field.text + "' appears twice in the header (fields " +
+                           std::to_string(it->second) + " and " + std::to_string(field.position) +
+                           ")",
+                       "Rename one of them: the mapping names a column by its header");
+    }
+    table.AddColumn(field.text, header.line, field.position);
+  }
+  for (size_t r = 1; r < records.size(); ++r) {
+    const Record& record = records[r];
+    if (record.fields.size() > header.fields.size()) {
+      throw InputError({path, record.line, static_cast<int>(header.fields.size()) + 1},
+                       "row has " + std::to_string(record.fields.size()) +
+                           " fields but the header has " + std::to_string(header.fields.size()) +
+                           " (fields separated by " + SeparatorName(separator) + ")",
+                       "Remove the extra fields, quote a field that holds the separator, or state "
+                       "the separator in the mapping (table: {separator: \";\"})");
+    }
+    std::vector<std::string> cells;
+    std::vector<int> positions;
+    for (const auto& field : record.fields) {
+      cells.push_back(field.text);
+      positions.push_back(field.position);
+    }
+    for (size_t c = record.fields.size(); c < header.fields.size(); ++c) {
+      positions.push_back(static_cast<int>(c) + 1);
+    }
+    table.AddRow(std::move(cells), record.line, std::move(positions));
+  }
+  return table;
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,395 @@
+// The importer (importer.h): a table's rows under a mapping become samples and observations of a
+// recording, every cell converted to mm and rad and checked where it stands.
+#include "cellmetry/import/importer.h"
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "cellmetry/basics/transform.h"
+#include "cellmetry/formats/config_node.h"
+
+namespace cellmetry {
+namespace {
+
+// What no camera in a robot cell measures and no joint reads (as the recording reader says).
+constexpr double kMaxPositionMm = 1e5;  // 100 m
+constexpr double kMaxJointRad = 100.0;  // sixteen turns
+// No rotation needs an angle beyond a full turn: one is degrees read as radians.
+constexpr double kFullTurn = 2 * M_PI + 1e-6;
+// Rows of one sample are one robot state: their joints and facts agree to rounding.
+constexpr double kSameSampleTolerance = 1e-9;
+
+std::string Text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.10g", value);
+  return text;
+}
+
+// The table's column `ref` names; refused at the mapping with the nearest column's name.
+size_t Bind(const ColumnRef& ref, const DataTable& table) {
+  if (const auto index = table.ColumnIndex(ref.name)) return *index;
+  const std::string nearest = NearestWord(ref.name, table.columns());
+  std::string header;
+  for (size_t i = 0; i < table.columns().size() && i < 40; ++i) {
+    header += (i ? ", " : "") + table.columns()[i];
+  }
+  if (table.columns().size() > 40) header += ", ...";
+  throw InputError(ref.where, "column '" + ref.name + "' is not in the table " + table.path(),
+                   nearest.empty() ? "The table's columns are: " + header
+                                   : "Did you mean '" + nearest + "'?");
+}
+
+std::vector<size_t> Bind(const std::vector<ColumnRef>& refs, const DataTable& table) {
+  std::vector<size_t> columns;
+  for (const auto& ref : refs) columns.push_back(Bind(ref, table));
+  return columns;
+}
+
+// An observation entry with its columns found in the table.
+struct BoundObservation {
+  const ObservationSpec* spec = nullptr;
+  std::optional<size_t> camera, target;
+  std::vector<size_t> position, rotation, transform;
+  std::vector<size_t> cells;  // every numeric cell of the entry, in reading order
+};
+
+BoundObservation BindObservation(const ObservationSpec& spec, const DataTable& table) {
+  BoundObservation b;
+  b.spec = &spec;
+  if (spec.camera.column) b.camera = Bind(*spec.camera.column, table);
+  if (spec.target.column) b.target = Bind(*spec.target.column, table);
+  b.position = Bind(spec.position, table);
+  if (spec.rotation) b.rotation = Bind(spec.rotation->columns, table);
+  if (!spec.transform.empty()) {
+    std::vector<ColumnRef> refs = spec.transform;
+    // A prefix names the bottom row too; tables usually leave 0 0 0 1 out.
+    if (spec.transform_bottom_optional) {
+      bool any_bottom = false;
+      for (size_t i = 12; i < 16; ++i) any_bottom |= table.ColumnIndex(refs[i].name).has_value();
+      if (!any_bottom) refs.resize(12);
+    }
+    b.transform = Bind(refs, table);
+  }
+  if (spec.camera_in_target && !spec.rotation && spec.transform.empty()) {
+    throw InputError(spec.where, "pose_of: camera_in_target needs the rotation to turn the "
+                     "camera's pose into the target's",
+                     "Give rotation: too, or drop pose_of: for a target's position in the camera");
+  }
+  for (const auto* list : {&b.position, &b.rotation, &b.transform}) {
+    b.cells.insert(b.cells.end(), list->begin(), list->end());
+  }
+  return b;
+}
+
+// A camera or target name from its cell: not empty, nothing that breaks a CSV line.
+std::string NameCell(const DataTable& table, size_t row, size_t column, const std::string& what) {
+  const std::string& name = table.Cell(row, column);
+  if (name.empty()) throw table.Error(row, column, "empty cell", "Name the " + what + " here");
+  if (name.find_first_of(",\"\n") != std::string::npos) {
+    throw table.Error(row, column, "'" + name + "' holds ',' '\"' or a line break",
+                      "Name the " + what + " with a plain word (cam1, tool)");
+  }
+  return name;
+}
+
+// The first and the other rows of one sample.
+struct SampleRows {
+  size_t first_row = 0;
+  std::string pose_key;
+};
+
+bool Agree(double a, double b) {
+  return std::abs(a - b) <= kSameSampleTolerance * std::max(1.0, std::abs(a));
+}
+
+class Importer {
+ public:
+  Importer(const ImportMapping& mapping, const DataTable& table)
+      : m_(mapping), table_(table) {
+    joints_ = Bind(m_.joints, table_);
+    if (m_.sample_column) sample_column_ = Bind(*m_.sample_column, table_);
+    if (m_.pose_column) pose_column_ = Bind(*m_.pose_column, table_);
+    for (const auto& spec : m_.observations) bound_.push_back(BindObservation(spec, table_));
+    const std::pair<const std::optional<FactSpec>*, std::optional<size_t>*> facts[] = {
+        {&m_.time_s, &time_}, {&m_.temperature_c, &temperature_}, {&m_.payload_kg, &payload_}};
+    for (const auto& [spec, column] : facts) {
+      if (*spec) *column = Bind((*spec)->column, table_);
+    }
+    for (const auto& [name, carrier] : m_.targets) targets_[name] = carrier;
+  }
+
+  Recording Run() {
+    Recording r;
+    r.description = m_.description.empty() ? "" : m_.description + " ";
+    r.description += "(imported from " + std::filesystem::path(table_.path()).filename().string() +
+                     " by " + std::filesystem::path(m_.file).filename().string() + ")";
+    r.robots[m_.robot] = static_cast<int>(m_.joints.size());
+    r.targets = targets_;
+    for (const auto& b : bound_) {
+      if (!b.spec->camera.column) AddCamera(b.spec->camera.fixed, &r);
+    }
+    for (size_t row = 0; row < table_.num_rows(); ++row) {
+      const int sample = SampleOf(row, &r);
+      for (const auto& b : bound_) ReadObservation(b, row, sample, &r);
+    }
+    if (r.observations.empty()) {
+      throw InputError(m_.table_where, "no observation in " + table_.path() +
+                       ": every observation cell is empty",
+                       "Point observations: at the columns that hold the measured poses");
+    }
+    NumberPoses(&r);
+    return r;
+  }
+
+ private:
+  void AddCamera(const std::string& name, Recording* r) {
+    if (!r->HasCamera(name)) r->cameras.push_back(name);
+  }
+
+  double Limited(size_t row, size_t column, double scale, double max_abs,
+                 const std::string& unit_hint) const {
+    const double value = table_.Number(row, column) * scale;
+    if (std::abs(value) > max_abs) {
+      throw table_.Error(row, column, "'" + table_.Cell(row, column) +
+                         "' is beyond any measurement of it", unit_hint);
+    }
+    return value;
+  }
+
+  // The sample this row belongs to (a new one, or the one its sample column names).
+  int SampleOf(size_t row, Recording* r) {
+    const std::string key = sample_column_ ? table_.Cell(row, *sample_column_)
+                                           : std::to_string(row);
+    if (sample_column_ && key.empty()) {
+      throw table_.Error(row, *sample_column_, "empty cell",
+                         "Every row needs the sample it belongs to");
+    }
+    const std::string pose_key = pose_column_ ? table_.Cell(row, *pose_column_) : "";
+    if (pose_column_ && pose_key.empty()) {
+      throw table_.Error(row, *pose_column_, "empty cell",
+                         "Every row needs the commanded pose it repeats");
+    }
+    const auto found = sample_of_key_.find(key);
+    Sample sample;
+    sample.id = static_cast<int>(r->samples.size());
+    sample.robot = m_.robot;
+    for (size_t j = 0; j < joints_.size(); ++j) {
+      sample.q.push_back(Limited(row, joints_[j], m_.joint_to_rad, kMaxJointRad,
+                                 m_.joint_to_rad == 1.0
+                                     ? "The mapping reads the joints in rad; if they are degrees, "
+                                       "say robot: {angle: deg}"
+                                     : "Check the value (the joints are read in degrees)"));
+    }
+    if (time_) sample.time_s = Fact(row, *time_, *m_.time_s);
+    if (temperature_) sample.temperature_c = Fact(row, *temperature_, *m_.temperature_c);
+    if (payload_) sample.payload_kg = Fact(row, *payload_, *m_.payload_kg);
+    if (found == sample_of_key_.end()) {
+      sample_of_key_[key] = sample.id;
+      rows_.push_back({row, pose_key});
+      r->samples.push_back(std::move(sample));
+      return r->samples.back().id;
+    }
+    // Another row of a sample already seen: the same robot state.
+    const Sample& first = r->samples[found->second];
+    const size_t first_row = rows_[found->second].first_row;
+    const std::string where = "sample '" + key + "' (data row " + std::to_string(first_row + 1) + ")";
+    const std::string hint = "The rows of one sample are one robot state and must agree; check "
+                             "samples: {column: ...} in the mapping";
+    for (size_t j = 0; j < joints_.size(); ++j) {
+      if (!Agree(first.q[j], sample.q[j])) {
+        throw table_.Error(row, joints_[j], where + " has " + Text(first.q[j]) +
+                           " rad there but " + Text(sample.q[j]) + " rad here", hint);
+      }
+    }
+    const std::pair<const std::optional<double>*, const std::optional<double>*> pairs[] = {
+        {&first.time_s, &sample.time_s}, {&first.temperature_c, &sample.temperature_c},
+        {&first.payload_kg, &sample.payload_kg}};
+    const std::optional<size_t> columns[] = {time_, temperature_, payload_};
+    for (int f = 0; f < 3; ++f) {
+      const auto& [a, b] = pairs[f];
+      if (*a && *b && !Agree(**a, **b)) {
+        throw table_.Error(row, *columns[f], where + " has " + Text(**a) + " there but " +
+                           Text(**b) + " here", hint);
+      }
+    }
+    if (pose_column_ && pose_key != rows_[found->second].pose_key) {
+      throw table_.Error(row, *pose_column_, where + " is pose '" + rows_[found->second].pose_key +
+                         "' there but '" + pose_key + "' here", hint);
+    }
+    return found->second;
+  }
+
+  std::optional<double> Fact(size_t row, size_t column, const FactSpec& spec) const {
+    if (table_.IsEmpty(row, column)) return std::nullopt;
+    return table_.Number(row, column) * spec.scale + spec.offset;
+  }
+
+  void ReadObservation(const BoundObservation& b, size_t row, int sample, Recording* r) {
+    const ObservationSpec& spec = *b.spec;
+    size_t filled = 0;
+    std::optional<size_t> first_empty;
+    for (size_t c : b.cells) {
+      if (!table_.IsEmpty(row, c)) {
+        ++filled;
+      } else if (!first_empty) {
+        first_empty = c;
+      }
+    }
+    if (filled == 0) return;  // not seen in this row
+    Observation o;
+    o.sample = sample;
+    o.camera = spec.camera.column ? NameCell(table_, row, *b.camera, "camera") : spec.camera.fixed;
+    o.target = spec.target.column ? NameCell(table_, row, *b.target, "target") : spec.target.fixed;
+    if (first_empty) {
+      throw table_.Error(row, *first_empty,
+                         "the observation of '" + o.target + "' in '" + o.camera +
+                             "' is partly filled in",
+                         "Fill in every cell of it, or leave all of them empty where the target "
+                         "was not seen");
+    }
+    if (!targets_.count(o.target)) {
+      std::vector<std::string> names;
+      for (const auto& [name, carrier] : targets_) names.push_back(name);
+      const std::string nearest = NearestWord(o.target, names);
+      throw table_.Error(row, *b.target, "unknown target '" + o.target + "'",
+                         nearest.empty() ? "List it under targets: in the mapping"
+                                         : "Did you mean '" + nearest +
+                                               "'? Or list it under targets: in the mapping");
+    }
+    const std::string length_hint =
+        spec.to_mm == 1.0 ? "Check the value (the mapping reads lengths in mm)"
+                          : "The mapping reads lengths in m; if the table holds millimetres, say "
+                            "units: {length: mm}";
+    Pose T;  // as the table gives it, mm
+    bool has_rotation = false;
+    bool rotation_vector = false;
+    Eigen::Vector3d rvec;
+    if (!b.transform.empty()) {
+      double v[16];
+      for (size_t i = 0; i < b.transform.size(); ++i) v[i] = table_.Number(row, b.transform[i]);
+      for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) T.R(i, k) = v[4 * i + k];
+        T.t[i] = Limited(row, b.transform[4 * i + 3], spec.to_mm, kMaxPositionMm, length_hint);
+      }
+      if (b.transform.size() == 16) {
+        const double bottom[4] = {0, 0, 0, 1};
+        for (int k = 0; k < 4; ++k) {
+          if (std::abs(v[12 + k] - bottom[k]) > spec.transform_tolerance) {
+            throw table_.Error(row, b.transform[12 + k],
+                               "a transform's bottom row is 0 0 0 1, this cell holds " +
+                                   table_.Cell(row, b.transform[12 + k]),
+                               "Check that the 16 columns are the matrix row by row");
+          }
+        }
+      }
+      RotationConvention matrix;
+      matrix.kind = RotationKind::kMatrix;
+      matrix.tolerance = spec.transform_tolerance;
+      const double R[9] = {v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10]};
+      T.R = Rotation(row, b.transform[0], matrix, R);
+      has_rotation = true;
+    } else {
+      for (int i = 0; i < 3; ++i) {
+        T.t[i] = Limited(row, b.position[i], spec.to_mm, kMaxPositionMm, length_hint);
+      }
+      if (spec.rotation) {
+        const RotationConvention& c = spec.rotation->convention;
+        double v[9];
+        for (size_t i = 0; i < b.rotation.size(); ++i) {
+          v[i] = table_.Number(row, b.rotation[i]) * (c.values_are_angles() ? spec.to_rad : 1.0);
+          if (c.values_are_angles() && std::abs(v[i]) > kFullTurn) {
+            throw table_.Error(
+                row, b.rotation[i],
+                "'" + table_.Cell(row, b.rotation[i]) + (spec.to_rad == 1.0 ? " rad" : " deg") +
+                    "' is more than a full turn",
+                spec.to_rad == 1.0 ? "The mapping reads these angles in rad; if they are degrees, "
+                                     "say units: {angle: deg} (or angle: deg in this observation)"
+                                   : "Check the value");
+          }
+        }
+        T.R = Rotation(row, b.rotation[0], c, v);
+        has_rotation = true;
+        rotation_vector = c.kind == RotationKind::kRotationVector;
+        rvec = Eigen::Vector3d(v[0], v[1], v[2]);
+      }
+    }
+    if (spec.camera_in_target) T = T.inverse();
+    o.position_mm = T.t;
+    if (has_rotation) o.rvec = RvecFromRotation(T.R);
+    if (rotation_vector && !spec.camera_in_target) o.rvec = rvec;  // the table's own numbers
+    AddCamera(o.camera, r);
+    r->observations.push_back(std::move(o));
+  }
+
+  Eigen::Matrix3d Rotation(size_t row, size_t column, const RotationConvention& c,
+                           const double* values) const {
+    std::string problem;
+    const Eigen::Matrix3d R = ToRotation(c, values, &problem);
+    if (problem.empty()) return R;
+    const std::string hint =
+        c.kind == RotationKind::kQuaternion
+            ? "Check the four cells and their order (" + c.Describe() +
+                  "); if they are rounded, raise tolerance: in the mapping's rotation"
+            : "Check the nine cells (row by row: r11 r12 r13 r21 ...); if they are rounded, "
+              "raise tolerance: in the mapping";
+    throw table_.Error(row, column, problem, hint);
+  }
+
+  void NumberPoses(Recording* r) const {
+    std::map<std::string, int> pose_of_key;
+    for (size_t s = 0; s < r->samples.size(); ++s) {
+      Sample& sample = r->samples[s];
+      switch (m_.poses) {
+        case PoseGrouping::kEachSample:
+          sample.pose = sample.id;
+          break;
+        case PoseGrouping::kColumn: {
+          const auto [it, fresh] = pose_of_key.emplace(rows_[s].pose_key,
+                                                       static_cast<int>(pose_of_key.size()));
+          sample.pose = it->second;
+          break;
+        }
+        case PoseGrouping::kConsecutiveJoints: {
+          bool same = s > 0;
+          for (size_t j = 0; same && j < sample.q.size(); ++j) {
+            same = std::abs(sample.q[j] - r->samples[s - 1].q[j]) <= m_.pose_joint_tolerance_rad;
+          }
+          sample.pose = s == 0 ? 0 : r->samples[s - 1].pose + (same ? 0 : 1);
+          break;
+        }
+      }
+    }
+  }
+
+  const ImportMapping& m_;
+  const DataTable& table_;
+  std::vector<size_t> joints_;
+  std::optional<size_t> sample_column_, pose_column_, time_, temperature_, payload_;
+  std::vector<BoundObservation> bound_;
+  std::map<std::string, std::string> targets_;
+  std::map<std::string, int> sample_of_key_;
+  std::vector<SampleRows> rows_;  // per sample
+};
+
+}  // namespace
+
+DataTable ReadMappedTable(const ImportMapping& mapping) {
+  if (!std::filesystem::is_regular_file(mapping.table_path)) {
+    throw InputError(mapping.table_where, "no table at '" + mapping.table_path + "'",
+                     "Give the table's path relative to the mapping file");
+  }
+  return mapping.json_lines ? ReadJsonLinesTable(mapping.table_path)
+                            : ReadCsvTable(mapping.table_path, mapping.csv);
+}
+
+Recording ImportTable(const ImportMapping& mapping, const DataTable& table) {
+  return Importer(mapping, table).Run();
+}
+
+Recording ImportRecording(const std::string& mapping_path) {
+  const ImportMapping mapping = ReadImportMapping(mapping_path);
+  return ImportTable(mapping, ReadMappedTable(mapping));
+}
+
+}  // namespace cellmetry
