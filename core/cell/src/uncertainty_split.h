@@ -4,9 +4,10 @@
 //   statistical  the larger of the chi-square-scaled model sigma and the cluster-robust one with
 //                a pose as the cluster (every camera's view of one pose may share errors: the
 //                arm's own repeatability, a board seen at that angle);
-//   systematic   with two or more static cameras, each camera left out in turn and the cell
-//                refitted from the answer; what the spread of those answers (jackknife) exceeds
-//                the statistical part by is error shared by everything one camera measured.
+//   systematic   with two or more static cameras, each camera left out in turn and the cell's
+//                answer moved by one Gauss-Newton step without it (the linearized jackknife:
+//                no refits); what the spread of those answers exceeds the statistical part by
+//                is error shared by everything one camera measured.
 #pragma once
 
 #include <set>
@@ -20,8 +21,6 @@ namespace cellmetry {
 
 // `at` is the fitted problem's linearization at `answer`, from which `u` was computed.
 void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,
-                      const NoiseModel& noise, const WorkcellEstimate& answer,
-                      const std::set<std::string>& held, const SolverMaker& make_solver,
                       const AssembledWorkcell& fitted, const Linearization& at, Uncertainty* u);
 
 }  // namespace cellmetry

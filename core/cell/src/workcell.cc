@@ -366,8 +366,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   result.uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
   result.strong_correlations = StrongCorrelations(result.uncertainty);
   const std::set<std::string> held = Names(result.unidentifiable);
-  SplitUncertainty(spec, recording, result.noise, result.estimate, held, make_solver,
-                   *fit.assembled, at_answer, &result.uncertainty);
+  SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result.uncertainty);
   AddInputUncertainty(spec, recording, result.noise, result.estimate, &result.uncertainty);
   Describe(spec, *fit.assembled, held, &result);
   AddResidualStatistics(spec, recording, data, fit, &result);

@@ -27,24 +27,19 @@ Eigen::JacobiSVD<Eigen::MatrixXd> ScaledSvd(const Eigen::MatrixXd& R,
 
 }  // namespace
 
-std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance) {
-  std::vector<UnidentifiableParameter> found;
-  SparseJacobian J;
-  if (problem.num_free() == 0 || !problem.EvaluateSparse(nullptr, &J)) {
-    return found;
-  }
-  const auto& free = problem.free_parameters();
+std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
+                                                    const Eigen::VectorXd& norms,
+                                                    double tolerance) {
+  std::vector<DegenerateColumn> found;
   std::vector<int> active;
-  const Eigen::VectorXd norms = ColumnNorms(J);
-  const double largest = norms.maxCoeff();
-  for (int j = 0; j < J.cols(); ++j) {
+  const double largest = norms.size() > 0 ? norms.maxCoeff() : 0.0;
+  for (int j = 0; j < norms.size(); ++j) {
     if (norms[j] <= 1e-12 * largest) {
-      found.push_back({free[j].name, "no measurement depends on it"});
+      found.push_back({j, /*no_data=*/true, {}});
     } else {
       active.push_back(j);
     }
   }
-  const Eigen::MatrixXd R = active.size() > 1 ? RFactor(J) : Eigen::MatrixXd();
   while (active.size() > 1) {
     const auto svd = ScaledSvd(R, active, norms);
     const Eigen::VectorXd s = svd.singularValues();
@@ -53,16 +48,29 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
     const Eigen::VectorXd v = svd.matrixV().col(last);
     Eigen::Index worst = 0;
     v.cwiseAbs().maxCoeff(&worst);
-    std::string partners;
+    DegenerateColumn column{active[worst], /*no_data=*/false, {}};
     for (Eigen::Index k = 0; k < v.size(); ++k) {
-      if (k != worst && std::abs(v[k]) > 0.1) {
-        partners += (partners.empty() ? "" : ", ") + free[active[k]].name;
-      }
+      if (k != worst && std::abs(v[k]) > 0.1) column.partners.push_back(active[k]);
     }
-    found.push_back({free[active[worst]].name,
-                     partners.empty() ? "the data cannot separate it"
-                                      : "moves together with " + partners});
+    found.push_back(column);
     active.erase(active.begin() + worst);
+  }
+  return found;
+}
+
+std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance) {
+  SparseJacobian J;
+  if (problem.num_free() == 0 || !problem.EvaluateSparse(nullptr, &J)) return {};
+  const auto& free = problem.free_parameters();
+  std::vector<UnidentifiableParameter> found;
+  for (const DegenerateColumn& column :
+       FindDegenerateColumns(RFactor(J), ColumnNorms(J), tolerance)) {
+    std::string partners;
+    for (int k : column.partners) partners += (partners.empty() ? "" : ", ") + free[k].name;
+    found.push_back({free[column.column].name,
+                     column.no_data        ? "no measurement depends on it"
+                     : partners.empty()    ? "the data cannot separate it"
+                                           : "moves together with " + partners});
   }
   return found;
 }

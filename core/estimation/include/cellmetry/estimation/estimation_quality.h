@@ -30,6 +30,19 @@ struct UnidentifiableParameter {
 // Free parameters that the data cannot determine, in the order they should be held.
 std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance);
 
+// The same on columns of a Jacobian given by its R factor and column norms (r_factor.h): first
+// the columns no row depends on (norm <= 1e-12 of the largest), then one at a time the column
+// with the largest share of the smallest scaled singular direction while that singular value is
+// below `tolerance` times the largest, with the columns sharing that direction (|v| > 0.1).
+struct DegenerateColumn {
+  int column = 0;
+  bool no_data = false;
+  std::vector<int> partners;
+};
+std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
+                                                    const Eigen::VectorXd& norms,
+                                                    double tolerance);
+
 // Fixes the free parameters called "<block>.<parameter>" in `names` and rebuilds the problem.
 void HoldParameters(Problem* problem, const std::set<std::string>& names);
 

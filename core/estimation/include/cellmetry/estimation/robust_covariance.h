@@ -13,7 +13,11 @@
 //                             independent rows it equals the model covariance on average;
 //   JackknifeSpread           the spread of estimates that each leave one group out (a camera),
 //                               var = (n - 1) / n sum_k (theta_k - mean)^2   (Efron 1982),
-//                             which sees errors shared by everything one camera measured.
+//                             which sees errors shared by everything one camera measured;
+//   LinearizedJackknife       those leave-one-out estimates as one Gauss-Newton step from the
+//                             full answer instead of a refit each (Efron 1982, ch. 6: the
+//                             "infinitesimal" form): exact for a linear model, off by terms
+//                             second order in the deviation otherwise, and free of refits.
 #pragma once
 
 #include <vector>
@@ -41,6 +45,15 @@ struct Jackknife {
   Eigen::VectorXi groups;
 };
 Jackknife JackknifeSpread(const std::vector<Eigen::VectorXd>& values);
+
+// For each group g = 0, 1, ... of residual blocks (`group_of_block`, ResidualInfo order;
+// negative: in no group, always kept), the deviation d from the answer `at` that minimizes
+// |J_{-g} d + r_{-g}|^2 without g's rows. Columns the remaining rows cannot determine
+// (FindDegenerateColumns at `tolerance`: a left-out camera's own pose, or what only it saw) are
+// NaN there, as a refit would not have them.
+std::vector<Eigen::VectorXd> LinearizedJackknife(const Problem& problem, const Linearization& at,
+                                                 const std::vector<int>& group_of_block,
+                                                 double tolerance);
 
 // Splits `u`'s sigma into its parts (Uncertainty) and sets the total: `cluster` from
 // ClusterRobustCovariance (empty: none), `jackknife` (empty: none). A systematic part is claimed
