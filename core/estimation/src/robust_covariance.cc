@@ -1,6 +1,7 @@
 // The cluster-robust covariance and the jackknife spread (robust_covariance.h).
 #include "cellmetry/estimation/robust_covariance.h"
 
+#include <Eigen/QR>
 #include <Eigen/SVD>
 #include <cmath>
 #include <limits>
@@ -25,13 +26,10 @@ Eigen::MatrixXd ClusterRobustCovariance(const Problem& problem, const Linearizat
     const int end = b + 1 < rows.size() ? rows[b + 1] : static_cast<int>(r.size());
     const int g = b < cluster_of_block.size() && cluster_of_block[b] >= 0 ? cluster_of_block[b]
                                                                           : own--;
-    const Eigen::VectorXd s = J.middleRows(rows[b], end - rows[b]).transpose() *
-                              r.segment(rows[b], end - rows[b]);
     auto it = score.find(g);
-    if (it == score.end()) {
-      score.emplace(g, s);
-    } else {
-      it->second += s;
+    if (it == score.end()) it = score.emplace(g, Eigen::VectorXd::Zero(n)).first;
+    for (int row = rows[b]; row < end; ++row) {  // J_g^T r_g, row by row
+      for (SparseJacobian::InnerIterator e(J, row); e; ++e) it->second[e.col()] += e.value() * r[row];
     }
   }
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(n, n);
@@ -90,38 +88,55 @@ Jackknife JackknifeSpread(const std::vector<Eigen::VectorXd>& values) {
 
 namespace {
 
-// J and r without the rows of the residual blocks in group `left_out`.
-void WithoutGroup(const Problem& problem, const Linearization& at,
-                  const std::vector<int>& group_of_block, int left_out, SparseJacobian* J,
-                  Eigen::VectorXd* r) {
+// What one group of rows (or the rows in no group) contributes: its R factor, J^T r and the
+// squared column norms. A leave-one-out estimate is the sum over the other groups.
+struct GroupPart {
+  Eigen::MatrixXd R;
+  Eigen::VectorXd gradient;       // J_g^T r_g
+  Eigen::VectorXd squared_norms;  // per column
+};
+
+// Parts of group 0 .. groups - 1, and last the rows in no group. One pass over J's rows.
+std::vector<GroupPart> GroupParts(const Problem& problem, const Linearization& at,
+                                  const std::vector<int>& group_of_block, int groups) {
   const auto& rows = problem.residual_rows();
   const int num_rows = static_cast<int>(at.residuals.size());
-  std::vector<int> kept;
+  std::vector<std::vector<int>> members(static_cast<size_t>(groups) + 1);
   for (size_t b = 0; b < rows.size(); ++b) {
-    if (b < group_of_block.size() && group_of_block[b] == left_out) continue;
+    const int g = b < group_of_block.size() && group_of_block[b] >= 0 ? group_of_block[b] : groups;
     const int end = b + 1 < rows.size() ? rows[b + 1] : num_rows;
-    for (int row = rows[b]; row < end; ++row) kept.push_back(row);
+    for (int row = rows[b]; row < end; ++row) members[static_cast<size_t>(g)].push_back(row);
   }
-  *J = SparseJacobian(static_cast<Eigen::Index>(kept.size()), at.jacobian.cols());
-  J->reserve(Eigen::VectorXi::Constant(static_cast<int>(kept.size()),
-                                       static_cast<int>(at.jacobian.cols())));
-  r->resize(static_cast<Eigen::Index>(kept.size()));
-  for (size_t k = 0; k < kept.size(); ++k) {
-    (*r)[static_cast<Eigen::Index>(k)] = at.residuals[kept[k]];
-    for (SparseJacobian::InnerIterator it(at.jacobian, kept[k]); it; ++it) {
-      J->insert(static_cast<Eigen::Index>(k), it.col()) = it.value();
+  const Eigen::Index n = at.jacobian.cols();
+  std::vector<GroupPart> parts;
+  for (const auto& group_rows : members) {
+    std::vector<int> row_start(group_rows.size() + 1, 0), columns;
+    std::vector<double> values;
+    GroupPart part{{}, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
+    for (size_t k = 0; k < group_rows.size(); ++k) {
+      const int row = group_rows[k];
+      for (SparseJacobian::InnerIterator it(at.jacobian, row); it; ++it) {
+        columns.push_back(static_cast<int>(it.col()));
+        values.push_back(it.value());
+        part.gradient[it.col()] += it.value() * at.residuals[row];
+        part.squared_norms[it.col()] += it.value() * it.value();
+      }
+      row_start[k + 1] = static_cast<int>(values.size());
     }
+    part.R = RFactor(Eigen::Map<const SparseJacobian>(
+        static_cast<Eigen::Index>(group_rows.size()), n,
+        static_cast<Eigen::Index>(values.size()), row_start.data(), columns.data(),
+        values.data()));
+    parts.push_back(std::move(part));
   }
-  J->makeCompressed();
+  return parts;
 }
 
-// argmin_d |J d + r|^2 over the columns J determines at `tolerance`; NaN elsewhere. Solved on
-// the column-scaled R factor's SVD, like the covariance.
-Eigen::VectorXd GaussNewtonStep(const SparseJacobian& J, const Eigen::VectorXd& r,
-                                double tolerance) {
-  const Eigen::Index n = J.cols();
-  const Eigen::MatrixXd R = RFactor(J);
-  const Eigen::VectorXd norms = ColumnNorms(J);
+// argmin_d |J d + r|^2 over the columns J determines at `tolerance`, NaN elsewhere, from J's R
+// factor, column norms and J^T r; solved on the column-scaled R's SVD, like the covariance.
+Eigen::VectorXd GaussNewtonStep(const Eigen::MatrixXd& R, const Eigen::VectorXd& norms,
+                                const Eigen::VectorXd& gradient, double tolerance) {
+  const Eigen::Index n = R.cols();
   std::vector<bool> determined(static_cast<size_t>(n), true);
   for (const DegenerateColumn& c : FindDegenerateColumns(R, norms, tolerance)) {
     determined[static_cast<size_t>(c.column)] = false;
@@ -134,18 +149,20 @@ Eigen::VectorXd GaussNewtonStep(const SparseJacobian& J, const Eigen::VectorXd& 
   if (columns.empty()) return step;
   const Eigen::Index m = static_cast<Eigen::Index>(columns.size());
   Eigen::MatrixXd scaled(R.rows(), m);
-  for (Eigen::Index k = 0; k < m; ++k) scaled.col(k) = R.col(columns[k]) / norms[columns[k]];
-  const Eigen::VectorXd gradient = J.transpose() * r;  // J^T r over every column
   Eigen::VectorXd scaled_gradient(m);
-  for (Eigen::Index k = 0; k < m; ++k) scaled_gradient[k] = gradient[columns[k]] / norms[columns[k]];
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinV);
+  for (Eigen::Index k = 0; k < m; ++k) {
+    scaled.col(k) = R.col(columns[k]) / norms[columns[k]];
+    scaled_gradient[k] = gradient[columns[k]] / norms[columns[k]];
+  }
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinV);
   const Eigen::VectorXd s = svd.singularValues();
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
   for (Eigen::Index i = 0; i < s.size(); ++i) {
     if (s[i] > 1e-14 * s[0]) inv_s2[i] = 1.0 / (s[i] * s[i]);
   }
   const Eigen::MatrixXd& V = svd.matrixV();
-  const Eigen::VectorXd scaled_step = -(V * (inv_s2.asDiagonal() * (V.transpose() * scaled_gradient)));
+  const Eigen::VectorXd scaled_step =
+      -(V * (inv_s2.asDiagonal() * (V.transpose() * scaled_gradient)));
   for (Eigen::Index k = 0; k < m; ++k) step[columns[k]] = scaled_step[k] / norms[columns[k]];
   return step;
 }
@@ -159,11 +176,23 @@ std::vector<Eigen::VectorXd> LinearizedJackknife(const Problem& problem, const L
   if (!at.valid) return deviations;
   int groups = 0;
   for (int g : group_of_block) groups = std::max(groups, g + 1);
-  for (int g = 0; g < groups; ++g) {
-    SparseJacobian J;
-    Eigen::VectorXd r;
-    WithoutGroup(problem, at, group_of_block, g, &J, &r);
-    deviations.push_back(GaussNewtonStep(J, r, tolerance));
+  const std::vector<GroupPart> parts = GroupParts(problem, at, group_of_block, groups);
+  const Eigen::Index n = at.jacobian.cols();
+  for (int left_out = 0; left_out < groups; ++left_out) {
+    // The other groups' R factors stacked and reduced: R^T R = J_{-g}^T J_{-g}.
+    Eigen::MatrixXd stack(static_cast<Eigen::Index>(parts.size() - 1) * n, n);
+    Eigen::VectorXd gradient = Eigen::VectorXd::Zero(n), squared_norms = Eigen::VectorXd::Zero(n);
+    Eigen::Index at_row = 0;
+    for (size_t g = 0; g < parts.size(); ++g) {
+      if (static_cast<int>(g) == left_out) continue;
+      stack.middleRows(at_row, n) = parts[g].R;
+      at_row += n;
+      gradient += parts[g].gradient;
+      squared_norms += parts[g].squared_norms;
+    }
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(stack);
+    const Eigen::MatrixXd R = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
+    deviations.push_back(GaussNewtonStep(R, squared_norms.cwiseSqrt(), gradient, tolerance));
   }
   return deviations;
 }
