@@ -10,6 +10,7 @@ packages=(
   libsuitesparse-dev   # SuiteSparseQR: the sparse R factor behind identifiability and sigma
   opencv-doc   # OpenCV's ArUco tutorial photographs: real images the detector tests use
   liburdfdom-dev   # the URDF parser test_exports reads `cellmetry export --format urdf` with
+  chromium   # tests only: test_report opens every report.html headless (console, plots drawn)
 )
 missing=()
 for p in "${packages[@]}"; do

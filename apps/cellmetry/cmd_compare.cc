@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/report/reports.h"
 #include "cellmetry/experiments/kinematic_compare.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/physics_suite.h"
@@ -51,8 +52,10 @@ void AddCompareCommand(CLI::App& app, Context& context) {
     StagedDirectory out(folder, "comparison");
     AtomicWriteFile(out.File("table.md"), table);
     AtomicWriteFile(out.File("table.csv"), csv);
+    AtomicWriteFile(out.File(report::kReportFile),
+                    report::CompareReportHtml(csv, table, "cellmetry compare: " + spec_path));
     out.Commit();
-    std::printf("%s  written: %s/{table.md,table.csv}\n", table.c_str(), folder.c_str());
+    std::printf("%s  written: %s/{table.md,table.csv,report.html}\n", table.c_str(), folder.c_str());
   });
 }
 

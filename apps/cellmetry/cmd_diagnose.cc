@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/report/reports.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/result_io.h"
@@ -35,10 +36,16 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
     StagedDirectory out(folder, "diagnosis");
     AtomicWriteFile(out.File("diagnosis.json"), DiagnosisJson(result).dump(2) + "\n");
     AtomicWriteFile(out.File("report.txt"), DiagnosisReport(result));
-    WriteWorkcellResult(result.final_fit, out.File("final_fit"));
+    AtomicWriteFile(out.File(report::kReportFile),
+                    report::DiagnoseReportHtml(result, recording, "cellmetry diagnose: " + job_path));
+    WriteWorkcellResult(result.final_fit, out.File("final_fit"), [&](const std::string& staging) {
+      AtomicWriteFile(staging + "/" + report::kReportFile,
+                      report::RunReportHtml(result.final_fit, recording,
+                                            "cellmetry diagnose, final fit: " + job_path));
+    });
     out.Commit();
     std::printf("%s", DiagnosisReport(result).c_str());
-    std::printf("  written: %s/{report.txt,diagnosis.json,final_fit/}\n", folder.c_str());
+    std::printf("  written: %s/{report.txt,report.html,diagnosis.json,final_fit/}\n", folder.c_str());
   });
 }
 

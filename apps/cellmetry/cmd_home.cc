@@ -5,6 +5,7 @@
 #include "cellmetry/cell/homing_io.h"
 #include "cellmetry/cell/homing_job.h"
 #include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/report/reports.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -23,9 +24,12 @@ void AddHomeCommand(CLI::App& app, Context& context) {
     const std::vector<PointSample> samples = CollectPoints(job, ReadRecording(job.job.recording));
     const HomingResult result = HomeVisually(job.arm, samples, job.sigma_mm, job.options);
     const std::string folder = output.empty() ? job.job.output : output;
-    WriteHomingResult(result, folder);
+    WriteHomingResult(result, folder, [&](const std::string& staging) {
+      AtomicWriteFile(staging + "/" + report::kReportFile,
+                      report::HomeReportHtml(result, "cellmetry home: " + job_path));
+    });
     std::printf("%s", HomingSummary(result).c_str());
-    std::printf("  written: %s/homing.yaml\n", folder.c_str());
+    std::printf("  written: %s/{homing.yaml,report.html}\n", folder.c_str());
   });
 }
 

@@ -9,6 +9,7 @@
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/formats/recording.h"
 #include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/report/reports.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -34,9 +35,12 @@ void RunJob(const std::string& job_path, const std::string& output) {
     ValidateJobAgainstRecording(job, fresh);
     result.validation = ScoreOnRecording(job.problem, result, fresh);
   }
-  WriteWorkcellResult(result, folder);
+  WriteWorkcellResult(result, folder, [&](const std::string& staging) {
+    AtomicWriteFile(staging + "/" + report::kReportFile,
+                    report::RunReportHtml(result, recording, "cellmetry run: " + job_path));
+  });
   std::printf("%s", WorkcellSummary(result).c_str());
-  std::printf("  written: %s/{result.yaml,result.json,residuals.csv}\n", folder.c_str());
+  std::printf("  written: %s/{result.yaml,result.json,residuals.csv,report.html}\n", folder.c_str());
 }
 
 }  // namespace

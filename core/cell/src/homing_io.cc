@@ -50,9 +50,11 @@ std::string HomingYaml(const HomingResult& r) {
   return std::string(out.c_str()) + "\n";
 }
 
-void WriteHomingResult(const HomingResult& result, const std::string& folder) {
+void WriteHomingResult(const HomingResult& result, const std::string& folder,
+                       const std::function<void(const std::string& staging)>& extra) {
   StagedDirectory out(folder, "homing");
   AtomicWriteFile(out.File("homing.yaml"), HomingYaml(result));
+  if (extra) extra(out.staging());
   out.Commit();
 }
 

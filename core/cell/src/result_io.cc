@@ -221,12 +221,14 @@ std::string WorkcellResidualsCsv(const WorkcellResult& result) {
   return out.str();
 }
 
-void WriteWorkcellResult(const WorkcellResult& result, const std::string& folder) {
+void WriteWorkcellResult(const WorkcellResult& result, const std::string& folder,
+                         const std::function<void(const std::string& staging)>& extra) {
   StagedDirectory out(folder, "result");
   AtomicWriteFile(out.File("result.yaml"), WorkcellResultYaml(result));
   AtomicWriteFile(out.File("result.json"), WorkcellResultJson(result).dump(2) + "\n");
   AtomicWriteFile(out.File("residuals.csv"), WorkcellResidualsCsv(result));
   AtomicWriteFile(out.File("outliers.csv"), OutliersCsv(result.outliers));
+  if (extra) extra(out.staging());
   out.Commit();
 }
 

@@ -153,6 +153,32 @@ double PeakMm(const CandidateLinearization& lin, const Recording& recording,
   return peak;
 }
 
+// The accepted effect's prediction on every carried-target position row beside the residual
+// there before (`before`) and after (`after`) it was fitted (SignaturePoint).
+std::vector<SignaturePoint> Signature(const CandidateLinearization& lin, const Eigen::VectorXd& theta,
+                                      const WorkcellResult& before, const WorkcellResult& after) {
+  std::map<int, Eigen::Vector3d> error_before, error_after;
+  for (const auto& row : before.residuals) {
+    if (row.kind == "position") error_before[row.observation] = row.error;
+  }
+  for (const auto& row : after.residuals) {
+    if (row.kind == "position") error_after[row.observation] = row.error;
+  }
+  const Eigen::VectorXd whitened = lin.J_candidate * theta;
+  std::vector<SignaturePoint> points;
+  for (Eigen::Index i = 0; i < whitened.size(); ++i) {
+    const ResidualInfo& info = lin.rows[i];
+    if (info.kind != ResidualInfo::Kind::kPosition || info.observation < 0) continue;
+    const int axis = lin.row_axis[i];
+    const double predicted = whitened[i] * info.sigma[axis];
+    const auto b = error_before.find(info.observation);
+    const auto a = error_after.find(info.observation);
+    if (std::abs(predicted) < 1e-9 || b == error_before.end() || a == error_after.end()) continue;
+    points.push_back({info.camera, axis, predicted, b->second[axis], a->second[axis]});
+  }
+  return points;
+}
+
 // Largest canonical correlation of two candidates' unabsorbed signatures: the cosine of the
 // smallest angle between the two subspaces (orthonormal bases).
 double CanonicalCorrelation(const Eigen::MatrixXd& U_a, const Eigen::MatrixXd& U_b) {
@@ -405,9 +431,11 @@ class Diagnoser {
     for (const auto& s : with_cv.result.model_parameters) {
       if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
     }
-    a.peak_mm = PeakMm(LinearizeWithCandidate(With(current.spec, c), recording_, data_, noise_,
-                                 current.result.estimate, true),
-                       recording_, Eigen::Map<const Eigen::VectorXd>(values.data(), values.size()));
+    const CandidateLinearization lin = LinearizeWithCandidate(
+        With(current.spec, c), recording_, data_, noise_, current.result.estimate, true);
+    const Eigen::Map<const Eigen::VectorXd> theta(values.data(), values.size());
+    a.peak_mm = PeakMm(lin, recording_, theta);
+    a.signature = Signature(lin, theta, current.result, with_cv.result);
     return a;
   }
 

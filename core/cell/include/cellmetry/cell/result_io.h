@@ -9,6 +9,7 @@
 // WorkcellSummary is the short text printed on the terminal.
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -19,7 +20,10 @@ namespace cellmetry {
 std::string WorkcellResultYaml(const WorkcellResult& result);
 nlohmann::json WorkcellResultJson(const WorkcellResult& result);
 std::string WorkcellResidualsCsv(const WorkcellResult& result);
-void WriteWorkcellResult(const WorkcellResult& result, const std::string& folder);
+// `extra`, when given, writes further files into the staged folder (its path) before the commit,
+// so that they are part of the same whole-or-absent output (the command's report.html).
+void WriteWorkcellResult(const WorkcellResult& result, const std::string& folder,
+                         const std::function<void(const std::string& staging)>& extra = {});
 
 std::string WorkcellSummary(const WorkcellResult& result);
 

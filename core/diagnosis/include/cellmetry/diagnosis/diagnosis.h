@@ -146,6 +146,18 @@ struct DiagnosisRound {
   std::string accepted;                      // "" when none passed
 };
 
+// One carried-target position row seen along an accepted effect: what the effect predicts there
+// and the residual (prediction - measurement, camera axis `axis`) before and after it was fitted.
+// Before, a real effect shows as residual = -predicted (less what the geometry absorbed); after,
+// as a flat band. The report plots it (core/report).
+struct SignaturePoint {
+  std::string camera;
+  int axis = 0;              // 0 x, 1 y, 2 depth
+  double predicted_mm = 0.0;
+  double before_mm = 0.0;
+  double after_mm = 0.0;
+};
+
 struct AcceptedEffect {
   std::string name;
   std::string description;                   // Effect::Describe at the estimate
@@ -153,6 +165,7 @@ struct AcceptedEffect {
   double peak_mm = 0.0;                      // largest tool displacement it predicts
   std::vector<std::string> aliases;          // candidates these poses cannot tell from it
   std::vector<std::string> alias_names;      // the same, by candidate name
+  std::vector<SignaturePoint> signature;     // rows it moves by more than 1e-9 mm
 };
 
 struct FitSummary {
