@@ -1,5 +1,6 @@
-// Progress reports on stderr (progress.h): a line at most every 0.5 s and at the end, all behind
-// one process-wide quiet switch for tests and benchmarks.
+// Progress reports on stderr (progress.h): a line at most every 0.5 s with the rate and the time
+// left at that rate, and one at the end, all behind one process-wide quiet switch for tests and
+// benchmarks.
 #include "cellmetry/basics/progress.h"
 
 #include <atomic>
@@ -31,8 +32,15 @@ void Progress::Print(bool final) {
   if (g_quiet) return;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  std::fprintf(stderr, "cellmetry: %s %d/%d (%.1f s)%s\n", task_.c_str(), done_, total_, seconds,
-               final ? " done" : "");
+  if (final || done_ == 0 || seconds <= 0.0) {
+    std::fprintf(stderr, "cellmetry: %s %d/%d (%.1f s)%s\n", task_.c_str(), done_, total_,
+                 seconds, final ? " done" : "");
+    return;
+  }
+  // The rate so far, and the time left at that rate.
+  const double rate = done_ / seconds;
+  std::fprintf(stderr, "cellmetry: %s %d/%d (%.1f s, %.3g/s, about %.0f s left)\n",
+               task_.c_str(), done_, total_, seconds, rate, (total_ - done_) / rate);
 }
 
 void Progress::SetQuiet(bool quiet) { g_quiet = quiet; }

@@ -291,8 +291,10 @@ class Diagnoser {
     s.round.dispersion = std::max(1.0, current.summary.chi2 / std::max(1.0, current.summary.dof));
     s.base.r /= std::sqrt(s.round.dispersion);
     const Eigen::MatrixXd Q = OrthonormalBasis(s.base.J_model);
+    Progress progress("scoring candidate", static_cast<int>(candidates_.size() - done->size()));
     for (const auto& c : candidates_) {
       if (done->count(c.effect.name)) continue;
+      progress.Advance();
       const CandidateLinearization lin = LinearizeWithCandidate(
           With(current.spec, c), recording_, data_, noise_, current.result.estimate, true);
       const Eigen::MatrixXd unabsorbed = ProjectOut(Q, lin.J_candidate);
@@ -342,7 +344,10 @@ class Diagnoser {
              Strength(candidates[b].score, candidates[b].dof);
     });
     int best = -1;
+    Progress progress("refitting the strongest candidates:",
+                      std::min<int>(static_cast<int>(order.size()), options_.refits));
     for (size_t k = 0; k < order.size() && static_cast<int>(k) < options_.refits; ++k) {
+      progress.Advance();
       CandidateFinding& f = candidates[order[k]];
       Fitted refit = Fit(With(current.spec, *s->testable[order[k]]), recording_, make_solver_, 0);
       f.refitted = true;
