@@ -19,9 +19,10 @@ struct Fit {
 };
 
 // Assembles on `poses` (empty: all), holds `held` and whatever the data cannot determine, and
-// solves from `start`.
+// solves from `start` (`warm_start`: a neighbouring fit's answer; SolveHoldingUnidentifiable).
 Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
             const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
-            std::set<std::string> held, const SolverMaker& make_solver);
+            std::set<std::string> held, const SolverMaker& make_solver,
+            bool warm_start = false);
 
 }  // namespace cellmetry

@@ -19,11 +19,12 @@ namespace cellmetry {
 
 Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
             const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
-            std::set<std::string> held, const SolverMaker& make_solver) {
+            std::set<std::string> held, const SolverMaker& make_solver, bool warm_start) {
   Fit fit;
   fit.assembled = AssembleWorkcell(spec, recording, data, noise, start, poses);
-  IdentifiedSolve solved = SolveHoldingUnidentifiable(
-      &fit.assembled->problem, spec.identifiability_tolerance, std::move(held), make_solver);
+  IdentifiedSolve solved =
+      SolveHoldingUnidentifiable(&fit.assembled->problem, spec.identifiability_tolerance,
+                                 std::move(held), make_solver, warm_start);
   fit.summary = solved.summary;
   fit.unidentifiable = std::move(solved.unidentifiable);
   return fit;
@@ -130,7 +131,8 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     for (size_t i = 0; i < poses.size(); ++i) {
       (static_cast<int>(i) % folds == f ? test : train).insert(poses[i]);
     }
-    Fit fit = FitOnce(spec, recording, data, noise, answer, train, held, make_solver);
+    Fit fit = FitOnce(spec, recording, data, noise, answer, train, held, make_solver,
+                      /*warm_start=*/true);
     const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
     ResidualRms fold;
     double normalized_ss = 0.0;  // every carried-target row the fit uses: rotations too, where

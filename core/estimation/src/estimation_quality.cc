@@ -106,7 +106,7 @@ void CheckSolveEnded(const Problem& problem, const SolverSummary& summary) {
 
 IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
                                            std::set<std::string> held,
-                                           const SolverMaker& make_solver) {
+                                           const SolverMaker& make_solver, bool warm_start) {
   IdentifiedSolve out;
   if (!held.empty()) HoldParameters(problem, held);
   auto hold_unidentifiable = [&] {
@@ -116,7 +116,7 @@ IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
     if (!found.empty()) HoldParameters(problem, held);
     return !found.empty();
   };
-  hold_unidentifiable();
+  if (!warm_start) hold_unidentifiable();
   out.summary = make_solver()->Solve(*problem);
   CheckSolveEnded(*problem, out.summary);
   if (hold_unidentifiable()) {

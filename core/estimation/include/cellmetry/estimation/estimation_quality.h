@@ -53,11 +53,14 @@ struct IdentifiedSolve {
 
 // Holds `held` and whatever the data cannot determine, solves, and checks again at the answer
 // (a direction can become degenerate only there, e.g. at a singular configuration); if it finds
-// more, holds them and solves again. Every solve is checked where it ends: a non-finite
-// parameter or cost throws InputError ("the fit diverged").
+// more, holds them and solves again. `warm_start`: the values are already a neighbouring
+// problem's answer with `held` held (a cross-validation fold), so the check before the solve is
+// skipped and only the one at the answer made. Every solve is checked where it ends: a
+// non-finite parameter or cost throws InputError ("the fit diverged").
 IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
                                            std::set<std::string> held,
-                                           const SolverMaker& make_solver);
+                                           const SolverMaker& make_solver,
+                                           bool warm_start = false);
 
 struct Uncertainty {
   std::vector<std::string> names;   // free parameters, in Problem order
