@@ -1,13 +1,15 @@
 // `cellmetry compare SPEC.yaml`: the report's Table 7 (`compare: kinematic`, kinematic_compare.h)
 // or its Tables 3 and 4 (`compare: markers`, marker_comparison.h), writing table.md and
 // table.csv; or the physics finder's concealed-effect suite (`compare: physics`,
-// physics_suite.h), writing one markdown file.
+// physics_suite.h), writing one markdown file; or solvers x camera models over seeds with a
+// recommendation per question (`compare: solvers`, solver_compare.h).
 #include <cstdio>
 
 #include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/experiments/kinematic_compare.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/physics_suite.h"
+#include "cellmetry/experiments/solver_compare.h"
 #include "cellmetry/basics/progress.h"
 #include "commands.h"
 
@@ -24,6 +26,13 @@ void AddCompareCommand(CLI::App& app, Context& context) {
     LoadPlugins(context);
     const ConfigNode root = ConfigNode::LoadFile(spec_path);
     const std::string kind = root["compare"].AsString();
+    if (kind != "physics" && kind != "markers" && kind != "kinematic" && kind != "solvers") {
+      throw root["compare"].Error(
+          "unknown comparison '" + kind + "'",
+          "Use compare: kinematic (Table 7: pose sets x sizes x formulations x solvers), markers "
+          "(Tables 3 and 4: marker detectors), physics (the concealed-effect suite) or solvers "
+          "(solvers x camera models over seeds, with a recommendation); docs/formats.md");
+    }
     std::string table, csv, folder;
     if (kind == "physics") {
       const PhysicsSuiteSpec spec = LoadPhysicsSuite(spec_path);
@@ -40,6 +49,13 @@ void AddCompareCommand(CLI::App& app, Context& context) {
       const auto rows = CompareMarkers(spec, Registry::Global());
       table = MarkerTableMarkdown(spec, rows);
       csv = MarkerTableCsv(rows);
+    } else if (kind == "solvers") {
+      const SolverCompareSpec spec = LoadSolverCompare(spec_path, Registry::Global());
+      folder = output.empty() ? spec.output : output;
+      CheckReplaceable(folder, "comparison");
+      const auto rows = RunSolverCompare(spec, Registry::Global());
+      table = SolverCompareMarkdown(spec, rows);
+      csv = SolverCompareCsv(rows);
     } else {
       const CompareSpec spec = LoadCompareSpec(spec_path, Registry::Global());
       folder = output.empty() ? spec.output : output;
