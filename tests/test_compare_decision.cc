@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "cellmetry/experiments/kinematic_compare.h"
 #include "cellmetry/experiments/solver_compare.h"
 #include "support/test_support.h"
 
@@ -60,6 +61,42 @@ TEST(Recommendation, UnpairedScoresCompareByOverlap) {
   EXPECT_FALSE(SameScore({1.0, 1.01, 0.99}, {2.0, 2.01, 1.99, 2.02}));
   // Paired: a small difference that every seed shows is a difference.
   EXPECT_FALSE(SameScore({1.00, 1.50, 0.70, 1.20}, {1.05, 1.56, 0.74, 1.26}));
+}
+
+// Round-off of a noise-free fit (1e-13 mm) is no difference, however consistent.
+TEST(Recommendation, DifferencesBelowTheResolutionAreTies) {
+  const std::vector<Contender> c = {
+      {"lm", {5.1e-13, 5.3e-13, 5.2e-13}, {0.001, 0.001, 0.001}},
+      {"pinv", {2.1e-13, 2.3e-13, 2.2e-13}, {0.001, 0.001, 0.001}}};
+  EXPECT_THAT(Recommendation("q", c, "mm"), HasSubstr("q: tie: "));
+}
+
+// Table 7 with seeds: every row repeated; seed 0 is the one-seed table's row, unchanged.
+TEST(KinematicCompare, SeedsRepeatEveryRowAndKeepSeedZero) {
+  const std::string dir = testing::TempDirForThisTest("compare_solvers");
+  const std::string text =
+      "compare: kinematic\n"
+      "simulation: " + testing::Source("configs/compare/delta_table7_simulation.yaml") + "\n"
+      "pose_sets: [uniform_workspace]\nsizes: [24]\nformulations: [forward]\n"
+      "solvers: {lm: {type: ceres_lm}, pinv: {type: jacobian_pinv}}\n"
+      "validation_points: 20\n";
+  testing::WriteText(dir + "/one.yaml", text + "seeds: 1\n");
+  testing::WriteText(dir + "/three.yaml", text + "seeds: 3\n");
+  const CompareSpec one = LoadCompareSpec(dir + "/one.yaml", testing::Plugins());
+  const CompareSpec three = LoadCompareSpec(dir + "/three.yaml", testing::Plugins());
+  const auto rows_one = RunComparison(one, testing::Plugins());
+  const auto rows_three = RunComparison(three, testing::Plugins());
+  ASSERT_EQ(rows_one.size(), 2u);
+  ASSERT_EQ(rows_three.size(), 6u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(rows_three[i].seed, 0);
+    EXPECT_EQ(rows_three[i].validation.rms_mm, rows_one[i].validation.rms_mm);
+  }
+  EXPECT_NE(rows_three[2].validation.max_mm, rows_three[0].validation.max_mm);  // a fresh draw
+  const std::string table = CompareTableMarkdown(three, rows_three);
+  EXPECT_THAT(table, HasSubstr("3 seeds per row"));
+  EXPECT_THAT(table, HasSubstr("- for uniform_workspace x 24, which formulation and solver: "));
+  EXPECT_THAT(CompareTableMarkdown(one, rows_one), Not(HasSubstr("Recommendations")));
 }
 
 // A small comparison through the command line: 3 seeds, two solvers, both camera models.

@@ -78,10 +78,11 @@ std::string TimeRatio(double fast, double slow) {
 
 }  // namespace
 
-bool SameScore(const std::vector<double>& a, const std::vector<double>& b) {
+bool SameScore(const std::vector<double>& a, const std::vector<double>& b, double resolution) {
   const MeanInterval ma = TInterval95(a), mb = TInterval95(b);
-  if (std::abs(ma.mean - mb.mean) <= 0.01 * std::max(std::abs(ma.mean), std::abs(mb.mean))) {
-    return true;  // within 1 %: no difference worth a decision
+  if (std::abs(ma.mean - mb.mean) <=
+      std::max(resolution, 0.01 * std::max(std::abs(ma.mean), std::abs(mb.mean)))) {
+    return true;  // within 1 % or the resolution: no difference worth a decision
   }
   if (a.size() == b.size() && a.size() >= 2) {
     std::vector<double> difference(a.size());
@@ -93,7 +94,8 @@ bool SameScore(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 std::string Recommendation(const std::string& question, const std::vector<Contender>& contenders,
-                           const std::string& unit) {
+                           const std::string& unit, double error_resolution,
+                           double time_resolution_s) {
   if (contenders.empty()) return question + ": nothing to compare";
   if (contenders.size() == 1) return question + ": " + contenders[0].label + " (the only one)";
   std::vector<MeanInterval> error, time;
@@ -120,7 +122,7 @@ std::string Recommendation(const std::string& question, const std::vector<Conten
   }
   std::vector<size_t> same, worse;  // same accuracy as the best (best included), less accurate
   for (size_t i = 0; i < contenders.size(); ++i) {
-    (i == best || SameScore(contenders[i].error, contenders[best].error) ? same : worse)
+    (i == best || SameScore(contenders[i].error, contenders[best].error, error_resolution) ? same : worse)
         .push_back(i);
   }
   std::string line = question + ": ";
@@ -132,7 +134,7 @@ std::string Recommendation(const std::string& question, const std::vector<Conten
     line += label(best) + ": more accurate than " + label(runner) + " (" +
             IntervalText(error[best]) + " vs " + IntervalText(error[runner]) + " " + unit + ")";
     if (time[best].mean > time[runner].mean &&
-        !SameScore(contenders[best].time_s, contenders[runner].time_s)) {
+        !SameScore(contenders[best].time_s, contenders[runner].time_s, time_resolution_s)) {
       char text[64];
       std::snprintf(text, sizeof text, ", at %.2gx its time", time[best].mean / time[runner].mean);
       line += text;
@@ -141,7 +143,7 @@ std::string Recommendation(const std::string& question, const std::vector<Conten
     const size_t fastest = fastest_of(same);
     std::vector<size_t> quick, slow;  // as fast as the fastest (it included), slower
     for (size_t i : same) {
-      (i == fastest || SameScore(contenders[i].time_s, contenders[fastest].time_s) ? quick : slow)
+      (i == fastest || SameScore(contenders[i].time_s, contenders[fastest].time_s, time_resolution_s) ? quick : slow)
           .push_back(i);
     }
     if (quick.size() == 1) {

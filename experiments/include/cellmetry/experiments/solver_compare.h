@@ -40,10 +40,12 @@ struct MeanInterval {
 MeanInterval TInterval95(const std::vector<double>& values);
 bool Overlap(const MeanInterval& a, const MeanInterval& b);
 
-// Whether two per-seed scores are the same for a decision: means within 1 % of each other, or
+// Whether two per-seed scores are the same for a decision: means within 1 % of each other or
+// within `resolution` (a difference too small to matter: round-off of a noise-free fit), or
 // (paired: same length, seed i of both on the same data) the 95 % t-interval of the per-seed
 // differences contains 0, or (unpaired) their 95 % intervals overlap.
-bool SameScore(const std::vector<double>& a, const std::vector<double>& b);
+bool SameScore(const std::vector<double>& a, const std::vector<double>& b,
+               double resolution = 0.0);
 
 // One candidate answer to a question: per-seed error (lower is better) and solve time.
 struct Contender {
@@ -56,8 +58,10 @@ struct Contender {
 // accuracy (SameScore); among those of the same accuracy, the fastest when no other has the same
 // time ("A: same accuracy as B at 1/4 the time"); otherwise "tie: A, B (same accuracy, ... and
 // same time)"; then the slower and the less accurate ones.
+// `error_resolution` (in the error's unit) and `time_resolution_s`: SameScore's resolutions.
 std::string Recommendation(const std::string& question, const std::vector<Contender>& contenders,
-                           const std::string& unit);
+                           const std::string& unit, double error_resolution = 1e-6,
+                           double time_resolution_s = 1e-4);
 
 struct SolverCompareSpec {
   std::string file;
