@@ -190,21 +190,10 @@ std::vector<std::vector<const CompareRow*>> BySeeds(const std::vector<CompareRow
   return groups;
 }
 
-// The stop reason's words without its numbers, counted: "Function tolerance reached (9)".
+// The stop reasons' words (StopReasonWords), counted: "Function tolerance reached (9)".
 std::string StopReasons(const std::vector<const CompareRow*>& group) {
   std::map<std::string, int> count;
-  for (const CompareRow* r : group) {
-    std::string words;
-    for (char c : r->stop_reason) {
-      if (c == '.' || c == ':' || c == '(' || c == '<' || c == '>' || c == '=' ||
-          std::isdigit(static_cast<unsigned char>(c))) {
-        break;
-      }
-      words += c;
-    }
-    while (!words.empty() && words.back() == ' ') words.pop_back();
-    ++count[words.empty() ? r->stop_reason : words];
-  }
+  for (const CompareRow* r : group) ++count[StopReasonWords(r->stop_reason)];
   std::string text;
   for (const auto& [reason, n] : count) {
     text += (text.empty() ? "" : "; ") + reason + " (" + std::to_string(n) + ")";

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <sstream>
 
@@ -38,6 +39,24 @@ MeanInterval TInterval95(const std::vector<double>& values) {
   m.low = m.mean - t * s / std::sqrt(m.n);
   m.high = m.mean + t * s / std::sqrt(m.n);
   return m;
+}
+
+std::string StopReasonWords(const std::string& reason) {
+  std::string first = reason.substr(0, reason.find(". "));  // the first sentence
+  if (!first.empty() && first.back() == '.') first.pop_back();
+  std::string words;
+  for (size_t i = 0; i < first.size();) {
+    if (std::isdigit(static_cast<unsigned char>(first[i]))) {
+      while (i < first.size() && (std::isdigit(static_cast<unsigned char>(first[i])) ||
+                                  std::strchr(".eE+-", first[i]))) {
+        ++i;
+      }
+      words += 'N';
+    } else {
+      words += first[i++];
+    }
+  }
+  return words;
 }
 
 bool Overlap(const MeanInterval& a, const MeanInterval& b) {
@@ -184,21 +203,6 @@ CameraModel ParseCameraModel(const ConfigNode& node) {
   throw node.Error("unknown camera model '" + name + "'", "Use static_cameras or per_frame");
 }
 
-// A stop reason's words without its numbers: "Parameter tolerance reached" from "Parameter
-// tolerance reached. Relative step_norm: 5.8e-13 <= 1e-12.", so that seeds can be counted.
-std::string ReasonWords(const std::string& reason) {
-  std::string words;
-  for (char c : reason) {
-    if (c == '.' || c == ':' || c == '(' || c == '<' || c == '>' || c == '=' ||
-        std::isdigit(static_cast<unsigned char>(c))) {
-      break;
-    }
-    words += c;
-  }
-  while (!words.empty() && words.back() == ' ') words.pop_back();
-  return words.empty() ? reason : words;
-}
-
 bool HasTruth(const SolverCompareSpec& spec) { return spec.simulation.has_value(); }
 
 std::string Unit(const SolverCompareSpec&) { return "mm"; }
@@ -299,7 +303,7 @@ std::vector<SolverCompareRow> RunSolverCompare(const SolverCompareSpec& spec, Re
         row.time_s.push_back(result.solver.time_s);
         row.iterations.push_back(result.solver.iterations);
         row.converged += result.solver.converged ? 1 : 0;
-        ++row.stop_reasons[ReasonWords(result.solver.stop_reason)];
+        ++row.stop_reasons[StopReasonWords(result.solver.stop_reason)];
       }
     }
     progress.Advance();

@@ -40,6 +40,11 @@ struct MeanInterval {
 MeanInterval TInterval95(const std::vector<double>& values);
 bool Overlap(const MeanInterval& a, const MeanInterval& b);
 
+// A solver's stop reason as words to count over seeds: its first sentence, each number as N
+// ("Parameter tolerance reached" from "Parameter tolerance reached. Relative step_norm: 5.8e-13
+// <= 1e-12."; "N epochs done (limit); kept epoch N, the lowest cost").
+std::string StopReasonWords(const std::string& reason);
+
 // Whether two per-seed scores are the same for a decision: means within 1 % of each other or
 // within `resolution` (a difference too small to matter: round-off of a noise-free fit), or
 // (paired: same length, seed i of both on the same data) the 95 % t-interval of the per-seed
