@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "cellmetry/experiments/kinematic_compare.h"
+#include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/solver_compare.h"
 #include "support/test_support.h"
 
@@ -105,6 +106,33 @@ TEST(KinematicCompare, SeedsRepeatEveryRowAndKeepSeedZero) {
   EXPECT_THAT(table, HasSubstr("3 seeds per row"));
   EXPECT_THAT(table, HasSubstr("- for uniform_workspace x 24, which formulation and solver: "));
   EXPECT_THAT(CompareTableMarkdown(one, rows_one), Not(HasSubstr("Recommendations")));
+}
+
+// The marker comparison over seeds: each seed its own renders, figures as intervals, one
+// recommendation (small: 3 captures, 3 positions, 2 seeds).
+TEST(MarkerCompare, SeedsGiveIntervalsAndARecommendation) {
+  const std::string dir = testing::TempDirForThisTest("compare_solvers");
+  testing::WriteText(dir + "/m.yaml",
+                     "compare: markers\n"
+                     "detectors:\n"
+                     "  dot: {type: dot, diameter_mm: 10}\n"
+                     "  aruco: {type: aruco, dictionary: DICT_4X4_50, marker_length_mm: 20, "
+                     "marker_ids: [0]}\n"
+                     "static_pose: {xyz: [10, -5, 450], rvec: [3.14159265, 0, 0]}\n"
+                     "captures: 3\n"
+                     "workspace: {positions: 3, depth_mm: [300, 600], lateral_mm: 120, "
+                     "tilt_rad: 0.35}\n"
+                     "render: {noise_sigma: 2, blur_sigma_px: 0.6, supersampling: 2}\n"
+                     "seeds: 2\n");
+  const MarkerComparisonSpec spec = LoadMarkerComparison(dir + "/m.yaml", testing::Plugins());
+  const auto per_seed = CompareMarkersOverSeeds(spec, testing::Plugins());
+  ASSERT_EQ(per_seed.size(), 2u);
+  EXPECT_NE(per_seed[0][0].static_bias_mm, per_seed[1][0].static_bias_mm);  // new renders
+  const std::string table = MarkerSeedsMarkdown(spec, per_seed);
+  EXPECT_THAT(table, HasSubstr("2 seeds (1 to 2)"));
+  EXPECT_THAT(table, HasSubstr("- for this rig, which detector: "));
+  const std::string csv = MarkerSeedsCsv(spec, per_seed);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 2);
 }
 
 // A small comparison through the command line: 3 seeds, two solvers, both camera models.

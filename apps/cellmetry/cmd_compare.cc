@@ -46,9 +46,15 @@ void AddCompareCommand(CLI::App& app, Context& context) {
       const MarkerComparisonSpec spec = LoadMarkerComparison(spec_path, Registry::Global());
       folder = output.empty() ? spec.output : output;
       CheckReplaceable(folder, "comparison");  // before the work, not after it
-      const auto rows = CompareMarkers(spec, Registry::Global());
-      table = MarkerTableMarkdown(spec, rows);
-      csv = MarkerTableCsv(rows);
+      if (spec.seeds > 1) {  // every figure over seeds, with a recommendation
+        const auto per_seed = CompareMarkersOverSeeds(spec, Registry::Global());
+        table = MarkerSeedsMarkdown(spec, per_seed);
+        csv = MarkerSeedsCsv(spec, per_seed);
+      } else {
+        const auto rows = CompareMarkers(spec, Registry::Global());
+        table = MarkerTableMarkdown(spec, rows);
+        csv = MarkerTableCsv(rows);
+      }
     } else if (kind == "solvers") {
       const SolverCompareSpec spec = LoadSolverCompare(spec_path, Registry::Global());
       folder = output.empty() ? spec.output : output;
