@@ -12,6 +12,8 @@
 #include "cellmetry/cell/robot_pairs.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/exports/calibrated_cell.h"
+#include "cellmetry/exports/tf_export.h"
 #include "cellmetry/model/frame_block.h"
 #include "support/test_support.h"
 
@@ -156,6 +158,26 @@ TEST(RobotToRobot, WrittenInEveryResultFile) {
   EXPECT_EQ(j["robot_to_robot"]["T_ur5e_ur3"]["sigma_xyz_mm"].size(), 3u);
   EXPECT_EQ(j["robot_to_robot"]["T_ur5e_ur3"]["covariance"].size(), 6u);
   EXPECT_THAT(WorkcellSummary(result), HasSubstr("ur3.base in ur5e.base: xyz = ("));
+}
+
+// One propagation, two readers: the tf export's robot-to-robot comment (from result.json) says
+// the sigma the result's robot_to_robot says.
+TEST(RobotToRobot, TheTfExportSaysTheSameSigma) {
+  WorkcellSimulationSpec sim = LoadWorkcellSimulation(
+      testing::Source("configs/simulations/ur5e_ur3_cell.yaml"), testing::Plugins());
+  WorkcellJob job =
+      LoadWorkcellJob(testing::Source("configs/jobs/ur5e_ur3_cell.yaml"), testing::Plugins(), false);
+  job.problem.folds = 0;
+  const WorkcellResult result = testing::Identify(job, SimulateWorkcell(sim, nullptr));
+  const std::string dir = testing::TempDirForThisTest("multirobot");
+  WriteWorkcellResult(result, dir + "/result");
+  const std::string tf = TfLaunchExport(ReadCalibratedCell(dir + "/result", testing::Plugins()));
+  const FrameEstimate& f = result.robot_to_robot.at(0).frame;
+  char sigma[96];
+  std::snprintf(sigma, sizeof sigma, "sigma xyz (%.2g, %.2g, %.2g) mm, rot (%.2g, %.2g, %.2g) rad",
+                f.sigma_mm.x(), f.sigma_mm.y(), f.sigma_mm.z(), f.sigma_rad.x(), f.sigma_rad.y(),
+                f.sigma_rad.z());
+  EXPECT_THAT(tf, HasSubstr(sigma));
 }
 
 // Two robots both naming their tool `gripper`: the recording would hold one target for two
