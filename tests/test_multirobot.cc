@@ -78,10 +78,16 @@ struct Figures {
   double coverage3 = 0;       // fraction of components within 3 sigma
   double mean_mahalanobis = 0;  // e^T C^-1 e, mean over seeds (6 expected)
   Eigen::Matrix<double, 6, 1> spread, mean_sigma, sum_sigma;  // spread over seeds; sigma
+  Eigen::Matrix<double, 6, 1> model_sigma;  // from the model covariance alone (no robust or
+                                            // systematic parts), for the figures
 };
 
 // configs/simulations/ur5e_ur3_cell.yaml with 20 noise seeds (same truth, same poses),
 // identified by configs/jobs/ur5e_ur3_cell.yaml (cross-validation off: not what is tested).
+// With 100 seeds (kSeeds = 100, 8 s) the spread / sigma ratios were 0.85-0.98 per component,
+// 600 of 600 within 3 sigma, mean Mahalanobis^2 5.44; the model-only sigma matched the spread
+// within 5 % (y: 5 % above it): the total sigma's robust and systematic parts, scaled with the
+// model's correlation, make it 5-15 % conservative here.
 TEST(RobotToRobot, WithinThreeSigmaAndSigmaMatchesTheSpreadOver20Seeds) {
   WorkcellSimulationSpec sim = LoadWorkcellSimulation(
       testing::Source("configs/simulations/ur5e_ur3_cell.yaml"), testing::Plugins());
@@ -94,6 +100,7 @@ TEST(RobotToRobot, WithinThreeSigmaAndSigmaMatchesTheSpreadOver20Seeds) {
   Figures f;
   f.mean_sigma.setZero();
   f.sum_sigma.setZero();
+  f.model_sigma.setZero();
   int within = 0, exceed = 0;
   for (int seed = 0; seed < kSeeds; ++seed) {
     sim.noise_seed = 1000 + seed;
@@ -115,6 +122,12 @@ TEST(RobotToRobot, WithinThreeSigmaAndSigmaMatchesTheSpreadOver20Seeds) {
     const Eigen::Matrix<double, 6, 1> sb = (Eigen::Matrix<double, 6, 1>() <<
         testing::Frame(result, "ur3.base").sigma_mm, testing::Frame(result, "ur3.base").sigma_rad).finished();
     f.sum_sigma += (sa.cwiseAbs2() + sb.cwiseAbs2()).cwiseSqrt() / kSeeds;
+    Uncertainty model_only = result.uncertainty;
+    model_only.correlation.resize(0, 0);  // FramePairCovariance then reads the covariance itself
+    const RelativePose by_model = PoseInFrame(
+        testing::Frame(result, "ur5e.base").pose, testing::Frame(result, "ur3.base").pose,
+        FramePairCovariance(model_only, "ur5e.base", "ur3.base"));
+    f.model_sigma += by_model.covariance.diagonal().cwiseSqrt() / kSeeds;
     errors.push_back(e);
   }
   Eigen::Matrix<double, 6, 1> mean = Eigen::Matrix<double, 6, 1>::Zero();
@@ -125,9 +138,10 @@ TEST(RobotToRobot, WithinThreeSigmaAndSigmaMatchesTheSpreadOver20Seeds) {
   f.coverage3 = static_cast<double>(within) / (within + exceed);
   std::printf("T_ur5e_ur3 over %d seeds (x y z mm, rx ry rz rad):\n", kSeeds);
   for (int i = 0; i < 6; ++i) {
-    std::printf("  %s: spread %.3g, mean sigma %.3g (ratio %.2f), bases' sigmas added %.3g\n",
+    std::printf("  %s: spread %.3g, mean sigma %.3g (ratio %.2f), model-only sigma %.3g, bases' "
+                "sigmas added %.3g\n",
                 kFrameParameterNames[i].c_str(), f.spread[i], f.mean_sigma[i],
-                f.spread[i] / f.mean_sigma[i], f.sum_sigma[i]);
+                f.spread[i] / f.mean_sigma[i], f.model_sigma[i], f.sum_sigma[i]);
   }
   std::printf("  within 3 sigma: %d of %d components; mean Mahalanobis^2 %.2f (6 expected)\n",
               within, within + exceed, f.mean_mahalanobis);
