@@ -10,6 +10,7 @@
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/robot_pairs.h"
+#include "cellmetry/cell/truth.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/exports/calibrated_cell.h"
@@ -172,6 +173,16 @@ TEST(RobotToRobot, WrittenInEveryResultFile) {
   EXPECT_EQ(j["robot_to_robot"]["T_ur5e_ur3"]["sigma_xyz_mm"].size(), 3u);
   EXPECT_EQ(j["robot_to_robot"]["T_ur5e_ur3"]["covariance"].size(), 6u);
   EXPECT_THAT(WorkcellSummary(result), HasSubstr("ur3.base in ur5e.base: xyz = ("));
+  // `cellmetry evaluate` scores it against the truth's two bases, in its own sigma.
+  WorkcellTruth truth;
+  SimulateWorkcell(sim, &truth);
+  int scored = 0;
+  for (const auto& q : EvaluateWorkcell(j, truth, "truth").quantities) {
+    if (q.name.rfind("T_ur5e_ur3.", 0) != 0) continue;
+    ++scored;
+    EXPECT_LT(std::abs(q.normalized()), 3.0) << q.name;
+  }
+  EXPECT_EQ(scored, 6);
 }
 
 // One propagation, two readers: the tf export's robot-to-robot comment (from result.json) says
