@@ -288,15 +288,20 @@ std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<Comp
 }
 
 std::string CompareTableCsv(const std::vector<CompareRow>& rows) {
+  // A `seed` column with more than one seed; one seed writes the table as it always was.
+  const bool seeded =
+      std::any_of(rows.begin(), rows.end(), [](const CompareRow& r) { return r.seed > 0; });
   std::ostringstream out;
   out.precision(9);
   out << "pose_set,size,formulation,solver,mean_mm,max_mm,rms_mm,floor_rms_mm,iterations,time_s,"
-         "stop_reason,seed\n";
+         "stop_reason" << (seeded ? ",seed\n" : "\n");
   for (const auto& r : rows) {
     out << PoseSetName(r.pose_set) << "," << r.size << "," << FormulationName(r.formulation) << ","
         << r.solver << "," << r.validation.mean_mm << "," << r.validation.max_mm << ","
         << r.validation.rms_mm << "," << r.floor_rms_mm << "," << r.iterations << "," << r.time_s
-        << ",\"" << r.stop_reason << "\"," << r.seed << "\n";
+        << ",\"" << r.stop_reason << "\"";
+    if (seeded) out << "," << r.seed;
+    out << "\n";
   }
   return out.str();
 }
