@@ -107,7 +107,7 @@ TEST(RobotToRobot, WithinThreeSigmaAndSigmaMatchesTheSpreadOver20Seeds) {
     sim.noise_seed = 1000 + seed;
     const Recording recording = SimulateWorkcell(sim, nullptr);
     const WorkcellResult result = testing::Identify(job, recording);
-    ASSERT_EQ(result.robot_to_robot.size(), 1u);
+    ASSERT_EQ(result.robot_to_robot.size(), 2u);  // ur3 in ur5e, ur5e in ur3
     const RobotPairEstimate& pair = result.robot_to_robot[0];
     ASSERT_EQ(pair.frame.name, "ur3.base");
     ASSERT_EQ(pair.frame.parent, "ur5e.base");
@@ -170,6 +170,7 @@ TEST(RobotToRobot, WrittenInEveryResultFile) {
   EXPECT_THAT(WorkcellResultYaml(result), HasSubstr("robot_to_robot:\n  T_ur5e_ur3:\n    parent: ur5e.base"));
   const nlohmann::json j = WorkcellResultJson(result);
   ASSERT_TRUE(j["robot_to_robot"].contains("T_ur5e_ur3"));
+  ASSERT_TRUE(j["robot_to_robot"].contains("T_ur3_ur5e"));
   EXPECT_EQ(j["robot_to_robot"]["T_ur5e_ur3"]["sigma_xyz_mm"].size(), 3u);
   EXPECT_EQ(j["robot_to_robot"]["T_ur5e_ur3"]["covariance"].size(), 6u);
   EXPECT_THAT(WorkcellSummary(result), HasSubstr("ur3.base in ur5e.base: xyz = ("));
@@ -183,6 +184,9 @@ TEST(RobotToRobot, WrittenInEveryResultFile) {
     EXPECT_LT(std::abs(q.normalized()), 3.0) << q.name;
   }
   EXPECT_EQ(scored, 6);
+  for (const auto& q : EvaluateWorkcell(j, truth, "truth").quantities) {
+    if (q.name.rfind("T_ur3_ur5e.", 0) == 0) EXPECT_LT(std::abs(q.normalized()), 3.0) << q.name;
+  }
 }
 
 // One propagation, two readers: the tf export's robot-to-robot comment (from result.json) says

@@ -295,8 +295,14 @@ std::string WorkcellSummary(const WorkcellResult& r) {
     PrintSigmaParts(f, out);
   }
   if (!r.robot_to_robot.empty()) {
-    out << "  robot to robot (sigma from both bases' joint covariance):\n";
-    for (const auto& p : r.robot_to_robot) out << "  " << PairSummaryLine(p.frame);
+    out << "  robot to robot (sigma from both bases' joint covariance; the reverse ones in "
+           "result.yaml):\n";
+    std::set<std::pair<std::string, std::string>> said;  // each pair once, in the job's order
+    for (const auto& p : r.robot_to_robot) {
+      if (said.count({p.frame.name, p.frame.parent})) continue;
+      said.insert({p.frame.parent, p.frame.name});
+      out << "  " << PairSummaryLine(p.frame);
+    }
   }
   for (const auto& p : r.model_parameters) {
     out << "  " << p.name << " = " << Fixed(p.value, 5) << " "

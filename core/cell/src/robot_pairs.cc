@@ -40,7 +40,8 @@ std::vector<RobotPairEstimate> RobotToRobot(const WorkcellResult& result) {
   }
   std::vector<RobotPairEstimate> pairs;
   for (size_t i = 0; i < bases.size(); ++i) {
-    for (size_t j = i + 1; j < bases.size(); ++j) {
+    for (size_t j = 0; j < bases.size(); ++j) {
+      if (i == j) continue;
       const FrameEstimate& a = *bases[i];
       const FrameEstimate& b = *bases[j];
       const RelativePose relative =

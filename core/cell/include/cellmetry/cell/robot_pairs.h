@@ -19,7 +19,8 @@ namespace cellmetry {
 Eigen::Matrix<double, 12, 12> FramePairCovariance(const Uncertainty& u, const std::string& a,
                                                   const std::string& b);
 
-// One entry per pair of robots in the result's order (a before b), both bases in the world.
+// Every ordered pair of robots (b in a, and a in b: each with its sigma about its own parent's
+// axes), in the result's order, both bases in the world.
 std::vector<RobotPairEstimate> RobotToRobot(const WorkcellResult& result);
 
 }  // namespace cellmetry

@@ -134,7 +134,7 @@ struct WorkcellResult {
   ResidualForm residual_form = ResidualForm::kCartesian;
   SolverSummary solver;
   std::vector<FrameEstimate> frames;
-  std::vector<RobotPairEstimate> robot_to_robot;  // every pair of robots (robot_pairs.h)
+  std::vector<RobotPairEstimate> robot_to_robot;  // every ordered pair (robot_pairs.h)
   std::vector<ScalarEstimate> model_parameters;   // free or held-for-identifiability entries
   std::vector<RobotModelRecord> robot_models;     // each robot's model, whole (exports)
   std::vector<UnidentifiableParameter> unidentifiable;
