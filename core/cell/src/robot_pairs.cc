@@ -33,10 +33,11 @@ Eigen::Matrix<double, 12, 12> FramePairCovariance(const Uncertainty& u, const st
 }
 
 std::vector<RobotPairEstimate> RobotToRobot(const WorkcellResult& result) {
-  std::vector<const FrameEstimate*> bases;
-  for (const auto& f : result.frames) {
-    const bool is_base = f.name.size() > 5 && f.name.compare(f.name.size() - 5, 5, ".base") == 0;
-    if (is_base && f.parent == "world") bases.push_back(&f);
+  std::vector<const FrameEstimate*> bases;  // each robot's base, in the job's order
+  for (const auto& robot : result.robot_models) {
+    for (const auto& f : result.frames) {
+      if (f.name == robot.robot + ".base" && f.parent == "world") bases.push_back(&f);
+    }
   }
   std::vector<RobotPairEstimate> pairs;
   for (size_t i = 0; i < bases.size(); ++i) {
