@@ -298,11 +298,17 @@ std::string WorkcellSummary(const WorkcellResult& r) {
     out << "  robot to robot (sigma from both bases' joint covariance; the reverse ones in "
            "result.yaml):\n";
     std::set<std::pair<std::string, std::string>> said;  // each pair once, in the job's order
+    size_t left = 0;
     for (const auto& p : r.robot_to_robot) {
       if (said.count({p.frame.name, p.frame.parent})) continue;
       said.insert({p.frame.parent, p.frame.name});
+      if (said.size() > 10) {  // a large cell: the rest in the files
+        ++left;
+        continue;
+      }
       out << "  " << PairSummaryLine(p.frame);
     }
+    if (left > 0) out << "    ... and " << left << " more pairs in result.yaml\n";
   }
   for (const auto& p : r.model_parameters) {
     out << "  " << p.name << " = " << Fixed(p.value, 5) << " "
