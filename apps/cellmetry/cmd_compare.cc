@@ -19,7 +19,9 @@ void AddCompareCommand(CLI::App& app, Context& context) {
   CLI::App* cmd = app.add_subcommand(
       "compare", "calibrate simulated arms per pose set x size x formulation x solver (Table 7)");
   static std::string spec_path, output;
-  cmd->add_option("spec", spec_path, "comparison spec (YAML, compare: kinematic | markers | physics | solvers)")->required();
+  cmd->add_option("spec", spec_path,
+                  "comparison spec (YAML, compare: kinematic | markers | physics | solvers)")
+      ->required();
   cmd->add_option("-o,--output", output, "folder for table.md and table.csv");
   static int seeds = 0;
   cmd->add_option("--seeds", seeds,

@@ -141,12 +141,14 @@ std::string Recommendation(const std::string& question, const std::vector<Conten
   }
   std::vector<size_t> same, worse;  // same accuracy as the best (best included), less accurate
   for (size_t i = 0; i < contenders.size(); ++i) {
-    (i == best || SameScore(contenders[i].error, contenders[best].error, error_resolution) ? same : worse)
-        .push_back(i);
+    const bool same_error =
+        i == best || SameScore(contenders[i].error, contenders[best].error, error_resolution);
+    (same_error ? same : worse).push_back(i);
   }
   std::string line = question + ": ";
+  size_t runner = contenders.size();  // the less accurate one named in the line, if any
   if (same.size() == 1) {
-    size_t runner = worse.front();
+    runner = worse.front();
     for (size_t i : worse) {
       if (error[i].mean < error[runner].mean) runner = i;
     }
@@ -162,8 +164,10 @@ std::string Recommendation(const std::string& question, const std::vector<Conten
     const size_t fastest = fastest_of(same);
     std::vector<size_t> quick, slow;  // as fast as the fastest (it included), slower
     for (size_t i : same) {
-      (i == fastest || SameScore(contenders[i].time_s, contenders[fastest].time_s, time_resolution_s) ? quick : slow)
-          .push_back(i);
+      const bool same_time =
+          i == fastest ||
+          SameScore(contenders[i].time_s, contenders[fastest].time_s, time_resolution_s);
+      (same_time ? quick : slow).push_back(i);
     }
     if (quick.size() == 1) {
       const size_t next = fastest_of(slow);
@@ -186,9 +190,7 @@ std::string Recommendation(const std::string& question, const std::vector<Conten
   }
   std::vector<size_t> others;  // less accurate, not yet named
   for (size_t i : worse) {
-    if (same.size() > 1 || line.find("than " + label(i) + " (") == std::string::npos) {
-      others.push_back(i);
-    }
+    if (i != runner) others.push_back(i);
   }
   if (!others.empty()) line += "; less accurate: " + names(others);
   return line;

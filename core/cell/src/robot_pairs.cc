@@ -52,7 +52,8 @@ std::vector<RobotPairEstimate> RobotToRobot(const WorkcellResult& result) {
       pair.frame.name = b.name;
       pair.frame.parent = a.name;
       pair.frame.pose = relative.T_a_b;
-      const Eigen::Matrix<double, 6, 1> sigma = relative.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+      const Eigen::Matrix<double, 6, 1> sigma =
+          relative.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
       pair.frame.sigma_mm = sigma.head<3>();
       pair.frame.sigma_rad = sigma.tail<3>();
       pair.frame.sigma_statistical = sigma;  // the parts do not propagate apart; all in one
