@@ -45,8 +45,13 @@ diagnose_vsb_sim_b     diagnose configs/jobs/vsb_sim_b_diagnose.yaml
 diagnose_ur3           diagnose configs/jobs/ur3_diagnose.yaml
 diagnose_delta         diagnose configs/jobs/delta_diagnose.yaml
 diagnose_vsb_exp_a     diagnose configs/jobs/vsb_exp_a_diagnose.yaml
-compare_table7         compare configs/compare/delta_table7.yaml
-compare_markers        compare configs/compare/markers.yaml
+compare_table7         compare configs/compare/delta_table7.yaml --seeds 1
+compare_markers        compare configs/compare/markers.yaml --seeds 1
+sim_ur5e_ur3_cell      simulate configs/simulations/ur5e_ur3_cell.yaml -o results/ur5e_ur3_cell
+run_ur5e_ur3_cell      run configs/jobs/ur5e_ur3_cell.yaml
+eval_ur5e_ur3_cell     evaluate results/ur5e_ur3_cell_fit results/ur5e_ur3_cell/truth.yaml
+compare_solvers_sim    compare configs/compare/solvers_serial_sim.yaml
+compare_solvers_sim_b  compare configs/compare/solvers_vsb_sim_b.yaml
 EOF
 }
 

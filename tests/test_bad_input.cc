@@ -294,7 +294,12 @@ INSTANTIATE_TEST_SUITE_P(
                 "job.yaml:16:16:", "Point plugin_paths at the folder",
                 "no plugin folder at '/nonexistent/cellmetry/plugins'"},
         JobEdit{"DuplicateKey", "", "validation:\n  folds: 3\n", "job.yaml:16:1:",
-                "Keep one of them", "key 'validation' appears twice in this map"}),
+                "Keep one of them", "key 'validation' appears twice in this map"},
+        JobEdit{"ToolNameOfAnotherRobot", "solver:\n",
+                "  ur3b:\n    model: ur3.yaml\n    base: {free: all}\n    tools:\n"
+                "      tool:\nsolver:\n",
+                "job.yaml:16:7:", "give each robot's tool its own name",
+                "robots.ur3b.tools: target 'tool' is already a tool of robot 'ur3'"}),
     [](const ::testing::TestParamInfo<JobEdit>& info) { return info.param.name; });
 
 TEST_F(BadInput, RobotJointWithoutDIsRefusedNotReadAsZero) {

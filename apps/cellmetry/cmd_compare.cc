@@ -1,7 +1,8 @@
 // `cellmetry compare SPEC.yaml`: the report's Table 7 (`compare: kinematic`, kinematic_compare.h)
 // or its Tables 3 and 4 (`compare: markers`, marker_comparison.h), writing table.md and
 // table.csv; or the physics finder's concealed-effect suite (`compare: physics`,
-// physics_suite.h), writing one markdown file.
+// physics_suite.h), writing one markdown file; or solvers x camera models over seeds with a
+// recommendation per question (`compare: solvers`, solver_compare.h).
 #include <cstdio>
 
 #include "cellmetry/formats/atomic_file.h"
@@ -9,6 +10,7 @@
 #include "cellmetry/experiments/kinematic_compare.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/physics_suite.h"
+#include "cellmetry/experiments/solver_compare.h"
 #include "cellmetry/basics/progress.h"
 #include "commands.h"
 
@@ -18,13 +20,27 @@ void AddCompareCommand(CLI::App& app, Context& context) {
   CLI::App* cmd = app.add_subcommand(
       "compare", "calibrate simulated arms per pose set x size x formulation x solver (Table 7)");
   static std::string spec_path, output;
-  cmd->add_option("spec", spec_path, "comparison spec (YAML, compare: kinematic)")->required();
+  cmd->add_option("spec", spec_path,
+                  "comparison spec (YAML, compare: kinematic | markers | physics | solvers)")
+      ->required();
   cmd->add_option("-o,--output", output, "folder for table.md and table.csv");
+  static int seeds = 0;
+  cmd->add_option("--seeds", seeds,
+                  "repetitions per row instead of the spec's seeds: (kinematic, markers, "
+                  "solvers; 1: the one-seed table)")
+      ->check(CLI::Range(1, 100000));
   cmd->callback([&context] {
     Progress::SetQuiet(context.quiet);
     LoadPlugins(context);
     const ConfigNode root = ConfigNode::LoadFile(spec_path);
     const std::string kind = root["compare"].AsString();
+    if (kind != "physics" && kind != "markers" && kind != "kinematic" && kind != "solvers") {
+      throw root["compare"].Error(
+          "unknown comparison '" + kind + "'",
+          "Use compare: kinematic (Table 7: pose sets x sizes x formulations x solvers), markers "
+          "(Tables 3 and 4: marker detectors), physics (the concealed-effect suite) or solvers "
+          "(solvers x camera models over seeds, with a recommendation); docs/formats.md");
+    }
     std::string table, csv, folder;
     if (kind == "physics") {
       const PhysicsSuiteSpec spec = LoadPhysicsSuite(spec_path);
@@ -35,14 +51,30 @@ void AddCompareCommand(CLI::App& app, Context& context) {
       return;
     }
     if (kind == "markers") {
-      const MarkerComparisonSpec spec = LoadMarkerComparison(spec_path, Registry::Global());
+      MarkerComparisonSpec spec = LoadMarkerComparison(spec_path, Registry::Global());
+      if (seeds > 0) spec.seeds = seeds;
       folder = output.empty() ? spec.output : output;
       CheckReplaceable(folder, "comparison");  // before the work, not after it
-      const auto rows = CompareMarkers(spec, Registry::Global());
-      table = MarkerTableMarkdown(spec, rows);
-      csv = MarkerTableCsv(rows);
+      if (spec.seeds > 1) {  // every figure over seeds, with a recommendation
+        const auto per_seed = CompareMarkersOverSeeds(spec, Registry::Global());
+        table = MarkerSeedsMarkdown(spec, per_seed);
+        csv = MarkerSeedsCsv(spec, per_seed);
+      } else {
+        const auto rows = CompareMarkers(spec, Registry::Global());
+        table = MarkerTableMarkdown(spec, rows);
+        csv = MarkerTableCsv(rows);
+      }
+    } else if (kind == "solvers") {
+      SolverCompareSpec spec = LoadSolverCompare(spec_path, Registry::Global());
+      if (seeds > 0) spec.seeds = seeds;
+      folder = output.empty() ? spec.output : output;
+      CheckReplaceable(folder, "comparison");
+      const auto rows = RunSolverCompare(spec, Registry::Global());
+      table = SolverCompareMarkdown(spec, rows);
+      csv = SolverCompareCsv(rows);
     } else {
-      const CompareSpec spec = LoadCompareSpec(spec_path, Registry::Global());
+      CompareSpec spec = LoadCompareSpec(spec_path, Registry::Global());
+      if (seeds > 0) spec.seeds = seeds;
       folder = output.empty() ? spec.output : output;
       CheckReplaceable(folder, "comparison");
       const auto rows = RunComparison(spec, Registry::Global());

@@ -3,11 +3,14 @@
 
 #include "cellmetry/cell/workcell.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
 #include <sstream>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/experiments/solver_compare.h"
 
 namespace cellmetry {
 namespace {
@@ -32,10 +35,11 @@ std::string Number(double value) {
 CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"compare", "description", "simulation", "pose_sets", "sizes", "formulations",
-                   "solvers", "validation_points", "output"});
+                   "solvers", "validation_points", "seeds", "output"});
   if (root["compare"].AsString() != "kinematic") {
     throw root["compare"].Error("unknown comparison '" + root["compare"].AsString() + "'",
-                                "This version compares: kinematic");
+                                "Use compare: kinematic, markers, physics or solvers "
+                                "(docs/formats.md)");
   }
   CompareSpec spec;
   spec.file = path;
@@ -68,6 +72,8 @@ CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
     spec.solvers.emplace_back(label, block);
   }
   spec.validation_points = root.GetInt("validation_points", spec.validation_points);
+  spec.seeds = root.GetIntIn("seeds", spec.seeds, 1, 100000,
+                             "Repetitions of every row; 1 is the simulation's own draw alone");
   spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
                                    : "results/compare";
   return spec;
@@ -116,33 +122,144 @@ std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registr
   std::vector<CompareRow> rows;
   Progress progress("comparison row", static_cast<int>(spec.pose_sets.size() * spec.sizes.size() *
                                                        spec.formulations.size() *
-                                                       spec.solvers.size()));
+                                                       spec.solvers.size()) * spec.seeds);
   for (PoseSet set : spec.pose_sets) {
     for (int size : spec.sizes) {
-      // One recording per (pose set, size), shared by every formulation and solver.
-      std::mt19937 rng(sim.seed * 7919u + static_cast<unsigned>(set) * 131u + size);
-      WorkcellSimulationSpec drawn = sim;
-      drawn.robots.front().pose_set = PoseSetSpec{set, size, ""};
-      const Recording recording = SimulateWorkcell(drawn, nullptr, rng);
-      for (ResidualForm formulation : spec.formulations) {
-        const WorkcellProblem problem = SimulatedProblem(sim, formulation);  // all free
-        for (const auto& [label, block] : spec.solvers) {
-          const SolverMaker make = [&, &block = block] {
-            return registry.CreateSolver(block["type"].AsString(), block);
-          };
-          CompareRow row = Score(sim, problem, recording,
-                                 IdentifyWorkcell(problem, recording, make), validation);
-          row.pose_set = set;
-          row.size = size;
-          row.formulation = formulation;
-          row.solver = label;
-          rows.push_back(row);
-          progress.Advance();
+      for (int seed = 0; seed < spec.seeds; ++seed) {
+        // One recording per (pose set, size, seed), shared by every formulation and solver.
+        // Seed 0: the simulation's own truth (as with one seed); then a fresh truth per seed.
+        std::mt19937 rng(sim.seed * 7919u + static_cast<unsigned>(set) * 131u + size +
+                         104729u * static_cast<unsigned>(seed));
+        WorkcellSimulationSpec drawn = sim;
+        drawn.robots.front().pose_set = PoseSetSpec{set, size, ""};
+        Recording recording;
+        if (seed == 0) {
+          recording = SimulateWorkcell(drawn, nullptr, rng);
+        } else {
+          SimulatedDraw draw = DrawAndSimulate(drawn, rng);
+          drawn = draw.truth;
+          recording = std::move(draw.recording);
+        }
+        for (ResidualForm formulation : spec.formulations) {
+          const WorkcellProblem problem = SimulatedProblem(sim, formulation);  // all free
+          for (const auto& [label, block] : spec.solvers) {
+            const SolverMaker make = [&, &block = block] {
+              return registry.CreateSolver(block["type"].AsString(), block);
+            };
+            CompareRow row = Score(drawn, problem, recording,
+                                   IdentifyWorkcell(problem, recording, make), validation);
+            row.pose_set = set;
+            row.size = size;
+            row.formulation = formulation;
+            row.solver = label;
+            row.seed = seed;
+            rows.push_back(row);
+            progress.Advance();
+          }
         }
       }
     }
   }
   return rows;
+}
+
+namespace {
+
+std::string Interval(const std::vector<double>& values, double scale = 1.0) {
+  const MeanInterval m = TInterval95(values);
+  return Number(m.mean * scale) + " [" + Number(m.low * scale) + ", " + Number(m.high * scale) +
+         "]";
+}
+
+// Rows over seeds: (pose set, size, formulation, solver) -> that row's seeds, in table order.
+std::vector<std::vector<const CompareRow*>> BySeeds(const std::vector<CompareRow>& rows) {
+  std::vector<std::vector<const CompareRow*>> groups;
+  auto same = [](const CompareRow& a, const CompareRow& b) {
+    return a.pose_set == b.pose_set && a.size == b.size && a.formulation == b.formulation &&
+           a.solver == b.solver;
+  };
+  for (const auto& row : rows) {
+    auto it = std::find_if(groups.begin(), groups.end(),
+                           [&](const auto& g) { return same(*g.front(), row); });
+    if (it == groups.end()) {
+      groups.push_back({&row});
+    } else {
+      it->push_back(&row);
+    }
+  }
+  return groups;
+}
+
+// The stop reasons' words (StopReasonWords), counted: "Function tolerance reached (9)".
+std::string StopReasons(const std::vector<const CompareRow*>& group) {
+  std::map<std::string, int> count;
+  for (const CompareRow* r : group) ++count[StopReasonWords(r->stop_reason)];
+  std::string text;
+  for (const auto& [reason, n] : count) {
+    text += (text.empty() ? "" : "; ") + reason + " (" + std::to_string(n) + ")";
+  }
+  return text;
+}
+
+std::string SeededMarkdown(const CompareSpec& spec, const std::vector<CompareRow>& rows) {
+  std::ostringstream out;
+  out << "| pose set | size | formulation | solver | RMS (mm) | mean (mm) | max (mm) | floor RMS "
+         "(mm) | iterations (mean, min-max) | time (ms) | stop reasons |\n";
+  out << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& group : BySeeds(rows)) {
+    std::vector<double> rms, mean, max, floor, time;
+    int lo = group.front()->iterations, hi = lo;
+    double iterations = 0.0;
+    for (const CompareRow* r : group) {
+      rms.push_back(r->validation.rms_mm);
+      mean.push_back(r->validation.mean_mm);
+      max.push_back(r->validation.max_mm);
+      floor.push_back(r->floor_rms_mm);
+      time.push_back(r->time_s);
+      lo = std::min(lo, r->iterations);
+      hi = std::max(hi, r->iterations);
+      iterations += static_cast<double>(r->iterations) / group.size();
+    }
+    const CompareRow& r = *group.front();
+    char iter[64];
+    std::snprintf(iter, sizeof iter, "%.1f, %d-%d", iterations, lo, hi);
+    out << "| " << PoseSetName(r.pose_set) << " | " << r.size << " | "
+        << FormulationName(r.formulation) << " | " << r.solver << " | " << Interval(rms) << " | "
+        << Interval(mean) << " | " << Interval(max) << " | "
+        << (r.floor_rms_mm > 0 ? Interval(floor) : "-") << " | " << iter << " | "
+        << Interval(time, 1e3) << " | " << StopReasons(group) << " |\n";
+  }
+  out << "\nRecommendations (same: means within 1 %, or the 95 % t-interval of the per-seed "
+         "differences contains 0; a tie is called a tie):\n\n";
+  for (const auto& line : CompareRecommendations(spec, rows)) out << "- " << line << "\n";
+  return out.str();
+}
+
+}  // namespace
+
+std::vector<std::string> CompareRecommendations(const CompareSpec& spec,
+                                                const std::vector<CompareRow>& rows) {
+  std::vector<std::string> lines;
+  for (PoseSet set : spec.pose_sets) {
+    for (int size : spec.sizes) {
+      std::vector<Contender> contenders;
+      for (const auto& group : BySeeds(rows)) {
+        const CompareRow& r = *group.front();
+        if (r.pose_set != set || r.size != size) continue;
+        Contender c;
+        c.label = FormulationName(r.formulation) + " " + r.solver;
+        for (const CompareRow* s : group) {
+          c.error.push_back(s->validation.rms_mm);
+          c.time_s.push_back(s->time_s);
+        }
+        contenders.push_back(c);
+      }
+      lines.push_back(Recommendation("for " + PoseSetName(set) + " x " + std::to_string(size) +
+                                         ", which formulation and solver",
+                                     contenders, "mm validation RMS"));
+    }
+  }
+  return lines;
 }
 
 std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<CompareRow>& rows) {
@@ -151,6 +268,12 @@ std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<Comp
   out << "Validation error against the truth on " << spec.validation_points
       << " fresh positions (marker in the camera frame, mm); noise sigma (x, y, depth) = ("
       << s.x() << ", " << s.y() << ", " << s.z() << ") mm.\n\n";
+  if (spec.seeds > 1) {
+    out << spec.seeds << " seeds per row (seed 0 the simulation's own truth, each further one a "
+        << "fresh truth and pose set): mean [95 % t-interval].\n\n"
+        << SeededMarkdown(spec, rows);
+    return out.str();
+  }
   out << "| pose set | size | formulation | solver | mean (mm) | max (mm) | RMS (mm) | floor RMS (mm) "
          "| iterations | time (ms) |\n";
   out << "|---|---|---|---|---|---|---|---|---|---|\n";
@@ -165,15 +288,20 @@ std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<Comp
 }
 
 std::string CompareTableCsv(const std::vector<CompareRow>& rows) {
+  // A `seed` column with more than one seed; one seed writes the table as it always was.
+  const bool seeded =
+      std::any_of(rows.begin(), rows.end(), [](const CompareRow& r) { return r.seed > 0; });
   std::ostringstream out;
   out.precision(9);
   out << "pose_set,size,formulation,solver,mean_mm,max_mm,rms_mm,floor_rms_mm,iterations,time_s,"
-         "stop_reason\n";
+         "stop_reason" << (seeded ? ",seed\n" : "\n");
   for (const auto& r : rows) {
     out << PoseSetName(r.pose_set) << "," << r.size << "," << FormulationName(r.formulation) << ","
         << r.solver << "," << r.validation.mean_mm << "," << r.validation.max_mm << ","
         << r.validation.rms_mm << "," << r.floor_rms_mm << "," << r.iterations << "," << r.time_s
-        << ",\"" << r.stop_reason << "\"\n";
+        << ",\"" << r.stop_reason << "\"";
+    if (seeded) out << "," << r.seed;
+    out << "\n";
   }
   return out.str();
 }

@@ -112,7 +112,7 @@ std::string F(double value, int digits = 4) {
 MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"compare", "description", "detectors", "stereo", "static_pose", "captures",
-                   "workspace", "render", "seed", "output"});
+                   "workspace", "render", "seed", "seeds", "output"});
   MarkerComparisonSpec spec;
   const ConfigNode detectors = root["detectors"];
   for (const auto& label : detectors.Keys()) {
@@ -145,6 +145,8 @@ MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& reg
     spec.render.supersampling = r.GetInt("supersampling", spec.render.supersampling);
   }
   spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
+  spec.seeds = root.GetIntIn("seeds", spec.seeds, 1, 100000,
+                             "Repetitions of the comparison; 1 is the seed's alone");
   spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString()) : "results/markers";
   if (spec.captures < 2) throw root["captures"].Error("need at least 2 captures for a sigma");
   return spec;

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -211,13 +212,36 @@ ResidualForm ReadResidual(const ConfigNode& root, const WorkcellProblem& problem
   return ResidualForm::kJointSpace;
 }
 
+// A target name is one marker in the recording: two robots both listing `tool` would each be
+// fitted to the other's observations. Refused at the second one, with where the first is.
+void CheckToolNamesUnique(const ConfigNode& tools, const std::string& robot,
+                          const std::string& world_target,
+                          std::map<std::string, std::string>* carrier) {
+  for (const auto& target : tools.Keys()) {
+    std::string other;
+    if (!world_target.empty() && target == world_target) other = "the world target";
+    const auto seen = carrier->find(target);
+    if (seen != carrier->end()) other = "robot '" + seen->second + "'";
+    if (!other.empty()) {
+      throw InputError(tools.KeyLocation(target),
+                       "robots." + robot + ".tools: target '" + target + "' is already " +
+                           (seen != carrier->end() ? "a tool of " : "") + other,
+                       "A target name is one marker in the recording; give each robot's tool "
+                       "its own name, as recording.yaml does");
+    }
+    (*carrier)[target] = robot;
+  }
+}
+
 // `robots:`, their effects and the cell-wide measurement effects; where each is named.
 void ReadRobots(const ConfigNode& root, Registry& registry, WorkcellJob* job) {
   WorkcellProblem& problem = job->problem;
   const ConfigNode robots = root["robots"];
+  std::map<std::string, std::string> carrier;  // target -> robot
   for (const auto& name : robots.Keys()) {
     const ConfigNode robot = robots[name];
     problem.robots.push_back(ReadRobot(name, robot, problem.world_target.empty(), registry));
+    CheckToolNamesUnique(robot["tools"], name, problem.world_target, &carrier);
     job->locations["robots." + name] = robot.location();
     for (const auto& target : robot["tools"].Keys()) {
       const auto tool = robot["tools"].Optional(target);

@@ -116,6 +116,27 @@ void PrintSigmaParts(const FrameEstimate& f, std::ostream& out) {
   out << "\n";
 }
 
+// "T_<a>_<b>": the key of robot b's base in robot a's base.
+std::string PairKey(const FrameEstimate& f) {
+  auto robot = [](const std::string& base) { return base.substr(0, base.size() - 5); };
+  return "T_" + robot(f.parent) + "_" + robot(f.name);
+}
+
+// "  ur3.base in ur5e.base: xyz = (..) mm +- (..), rvec = (..) rad +- (..)"
+std::string PairSummaryLine(const FrameEstimate& f) {
+  const Eigen::Vector3d rvec = RvecFromRotation(f.pose.R);
+  auto three = [](const Eigen::Vector3d& v, int digits) {
+    return "(" + Fixed(v.x(), digits) + ", " + Fixed(v.y(), digits) + ", " + Fixed(v.z(), digits) +
+           ")";
+  };
+  auto sigmas = [](const Eigen::Vector3d& v) {
+    return "(" + SigmaText(v.x()) + ", " + SigmaText(v.y()) + ", " + SigmaText(v.z()) + ")";
+  };
+  return "  " + f.name + " in " + f.parent + ": xyz = " + three(f.pose.t, 2) + " mm +- " +
+         sigmas(f.sigma_mm) + ", rvec = " + three(rvec, 4) + " rad +- " + sigmas(f.sigma_rad) +
+         "\n";
+}
+
 }  // namespace
 
 std::string WorkcellResultYaml(const WorkcellResult& result) {
@@ -126,6 +147,11 @@ std::string WorkcellResultYaml(const WorkcellResult& result) {
   out << YAML::BeginMap << YAML::Key << "frames" << YAML::Value << YAML::BeginMap;
   for (const auto& f : result.frames) EmitFrameYaml(out, f.name, f);
   out << YAML::EndMap;
+  if (!result.robot_to_robot.empty()) {  // first order, with the bases' cross-covariance
+    out << YAML::Key << "robot_to_robot" << YAML::Value << YAML::BeginMap;
+    for (const auto& p : result.robot_to_robot) EmitFrameYaml(out, PairKey(p.frame), p.frame);
+    out << YAML::EndMap;
+  }
   if (!result.model_parameters.empty()) {
     out << YAML::Key << "model" << YAML::Value << YAML::BeginMap;
     for (const auto& p : result.model_parameters) {
@@ -165,6 +191,21 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
                            {"sigma_systematic", Vec6(f.sigma_systematic)},
                            {"sigma_inputs", Vec6(f.sigma_inputs)},
                            {"held", held}};
+  }
+  for (const auto& p : r.robot_to_robot) {
+    nlohmann::json covariance = nlohmann::json::array();
+    for (int i = 0; i < 6; ++i) {
+      nlohmann::json row = nlohmann::json::array();
+      for (int k = 0; k < 6; ++k) row.push_back(p.covariance(i, k));
+      covariance.push_back(row);
+    }
+    j["robot_to_robot"][PairKey(p.frame)] = {
+        {"parent", p.frame.parent}, {"frame", p.frame.name},
+        {"xyz_mm", Vec(p.frame.pose.t)}, {"rvec_rad", Vec(RvecFromRotation(p.frame.pose.R))},
+        {"sigma_xyz_mm", Vec(p.frame.sigma_mm)}, {"sigma_rot_rad", Vec(p.frame.sigma_rad)},
+        {"covariance", covariance},
+        {"sigma_from", "first-order propagation of both bases' joint covariance (x y z mm, "
+                       "rx ry rz rad about the parent's axes)"}};
   }
   j["model_parameters"] = nlohmann::json::array();
   for (const auto& p : r.model_parameters) {
@@ -254,6 +295,22 @@ std::string WorkcellSummary(const WorkcellResult& r) {
         << Fixed(rvec.y(), 4) << ", " << Fixed(rvec.z(), 4) << ") rad +- " << sigmas(f.sigma_rad, 3)
         << "\n";
     PrintSigmaParts(f, out);
+  }
+  if (!r.robot_to_robot.empty()) {
+    out << "  robot to robot (sigma from both bases' joint covariance; the reverse ones in "
+           "result.yaml):\n";
+    std::set<std::pair<std::string, std::string>> said;  // each pair once, in the job's order
+    size_t left = 0;
+    for (const auto& p : r.robot_to_robot) {
+      if (said.count({p.frame.name, p.frame.parent})) continue;
+      said.insert({p.frame.parent, p.frame.name});
+      if (said.size() > 10) {  // a large cell: the rest in the files
+        ++left;
+        continue;
+      }
+      out << "  " << PairSummaryLine(p.frame);
+    }
+    if (left > 0) out << "    ... and " << left << " more pairs in result.yaml\n";
   }
   for (const auto& p : r.model_parameters) {
     out << "  " << p.name << " = " << Fixed(p.value, 5) << " "

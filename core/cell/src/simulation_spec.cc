@@ -1,6 +1,7 @@
 // Reading a simulation spec (workcell_simulation.h, docs/formats.md): robots and their truth,
 // cameras, noise, effects, concealed physics, the timeline.
 #include <cmath>
+#include <map>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/cell/workcell_simulation.h"
@@ -179,6 +180,28 @@ void ReadTimeline(const ConfigNode& t, SimulatedTimeline* timeline) {
   if (t.Has("temperature_end_c")) timeline->temperature_end_c = t["temperature_end_c"].AsDouble();
 }
 
+// A target name is one physical marker: two robots' tools (or a tool and the world target) of
+// the same name would be written to the recording as one target, its observations mixed.
+void CheckTargetNamesUnique(const ConfigNode& tools, const std::string& robot,
+                            const std::string& world_target,
+                            const std::map<std::string, SimulatedCamera>& cameras,
+                            std::map<std::string, std::string>* carrier) {
+  for (const auto& target : tools.Keys()) {
+    std::string other;
+    if (target == world_target) other = "the world target";
+    if (cameras.count(target)) other = "the name of a camera";
+    const auto seen = carrier->find(target);
+    if (seen != carrier->end()) other = "a tool of robot '" + seen->second + "'";
+    if (!other.empty()) {
+      throw InputError(tools.KeyLocation(target),
+                       "robots." + robot + ".tools: target '" + target + "' is already " + other,
+                       "Give every robot's tool its own name (e.g. '" + robot + "_" + target +
+                           "'): a target name is one marker in the recording");
+    }
+    (*carrier)[target] = robot;
+  }
+}
+
 }  // namespace
 
 WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry,
@@ -206,8 +229,10 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
   ReadCameras(root["cameras"], &spec);
   std::mt19937 rng(spec.seed + 7919);
   const ConfigNode robots = root["robots"];
+  std::map<std::string, std::string> carrier;  // target -> robot (or "world", a camera)
   for (const auto& name : robots.Keys()) {
     spec.robots.push_back(ReadRobot(name, robots[name], registry, rng, &spec));
+    CheckTargetNamesUnique(robots[name]["tools"], name, spec.world_target, spec.cameras, &carrier);
   }
   if (spec.repeats < 1) throw root["repeats"].Error("must be at least 1");
   std::mt19937 truth_rng(spec.seed);

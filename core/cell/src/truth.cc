@@ -89,6 +89,25 @@ WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const Workcell
       }
     }
   }
+  // Every robot in every other robot's base (robot_to_robot), against the truth's two bases.
+  if (result.contains("robot_to_robot")) {
+    for (const auto& [name, pair] : result.at("robot_to_robot").items()) {
+      const auto a = truth.frames.find(pair.at("parent").get<std::string>());
+      const auto b = truth.frames.find(pair.at("frame").get<std::string>());
+      if (a == truth.frames.end() || b == truth.frames.end()) continue;  // bases scored above
+      const Pose true_ab = a->second.pose.inverse() * b->second.pose;
+      const Eigen::Vector3d t = vec(pair.at("xyz_mm")), rvec = vec(pair.at("rvec_rad"));
+      const Eigen::Vector3d dt = t - true_ab.t;
+      const Eigen::Vector3d dr = RotationError<double>(RotationFromRvec(rvec.data()), true_ab.R);
+      const Eigen::Vector3d st = vec(pair.at("sigma_xyz_mm")), sr = vec(pair.at("sigma_rot_rad"));
+      for (int i = 0; i < 3; ++i) {
+        if (st[i] > 0) evaluation.quantities.push_back({name + "." + kAxes[i], "mm", dt[i], st[i]});
+        if (sr[i] > 0) {
+          evaluation.quantities.push_back({name + ".rot_" + kAxes[i], "rad", dr[i], sr[i]});
+        }
+      }
+    }
+  }
   for (const auto& p : result.at("model_parameters")) {
     if (p.at("held").get<bool>()) continue;
     const std::string name = p.at("name");

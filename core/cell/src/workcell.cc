@@ -1,5 +1,6 @@
 // The workcell identification (workcell.h): fit, sigma, uncertainty, residuals, held-out.
 #include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/robot_pairs.h"
 
 #include "cellmetry/basics/error.h"
 
@@ -371,6 +372,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result.uncertainty);
   AddInputUncertainty(spec, recording, result.noise, result.estimate, &result.uncertainty);
   Describe(spec, *fit.assembled, held, &result);
+  result.robot_to_robot = RobotToRobot(result);
   AddResidualStatistics(spec, recording, data, fit, &result);
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,
                                   make_solver);

@@ -114,6 +114,17 @@ std::string ConfigNode::ChildPath(const std::string& key) const {
   return key_path_.empty() ? key : key_path_ + "." + key;
 }
 
+SourceLocation ConfigNode::KeyLocation(const std::string& key) const {
+  if (node_.IsMap()) {
+    for (const auto& entry : node_) {
+      if (entry.first.as<std::string>() != key) continue;
+      const YAML::Mark mark = entry.first.Mark();
+      if (!mark.is_null()) return {file_, mark.line + 1, mark.column + 1};
+    }
+  }
+  return location();
+}
+
 InputError ConfigNode::Error(const std::string& what, const std::string& hint) const {
   return InputError(location(), (key_path_.empty() ? "" : key_path_ + ": ") + what, hint);
 }

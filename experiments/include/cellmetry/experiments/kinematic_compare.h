@@ -10,6 +10,11 @@
 //   formulations: [inverse, forward]             # the report's words: joint-space, Cartesian
 //   solvers: {<label>: <solver block>, ...}       # e.g. lm: {type: ceres_lm}
 //   validation_points: 200
+//   seeds: 10                                    # repetitions of every row (default 10): seed 0
+//                                                # is the simulation's own truth and draw, each
+//                                                # further seed a fresh truth and pose set drawn
+//                                                # around it; rows then read mean [95 % t-interval]
+//                                                # with a recommendation per pose set and size
 //   output: <folder for table.md and table.csv>
 #pragma once
 
@@ -30,6 +35,7 @@ struct CompareSpec {
   std::vector<ResidualForm> formulations;
   std::vector<std::pair<std::string, ConfigNode>> solvers;  // label, solver block
   int validation_points = 200;
+  int seeds = 10;
   std::string output;
 };
 
@@ -43,14 +49,19 @@ struct CompareRow {
   int iterations = 0;            // LM iterations / Adam epochs / NLopt evaluations
   double time_s = 0.0;           // solver time
   std::string stop_reason;
+  int seed = 0;                  // 0: the simulation's own truth and draw
 };
 
 CompareSpec LoadCompareSpec(const std::string& path, Registry& registry);
 
-// One row per (pose set, size, formulation, solver), in that nesting order.
+// One row per (pose set, size, seed, formulation, solver), in that nesting order.
 std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registry);
 
 std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<CompareRow>& rows);
 std::string CompareTableCsv(const std::vector<CompareRow>& rows);
+// With more than one seed: one line per (pose set, size), which formulation and solver
+// (solver_compare.h's Recommendation on the validation RMS).
+std::vector<std::string> CompareRecommendations(const CompareSpec& spec,
+                                                const std::vector<CompareRow>& rows);
 
 }  // namespace cellmetry

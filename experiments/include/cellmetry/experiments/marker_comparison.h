@@ -17,6 +17,9 @@
 //   workspace: {positions: 125, depth_mm: [300, 600], lateral_mm: 120, tilt_rad: 0.35}
 //   render: {noise_sigma: 2, blur_sigma_px: 0.6, supersampling: 4}
 //   seed: 1
+//   seeds: 10                         # repetitions (default 10): seed, seed + 1, ...; with more
+//                                     # than one, each figure reads mean [95 % t-interval] and a
+//                                     # recommendation says which detector (marker_seeds.cc)
 //   output: <folder for markers.md and markers.csv>
 #pragma once
 
@@ -42,6 +45,7 @@ struct MarkerComparisonSpec {
   double tilt_rad = 0.35;
   RenderOptions render;
   unsigned seed = 1;
+  int seeds = 10;
   std::string output;
 };
 
@@ -61,5 +65,15 @@ MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& reg
 std::vector<MarkerRow> CompareMarkers(const MarkerComparisonSpec& spec, Registry& registry);
 std::string MarkerTableMarkdown(const MarkerComparisonSpec& spec, const std::vector<MarkerRow>& rows);
 std::string MarkerTableCsv(const std::vector<MarkerRow>& rows);
+
+// The comparison once per seed (spec.seed + i, i < spec.seeds): [seed][detector].
+std::vector<std::vector<MarkerRow>> CompareMarkersOverSeeds(const MarkerComparisonSpec& spec,
+                                                            Registry& registry);
+// Each detector's figures as mean [95 % t-interval] over the seeds, and one recommendation on
+// the workspace RMS error and time per frame (solver_compare.h's Recommendation).
+std::string MarkerSeedsMarkdown(const MarkerComparisonSpec& spec,
+                                const std::vector<std::vector<MarkerRow>>& per_seed);
+std::string MarkerSeedsCsv(const MarkerComparisonSpec& spec,
+                           const std::vector<std::vector<MarkerRow>>& per_seed);
 
 }  // namespace cellmetry

@@ -121,11 +121,20 @@ struct RobotModelRecord {
                                       // `fixed` = held in this job
 };
 
+// A robot's base in another robot's base (robot_pairs.h), sigma from both bases' joint
+// covariance, their cross-covariance included.
+struct RobotPairEstimate {
+  FrameEstimate frame;   // name "<b>.base", parent "<a>.base"; sigma about a's axes
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // x y z mm,
+                                                                               // rx ry rz rad
+};
+
 struct WorkcellResult {
   CameraModel camera_model = CameraModel::kStaticCameras;
   ResidualForm residual_form = ResidualForm::kCartesian;
   SolverSummary solver;
   std::vector<FrameEstimate> frames;
+  std::vector<RobotPairEstimate> robot_to_robot;  // every ordered pair (robot_pairs.h)
   std::vector<ScalarEstimate> model_parameters;   // free or held-for-identifiability entries
   std::vector<RobotModelRecord> robot_models;     // each robot's model, whole (exports)
   std::vector<UnidentifiableParameter> unidentifiable;

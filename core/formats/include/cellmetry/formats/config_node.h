@@ -78,6 +78,10 @@ class ConfigNode {
   // A path written in this file, made absolute relative to the file's folder.
   std::string ResolvePath(const std::string& path) const;
 
+  // Where `key` itself is written in this map (its value may be empty: `tool:`); this node's
+  // location when the key is not there.
+  SourceLocation KeyLocation(const std::string& key) const;
+
   // An InputError located at this node, with the key path in front of `what`.
   InputError Error(const std::string& what, const std::string& hint = "") const;
 

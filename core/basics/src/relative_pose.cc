@@ -1,5 +1,5 @@
 // One frame seen from another, with first-order covariance (relative_pose.h).
-#include "cellmetry/exports/relative_pose.h"
+#include "cellmetry/basics/relative_pose.h"
 
 namespace cellmetry {
 namespace {

@@ -1,0 +1,100 @@
+// The marker comparison over seeds, with intervals and a recommendation (marker_comparison.h).
+#include <cstdio>
+#include <sstream>
+
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/experiments/marker_comparison.h"
+#include "cellmetry/experiments/solver_compare.h"
+
+namespace cellmetry {
+namespace {
+
+std::string Interval(const std::vector<double>& values) {
+  const MeanInterval m = TInterval95(values);
+  char text[96];
+  std::snprintf(text, sizeof text, "%.4g [%.4g, %.4g]", m.mean, m.low, m.high);
+  return text;
+}
+
+// One figure of one detector over the seeds.
+template <typename Figure>
+std::vector<double> Over(const std::vector<std::vector<MarkerRow>>& per_seed, size_t detector,
+                         Figure figure) {
+  std::vector<double> values;
+  for (const auto& rows : per_seed) values.push_back(figure(rows[detector]));
+  return values;
+}
+
+}  // namespace
+
+std::vector<std::vector<MarkerRow>> CompareMarkersOverSeeds(const MarkerComparisonSpec& spec,
+                                                            Registry& registry) {
+  std::vector<std::vector<MarkerRow>> per_seed;
+  Progress progress("marker comparison seed", spec.seeds);
+  for (int i = 0; i < spec.seeds; ++i) {
+    MarkerComparisonSpec one = spec;
+    one.seed = spec.seed + static_cast<unsigned>(i);
+    per_seed.push_back(CompareMarkers(one, registry));
+    progress.Advance();
+  }
+  return per_seed;
+}
+
+std::string MarkerSeedsMarkdown(const MarkerComparisonSpec& spec,
+                                const std::vector<std::vector<MarkerRow>>& per_seed) {
+  std::ostringstream out;
+  const std::string one = MarkerTableMarkdown(spec, per_seed.front());
+  out << one.substr(0, one.find("\n\n") + 2);  // the rig and render line
+  out << per_seed.size() << " seeds (" << spec.seed << " to " << spec.seed + per_seed.size() - 1
+      << "): mean [95 % t-interval].\n\n";
+  out << "| detector | sigma depth (mm) | depth / floor | bias at the static pose (mm) | "
+         "workspace RMS error (mm) | detected (%) | ms / frame |\n";
+  out << "|---|---|---|---|---|---|---|\n";
+  std::vector<Contender> contenders;
+  for (size_t d = 0; d < per_seed.front().size(); ++d) {
+    const auto depth = Over(per_seed, d, [](const MarkerRow& r) { return r.repeatability_mm.z(); });
+    const auto ratio = Over(per_seed, d, [](const MarkerRow& r) {
+      return r.floor_mm.z() > 0 ? r.repeatability_mm.z() / r.floor_mm.z() : 0.0;
+    });
+    const auto bias = Over(per_seed, d, [](const MarkerRow& r) { return r.static_bias_mm; });
+    const auto rms = Over(per_seed, d, [](const MarkerRow& r) { return r.workspace_rms_mm; });
+    const auto rate = Over(per_seed, d, [](const MarkerRow& r) {
+      return r.positions > 0 ? 100.0 * r.positions_found / r.positions : 0.0;
+    });
+    const auto ms = Over(per_seed, d, [](const MarkerRow& r) { return r.ms_per_frame; });
+    out << "| " << per_seed.front()[d].label << " | " << Interval(depth) << " | "
+        << Interval(ratio) << " | " << Interval(bias) << " | " << Interval(rms) << " | "
+        << Interval(rate) << " | " << Interval(ms) << " |\n";
+    Contender c{per_seed.front()[d].label, rms, {}};
+    for (double v : ms) c.time_s.push_back(v / 1e3);
+    contenders.push_back(c);
+  }
+  out << "\nRecommendation (same: means within 1 %, or the 95 % t-interval of the per-seed "
+         "differences contains 0; a tie is called a tie):\n\n- "
+      << Recommendation("for this rig, which detector", contenders,
+                        "mm workspace RMS error")
+      << "\n";
+  return out.str();
+}
+
+std::string MarkerSeedsCsv(const MarkerComparisonSpec& spec,
+                           const std::vector<std::vector<MarkerRow>>& per_seed) {
+  std::ostringstream out;
+  for (size_t i = 0; i < per_seed.size(); ++i) {
+    std::string table = MarkerTableCsv(per_seed[i]);
+    std::istringstream lines(table);
+    std::string line;
+    bool header = true;
+    while (std::getline(lines, line)) {
+      if (header) {
+        if (i == 0) out << "seed," << line << "\n";
+        header = false;
+        continue;
+      }
+      out << spec.seed + i << "," << line << "\n";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,391 @@
+// Solvers x camera models over seeds, with intervals and a recommendation (solver_compare.h).
+#include "cellmetry/experiments/solver_compare.h"
+
+#include <boost/math/distributions/students_t.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <sstream>
+
+#include "cellmetry/basics/error.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/formats/recording.h"
+
+namespace cellmetry {
+
+MeanInterval TInterval95(const std::vector<double>& values) {
+  MeanInterval m;
+  m.n = static_cast<int>(values.size());
+  if (m.n == 0) {
+    m.mean = m.low = m.high = std::numeric_limits<double>::quiet_NaN();
+    return m;
+  }
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  m.mean = sum / m.n;
+  if (m.n < 2) {
+    m.low = -std::numeric_limits<double>::infinity();
+    m.high = std::numeric_limits<double>::infinity();
+    return m;
+  }
+  double squares = 0.0;
+  for (double v : values) squares += (v - m.mean) * (v - m.mean);
+  const double s = std::sqrt(squares / (m.n - 1));
+  const double t = boost::math::quantile(boost::math::students_t(m.n - 1), 0.975);
+  m.low = m.mean - t * s / std::sqrt(m.n);
+  m.high = m.mean + t * s / std::sqrt(m.n);
+  return m;
+}
+
+std::string StopReasonWords(const std::string& reason) {
+  std::string first = reason.substr(0, reason.find(". "));  // the first sentence
+  if (!first.empty() && first.back() == '.') first.pop_back();
+  std::string words;
+  for (size_t i = 0; i < first.size();) {
+    if (std::isdigit(static_cast<unsigned char>(first[i]))) {
+      while (i < first.size() && (std::isdigit(static_cast<unsigned char>(first[i])) ||
+                                  std::strchr(".eE+-", first[i]))) {
+        ++i;
+      }
+      words += 'N';
+    } else {
+      words += first[i++];
+    }
+  }
+  return words;
+}
+
+bool Overlap(const MeanInterval& a, const MeanInterval& b) {
+  return !(a.high < b.low || b.high < a.low);
+}
+
+namespace {
+
+// Three significant digits, "1.23e-05" when small.
+std::string Number(double v) {
+  char text[32];
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  if (v != 0.0 && std::abs(v) < 1e-3) {
+    std::snprintf(text, sizeof text, "%.2e", v);
+  } else {
+    std::snprintf(text, sizeof text, "%.3g", v);
+  }
+  return text;
+}
+
+std::string IntervalText(const MeanInterval& m, double scale = 1.0) {
+  return Number(m.mean * scale) + " [" + Number(m.low * scale) + ", " + Number(m.high * scale) +
+         "]";
+}
+
+// "1/4 the time" (the faster takes a quarter of the slower's time), "0.7x the time" when the
+// two are within a factor 1.5.
+std::string TimeRatio(double fast, double slow) {
+  const double ratio = slow / fast;
+  char text[48];
+  if (ratio >= 1.5) {
+    std::snprintf(text, sizeof text, "1/%.0f the time", std::round(ratio));
+  } else {
+    std::snprintf(text, sizeof text, "%.2gx the time", fast / slow);
+  }
+  return text;
+}
+
+}  // namespace
+
+bool SameScore(const std::vector<double>& a, const std::vector<double>& b, double resolution) {
+  const MeanInterval ma = TInterval95(a), mb = TInterval95(b);
+  if (std::abs(ma.mean - mb.mean) <=
+      std::max(resolution, 0.01 * std::max(std::abs(ma.mean), std::abs(mb.mean)))) {
+    return true;  // within 1 % or the resolution: no difference worth a decision
+  }
+  if (a.size() == b.size() && a.size() >= 2) {
+    std::vector<double> difference(a.size());
+    for (size_t i = 0; i < a.size(); ++i) difference[i] = a[i] - b[i];
+    const MeanInterval d = TInterval95(difference);
+    return d.low <= 0.0 && 0.0 <= d.high;
+  }
+  return Overlap(ma, mb);
+}
+
+std::string Recommendation(const std::string& question, const std::vector<Contender>& contenders,
+                           const std::string& unit, double error_resolution,
+                           double time_resolution_s) {
+  if (contenders.empty()) return question + ": nothing to compare";
+  if (contenders.size() == 1) return question + ": " + contenders[0].label + " (the only one)";
+  std::vector<MeanInterval> error, time;
+  for (const auto& c : contenders) {
+    error.push_back(TInterval95(c.error));
+    time.push_back(TInterval95(c.time_s));
+  }
+  auto label = [&](size_t i) { return contenders[i].label; };
+  auto names = [&](const std::vector<size_t>& list) {
+    std::string text;
+    for (size_t i : list) text += (text.empty() ? "" : ", ") + label(i);
+    return text;
+  };
+  auto fastest_of = [&](const std::vector<size_t>& list) {
+    size_t f = list.front();
+    for (size_t i : list) {
+      if (time[i].mean < time[f].mean) f = i;
+    }
+    return f;
+  };
+  size_t best = 0;
+  for (size_t i = 1; i < contenders.size(); ++i) {
+    if (error[i].mean < error[best].mean) best = i;
+  }
+  std::vector<size_t> same, worse;  // same accuracy as the best (best included), less accurate
+  for (size_t i = 0; i < contenders.size(); ++i) {
+    const bool same_error =
+        i == best || SameScore(contenders[i].error, contenders[best].error, error_resolution);
+    (same_error ? same : worse).push_back(i);
+  }
+  std::string line = question + ": ";
+  size_t runner = contenders.size();  // the less accurate one named in the line, if any
+  if (same.size() == 1) {
+    runner = worse.front();
+    for (size_t i : worse) {
+      if (error[i].mean < error[runner].mean) runner = i;
+    }
+    line += label(best) + ": more accurate than " + label(runner) + " (" +
+            IntervalText(error[best]) + " vs " + IntervalText(error[runner]) + " " + unit + ")";
+    if (time[best].mean > time[runner].mean &&
+        !SameScore(contenders[best].time_s, contenders[runner].time_s, time_resolution_s)) {
+      char text[64];
+      std::snprintf(text, sizeof text, ", at %.2gx its time", time[best].mean / time[runner].mean);
+      line += text;
+    }
+  } else {
+    const size_t fastest = fastest_of(same);
+    std::vector<size_t> quick, slow;  // as fast as the fastest (it included), slower
+    for (size_t i : same) {
+      const bool same_time =
+          i == fastest ||
+          SameScore(contenders[i].time_s, contenders[fastest].time_s, time_resolution_s);
+      (same_time ? quick : slow).push_back(i);
+    }
+    if (quick.size() == 1) {
+      const size_t next = fastest_of(slow);
+      line += label(fastest) + ": same accuracy as " + label(next) + " at " +
+              TimeRatio(time[fastest].mean, time[next].mean) + " (" +
+              IntervalText(error[fastest]) + " vs " + IntervalText(error[next]) + " " + unit +
+              "; " + IntervalText(time[fastest], 1e3) + " vs " + IntervalText(time[next], 1e3) +
+              " ms)";
+    } else {
+      line += "tie: " + names(quick) + " (same accuracy, " + IntervalText(error[fastest]) + " " +
+              unit + ", and same time)";
+      if (!slow.empty()) {
+        const size_t next = fastest_of(slow);
+        char text[96];
+        std::snprintf(text, sizeof text, ": same accuracy at %.2gx the time",
+                      time[next].mean / time[fastest].mean);
+        line += "; " + names(slow) + text + (slow.size() > 1 ? " or more" : "");
+      }
+    }
+  }
+  std::vector<size_t> others;  // less accurate, not yet named
+  for (size_t i : worse) {
+    if (i != runner) others.push_back(i);
+  }
+  if (!others.empty()) line += "; less accurate: " + names(others);
+  return line;
+}
+
+namespace {
+
+CameraModel ParseCameraModel(const ConfigNode& node) {
+  const std::string name = node.AsString();
+  if (name == "static_cameras") return CameraModel::kStaticCameras;
+  if (name == "per_frame") return CameraModel::kPerFrame;
+  throw node.Error("unknown camera model '" + name + "'", "Use static_cameras or per_frame");
+}
+
+bool HasTruth(const SolverCompareSpec& spec) { return spec.simulation.has_value(); }
+
+std::string Unit(const SolverCompareSpec&) { return "mm"; }
+
+std::string MetricText(const SolverCompareSpec& spec) {
+  return HasTruth(spec) ? "error of the robots' base positions against the truth (RMS over robots, "
+                          "mm); a fresh noise draw per seed"
+                        : "held-out RMS of the carried targets (k-fold by pose, mm); no truth: the "
+                          "seed varies the fold assignment";
+}
+
+}  // namespace
+
+SolverCompareSpec LoadSolverCompare(const std::string& path, Registry& registry) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"compare", "description", "job", "simulation", "solvers", "camera_models",
+                   "seeds", "output"});
+  SolverCompareSpec spec;
+  spec.file = path;
+  spec.description = root.GetString("description", "");
+  const bool simulated = root.Has("simulation");
+  spec.job = LoadWorkcellJob(root.ResolvePath(root["job"].AsString()), registry, !simulated);
+  spec.job.problem.uncertain_inputs = {};
+  if (simulated) {
+    spec.simulation =
+        LoadWorkcellSimulation(root.ResolvePath(root["simulation"].AsString()), registry);
+  }
+  const ConfigNode solvers = root["solvers"];
+  for (const auto& label : solvers.Keys()) {
+    const ConfigNode block = solvers[label];
+    registry.CreateSolver(block["type"].AsString(), block);  // a bad option fails now
+    spec.solvers.emplace_back(label, block);
+  }
+  if (root.Has("camera_models")) {
+    for (const auto& node : root["camera_models"].Elements()) {
+      spec.camera_models.push_back(ParseCameraModel(node));
+    }
+  } else {
+    spec.camera_models = {CameraModel::kStaticCameras, CameraModel::kPerFrame};
+  }
+  spec.seeds = root.GetIntIn("seeds", spec.seeds, 1, 100000,
+                             "Repetitions per row; 10 or more gives a useful interval");
+  spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
+                                   : "results/compare_solvers";
+  return spec;
+}
+
+std::vector<SolverCompareRow> RunSolverCompare(const SolverCompareSpec& spec, Registry& registry) {
+  std::vector<SolverCompareRow> rows;
+  for (CameraModel model : spec.camera_models) {
+    for (const auto& [label, block] : spec.solvers) {
+      SolverCompareRow row;
+      row.camera_model = model;
+      row.solver = label;
+      rows.push_back(row);
+    }
+  }
+  std::optional<Recording> recorded;
+  if (!HasTruth(spec)) {
+    recorded = ReadRecording(spec.job.recording);
+    ValidateJobAgainstRecording(spec.job, *recorded);
+  }
+  Progress progress("comparison seed", spec.seeds);
+  for (int seed = 0; seed < spec.seeds; ++seed) {
+    WorkcellProblem problem = spec.job.problem;
+    Recording recording;
+    if (HasTruth(spec)) {
+      WorkcellSimulationSpec sim = *spec.simulation;
+      sim.noise_seed = spec.simulation->noise_seed + 1000u * static_cast<unsigned>(seed + 1);
+      recording = SimulateWorkcell(sim, nullptr);
+      if (seed == 0) ValidateJobAgainstRecording(spec.job, recording);
+      problem.folds = 0;  // scored against the truth
+    } else {
+      recording = *recorded;
+      if (problem.folds < 2) problem.folds = 5;
+      problem.seed = static_cast<unsigned>(seed + 1);
+    }
+    size_t r = 0;
+    for (CameraModel model : spec.camera_models) {
+      problem.camera_model = model;
+      for (const auto& [label, block] : spec.solvers) {
+        const SolverMaker make = [&registry, &block = block] {
+          return registry.CreateSolver(block["type"].AsString(), block);
+        };
+        const WorkcellResult result = IdentifyWorkcell(problem, recording, make);
+        SolverCompareRow& row = rows[r++];
+        double error = 0.0;
+        if (HasTruth(spec)) {
+          for (const auto& robot : spec.simulation->robots) {
+            const Pose& found = result.estimate.T_world_base.at(robot.name);
+            error += (found.t - robot.T_world_base.t).squaredNorm();
+          }
+          error = std::sqrt(error / spec.simulation->robots.size());
+        } else {
+          error = result.held_out.total.norm;
+        }
+        row.error_mm.push_back(error);
+        row.time_s.push_back(result.solver.time_s);
+        row.iterations.push_back(result.solver.iterations);
+        row.converged += result.solver.converged ? 1 : 0;
+        ++row.stop_reasons[StopReasonWords(result.solver.stop_reason)];
+      }
+    }
+    progress.Advance();
+  }
+  return rows;
+}
+
+std::vector<std::string> SolverCompareRecommendations(const SolverCompareSpec& spec,
+                                                      const std::vector<SolverCompareRow>& rows) {
+  std::vector<std::string> lines;
+  const std::string what = HasTruth(spec) ? "base error" : "held-out RMS";
+  for (CameraModel model : spec.camera_models) {
+    std::vector<Contender> contenders;
+    for (const auto& row : rows) {
+      if (row.camera_model == model) contenders.push_back({row.solver, row.error_mm, row.time_s});
+    }
+    if (contenders.size() > 1) {
+      lines.push_back(Recommendation("for this cell, " + CameraModelName(model) + ", which solver",
+                                     contenders, "mm " + what));
+    }
+  }
+  if (spec.camera_models.size() > 1) {
+    for (const auto& [label, block] : spec.solvers) {
+      std::vector<Contender> contenders;
+      for (const auto& row : rows) {
+        if (row.solver == label) {
+          contenders.push_back({CameraModelName(row.camera_model), row.error_mm, row.time_s});
+        }
+      }
+      lines.push_back(Recommendation("for this cell, " + label + ", which camera model",
+                                     contenders, "mm " + what));
+    }
+  }
+  return lines;
+}
+
+std::string SolverCompareMarkdown(const SolverCompareSpec& spec,
+                                  const std::vector<SolverCompareRow>& rows) {
+  std::ostringstream out;
+  if (!spec.description.empty()) out << spec.description << "\n\n";
+  out << "Score: " << MetricText(spec) << ". " << spec.seeds
+      << " seeds per row; mean [95 % t-interval].\n\n";
+  out << "| camera model | solver | " << (HasTruth(spec) ? "base error" : "held-out RMS")
+      << " (" << Unit(spec) << ") | solver time (ms) | iterations (mean, min-max) | converged | "
+         "stop reasons |\n";
+  out << "|---|---|---|---|---|---|---|\n";
+  for (const auto& row : rows) {
+    const auto [lo, hi] = std::minmax_element(row.iterations.begin(), row.iterations.end());
+    double mean_iterations = 0.0;
+    for (int i : row.iterations) mean_iterations += static_cast<double>(i) / row.iterations.size();
+    std::string reasons;
+    for (const auto& [reason, count] : row.stop_reasons) {
+      reasons += (reasons.empty() ? "" : "; ") + reason + " (" + std::to_string(count) + ")";
+    }
+    char iterations[64];
+    std::snprintf(iterations, sizeof iterations, "%.1f, %d-%d", mean_iterations,
+                  row.iterations.empty() ? 0 : *lo, row.iterations.empty() ? 0 : *hi);
+    out << "| " << CameraModelName(row.camera_model) << " | " << row.solver << " | "
+        << IntervalText(TInterval95(row.error_mm)) << " | "
+        << IntervalText(TInterval95(row.time_s), 1e3) << " | " << iterations << " | "
+        << row.converged << "/" << row.error_mm.size() << " | " << reasons << " |\n";
+  }
+  out << "\nRecommendations (the same accuracy or time: means within 1 %, or the 95 % "
+         "t-interval of the per-seed differences contains 0, every row having run on the same "
+         "data for a seed; a tie is called a tie):\n\n";
+  for (const auto& line : SolverCompareRecommendations(spec, rows)) out << "- " << line << "\n";
+  return out.str();
+}
+
+std::string SolverCompareCsv(const std::vector<SolverCompareRow>& rows) {
+  std::ostringstream out;
+  out.precision(9);
+  out << "camera_model,solver,seed,error_mm,time_s,iterations\n";
+  for (const auto& row : rows) {
+    for (size_t i = 0; i < row.error_mm.size(); ++i) {
+      out << CameraModelName(row.camera_model) << "," << row.solver << "," << i << ","
+          << row.error_mm[i] << "," << row.time_s[i] << "," << row.iterations[i] << "\n";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace cellmetry

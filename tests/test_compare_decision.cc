@@ -1,0 +1,173 @@
+// `compare: solvers` (issue 17B): the 95 % t-interval, the decision (a tie, a clear winner, the
+// same accuracy at less time) on small synthetic inputs, and one comparison end to end.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "cellmetry/experiments/kinematic_compare.h"
+#include "cellmetry/experiments/marker_comparison.h"
+#include "cellmetry/experiments/solver_compare.h"
+#include "support/test_support.h"
+
+namespace cellmetry {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+TEST(TInterval95, IsTheStudentInterval) {
+  const MeanInterval m = TInterval95({1.0, 2.0, 3.0});  // s = 1, t(0.975, 2) = 4.302653
+  EXPECT_DOUBLE_EQ(m.mean, 2.0);
+  EXPECT_NEAR(m.high - m.mean, 4.302653 / std::sqrt(3.0), 1e-6);
+  EXPECT_NEAR(m.mean - m.low, 4.302653 / std::sqrt(3.0), 1e-6);
+  const MeanInterval one = TInterval95({5.0});  // one value: nothing can be told apart
+  EXPECT_TRUE(std::isinf(one.low) && std::isinf(one.high));
+}
+
+// Two solvers whose per-seed errors and times differ by noise alone: a tie.
+TEST(Recommendation, CallsATieATie) {
+  const std::vector<Contender> c = {
+      {"a", {1.00, 1.10, 0.90, 1.05, 0.95}, {0.010, 0.011, 0.009, 0.010, 0.012}},
+      {"b", {1.04, 1.02, 0.97, 1.08, 0.91}, {0.011, 0.010, 0.010, 0.012, 0.009}}};
+  const std::string line = Recommendation("q", c, "mm");
+  EXPECT_THAT(line, HasSubstr("q: tie: "));
+  EXPECT_THAT(line, HasSubstr("a")) ;
+  EXPECT_THAT(line, HasSubstr("b"));
+  EXPECT_THAT(line, Not(HasSubstr("more accurate")));
+}
+
+TEST(Recommendation, NamesAClearlyMoreAccurateOne) {
+  const std::vector<Contender> c = {
+      {"slow_good", {1.00, 1.10, 0.90, 1.05, 0.95}, {0.04, 0.04, 0.04, 0.04, 0.04}},
+      {"fast_bad", {2.00, 2.10, 1.90, 2.05, 1.95}, {0.01, 0.01, 0.01, 0.01, 0.01}},
+      {"worst", {3.00, 3.10, 2.90, 3.05, 2.95}, {0.01, 0.01, 0.01, 0.01, 0.01}}};
+  const std::string line = Recommendation("q", c, "mm");
+  EXPECT_THAT(line, HasSubstr("q: slow_good: more accurate than fast_bad (1 ["));
+  EXPECT_THAT(line, HasSubstr("at 4x its time"));
+  EXPECT_THAT(line, HasSubstr("less accurate: worst"));
+}
+
+TEST(Recommendation, SameAccuracyAtLessTime) {
+  const std::vector<Contender> c = {
+      {"nlopt", {1.00, 1.10, 0.90, 1.05, 0.95}, {0.040, 0.042, 0.039, 0.041, 0.040}},
+      {"ceres_lm", {1.00, 1.10, 0.90, 1.05, 0.95}, {0.010, 0.011, 0.010, 0.010, 0.009}}};
+  EXPECT_THAT(Recommendation("for this cell", c, "mm"),
+              HasSubstr("for this cell: ceres_lm: same accuracy as nlopt at 1/4 the time"));
+}
+
+// Unpaired (different seed counts): overlapping intervals are the same.
+TEST(Recommendation, UnpairedScoresCompareByOverlap) {
+  EXPECT_TRUE(SameScore({1.0, 1.2, 0.8}, {1.1, 0.9, 1.3, 1.0}));
+  EXPECT_FALSE(SameScore({1.0, 1.01, 0.99}, {2.0, 2.01, 1.99, 2.02}));
+  // Paired: a small difference that every seed shows is a difference.
+  EXPECT_FALSE(SameScore({1.00, 1.50, 0.70, 1.20}, {1.05, 1.56, 0.74, 1.26}));
+}
+
+TEST(StopReasonWords, CountsReasonsNotTheirNumbers) {
+  EXPECT_EQ(StopReasonWords("Parameter tolerance reached. Relative step_norm: 5.798454e-13 <= "
+                            "1.000000e-12."),
+            "Parameter tolerance reached");
+  EXPECT_EQ(StopReasonWords("5000 epochs done (limit); kept epoch 4994, the lowest cost"),
+            "N epochs done (limit); kept epoch N, the lowest cost");
+}
+
+// Round-off of a noise-free fit (1e-13 mm) is no difference, however consistent.
+TEST(Recommendation, DifferencesBelowTheResolutionAreTies) {
+  const std::vector<Contender> c = {
+      {"lm", {5.1e-13, 5.3e-13, 5.2e-13}, {0.001, 0.001, 0.001}},
+      {"pinv", {2.1e-13, 2.3e-13, 2.2e-13}, {0.001, 0.001, 0.001}}};
+  EXPECT_THAT(Recommendation("q", c, "mm"), HasSubstr("q: tie: "));
+}
+
+// Table 7 with seeds: every row repeated; seed 0 is the one-seed table's row, unchanged.
+TEST(KinematicCompare, SeedsRepeatEveryRowAndKeepSeedZero) {
+  const std::string dir = testing::TempDirForThisTest("compare_solvers");
+  const std::string text =
+      "compare: kinematic\n"
+      "simulation: " + testing::Source("configs/compare/delta_table7_simulation.yaml") + "\n"
+      "pose_sets: [uniform_workspace]\nsizes: [24]\nformulations: [forward]\n"
+      "solvers: {lm: {type: ceres_lm}, pinv: {type: jacobian_pinv}}\n"
+      "validation_points: 20\n";
+  testing::WriteText(dir + "/one.yaml", text + "seeds: 1\n");
+  testing::WriteText(dir + "/three.yaml", text + "seeds: 3\n");
+  const CompareSpec one = LoadCompareSpec(dir + "/one.yaml", testing::Plugins());
+  const CompareSpec three = LoadCompareSpec(dir + "/three.yaml", testing::Plugins());
+  const auto rows_one = RunComparison(one, testing::Plugins());
+  const auto rows_three = RunComparison(three, testing::Plugins());
+  ASSERT_EQ(rows_one.size(), 2u);
+  ASSERT_EQ(rows_three.size(), 6u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(rows_three[i].seed, 0);
+    EXPECT_EQ(rows_three[i].validation.rms_mm, rows_one[i].validation.rms_mm);
+  }
+  EXPECT_NE(rows_three[2].validation.max_mm, rows_three[0].validation.max_mm);  // a fresh draw
+  const std::string table = CompareTableMarkdown(three, rows_three);
+  EXPECT_THAT(table, HasSubstr("3 seeds per row"));
+  EXPECT_THAT(table, HasSubstr("- for uniform_workspace x 24, which formulation and solver: "));
+  EXPECT_THAT(CompareTableMarkdown(one, rows_one), Not(HasSubstr("Recommendations")));
+}
+
+// The marker comparison over seeds: each seed its own renders, figures as intervals, one
+// recommendation (small: 3 captures, 3 positions, 2 seeds).
+TEST(MarkerCompare, SeedsGiveIntervalsAndARecommendation) {
+  const std::string dir = testing::TempDirForThisTest("compare_solvers");
+  testing::WriteText(dir + "/m.yaml",
+                     "compare: markers\n"
+                     "detectors:\n"
+                     "  dot: {type: dot, diameter_mm: 10}\n"
+                     "  aruco: {type: aruco, dictionary: DICT_4X4_50, marker_length_mm: 20, "
+                     "marker_ids: [0]}\n"
+                     "static_pose: {xyz: [10, -5, 450], rvec: [3.14159265, 0, 0]}\n"
+                     "captures: 3\n"
+                     "workspace: {positions: 3, depth_mm: [300, 600], lateral_mm: 120, "
+                     "tilt_rad: 0.35}\n"
+                     "render: {noise_sigma: 2, blur_sigma_px: 0.6, supersampling: 2}\n"
+                     "seeds: 2\n");
+  const MarkerComparisonSpec spec = LoadMarkerComparison(dir + "/m.yaml", testing::Plugins());
+  const auto per_seed = CompareMarkersOverSeeds(spec, testing::Plugins());
+  ASSERT_EQ(per_seed.size(), 2u);
+  EXPECT_NE(per_seed[0][0].static_bias_mm, per_seed[1][0].static_bias_mm);  // new renders
+  const std::string table = MarkerSeedsMarkdown(spec, per_seed);
+  EXPECT_THAT(table, HasSubstr("2 seeds (1 to 2)"));
+  EXPECT_THAT(table, HasSubstr("- for this rig, which detector: "));
+  const std::string csv = MarkerSeedsCsv(spec, per_seed);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 2);
+}
+
+// A small comparison through the command line: 3 seeds, two solvers, both camera models.
+TEST(CompareSolvers, EndToEndOnASmallSpec) {
+  const std::string dir = testing::TempDirForThisTest("compare_solvers");
+  testing::WriteText(dir + "/spec.yaml",
+                     "compare: solvers\n"
+                     "job: " + testing::Source("configs/jobs/vsb_sim_b.yaml") + "\n"
+                     "simulation: " + testing::Source("configs/simulations/ur3_two_cameras.yaml") +
+                         "\n"
+                     "solvers: {ceres_lm: {type: ceres_lm}, pinv: {type: jacobian_pinv}}\n"
+                     "seeds: 3\n"
+                     "output: " + dir + "/out\n");
+  const auto r = testing::RunCellmetry("compare " + dir + "/spec.yaml");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string table = testing::ReadText(dir + "/out/table.md");
+  EXPECT_THAT(table, HasSubstr("| static_cameras | ceres_lm | "));
+  EXPECT_THAT(table, HasSubstr("| per_frame | pinv | "));
+  EXPECT_THAT(table, HasSubstr("3 seeds per row"));
+  EXPECT_THAT(table, HasSubstr("- for this cell, static_cameras, which solver: "));
+  EXPECT_THAT(table, HasSubstr("- for this cell, ceres_lm, which camera model: "));
+  EXPECT_THAT(table, HasSubstr("/3 |"));  // converged count per row
+  const std::string csv = testing::ReadText(dir + "/out/table.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 2 * 3);
+}
+
+TEST(CompareSolvers, AnUnknownKindListsEveryKind) {
+  const std::string dir = testing::TempDirForThisTest("compare_solvers");
+  testing::WriteText(dir + "/spec.yaml", "compare: solver\n");
+  const auto r = testing::RunCellmetry("compare " + dir + "/spec.yaml");
+  testing::ExpectOneLineError(r, "spec.yaml:1:10:", "unknown comparison 'solver'");
+  for (const char* kind : {"kinematic", "markers", "physics", "solvers"}) {
+    EXPECT_THAT(r.output, HasSubstr(kind));
+  }
+}
+
+}  // namespace
+}  // namespace cellmetry
