@@ -10,6 +10,7 @@ packages=(
   libsuitesparse-dev   # SuiteSparseQR: the sparse R factor behind identifiability and sigma
   opencv-doc   # OpenCV's ArUco tutorial photographs: real images the detector tests use
   liburdfdom-dev   # the URDF parser test_exports reads `cellmetry export --format urdf` with
+  clang-14 libclang-rt-14-dev   # scripts/sanitize.sh, scripts/fuzz.sh: ASan, UBSan, libFuzzer
 )
 missing=()
 for p in "${packages[@]}"; do
