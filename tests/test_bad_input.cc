@@ -210,7 +210,12 @@ INSTANTIATE_TEST_SUITE_P(
         LineEdit{"ObservationOfAnUnknownSample", "observations.csv", 4,
                  "999,cam1,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53",
                  "observations.csv:4:1:", "name a sample listed in samples.csv",
-                 "unknown sample 999"}),
+                 "unknown sample 999"},
+        // Was a hang: samples.csv's column names q1..qN were made from the count (found by review,
+        // reproduced by fuzz_recording: a timeout).
+        LineEdit{"HugeJointCount", "recording.yaml", 5, "  ur3: {joints: 2000000000}",
+                 "recording.yaml:5:17:", "Give the robot's number of joints",
+                 "joint count must be between 1 and 64"}),
     [](const ::testing::TestParamInfo<LineEdit>& info) { return info.param.name; });
 
 TEST_F(BadInput, RecordingWithNoUsableObservation) {
