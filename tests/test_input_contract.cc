@@ -41,6 +41,14 @@ std::string With(const std::string& from, const std::string& to) {
   return line.replace(at, from.size(), to);
 }
 
+LogCase Loads(std::string name, std::string log, int loaded, std::string after) {
+  return {std::move(name), std::move(log), "", "", loaded, std::move(after)};
+}
+
+LogCase Refused(std::string name, std::string log, std::string location, std::string message) {
+  return {std::move(name), std::move(log), std::move(location), std::move(message), 0, ""};
+}
+
 TEST_P(DetectionLog, LoadsOrIsRefusedAtItsLine) {
   const LogCase& c = GetParam();
   const std::string path = testing::TempDirForThisTest("input_contract") + "/detections.jsonl";
@@ -62,39 +70,39 @@ TEST_P(DetectionLog, LoadsOrIsRefusedAtItsLine) {
 INSTANTIATE_TEST_SUITE_P(
     Rows, DetectionLog,
     ::testing::Values(
-        LogCase{"TwoGoodLines", kGood + "\n" + kGood + "\n", "", "", 2, kGood + "\n" + kGood + "\n"},
-        LogCase{"TornLastLineIsDropped", kGood + "\n" + kGood.substr(0, 40), "", "", 1,
-                kGood + "\n"},
+        Loads("TwoGoodLines", kGood + "\n" + kGood + "\n", 2, kGood + "\n" + kGood + "\n"),
+        Loads("TornLastLineIsDropped", kGood + "\n" + kGood.substr(0, 40), 1,
+                kGood + "\n"),
         // A complete last line without its newline: the next run's append must not join it.
-        LogCase{"LastLineWithoutNewlineGetsOne", kGood, "", "", 1, kGood + "\n"},
-        LogCase{"BlankLinesAreSkipped", "\n" + kGood + "\n\n", "", "", 1, "\n" + kGood + "\n\n"},
+        Loads("LastLineWithoutNewlineGetsOne", kGood, 1, kGood + "\n"),
+        Loads("BlankLinesAreSkipped", "\n" + kGood + "\n\n", 1, "\n" + kGood + "\n\n"),
         // Was: read as a torn last line, and the log truncated there, losing every line after it.
-        LogCase{"DamagedLineBeforeTheLastIsRefusedNotTruncated",
-                kGood + "\n{\"sample\": 5, \"cam\n" + kGood + "\n", ":2:", "is not JSON"},
+        Refused("DamagedLineBeforeTheLastIsRefusedNotTruncated",
+                kGood + "\n{\"sample\": 5, \"cam\n" + kGood + "\n", ":2:", "is not JSON"),
         // Was: static_cast<int>(1e30), undefined behaviour (UBSan: float-cast-overflow).
-        LogCase{"FloatSampleId", With("\"sample\":0", "\"sample\":1e30") + "\n" + kGood + "\n",
-                ":1:", "'sample' is not a whole number"},
-        LogCase{"NegativeSampleId", With("\"sample\":0", "\"sample\":-1") + "\n" + kGood + "\n",
-                ":1:", "'sample' is out of range"},
-        LogCase{"SampleIdBeyondInt",
+        Refused("FloatSampleId", With("\"sample\":0", "\"sample\":1e30") + "\n" + kGood + "\n",
+                ":1:", "'sample' is not a whole number"),
+        Refused("NegativeSampleId", With("\"sample\":0", "\"sample\":-1") + "\n" + kGood + "\n",
+                ":1:", "'sample' is out of range"),
+        Refused("SampleIdBeyondInt",
                 With("\"sample\":0", "\"sample\":4294967296") + "\n" + kGood + "\n", ":1:",
-                "out of range"},
-        LogCase{"KeypointIdAsFloat", With("[[0,", "[[0.5,") + "\n" + kGood + "\n", ":1:",
-                "a keypoint id is not a whole number"},
-        LogCase{"KeypointWithFiveNumbers", With(",0.01]]", "]]") + "\n" + kGood + "\n", ":1:",
-                "a keypoint is not [id, x, y"},
-        LogCase{"NegativePixelVariance", With("0.01,0.0,0.01", "-0.01,0.0,0.01") + "\n" + kGood + "\n",
-                ":1:", "not positive semi-definite"},
-        LogCase{"CovarianceNotPositiveSemiDefinite",
+                "out of range"),
+        Refused("KeypointIdAsFloat", With("[[0,", "[[0.5,") + "\n" + kGood + "\n", ":1:",
+                "a keypoint id is not a whole number"),
+        Refused("KeypointWithFiveNumbers", With(",0.01]]", "]]") + "\n" + kGood + "\n", ":1:",
+                "a keypoint is not [id, x, y"),
+        Refused("NegativePixelVariance", With("0.01,0.0,0.01", "-0.01,0.0,0.01") + "\n" + kGood + "\n",
+                ":1:", "not positive semi-definite"),
+        Refused("CovarianceNotPositiveSemiDefinite",
                 With("0.01,0.0,0.01", "0.01,0.5,0.01") + "\n" + kGood + "\n", ":1:",
-                "not positive semi-definite"},
-        LogCase{"PixelAsText", With("100.5", "\"x\"") + "\n" + kGood + "\n", ":1:",
-                "a keypoint's x is not a number"},
-        LogCase{"CameraAsNumber", With("\"cam1\"", "7") + "\n" + kGood + "\n", ":1:",
-                "'camera' is not a string"},
-        LogCase{"MissingTarget", With("\"target\":\"tool\",", "") + "\n" + kGood + "\n", ":1:",
-                "no 'target'"},
-        LogCase{"AListNotAnObject", "[1,2]\n" + kGood + "\n", ":1:", "not a JSON object"}),
+                "not positive semi-definite"),
+        Refused("PixelAsText", With("100.5", "\"x\"") + "\n" + kGood + "\n", ":1:",
+                "a keypoint's x is not a number"),
+        Refused("CameraAsNumber", With("\"cam1\"", "7") + "\n" + kGood + "\n", ":1:",
+                "'camera' is not a string"),
+        Refused("MissingTarget", With("\"target\":\"tool\",", "") + "\n" + kGood + "\n", ":1:",
+                "no 'target'"),
+        Refused("AListNotAnObject", "[1,2]\n" + kGood + "\n", ":1:", "not a JSON object")),
     [](const ::testing::TestParamInfo<LogCase>& info) { return info.param.name; });
 
 // YAML text (a job, a robot config, recording.yaml: all read by ConfigNode) and where it must be
@@ -127,15 +135,10 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         // fuzz_robot_config, 8 s: yaml-cpp's TypedBadConversion escaped from ConfigNode::Keys and
         // ExpectKeys (exit 1, "internal error") for a list as a key.
-        YamlCase{"AListAsAKey", "type: delta
-? - {R: 150, r: 40}
-: 3
-", 2, "a key must be a word, not a list"},
-        YamlCase{"AMapAsAKey", "type: delta
-arms:
-  ? {R: 150}
-  : 3
-", 3, "a key must be a word, not a map"}),
+        YamlCase{"AListAsAKey", "type: delta\n? - {R: 150, r: 40}\n: 3\n", 2,
+                 "a key must be a word, not a list"},
+        YamlCase{"AMapAsAKey", "type: delta\narms:\n  ? {R: 150}\n  : 3\n", 3,
+                 "a key must be a word, not a map"}),
     [](const ::testing::TestParamInfo<YamlCase>& info) { return info.param.name; });
 
 }  // namespace
