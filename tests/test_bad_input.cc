@@ -299,7 +299,11 @@ INSTANTIATE_TEST_SUITE_P(
                 "job.yaml:16:16:", "Point plugin_paths at the folder",
                 "no plugin folder at '/nonexistent/cellmetry/plugins'"},
         JobEdit{"DuplicateKey", "", "validation:\n  folds: 3\n", "job.yaml:16:1:",
-                "Keep one of them", "key 'validation' appears twice in this map"}),
+                "Keep one of them", "key 'validation' appears twice in this map"},
+        // Was undefined behaviour (UBSan, scripts/sanitize.sh): -1 held in an nlopt_algorithm.
+        JobEdit{"UnknownNloptAlgorithm", "type: ceres_lm", "type: nlopt\n  algorithm: LD_LBFGSS",
+                "job.yaml:14:14:", "Use an NLopt name such as LD_LBFGS",
+                "unknown NLopt algorithm 'LD_LBFGSS'"}),
     [](const ::testing::TestParamInfo<JobEdit>& info) { return info.param.name; });
 
 TEST_F(BadInput, RobotJointWithoutDIsRefusedNotReadAsZero) {
