@@ -33,6 +33,11 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const cellmetry::Recording recording = cellmetry::ReadRecording(folder + "/recording");
+  // `plugin_paths:` dlopens every lib*.so of a folder the input names (say /usr/lib): that runs
+  // other libraries' code, not the reader's. Left to test_bad_input (MissingPluginFolder) and
+  // test_plugins.
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  if (text.find("plugin_paths") != std::string::npos) return 0;
   const std::string path = folder + "/job.yaml";
   cellmetry::fuzz::WriteFile(path, data, size);
   cellmetry::fuzz::CheckContract([&] {
