@@ -11,6 +11,7 @@ packages=(
   opencv-doc   # OpenCV's ArUco tutorial photographs: real images the detector tests use
   liburdfdom-dev   # the URDF parser test_exports reads `cellmetry export --format urdf` with
   chromium   # tests only: test_report opens every report.html headless (console, plots drawn)
+  clang-14 libclang-rt-14-dev   # scripts/sanitize.sh, scripts/fuzz.sh: ASan, UBSan, libFuzzer
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -210,7 +210,12 @@ INSTANTIATE_TEST_SUITE_P(
         LineEdit{"ObservationOfAnUnknownSample", "observations.csv", 4,
                  "999,cam1,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53",
                  "observations.csv:4:1:", "name a sample listed in samples.csv",
-                 "unknown sample 999"}),
+                 "unknown sample 999"},
+        // Was a hang: samples.csv's column names q1..qN were made from the count (found by review,
+        // reproduced by fuzz_recording: a timeout).
+        LineEdit{"HugeJointCount", "recording.yaml", 5, "  ur3: {joints: 2000000000}",
+                 "recording.yaml:5:17:", "Give the robot's number of joints",
+                 "joint count must be between 1 and 64"}),
     [](const ::testing::TestParamInfo<LineEdit>& info) { return info.param.name; });
 
 TEST_F(BadInput, RecordingWithNoUsableObservation) {
@@ -299,7 +304,11 @@ INSTANTIATE_TEST_SUITE_P(
                 "  ur3b:\n    model: ur3.yaml\n    base: {free: all}\n    tools:\n"
                 "      tool:\nsolver:\n",
                 "job.yaml:16:7:", "give each robot's tool its own name",
-                "robots.ur3b.tools: target 'tool' is already a tool of robot 'ur3'"}),
+                "robots.ur3b.tools: target 'tool' is already a tool of robot 'ur3'"},
+        // Was undefined behaviour (UBSan, scripts/sanitize.sh): -1 held in an nlopt_algorithm.
+        JobEdit{"UnknownNloptAlgorithm", "type: ceres_lm", "type: nlopt\n  algorithm: LD_LBFGSS",
+                "job.yaml:14:14:", "Use an NLopt name such as LD_LBFGS",
+                "unknown NLopt algorithm 'LD_LBFGSS'"}),
     [](const ::testing::TestParamInfo<JobEdit>& info) { return info.param.name; });
 
 TEST_F(BadInput, RobotJointWithoutDIsRefusedNotReadAsZero) {

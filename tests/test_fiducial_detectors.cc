@@ -544,7 +544,8 @@ TEST(FiducialBadInput, WrongOptionTypesAndValues) {
        "spacing_mm: 10}",
        "has ids 0..29"},
   };
-  for (const auto& [yaml, text] : cases) {
+  for (const auto& [yaml_text, text] : cases) {
+    const auto& yaml = yaml_text;  // C++17: a lambda cannot capture a structured binding (clang)
     const InputError e = testing::CatchInputError([&] { Make(yaml); });
     EXPECT_THAT(e.what(), HasSubstr(text)) << yaml;
   }

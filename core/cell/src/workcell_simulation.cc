@@ -132,7 +132,8 @@ void MeasureRobot(const WorkcellSimulationSpec& spec, const SimulatedRobot& robo
                        "Use smaller effect values");
     }
     T_base_flange.t *= 1.0 + flange_scale;
-    for (const auto& [camera, T_world_cam] : spec.T_world_cam) {
+    for (const auto& [camera_name, T_world_cam] : spec.T_world_cam) {
+      const std::string& camera = camera_name;  // C++17: a lambda cannot capture a structured binding
       context.camera = camera;
       auto measure = [&](const std::string& target, Pose T_cam_target) {
         context.target = target;

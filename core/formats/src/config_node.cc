@@ -68,6 +68,7 @@ ConfigNode ConfigNode::LoadFile(const std::string& path) {
 
 namespace {
 
+// Every key a word (a reader takes keys with as<std::string>, which throws on a list or a map).
 // yaml-cpp keeps the second of two equal keys in a map without a word (and a reader takes the
 // first): a job that says `folds: 5` twice means one of them by mistake.
 void RefuseDuplicateKeys(const YAML::Node& node, const std::string& origin) {
@@ -77,6 +78,15 @@ void RefuseDuplicateKeys(const YAML::Node& node, const std::string& origin) {
   if (!node.IsMap()) return;
   std::set<std::string> seen;
   for (const auto& entry : node) {
+    // YAML allows a list or a map as a key (`? [a, b]: 1`); no cellmetry file has one, and every
+    // reader takes keys as words.
+    if (entry.first.IsSequence() || entry.first.IsMap()) {
+      const YAML::Mark mark = entry.first.Mark();
+      throw InputError({origin, mark.line + 1, mark.column + 1},
+                       "a key must be a word, not a " +
+                           std::string(entry.first.IsSequence() ? "list" : "map"),
+                       "Write 'name: value'; a '?' at the start of a line makes what follows a key");
+    }
     if (entry.first.IsScalar() && !seen.insert(entry.first.Scalar()).second) {
       const YAML::Mark mark = entry.first.Mark();
       throw InputError({origin, mark.line + 1, mark.column + 1},

@@ -25,6 +25,7 @@ namespace {
 constexpr double kMaxPositionMm = 1e5;   // 100 m from the camera
 constexpr double kMaxRotationRad = 10.0; // a rotation vector is at most pi long
 constexpr double kMaxJointRad = 100.0;   // sixteen turns
+constexpr int kMaxJoints = 64;            // no arm has more; a count of 2e9 made 2e9 column names
 
 // `column` of `row`, refused with its file, line and column when beyond `max_abs` (file units).
 double Within(const CsvTable& table, size_t row, const std::string& column, double max_abs) {
@@ -63,7 +64,11 @@ void ReadHeader(const std::string& path, Recording* recording, Units* units) {
     const ConfigNode robot = robots[name];
     robot.ExpectKeys({"joints"});
     const int joints = robot["joints"].AsInt();
-    if (joints < 1) throw robot["joints"].Error("joint count must be at least 1");
+    // Bounded where it is read: samples.csv's columns q1..qN are made from it.
+    if (joints < 1 || joints > kMaxJoints) {
+      throw robot["joints"].Error("joint count must be between 1 and " + std::to_string(kMaxJoints),
+                                  "Give the robot's number of joints");
+    }
     recording->robots[name] = joints;
   }
   recording->cameras = root["cameras"].AsStrings();

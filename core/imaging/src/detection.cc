@@ -6,7 +6,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <iterator>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -42,46 +46,125 @@ nlohmann::json ToJson(const ImageDetection& d) {
           {"keypoints", keypoints}, {"time_ms", d.time_ms}};
 }
 
+// A line of the log that is not a detection `detect` could have written: what is wrong with it.
+struct NotADetection {
+  std::string what;
+};
+
+const nlohmann::json& Field(const nlohmann::json& j, const char* key) {
+  if (!j.is_object()) throw NotADetection{"not a JSON object"};
+  const auto it = j.find(key);
+  if (it == j.end()) throw NotADetection{std::string("no '") + key + "'"};
+  return *it;
+}
+
+// A whole number in [0, 2^31): sample and keypoint ids. Read as JSON integers only, so that a
+// float such as 1e30 never reaches a cast to int.
+int Id(const nlohmann::json& j, const std::string& what) {
+  if (!j.is_number_integer()) throw NotADetection{what + " is not a whole number"};
+  if (j.is_number_unsigned() ? j.get<std::uint64_t>() > 0x7fffffffu
+                             : (j.get<std::int64_t>() < 0 || j.get<std::int64_t>() > 0x7fffffff)) {
+    throw NotADetection{what + " is out of range (0 to 2147483647)"};
+  }
+  return static_cast<int>(j.get<std::int64_t>());
+}
+
+double Finite(const nlohmann::json& j, const std::string& what) {
+  if (!j.is_number()) throw NotADetection{what + " is not a number"};
+  const double value = j.get<double>();
+  if (!std::isfinite(value)) throw NotADetection{what + " is not finite"};
+  return value;
+}
+
+std::string Text(const nlohmann::json& j, const char* key) {
+  const nlohmann::json& v = Field(j, key);
+  if (!v.is_string()) throw NotADetection{std::string("'") + key + "' is not a string"};
+  return v.get<std::string>();
+}
+
 ImageDetection FromJson(const nlohmann::json& j) {
   ImageDetection d;
-  d.sample = j.at("sample").get<int>();
-  d.camera = j.at("camera").get<std::string>();
-  d.view = j.at("view").get<std::string>();
-  d.target = j.at("target").get<std::string>();
-  d.path = j.at("path").get<std::string>();
-  d.detection.failure = j.at("failure").get<std::string>();
-  d.time_ms = j.at("time_ms").get<double>();
-  for (const auto& k : j.at("keypoints")) {
+  d.sample = Id(Field(j, "sample"), "'sample'");
+  d.camera = Text(j, "camera");
+  d.view = Text(j, "view");
+  d.target = Text(j, "target");
+  d.path = Text(j, "path");
+  d.detection.failure = Text(j, "failure");
+  d.time_ms = Finite(Field(j, "time_ms"), "'time_ms'");
+  const nlohmann::json& keypoints = Field(j, "keypoints");
+  if (!keypoints.is_array()) throw NotADetection{"'keypoints' is not a list"};
+  for (const auto& k : keypoints) {
+    if (!k.is_array() || k.size() != 6) {
+      throw NotADetection{"a keypoint is not [id, x, y, cov_xx, cov_xy, cov_yy]"};
+    }
     Keypoint kp;
-    kp.id = k.at(0).get<int>();
-    kp.pixel = Eigen::Vector2d(k.at(1).get<double>(), k.at(2).get<double>());
-    kp.covariance_px2 << k.at(3).get<double>(), k.at(4).get<double>(), k.at(4).get<double>(),
-        k.at(5).get<double>();
+    kp.id = Id(k[0], "a keypoint id");
+    kp.pixel = Eigen::Vector2d(Finite(k[1], "a keypoint's x"), Finite(k[2], "a keypoint's y"));
+    const double xx = Finite(k[3], "a keypoint's cov_xx"), xy = Finite(k[4], "a keypoint's cov_xy"),
+                 yy = Finite(k[5], "a keypoint's cov_yy");
+    // A covariance: symmetric by construction, and positive semi-definite.
+    if (xx < 0 || yy < 0 || xx * yy < xy * xy) {
+      throw NotADetection{"a keypoint's covariance is not positive semi-definite"};
+    }
+    kp.covariance_px2 << xx, xy, xy, yy;
     d.detection.keypoints.push_back(kp);
   }
   return d;
 }
 
-// The finished images of earlier runs. A torn last line (a run killed mid-write) is dropped and
-// the log rewritten without it, so that appending continues on a clean line.
-std::vector<ImageDetection> ReadLog(const std::string& path) {
+}  // namespace
+
+// The finished images of earlier runs (detection.h). Only the last line can be torn (a run
+// killed mid-write): it is dropped and the log rewritten without it. A bad line before it is
+// not a torn write but a damaged log, refused at its line: dropping it and everything after it
+// would silently lose finished work.
+std::vector<ImageDetection> ReadDetectionLog(const std::string& path) {
   std::vector<ImageDetection> done;
   if (!std::filesystem::exists(path)) return done;
-  std::ifstream in(path);
-  std::string line, clean;
-  bool torn = false;
-  while (std::getline(in, line)) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({path, 0, 0}, "cannot read the detection log", "Check permissions");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<std::string> lines;
+  for (size_t begin = 0; begin < text.size();) {
+    const size_t end = std::min(text.find('\n', begin), text.size());
+    lines.push_back(text.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  const char* const hint =
+      "Delete the line (its image is detected again on the next run), or the whole log to "
+      "detect everything again";
+  std::string clean;
+  bool rewrite = !text.empty() && text.back() != '\n';  // appending must start on a new line
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const std::string& line = lines[i];
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const bool last = i + 1 == lines.size();
     try {
       done.push_back(FromJson(nlohmann::json::parse(line)));
       clean += line + "\n";
-    } catch (const std::exception&) {
-      torn = true;
-      break;
+    } catch (const nlohmann::json::exception& e) {
+      if (last) {  // torn last line
+        rewrite = true;
+        break;
+      }
+      const auto* parse = dynamic_cast<const nlohmann::json::parse_error*>(&e);
+      const int column = parse && parse->byte <= line.size() ? static_cast<int>(parse->byte) : 0;
+      throw InputError({path, static_cast<int>(i + 1), column},
+                       "a line of the detection log is not JSON", hint);
+    } catch (const NotADetection& bad) {
+      if (last) {
+        rewrite = true;
+        break;
+      }
+      throw InputError({path, static_cast<int>(i + 1), 0},
+                       "a line of the detection log is not a detection: " + bad.what, hint);
     }
   }
-  if (torn) AtomicWriteFile(path, clean);
+  if (rewrite) AtomicWriteFile(path, clean);
   return done;
 }
+
+namespace {
 
 Detectors MakeDetectors(const DetectJob& job, Registry& registry) {
   Detectors detectors;
@@ -243,7 +326,7 @@ DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit) 
     }
   }
   const std::string log_path = job.recording + "/" + kLog;
-  std::vector<ImageDetection> log = ReadLog(log_path);
+  std::vector<ImageDetection> log = ReadDetectionLog(log_path);
   std::set<DoneKey> done;
   for (const auto& d : log) done.insert({d.sample, d.camera, d.view, d.target});
   DetectSummary summary;

@@ -131,8 +131,15 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
   o.max_evaluations = config.GetInt("max_evaluations", o.max_evaluations);
   o.initial_step = config.GetDouble("initial_step", o.initial_step);
   o.box = config.GetDouble("box", o.box);
-  const nlopt_algorithm algorithm = nlopt_algorithm_from_string(o.algorithm.c_str());
-  if (static_cast<int>(algorithm) < 0) {
+  // By name over the valid algorithms: nlopt_algorithm_from_string answers an unknown name with
+  // -1 in an nlopt_algorithm, a value the enum cannot hold (UBSan: invalid enum load), and the
+  // compiler may then drop the `< 0` test that was to catch it.
+  int algorithm = -1;
+  for (int a = 0; a < NLOPT_NUM_ALGORITHMS; ++a) {
+    const char* name = nlopt_algorithm_to_string(static_cast<nlopt_algorithm>(a));
+    if (name && o.algorithm == name) algorithm = a;
+  }
+  if (algorithm < 0) {
     throw (config.Has("algorithm") ? config["algorithm"] : config)
         .Error("unknown NLopt algorithm '" + o.algorithm + "'",
                "Use an NLopt name such as LD_LBFGS, LD_SLSQP, LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX");

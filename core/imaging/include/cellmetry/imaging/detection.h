@@ -52,6 +52,11 @@ struct ImageDetection {
   double time_ms = 0.0;
 };
 
+// Reads a detection log (<recording>/detections.jsonl, the one RunDetection appends to): every
+// (image, target) pair finished by earlier runs. A torn last line (a run killed mid-write) is
+// dropped and the log rewritten without it, so appending continues on a clean line.
+std::vector<ImageDetection> ReadDetectionLog(const std::string& path);
+
 struct DetectSummary {
   int images = 0;            // of the job's cameras in images.csv
   int already_done = 0;      // (image, target) pairs in the log from an earlier run

@@ -12,6 +12,19 @@
 //   1. <folder of the executable>/plugins
 //   2. each folder in $CELLMETRY_PLUGIN_PATH (colon-separated)
 //   3. each folder in a job's `plugin_paths:`
+//
+// Memory across the plugin boundary (docs/architecture.md, "The plugin contract"): what a plugin
+// allocates, the plugin frees.
+//   - A factory returns its object as std::unique_ptr<Interface>. Every interface (RobotModel,
+//     Solver, Detector, Effect) has a virtual destructor (checked below), so the core's delete
+//     calls the plugin's own deleting destructor: the object is destroyed and freed by code in
+//     the plugin, with the allocator the plugin used.
+//   - Everything else that crosses is a value: PluginInfo, Parameter lists, Detection keypoints,
+//     strings and Eigen matrices. They are standard-library and Eigen types allocated through
+//     the process's one global operator new, so a plugin links libstdc++ dynamically (never
+//     -static-libstdc++) and does not replace operator new/delete.
+//   - A plugin is never unloaded (no dlclose): its factories, vtables and the objects they built
+//     stay valid until the process exits.
 #pragma once
 
 #include <functional>
@@ -19,6 +32,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "cellmetry/formats/config_node.h"
@@ -61,6 +75,10 @@ using DetectorFactory = std::function<std::unique_ptr<Detector>(const ConfigNode
 // parameter names), so that per-joint parameters can be named and checked.
 using EffectFactory =
     std::function<std::unique_ptr<Effect>(const ConfigNode& config, const RobotModel& robot)>;
+
+static_assert(std::has_virtual_destructor_v<RobotModel> && std::has_virtual_destructor_v<Solver> &&
+                  std::has_virtual_destructor_v<Detector> && std::has_virtual_destructor_v<Effect>,
+              "a plugin object must be destroyed by the plugin's own (virtual) destructor");
 
 class Registry {
  public:

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Runs the libFuzzer harnesses (fuzz/, docs/reliability.md) for a bounded time each, from their
+# seed corpus (fuzz/corpus/<harness>/; new inputs go to build-asan/fuzz/corpus/<harness>/, the
+# repository's corpus is left as it is).
+#   bash scripts/fuzz.sh SECONDS [HARNESS...]     # default: every harness
+# A finding (crash, sanitizer report, an exception other than InputError, a hang over 10 s, more
+# than 2 GB) stops with exit 1 and leaves the input in build-asan/fuzz/artifacts/. Reproduce with
+#   build-asan/bin/<harness> <input>
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:?usage: scripts/fuzz.sh SECONDS [HARNESS...]}
+shift
+harnesses=("$@")
+if [ ${#harnesses[@]} -eq 0 ]; then
+  harnesses=(fuzz_recording fuzz_job fuzz_robot_config fuzz_detections fuzz_image)
+fi
+build=${CELLMETRY_ASAN_BUILD:-build-asan}
+bash scripts/sanitize.sh --configure
+cmake --build "$build" -j"$(nproc)" --target "${harnesses[@]}"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+mkdir -p "$build/fuzz/artifacts"
+for h in "${harnesses[@]}"; do
+  corpus="$build/fuzz/corpus/$h"
+  mkdir -p "$corpus"
+  echo "== $h: ${seconds} s"
+  set +e
+  "$build/bin/$h" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+    -artifact_prefix="$build/fuzz/artifacts/$h-" -print_final_stats=1 \
+    "$corpus" "fuzz/corpus/$h" 2>&1 | grep -v -E '^(#[0-9]+\s+(NEW|REDUCE|pulse)|\s+NEW_FUNC)' |
+    sed '/Recommended dictionary/,/End of recommended dictionary/d'
+  status=${PIPESTATUS[0]}
+  set -e
+  if [ "$status" -ne 0 ]; then
+    echo "fuzz.sh: $h found a problem (exit $status); see $build/fuzz/artifacts/" >&2
+    exit 1
+  fi
+done
