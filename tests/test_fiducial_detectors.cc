@@ -207,8 +207,8 @@ TEST(AprilTagBoard, EveryFamilyPrintsDetectableTags) {
 // A cube of four side faces and the top, seen toward one of its corners or edges: two or three
 // faces show, and every tag on them is found (a tag seen within 70 degrees of face-on must be
 // found; one seen from behind must not). At full resolution: with the default quad_decimate 2
-// the library missed one of these 20 mm tags seen at about 60 degrees (cells under 3 px along
-// the foreshortened side, half that decimated) and one corner was 0.38 px off (docs/markers.md).
+// the library misses one of these 20 mm tags seen at about 60 degrees (cells under 3 px along
+// the foreshortened side, half that decimated); the others' corners hold (docs/markers.md).
 TEST(AprilTagBoard, CubeSeenAtAnAngleShowsAllVisibleTags) {
   const auto d = Make(
       "{type: apriltag_board, family: tag36h11, tags_x: 2, tags_y: 2, tag_size_mm: 20, "
