@@ -6,8 +6,13 @@
 //                              (CORNER_REFINE_SUBPIX, window 5, 50 iterations, 0.01 px)
 //  BM_apriltag_board/plugin    the `apriltag_board` plugin's Detect(): tag36h11 5 x 4 grid
 //  BM_apriltag_board/direct    apriltag_detector_detect with the plugin's settings
-//                              (decimate 1, sigma 0, refine edges, sharpening 0.25, 1 thread,
-//                              1 bit corrected)
+//                              (decimate 2, sigma 0, min_white_black_diff 20, refine edges,
+//                              sharpening 0.25, 1 thread, 1 bit corrected)
+//  BM_apriltag_board/plugin_full_resolution, /direct_full_resolution   quad_decimate 1 and
+//                              min_white_black_diff 5 (the plugin's defaults before issue 15)
+//  BM_apriltag_board/plugin_min_white_black_diff_5, /direct_...   decimate 2, the library's 5
+//  BM_apriltag_board/plugin_no_refine_edges, /direct_no_refine_edges   decimate 2 without the
+//                              library's refine_edges (the plugin's edge lines alone)
 //  BM_<plugin>/plugin_library_corners   the plugin without its edge refinement (edge_lines.h):
 //                              the wrapper alone
 // The issue's target: plugin within 5 % of direct. Time is per frame. OpenCV's thread pool is
@@ -41,6 +46,15 @@ constexpr char kAprilTag[] =
 constexpr char kArucoLibraryCorners[] =
     "{type: aruco, dictionary: DICT_6X6_250, marker_length_mm: 30, markers_x: 5, markers_y: 4, "
     "separation_mm: 7.5, edge_refinement: false}";
+constexpr char kAprilTagFullResolution[] =
+    "{type: apriltag_board, family: tag36h11, tags_x: 5, tags_y: 4, tag_size_mm: 30, "
+    "spacing_mm: 9, quad_decimate: 1, min_white_black_diff: 5}";
+constexpr char kAprilTagNoRefineEdges[] =
+    "{type: apriltag_board, family: tag36h11, tags_x: 5, tags_y: 4, tag_size_mm: 30, "
+    "spacing_mm: 9, refine_edges: false}";
+constexpr char kAprilTagWhiteBlack5[] =
+    "{type: apriltag_board, family: tag36h11, tags_x: 5, tags_y: 4, tag_size_mm: 30, "
+    "spacing_mm: 9, min_white_black_diff: 5}";
 constexpr char kAprilTagLibraryCorners[] =
     "{type: apriltag_board, family: tag36h11, tags_x: 5, tags_y: 4, tag_size_mm: 30, "
     "spacing_mm: 9, edge_refinement: false}";
@@ -108,13 +122,15 @@ void BM_ArucoDirect(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(keypoints) / state.iterations());
 }
 
-void BM_AprilTagDirect(benchmark::State& state) {
+void BM_AprilTagDirect(benchmark::State& state, float decimate, bool refine_edges,
+                       int min_white_black_diff) {
   const std::vector<GrayImage> frames = Frames(*Make(kAprilTag));
   apriltag_family_t* family = tag36h11_create();
   apriltag_detector_t* td = apriltag_detector_create();
-  td->quad_decimate = 1.0f;
+  td->quad_decimate = decimate;
   td->quad_sigma = 0.0f;
-  td->refine_edges = true;
+  td->refine_edges = refine_edges;
+  td->qtp.min_white_black_diff = min_white_black_diff;
   td->decode_sharpening = 0.25;
   td->nthreads = 1;
   apriltag_detector_add_family_bits(td, family, 1);
@@ -144,7 +160,27 @@ BENCHMARK_CAPTURE(BM_Plugin, apriltag_board, kAprilTag)
 BENCHMARK_CAPTURE(BM_Plugin, apriltag_library_corners, kAprilTagLibraryCorners)
     ->Name("BM_apriltag_board/plugin_library_corners")
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_AprilTagDirect)->Name("BM_apriltag_board/direct")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_AprilTagDirect, decimate2, 2.0f, true, 20)
+    ->Name("BM_apriltag_board/direct")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Plugin, apriltag_full_resolution, kAprilTagFullResolution)
+    ->Name("BM_apriltag_board/plugin_full_resolution")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_AprilTagDirect, decimate1, 1.0f, true, 5)
+    ->Name("BM_apriltag_board/direct_full_resolution")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Plugin, apriltag_no_refine_edges, kAprilTagNoRefineEdges)
+    ->Name("BM_apriltag_board/plugin_no_refine_edges")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_AprilTagDirect, decimate2_no_refine_edges, 2.0f, false, 20)
+    ->Name("BM_apriltag_board/direct_no_refine_edges")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Plugin, apriltag_white_black_5, kAprilTagWhiteBlack5)
+    ->Name("BM_apriltag_board/plugin_min_white_black_diff_5")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_AprilTagDirect, decimate2_white_black_5, 2.0f, true, 5)
+    ->Name("BM_apriltag_board/direct_min_white_black_diff_5")
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace cellmetry

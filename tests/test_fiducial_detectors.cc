@@ -147,16 +147,37 @@ TEST(ArucoDetector, GridBoardCornersAreUnbiased) {
                  "markers_y: 2, separation_mm: 6, first_id: 7");
 }
 
+// The decimation and refinement options of the AprilTag plugin against its defaults (printed,
+// not checked; docs/markers.md quotes them): full resolution, each refinement alone, neither.
+void PrintAprilTagVariants(const std::string& name, const std::string& yaml) {
+  const auto d = Make(yaml + "}");
+  const std::vector<MarkerFace> faces = d->Faces(10.0);
+  for (const char* variant :
+       {"quad_decimate: 1, min_white_black_diff: 5",
+        "quad_decimate: 1, min_white_black_diff: 5, edge_refinement: false",
+        "min_white_black_diff: 5", "redetect_unrefined: false", "refine_edges: false",
+        "refine_edges: false, edge_refinement: false"}) {
+    const auto v = Make(yaml + ", " + variant + "}");
+    PrintBias(name + " (" + variant + ")", MeasureBias(*v, TestPoses(*d, faces), 5, 11));
+  }
+}
+
 TEST(AprilTagBoard, GridCornersAreUnbiased) {
   ExpectUnbiased("apriltag tag36h11 3x2",
                  "{type: apriltag_board, family: tag36h11, tags_x: 3, tags_y: 2, tag_size_mm: 30, "
                  "spacing_mm: 9, first_id: 4");
+  PrintAprilTagVariants("apriltag tag36h11 3x2",
+                        "{type: apriltag_board, family: tag36h11, tags_x: 3, tags_y: 2, "
+                        "tag_size_mm: 30, spacing_mm: 9, first_id: 4");
 }
 
 TEST(AprilTagBoard, ReversedBorderCornersAreUnbiased) {
   ExpectUnbiased("apriltag tagStandard41h12 2x2",
                  "{type: apriltag_board, family: tagStandard41h12, tags_x: 2, tags_y: 2, "
                  "tag_size_mm: 25, spacing_mm: 25");
+  PrintAprilTagVariants("apriltag tagStandard41h12 2x2",
+                        "{type: apriltag_board, family: tagStandard41h12, tags_x: 2, tags_y: 2, "
+                        "tag_size_mm: 25, spacing_mm: 25");
 }
 
 // Every family's printed tag is one the library decodes, with its corners where layout() says.
@@ -185,11 +206,14 @@ TEST(AprilTagBoard, EveryFamilyPrintsDetectableTags) {
 
 // A cube of four side faces and the top, seen toward one of its corners or edges: two or three
 // faces show, and every tag on them is found (a tag seen within 70 degrees of face-on must be
-// found; one seen from behind must not).
+// found; one seen from behind must not). At full resolution: with the default quad_decimate 2
+// the library misses one of these 20 mm tags seen at about 60 degrees (cells under 3 px along
+// the foreshortened side, half that decimated); the others' corners hold (docs/markers.md).
 TEST(AprilTagBoard, CubeSeenAtAnAngleShowsAllVisibleTags) {
   const auto d = Make(
       "{type: apriltag_board, family: tag36h11, tags_x: 2, tags_y: 2, tag_size_mm: 20, "
-      "spacing_mm: 6, cube_mm: 60, cube_faces: {+x: 0, +y: 4, -x: 8, -y: 12, +z: 16}}");
+      "spacing_mm: 6, cube_mm: 60, cube_faces: {+x: 0, +y: 4, -x: 8, -y: 12, +z: 16}, "
+      "quad_decimate: 1}");
   ASSERT_EQ(d->layout().size(), 5u * 4 * 4);
   const auto faces = d->Faces(10.0);
   ASSERT_EQ(faces.size(), 5u);

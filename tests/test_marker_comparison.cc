@@ -16,8 +16,9 @@ TEST(MarkerComparison, DepthRepeatabilityOrdersPatternDotAruco) {
   spec.captures = 40;
   spec.positions = 10;
   const std::vector<MarkerRow> rows = CompareMarkers(spec, testing::Plugins());
-  ASSERT_EQ(rows.size(), 3u);
+  ASSERT_EQ(rows.size(), 4u);
   const MarkerRow &dot = rows[0], &pattern = rows[1], &aruco = rows[2];
+  EXPECT_EQ(rows[3].label, "apriltag");  // shown printed side up like the others (was 0 found)
   EXPECT_LT(pattern.repeatability_mm.z(), dot.repeatability_mm.z());
   EXPECT_LT(dot.repeatability_mm.z(), aruco.repeatability_mm.z());
   for (const auto& r : rows) {

@@ -13,13 +13,42 @@
 namespace cellmetry {
 namespace {
 
+// How a detector's target is shown: the spec's poses place a marker frame with its z out of the
+// printed side of the first face and its origin at the centre of the layout, and that centre is
+// the point measured. For the dot, the 13-dot pattern and an ArUco marker this is their own
+// frame. An AprilTag board's frame has its origin at the top-left tag corner and z into the
+// paper: shown as it is, the printed side faced away from the camera and nothing was detected.
+struct Presentation {
+  Eigen::Matrix3d R_target_marker = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();  // target frame
+  std::vector<MarkerPoint> centred_layout;              // layout about the centre
+
+  Presentation(const Detector& detector, const std::vector<MarkerFace>& faces) {
+    if (!faces.empty()) R_target_marker = faces.front().T_target_face.R;
+    const auto& layout = detector.layout();
+    for (const auto& p : layout) centre_mm += p.p_target_mm;
+    if (!layout.empty()) centre_mm /= static_cast<double>(layout.size());
+    centred_layout = layout;
+    for (auto& p : centred_layout) p.p_target_mm -= centre_mm;
+  }
+  // T_cam_target for a marker frame at T_cam_marker (whose origin is then the centre).
+  Pose Shown(const Pose& T_cam_marker) const {
+    Pose T;
+    T.R = T_cam_marker.R * R_target_marker.transpose();
+    T.t = T_cam_marker.t - T.R * centre_mm;
+    return T;
+  }
+};
+
 struct StereoShot {
   std::optional<TriangulatedPoint> origin;
   double ms = 0.0;  // left image's detection time
 };
 
 StereoShot Shoot(const MarkerComparisonSpec& spec, Detector& detector,
-                 const std::vector<MarkerFace>& faces, const Pose& T_cam_target, std::mt19937& rng) {
+                 const std::vector<MarkerFace>& faces, const Presentation& shown,
+                 const Pose& T_cam_marker, std::mt19937& rng) {
+  const Pose T_cam_target = shown.Shown(T_cam_marker);
   const GrayImage left = RenderView(spec.rig.left, {{T_cam_target, &faces}}, spec.render, rng);
   const GrayImage right = RenderView(spec.rig.right, {{spec.rig.T_right_left * T_cam_target, &faces}},
                                      spec.render, rng);
@@ -29,23 +58,24 @@ StereoShot Shoot(const MarkerComparisonSpec& spec, Detector& detector,
   shot.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   const Detection r = detector.Detect(right.view());
   if (l.found() && r.found()) {
-    shot.origin = TargetOriginFromStereo(spec.rig, l.keypoints, r.keypoints, detector.layout(), 0);
+    shot.origin = TargetOriginFromStereo(spec.rig, l.keypoints, r.keypoints, shown.centred_layout, 0);
   }
   return shot;
 }
 
 // Cramer-Rao floor of the origin: each view's image-position bound as keypoint covariance,
 // triangulated.
-Eigen::Vector3d Floor(const MarkerComparisonSpec& spec, const std::vector<MarkerFace>& faces) {
-  const Pose& T = spec.static_pose;
+Eigen::Vector3d Floor(const MarkerComparisonSpec& spec, const std::vector<MarkerFace>& faces,
+                      const Presentation& shown) {
+  const Pose T = shown.Shown(spec.static_pose);
   const Pose T_right = spec.rig.T_right_left * T;
   const auto l_ideal = RenderIdeal(spec.rig.left, {{T, &faces}}, spec.render);
   const auto r_ideal = RenderIdeal(spec.rig.right, {{T_right, &faces}}, spec.render);
   const Eigen::Vector2d l_crb = ImageShiftCramerRao(l_ideal, spec.rig.left.width, spec.rig.left.height, spec.render.noise_sigma);
   const Eigen::Vector2d r_crb = ImageShiftCramerRao(r_ideal, spec.rig.right.width, spec.rig.right.height, spec.render.noise_sigma);
   Keypoint l, r;
-  l.pixel = spec.rig.left.Project(T.t);
-  r.pixel = spec.rig.right.Project(T_right.t);
+  l.pixel = spec.rig.left.Project(spec.static_pose.t);
+  r.pixel = spec.rig.right.Project(spec.rig.T_right_left * spec.static_pose.t);
   l.covariance_px2 = l_crb.cwiseAbs2().asDiagonal();
   r.covariance_px2 = r_crb.cwiseAbs2().asDiagonal();
   const auto point = Triangulate(spec.rig, l, r);
@@ -66,11 +96,12 @@ MarkerRow CompareOne(const MarkerComparisonSpec& spec, const std::string& label,
   MarkerRow row;
   row.label = label;
   const std::vector<MarkerFace> faces = detector.Faces(20.0);
+  const Presentation shown(detector, faces);
   std::mt19937 rng(spec.seed);
   std::vector<Eigen::Vector3d> points;
   std::vector<double> ms;
   for (int i = 0; i < spec.captures; ++i) {
-    const StereoShot shot = Shoot(spec, detector, faces, spec.static_pose, rng);
+    const StereoShot shot = Shoot(spec, detector, faces, shown, spec.static_pose, rng);
     ms.push_back(shot.ms);
     if (shot.origin) points.push_back(shot.origin->p_left_mm);
   }
@@ -84,11 +115,11 @@ MarkerRow CompareOne(const MarkerComparisonSpec& spec, const std::string& label,
     row.repeatability_mm = (var / (points.size() - 1)).cwiseSqrt();
     row.static_bias_mm = (mean - spec.static_pose.t).norm();
   }
-  row.floor_mm = Floor(spec, faces);
+  row.floor_mm = Floor(spec, faces, shown);
   double sum2 = 0.0;
   for (int i = 0; i < spec.positions; ++i) {
     const Pose pose = RandomWorkspacePose(spec, rng);
-    const StereoShot shot = Shoot(spec, detector, faces, pose, rng);
+    const StereoShot shot = Shoot(spec, detector, faces, shown, pose, rng);
     ms.push_back(shot.ms);
     if (!shot.origin) continue;
     ++row.positions_found;

@@ -3,6 +3,7 @@
 #include "apriltag_detector.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <utility>
@@ -31,6 +32,7 @@ AprilTagDetector::AprilTagDetector(AprilTagOptions options, FamilyPtr family)
   apriltag_detector_t* td = detector_.get();
   td->quad_decimate = options_.quad_decimate;
   td->quad_sigma = options_.quad_sigma;
+  td->qtp.min_white_black_diff = options_.min_white_black_diff;
   td->refine_edges = options_.refine_edges;
   td->decode_sharpening = options_.decode_sharpening;
   td->nthreads = options_.nthreads;
@@ -83,8 +85,13 @@ Detection AprilTagDetector::Detect(const ImageView& image) {
     }
     if (options_.edge_refinement) {
       // One cell of paper (or of the reversed border's black ring) lies outside every tag. A
-      // quad the lines cannot refine keeps the library's corners.
-      fiducial::RefineByEdgeLines(image, family_->width_at_border, 1.0, &quad);
+      // quad the lines cannot refine keeps the library's corners: found on a decimated image,
+      // those of the library at full resolution on a window around the tag.
+      if (fiducial::RefineByEdgeLines(image, family_->width_at_border, 1.0, &quad) !=
+              fiducial::EdgeRefinement::kRefined &&
+          options_.quad_decimate > 1.0f && options_.redetect_unrefined) {
+        RedetectAtFullResolution(image, det->id, &quad);
+      }
     }
     for (int k = 0; k < 4; ++k) out.keypoints.push_back({det->id * 4 + k, quad[k], covariance});
   }
@@ -109,6 +116,48 @@ Detection AprilTagDetector::Detect(const ImageView& image) {
                   " quads, none decoded as a " + options_.family + " tag";
   }
   return out;
+}
+
+bool AprilTagDetector::RedetectAtFullResolution(const ImageView& image, int id,
+                                                fiducial::Quad* quad) {
+  Eigen::Vector2d lo = (*quad)[0], hi = (*quad)[0];
+  for (const auto& corner : *quad) lo = lo.cwiseMin(corner), hi = hi.cwiseMax(corner);
+  // Half a side of margin: the tag's white (or black) ring and the library's threshold tiles.
+  const double margin = 0.5 * (hi - lo).maxCoeff() + 8.0;
+  const int x0 = std::max(0, static_cast<int>(std::floor(lo.x() - margin)));
+  const int y0 = std::max(0, static_cast<int>(std::floor(lo.y() - margin)));
+  const int x1 = std::min(image.width, static_cast<int>(std::ceil(hi.x() + margin)) + 1);
+  const int y1 = std::min(image.height, static_cast<int>(std::ceil(hi.y() + margin)) + 1);
+  if (x1 - x0 < 16 || y1 - y0 < 16) return false;
+  const int w = x1 - x0, h = y1 - y0;
+  std::uint8_t* corner = const_cast<std::uint8_t*>(image.data) + static_cast<size_t>(y0) * image.stride + x0;
+  int stride = image.stride;
+  if (options_.quad_sigma != 0.0f) {  // the library blurs an undecimated image in place
+    scratch_.resize(static_cast<size_t>(w) * h);
+    for (int row = 0; row < h; ++row) {
+      std::memcpy(scratch_.data() + static_cast<size_t>(row) * w,
+                  corner + static_cast<size_t>(row) * image.stride, w);
+    }
+    corner = scratch_.data();
+    stride = w;
+  }
+  image_u8_t window{w, h, stride, corner};
+  apriltag_detector_t* td = detector_.get();
+  td->quad_decimate = 1.0f;
+  const std::unique_ptr<zarray_t, DetectionsDeleter> detections(apriltag_detector_detect(td, &window));
+  td->quad_decimate = options_.quad_decimate;
+  const Eigen::Vector2d centre = 0.5 * (lo + hi);
+  for (int i = 0; i < zarray_size(detections.get()); ++i) {
+    apriltag_detection_t* det = nullptr;
+    zarray_get(detections.get(), i, &det);
+    const Eigen::Vector2d c(det->c[0] + x0 - 0.5, det->c[1] + y0 - 0.5);
+    if (det->id != id || (c - centre).norm() > 0.25 * (hi - lo).minCoeff()) continue;
+    for (int k = 0; k < 4; ++k) {
+      (*quad)[k] = Eigen::Vector2d(det->p[3 - k][0] + x0 - 0.5, det->p[3 - k][1] + y0 - 0.5);
+    }
+    return true;
+  }
+  return false;
 }
 
 }  // namespace cellmetry::apriltag_board

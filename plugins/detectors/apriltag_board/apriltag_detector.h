@@ -12,6 +12,11 @@
 // The image is wrapped, not copied, except when quad_sigma != 0 without decimation: the library
 // then blurs its input in place (apriltag.c, apriltag_detector_detect), so a scratch copy is
 // made. A tag id seen twice in one image is ambiguous: both copies are left out.
+// Decimation (quad_decimate, default 2) finds quads on a half-size image; the library decodes and
+// (refine_edges) fits their edges at full resolution, and the edge lines refine the corners on
+// the full image. A tag the lines cannot refine (cells too narrow for the blur, kTooSmall) would
+// keep the decimated detection's corners, worse than the full-resolution library's on small
+// tags: the library is run again at full resolution on a window around it (redetect_unrefined).
 #pragma once
 
 #include <cstdint>
@@ -20,6 +25,7 @@
 #include <vector>
 
 #include "cellmetry/model/detector.h"
+#include "fiducial_common/edge_lines.h"
 #include "tag_board.h"
 #include "tag_family.h"
 
@@ -28,13 +34,15 @@ namespace cellmetry::apriltag_board {
 struct AprilTagOptions {
   std::string family = "tag36h11";
   TagBoard board;
-  float quad_decimate = 1.0f;
+  float quad_decimate = 2.0f;
   float quad_sigma = 0.0f;
+  int min_white_black_diff = 20;  // the library's 5 lets sensor noise through as edges
   bool refine_edges = true;
   double decode_sharpening = 0.25;
   int nthreads = 1;
   int max_hamming = 1;
   bool edge_refinement = true;
+  bool redetect_unrefined = true;  // decimated tags the edge lines leave: library at full resolution
   double sigma_px = 0.1;
 };
 
@@ -48,6 +56,10 @@ class AprilTagDetector : public Detector {
   std::vector<MarkerFace> Faces(double texels_per_mm) const override;
 
  private:
+  // The library's corners of tag `id` at full resolution, from a window around `quad` (OpenCV
+  // pixels); false, `quad` unchanged, when the window shows no such tag there.
+  bool RedetectAtFullResolution(const ImageView& image, int id, fiducial::Quad* quad);
+
   struct DetectorDeleter {
     void operator()(apriltag_detector_t* td) const { apriltag_detector_destroy(td); }
   };
