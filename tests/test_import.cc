@@ -3,6 +3,7 @@
 // imported recording is the truth to 1e-9.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -576,7 +577,9 @@ void ExpectSameRecording(const Recording& read, const Recording& truth, bool rot
 class ImportEveryConvention : public ::testing::TestWithParam<Variant> {
  public:
   static void SetUpTestSuite() {
-    const std::string dir = testing::TempDir("import/truth");
+    // One folder per process: CTest runs each test as its own process, several at once, and a
+    // shared folder was removed under a sibling's feet (its tests then reported as skipped).
+    const std::string dir = testing::TempDir("import/truth_" + std::to_string(::getpid()));
     std::string spec = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
     spec = testing::ReplaceOnce(spec, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml") +
                                 "\n    payloads_kg: [0, 0.75, 1.5]");
