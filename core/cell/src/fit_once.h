@@ -16,6 +16,7 @@ struct Fit {
   std::unique_ptr<AssembledWorkcell> assembled;
   SolverSummary summary;
   std::vector<UnidentifiableParameter> unidentifiable;
+  int free_as_asked = 0;  // free parameters before anything was held as unidentifiable
 };
 
 // Assembles on `poses` (empty: all), holds `held` and whatever the data cannot determine, and

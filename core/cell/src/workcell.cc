@@ -23,6 +23,7 @@ Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const Workc
             std::set<std::string> held, const SolverMaker& make_solver, bool warm_start) {
   Fit fit;
   fit.assembled = AssembleWorkcell(spec, recording, data, noise, start, poses);
+  fit.free_as_asked = fit.assembled->problem.num_free();
   IdentifiedSolve solved =
       SolveHoldingUnidentifiable(&fit.assembled->problem, spec.identifiability_tolerance,
                                  std::move(held), make_solver, warm_start);
@@ -265,13 +266,14 @@ std::string CameraModelName(CameraModel model) {
 
 namespace {
 
-// More measured rows than free parameters, or the fit is not a fit.
-void CheckEnoughData(const Recording& recording, const Problem& problem) {
-  if (problem.num_residuals() >= problem.num_free()) return;
+// More measured rows than the free parameters the job asked for, or the fit is not a fit (held
+// unidentifiable parameters do not count: with too few rows, every direction is one).
+void CheckEnoughData(const Recording& recording, const Fit& fit) {
+  const int rows = fit.assembled->problem.num_residuals();
+  if (rows >= fit.free_as_asked) return;
   throw InputError({recording.folder + "/observations.csv", 0, 0},
-                   "the recording gives " + std::to_string(problem.num_residuals()) +
-                       " measured values for " + std::to_string(problem.num_free()) +
-                       " free parameters",
+                   "the recording gives " + std::to_string(rows) + " measured values for " +
+                       std::to_string(fit.free_as_asked) + " free parameters",
                    "Record more poses, or free fewer parameters");
 }
 
@@ -281,7 +283,7 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
                  const WorkcellEstimate& start, const SolverMaker& make_solver,
                  NoiseModel* noise) {
   Fit fit = FitOnce(spec, recording, data, *noise, start, {}, {}, make_solver);
-  CheckEnoughData(recording, fit.assembled->problem);
+  CheckEnoughData(recording, fit);
   const bool any_unknown =
       std::any_of(noise->entries.begin(), noise->entries.end(),
                   [](const auto& entry) { return entry.second.source == "unknown"; });
