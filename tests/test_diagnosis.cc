@@ -38,15 +38,7 @@ class Diagnosis : public ::testing::Test {
 
 TEST_F(Diagnosis, ConcealedComplianceIsNamedWithItsJointAndModelled) {
   WorkcellSimulationSpec spec = base_;
-  SimulatedEffect e;
-  e.name = "ur3.joint_compliance";
-  e.effect = testing::Plugins().CreateEffect(
-      "joint_compliance",
-      ConfigNode::LoadString("{type: joint_compliance, joints: [3], "
-                             "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}", "test"),
-      *spec.robots[0].model);
-  e.values = {4e-5};
-  spec.robots[0].effects.push_back(e);
+  testing::ConcealJoint3Compliance(&spec);
   const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
   ASSERT_FALSE(d.accepted.empty()) << DiagnosisReport(d);
   EXPECT_EQ(d.accepted.front().name, "ur3.compliance_j3") << DiagnosisReport(d);

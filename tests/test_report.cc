@@ -130,15 +130,7 @@ TEST(Report, DiagnoseShowsTheAcceptedEffectsSignature) {
   sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
-  SimulatedEffect e;
-  e.name = "ur3.joint_compliance";
-  e.effect = testing::Plugins().CreateEffect(
-      "joint_compliance",
-      ConfigNode::LoadString("{type: joint_compliance, joints: [3], "
-                             "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}", "test"),
-      *spec.robots[0].model);
-  e.values = {4e-5};
-  spec.robots[0].effects.push_back(e);
+  testing::ConcealJoint3Compliance(&spec);
   const Recording recording = SimulateWorkcell(spec, nullptr);
   const DiagnosisJob job = testing::Ur3DiagnoseJob(dir);
   const DiagnosisResult d = testing::Diagnose(job, recording, dir + "/job.yaml");

@@ -110,6 +110,18 @@ const char kTwoCameraNoiseYaml[] =
     "noise: {cameras: {cam1: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, "
     "0.001]}, cam2: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, 0.001]}}}\n";
 
+void ConcealJoint3Compliance(WorkcellSimulationSpec* spec) {
+  SimulatedEffect e;
+  e.name = "ur3.joint_compliance";
+  e.effect = Plugins().CreateEffect(
+      "joint_compliance",
+      ConfigNode::LoadString("{type: joint_compliance, joints: [3], "
+                             "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}", "test"),
+      *spec->robots[0].model);
+  e.values = {4e-5};
+  spec->robots[0].effects.push_back(e);
+}
+
 DiagnosisJob Ur3DiagnoseJob(const std::string& dir) {
   const std::string job = ReplaceOnce(ReadText(Source("configs/jobs/ur3_diagnose.yaml")),
                                       "model: ../robots/ur3.yaml",
