@@ -134,6 +134,13 @@ TEST_F(BadInput, MissingRobotConfigPointsAtTheJobLine) {
   EXPECT_THAT(r.output, HasSubstr(dir_ + "/ur5.yaml"));
 }
 
+// Found by fuzz_job: a name longer than the file system allows threw std::filesystem_error
+// (exit 1, "internal error") instead of saying the file is not there.
+TEST_F(BadInput, RobotConfigNameTooLongForTheFileSystem) {
+  WriteJob(ReplaceOnce(JobText(), "model: " + robot_, "model: " + std::string(5000, 'x') + ".yaml"));
+  ExpectRejected(Run(), "job.yaml:8:12:", "Give a path relative to the job file");
+}
+
 TEST_F(BadInput, SamplesWithoutThePoseColumn) {
   WriteJob();
   std::istringstream in(ReadText(recording_ + "/samples.csv"));

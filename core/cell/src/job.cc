@@ -87,7 +87,8 @@ WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, bool wo
   WorkcellRobot robot;
   robot.name = name;
   robot.model_file = node.ResolvePath(node["model"].AsString());
-  if (!std::filesystem::exists(robot.model_file)) {
+  std::error_code unreadable;  // a name too long for the file system is "not found", not a throw
+  if (!std::filesystem::exists(robot.model_file, unreadable)) {
     throw node["model"].Error("robot config '" + robot.model_file + "' not found",
                               "Give a path relative to the job file");
   }

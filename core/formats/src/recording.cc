@@ -305,7 +305,8 @@ bool Recording::HasCamera(const std::string& name) const {
 
 Recording ReadRecording(const std::string& folder) {
   namespace fs = std::filesystem;
-  if (!fs::is_directory(folder)) {
+  std::error_code unreadable;  // e.g. a name too long: "not a recording", not a throw
+  if (!fs::is_directory(folder, unreadable)) {
     throw InputError({folder, 0, 0}, "recording folder not found",
                      "Give the folder that holds recording.yaml, samples.csv, observations.csv");
   }
