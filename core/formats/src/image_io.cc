@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
@@ -12,6 +13,20 @@
 #include "cellmetry/formats/image.h"
 
 namespace cellmetry {
+
+namespace {
+
+// True when `bytes` start with the signature of PNG, JPEG, TIFF, BMP or binary PGM/PPM.
+bool IsCameraImageFormat(const std::vector<unsigned char>& bytes) {
+  auto starts = [&](std::initializer_list<unsigned char> magic) {
+    return bytes.size() >= magic.size() && std::equal(magic.begin(), magic.end(), bytes.begin());
+  };
+  return starts({0x89, 'P', 'N', 'G'}) || starts({0xFF, 0xD8, 0xFF}) ||
+         starts({'I', 'I', 0x2A, 0x00}) || starts({'M', 'M', 0x00, 0x2A}) || starts({'B', 'M'}) ||
+         starts({'P', '5'}) || starts({'P', '6'});
+}
+
+}  // namespace
 
 GrayImage ReadGrayImage(const std::string& path) {
   const SourceLocation where{path, 0, 0};
@@ -23,6 +38,13 @@ GrayImage ReadGrayImage(const std::string& path) {
   const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
                                          std::istreambuf_iterator<char>());
   if (bytes.empty()) throw InputError(where, "the image file is empty", "Re-export the image");
+  // Only the formats a camera writes reach a decoder: OpenCV would otherwise hand any bytes to
+  // every codec it links, and one of them (GDCM's DICOM reader) aborts on malformed input
+  // (found by fuzz_image).
+  if (!IsCameraImageFormat(bytes)) {
+    throw InputError(where, "not a PNG, JPEG, TIFF, BMP or PGM/PPM image",
+                     "Save the frame in one of these formats");
+  }
   cv::Mat decoded;
   try {
     decoded = cv::imdecode(bytes, cv::IMREAD_GRAYSCALE);
