@@ -42,7 +42,7 @@ GrayImage ReadGrayImage(const std::string& path) {
   // every codec it links, and one of them (GDCM's DICOM reader) aborts on malformed input
   // (found by fuzz_image).
   if (!IsCameraImageFormat(bytes)) {
-    throw InputError(where, "not a PNG, JPEG, TIFF, BMP or PGM/PPM image",
+    throw InputError(where, "the image cannot be decoded: not a PNG, JPEG, TIFF, BMP or PGM/PPM file",
                      "Save the frame in one of these formats");
   }
   cv::Mat decoded;
