@@ -6,7 +6,8 @@
 //
 //  BM_Run/R/C/P              the whole identification as `cellmetry run` without
 //                            cross-validation: closed form, solve, identifiability, covariance,
-//                            the cluster-robust and camera-jackknife sigma, residual statistics
+//                            the cluster-robust and camera-jackknife sigma, residual statistics;
+//                            each stage's seconds and peak MB as counters (<stage>_s, <stage>_MB)
 //  BM_CrossValidation/R/C/P  5-fold cross-validation at the answer, on its own
 //  BM_Solve, BM_Identifiability, BM_Covariance (10/8/500)   the stages, one by one
 //  BM_RFactor/<method>       the factory cell's Jacobian reduced to its R factor: cellmetry's
@@ -22,6 +23,8 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+
+#include <malloc.h>
 
 #include <Eigen/QR>
 
@@ -90,12 +93,8 @@ struct Cell {
   Recording recording;
 };
 
-// The cell of `size`, simulated once per process into a temporary folder.
-const Cell& CellOf(const CellSize& size) {
-  static std::map<std::tuple<int, int, int>, Cell> cache;
-  const auto key = std::make_tuple(size.robots, size.cameras, size.poses);
-  auto it = cache.find(key);
-  if (it != cache.end()) return it->second;
+// The cell of `size`, simulated into a temporary folder.
+Cell SimulateCell(const CellSize& size) {
   Registry& registry = bench::Plugins();
   char folder_template[] = "/tmp/cellmetry_bench_scale_XXXXXX";
   const std::string folder = mkdtemp(folder_template);
@@ -108,7 +107,18 @@ const Cell& CellOf(const CellSize& size) {
   cell.job = LoadWorkcellJob(folder + "/job.yaml", registry);
   cell.recording = ReadRecording(folder + "/recording");
   std::system(("rm -rf '" + folder + "'").c_str());
-  return cache.emplace(key, std::move(cell)).first->second;
+  return cell;
+}
+
+// The cell of `size`, simulated when first asked for. Only the latest cell stays in memory, so a
+// benchmark's peak_MB holds no other size's recording.
+const Cell& CellOf(const CellSize& size) {
+  static std::map<std::tuple<int, int, int>, Cell> cache;
+  const auto key = std::make_tuple(size.robots, size.cameras, size.poses);
+  auto it = cache.find(key);
+  if (it != cache.end()) return it->second;
+  cache.clear();
+  return cache.emplace(key, SimulateCell(size)).first->second;
 }
 
 SolverMaker CeresLm() {
@@ -118,15 +128,12 @@ SolverMaker CeresLm() {
   };
 }
 
-// Peak resident memory: reset before a benchmark, read after it.
-void ResetPeakMemory() { std::ofstream("/proc/self/clear_refs") << "5"; }
-double PeakMemoryMb() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
-  }
-  return 0.0;
+// Peak resident memory: reset before a benchmark, read after it (PeakResidentMb, stage_clock.h).
+// The allocator first hands freed pages back, or a small cell measured after a large one would
+// carry the large one's heap.
+void ResetPeakMemory() {
+  malloc_trim(0);
+  std::ofstream("/proc/self/clear_refs") << "5";
 }
 
 CellSize SizeOf(const benchmark::State& state) {
@@ -136,7 +143,7 @@ CellSize SizeOf(const benchmark::State& state) {
 
 void Count(benchmark::State& state, const CellSize& size) {
   state.counters["observations"] = 2.0 * size.robots * size.cameras * size.poses;
-  state.counters["peak_MB"] = PeakMemoryMb();
+  state.counters["peak_MB"] = PeakResidentMb();
 }
 
 void BM_Run(benchmark::State& state) {
@@ -145,11 +152,21 @@ void BM_Run(benchmark::State& state) {
   spec.folds = 0;
   const Recording& recording = CellOf(size).recording;
   ResetPeakMemory();
+  std::map<std::string, double> stage_s, stage_mb;
   for (auto _ : state) {
     const WorkcellResult result = IdentifyWorkcell(spec, recording, CeresLm());
     benchmark::DoNotOptimize(result.frames.front().pose.t.x());
+    for (const StageTime& stage : result.stages) {
+      stage_s[stage.stage] += stage.seconds / state.max_iterations;
+      stage_mb[stage.stage] = std::max(stage_mb[stage.stage], stage.peak_resident_mb);
+    }
   }
   Count(state, size);
+  // Per stage: wall seconds and the peak resident memory at its end (it only grows).
+  for (const auto& [stage, seconds] : stage_s) {
+    state.counters[stage + "_s"] = seconds;
+    state.counters[stage + "_MB"] = stage_mb[stage];
+  }
 }
 
 void BM_CrossValidation(benchmark::State& state) {
@@ -169,25 +186,29 @@ void BM_CrossValidation(benchmark::State& state) {
   Count(state, size);
 }
 
-// The 10-robot cell's problem, assembled at the closed-form start.
+// The 10-robot cell's problem, assembled at the closed-form start and at the answer. It owns
+// its cell and data: an assembled problem's residuals point into both.
 struct Assembled {
+  Cell cell;
+  WorkcellData data;
   std::unique_ptr<AssembledWorkcell> at_start;
   std::unique_ptr<AssembledWorkcell> at_answer;
 };
 Assembled& FactoryCell() {
-  static Assembled assembled = [] {
-    const Cell& cell = CellOf({10, 8, 500});
-    const WorkcellProblem& spec = cell.job.problem;
-    const WorkcellData data = PrepareWorkcellData(spec, cell.recording);
-    const NoiseModel noise = BuildNoiseModel(cell.recording, spec.noise);
-    const WorkcellEstimate start = InitialEstimate(spec, cell.recording, data);
-    Assembled out;
-    out.at_start = AssembleWorkcell(spec, cell.recording, data, noise, start);
-    out.at_answer = AssembleWorkcell(spec, cell.recording, data, noise, start);
-    CeresLm()()->Solve(out.at_answer->problem);
+  static const std::unique_ptr<Assembled> assembled = [] {
+    auto out = std::make_unique<Assembled>();
+    out->cell = SimulateCell({10, 8, 500});
+    const WorkcellProblem& spec = out->cell.job.problem;
+    const Recording& recording = out->cell.recording;
+    out->data = PrepareWorkcellData(spec, recording);
+    const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
+    const WorkcellEstimate start = InitialEstimate(spec, recording, out->data);
+    out->at_start = AssembleWorkcell(spec, recording, out->data, noise, start);
+    out->at_answer = AssembleWorkcell(spec, recording, out->data, noise, start);
+    CeresLm()()->Solve(out->at_answer->problem);
     return out;
   }();
-  return assembled;
+  return *assembled;
 }
 
 void BM_Solve(benchmark::State& state) {

@@ -1,6 +1,8 @@
 // Synthetic ground truth: exact recovery without noise, honest 3-sigma with noise, two robots.
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 #include <random>
 
 #include "cellmetry/formats/config_node.h"
@@ -96,6 +98,37 @@ TEST(SimulatedUr3, NoiseFreeRecoversEveryFreeParameterExactly) {
   EXPECT_GE(e.quantities.size(), 6u + 3 + 12 + 4);
   EXPECT_LT(e.max_translation_error_mm, 1e-6);
   EXPECT_LT(e.max_rotation_error_rad, 1e-9);
+}
+
+// The result says where the time went: every stage of the pipeline, in the order it ran, with
+// a wall time and the memory it had reached (the summary's "time:" line and result.json).
+TEST(SimulatedUr3, ResultListsEveryStageWithItsTimeAndMemory) {
+  WorkcellSimulationSpec sim = TwoCameraSpec(12);
+  WorkcellProblem problem;
+  problem.robots.push_back(JobRobot(sim.robots[0]));
+  problem.noise.position_sigma_mm = {{"cam1", {0.1, 0.1, 0.3}}, {"cam2", {0.1, 0.1, 0.3}}};
+  problem.noise.rotation_sigma_rad = {{"cam1", {1e-3, 1e-3, 1e-3}}, {"cam2", {1e-3, 1e-3, 1e-3}}};
+  problem.folds = 3;
+  const Recording recording = SimulateWorkcell(sim, nullptr);
+  const auto started = std::chrono::steady_clock::now();
+  const WorkcellResult result = IdentifyWorkcell(problem, recording, [] {
+    return testing::Plugins().CreateSolver("ceres_lm", ConfigNode::LoadString("type: ceres_lm", "s"));
+  });
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  std::vector<std::string> names;
+  double sum_s = 0.0;
+  for (const StageTime& stage : result.stages) {
+    names.push_back(stage.stage);
+    EXPECT_GE(stage.seconds, 0.0) << stage.stage;
+    EXPECT_GT(stage.peak_resident_mb, 1.0) << stage.stage;
+    sum_s += stage.seconds;
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"start", "solve", "covariance", "input_uncertainty",
+                                             "residual_statistics", "cross_validation"}));
+  EXPECT_LE(sum_s, wall_s);
+  EXPECT_GT(sum_s, 0.5 * wall_s);  // the stages account for the run, not a sliver of it
+  EXPECT_EQ(WorkcellResultJson(result)["stages"].size(), names.size());
 }
 
 // One seeded noisy run: 40 random poses, two cameras, the job told the true sigma.

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/basics/stage_clock.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/workcell_initial.h"
@@ -354,11 +355,13 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   WorkcellResult result;
   result.camera_model = spec.camera_model;
   result.residual_form = spec.residual;
+  StageClock clock;
   const WorkcellData data = PrepareWorkcellData(spec, recording);
   result.skipped = data.skipped;
   result.noise = BuildNoiseModel(recording, spec.noise);
   result.repeatability = EstimateRepeatability(recording);
   result.start = InitialEstimate(spec, recording, data);
+  clock.Lap("start");
 
   Progress::Note("fitting " + std::to_string(data.tools.size()) + " target observations (" +
                  CameraModelName(spec.camera_model) + ", " + ResidualFormName(spec.residual) +
@@ -367,19 +370,28 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   result.solver = fit.summary;
   result.unidentifiable = fit.unidentifiable;
   result.estimate = ReadEstimate(spec, *fit.assembled);
+  clock.Lap("solve");
   const Linearization at_answer = Linearize(fit.assembled->problem);
   result.uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
   result.strong_correlations = StrongCorrelations(result.uncertainty);
   const std::set<std::string> held = Names(result.unidentifiable);
   SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result.uncertainty);
+  clock.Lap("covariance");
   AddInputUncertainty(spec, recording, result.noise, result.estimate, &result.uncertainty);
   Describe(spec, *fit.assembled, held, &result);
   result.robot_to_robot = RobotToRobot(result);
+  clock.Lap("input_uncertainty");
   AddResidualStatistics(spec, recording, data, fit, &result);
+  clock.Lap("residual_statistics");
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,
                                   make_solver);
-  if (spec.compare_camera_models) CompareCameraModels(spec, recording, make_solver, &result);
+  clock.Lap("cross_validation");
+  if (spec.compare_camera_models) {
+    CompareCameraModels(spec, recording, make_solver, &result);
+    clock.Lap("camera_models");
+  }
   AddWarnings(spec, &result);
+  result.stages = clock.stages();
   return result;
 }
 
@@ -397,7 +409,10 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
                    "identifying again without their observations");
     outliers.insert(outliers.end(), found.begin(), found.end());
     kept = WithoutOutliers(kept, found);
+    std::vector<StageTime> stages = std::move(result.stages);
     result = IdentifyOnce(spec, kept, make_solver);
+    for (StageTime& stage : result.stages) stage.stage = "again_without_outliers/" + stage.stage;
+    result.stages.insert(result.stages.begin(), stages.begin(), stages.end());
   }
   result.outliers = outliers;
   return result;

@@ -34,6 +34,8 @@ struct AssembledWorkcell {
 };
 
 // `poses`: only captures of these pose ids are used; empty set = all.
+// The problem's residuals keep pointers into `spec` (robot models, effects) and `data` (each
+// sample's facts for the effects): both must outlive the returned AssembledWorkcell.
 std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
                                                     const Recording& recording,
                                                     const WorkcellData& data,

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cellmetry/basics/stage_clock.h"
 #include "cellmetry/estimation/estimation_quality.h"
 #include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/estimation/solver.h"
@@ -154,6 +155,7 @@ struct WorkcellResult {
   WorkcellEstimate start;                         // the closed-form start
   WorkcellEstimate estimate;                      // the answer
   std::optional<RecordingScore> validation;       // set by the caller (ScoreOnRecording)
+  std::vector<StageTime> stages;                  // where the time went (stage_clock.h)
 };
 
 }  // namespace cellmetry
