@@ -6,7 +6,9 @@
 #include <filesystem>
 
 #include "cellmetry/experiments/kinematic_compare.h"
+#include "cellmetry/experiments/intervals.h"
 #include "cellmetry/experiments/marker_comparison.h"
+#include "cellmetry/experiments/physics_suite.h"
 #include "cellmetry/experiments/solver_compare.h"
 #include "support/test_support.h"
 
@@ -23,6 +25,64 @@ TEST(TInterval95, IsTheStudentInterval) {
   EXPECT_NEAR(m.mean - m.low, 4.302653 / std::sqrt(3.0), 1e-6);
   const MeanInterval one = TInterval95({5.0});  // one value: nothing can be told apart
   EXPECT_TRUE(std::isinf(one.low) && std::isinf(one.high));
+}
+
+// Wilson's interval (1927) against values worked by hand: 5 of 5 is [n/(n+z^2), 1], not 100 %.
+TEST(WilsonInterval95, MatchesTheScoreIntervalAndNeverLeavesZeroOne) {
+  const RateInterval all = WilsonInterval95(5, 5);
+  EXPECT_NEAR(all.low, 5.0 / (5.0 + 1.959964 * 1.959964), 1e-6);
+  EXPECT_DOUBLE_EQ(all.high, 1.0);
+  const RateInterval none = WilsonInterval95(0, 10);
+  EXPECT_DOUBLE_EQ(none.low, 0.0);
+  EXPECT_NEAR(none.high, 3.841459 / (10 + 3.841459), 1e-6);
+  const RateInterval half = WilsonInterval95(50, 100);  // symmetric about 1/2
+  EXPECT_NEAR(half.low + half.high, 1.0, 1e-12);
+  EXPECT_NEAR(half.high - half.low, 2 * 0.0961, 2e-4);  // z sqrt(pq/n) / (1 + z^2/n) ~ 0.0961
+  EXPECT_EQ(RunsToShowAtLeast(0.90), 35);
+  EXPECT_EQ(RunsToShowAtLeast(0.95), 73);
+  EXPECT_EQ(AgainstTarget(WilsonInterval95(35, 35), 0.90), TargetVerdict::kMet);
+  EXPECT_EQ(AgainstTarget(WilsonInterval95(34, 34), 0.90), TargetVerdict::kUndecided);
+  EXPECT_EQ(AgainstTarget(WilsonInterval95(3, 5), 0.90), TargetVerdict::kMissed);
+  // 87 % against 90 %: undecided at 125 runs, decided by the runs RunsToDecide names.
+  const int runs = RunsToDecide(0.872, 0.90, 125);
+  ASSERT_GT(runs, 125);
+  EXPECT_EQ(AgainstTarget(WilsonInterval95(static_cast<int>(0.872 * runs), runs), 0.90),
+            TargetVerdict::kMissed);
+  EXPECT_EQ(RunsToDecide(0.90, 0.90, 100), -1);  // at the target: no number of runs decides
+}
+
+// The physics suite's decisions: a case named 2 of 5 times is shown below 90 % with what was
+// named instead; 5 of 5 is undecided, not met; a wrong claim on a clean recording is counted.
+TEST(PhysicsSuiteRecommendations, SayMetMissedOrUndecidedWithWhatWouldDecide) {
+  PhysicsSuiteSpec spec;
+  spec.snr = 6.0;
+  spec.cells.push_back({"UR3", "", "", {}});
+  auto result = [](const std::string& name, const std::string& expect,
+                   const std::vector<std::string>& named) {
+    SuiteCaseResult r;
+    r.cell = "UR3";
+    r.spec.name = name;
+    r.spec.expect = expect;
+    for (const auto& n : named) r.runs.push_back({n, "", 1.0, 1.0, {}});
+    return r;
+  };
+  const std::vector<SuiteCaseResult> results = {
+      result("clean", "none", {"none", "none", "none", "none", "ur3.thermal"}),
+      result("joint 3 backlash", "ur3.backlash_j3", std::vector<std::string>(5, "ur3.backlash_j3")),
+      result("joint 2 compliance", "ur3.compliance_j2",
+             {"ur3.compliance_j2", "none", "ur3.scale_j2", "none", "ur3.compliance_j2"}),
+      result("cam bumped", "unexplained", {"unexplained", "unexplained", "unexplained"})};
+  const std::vector<std::string> lines = PhysicsSuiteRecommendations(spec, results);
+  ASSERT_EQ(lines.size(), 5u);
+  EXPECT_THAT(lines[0], HasSubstr("Is the right effect named? missed: 70 % [40 %, 89 %] (7/10)"));
+  EXPECT_THAT(lines[1], HasSubstr("Do clean recordings stay clean? undecided: 80 % [38 %, 96 %]"));
+  EXPECT_THAT(lines[1], HasSubstr("runs would decide it (5 so far)"));
+  EXPECT_THAT(lines[2], HasSubstr("so far: 100 % [44 %, 100 %] (3/3), no miss"));
+  EXPECT_THAT(lines[3], HasSubstr("held-out RMS to the floor? met: 1.00 [1.00, 1.00]"));
+  EXPECT_THAT(lines[4], HasSubstr("UR3 at SNR 6.0: shown below 90 %"));
+  EXPECT_THAT(lines[4], HasSubstr("joint 2 compliance 2/5 (named instead: none 2, ur3.scale_j2 1)"));
+  EXPECT_THAT(lines[4], HasSubstr("0 shown at or above, 1 undecided"));
+  EXPECT_THAT(PhysicsSuiteMarkdown(spec, results), HasSubstr("Decisions:"));
 }
 
 // Two solvers whose per-seed errors and times differ by noise alone: a tie.

@@ -1,7 +1,8 @@
 // `cellmetry compare SPEC.yaml`: the report's Table 7 (`compare: kinematic`, kinematic_compare.h)
 // or its Tables 3 and 4 (`compare: markers`, marker_comparison.h), writing table.md and
 // table.csv; or the physics finder's concealed-effect suite (`compare: physics`,
-// physics_suite.h), writing one markdown file; or solvers x camera models over seeds with a
+// physics_suite.h: rates with Wilson intervals and a decision per question), writing one
+// markdown file; or solvers x camera models over seeds with a
 // recommendation per question (`compare: solvers`, solver_compare.h).
 #include <cstdio>
 
@@ -26,8 +27,8 @@ void AddCompareCommand(CLI::App& app, Context& context) {
   cmd->add_option("-o,--output", output, "folder for table.md and table.csv");
   static int seeds = 0;
   cmd->add_option("--seeds", seeds,
-                  "repetitions per row instead of the spec's seeds: (kinematic, markers, "
-                  "solvers; 1: the one-seed table)")
+                  "repetitions per row instead of the spec's seeds (every kind; "
+                  "kinematic and markers: 1 gives the one-seed table)")
       ->check(CLI::Range(1, 100000));
   cmd->callback([&context] {
     Progress::SetQuiet(context.quiet);
@@ -43,7 +44,8 @@ void AddCompareCommand(CLI::App& app, Context& context) {
     }
     std::string table, csv, folder;
     if (kind == "physics") {
-      const PhysicsSuiteSpec spec = LoadPhysicsSuite(spec_path);
+      PhysicsSuiteSpec spec = LoadPhysicsSuite(spec_path);
+      if (seeds > 0) spec.seeds = seeds;
       const auto results = RunPhysicsSuite(spec, Registry::Global());
       table = PhysicsSuiteMarkdown(spec, results);
       WritePhysicsSuite(spec, output.empty() ? spec.output : output, table);

@@ -76,12 +76,6 @@ double MagnitudeForSnr(const PhysicsSuiteSpec& suite, const WorkcellSimulationSp
   return kTrialMagnitude * suite.snr / std::sqrt(chi2);
 }
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 std::string Fixed(double v, int digits) {
   char b[32];
   std::snprintf(b, sizeof(b), "%.*f", digits, v);
@@ -163,7 +157,7 @@ SuiteCaseResult FromJson(const nlohmann::json& j, const std::string& cell, const
   r.magnitude = j.at("magnitude").get<double>();
   for (const auto& run : j.at("runs")) {
     SuiteRun read{run.at("named").get<std::string>(), run.at("failed").get<std::string>(),
-                  run.at("held_out_over_floor").get<double>(), run.at("seconds").get<double>()};
+                  run.at("held_out_over_floor").get<double>(), run.at("seconds").get<double>(), {}};
     if (run.contains("aliases")) read.aliases = run.at("aliases").get<std::vector<std::string>>();
     r.runs.push_back(read);
   }
@@ -193,33 +187,9 @@ bool IsRight(const SuiteCase& c, const SuiteRun& run) {
          });
 }
 
-// Rows: the cell's cases; columns: what the finder named first.
-std::string ConfusionMatrix(const std::string& cell, const std::vector<SuiteCaseResult>& results) {
-  std::set<std::string> named_set;
-  for (const auto& r : results) {
-    if (r.cell != cell) continue;
-    for (const auto& run : r.runs) named_set.insert(run.named);
-  }
-  std::ostringstream out;
-  out << "\n" << cell
-      << " confusion matrix (rows: expected; columns: what the finder named first):\n\n| |";
-  const std::vector<std::string> named(named_set.begin(), named_set.end());
-  for (const auto& n : named) out << " " << n << " |";
-  out << "\n|---|";
-  for (size_t i = 0; i < named.size(); ++i) out << "---|";
-  out << "\n";
-  for (const auto& r : results) {
-    if (r.cell != cell) continue;
-    std::map<std::string, int> counts;
-    for (const auto& run : r.runs) ++counts[run.named];
-    out << "| " << r.spec.name << " |";
-    for (const auto& n : named) out << " " << (counts.count(n) ? std::to_string(counts[n]) : "") << " |";
-    out << "\n";
-  }
-  return out.str();
-}
-
 }  // namespace
+
+bool SuiteCaseResult::named_right(const SuiteRun& run) const { return IsRight(spec, run); }
 
 int SuiteCaseResult::right() const {
   int n = 0;
@@ -299,64 +269,6 @@ void WritePhysicsSuite(const PhysicsSuiteSpec& spec, const std::string& path,
   }
   AtomicWriteFile(path, text);
   std::filesystem::remove(CheckpointPath(spec));
-}
-
-std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
-                                 const std::vector<SuiteCaseResult>& results) {
-  std::ostringstream out;
-  int effect_runs = 0, effect_right = 0, clean_runs = 0, clean_right = 0, outside_runs = 0,
-      outside_right = 0;
-  std::vector<double> ratios, seconds;
-  for (const auto& r : results) {
-    const int right = r.right();
-    const int n = static_cast<int>(r.runs.size());
-    if (r.spec.expect == "none") {
-      clean_runs += n, clean_right += right;
-    } else if (r.spec.expect == "unexplained") {
-      outside_runs += n, outside_right += right;
-    } else {
-      effect_runs += n, effect_right += right;
-      for (const auto& run : r.runs) ratios.push_back(run.held_out_over_floor);
-    }
-    for (const auto& run : r.runs) seconds.push_back(run.seconds);
-  }
-  auto rate = [](int right, int n) {
-    return n ? Fixed(100.0 * right / n, 0) + " % (" + std::to_string(right) + "/" +
-                   std::to_string(n) + ")"
-             : std::string("-");
-  };
-  out << "Concealed-effect suite: " << spec.seeds << " seeds per case, unabsorbed SNR "
-      << Fixed(spec.snr, 1) << ".\n\n";
-  out << "| measure | result | target |\n|---|---|---|\n";
-  out << "| right effect named (library and richer variants) | " << rate(effect_right, effect_runs)
-      << " | >= 90 % |\n";
-  out << "| no effect claimed on clean recordings | " << rate(clean_right, clean_runs)
-      << " | >= 95 % |\n";
-  out << "| outside the library reported as unexplained | " << rate(outside_right, outside_runs)
-      << " | all |\n";
-  out << "| held-out RMS / noise floor after modelling (median) | " << Fixed(Median(ratios), 2)
-      << " | <= 1.2 |\n";
-  out << "| seconds per diagnosis (median) | " << Fixed(Median(seconds), 1) << " | |\n\n";
-  out << "| cell | case | expected | effect size | right | held-out / floor (median) | misses: "
-         "best candidate and the tests it failed |\n|---|---|---|---|---|---|---|\n";
-  for (const auto& r : results) {
-    std::vector<double> v;
-    for (const auto& run : r.runs) v.push_back(run.held_out_over_floor);
-    char size[32];
-    std::snprintf(size, sizeof(size), "%.3g", r.magnitude);
-    std::string misses;
-    for (const auto& run : r.runs) {
-      if (!run.failed.empty() && !IsRight(r.spec, run)) {
-        misses += (misses.empty() ? "" : "; ") + run.failed;
-      }
-    }
-    out << "| " << r.cell << " | " << r.spec.name << " | " << r.spec.expect << " | " << size
-        << " | "
-        << r.right() << "/" << r.runs.size() << " | " << Fixed(Median(v), 2) << " | " << misses
-        << " |\n";
-  }
-  for (const auto& cell : spec.cells) out << ConfusionMatrix(cell.name, results);
-  return out.str();
 }
 
 }  // namespace cellmetry

@@ -1,8 +1,6 @@
 // Solvers x camera models over seeds, with intervals and a recommendation (solver_compare.h).
 #include "cellmetry/experiments/solver_compare.h"
 
-#include <boost/math/distributions/students_t.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,30 +14,6 @@
 #include "cellmetry/formats/recording.h"
 
 namespace cellmetry {
-
-MeanInterval TInterval95(const std::vector<double>& values) {
-  MeanInterval m;
-  m.n = static_cast<int>(values.size());
-  if (m.n == 0) {
-    m.mean = m.low = m.high = std::numeric_limits<double>::quiet_NaN();
-    return m;
-  }
-  double sum = 0.0;
-  for (double v : values) sum += v;
-  m.mean = sum / m.n;
-  if (m.n < 2) {
-    m.low = -std::numeric_limits<double>::infinity();
-    m.high = std::numeric_limits<double>::infinity();
-    return m;
-  }
-  double squares = 0.0;
-  for (double v : values) squares += (v - m.mean) * (v - m.mean);
-  const double s = std::sqrt(squares / (m.n - 1));
-  const double t = boost::math::quantile(boost::math::students_t(m.n - 1), 0.975);
-  m.low = m.mean - t * s / std::sqrt(m.n);
-  m.high = m.mean + t * s / std::sqrt(m.n);
-  return m;
-}
 
 std::string StopReasonWords(const std::string& reason) {
   std::string first = reason.substr(0, reason.find(". "));  // the first sentence
@@ -57,10 +31,6 @@ std::string StopReasonWords(const std::string& reason) {
     }
   }
   return words;
-}
-
-bool Overlap(const MeanInterval& a, const MeanInterval& b) {
-  return !(a.high < b.low || b.high < a.low);
 }
 
 namespace {
@@ -96,21 +66,6 @@ std::string TimeRatio(double fast, double slow) {
 }
 
 }  // namespace
-
-bool SameScore(const std::vector<double>& a, const std::vector<double>& b, double resolution) {
-  const MeanInterval ma = TInterval95(a), mb = TInterval95(b);
-  if (std::abs(ma.mean - mb.mean) <=
-      std::max(resolution, 0.01 * std::max(std::abs(ma.mean), std::abs(mb.mean)))) {
-    return true;  // within 1 % or the resolution: no difference worth a decision
-  }
-  if (a.size() == b.size() && a.size() >= 2) {
-    std::vector<double> difference(a.size());
-    for (size_t i = 0; i < a.size(); ++i) difference[i] = a[i] - b[i];
-    const MeanInterval d = TInterval95(difference);
-    return d.low <= 0.0 && 0.0 <= d.high;
-  }
-  return Overlap(ma, mb);
-}
 
 std::string Recommendation(const std::string& question, const std::vector<Contender>& contenders,
                            const std::string& unit, double error_resolution,

@@ -73,6 +73,8 @@ struct SuiteCaseResult {
   double magnitude = 0.0;       // the effect size giving the SNR
   std::vector<SuiteRun> runs;
   int right() const;            // runs that named what was expected
+  // Whether `run` named what was expected: the finding's name or one of its exact aliases.
+  bool named_right(const SuiteRun& run) const;
 };
 
 std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& spec, Registry& registry);
@@ -83,8 +85,17 @@ std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& spec, Regis
 void WritePhysicsSuite(const PhysicsSuiteSpec& spec, const std::string& path,
                        const std::string& markdown);
 
-// Rates, the confusion matrix and the held-out RMS, as markdown.
+// Rates with their 95 % intervals and verdicts against the targets, the decisions, the cases,
+// the confusion matrix and the held-out RMS, as markdown (physics_suite_report.cc).
 std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
                                  const std::vector<SuiteCaseResult>& results);
+
+// One line per question the suite answers: is the right effect named (>= 90 %), do clean
+// recordings stay clean (>= 95 %), is physics outside the library called unexplained (all), does
+// the accepted model bring the held-out RMS to the floor (<= 1.2); then per cell, the cases whose
+// rate is shown below 90 % and what was named instead. Each says met, missed or undecided, and
+// for undecided how many runs at the observed rate would decide.
+std::vector<std::string> PhysicsSuiteRecommendations(const PhysicsSuiteSpec& spec,
+                                                     const std::vector<SuiteCaseResult>& results);
 
 }  // namespace cellmetry

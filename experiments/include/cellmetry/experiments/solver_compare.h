@@ -26,31 +26,14 @@
 
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/experiments/intervals.h"
 
 namespace cellmetry {
-
-// A mean and its two-sided 95 % Student-t interval, mean +- t(0.975, n-1) s / sqrt(n); with
-// fewer than two values the interval is unbounded (nothing can be told apart).
-struct MeanInterval {
-  double mean = 0.0;
-  double low = 0.0;
-  double high = 0.0;
-  int n = 0;
-};
-MeanInterval TInterval95(const std::vector<double>& values);
-bool Overlap(const MeanInterval& a, const MeanInterval& b);
 
 // A solver's stop reason as words to count over seeds: its first sentence, each number as N
 // ("Parameter tolerance reached" from "Parameter tolerance reached. Relative step_norm: 5.8e-13
 // <= 1e-12."; "N epochs done (limit); kept epoch N, the lowest cost").
 std::string StopReasonWords(const std::string& reason);
-
-// Whether two per-seed scores are the same for a decision: means within 1 % of each other or
-// within `resolution` (a difference too small to matter: round-off of a noise-free fit), or
-// (paired: same length, seed i of both on the same data) the 95 % t-interval of the per-seed
-// differences contains 0, or (unpaired) their 95 % intervals overlap.
-bool SameScore(const std::vector<double>& a, const std::vector<double>& b,
-               double resolution = 0.0);
 
 // One candidate answer to a question: per-seed error (lower is better) and solve time.
 struct Contender {
