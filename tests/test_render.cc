@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "cellmetry/model/camera.h"
+#include "cellmetry/model/camera_file.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/imaging/render.h"
 #include "support/test_support.h"

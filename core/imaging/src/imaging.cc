@@ -1,6 +1,7 @@
 // Imaging cameras and target markers (imaging.h): a camera's views (mono, or a rig's left and
 // right) and the YAML readers of both.
 #include "cellmetry/imaging/imaging.h"
+#include "cellmetry/model/camera_file.h"
 
 #include <algorithm>
 

@@ -1,6 +1,7 @@
 // StereoRig (stereo.h): a rig read from our YAML or OpenCV's stereo calibration, and
 // maximum-likelihood triangulation of a keypoint pair with the point's covariance.
 #include "cellmetry/imaging/stereo.h"
+#include "cellmetry/model/camera_file.h"
 
 #include <ceres/jet.h>
 
@@ -12,6 +13,7 @@
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/formats/config_fields.h"
+#include "cellmetry/formats/units.h"
 
 namespace cellmetry {
 namespace {
@@ -95,6 +97,56 @@ StereoRig FromOpenCv(const std::string& path) {
   return rig;
 }
 
+// A ROS stereo pair's extrinsics from its two camera_info files (camera_calibration's
+// stereo output, OpenCV's stereoRectify): each camera's rectification R turns it into the common
+// rectified frame, and the right projection's P(0,3) = -fx' B (P(1,3) = -fy' B_y for a vertical
+// rig) offsets the right rectified frame from the left one. So p_right = R_r^T (R_l p_left + t)
+// with t = (P(0,3) / fx', P(1,3) / fy', 0), in the calibration's length unit.
+Pose RosStereoExtrinsics(const RosCameraInfo& left, const RosCameraInfo& right, double to_mm) {
+  const Eigen::Vector3d t_rect(right.P(0, 3) / right.P(0, 0), right.P(1, 3) / right.P(1, 1), 0.0);
+  Pose T_right_left;
+  T_right_left.R = right.R_rect_camera.transpose() * left.R_rect_camera;
+  T_right_left.t = right.R_rect_camera.transpose() * t_rect * to_mm;
+  return T_right_left;
+}
+
+// stereo: {left: FILE, right: FILE, T_right_left: {...}} with each camera in any format of
+// camera_file.h, or, for two ROS camera_info files, the extrinsics from their R and P and
+// `units: {length: m|mm}` saying which unit the calibration's baseline is in.
+StereoRig FromCameraFiles(const ConfigNode& s) {
+  StereoRig rig;
+  std::optional<RosCameraInfo> ros[2];
+  for (int side = 0; side < 2; ++side) {
+    const ConfigNode node = s[side == 0 ? "left" : "right"];
+    PinholeCamera& camera = side == 0 ? rig.left : rig.right;
+    if (!node.IsScalar()) {
+      camera = ReadCameraNode(node);
+      continue;
+    }
+    const std::string file = s.ResolvePath(node.AsString());
+    camera = ReadCamera(file);
+    const ConfigNode parsed = ConfigNode::LoadFile(file);
+    if (IsRosCameraInfo(parsed)) ros[side] = ReadRosCameraInfo(parsed);
+  }
+  if (s.Has("T_right_left")) {
+    const ConfigNode t = s["T_right_left"];
+    t.ExpectKeys({"xyz", "rvec"});
+    rig.T_right_left = ReadPose(t);
+    return rig;
+  }
+  if (!ros[0] || !ros[1] || !(ros[1]->P(0, 0) > 0) || !(ros[1]->P(1, 1) > 0)) {
+    throw s.Error("missing 'T_right_left'",
+                  "Give T_right_left, or two ROS camera_info files with rectification and "
+                  "projection matrices (camera_calibration's stereo output)");
+  }
+  if (!s.Has("units")) {
+    throw s.Error("missing 'units' for the ROS calibration's baseline",
+                  "Add units: {length: m} (ROS calibrations measure in m) or {length: mm}");
+  }
+  rig.T_right_left = RosStereoExtrinsics(*ros[0], *ros[1], ReadUnits(s["units"]).to_mm);
+  return rig;
+}
+
 }  // namespace
 
 std::optional<TriangulatedPoint> Triangulate(const StereoRig& rig, const Keypoint& left,
@@ -136,14 +188,18 @@ StereoRig ReadStereoRig(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"stereo"});
   const ConfigNode s = root["stereo"];
-  s.ExpectKeys({"left", "right", "T_right_left"});
-  StereoRig rig;
-  rig.left = ReadCameraNode(s["left"]);
-  rig.right = ReadCameraNode(s["right"]);
-  const ConfigNode t = s["T_right_left"];
-  t.ExpectKeys({"xyz", "rvec"});
-  rig.T_right_left = ReadPose(t);
-  return rig;
+  s.ExpectKeys({"left", "right", "T_right_left", "units"});
+  if (!s["left"].IsScalar() && !s["right"].IsScalar()) {  // both cameras written inline
+    if (!s.Has("T_right_left")) throw s.Error("missing 'T_right_left'");
+    StereoRig rig;
+    rig.left = ReadCameraNode(s["left"]);
+    rig.right = ReadCameraNode(s["right"]);
+    const ConfigNode t = s["T_right_left"];
+    t.ExpectKeys({"xyz", "rvec"});
+    rig.T_right_left = ReadPose(t);
+    return rig;
+  }
+  return FromCameraFiles(s);
 }
 
 StereoRig OakDLikeRig() {

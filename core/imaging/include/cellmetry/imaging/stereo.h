@@ -8,8 +8,12 @@
 // (Z = f b / disparity), without needing rectified images.
 //
 // Files (ReadStereoRig): our YAML
-//   stereo: {left: {<camera as in camera.h>}, right: {...},
+//   stereo: {left: {<camera as in camera_file.h>}, right: {...},
 //            T_right_left: {xyz: [-75, 0, 0], rvec: [0, 0, 0]}}   # p_right = T * p_left
+// where left and right may also be calibration files (ours, OpenCV's or ROS camera_info); for
+// two ROS camera_info files from camera_calibration's stereo output T_right_left may be left out
+// and comes from their rectification and projection matrices, with `units: {length: m}` (the
+// calibration's baseline unit);
 // or OpenCV's stereo calibration (FileStorage with M1 D1 M2 D2 R T image_width image_height, as
 // the stereo_calib sample writes them; T in the calibration's unit, here mm).
 #pragma once

@@ -1,19 +1,12 @@
 // PinholeCamera: a calibrated camera with OpenCV's distortion model (Brown-Conrady: k1 k2 p1 p2
 // k3), in OpenCV's pixel convention. Project() is templated for autodiff; Ray() inverts the
 // distortion by Newton's method (to 1e-9 px across the frame, tested with strong barrel
-// distortion).
-//
-// Files (ReadCamera): our YAML
-//   camera: {width: 1280, height: 800, fx: 880, fy: 880, cx: 639.5, cy: 399.5,
-//            distortion: [k1, k2, p1, p2, k3]}
-// or OpenCV's own calibration output (cv::FileStorage YAML/XML: image_width, image_height,
-// camera_matrix, distortion_coefficients), as written by OpenCV's calibration sample.
+// distortion). Calibration files (ours, OpenCV's, ROS camera_info) are read by camera_file.h.
 #pragma once
 
 #include <array>
 #include <string>
 
-#include "cellmetry/formats/config_node.h"
 #include "cellmetry/basics/transform.h"
 
 namespace cellmetry {
@@ -61,13 +54,6 @@ struct PinholeCamera {
            pixel.y() < height - 0.5;
   }
 };
-
-// Reads our YAML or OpenCV's FileStorage calibration; InputError naming the file and the
-// missing or malformed field otherwise.
-PinholeCamera ReadCamera(const std::string& path);
-
-// One camera block of our YAML ({width, height, fx, fy, cx, cy, distortion}).
-PinholeCamera ReadCameraNode(const ConfigNode& node);
 
 // An OAK-D-like camera: 1280 x 800, f = 880 px, no distortion (the report's rig).
 PinholeCamera OakDLikeCamera();
