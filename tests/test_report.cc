@@ -148,5 +148,51 @@ TEST(Report, DiagnoseShowsTheAcceptedEffectsSignature) {
   EXPECT_GE(OpenInChromium(Artifacts() + "/diagnose_final_fit.html", "diagnose_final_fit"), 10);
 }
 
+// `cellmetry home` on a simulated delta arm: the page shows the offsets and the homing runs.
+TEST(Report, HomeWritesAPageOfItsOffsetsAndRuns) {
+  const std::string dir = testing::TempDirForThisTest("report");
+  const auto simulated = testing::RunCellmetry(
+      "simulate " + testing::Source("configs/simulations/delta_homing.yaml") + " -o " + dir +
+      "/sim");
+  ASSERT_EQ(simulated.exit_code, 0) << simulated.output;
+  std::string job = testing::ReadText(testing::Source("configs/jobs/delta_homing.yaml"));
+  job = testing::ReplaceOnce(job, "../../results/delta_homing_sim", dir + "/sim");
+  job = testing::ReplaceOnce(job, "../../results/delta_homing", dir + "/out");
+  job = testing::ReplaceOnce(job, "../robots/delta.yaml", testing::Source("configs/robots/delta.yaml"));
+  testing::WriteText(dir + "/job.yaml", job);
+  const auto homed = testing::RunCellmetry("home " + dir + "/job.yaml");
+  ASSERT_EQ(homed.exit_code, 0) << homed.output;
+  const std::string html = testing::ReadText(dir + "/out/report.html");
+  ExpectSelfContained(html);
+  EXPECT_EQ(Count(html, "data-plot=\"homing_offsets\""), 1);
+  EXPECT_EQ(Count(html, "data-plot=\"homing_runs\""), 1);
+  fs::copy_file(dir + "/out/report.html", Artifacts() + "/home.html",
+                fs::copy_options::overwrite_existing);
+  if (!HaveChromium()) GTEST_SKIP() << "chromium is not installed: DOM-level checks only";
+  EXPECT_GE(OpenInChromium(Artifacts() + "/home.html", "home"), 2);
+}
+
+// `cellmetry compare` (solvers x camera models, two seeds): the page carries the table with its
+// intervals and the recommendations.
+TEST(Report, CompareWritesAPageOfItsTable) {
+  const std::string dir = testing::TempDirForThisTest("report");
+  testing::WriteText(dir + "/spec.yaml",
+                     "compare: solvers\njob: " + testing::Source("configs/jobs/vsb_sim_b.yaml") +
+                         "\nsolvers: {ceres_lm: {type: ceres_lm}, pinv: {type: jacobian_pinv}}\n"
+                         "camera_models: [static_cameras]\nseeds: 2\noutput: " + dir + "/out\n");
+  const auto compared = testing::RunCellmetry("compare " + dir + "/spec.yaml");
+  ASSERT_EQ(compared.exit_code, 0) << compared.output;
+  const std::string html = testing::ReadText(dir + "/out/report.html");
+  ExpectSelfContained(html);
+  EXPECT_NE(html.find("95 % Student-t interval (bar)"), std::string::npos);  // over seeds
+  EXPECT_EQ(Count(html, "data-plot=\"compare_column\""), 3);  // error, time, iterations
+  EXPECT_NE(html.find("<th>held-out RMS (mm)</th>"), std::string::npos);  // table.md, rendered
+  EXPECT_NE(html.find("<li>for this cell, static_cameras, which solver: "), std::string::npos);
+  fs::copy_file(dir + "/out/report.html", Artifacts() + "/compare.html",
+                fs::copy_options::overwrite_existing);
+  if (!HaveChromium()) GTEST_SKIP() << "chromium is not installed: DOM-level checks only";
+  EXPECT_GE(OpenInChromium(Artifacts() + "/compare.html", "compare"), 1);
+}
+
 }  // namespace
 }  // namespace cellmetry

@@ -1,38 +1,12 @@
 // 95 % intervals and the decisions drawn from them (intervals.h).
 #include "cellmetry/experiments/intervals.h"
 
-#include <boost/math/distributions/students_t.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
 namespace cellmetry {
-
-MeanInterval TInterval95(const std::vector<double>& values) {
-  MeanInterval m;
-  m.n = static_cast<int>(values.size());
-  if (m.n == 0) {
-    m.mean = m.low = m.high = std::numeric_limits<double>::quiet_NaN();
-    return m;
-  }
-  double sum = 0.0;
-  for (double v : values) sum += v;
-  m.mean = sum / m.n;
-  if (m.n < 2) {
-    m.low = -std::numeric_limits<double>::infinity();
-    m.high = std::numeric_limits<double>::infinity();
-    return m;
-  }
-  double squares = 0.0;
-  for (double v : values) squares += (v - m.mean) * (v - m.mean);
-  const double s = std::sqrt(squares / (m.n - 1));
-  const double t = boost::math::quantile(boost::math::students_t(m.n - 1), 0.975);
-  m.low = m.mean - t * s / std::sqrt(m.n);
-  m.high = m.mean + t * s / std::sqrt(m.n);
-  return m;
-}
 
 bool Overlap(const MeanInterval& a, const MeanInterval& b) {
   return !(a.high < b.low || b.high < a.low);

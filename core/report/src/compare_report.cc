@@ -1,8 +1,13 @@
-// CompareReportHtml (reports.h): a comparison's table.csv as a table and one dot plot per numeric
-// column (rows labelled by the text columns). The comparisons compute no intervals today, so
-// none are drawn; a column pair named X_lo / X_hi would be drawn as X's interval.
+// CompareReportHtml (reports.h): one plot per numeric column of a comparison's table.csv, each
+// configuration (its text columns) with the mean over seeds and its 95 % t-interval when the
+// table has a seed column (or a column pair X_lo / X_hi as X's interval); then table.md rendered
+// (its tables, recommendation lists and notes) and every row of table.csv.
+#include <cmath>
 #include <cstdlib>
+#include <map>
 #include <sstream>
+
+#include "cellmetry/basics/statistics.h"
 
 #include "cellmetry/report/html_page.h"
 #include "cellmetry/report/plots.h"
@@ -45,59 +50,148 @@ bool IsNumber(const std::string& s, double* value) {
   return end == s.c_str() + s.size();
 }
 
+// One markdown table row's cells: "| a | b |" -> {"a", "b"}.
+std::vector<std::string> MarkdownCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  for (size_t i = 1; i < line.size(); ++i) {
+    if (line[i] != '|') {
+      cell += line[i];
+      continue;
+    }
+    const size_t first = cell.find_first_not_of(' '), last = cell.find_last_not_of(' ');
+    cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+    cell.clear();
+  }
+  return cells;
+}
+
+// The part of markdown cellmetry's comparisons write: tables, "- " lists, paragraphs.
+void AddMarkdown(const std::string& markdown, HtmlPage* page) {
+  std::istringstream in(markdown);
+  std::string line, list;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  auto flush = [&] {
+    if (!header.empty()) page->Table(header, rows);
+    if (!list.empty()) page->Raw("<ul>" + list + "</ul>\n");
+    header.clear(), rows.clear(), list.clear();
+  };
+  while (std::getline(in, line)) {
+    if (line.rfind("|", 0) == 0) {
+      if (line.rfind("|---", 0) == 0) continue;  // the header's rule
+      (header.empty() ? header : rows.emplace_back()) = MarkdownCells(line);
+    } else if (line.rfind("- ", 0) == 0) {
+      list += "<li>" + EscapeXml(line.substr(2)) + "</li>";
+    } else {
+      flush();
+      if (!line.empty()) page->Paragraph(line);
+    }
+  }
+  flush();
+}
+
+struct Columns {
+  std::vector<bool> numeric;
+  std::vector<std::string> labels;  // per data row: its text columns joined
+  int seed = -1;                    // the "seed" column, if any
+};
+
+Columns ClassifyColumns(const std::vector<std::vector<std::string>>& table) {
+  const auto& header = table[0];
+  Columns columns;
+  columns.numeric.assign(header.size(), true);
+  for (size_t r = 1; r < table.size(); ++r) {
+    for (size_t c = 0; c < header.size(); ++c) {
+      double v;
+      if (c >= table[r].size() || !IsNumber(table[r][c], &v)) columns.numeric[c] = false;
+    }
+  }
+  for (size_t c = 0; c < header.size(); ++c) {
+    if (header[c] == "seed" && columns.numeric[c]) columns.seed = static_cast<int>(c);
+  }
+  for (size_t r = 1; r < table.size(); ++r) {
+    std::string label;
+    for (size_t c = 0; c < header.size() && c < table[r].size(); ++c) {
+      if (columns.numeric[c] || header[c].find("stop_reason") != std::string::npos) continue;
+      label += (label.empty() ? "" : " / ") + table[r][c];
+    }
+    columns.labels.push_back(label);
+  }
+  return columns;
+}
+
+// Column c per configuration: over seeds, the mean and its 95 % t-interval; one row per
+// configuration otherwise, with X_lo / X_hi columns drawn as X's interval when present.
+std::vector<IntervalRow> ColumnRows(const std::vector<std::vector<std::string>>& table,
+                                    const Columns& columns, size_t c) {
+  const auto& header = table[0];
+  std::vector<IntervalRow> rows;
+  if (columns.seed >= 0) {
+    std::vector<std::string> order;
+    std::map<std::string, std::vector<double>> values;
+    for (size_t r = 1; r < table.size(); ++r) {
+      const std::string& label = columns.labels[r - 1];
+      if (!values.count(label)) order.push_back(label);
+      double v = 0;
+      IsNumber(table[r][c], &v);
+      values[label].push_back(v);
+    }
+    for (const auto& label : order) {
+      const MeanInterval m = TInterval95(values[label]);
+      const bool bounded = std::isfinite(m.low) && std::isfinite(m.high);
+      rows.push_back({label, m.mean, bounded ? m.low : m.mean, bounded ? m.high : m.mean, 0});
+    }
+    return rows;
+  }
+  int lo = -1, hi = -1;
+  for (size_t k = 0; k < header.size(); ++k) {
+    if (header[k] == header[c] + "_lo" && columns.numeric[k]) lo = static_cast<int>(k);
+    if (header[k] == header[c] + "_hi" && columns.numeric[k]) hi = static_cast<int>(k);
+  }
+  for (size_t r = 1; r < table.size(); ++r) {
+    double v = 0, l = 0, h = 0;
+    IsNumber(table[r][c], &v);
+    l = h = v;
+    if (lo >= 0 && hi >= 0) IsNumber(table[r][lo], &l), IsNumber(table[r][hi], &h);
+    rows.push_back({columns.labels[r - 1], v, l, h, 0});
+  }
+  return rows;
+}
+
 }  // namespace
 
 std::string CompareReportHtml(const std::string& csv, const std::string& markdown,
                               const std::string& title) {
   const auto table = ParseCsv(csv);
   HtmlPage page(title, "cellmetry compare: " +
-                           std::to_string(table.empty() ? 0 : table.size() - 1) + " configurations");
+                           std::to_string(table.empty() ? 0 : table.size() - 1) + " table rows");
   if (table.size() < 2) {
     page.Paragraph("The comparison has no rows.");
     return page.Html();
   }
   const auto& header = table[0];
-  std::vector<bool> numeric(header.size(), true);
-  for (size_t r = 1; r < table.size(); ++r) {
-    for (size_t c = 0; c < header.size(); ++c) {
-      double v;
-      if (c >= table[r].size() || !IsNumber(table[r][c], &v)) numeric[c] = false;
-    }
-  }
-  std::vector<std::string> labels;
-  for (size_t r = 1; r < table.size(); ++r) {
-    std::string label;
-    for (size_t c = 0; c < header.size() && c < table[r].size(); ++c) {
-      if (!numeric[c] && header[c] != "stop_reason") label += (label.empty() ? "" : " / ") + table[r][c];
-    }
-    labels.push_back(label);
-  }
+  const Columns columns = ClassifyColumns(table);
   page.Section("Per configuration", "plots");
-  page.Note("One plot per numeric column of table.csv; each row a configuration.");
+  page.Note(columns.seed >= 0
+                ? "Each numeric column of table.csv per configuration: the mean over seeds "
+                  "(dot) and its 95 % Student-t interval (bar)."
+                : "Each numeric column of table.csv; each row a configuration.");
   page.BeginGrid();
   for (size_t c = 0; c < header.size(); ++c) {
     const std::string end = header[c].size() > 3 ? header[c].substr(header[c].size() - 3) : "";
-    if (!numeric[c] || end == "_lo" || end == "_hi") continue;  // drawn as intervals
-    int lo = -1, hi = -1;
-    for (size_t k = 0; k < header.size(); ++k) {
-      if (header[k] == header[c] + "_lo" && numeric[k]) lo = static_cast<int>(k);
-      if (header[k] == header[c] + "_hi" && numeric[k]) hi = static_cast<int>(k);
+    if (!columns.numeric[c] || static_cast<int>(c) == columns.seed || end == "_lo" ||
+        end == "_hi") {
+      continue;  // not a figure, the seed itself, or drawn as an interval
     }
-    std::vector<IntervalRow> rows;
-    for (size_t r = 1; r < table.size(); ++r) {
-      double v = 0, l = 0, h = 0;
-      IsNumber(table[r][c], &v);
-      l = h = v;
-      if (lo >= 0 && hi >= 0) IsNumber(table[r][lo], &l), IsNumber(table[r][hi], &h);
-      rows.push_back({labels[r - 1], v, l, h, 0});
-    }
-    page.Raw(IntervalPlot("compare_column", rows, header[c], ""));
+    page.Raw(IntervalPlot("compare_column", ColumnRows(table, columns, c), header[c], ""));
   }
   page.EndGrid();
-  page.Section("Table", "table");
+  page.Section("Comparison", "comparison");
+  AddMarkdown(markdown, &page);
+  page.Section("Every row of table.csv", "table");
   std::vector<std::vector<std::string>> body(table.begin() + 1, table.end());
-  page.Table(header, body);
-  page.Raw("<pre>" + EscapeXml(markdown) + "</pre>");
+  page.Table(header, body, 200);
   return page.Html();
 }
 

@@ -9,17 +9,11 @@
 #include <string>
 #include <vector>
 
+#include "cellmetry/basics/statistics.h"
+
 namespace cellmetry {
 
-// A mean and its two-sided 95 % Student-t interval, mean +- t(0.975, n-1) s / sqrt(n); with
-// fewer than two values the interval is unbounded (nothing can be told apart).
-struct MeanInterval {
-  double mean = 0.0;
-  double low = 0.0;
-  double high = 0.0;
-  int n = 0;
-};
-MeanInterval TInterval95(const std::vector<double>& values);
+// Means: MeanInterval and TInterval95 (basics/statistics.h).
 bool Overlap(const MeanInterval& a, const MeanInterval& b);
 
 // Whether two per-seed scores are the same for a decision: means within 1 % of each other or

@@ -1,5 +1,6 @@
-// Small statistics the physics finder needs: tail probabilities of the chi-square and normal
-// distributions, the Durbin-Watson statistic, and the Holm correction.
+// Small statistics the physics finder and the comparisons need: tail probabilities of the
+// chi-square and normal distributions, the Durbin-Watson statistic, the Holm correction, and a
+// mean's 95 % Student-t interval.
 #pragma once
 
 #include <vector>
@@ -28,5 +29,15 @@ double DurbinWatson(const std::vector<double>& residuals);
 // Holm's step-down adjusted p-values (Holm 1979): the family-wise error rate stays at alpha when
 // each hypothesis is rejected at adjusted p < alpha. Same order as `p`.
 std::vector<double> HolmAdjusted(const std::vector<double>& p);
+
+// A mean and its two-sided 95 % Student-t interval, mean +- t(0.975, n-1) s / sqrt(n); with
+// fewer than two values the interval is unbounded (nothing can be told apart).
+struct MeanInterval {
+  double mean = 0.0;
+  double low = 0.0;
+  double high = 0.0;
+  int n = 0;
+};
+MeanInterval TInterval95(const std::vector<double>& values);
 
 }  // namespace cellmetry

@@ -8,7 +8,7 @@
 //   diagnose  each accepted effect's signature (residual against the effect's prediction before
 //             and after it was fitted), the rounds' candidates, the regressors (diagnose_report.cc)
 //   home      the homing offsets of both methods with their intervals        (home_report.cc)
-//   compare   the comparison's table and its numeric columns per row         (compare_report.cc)
+//   compare   each figure per configuration with its 95 % interval; the table (compare_report.cc)
 //
 // Every plot is inline SVG (svg_plot.h, plots.h); large inputs are binned, never truncated
 // (plots.h says how), so a report stays a few hundred kilobytes at 80,000 residual rows.
