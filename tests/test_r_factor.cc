@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <map>
 #include <random>
 
 #include "cellmetry/cell/job.h"
@@ -11,6 +12,7 @@
 #include "cellmetry/estimation/estimation_quality.h"
 #include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/estimation/r_factor.h"
+#include "cellmetry/estimation/robust_covariance.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -140,6 +142,37 @@ TEST(SparsePath, SigmaAndVerdictsAreTheDensePathsOnTheBundledJobs) {
       EXPECT_NEAR(u.sigma[i], dense[i], 1e-6 * dense[i]) << job << ": " << u.names[i];
     }
   }
+}
+
+// The sandwich from sparse cluster scores (S^T S) against the dense sum over clusters of
+// (J_g^T r_g)(J_g^T r_g)^T, with every seventh block its own cluster.
+TEST(SparsePath, ClusterRobustCovarianceIsTheDenseSandwich) {
+  Solved solved = Solve("configs/jobs/vsb_sim_b.yaml");
+  Problem& problem = solved.assembled->problem;
+  const Linearization at = Linearize(problem);
+  const Uncertainty model = ComputeUncertainty(problem, at);
+  const auto& rows = problem.residual_rows();
+  std::vector<int> cluster_of_block(rows.size());
+  for (size_t b = 0; b < rows.size(); ++b) cluster_of_block[b] = b % 7 == 0 ? -1 : int(b / 5);
+  const Eigen::MatrixXd sandwich = ClusterRobustCovariance(problem, at, cluster_of_block, model);
+
+  const Eigen::MatrixXd J(at.jacobian);
+  const Eigen::VectorXd& r = at.residuals;
+  std::map<int, Eigen::VectorXd> score;
+  int own = -1;
+  for (size_t b = 0; b < rows.size(); ++b) {
+    const int end = b + 1 < rows.size() ? rows[b + 1] : static_cast<int>(r.size());
+    const int g = cluster_of_block[b] >= 0 ? cluster_of_block[b] : own--;
+    if (!score.count(g)) score[g] = Eigen::VectorXd::Zero(J.cols());
+    const int n = end - rows[b];
+    score[g] += J.middleRows(rows[b], n).transpose() * r.segment(rows[b], n);
+  }
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(J.cols(), J.cols());
+  for (const auto& [g, s] : score) meat += s * s.transpose();
+  const double G = static_cast<double>(score.size());
+  const Eigen::MatrixXd bread = model.covariance / model.scale;
+  const Eigen::MatrixXd dense = bread * meat * bread * (G / (G - 1));
+  EXPECT_LT((sandwich - dense).norm(), 1e-10 * dense.norm());
 }
 
 }  // namespace

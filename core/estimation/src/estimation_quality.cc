@@ -37,7 +37,7 @@ std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
   const double largest = norms.size() > 0 ? norms.maxCoeff() : 0.0;
   for (int j = 0; j < norms.size(); ++j) {
     if (norms[j] <= 1e-12 * largest) {
-      found.push_back({j, /*no_data=*/true, {}});
+      found.push_back({j, /*no_data=*/true, {}, {}});
     } else {
       active.push_back(j);
     }
@@ -50,9 +50,13 @@ std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
     const Eigen::VectorXd v = svd.matrixV().col(last);
     Eigen::Index worst = 0;
     v.cwiseAbs().maxCoeff(&worst);
-    DegenerateColumn column{active[worst], /*no_data=*/false, {}};
+    DegenerateColumn column{active[worst], /*no_data=*/false, {}, {}};
+    // v is in scaled columns (J D^-1, D the column norms): a parameter moves v_k / norm_k.
+    const double worst_move = v[worst] / norms[active[worst]];
     for (Eigen::Index k = 0; k < v.size(); ++k) {
-      if (k != worst && std::abs(v[k]) > 0.1) column.partners.push_back(active[k]);
+      if (k == worst || std::abs(v[k]) <= 0.1) continue;
+      column.partners.push_back(active[k]);
+      column.partner_ratios.push_back(v[k] / norms[active[k]] / worst_move);
     }
     found.push_back(column);
     active.erase(active.begin() + worst);
@@ -68,11 +72,17 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
   for (const DegenerateColumn& column :
        FindDegenerateColumns(RFactor(J), ColumnNorms(J), tolerance)) {
     std::string partners;
-    for (int k : column.partners) partners += (partners.empty() ? "" : ", ") + free[k].name;
+    std::vector<GaugePartner> moves_with;
+    for (size_t k = 0; k < column.partners.size(); ++k) {
+      const std::string& name = free[column.partners[k]].name;
+      partners += (partners.empty() ? "" : ", ") + name;
+      moves_with.push_back({name, column.partner_ratios[k]});
+    }
     found.push_back({free[column.column].name,
                      column.no_data        ? "no measurement depends on it"
                      : partners.empty()    ? "the data cannot separate it"
-                                           : "moves together with " + partners});
+                                           : "moves together with " + partners,
+                     moves_with});
   }
   return found;
 }

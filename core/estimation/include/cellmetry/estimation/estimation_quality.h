@@ -22,9 +22,20 @@
 
 namespace cellmetry {
 
+// A free parameter that moves with an unidentifiable one along the direction the data cannot
+// see: `ratio` is its move per unit move of the unidentifiable one, in parameter units.
+struct GaugePartner {
+  std::string name;
+  double ratio = 0.0;
+};
+
 struct UnidentifiableParameter {
   std::string name;
   std::string reason;  // e.g. "no measurement depends on it" / "moves together with a, b"
+  // Along the undetermined direction. What the data does determine is, for each partner,
+  // partner - ratio * this: held at its nominal value, this parameter's error is carried by
+  // its partners' estimates, and `cellmetry evaluate` scores those combinations.
+  std::vector<GaugePartner> moves_with;
 };
 
 // Free parameters that the data cannot determine, in the order they should be held.
@@ -38,6 +49,7 @@ struct DegenerateColumn {
   int column = 0;
   bool no_data = false;
   std::vector<int> partners;
+  std::vector<double> partner_ratios;  // each partner's move per unit move of `column`
 };
 std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
                                                     const Eigen::VectorXd& norms,
