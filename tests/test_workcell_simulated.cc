@@ -1,4 +1,5 @@
 // Synthetic ground truth: exact recovery without noise, honest 3-sigma with noise, two robots.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -112,7 +113,8 @@ TEST(SimulatedUr3, ResultListsEveryStageWithItsTimeAndMemory) {
   const Recording recording = SimulateWorkcell(sim, nullptr);
   const auto started = std::chrono::steady_clock::now();
   const WorkcellResult result = IdentifyWorkcell(problem, recording, [] {
-    return testing::Plugins().CreateSolver("ceres_lm", ConfigNode::LoadString("type: ceres_lm", "s"));
+    return testing::Plugins().CreateSolver("ceres_lm",
+                                           ConfigNode::LoadString("type: ceres_lm", "s"));
   });
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -129,6 +131,42 @@ TEST(SimulatedUr3, ResultListsEveryStageWithItsTimeAndMemory) {
   EXPECT_LE(sum_s, wall_s);
   EXPECT_GT(sum_s, 0.5 * wall_s);  // the stages account for the run, not a sliver of it
   EXPECT_EQ(WorkcellResultJson(result)["stages"].size(), names.size());
+}
+
+// Joint 1's offset and the base's rotation about z move the tool alike: the data determines
+// only their sum. The offset is held at nominal (0.01 rad off the truth), its error lands in the
+// base's rot_z, and evaluate scores the combination the data determined, within its sigma,
+// where the base's rot_z alone is far off its own.
+TEST(SimulatedUr3, AGaugeIsScoredByTheCombinationTheDataDetermines) {
+  WorkcellSimulationSpec sim = TwoCameraSpec(13);
+  sim.sigma_position_mm = {0.1, 0.1, 0.4};
+  sim.sigma_rotation_rad = {5e-4, 5e-4, 1e-3};
+  auto& robot = sim.robots[0];
+  robot.model_values[FindParameter(robot.model->parameters(), "j1.offset")] += 0.01;
+  WorkcellProblem problem;
+  problem.robots.push_back(JobRobot(robot, {"j1.offset"}));
+  for (const auto& camera : {"cam1", "cam2"}) {
+    problem.noise.position_sigma_mm[camera] = sim.sigma_position_mm;
+    problem.noise.rotation_sigma_rad[camera] = sim.sigma_rotation_rad;
+  }
+  problem.folds = 0;
+  const WorkcellEvaluation e = Solve(sim, problem);
+  // Which of the two is held depends on the columns' scales; the other carries the sum.
+  const EvaluatedQuantity* partner = nullptr;
+  const EvaluatedQuantity* combination = nullptr;
+  for (const auto& q : e.quantities) {
+    if (q.in_gauge) partner = &q;
+    if (q.combination) combination = &q;
+  }
+  ASSERT_NE(partner, nullptr);
+  ASSERT_NE(combination, nullptr);
+  EXPECT_TRUE(partner->name == "ur3.base.rot_z" || partner->name == "ur3.model.j1.offset")
+      << partner->name;
+  EXPECT_GT(std::abs(partner->normalized()), 10.0);  // 0.01 rad of offset, sigma ~1e-4
+  EXPECT_THAT(combination->name, ::testing::HasSubstr("ur3.base.rot_z"));
+  EXPECT_THAT(combination->name, ::testing::HasSubstr("ur3.model.j1.offset"));
+  EXPECT_LT(std::abs(combination->normalized()), 3.0);
+  EXPECT_LT(e.max_abs_normalized, 4.0);  // the gauge artefact does not count
 }
 
 // One seeded noisy run: 40 random poses, two cameras, the job told the true sigma.

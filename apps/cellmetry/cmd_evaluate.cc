@@ -29,9 +29,15 @@ void AddEvaluateCommand(CLI::App& app, Context& context) {
     const WorkcellEvaluation evaluation =
         EvaluateWorkcell(result, ReadTruth(truth_path), truth_path);
     std::printf("%-28s %14s %12s %10s\n", "quantity", "error", "sigma", "error/sigma");
+    bool gauge = false;
     for (const auto& q : evaluation.quantities) {
-      std::printf("%-28s %11.6f %-3s %11.6f %10.2f\n", q.name.c_str(), q.error, q.unit.c_str(),
-                  q.sigma, q.normalized());
+      if (q.combination && !gauge) {
+        std::printf("in a gauge: the data determines these combinations (the held parameter at "
+                    "nominal, its error carried by its partner):\n");
+        gauge = true;
+      }
+      std::printf("%-28s %11.6f %-3s %11.6f %10.2f%s\n", q.name.c_str(), q.error, q.unit.c_str(),
+                  q.sigma, q.normalized(), q.in_gauge ? "  (in a gauge: see below)" : "");
     }
     std::printf("largest error: %.6f mm, %.3g rad; largest |error/sigma|: %.2f\n",
                 evaluation.max_translation_error_mm, evaluation.max_rotation_error_rad,

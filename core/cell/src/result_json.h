@@ -41,7 +41,12 @@ inline void AddUncertaintyJson(const Uncertainty& u,
                                const std::vector<CorrelatedPair>& strong, nlohmann::json* j) {
   (*j)["unidentifiable"] = nlohmann::json::array();
   for (const auto& p : unidentifiable) {
-    (*j)["unidentifiable"].push_back({{"name", p.name}, {"reason", p.reason}});
+    nlohmann::json moves_with = nlohmann::json::array();
+    for (const auto& partner : p.moves_with) {
+      moves_with.push_back({{"name", partner.name}, {"ratio", partner.ratio}});
+    }
+    (*j)["unidentifiable"].push_back(
+        {{"name", p.name}, {"reason", p.reason}, {"moves_with", moves_with}});
   }
   (*j)["fit"] = {{"chi2", u.chi2},
                  {"dof", u.dof},

@@ -4,8 +4,9 @@
 //              frames: {<name>: {parent, xyz, rvec}}      # same names as result.yaml
 //              model:  {<robot>.model.<param>: value}
 //
-// EvaluateWorkcell reads a result.json (result_io.h) and gives each estimate's error in its unit
-// and in its own sigma.
+// EvaluateWorkcell (evaluation.cc) reads a result.json (result_io.h) and gives each estimate's
+// error in its unit and in its own sigma; where parameters were in a gauge, the error of the
+// combination the data determined.
 #pragma once
 
 #include <cmath>
@@ -38,11 +39,19 @@ struct EvaluatedQuantity {
   std::string unit;
   double error = 0.0;       // estimate - truth (rotations: log(R_est R_true^T), parent axes)
   double sigma = 0.0;
+  // In a gauge with a parameter the data could not determine (held at nominal): its error
+  // includes the held one's, and the combination below is what the data determined.
+  bool in_gauge = false;
+  // A combination the data determines, "partner - ratio held" (estimation_quality.h
+  // UnidentifiableParameter::moves_with), named after its terms.
+  bool combination = false;
   double normalized() const { return sigma > 0 ? error / sigma : (error == 0 ? 0.0 : INFINITY); }
 };
 
 struct WorkcellEvaluation {
-  std::vector<EvaluatedQuantity> quantities;  // held entries (sigma 0) are skipped
+  // Held entries (sigma 0) are skipped; gauge combinations follow the single quantities. The
+  // maxima leave out quantities in a gauge and count their combinations.
+  std::vector<EvaluatedQuantity> quantities;
   double max_translation_error_mm = 0.0;
   double max_rotation_error_rad = 0.0;
   double max_abs_normalized = 0.0;
