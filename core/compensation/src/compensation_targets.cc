@@ -116,18 +116,26 @@ std::vector<CompensationTarget> ReadCompensationTargets(const std::string& path,
     CompensationTarget t;
     t.line = table.line_of(row);
     t.id = table.HasValue(row, "id") ? table.Text(row, "id") : "line " + std::to_string(t.line);
-    if (position) {
-      t.kind = rotation ? CompensationTarget::Kind::kPose : CompensationTarget::Kind::kPosition;
+    // A row with x y z empty is a joint target, in a file of poses too.
+    const bool has_position = position && (!joints || RowHasGroup(table, row, kPosition));
+    if (has_position) {
+      const bool has_rotation = rotation && RowHasGroup(table, row, kRotation);
+      t.kind = has_rotation ? CompensationTarget::Kind::kPose
+                            : CompensationTarget::Kind::kPosition;
       t.p_world_tool_mm = Vector3Of(table, row, kPosition);
-      if (rotation) {
+      if (has_rotation) {
         const Eigen::Vector3d r = Vector3Of(table, row, kRotation);
         t.R_world_tool = RotationFromRvec(r.data());
       }
     } else {
       t.kind = CompensationTarget::Kind::kJoints;
     }
-    if (joints && (!position || RowHasGroup(table, row, q_columns))) {
+    if (joints && (!has_position || RowHasGroup(table, row, q_columns))) {
       for (const auto& c : q_columns) t.q_rad.push_back(table.Number(row, c));
+    }
+    if (!has_position && rotation && RowHasGroup(table, row, kRotation)) {
+      throw table.Error(row, kRotation.front(), "a rotation without a position",
+                        "Give x_mm, y_mm, z_mm on this row, or leave the rotation empty");
     }
     if (approach && RowHasGroup(table, row, approach_columns)) {
       t.approach = ApproachOf(table, row, approach_columns);

@@ -6,14 +6,17 @@
 //   x_mm, y_mm, z_mm            the tool's origin in the world frame of the result (mm)
 //   rx_rad, ry_rad, rz_rad      optional, with x y z: the tool's rotation in the world as a
 //                               rotation vector (axis times angle, rad; R = exp([r]x), the
-//                               convention of result.json's rvec_rad). Without them only the
-//                               position is asked for. Only an arm of six or more joints turns
-//                               its tool at will: a delta's rows are positions.
-//   q1_rad ... q<n>_rad         a joint target (without x y z): where the robot config's nominal
-//                               kinematics puts the tool at these readings is the target. Beside
-//                               x y z: the seed, the joint values near the solution meant (an
-//                               arm reaches most poses in several configurations); per row all
-//                               or none
+//                               convention of result.json's rvec_rad). Without them (or with
+//                               them empty on a row) only the position is asked for. Only an arm
+//                               of six or more joints turns its tool at will: a delta's rows are
+//                               positions.
+//   q1_rad ... q<n>_rad         a joint target (a row with x y z empty, or no x y z columns):
+//                               where the robot config's nominal kinematics puts the tool at
+//                               these readings is the target. Beside x y z: the seed, the joint
+//                               values near the solution meant (an arm reaches most poses in
+//                               several configurations)
+//   Each group (x y z; rx ry rz; q1 ... q<n>; approach_j1 ...) is all filled or all empty on a
+//   row.
 //   payload_kg                  optional, >= 0 (default 0): the load at the flange (compliance)
 //   temperature_c, t_s          optional: the arm's temperature (degC) and time since a cold
 //                               start (s), for thermal effects that need them
