@@ -186,41 +186,30 @@ double Rms(const std::vector<double>& values) {
   return std::sqrt(sum / values.size());
 }
 
-// The commands a controller that knows only the nominal kinematics would send (same seeds).
-std::vector<std::vector<double>> NominalCommands(const FittedCell& cell,
-                                                 const std::vector<CompensationTarget>& targets,
-                                                 const std::vector<CompensatedCommand>& commands) {
-  const CompensationChain nominal = NominalChain(cell.chain);
+// The commands `chain` gives for the targets, each solved from the compensated one: with the
+// nominal chain, what a controller that knows only the nominal kinematics would send; with the
+// calibrated geometry and no effects, what the effects add.
+std::vector<std::vector<double>> CommandsOn(const CompensationChain& chain,
+                                            const std::vector<CompensationTarget>& targets,
+                                            const std::vector<CompensatedCommand>& commands) {
   std::vector<std::vector<double>> q;
   for (size_t k = 0; k < targets.size(); ++k) {
     const CompensationTarget& t = targets[k];
     const Eigen::Matrix3d* R = t.kind == CompensationTarget::Kind::kPose ? &t.R_world_tool : nullptr;
     const SolvedCommand solved =
-        SolveCommand(nominal, t.p_world_tool_mm, R, commands[k].q_rad, {}, CompensationOptions{});
+        SolveCommand(chain, t.p_world_tool_mm, R, commands[k].q_rad, {}, CompensationOptions{});
     EXPECT_TRUE(solved.reached) << solved.failure;
     q.push_back(solved.q_rad);
   }
   return q;
 }
 
-// The same with the calibrated geometry but no effects: what the effects alone add.
-std::vector<std::vector<double>> GeometryOnlyCommands(
-    const FittedCell& cell, const std::vector<CompensationTarget>& targets,
-    const std::vector<CompensatedCommand>& commands) {
-  CompensationChain geometry = cell.chain;
+CompensationChain GeometryOnly(const CompensationChain& chain) {
+  CompensationChain geometry = chain;
   geometry.effects.clear();
   geometry.effect_values.clear();
   geometry.effect_names.clear();
-  std::vector<std::vector<double>> q;
-  for (size_t k = 0; k < targets.size(); ++k) {
-    const CompensationTarget& t = targets[k];
-    const Eigen::Matrix3d* R = t.kind == CompensationTarget::Kind::kPose ? &t.R_world_tool : nullptr;
-    const SolvedCommand solved = SolveCommand(geometry, t.p_world_tool_mm, R, commands[k].q_rad,
-                                              {}, CompensationOptions{});
-    EXPECT_TRUE(solved.reached) << solved.failure;
-    q.push_back(solved.q_rad);
-  }
-  return q;
+  return geometry;
 }
 
 std::vector<double> Payloads(const std::vector<CompensationTarget>& targets) {
@@ -268,11 +257,12 @@ Outcome Measure(const FittedCell& cell, const std::vector<CompensationTarget>& t
   out.compensated_rms_mm = Rms(compensated);
   out.compensated_sag_mm = Sag(reached, per_pose);
   const auto geometry_only =
-      TrueToolPoses(cell, GeometryOnlyCommands(cell, targets, commands), payloads);
+      TrueToolPoses(cell, CommandsOn(GeometryOnly(cell.chain), targets, commands), payloads);
   out.geometry_only_rms_mm = Rms(PositionErrors(targets, geometry_only));
   out.geometry_only_sag_mm = Sag(geometry_only, per_pose);
   out.nominal_rms_mm = Rms(PositionErrors(
-      targets, TrueToolPoses(cell, NominalCommands(cell, targets, commands), payloads)));
+      targets, TrueToolPoses(cell, CommandsOn(NominalChain(cell.chain), targets, commands),
+                             payloads)));
   std::printf("compensated %.4f mm (worst %.2f sigma), geometry only %.4f mm, nominal %.4f mm, "
               "mean sigma %.4f mm, noise floor %.3f mm; payload sag compensated %.4f mm, "
               "geometry only %.4f mm\n", out.compensated_rms_mm, out.worst_in_sigma,

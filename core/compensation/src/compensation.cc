@@ -1,6 +1,7 @@
 // Compensate (compensation.h): every target in file order, with its seed, approach, joint-limit
 // check, the nominal command it replaces and the predicted remaining error with its sigma.
 #include "cellmetry/compensation/compensation.h"
+#include "short_number.h"
 
 #include <cmath>
 #include <cstdio>
@@ -8,12 +9,6 @@
 
 namespace cellmetry {
 namespace {
-
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.4g", value);
-  return text;
-}
 
 // What a target asks for: a tool position, and its rotation when it fixes one.
 struct WantedPose {
@@ -67,9 +62,9 @@ std::string PastJointLimit(const RobotModel& model, const std::vector<double>& q
     const double lo = limits.joint_min_rad[j], hi = limits.joint_max_rad[j];
     if (q[j] >= lo + margin && q[j] <= hi - margin) continue;
     const bool low = q[j] < lo + margin;
-    return "past joint limits: joint " + std::to_string(j + 1) + " would need " + Number(q[j]) +
-           " rad, " + (low ? "below" : "above") + " its limit " + Number(low ? lo : hi) +
-           " rad" + (margin > 0 ? " less the margin " + Number(margin) + " rad" : "");
+    return "past joint limits: joint " + std::to_string(j + 1) + " would need " + ShortNumber(q[j]) +
+           " rad, " + (low ? "below" : "above") + " its limit " + ShortNumber(low ? lo : hi) +
+           " rad" + (margin > 0 ? " less the margin " + ShortNumber(margin) + " rad" : "");
   }
   return "";
 }

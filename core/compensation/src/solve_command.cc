@@ -5,6 +5,7 @@
 
 #include "cellmetry/basics/so3_jacobians.h"
 #include "cellmetry/compensation/compensation.h"
+#include "short_number.h"
 
 namespace cellmetry {
 namespace {
@@ -63,12 +64,6 @@ Eigen::VectorXd Step(const PoseResidual& r, double lambda, double max_step_rad) 
   return step;
 }
 
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.4g", value);
-  return text;
-}
-
 }  // namespace
 
 SolvedCommand SolveCommand(const CompensationChain& chain, const Eigen::Vector3d& p_world_tool,
@@ -107,10 +102,10 @@ SolvedCommand SolveCommand(const CompensationChain& chain, const Eigen::Vector3d
   out.reached = Converged(request, current, 1.0);
   if (!out.reached) {
     out.failure = "out of reach: the calibrated robot comes no closer than " +
-                  Number(current.error_mm) + " mm" +
-                  (R_world_tool ? " and " + Number(current.error_rad) + " rad" : "") +
-                  " (tolerance " + Number(options.tolerance_mm) + " mm" +
-                  (R_world_tool ? ", " + Number(options.tolerance_rad) + " rad" : "") + ")";
+                  ShortNumber(current.error_mm) + " mm" +
+                  (R_world_tool ? " and " + ShortNumber(current.error_rad) + " rad" : "") +
+                  " (tolerance " + ShortNumber(options.tolerance_mm) + " mm" +
+                  (R_world_tool ? ", " + ShortNumber(options.tolerance_rad) + " rad" : "") + ")";
   }
   return out;
 }
