@@ -35,9 +35,11 @@ std::string Sim(const std::string& dir, const std::string& name, const std::stri
                 const std::string& model_errors) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/" + name));
   const std::string config = name.rfind("ur3", 0) == 0 ? "ur3.yaml" : "delta.yaml";
-  sim = testing::ReplaceOnce(sim, "../robots/" + config, testing::Source("configs/robots/" + config));
+  sim = testing::ReplaceOnce(sim, "../robots/" + config,
+                             testing::Source("configs/robots/" + config));
   sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");
-  sim = testing::ReplaceOnce(sim, robot_line, robot_line + "    model_errors: " + model_errors + "\n");
+  sim = testing::ReplaceOnce(sim, robot_line,
+                             robot_line + "    model_errors: " + model_errors + "\n");
   testing::WriteText(dir + "/sim.yaml", sim);
   return dir + "/sim.yaml";
 }
@@ -195,7 +197,8 @@ std::vector<std::vector<double>> CommandsOn(const CompensationChain& chain,
   std::vector<std::vector<double>> q;
   for (size_t k = 0; k < targets.size(); ++k) {
     const CompensationTarget& t = targets[k];
-    const Eigen::Matrix3d* R = t.kind == CompensationTarget::Kind::kPose ? &t.R_world_tool : nullptr;
+    const bool pose = t.kind == CompensationTarget::Kind::kPose;
+    const Eigen::Matrix3d* R = pose ? &t.R_world_tool : nullptr;
     const SolvedCommand solved =
         SolveCommand(chain, t.p_world_tool_mm, R, commands[k].q_rad, {}, CompensationOptions{});
     EXPECT_TRUE(solved.reached) << solved.failure;
@@ -533,6 +536,25 @@ TEST(CompensateCli, RefusedTargetsExitThreeAndAreListed) {
                             dir + "/mine.csv");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_EQ(testing::ReadText(dir + "/mine.csv"), "a user's file\n");
+}
+
+TEST(CompensateTargets, RotationsAreRefusedForAnArmThatCannotTurnItsTool) {
+  const std::string path = testing::TempDirForThisTest("compensate") + "/targets.csv";
+  testing::WriteText(path, "x_mm,y_mm,z_mm,rx_rad,ry_rad,rz_rad\n0,0,-600,0,0,0.1\n");
+  const InputError e = testing::CatchInputError([&] { ReadCompensationTargets(path, 3); });
+  EXPECT_EQ(FormatLocation(e.where()), path + ":1: ");
+  EXPECT_THAT(e.message(), HasSubstr("the robot has 3 joints: it cannot turn its tool at will"));
+  // Six joints take them; a row may leave its rotation out, or be a joint target.
+  testing::WriteText(path, "x_mm,y_mm,z_mm,rx_rad,ry_rad,rz_rad,q1_rad,q2_rad,q3_rad,q4_rad,"
+                           "q5_rad,q6_rad\n1,2,3,0,0,0.1,,,,,,\n1,2,3,,,,,,,,,\n"
+                           ",,,,,,1,2,3,4,5,6\n");
+  const auto targets = ReadCompensationTargets(path, 6);
+  ASSERT_EQ(targets.size(), 3u);
+  EXPECT_EQ(targets[0].kind, CompensationTarget::Kind::kPose);
+  EXPECT_EQ(targets[1].kind, CompensationTarget::Kind::kPosition);
+  EXPECT_EQ(targets[2].kind, CompensationTarget::Kind::kJoints);
+  EXPECT_EQ(targets[2].q_rad, (std::vector<double>{1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(targets[2].line, 4);
 }
 
 }  // namespace

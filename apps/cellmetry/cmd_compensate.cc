@@ -16,7 +16,8 @@ namespace cellmetry::app {
 namespace {
 
 // Each refused target on standard error, one line: "TARGETS.csv:12: target 'p3' refused: ...".
-int ReportRefused(const std::string& targets_path, const std::vector<CompensatedCommand>& commands) {
+int ReportRefused(const std::string& targets_path,
+                  const std::vector<CompensatedCommand>& commands) {
   int refused = 0;
   for (const auto& c : commands) {
     if (!c.refused) continue;

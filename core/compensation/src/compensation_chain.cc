@@ -225,7 +225,9 @@ std::vector<ChainParameter> ChainParameters(const CompensationChain& chain,
   const std::string frames[] = {chain.robot + ".base", chain.tool};
   for (const std::string& frame : frames) {
     if (frame == "flange") continue;
-    for (const char* entry : {"x", "y", "z", "rx", "ry", "rz"}) names.push_back(frame + "." + entry);
+    for (const char* entry : {"x", "y", "z", "rx", "ry", "rz"}) {
+      names.push_back(frame + "." + entry);
+    }
   }
   for (const auto& p : chain.model->parameters()) {
     names.push_back(chain.robot + ".model." + p.name);

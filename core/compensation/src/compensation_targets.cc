@@ -81,6 +81,42 @@ void ReadContext(const CsvTable& table, size_t row, CompensationTarget* target) 
   if (table.HasValue(row, "t_s")) target->time_s = table.Number(row, "t_s");
 }
 
+// Which column groups the file has (compensation_targets.h).
+struct Columns {
+  bool position, rotation, joints, approach;
+  std::vector<std::string> q, approach_j;
+};
+
+CompensationTarget ReadRow(const CsvTable& table, size_t row, const Columns& columns) {
+  CompensationTarget t;
+  t.line = table.line_of(row);
+  t.id = table.HasValue(row, "id") ? table.Text(row, "id") : "line " + std::to_string(t.line);
+  // A row with x y z empty is a joint target, in a file of poses too.
+  const bool position =
+      columns.position && (!columns.joints || RowHasGroup(table, row, kPosition));
+  const bool rotation = columns.rotation && RowHasGroup(table, row, kRotation);
+  if (rotation && !position) {
+    throw table.Error(row, kRotation.front(), "a rotation without a position",
+                      "Give x_mm, y_mm, z_mm on this row, or leave the rotation empty");
+  }
+  t.kind = !position ? CompensationTarget::Kind::kJoints
+           : rotation ? CompensationTarget::Kind::kPose
+                      : CompensationTarget::Kind::kPosition;
+  if (position) t.p_world_tool_mm = Vector3Of(table, row, kPosition);
+  if (rotation) {
+    const Eigen::Vector3d r = Vector3Of(table, row, kRotation);
+    t.R_world_tool = RotationFromRvec(r.data());
+  }
+  if (columns.joints && (!position || RowHasGroup(table, row, columns.q))) {
+    for (const auto& c : columns.q) t.q_rad.push_back(table.Number(row, c));
+  }
+  if (columns.approach && RowHasGroup(table, row, columns.approach_j)) {
+    t.approach = ApproachOf(table, row, columns.approach_j);
+  }
+  ReadContext(table, row, &t);
+  return t;
+}
+
 }  // namespace
 
 std::vector<CompensationTarget> ReadCompensationTargets(const std::string& path,
@@ -111,37 +147,10 @@ std::vector<CompensationTarget> ReadCompensationTargets(const std::string& path,
                      "Give x_mm, y_mm, z_mm (and rx_rad, ry_rad, rz_rad) or q1_rad ... q" +
                      std::to_string(num_joints) + "_rad");
   }
+  const Columns columns{position, rotation, joints, approach, q_columns, approach_columns};
   std::vector<CompensationTarget> targets;
   for (size_t row = 0; row < table.num_rows(); ++row) {
-    CompensationTarget t;
-    t.line = table.line_of(row);
-    t.id = table.HasValue(row, "id") ? table.Text(row, "id") : "line " + std::to_string(t.line);
-    // A row with x y z empty is a joint target, in a file of poses too.
-    const bool has_position = position && (!joints || RowHasGroup(table, row, kPosition));
-    if (has_position) {
-      const bool has_rotation = rotation && RowHasGroup(table, row, kRotation);
-      t.kind = has_rotation ? CompensationTarget::Kind::kPose
-                            : CompensationTarget::Kind::kPosition;
-      t.p_world_tool_mm = Vector3Of(table, row, kPosition);
-      if (has_rotation) {
-        const Eigen::Vector3d r = Vector3Of(table, row, kRotation);
-        t.R_world_tool = RotationFromRvec(r.data());
-      }
-    } else {
-      t.kind = CompensationTarget::Kind::kJoints;
-    }
-    if (joints && (!has_position || RowHasGroup(table, row, q_columns))) {
-      for (const auto& c : q_columns) t.q_rad.push_back(table.Number(row, c));
-    }
-    if (!has_position && rotation && RowHasGroup(table, row, kRotation)) {
-      throw table.Error(row, kRotation.front(), "a rotation without a position",
-                        "Give x_mm, y_mm, z_mm on this row, or leave the rotation empty");
-    }
-    if (approach && RowHasGroup(table, row, approach_columns)) {
-      t.approach = ApproachOf(table, row, approach_columns);
-    }
-    ReadContext(table, row, &t);
-    targets.push_back(std::move(t));
+    targets.push_back(ReadRow(table, row, columns));
   }
   if (targets.empty()) {
     throw InputError({path, 1, 0}, "no targets", "Add one row per target below the header");
