@@ -420,5 +420,59 @@ TEST_F(BadInput, SimulatingNoPosesIsRefused) {
   EXPECT_FALSE(fs::exists(dir_ + "/sim"));
 }
 
+// One broken TARGETS.csv for `cellmetry compensate` (on the unmodified job's result), and the
+// error it must produce; no commands file is written.
+struct TargetsEdit {
+  std::string name;
+  std::string text;      // the whole file
+  std::string location;  // line:column of the bad cell ("1:" for the header)
+  std::string hint;
+  std::string message;
+};
+
+class BadTargets : public BadInput, public ::testing::WithParamInterface<TargetsEdit> {};
+
+TEST_P(BadTargets, IsRejectedAtItsCell) {
+  const TargetsEdit& edit = GetParam();
+  WriteJob();
+  ASSERT_EQ(Run().exit_code, 0);
+  const std::string targets = dir_ + "/targets.csv", commands = dir_ + "/commands.csv";
+  testing::WriteText(targets, edit.text);
+  const auto r = testing::RunCellmetry("compensate " + output_ + " " + targets + " -o " + commands);
+  testing::ExpectOneLineError(r, targets + ":" + edit.location, edit.hint);
+  EXPECT_THAT(r.output, HasSubstr(edit.message));
+  EXPECT_FALSE(fs::exists(commands));
+}
+
+const char kSeed[] = ",q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad";
+
+INSTANTIATE_TEST_SUITE_P(
+    Compensate, BadTargets,
+    ::testing::Values(
+        TargetsEdit{"NonFiniteCoordinate", "id,x_mm,y_mm,z_mm\na,400,nan,-300\n", "2:3:",
+                    "replace the value with a measurement",
+                    "column 'y_mm': 'nan' is not a finite number"},
+        TargetsEdit{"MissingCellInARow", "id,x_mm,y_mm,z_mm\na,400,500,-300\nb,400,500\n",
+                    "3:4:", "Fill in a number", "column 'z_mm': empty cell"},
+        TargetsEdit{"MissingColumn", "id,x_mm,y_mm\na,400,500\n", "1:",
+                    "Give all of x_mm ... z_mm, or none", "missing column 'z_mm'"},
+        TargetsEdit{"UnknownColumn", "id,x_mm,y_mm,z_m\na,400,500,-300\n", "1:4:",
+                    "Did you mean 'z_mm'?", "unknown column 'z_m'"},
+        TargetsEdit{"TextForANumber", "x_mm,y_mm,z_mm,rx_rad,ry_rad,rz_rad\n1,2,3,0,abc,0\n",
+                    "2:5:", "Write a plain decimal number", "column 'ry_rad': 'abc' is not a number"},
+        TargetsEdit{"HalfASeed",
+                    std::string("x_mm,y_mm,z_mm") + kSeed + "\n400,500,-300,1,2,3,,,\n", "2:7:",
+                    "on this row, or none", "column 'q4_rad': empty cell"},
+        TargetsEdit{"NegativePayload", "x_mm,y_mm,z_mm,payload_kg\n400,500,-300,-1\n", "2:4:",
+                    "Give the load at the flange in kg", "a payload cannot be negative"},
+        TargetsEdit{"ApproachNotASign",
+                    "x_mm,y_mm,z_mm,approach_j1,approach_j2,approach_j3,approach_j4,approach_j5,"
+                    "approach_j6\n400,500,-300,1,1,2,1,1,1\n", "2:6:",
+                    "Write 1 (the joint moves up into the target)",
+                    "an approach direction must be -1, 0 or 1"},
+        TargetsEdit{"NoTargetColumns", "id,payload_kg\na,1\n", "1:",
+                    "Give x_mm, y_mm, z_mm", "no target columns"}),
+    [](const ::testing::TestParamInfo<TargetsEdit>& info) { return info.param.name; });
+
 }  // namespace
 }  // namespace cellmetry

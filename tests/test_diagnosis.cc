@@ -47,6 +47,12 @@ TEST_F(Diagnosis, ConcealedComplianceIsNamedWithItsJointAndModelled) {
   EXPECT_LT(d.final.held_out_rms_mm, 1.2 * d.floor_rms_mm);
   EXPECT_GT(d.geometric.held_out_rms_mm, d.final.held_out_rms_mm);
   EXPECT_THAT(DiagnosisReport(d), HasSubstr("Left out: joint 3 compliance under gravity"));
+  // final_fit/ records how the accepted effect was built, for `cellmetry compensate`.
+  ASSERT_EQ(d.final_fit.effect_models.size(), d.accepted.size());
+  EXPECT_EQ(d.final_fit.effect_models.front().name, "ur3.compliance_j3");
+  EXPECT_EQ(d.final_fit.effect_models.front().stage, "joint");
+  EXPECT_THAT(d.final_fit.effect_models.front().config,
+              HasSubstr("{type: joint_compliance, joints: [3], link_masses_kg: [2"));
 }
 
 TEST_F(Diagnosis, CleanRecordingGetsNoClaim) {

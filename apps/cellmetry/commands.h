@@ -11,7 +11,11 @@ struct Context {
   std::string executable;               // argv[0], to find the plugins folder
   std::vector<std::string> plugin_paths;  // --plugin-path
   bool quiet = false;
+  int exit_code = 0;                    // what main returns when no exception ended the command
 };
+
+// `cellmetry compensate` refused a target (its commands file lists why).
+inline constexpr int kRefusedTargetsExitCode = 3;
 
 // Loads the default plugin folders plus --plugin-path ones into the global registry.
 void LoadPlugins(const Context& context);
@@ -26,6 +30,7 @@ void AddDetectCommand(CLI::App& app, Context& context);
 void AddDiagnoseCommand(CLI::App& app, Context& context);
 void AddPlanCommand(CLI::App& app, Context& context);
 void AddExportCommand(CLI::App& app, Context& context);
+void AddCompensateCommand(CLI::App& app, Context& context);
 void AddImportCommand(CLI::App& app, Context& context);
 
 }  // namespace cellmetry::app

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   app::AddDiagnoseCommand(cli, context);
   app::AddPlanCommand(cli, context);
   app::AddExportCommand(cli, context);
+  app::AddCompensateCommand(cli, context);
   app::AddImportCommand(cli, context);
   app::AddPluginsCommand(cli, context);
   try {
@@ -51,5 +52,5 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cellmetry: internal error: %s\n", e.what());
     return 1;
   }
-  return 0;
+  return context.exit_code;
 }

@@ -156,6 +156,7 @@ void AddEffects(const ConfigNode& list, const std::string& robot, const std::str
     WorkcellEffect e;
     e.robot = robot;
     e.effect = registry.CreateEffect(config["type"].AsString(), config, *owner->model);
+    e.config = config.FlowText();
     e.name = prefix + "." + config["type"].AsString();
     for (int k = 2; std::any_of(problem->effects.begin(), problem->effects.end(),
                                 [&](const WorkcellEffect& x) { return x.name == e.name; });
@@ -292,6 +293,7 @@ void ReadUncertainInputs(const ConfigNode& node, Registry& registry, WorkcellPro
       WorkcellEffect e;
       e.robot = problem->robots.front().name;
       e.effect = registry.CreateEffect(type, config, *problem->robots.front().model);
+      e.config = config.FlowText();
       e.name = "uncertain." + type;
       for (int k = 2; std::any_of(problem->uncertain_inputs.effects.begin(),
                                   problem->uncertain_inputs.effects.end(),

@@ -256,6 +256,12 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
                                  {"model_config", record.config_text},
                                  {"model_values", values}};
   }
+  j["effects"] = nlohmann::json::object();
+  for (const auto& record : r.effect_models) {
+    j["effects"][record.name] = {{"robot", record.robot}, {"type", record.type},
+                                 {"stage", record.stage}, {"config", record.config}};
+  }
+  j["gravity_base_m_s2"] = Vec(r.gravity_base);
   AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
   j["weakly_identified"] = WeakJson(r.weakly_identified);
   j["outliers"] = nlohmann::json::array();

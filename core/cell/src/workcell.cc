@@ -199,6 +199,15 @@ FrameEstimate MakeFrame(const std::string& name, const std::string& parent, cons
   return frame;
 }
 
+const char* StageName(const Effect& effect) {
+  switch (effect.stage()) {
+    case EffectStage::kJoint: return "joint";
+    case EffectStage::kFlange: return "flange";
+    case EffectStage::kMeasurement: return "measurement";
+  }
+  return "";
+}
+
 // A model or effect parameter's estimate.
 ScalarEstimate MakeScalar(const std::string& name, const std::string& unit, double nominal,
                           double value, const Uncertainty& u, const std::set<std::string>& held) {
@@ -249,7 +258,14 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
   for (const auto& [camera, pose] : e.T_world_cam) {
     result->frames.push_back(MakeFrame(camera, "world", pose, u, held));
   }
+  result->gravity_base = spec.gravity_base;
   for (const WorkcellEffect& effect : spec.effects) {
+    result->effect_models.push_back({effect.name, effect.robot, "", StageName(*effect.effect),
+                                     effect.config});
+    if (!effect.config.empty()) {
+      result->effect_models.back().type =
+          ConfigNode::LoadString(effect.config, effect.name)["type"].AsString();
+    }
     const auto& params = effect.effect->parameters();
     const auto& values = e.effects.at(effect.name);
     for (size_t i = 0; i < params.size(); ++i) {

@@ -15,6 +15,7 @@ CandidateEffect Make(const std::string& yaml, const std::string& name, const Wor
   c.effect.name = name;
   c.effect.robot = robot.name;
   c.effect.effect = registry.CreateEffect(c.type, config, *robot.model);
+  c.effect.config = config.FlowText();
   c.label = label;
   c.data_hint = hint;
   return c;

@@ -61,6 +61,7 @@ std::vector<CandidateEffect> JobCandidates(const DiagnosisJob& job, const Record
     c.type = config["type"].AsString();
     c.effect.robot = robot.name;
     c.effect.effect = registry.CreateEffect(c.type, config, *robot.model);
+    c.effect.config = config.FlowText();
     c.effect.name = robot.name + "." + c.type + "_" + std::to_string(k + 1);
     c.label = c.effect.effect->Describe(std::vector<double>(c.effect.effect->parameters().size()));
     c.label = c.label.substr(0, c.label.find(':'));

@@ -1,6 +1,7 @@
 // Reading a result folder for exports (calibrated_cell.h).
 #include "cellmetry/exports/calibrated_cell.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -95,6 +96,49 @@ void SortScalars(const json& scalars, CalibratedCell* cell) {
   }
 }
 
+// The scalar called `name` among a robot's and the cameras' fitted scalars, or nullptr.
+const FittedScalar* FindScalar(const CalibratedCell& cell, const std::string& name) {
+  for (const auto& s : cell.camera_effects) {
+    if (s.name == name) return &s;
+  }
+  for (const auto& robot : cell.robots) {
+    for (const auto& s : robot.effects) {
+      if (s.name == name) return &s;
+    }
+  }
+  return nullptr;
+}
+
+// An effect rebuilt from its recorded block on its robot's model, at its fitted values.
+CalibratedEffect ReadEffect(const std::string& name, const json& j, const CalibratedCell& cell,
+                            const Registry& registry) {
+  CalibratedEffect e;
+  e.name = name;
+  e.robot = j.at("robot").get<std::string>();
+  e.type = j.at("type").get<std::string>();
+  e.stage = j.at("stage").get<std::string>();
+  const std::string config = j.at("config").get<std::string>();
+  if (config.empty()) return e;
+  const auto robot = std::find_if(cell.robots.begin(), cell.robots.end(),
+                                  [&](const CalibratedRobot& r) { return r.name == e.robot; });
+  if (robot == cell.robots.end()) {
+    throw InputError({cell.json_path, 0, 0}, "effect '" + name + "' is recorded on robot '" +
+                     e.robot + "', which the result does not have", kRerun);
+  }
+  const ConfigNode node = ConfigNode::LoadString(config, "effect '" + name + "' as recorded in " +
+                                                 cell.json_path);
+  e.effect = registry.CreateEffect(e.type, node, *robot->model);
+  for (const Parameter& p : e.effect->parameters()) {
+    const FittedScalar* fitted = FindScalar(cell, name + "." + p.name);
+    if (!fitted) {
+      throw InputError({cell.json_path, 0, 0}, "effect '" + name + "' has no value for '" +
+                       p.name + "' in model_parameters", kRerun);
+    }
+    e.parameters.push_back(*fitted);
+  }
+  return e;
+}
+
 ParameterCovariance ReadCovariance(const json& j) {
   ParameterCovariance c;
   c.names = j.at("free_parameters").get<std::vector<std::string>>();
@@ -155,6 +199,12 @@ CalibratedCell ReadCalibratedCell(const std::string& result_folder, const Regist
       cell.robots.push_back(ReadRobot(name, robot, cell.json_path, registry));
     }
     SortScalars(j.at("model_parameters"), &cell);
+    if (j.contains("effects")) {
+      for (const auto& [name, effect] : j.at("effects").items()) {
+        cell.effects.push_back(ReadEffect(name, effect, cell, registry));
+      }
+    }
+    if (j.contains("gravity_base_m_s2")) cell.gravity_base = Vector(j.at("gravity_base_m_s2"));
     cell.covariance = ReadCovariance(j);
   } catch (const json::exception& e) {
     throw InputError({cell.json_path, 0, 0}, std::string("malformed result: ") + e.what(),

@@ -124,6 +124,14 @@ std::string ConfigNode::ChildPath(const std::string& key) const {
   return key_path_.empty() ? key : key_path_ + "." + key;
 }
 
+std::string ConfigNode::FlowText() const {
+  YAML::Emitter out;
+  out.SetMapFormat(YAML::Flow);
+  out.SetSeqFormat(YAML::Flow);
+  out << node_;
+  return out.c_str();
+}
+
 SourceLocation ConfigNode::KeyLocation(const std::string& key) const {
   if (node_.IsMap()) {
     for (const auto& entry : node_) {

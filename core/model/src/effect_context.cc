@@ -28,6 +28,18 @@ Eigen::Matrix3Xd FlangeJacobian(const RobotModel& model, const std::vector<doubl
 
 }  // namespace
 
+SampleFacts GeometricFacts(const RobotModel& model, const std::vector<double>& nominal_params,
+                           const std::vector<double>& q) {
+  SampleFacts f;
+  f.q = q;
+  if (!model.JointFrames(q.data(), nominal_params.data(), &f.T_base_joint)) {
+    f.T_base_joint.clear();
+    f.flange_jacobian_mm = FlangeJacobian(model, q, nominal_params);
+  }
+  if (!model.ParallelLinks(q.data(), nominal_params.data(), &f.links)) f.links.clear();
+  return f;
+}
+
 std::vector<SampleFacts> GatherSampleFacts(const Recording& recording, const std::string& robot,
                                            const RobotModel& model,
                                            const std::vector<double>& nominal_params) {
@@ -46,13 +58,8 @@ std::vector<SampleFacts> GatherSampleFacts(const Recording& recording, const std
     }
     previous = sample.q;
     SampleFacts& f = facts[i];
-    f.q = sample.q;
+    f = GeometricFacts(model, nominal_params, sample.q);
     f.approach = approach;
-    if (!model.JointFrames(sample.q.data(), nominal_params.data(), &f.T_base_joint)) {
-      f.T_base_joint.clear();
-      f.flange_jacobian_mm = FlangeJacobian(model, sample.q, nominal_params);
-    }
-    if (!model.ParallelLinks(sample.q.data(), nominal_params.data(), &f.links)) f.links.clear();
     f.time_s = sample.time_s.value_or(NAN);
     f.temperature_c = sample.temperature_c.value_or(NAN);
     f.payload_kg = sample.payload_kg.value_or(0.0);

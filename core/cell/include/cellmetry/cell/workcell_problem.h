@@ -66,6 +66,9 @@ struct WorkcellEffect {
   std::string name;   // block name, "<robot>.<effect>[_<what>]", e.g. "ur3.backlash_j2"
   std::string robot;  // the robot whose chain it is in
   std::shared_ptr<const Effect> effect;
+  // The effect block that built it, one line of YAML ("{type: backlash, joints: [2]}"), so that
+  // a result can rebuild it (`cellmetry compensate`); "" when it was built in memory.
+  std::string config;
 };
 
 // An input the job holds at a stated value that is itself uncertain (consider_covariance.h):

@@ -122,6 +122,17 @@ struct RobotModelRecord {
                                       // `fixed` = held in this job
 };
 
+// What a result records of each effect in its prediction chain so that it can be rebuilt
+// without the job (`cellmetry compensate`): the block that built it; its fitted values are
+// model_parameters' "<name>.<parameter>" entries.
+struct EffectRecord {
+  std::string name;    // "ur3.compliance_j3"
+  std::string robot;   // the robot whose chain it is in
+  std::string type;    // the effect plugin's type
+  std::string stage;   // "joint", "flange" or "measurement"
+  std::string config;  // WorkcellEffect::config ("" when built in memory)
+};
+
 // A robot's base in another robot's base (robot_pairs.h), sigma from both bases' joint
 // covariance, their cross-covariance included.
 struct RobotPairEstimate {
@@ -138,6 +149,8 @@ struct WorkcellResult {
   std::vector<RobotPairEstimate> robot_to_robot;  // every ordered pair (robot_pairs.h)
   std::vector<ScalarEstimate> model_parameters;   // free or held-for-identifiability entries
   std::vector<RobotModelRecord> robot_models;     // each robot's model, whole (exports)
+  std::vector<EffectRecord> effect_models;        // each effect of the chain (compensate)
+  Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // the job's, m/s^2 (effects)
   std::vector<UnidentifiableParameter> unidentifiable;
   std::vector<WeakParameter> weakly_identified;   // see WorkcellProblem::weak_vif
   Uncertainty uncertainty;

@@ -21,6 +21,7 @@
 
 #include "cellmetry/basics/transform.h"
 #include "cellmetry/formats/config_node.h"
+#include "cellmetry/model/effect.h"
 #include "cellmetry/model/robot_model.h"
 #include "cellmetry/registry/registry.h"
 
@@ -55,6 +56,19 @@ struct CalibratedRobot {
   std::vector<FittedScalar> effects;       // effect parameters fitted in its chain
 };
 
+// An effect of the result's prediction chain (result.json `effects`), rebuilt through the
+// registry from the block that built it, with its fitted values (`model_parameters`
+// "<name>.<parameter>"). `effect` is null when the result does not record the block (the job was
+// built in memory): what needs it (compensation) refuses the result then.
+struct CalibratedEffect {
+  std::string name;    // "ur3.compliance_j3"
+  std::string robot;   // the robot whose chain it is in
+  std::string type;    // the plugin's type
+  std::string stage;   // "joint", "flange", "measurement"
+  std::shared_ptr<const Effect> effect;
+  std::vector<FittedScalar> parameters;  // the effect's parameters() order
+};
+
 // The covariance of the result's free parameters (result.json `free_parameters`, `sigma`,
 // `correlation`), by name: what relative frames' sigma is propagated from.
 struct ParameterCovariance {
@@ -70,6 +84,9 @@ struct CalibratedCell {
   std::vector<CalibratedFrame> frames;
   std::vector<CalibratedRobot> robots;
   std::vector<FittedScalar> camera_effects;  // measurement effects ("camera.<type>.<param>")
+  std::vector<CalibratedEffect> effects;     // every effect of the chain; empty in results
+                                             // written before results recorded them
+  Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2, the job's
   ParameterCovariance covariance;
 };
 

@@ -11,9 +11,10 @@
 namespace cellmetry {
 
 // "cellmetry-export: <format> of <result.json>", the robot and its model when there is one, and
-// that a later export to the same path replaces the file.
+// that a later `command` to the same path replaces the file.
 std::vector<std::string> ExportHeader(const CalibratedCell& cell, const std::string& format,
-                                      const CalibratedRobot* robot);
+                                      const CalibratedRobot* robot,
+                                      const std::string& command = "cellmetry export");
 
 // What of `robot`'s result the export cannot hold: the model's own list (SerialChain's
 // not_expressible, when `chain_gaps` is given), every effect fitted in its chain and on the

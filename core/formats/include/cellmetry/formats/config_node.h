@@ -86,6 +86,9 @@ class ConfigNode {
   InputError Error(const std::string& what, const std::string& hint = "") const;
 
   const YAML::Node& yaml() const { return node_; }
+  // This node as one line of YAML in flow style ("{type: backlash, joints: [2]}"), which
+  // LoadString reads back to the same node: how a result records what built an effect.
+  std::string FlowText() const;
 
  private:
   std::string ChildPath(const std::string& key) const;

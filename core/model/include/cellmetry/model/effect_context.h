@@ -38,6 +38,12 @@ std::vector<SampleFacts> GatherSampleFacts(const Recording& recording, const std
                                            const RobotModel& model,
                                            const std::vector<double>& nominal_params);
 
+// The geometric facts at joint readings `q` alone (q, joint frames or the flange Jacobian,
+// links, at `nominal_params`); approach, time, temperature and payload are left for the caller.
+// GatherSampleFacts fills each sample's with it; compensation, each command's.
+SampleFacts GeometricFacts(const RobotModel& model, const std::vector<double>& nominal_params,
+                           const std::vector<double>& q);
+
 // The context an effect sees for one sample (pointers into `facts`, which must outlive it).
 EffectContext ContextOf(const SampleFacts& facts, const Eigen::Vector3d& gravity_base,
                         const std::string& camera = "");
