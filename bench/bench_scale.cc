@@ -8,6 +8,7 @@
 //                            cross-validation: closed form, solve, identifiability, covariance,
 //                            the cluster-robust and camera-jackknife sigma, residual statistics;
 //                            each stage's seconds and peak MB as counters (<stage>_s, <stage>_MB)
+//  BM_LargeCell/R/C/P        BM_Run on 1.28 and 2.56 million observations: the largest cells
 //  BM_CrossValidation/R/C/P  5-fold cross-validation at the answer, on its own
 //  BM_Solve, BM_Identifiability, BM_Covariance (10/8/500)   the stages, one by one
 //  BM_RFactor/<method>       the factory cell's Jacobian reduced to its R factor: cellmetry's
@@ -278,6 +279,15 @@ void Sizes(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_Run)->Apply(Sizes)->Unit(benchmark::kMillisecond)->Iterations(1);
+// The largest cells measured on this machine (docs/scale.md): run on their own, they take
+// minutes and gigabytes (`--benchmark_filter=BM_LargeCell`).
+BENCHMARK(BM_Run)
+    ->Name("BM_LargeCell")
+    ->ArgNames({"robots", "cameras", "poses"})
+    ->Args({20, 16, 2000})   // 1,280,000
+    ->Args({40, 16, 2000})   // 2,560,000
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK(BM_CrossValidation)->Apply(Sizes)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Solve)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Linearize)->Unit(benchmark::kMillisecond);
