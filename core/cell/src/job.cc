@@ -189,6 +189,16 @@ CameraModel ReadCameraModel(const ConfigNode& root) {
                                    "Use static_cameras or per_frame");
 }
 
+// `outliers: robust | plain | off` (outliers.h).
+OutlierTest ReadOutlierTest(const ConfigNode& root) {
+  const std::string name = root.GetString("outliers", "robust");
+  if (name == "robust") return OutlierTest::kRobust;
+  if (name == "plain") return OutlierTest::kPlain;
+  if (name == "off") return OutlierTest::kOff;
+  throw root["outliers"].Error("unknown outlier test '" + name + "'",
+                               "Use robust (the default), plain or off");
+}
+
 // `residual: cartesian | joint_space`; joint space where every robot has inverse kinematics.
 ResidualForm ReadResidual(const ConfigNode& root, const WorkcellProblem& problem) {
   const std::string name = root.GetString("residual", "cartesian");
@@ -366,7 +376,7 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
                    "plugin_paths", "world_target", "camera_model", "residual",
                    "use_tool_rotation", "robots", "cameras", "noise", "solver", "validation",
                    "identifiability_tolerance", "weak_vif", "effects", "gravity_base",
-                   "uncertain_inputs", "diagnosis", "homing"});
+                   "uncertain_inputs", "diagnosis", "homing", "outliers"});
   CheckKind(root["job"]);
   WorkcellJob job;
   job.file = path;
@@ -389,6 +399,7 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
       root.Has("world_target") ? root["world_target"].location() : root.location();
   problem.camera_model = ReadCameraModel(root);
   ReadOptions(root, &problem);
+  problem.outlier_test = ReadOutlierTest(root);
   if (root.Has("noise") && root["noise"].Has("cameras")) {
     for (const auto& camera : root["noise"]["cameras"].Keys()) {
       job.locations["noise.cameras." + camera] = root["noise"]["cameras"][camera].location();
