@@ -1,4 +1,4 @@
-// The robust first fit (robust_first_fit.h): Cauchy loss, scale re-measured at each answer.
+// The robust first fit (robust_first_fit.h): least squares, then a Cauchy loss at its scale.
 #include "robust_first_fit.h"
 
 #include <cmath>
@@ -14,22 +14,13 @@ namespace cellmetry {
 namespace {
 
 // Sets the loss of each measurement block (rows are in block order) at `width` robust sigma of
-// its group; returns the groups' scales for the next round's comparison.
-std::vector<double> SetLossFromScale(const std::vector<ResidualRow>& rows, double width,
-                                     Problem* problem) {
-  std::vector<double> scale = RobustScales(rows);
+// its group.
+void SetLossFromScale(const std::vector<ResidualRow>& rows, double width, Problem* problem) {
+  const std::vector<double> scale = RobustScales(rows);
   std::vector<double> whitened(scale.size());
   for (size_t i = 0; i < scale.size(); ++i) whitened[i] = width * std::sqrt(scale[i]);
   problem->SetWhitenedRobustLoss(RobustLossKind::kCauchy, std::move(whitened));
   problem->Build();
-  return scale;
-}
-
-bool Settled(const std::vector<double>& before, const std::vector<double>& after) {
-  for (size_t i = 0; i < before.size(); ++i) {
-    if (std::abs(after[i] - before[i]) > 0.05 * before[i]) return false;
-  }
-  return true;
 }
 
 }  // namespace
@@ -46,23 +37,21 @@ std::vector<Outlier> FindOutliersByRobustFit(const WorkcellProblem& spec,
   auto assembled = AssembleWorkcell(cartesian, recording, data, noise, start);
   Problem& problem = assembled->problem;
   if (problem.num_residuals() < problem.num_free()) return {};  // the plain fit says why
-  std::vector<ResidualRow> rows = ResidualRows(*assembled);
-  std::set<std::string> held;
   try {
-    for (int round = 0; round < options.max_rounds; ++round) {
-      const std::vector<double> scale = SetLossFromScale(rows, options.cauchy_width, &problem);
-      const IdentifiedSolve solved = SolveHoldingUnidentifiable(
-          &problem, spec.identifiability_tolerance, held, make_solver, round > 0);
-      for (const auto& u : solved.unidentifiable) held.insert(u.name);
-      rows = ResidualRows(*assembled);
-      if (round > 0 && Settled(scale, RobustScales(rows))) break;
-    }
+    // Plain least squares from the closed form first (a Cauchy loss from a start this far off
+    // crawls: 200 iterations on exp_a), then the loss at the scale of that answer, warm.
+    const IdentifiedSolve plain = SolveHoldingUnidentifiable(
+        &problem, spec.identifiability_tolerance, {}, make_solver);
+    std::set<std::string> held;
+    for (const auto& u : plain.unidentifiable) held.insert(u.name);
+    SetLossFromScale(ResidualRows(*assembled), options.cauchy_width, &problem);
+    SolveHoldingUnidentifiable(&problem, spec.identifiability_tolerance, held, make_solver, true);
   } catch (const InputError& e) {
     Progress::Note(std::string("the robust first fit failed (") + e.what() +
                    "): outliers are tested on the plain fit only");
     return {};
   }
-  return FindOutliers(rows, recording, options.alpha);
+  return FindOutliers(ResidualRows(*assembled), recording, options.alpha);
 }
 
 }  // namespace cellmetry

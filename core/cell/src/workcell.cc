@@ -317,6 +317,7 @@ void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording
                          const SolverMaker& make_solver, WorkcellResult* result) {
   WorkcellProblem other = spec;
   other.compare_camera_models = false;
+  other.outlier_test = OutlierTest::kPlain;  // `recording` is already without the robust fit's
   other.camera_model = spec.camera_model == CameraModel::kStaticCameras
                            ? CameraModel::kPerFrame
                            : CameraModel::kStaticCameras;
