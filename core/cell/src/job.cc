@@ -349,7 +349,8 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   if (problem->folds == 1) {
     throw v["folds"].Error("one fold holds nothing out", "0 turns cross-validation off; 5 is usual");
   }
-  problem->seed = static_cast<unsigned>(v.GetInt("seed", 1));
+  problem->seed = static_cast<unsigned>(
+      v.GetIntIn("seed", 1, 0, 2147483647, "A seed is a whole number, 0 or more"));
   problem->compare_camera_models = v.GetBool("compare_camera_models", false);
 }
 
