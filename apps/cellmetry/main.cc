@@ -49,7 +49,8 @@ void RefuseUnknownCommand(const CLI::App& cli, int argc, char** argv) {
     }
   }
   if (unknown.empty()) return;
-  throw InputError({}, "'" + unknown + "' is not a cellmetry command", "Use one of: " + known);
+  throw InputError({"cellmetry", 0, 0}, "'" + unknown + "' is not a cellmetry command",
+                   "Use one of: " + known);
 }
 
 }  // namespace

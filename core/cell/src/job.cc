@@ -410,7 +410,12 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
   if (root.Has("uncertain_inputs")) {
     ReadUncertainInputs(root["uncertain_inputs"], registry, &problem);
   }
-  if (root.Has("cameras")) problem.cameras = ReadCameras(root["cameras"]);
+  if (root.Has("cameras")) {
+    problem.cameras = ReadCameras(root["cameras"]);
+    for (const auto& camera : root["cameras"].Keys()) {
+      job.locations["cameras." + camera] = root["cameras"][camera].location();
+    }
+  }
   problem.residual = ReadResidual(root, problem);
   if (root.Has("homing")) job.homing = root["homing"];
   if (job.kind == "homing" && !root.Has("solver")) return job;
@@ -435,6 +440,14 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
     if (recording.HasCamera(camera)) continue;
     throw InputError(job.Where("noise.cameras." + camera),
                      "camera '" + camera + "' under noise: is not in the recording " +
+                         recording.folder,
+                     "Name the cameras as recording.yaml does");
+  }
+  // A start or free flags for a camera the recording lacks were ignored without a word.
+  for (const auto& [camera, settings] : job.problem.cameras) {
+    if (recording.HasCamera(camera)) continue;
+    throw InputError(job.Where("cameras." + camera),
+                     "camera '" + camera + "' under cameras: is not in the recording " +
                          recording.folder,
                      "Name the cameras as recording.yaml does");
   }

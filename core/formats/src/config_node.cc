@@ -193,7 +193,9 @@ void ConfigNode::ExpectMap() const {
 }
 
 void ConfigNode::ExpectSequence() const {
-  if (!node_.IsSequence()) throw Error("expected a list, got " + Describe(node_));
+  if (!node_.IsSequence()) {
+    throw Error("expected a list, got " + Describe(node_), "Write a list in brackets: [a, b, c]");
+  }
 }
 
 void ConfigNode::ExpectKeys(const std::vector<std::string>& allowed) const {
@@ -233,7 +235,7 @@ int ConfigNode::AsInt() const {
 bool ConfigNode::AsBool() const {
   bool value = false;
   if (!node_.IsScalar() || !YAML::convert<bool>::decode(node_, value)) {
-    throw Error("expected true or false, got " + Describe(node_));
+    throw Error("expected true or false, got " + Describe(node_), "Write true or false");
   }
   return value;
 }
@@ -247,7 +249,8 @@ std::vector<double> ConfigNode::AsDoubles(std::optional<size_t> expected_size) c
   ExpectSequence();
   if (expected_size && node_.size() != *expected_size) {
     throw Error("expected a list of " + std::to_string(*expected_size) + " numbers, got " +
-                std::to_string(node_.size()));
+                    std::to_string(node_.size()),
+                "Give " + std::to_string(*expected_size) + " numbers in brackets");
   }
   std::vector<double> values;
   for (const auto& element : Elements()) values.push_back(element.AsDouble());

@@ -8,7 +8,9 @@
 namespace cellmetry::serial_mdh {
 namespace {
 
-constexpr double kMaxLengthMm = 1e5;  // 100 m
+// 1 km: above any arm, and above a table of millimetres declared as metres (a UR3's 151.9 m),
+// which the length-scale check explains better than a range can.
+constexpr double kMaxLengthMm = 1e6;
 constexpr double kMaxAngleRad = 100;  // sixteen turns, as a recording's joint readings
 
 // `key` of a joint's row in mm or rad, refused at its value beyond any arm: a d of 1e300 was
