@@ -361,7 +361,8 @@ struct BadCase {
   int line;             // > 0: that line of `file` becomes `to`
   std::string from;     // else `from` becomes `to` ("": `to` appended; "*": the whole file)
   std::string to;
-  std::string command;  // {dir}: the test's folder; {job}: its job.yaml
+  std::string command;  // {dir}: the test's folder; {job}: its job.yaml; {result}: the job's
+                        // result, written by `run` before the row's command
   int exit_code;
   Said said;
   std::string location;  // kOneLine: what precedes " error: " (file:line:column:, an option)
@@ -373,7 +374,7 @@ class BadCommand : public BadInput, public ::testing::WithParamInterface<BadCase
  protected:
   std::string Expand(std::string text) const {
     for (const auto& [key, value] : {std::pair<std::string, std::string>{"{job}", job_},
-                                     {"{dir}", dir_}}) {
+                                     {"{result}", output_}, {"{dir}", dir_}}) {
       for (size_t at = text.find(key); at != std::string::npos; at = text.find(key, at)) {
         text.replace(at, key.size(), value);
         at += value.size();
@@ -382,9 +383,14 @@ class BadCommand : public BadInput, public ::testing::WithParamInterface<BadCase
     return text;
   }
 
-  // The job, a simulation spec and the files the command-line rows name, then the row's edit.
+  // The job, a simulation spec and the files the command-line rows name (and the job's result
+  // where the row's command reads one), then the row's edit.
   void Prepare(const BadCase& c) {
     WriteJob();
+    if (c.command.find("{result}") != std::string::npos) {
+      const auto run = Run();
+      ASSERT_EQ(run.exit_code, 0) << run.output;
+    }
     testing::WriteText(dir_ + "/sim.yaml",
                        ReplaceOnce(ReadText(testing::Source(
                                        "configs/simulations/ur3_physics_base.yaml")),
@@ -1017,6 +1023,21 @@ const std::vector<BadCase> kBadCases = {
      "The following argument was not expected: all", "Run with --help for more information."},
     {"PluginsUnknownOption", "", 0, "", "", "plugins --json", 2, Said::kUsage, "",
      "The following argument was not expected: --json", "Run with --help for more information."},
+    {"ExportUnknownRobot", "", 0, "", "", "export {result} -f urdf --robot ur5", 2,
+     Said::kOneLine, "result/result.json:", "the result has no robot 'ur5'", "Its robots: ur3"},
+    {"ExportOntoAUsersFile", "", 0, "", "", "export {result} -f urdf -o {dir}/notes.txt", 2,
+     Said::kOneLine, "notes.txt:", "the file exists and was not written by `cellmetry export`",
+     "or give --overwrite to replace it"},
+    {"ExportOntoAFolder", "", 0, "", "", "export {result} -f ur -o {dir}/sim_b", 2,
+     Said::kOneLine, "sim_b:", "the export path is not a file (a folder?)",
+     "Choose another file with -o"},
+    {"EvaluateTruthMissing", "", 0, "", "", "evaluate {result} {dir}/notruth.yaml", 2,
+     Said::kOneLine, "notruth.yaml:", "cannot open file", "Check the path"},
+    {"EvaluateAJobAsTruth", "", 0, "", "", "evaluate {result} {job}", 2, Said::kOneLine,
+     "job.yaml:1:1:", "job: unknown key", "Known keys: format, frames, model"},
+    {"EvaluateNotesAsTruth", "", 0, "", "", "evaluate {result} {dir}/notes.txt", 2,
+     Said::kOneLine, "notes.txt:1:1:", "expected a map of keys, got 'mine'",
+     "Write 'key: value' lines here"},
 };
 
 INSTANTIATE_TEST_SUITE_P(

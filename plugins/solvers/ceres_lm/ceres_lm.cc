@@ -84,7 +84,8 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
       config.GetDoubleIn("gradient_tolerance", o.gradient_tolerance, 0, 1, tolerance_hint);
   o.parameter_tolerance =
       config.GetDoubleIn("parameter_tolerance", o.parameter_tolerance, 0, 1, tolerance_hint);
-  o.threads = config.GetIntIn("threads", o.threads, 1, 1024, "Use 1 or more threads; 2 is the default");
+  o.threads =
+      config.GetIntIn("threads", o.threads, 1, 1024, "Use 1 or more threads; 2 is the default");
   const std::string loss = config.GetString("loss", "none");
   if (loss == "huber") o.loss = RobustLossKind::kHuber;
   else if (loss == "cauchy") o.loss = RobustLossKind::kCauchy;

@@ -129,7 +129,8 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
   // NLopt takes a negative tolerance or step without a word (and stops at once or never).
   o.xtol_abs = config.GetDoubleIn("xtol_abs", o.xtol_abs, 0, 1e3,
                                   "A step in sigma-scaled units, 0 or more: 1e-9");
-  o.ftol_rel = config.GetDoubleIn("ftol_rel", o.ftol_rel, 0, 1, "A relative cost change, 0 or more");
+  o.ftol_rel =
+      config.GetDoubleIn("ftol_rel", o.ftol_rel, 0, 1, "A relative cost change, 0 or more");
   o.max_evaluations = config.GetIntIn("max_evaluations", o.max_evaluations, 1, 100000000,
                                       "Allow at least one evaluation");
   o.initial_step = config.GetDoubleIn("initial_step", o.initial_step, 1e-12, 1e6,
