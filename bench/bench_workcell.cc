@@ -4,6 +4,8 @@
 //                      cross-validation (issue target: < 20 ms)
 //  BM_Identify/exp_a   2,500 captures, 3 cameras, 7,500 tool observations, static cameras
 //                      (issue target: < 500 ms)
+//  BM_Identify/<case>_plain_outlier_test   the same, outliers tested on the plain fit only
+//                      (`outliers: plain`): the robust first fit's cost is the difference
 //  BM_Solve/<solver>   the same assembled sim_b problem from the closed-form start, each solver
 #include <benchmark/benchmark.h>
 
@@ -39,11 +41,14 @@ const Loaded& Load(const std::string& job_file) {
   return it->second;
 }
 
-void BM_Identify(benchmark::State& state, const std::string& job_file) {
+void BM_Identify(benchmark::State& state, const std::string& job_file,
+                 OutlierTest outlier_test = OutlierTest::kRobust) {
   const Loaded& loaded = Load(job_file);
   const ConfigNode solver = ConfigNode::LoadString("type: ceres_lm", "bench");
+  WorkcellProblem problem = loaded.job.problem;
+  problem.outlier_test = outlier_test;
   for (auto _ : state) {
-    const WorkcellResult result = IdentifyWorkcell(loaded.job.problem, loaded.recording, [&] {
+    const WorkcellResult result = IdentifyWorkcell(problem, loaded.recording, [&] {
       return Registry::Global().CreateSolver("ceres_lm", solver);
     });
     benchmark::DoNotOptimize(result.frames.front().pose.t.x());
@@ -52,6 +57,14 @@ void BM_Identify(benchmark::State& state, const std::string& job_file) {
 BENCHMARK_CAPTURE(BM_Identify, sim_b, std::string("configs/jobs/vsb_sim_b.yaml"))
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Identify, exp_a, std::string("configs/jobs/vsb_exp_a_geometry.yaml"))
+    ->Unit(benchmark::kMillisecond);
+// The same with the outlier test on the plain fit only (outliers: plain): what the robust first
+// fit costs (outliers.h).
+BENCHMARK_CAPTURE(BM_Identify, sim_b_plain_outlier_test,
+                  std::string("configs/jobs/vsb_sim_b.yaml"), OutlierTest::kPlain)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Identify, exp_a_plain_outlier_test,
+                  std::string("configs/jobs/vsb_exp_a_geometry.yaml"), OutlierTest::kPlain)
     ->Unit(benchmark::kMillisecond);
 
 void BM_Solve(benchmark::State& state, const std::string& solver_yaml) {

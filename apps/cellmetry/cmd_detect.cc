@@ -13,7 +13,9 @@ void AddDetectCommand(CLI::App& app, Context& context) {
   static std::string job_path;
   static int limit = 0;
   cmd->add_option("job", job_path, "detect job (YAML, job: detect)")->required();
-  cmd->add_option("--limit", limit, "stop after this many new images (the next run continues)");
+  cmd->add_option("--limit", limit,
+                  "stop after this many new images (the next run continues; 0: no limit)")
+      ->check(CLI::Range(0, 1000000000));
   cmd->callback([&context] {
     Progress::SetQuiet(context.quiet);
     LoadPlugins(context);

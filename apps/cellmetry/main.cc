@@ -3,6 +3,7 @@
 // Exit codes: 0 success, 2 bad input (InputError: file:line:column: error: what. hint),
 // 1 anything else (a bug: please report it).
 #include <cstdio>
+#include <filesystem>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
@@ -14,8 +15,45 @@ namespace cellmetry::app {
 void LoadPlugins(const Context& context) {
   Registry& registry = Registry::Global();
   registry.LoadDefaultFolders(context.executable);
-  for (const auto& folder : context.plugin_paths) registry.LoadFolder(folder);
+  for (const auto& folder : context.plugin_paths) {
+    // A mistyped folder loaded nothing without a word; the job then failed on an "unknown"
+    // plugin type far from the cause, or ran without the plugin meant.
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec)) {
+      throw InputError({"--plugin-path", 0, 0}, "no plugin folder at '" + folder + "'",
+                       "Point --plugin-path at the folder that holds the plugin libraries");
+    }
+    registry.LoadFolder(folder);
+  }
 }
+
+namespace {
+
+// CLI11 answers an unknown command word with "A subcommand is required": name the word. (Only
+// when no word is a command: --plugin-path takes any number of folders.)
+void RefuseUnknownCommand(const CLI::App& cli, int argc, char** argv) {
+  std::string known, unknown;
+  for (const CLI::App* sub : cli.get_subcommands({})) {
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+  }
+  bool after_plugin_path = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    for (const CLI::App* sub : cli.get_subcommands({})) {
+      if (sub->get_name() == word) return;
+    }
+    if (!word.empty() && word[0] == '-') {
+      after_plugin_path = word == "--plugin-path";
+    } else if (!after_plugin_path && unknown.empty()) {
+      unknown = word;
+    }
+  }
+  if (unknown.empty()) return;
+  throw InputError({"cellmetry", 0, 0}, "'" + unknown + "' is not a cellmetry command",
+                   "Use one of: " + known);
+}
+
+}  // namespace
 
 }  // namespace cellmetry::app
 
@@ -41,6 +79,7 @@ int main(int argc, char** argv) {
   app::AddImportCommand(cli, context);
   app::AddPluginsCommand(cli, context);
   try {
+    app::RefuseUnknownCommand(cli, argc, argv);
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = cli.exit(e);

@@ -190,6 +190,16 @@ CameraModel ReadCameraModel(const ConfigNode& root) {
                                    "Use static_cameras or per_frame");
 }
 
+// `outliers: robust | plain | off` (outliers.h).
+OutlierTest ReadOutlierTest(const ConfigNode& root) {
+  const std::string name = root.GetString("outliers", "robust");
+  if (name == "robust") return OutlierTest::kRobust;
+  if (name == "plain") return OutlierTest::kPlain;
+  if (name == "off") return OutlierTest::kOff;
+  throw root["outliers"].Error("unknown outlier test '" + name + "'",
+                               "Use robust (the default), plain or off");
+}
+
 // `residual: cartesian | joint_space`; joint space where every robot has inverse kinematics.
 ResidualForm ReadResidual(const ConfigNode& root, const WorkcellProblem& problem) {
   const std::string name = root.GetString("residual", "cartesian");
@@ -341,7 +351,8 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   if (problem->folds == 1) {
     throw v["folds"].Error("one fold holds nothing out", "0 turns cross-validation off; 5 is usual");
   }
-  problem->seed = static_cast<unsigned>(v.GetInt("seed", 1));
+  problem->seed = static_cast<unsigned>(
+      v.GetIntIn("seed", 1, 0, 2147483647, "A seed is a whole number, 0 or more"));
   problem->compare_camera_models = v.GetBool("compare_camera_models", false);
 }
 
@@ -368,7 +379,7 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
                    "plugin_paths", "world_target", "camera_model", "residual",
                    "use_tool_rotation", "robots", "cameras", "noise", "solver", "validation",
                    "identifiability_tolerance", "weak_vif", "effects", "gravity_base",
-                   "uncertain_inputs", "diagnosis", "homing"});
+                   "uncertain_inputs", "diagnosis", "homing", "outliers"});
   CheckKind(root["job"]);
   WorkcellJob job;
   job.file = path;
@@ -391,6 +402,7 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
       root.Has("world_target") ? root["world_target"].location() : root.location();
   problem.camera_model = ReadCameraModel(root);
   ReadOptions(root, &problem);
+  problem.outlier_test = ReadOutlierTest(root);
   if (root.Has("noise") && root["noise"].Has("cameras")) {
     for (const auto& camera : root["noise"]["cameras"].Keys()) {
       job.locations["noise.cameras." + camera] = root["noise"]["cameras"][camera].location();
@@ -400,7 +412,12 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
   if (root.Has("uncertain_inputs")) {
     ReadUncertainInputs(root["uncertain_inputs"], registry, &problem);
   }
-  if (root.Has("cameras")) problem.cameras = ReadCameras(root["cameras"]);
+  if (root.Has("cameras")) {
+    problem.cameras = ReadCameras(root["cameras"]);
+    for (const auto& camera : root["cameras"].Keys()) {
+      job.locations["cameras." + camera] = root["cameras"][camera].location();
+    }
+  }
   problem.residual = ReadResidual(root, problem);
   if (root.Has("homing")) job.homing = root["homing"];
   if (job.kind == "homing" && !root.Has("solver")) return job;
@@ -425,6 +442,14 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
     if (recording.HasCamera(camera)) continue;
     throw InputError(job.Where("noise.cameras." + camera),
                      "camera '" + camera + "' under noise: is not in the recording " +
+                         recording.folder,
+                     "Name the cameras as recording.yaml does");
+  }
+  // A start or free flags for a camera the recording lacks were ignored without a word.
+  for (const auto& [camera, settings] : job.problem.cameras) {
+    if (recording.HasCamera(camera)) continue;
+    throw InputError(job.Where("cameras." + camera),
+                     "camera '" + camera + "' under cameras: is not in the recording " +
                          recording.folder,
                      "Name the cameras as recording.yaml does");
   }

@@ -14,6 +14,7 @@ namespace cellmetry {
 namespace {
 
 constexpr double kGrossSigmas = 10.0;
+constexpr size_t kMinGroupRows = 10;
 
 double Median(std::vector<double> values) {
   if (values.empty()) return 0.0;
@@ -24,22 +25,29 @@ double Median(std::vector<double> values) {
 
 }  // namespace
 
+std::vector<double> RobustScales(const std::vector<ResidualRow>& rows) {
+  // The scale per camera, target and kind: a world board's repeated views scatter far less than
+  // a carried board's, and one scale for both flags every carried observation.
+  using Group = std::tuple<std::string, std::string, std::string>;
+  std::map<Group, std::vector<double>> groups;
+  for (const auto& row : rows) {
+    groups[{row.camera, row.target, row.kind}].push_back(row.normalized.squaredNorm());
+  }
+  std::map<Group, double> scale;
+  for (const auto& [key, values] : groups) {
+    // Too few rows for a scale of their own: not tested.
+    scale[key] = values.size() < kMinGroupRows ? 0.0 : Median(values) / ChiSquareQuantile(0.5, 3);
+  }
+  std::vector<double> out;
+  out.reserve(rows.size());
+  for (const auto& row : rows) out.push_back(scale.at({row.camera, row.target, row.kind}));
+  return out;
+}
+
 std::vector<Outlier> FindOutliers(const std::vector<ResidualRow>& rows, const Recording& recording,
                                   double alpha) {
   std::vector<Outlier> out;
-  // The scale per camera, target and kind: a world board's repeated views scatter far less than
-  // a carried board's, and one scale for both flags every carried observation.
-  std::map<std::tuple<std::string, std::string, std::string>, std::vector<double>> groups;
-  std::vector<double> q;
-  for (const auto& row : rows) {
-    q.push_back(row.normalized.squaredNorm());
-    groups[{row.camera, row.target, row.kind}].push_back(q.back());
-  }
-  std::map<std::tuple<std::string, std::string, std::string>, double> scale;
-  for (const auto& [key, values] : groups) {
-    // Too few rows for a scale of their own: not tested.
-    scale[key] = values.size() < 10 ? 0.0 : Median(values) / ChiSquareQuantile(0.5, 3);
-  }
+  const std::vector<double> scale = RobustScales(rows);
   // Gross: beyond chance (Bonferroni) and beyond kGrossSigmas robust standard deviations on
   // every axis together; real recordings' residuals are heavy-tailed where the model is short
   // (exp_a, sim_b), and chance alone flagged a quarter of sim_b's observations.
@@ -48,9 +56,8 @@ std::vector<Outlier> FindOutliers(const std::vector<ResidualRow>& rows, const Re
                3.0 * kGrossSigmas * kGrossSigmas);
   for (size_t i = 0; i < rows.size(); ++i) {
     const ResidualRow& row = rows[i];
-    const double s = scale.at({row.camera, row.target, row.kind});
-    if (!(s > 0.0)) continue;
-    const double score = q[i] / s;
+    if (!(scale[i] > 0.0)) continue;
+    const double score = row.normalized.squaredNorm() / scale[i];
     if (score <= threshold) continue;
     const Observation& obs = recording.observations[row.observation];
     out.push_back({obs.line, row.sample, row.camera, row.target, row.kind, score, threshold});

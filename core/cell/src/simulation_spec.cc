@@ -53,7 +53,9 @@ void ReadPoses(const ConfigNode& poses, std::mt19937& rng, SimulatedRobot* robot
     if (set.count < 1) throw poses["count"].Error("must be at least 1");
     set.camera = poses.GetString("camera", "");
     robot->pose_set = set;
-    spec->noise_seed = static_cast<unsigned>(poses.GetInt("seed", static_cast<int>(spec->seed) + 1));
+    spec->noise_seed = static_cast<unsigned>(poses.GetIntIn(
+        "seed", static_cast<int>(spec->seed) + 1, 0, 2147483647,
+        "A seed is a whole number, 0 or more"));
     if (poses.Has("repeats")) spec->repeats = poses["repeats"].AsInt();
     return;
   }
@@ -73,6 +75,14 @@ void ReadPoses(const ConfigNode& poses, std::mt19937& rng, SimulatedRobot* robot
   const int n = robot->model->num_joints();
   const auto lower = poses.Has("lower") ? poses["lower"].AsDoubles(n) : std::vector<double>(n, -M_PI);
   const auto upper = poses.Has("upper") ? poses["upper"].AsDoubles(n) : std::vector<double>(n, M_PI);
+  // uniform_real_distribution(a, b) with a > b is undefined: it drew poses outside both.
+  for (int j = 0; j < n; ++j) {
+    if (lower[j] > upper[j]) {
+      throw poses["lower"].Elements()[static_cast<size_t>(j)].Error(
+          "joint " + std::to_string(j + 1) + "'s lower limit is above its upper limit",
+          "Give lower <= upper for every joint");
+    }
+  }
   for (int i = 0; i < count; ++i) {
     std::vector<double> q(n);
     for (int j = 0; j < n; ++j) q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);
@@ -161,21 +171,29 @@ void ReadCameras(const ConfigNode& cameras, WorkcellSimulationSpec* spec) {
   }
 }
 
+// A standard deviation is 0 (a noise-free simulation) or more; a negative one was taken as
+// its absolute value without a word.
+Eigen::Vector3d ReadSigma(const ConfigNode& node) {
+  const auto v = node.AsDoubles(3);
+  for (size_t i = 0; i < 3; ++i) {
+    if (v[i] < 0) {
+      throw node.Elements()[i].Error("a standard deviation cannot be negative",
+                                     "Give the noise's scatter, 0 or more");
+    }
+  }
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
 void ReadNoise(const ConfigNode& noise, WorkcellSimulationSpec* spec) {
   noise.ExpectKeys({"position_mm", "rotation_rad"});
-  if (noise.Has("position_mm")) {
-    const auto v = noise["position_mm"].AsDoubles(3);
-    spec->sigma_position_mm = Eigen::Vector3d(v[0], v[1], v[2]);
-  }
-  if (noise.Has("rotation_rad")) {
-    const auto v = noise["rotation_rad"].AsDoubles(3);
-    spec->sigma_rotation_rad = Eigen::Vector3d(v[0], v[1], v[2]);
-  }
+  if (noise.Has("position_mm")) spec->sigma_position_mm = ReadSigma(noise["position_mm"]);
+  if (noise.Has("rotation_rad")) spec->sigma_rotation_rad = ReadSigma(noise["rotation_rad"]);
 }
 
 void ReadTimeline(const ConfigNode& t, SimulatedTimeline* timeline) {
   t.ExpectKeys({"seconds_per_sample", "temperature_start_c", "temperature_end_c"});
-  timeline->seconds_per_sample = t.GetDouble("seconds_per_sample", 0.0);
+  timeline->seconds_per_sample = t.GetDoubleIn("seconds_per_sample", 0.0, 0.0, 1e7,
+                                               "The time between captures, 0 s or more");
   if (t.Has("temperature_start_c")) timeline->temperature_start_c = t["temperature_start_c"].AsDouble();
   if (t.Has("temperature_end_c")) timeline->temperature_end_c = t["temperature_end_c"].AsDouble();
 }
@@ -216,7 +234,8 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
                                    "docs/formats.md)");
   }
   WorkcellSimulationSpec spec;
-  spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
+  spec.seed = static_cast<unsigned>(
+      root.GetIntIn("seed", 1, 0, 2147483647, "A seed is a whole number, 0 or more"));
   spec.noise_seed = spec.seed;
   spec.repeats = root.GetIntIn("repeats", 1, 1, 1000, "Captures per commanded pose");
   if (root.Has("gravity_base")) {  // m/s^2 in every base frame (a robot on a wall: not -z)

@@ -14,6 +14,8 @@
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/workcell_initial.h"
 #include "fit_once.h"
+#include "residual_rows.h"
+#include "robust_first_fit.h"
 #include "input_uncertainty.h"
 #include "uncertainty_split.h"
 
@@ -43,30 +45,6 @@ std::set<std::string> Names(const std::vector<UnidentifiableParameter>& list) {
 
 bool IsCarried(const Recording& recording, const std::string& target) {
   return recording.targets.at(target) != kWorldCarrier;
-}
-
-// Residuals in the measurement's units (mm / rad), one row per measurement block.
-std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled) {
-  Problem& problem = assembled.problem;
-  Eigen::VectorXd r;
-  problem.Evaluate(nullptr, &r, nullptr, false);
-  std::vector<ResidualRow> rows;
-  const auto& infos = problem.residual_infos();
-  for (size_t b = 0; b < infos.size(); ++b) {
-    const ResidualInfo& info = infos[b];
-    if (info.kind == ResidualInfo::Kind::kPrior) continue;
-    ResidualRow row;
-    row.observation = info.observation;
-    row.sample = info.sample;
-    row.pose = info.pose;
-    row.camera = info.camera;
-    row.target = info.target;
-    row.kind = info.kind == ResidualInfo::Kind::kPosition ? "position" : "rotation";
-    row.normalized = r.segment<3>(problem.residual_rows()[b]);
-    row.error = row.normalized.cwiseProduct(info.sigma);
-    rows.push_back(row);
-  }
-  return rows;
 }
 
 // Prediction - measurement rows at `estimate`, in the measurement's units (mm / rad), whatever
@@ -355,6 +333,7 @@ void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording
                          const SolverMaker& make_solver, WorkcellResult* result) {
   WorkcellProblem other = spec;
   other.compare_camera_models = false;
+  other.outlier_test = OutlierTest::kPlain;  // `recording` is already without the robust fit's
   other.camera_model = spec.camera_model == CameraModel::kStaticCameras
                            ? CameraModel::kPerFrame
                            : CameraModel::kStaticCameras;
@@ -413,12 +392,27 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
 
 WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                 const SolverMaker& make_solver) {
-  WorkcellResult result = IdentifyOnce(spec, recording, make_solver);
-  // Gross outliers (outliers.h): left out and the cell identified again, twice at most (what
-  // the first ones masked shows in the second pass). Clean data: the first answer, untouched.
+  // Gross outliers (outliers.h): those a robust first fit finds are left out before the plain
+  // fit; then what the plain fit's own residuals show, left out and the cell identified again,
+  // twice at most (what the first ones masked shows in the second pass). Clean data: the plain
+  // answer, untouched.
+  StageClock clock;
   std::vector<Outlier> outliers;
-  Recording kept = recording;
-  for (int pass = 0; pass < 2; ++pass) {
+  if (spec.outlier_test == OutlierTest::kRobust) {
+    outliers = FindOutliersByRobustFit(spec, recording, make_solver);
+    clock.Lap("robust_first_fit");
+  }
+  if (!outliers.empty()) {
+    Progress::Note(std::to_string(outliers.size()) + " residual rows of a robust fit fail the "
+                   "outlier test; fitting without their observations");
+  }
+  Recording kept = outliers.empty() ? Recording{} : WithoutOutliers(recording, outliers);
+  const Recording& first = outliers.empty() ? recording : kept;
+  WorkcellResult result = IdentifyOnce(spec, first, make_solver);
+  result.stages.insert(result.stages.begin(), clock.stages().begin(), clock.stages().end());
+  if (outliers.empty()) kept = recording;
+  const int passes = spec.outlier_test == OutlierTest::kOff ? 0 : 2;
+  for (int pass = 0; pass < passes; ++pass) {
     const std::vector<Outlier> found = FindOutliers(result.residuals, kept);
     if (found.empty()) break;
     Progress::Note(std::to_string(found.size()) + " residual rows fail the outlier test; "

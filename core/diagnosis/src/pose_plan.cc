@@ -3,6 +3,7 @@
 #include "cellmetry/diagnosis/pose_plan.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -259,6 +260,17 @@ std::vector<int> Targets(const Jacobian& jac, const std::vector<CandidateEffect>
   std::vector<int> every_row = recorded_rows;
   every_row.insert(every_row.end(), draw_rows.begin(), draw_rows.end());
   std::vector<int> out;
+  // A name no candidate has planned for nothing and said so nowhere (exit 0).
+  std::string known;
+  for (const auto& c : candidates) known += (known.empty() ? "" : ", ") + c.effect.name;
+  for (const std::string& name : options.effects) {
+    const bool found = std::any_of(candidates.begin(), candidates.end(),
+                                   [&](const CandidateEffect& c) { return c.effect.name == name; });
+    if (!found) {
+      throw InputError({"--effect", 0, 0}, "no candidate effect '" + name + "'",
+                       "Name one of: " + known);
+    }
+  }
   for (size_t c = 0; c < candidates.size(); ++c) {
     const auto& named = options.effects;
     if (!named.empty()) {

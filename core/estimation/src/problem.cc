@@ -100,6 +100,12 @@ void Problem::AddResidual(std::unique_ptr<ceres::CostFunction> cost, std::vector
 void Problem::SetRobustLoss(RobustLossKind kind, double scale) {
   loss_kind_ = kind;
   loss_scale_ = scale;
+  loss_whitened_scale_.clear();
+}
+
+void Problem::SetWhitenedRobustLoss(RobustLossKind kind, std::vector<double> whitened_scale) {
+  loss_kind_ = kind;
+  loss_whitened_scale_ = std::move(whitened_scale);
 }
 
 void Problem::Build() {
@@ -130,9 +136,13 @@ void Problem::Build() {
 
   for (size_t i = 0; i < residuals_.size(); ++i) {
     ceres::LossFunction* loss = nullptr;
-    if (loss_kind_ != RobustLossKind::kNone) {
-      const double sigma = infos_[i].sigma.norm() / std::sqrt(3.0);
-      const double scale = loss_scale_ / sigma;
+    double scale = 0.0;
+    if (loss_whitened_scale_.empty()) {
+      scale = loss_scale_ / (infos_[i].sigma.norm() / std::sqrt(3.0));
+    } else if (i < loss_whitened_scale_.size()) {
+      scale = loss_whitened_scale_[i];
+    }
+    if (loss_kind_ != RobustLossKind::kNone && std::isfinite(scale) && scale > 0.0) {
       if (loss_kind_ == RobustLossKind::kHuber) {
         losses_.push_back(std::make_unique<ceres::HuberLoss>(scale));
       } else {

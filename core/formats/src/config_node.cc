@@ -3,6 +3,7 @@
 #include "cellmetry/formats/config_node.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -37,7 +38,11 @@ std::string Describe(const YAML::Node& node) {
   if (!node || node.IsNull()) return "nothing";
   if (node.IsMap()) return "a map";
   if (node.IsSequence()) return "a list";
-  return "'" + node.Scalar() + "'";
+  // A whole CSV given as a YAML file is one scalar: quoted in full it made a line of kilobytes.
+  const std::string& text = node.Scalar();
+  if (text.size() > 60) return "'" + text.substr(0, 40) + "...' (" + std::to_string(text.size()) +
+                               " characters)";
+  return "'" + text + "'";
 }
 
 }  // namespace
@@ -56,6 +61,13 @@ std::string NearestWord(const std::string& word, const std::vector<std::string>&
 }
 
 ConfigNode ConfigNode::LoadFile(const std::string& path) {
+  // A folder opens as a stream on Linux and reads as nothing: "expected a map of keys, got
+  // nothing" left the user guessing.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError({path, 0, 0}, "is a folder, not a YAML file",
+                     "Give the path of the YAML file itself");
+  }
   std::ifstream in(path);
   if (!in) {
     throw InputError({path, 0, 0}, "cannot open file",
@@ -182,11 +194,16 @@ std::vector<ConfigNode> ConfigNode::Elements() const {
 }
 
 void ConfigNode::ExpectMap() const {
-  if (!node_.IsMap()) throw Error("expected a map of keys, got " + Describe(node_));
+  if (!node_.IsMap()) {
+    throw Error("expected a map of keys, got " + Describe(node_),
+                "Write 'key: value' lines here (docs/formats.md lists each file's keys)");
+  }
 }
 
 void ConfigNode::ExpectSequence() const {
-  if (!node_.IsSequence()) throw Error("expected a list, got " + Describe(node_));
+  if (!node_.IsSequence()) {
+    throw Error("expected a list, got " + Describe(node_), "Write a list in brackets: [a, b, c]");
+  }
 }
 
 void ConfigNode::ExpectKeys(const std::vector<std::string>& allowed) const {
@@ -226,7 +243,7 @@ int ConfigNode::AsInt() const {
 bool ConfigNode::AsBool() const {
   bool value = false;
   if (!node_.IsScalar() || !YAML::convert<bool>::decode(node_, value)) {
-    throw Error("expected true or false, got " + Describe(node_));
+    throw Error("expected true or false, got " + Describe(node_), "Write true or false");
   }
   return value;
 }
@@ -240,7 +257,8 @@ std::vector<double> ConfigNode::AsDoubles(std::optional<size_t> expected_size) c
   ExpectSequence();
   if (expected_size && node_.size() != *expected_size) {
     throw Error("expected a list of " + std::to_string(*expected_size) + " numbers, got " +
-                std::to_string(node_.size()));
+                    std::to_string(node_.size()),
+                "Give " + std::to_string(*expected_size) + " numbers in brackets");
   }
   std::vector<double> values;
   for (const auto& element : Elements()) values.push_back(element.AsDouble());

@@ -8,8 +8,10 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 #include <unordered_map>
 
 #include "cellmetry/formats/atomic_file.h"
@@ -72,6 +74,13 @@ void ReadHeader(const std::string& path, Recording* recording, Units* units) {
     recording->robots[name] = joints;
   }
   recording->cameras = root["cameras"].AsStrings();
+  for (size_t i = 1; i < recording->cameras.size(); ++i) {
+    const auto end = recording->cameras.begin() + static_cast<long>(i);
+    if (std::find(recording->cameras.begin(), end, recording->cameras[i]) != end) {
+      throw root["cameras"].Elements()[i].Error(
+          "camera '" + recording->cameras[i] + "' is listed twice", "List each camera once");
+    }
+  }
   const ConfigNode targets = root["targets"];
   for (const auto& name : targets.Keys()) {
     const ConfigNode target = targets[name];
@@ -168,6 +177,8 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
                             table.HasColumn("rz");
   std::set<int> sample_ids;
   for (const auto& s : recording->samples) sample_ids.insert(s.id);
+  // A row given twice weighs twice in the fit, without a word (found by test_bad_input).
+  std::map<std::tuple<int, std::string, std::string>, int> first_line;
   for (size_t row = 0; row < table.num_rows(); ++row) {
     Observation obs;
     obs.line = table.line_of(row);
@@ -185,6 +196,15 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
     if (!recording->targets.count(obs.target)) {
       throw table.Error(row, "target", "unknown target '" + obs.target + "'",
                         "List it under 'targets' in recording.yaml");
+    }
+    const auto [first, fresh] =
+        first_line.insert({{obs.sample, obs.camera, obs.target}, obs.line});
+    if (!fresh) {
+      throw table.Error(row, "target",
+                        "target '" + obs.target + "' in sample " + std::to_string(obs.sample) +
+                            " by camera '" + obs.camera + "' was already given on line " +
+                            std::to_string(first->second),
+                        "Keep one row per sample, camera and target");
     }
     obs.position_mm = Eigen::Vector3d(Within(table, row, "x", kMaxPositionMm / units.to_mm),
                                       Within(table, row, "y", kMaxPositionMm / units.to_mm),

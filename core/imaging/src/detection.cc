@@ -293,6 +293,12 @@ void ReadMultipleForm(const ConfigNode& root, Registry& registry, DetectJob* job
 
 DetectJob LoadDetectJob(const std::string& path, Registry& registry) {
   const ConfigNode root = ConfigNode::LoadFile(path);
+  // A workcell job given to `detect` was refused on its first key the detect job lacks.
+  if (root.Has("job") && root["job"].AsString() != "detect") {
+    throw root["job"].Error("not a detect job (job: " + root["job"].AsString() + ")",
+                            "Run it with the command its kind names; a detect job says "
+                            "job: detect");
+  }
   root.ExpectKeys({"job", "description", "recording", "detector", "target", "camera",
                    "origin_id", "targets", "cameras", "threads"});
   DetectJob job;
@@ -313,7 +319,7 @@ DetectJob LoadDetectJob(const std::string& path, Registry& registry) {
   } else {
     ReadMultipleForm(root, registry, &job);
   }
-  job.threads = root.GetInt("threads", 0);
+  job.threads = root.GetIntIn("threads", 0, 0, 1024, "0 uses every core; or give a count");
   return job;
 }
 

@@ -73,17 +73,25 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
   config.ExpectKeys({"type", "max_iterations", "function_tolerance", "gradient_tolerance",
                      "parameter_tolerance", "loss", "loss_scale", "threads", "linear_solver"});
   Options o;
-  o.max_iterations = config.GetInt("max_iterations", o.max_iterations);
-  o.function_tolerance = config.GetDouble("function_tolerance", o.function_tolerance);
-  o.gradient_tolerance = config.GetDouble("gradient_tolerance", o.gradient_tolerance);
-  o.parameter_tolerance = config.GetDouble("parameter_tolerance", o.parameter_tolerance);
-  o.threads = config.GetInt("threads", o.threads);
+  o.max_iterations = config.GetIntIn("max_iterations", o.max_iterations, 1, 1000000,
+                                     "Allow at least one iteration; 200 is the default");
+  // Ceres refuses a negative tolerance or thread count only inside Solve ("Invalid
+  // configuration"), after which the fit is the start, reported as an answer: refused here.
+  const std::string tolerance_hint = "A tolerance is a small non-negative number, e.g. 1e-14";
+  o.function_tolerance =
+      config.GetDoubleIn("function_tolerance", o.function_tolerance, 0, 1, tolerance_hint);
+  o.gradient_tolerance =
+      config.GetDoubleIn("gradient_tolerance", o.gradient_tolerance, 0, 1, tolerance_hint);
+  o.parameter_tolerance =
+      config.GetDoubleIn("parameter_tolerance", o.parameter_tolerance, 0, 1, tolerance_hint);
+  o.threads =
+      config.GetIntIn("threads", o.threads, 1, 1024, "Use 1 or more threads; 2 is the default");
   const std::string loss = config.GetString("loss", "none");
   if (loss == "huber") o.loss = RobustLossKind::kHuber;
   else if (loss == "cauchy") o.loss = RobustLossKind::kCauchy;
   else if (loss != "none") throw config["loss"].Error("unknown loss '" + loss + "'", "Use none, huber or cauchy");
-  o.loss_scale = config.GetDouble("loss_scale", o.loss_scale);
-  if (o.loss_scale <= 0) throw config["loss_scale"].Error("must be positive");
+  o.loss_scale = config.GetDoubleIn("loss_scale", o.loss_scale, 1e-12, 1e9,
+                                    "Give the residual size (mm) where the loss bends, above 0");
   const std::string linear = config.GetString("linear_solver", "sparse_normal_cholesky");
   if (linear == "dense_normal_cholesky") {
     o.linear_solver = ceres::DENSE_NORMAL_CHOLESKY;
@@ -96,7 +104,6 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
                                         "Use dense_qr, dense_normal_cholesky or "
                                         "sparse_normal_cholesky");
   }
-  if (o.max_iterations < 1) throw config["max_iterations"].Error("must be at least 1");
   return std::make_unique<CeresLm>(o);
 }
 

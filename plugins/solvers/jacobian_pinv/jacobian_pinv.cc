@@ -95,15 +95,17 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
   config.ExpectKeys({"type", "max_iterations", "max_step_mm", "max_step_rad", "step_tolerance",
                      "rcond"});
   Options o;
-  o.max_iterations = config.GetInt("max_iterations", o.max_iterations);
-  o.max_step_mm = config.GetDouble("max_step_mm", o.max_step_mm);
-  o.max_step_rad = config.GetDouble("max_step_rad", o.max_step_rad);
-  o.step_tolerance = config.GetDouble("step_tolerance", o.step_tolerance);
-  o.rcond = config.GetDouble("rcond", o.rcond);
-  if (o.max_iterations < 1) throw config["max_iterations"].Error("must be at least 1");
-  if (o.max_step_mm <= 0 || o.max_step_rad <= 0) {
-    throw config.Error("step limits must be positive");
-  }
+  o.max_iterations = config.GetIntIn("max_iterations", o.max_iterations, 1, 1000000,
+                                     "Allow at least one iteration; 100 is the default");
+  o.max_step_mm = config.GetDoubleIn("max_step_mm", o.max_step_mm, 1e-12, 1e9,
+                                     "The largest change of a length per iteration, above 0");
+  o.max_step_rad = config.GetDoubleIn("max_step_rad", o.max_step_rad, 1e-12, 1e3,
+                                      "The largest change of an angle per iteration, above 0");
+  o.step_tolerance = config.GetDoubleIn("step_tolerance", o.step_tolerance, 0, 1,
+                                        "A step in mm or rad below which the fit stops: 1e-10");
+  o.rcond = config.GetDoubleIn("rcond", o.rcond, 0, 0.5,
+                               "A relative singular value below which a direction is dropped: "
+                               "1e-12");
   return std::make_unique<JacobianPinv>(o);
 }
 

@@ -126,11 +126,17 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
                      "initial_step", "box"});
   Options o;
   o.algorithm = config.GetString("algorithm", o.algorithm);
-  o.xtol_abs = config.GetDouble("xtol_abs", o.xtol_abs);
-  o.ftol_rel = config.GetDouble("ftol_rel", o.ftol_rel);
-  o.max_evaluations = config.GetInt("max_evaluations", o.max_evaluations);
-  o.initial_step = config.GetDouble("initial_step", o.initial_step);
-  o.box = config.GetDouble("box", o.box);
+  // NLopt takes a negative tolerance or step without a word (and stops at once or never).
+  o.xtol_abs = config.GetDoubleIn("xtol_abs", o.xtol_abs, 0, 1e3,
+                                  "A step in sigma-scaled units, 0 or more: 1e-9");
+  o.ftol_rel =
+      config.GetDoubleIn("ftol_rel", o.ftol_rel, 0, 1, "A relative cost change, 0 or more");
+  o.max_evaluations = config.GetIntIn("max_evaluations", o.max_evaluations, 1, 100000000,
+                                      "Allow at least one evaluation");
+  o.initial_step = config.GetDoubleIn("initial_step", o.initial_step, 1e-12, 1e6,
+                                      "A first step in sigma-scaled units, above 0: 10");
+  o.box = config.GetDoubleIn("box", o.box, 1e-12, 1e12,
+                             "The search box's half-width in sigma-scaled units, above 0: 1e5");
   // By name over the valid algorithms: nlopt_algorithm_from_string answers an unknown name with
   // -1 in an nlopt_algorithm, a value the enum cannot hold (UBSan: invalid enum load), and the
   // compiler may then drop the `< 0` test that was to catch it.

@@ -40,6 +40,11 @@ std::string CameraModelName(CameraModel model);
 //    Jacobian at the start (W^T W = (J Sigma J^T)^-1), so both weigh the data alike. Needs a
 //    robot model with position inverse kinematics (a flange that only translates).
 enum class ResidualForm { kCartesian, kJointSpace };
+
+// How gross outliers are found (outliers.h; the job's `outliers:`). kRobust: a robust first
+// fit's rows are tested, then the plain fit's; kPlain: the plain fit's rows only (what 10 % of
+// gross errors hide from); kOff: every observation is kept.
+enum class OutlierTest { kRobust, kPlain, kOff };
 std::string ResidualFormName(ResidualForm form);
 
 struct WorkcellTool {
@@ -106,6 +111,7 @@ struct WorkcellProblem {
   int folds = 5;                         // k-fold cross-validation by pose (0 = off)
   unsigned seed = 1;                     // fold assignment
   bool compare_camera_models = false;    // also report the other observation model's held-out RMS
+  OutlierTest outlier_test = OutlierTest::kRobust;
   std::vector<WorkcellEffect> effects;   // none: the geometric model alone
   UncertainInputs uncertain_inputs;      // none: sigma from the data alone
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2 in every base frame

@@ -72,6 +72,11 @@ class Problem {
   // A robust loss on every measurement block; `scale` is in the measurement's unit (mm or rad)
   // and is divided by the block's RMS sigma to act on whitened residuals.
   void SetRobustLoss(RobustLossKind kind, double scale);
+  // A robust loss per measurement block, in whitened units: block i's loss bends where its
+  // whitened norm |r_i| reaches `whitened_scale[i]` (<= 0 or not finite: no loss on that
+  // block). What a fit that must not be pulled by gross errors needs when blocks of one kind
+  // scatter differently (outliers.h). Replaced by, and replaces, SetRobustLoss's.
+  void SetWhitenedRobustLoss(RobustLossKind kind, std::vector<double> whitened_scale);
 
   void Build();
   ceres::Problem& ceres_problem() { return *ceres_problem_; }
@@ -120,6 +125,7 @@ class Problem {
   int num_residuals_ = 0;
   RobustLossKind loss_kind_ = RobustLossKind::kNone;
   double loss_scale_ = 1.0;
+  std::vector<double> loss_whitened_scale_;  // per measurement block; empty: loss_scale_
   int num_measurement_residuals_ = 0;
 };
 

@@ -1,0 +1,29 @@
+// A fitted cell's residual rows (residual_rows.h).
+#include "residual_rows.h"
+
+namespace cellmetry {
+
+std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled) {
+  Problem& problem = assembled.problem;
+  Eigen::VectorXd r;
+  problem.Evaluate(nullptr, &r, nullptr, false);
+  std::vector<ResidualRow> rows;
+  const auto& infos = problem.residual_infos();
+  for (size_t b = 0; b < infos.size(); ++b) {
+    const ResidualInfo& info = infos[b];
+    if (info.kind == ResidualInfo::Kind::kPrior) continue;
+    ResidualRow row;
+    row.observation = info.observation;
+    row.sample = info.sample;
+    row.pose = info.pose;
+    row.camera = info.camera;
+    row.target = info.target;
+    row.kind = info.kind == ResidualInfo::Kind::kPosition ? "position" : "rotation";
+    row.normalized = r.segment<3>(problem.residual_rows()[b]);
+    row.error = row.normalized.cwiseProduct(info.sigma);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace cellmetry

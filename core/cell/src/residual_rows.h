@@ -1,0 +1,17 @@
+// A fitted cell's residual rows (internal to the cell layer): one row per measurement block,
+// in the measurement's units (mm / rad) and whitened, in the Problem's block order (the
+// measurement blocks come before any prior). What the residual statistics, the unknown-sigma
+// estimate and the outlier test (outliers.h) read.
+#pragma once
+
+#include <vector>
+
+#include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/cell/workcell_result.h"
+
+namespace cellmetry {
+
+// The rows at the problem's current values, without the robust loss.
+std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled);
+
+}  // namespace cellmetry
