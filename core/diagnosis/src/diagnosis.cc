@@ -307,6 +307,29 @@ class Diagnoser {
       : recording_(recording), make_solver_(make_solver), candidates_(candidates),
         options_(options), noise_(noise), data_(data), n_poses_(CountPoses(recording)) {}
 
+  // A candidate's finding from its score test; untestable (and why) where the recording lacks
+  // its facts, it does not act (`silent`: its columns are zero) or the geometry absorbs it.
+  CandidateFinding Finding(const CandidateEffect& c, const ScoreTest& test, bool silent) const {
+    CandidateFinding f;
+    f.name = c.effect.name;
+    f.label = c.label;
+    f.unabsorbed = test.unabsorbed;
+    f.dof = test.dof;
+    f.score = test.statistic;
+    f.p_holm = test.p_value;
+    const std::string missing = MissingFacts(c.effect.effect->needs(), data_.facts);
+    if (!missing.empty() || test.unabsorbed < options_.min_unabsorbed || test.dof == 0) {
+      f.testable = false;
+      f.untestable_because =
+          !missing.empty() ? std::string("not in this recording or robot model")
+          : silent ? "it does not act on these poses"
+                   : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
+                         " % of its signature is absorbed by the geometry";
+      f.data_needed = !missing.empty() ? missing : c.data_hint;
+    }
+    return f;
+  }
+
   // Linearizes the current model once, scores every candidate not `done`; untestable ones go
   // to `untestable` and join `done`.
   ScoredRound Score(const Fitted& current, std::set<std::string>* done,
@@ -341,31 +364,14 @@ class Diagnoser {
       bases[i] = OrthonormalBasis(unabsorbed);
     });
     for (size_t i = 0; i < open.size(); ++i) {
-      const CandidateEffect& c = *open[i];
-      const ScoreTest& test = tests[i];
-      CandidateFinding f;
-      f.name = c.effect.name;
-      f.label = c.label;
-      f.unabsorbed = test.unabsorbed;
-      f.dof = test.dof;
-      f.score = test.statistic;
-      f.p_holm = test.p_value;
-      const std::string missing = MissingFacts(c.effect.effect->needs(), data_.facts);
-      if (!missing.empty() || test.unabsorbed < options_.min_unabsorbed || test.dof == 0) {
-        f.testable = false;
-        f.untestable_because =
-            !missing.empty() ? std::string("not in this recording or robot model")
-            : signatures[i].norm() == 0.0
-                ? "it does not act on these poses"
-                : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
-                      " % of its signature is absorbed by the geometry";
-        f.data_needed = !missing.empty() ? missing : c.data_hint;
+      CandidateFinding f = Finding(*open[i], tests[i], signatures[i].norm() == 0.0);
+      if (!f.testable) {
         untestable->push_back(f);
-        done->insert(c.effect.name);
+        done->insert(open[i]->effect.name);
         continue;
       }
       s.round.candidates.push_back(f);
-      s.testable.push_back(&c);
+      s.testable.push_back(open[i]);
       s.signatures.push_back(std::move(signatures[i]));
       s.unabsorbed_bases.push_back(std::move(bases[i]));
     }
