@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/model/robot_model.h"
 
 namespace cellmetry {
 
@@ -50,6 +51,30 @@ CandidateLinearization LinearizeWithCandidate(const WorkcellProblem& spec,
   return out;
 }
 
+namespace {
+
+// Candidates evaluated together: as many as fill one pass of the cell's Jet costs (an
+// automatic-differentiation cost evaluates its chain once per kJetStride parameters asked for,
+// so a group costs what its members would together, and its Jacobian stays small).
+constexpr int kColumnsPerGroup = kJetStride;
+
+// Groups of consecutive candidates (indices) whose free parameters fit one pass.
+std::vector<std::vector<size_t>> PassGroups(const std::vector<int>& free_per_candidate) {
+  std::vector<std::vector<size_t>> groups;
+  int filled = kColumnsPerGroup;
+  for (size_t k = 0; k < free_per_candidate.size(); ++k) {
+    if (groups.empty() || filled + free_per_candidate[k] > kColumnsPerGroup) {
+      groups.emplace_back();
+      filled = 0;
+    }
+    groups.back().push_back(k);
+    filled += free_per_candidate[k];
+  }
+  return groups;
+}
+
+}  // namespace
+
 std::vector<Eigen::MatrixXd> CandidateColumns(const WorkcellProblem& spec,
                                               const std::vector<WorkcellEffect>& candidates,
                                               const Recording& recording,
@@ -64,33 +89,37 @@ std::vector<Eigen::MatrixXd> CandidateColumns(const WorkcellProblem& spec,
     throw std::logic_error("CandidateColumns: fewer rows than the current model's");
   }
   const size_t first = spec.effects.size();  // the candidates' blocks follow the model's effects
-  std::vector<int> blocks;
-  for (size_t k = 0; k < candidates.size(); ++k) blocks.push_back(assembled->effect_block[first + k]);
-  SparseJacobian J;
-  std::vector<int> columns;
-  if (!problem.EvaluateSparseColumns(blocks, &J, &columns)) {
-    throw std::runtime_error("the candidates' Jacobian cannot be evaluated at the estimate");
-  }
-  // Each candidate's columns, in the order of its free parameters.
   std::map<int, size_t> candidate_of_block;
-  for (size_t k = 0; k < blocks.size(); ++k) candidate_of_block[blocks[k]] = k;
-  std::vector<std::vector<int>> own(candidates.size());  // columns of J per candidate
-  for (size_t c = 0; c < columns.size(); ++c) {
-    own[candidate_of_block.at(problem.free_parameters()[columns[c]].block)].push_back(c);
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    candidate_of_block[assembled->effect_block[first + k]] = k;
   }
-  std::vector<int> at(columns.size());  // column of J -> column in its candidate's matrix
+  std::vector<int> free_per_candidate(candidates.size(), 0);
+  for (const auto& p : problem.free_parameters()) {
+    const auto k = candidate_of_block.find(p.block);
+    if (k != candidate_of_block.end()) ++free_per_candidate[k->second];
+  }
   std::vector<Eigen::MatrixXd> out(candidates.size());
   for (size_t k = 0; k < candidates.size(); ++k) {
-    out[k] = Eigen::MatrixXd::Zero(rows, static_cast<Eigen::Index>(own[k].size()));
-    for (size_t i = 0; i < own[k].size(); ++i) at[own[k][i]] = static_cast<int>(i);
+    out[k] = Eigen::MatrixXd::Zero(rows, free_per_candidate[k]);
   }
-  std::vector<size_t> candidate_of_column(columns.size());
-  for (size_t k = 0; k < own.size(); ++k) {
-    for (int c : own[k]) candidate_of_column[c] = k;
-  }
-  for (Eigen::Index row = 0; row < rows; ++row) {
-    for (SparseJacobian::InnerIterator it(J, row); it; ++it) {
-      out[candidate_of_column[it.col()]](row, at[it.col()]) = it.value();
+  for (const auto& group : PassGroups(free_per_candidate)) {
+    std::vector<int> blocks;
+    for (size_t k : group) blocks.push_back(assembled->effect_block[first + k]);
+    SparseJacobian J;
+    std::vector<int> columns;  // free-parameter order: each candidate's own, in order
+    if (!problem.EvaluateSparseColumns(blocks, &J, &columns)) {
+      throw std::runtime_error("the candidates' Jacobian cannot be evaluated at the estimate");
+    }
+    std::vector<std::pair<size_t, int>> target(columns.size());  // candidate, its column
+    std::vector<int> filled(candidates.size(), 0);
+    for (size_t c = 0; c < columns.size(); ++c) {
+      const size_t k = candidate_of_block.at(problem.free_parameters()[columns[c]].block);
+      target[c] = {k, filled[k]++};
+    }
+    for (Eigen::Index row = 0; row < rows; ++row) {
+      for (SparseJacobian::InnerIterator it(J, row); it; ++it) {
+        out[target[it.col()].first](row, target[it.col()].second) = it.value();
+      }
     }
   }
   return out;
@@ -221,29 +250,36 @@ Eigen::MatrixXd Stack(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
   return A;
 }
 
-// Per pose, Q_p^T Q_p of its rows of Q and the squared norms of its rows' part of each column
-// of A (which columns a resample supports at all); `fixed`: the rows of no pose.
+// The cross products of A = [J_model, candidates, r] per pose, through A = Q R: per pose
+// Q_p^T Q_p of its rows of Q, and the squared norms of its rows' part of each column of A
+// (which columns a resample supports at all); `fixed`: the rows of no pose.
 struct PoseCrossProducts {
+  Eigen::MatrixXd R;
   std::vector<Eigen::MatrixXd> QtQ;
   std::vector<Eigen::VectorXd> support;
   Eigen::MatrixXd fixed_QtQ;
   Eigen::VectorXd fixed_support;
 };
 
-PoseCrossProducts CrossProducts(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A,
-                                const PoseIndex& index) {
+PoseCrossProducts CrossProducts(Eigen::MatrixXd A, const PoseIndex& index) {
   std::vector<std::vector<Eigen::Index>> rows(index.poses + 1);  // last: rows of no pose
   for (size_t i = 0; i < index.of_row.size(); ++i) {
     rows[index.of_row[i] >= 0 ? index.of_row[i] : index.poses].push_back(i);
   }
-  std::vector<Eigen::MatrixXd> QtQ(rows.size());
   std::vector<Eigen::VectorXd> support(rows.size());
+  for (size_t p = 0; p < rows.size(); ++p) {
+    support[p] = A(rows[p], Eigen::all).colwise().squaredNorm().transpose();
+  }
+  const Eigen::Index n = A.cols();
+  const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(A);  // in place: A holds Q and R
+  PoseCrossProducts out;
+  out.R = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(A.rows(), n);
+  std::vector<Eigen::MatrixXd> QtQ(rows.size());
   tbb::parallel_for(size_t(0), rows.size(), [&](size_t p) {
     const Eigen::MatrixXd Q_p = Q(rows[p], Eigen::all);
     QtQ[p] = Q_p.transpose() * Q_p;
-    support[p] = A(rows[p], Eigen::all).colwise().squaredNorm().transpose();
   });
-  PoseCrossProducts out;
   out.fixed_QtQ = std::move(QtQ.back());
   out.fixed_support = std::move(support.back());
   QtQ.pop_back();
@@ -277,17 +313,13 @@ std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
                                                   unsigned seed) {
   const PoseIndex index = IndexPoses(row_pose);
   if (index.poses == 0 || candidates.empty()) return {};
-  const Eigen::MatrixXd A = Stack(r, J_model, candidates);
+  Eigen::MatrixXd A = Stack(r, J_model, candidates);
   if (A.rows() <= A.cols()) {
     return BootstrapInclusionsOnRows(r, J_model, candidates, row_pose, resamples,
                                      penalty_per_dof, max_steps, seed);
   }
   const std::vector<std::vector<double>> counts = DrawCounts(index.poses, resamples, seed);
-  const Eigen::Index n = A.cols();
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
-  const Eigen::MatrixXd R = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
-  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(A.rows(), n);
-  const PoseCrossProducts pose = CrossProducts(Q, A, index);
+  const PoseCrossProducts pose = CrossProducts(std::move(A), index);
   std::vector<std::vector<int>> out(resamples);
   tbb::parallel_for(0, resamples, [&](int b) {
     Eigen::MatrixXd M = pose.fixed_QtQ;
@@ -297,7 +329,7 @@ std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
       M += counts[b][p] * pose.QtQ[p];
       support += counts[b][p] * pose.support[p];
     }
-    out[b] = GreedyOnColumns(CompressedRows(M, R, support), J_model.cols(), candidates,
+    out[b] = GreedyOnColumns(CompressedRows(M, pose.R, support), J_model.cols(), candidates,
                              penalty_per_dof, max_steps);
   });
   return out;
