@@ -393,13 +393,18 @@ class Diagnoser {
       return Strength(candidates[a].score, candidates[a].dof) >
              Strength(candidates[b].score, candidates[b].dof);
     });
+    // The refits side by side (each solve's own threads leave its serial parts to overlap).
+    const size_t n = std::min<size_t>(order.size(), std::max(0, options_.refits));
+    Progress progress("refitting the strongest candidates:", static_cast<int>(n));
+    std::vector<Fitted> refits(n);
+    tbb::parallel_for(size_t(0), n, [&](size_t k) {
+      refits[k] = Fit(With(current.spec, *s->testable[order[k]]), recording_, make_solver_, 0);
+    });
     int best = -1;
-    Progress progress("refitting the strongest candidates:",
-                      std::min<int>(static_cast<int>(order.size()), options_.refits));
-    for (size_t k = 0; k < order.size() && static_cast<int>(k) < options_.refits; ++k) {
+    for (size_t k = 0; k < n; ++k) {
       progress.Advance();
       CandidateFinding& f = candidates[order[k]];
-      Fitted refit = Fit(With(current.spec, *s->testable[order[k]]), recording_, make_solver_, 0);
+      Fitted& refit = refits[k];
       f.refitted = true;
       f.likelihood_ratio =
           std::max(0.0, current.summary.chi2 - refit.summary.chi2) / s->round.dispersion;
