@@ -5,6 +5,10 @@
 // compressed cross products includes what it includes on the reweighted rows themselves.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_simulation.h"
@@ -21,10 +25,12 @@ class DiagnosisLinear : public ::testing::Test {
     const std::string dir = testing::TempDirForThisTest("diagnosis_linear");
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-    sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+    sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml",
+                               testing::Source("configs/robots/ur3.yaml"));
     sim = testing::ReplaceOnce(sim, "random: 150", "random: 60");
     testing::WriteText(dir + "/sim.yaml", sim);
-    WorkcellSimulationSpec simulation = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
+    WorkcellSimulationSpec simulation =
+        LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
     testing::ConcealJoint3Compliance(&simulation);
     recording_ = SimulateWorkcell(simulation, nullptr);
     job_ = testing::Ur3DiagnoseJob(dir);
