@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 #include <set>
 #include <tuple>
 
@@ -397,12 +398,14 @@ class Diagnoser {
     const size_t n = std::min<size_t>(order.size(), std::max(0, options_.refits));
     Progress progress("refitting the strongest candidates:", static_cast<int>(n));
     std::vector<Fitted> refits(n);
+    std::mutex progress_mutex;
     tbb::parallel_for(size_t(0), n, [&](size_t k) {
       refits[k] = Fit(With(current.spec, *s->testable[order[k]]), recording_, make_solver_, 0);
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      progress.Advance();
     });
     int best = -1;
     for (size_t k = 0; k < n; ++k) {
-      progress.Advance();
       CandidateFinding& f = candidates[order[k]];
       Fitted& refit = refits[k];
       f.refitted = true;
