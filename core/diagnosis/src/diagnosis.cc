@@ -5,11 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 #include <set>
 #include <tuple>
 
+#include <tbb/parallel_for.h>
+
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/basics/stage_clock.h"
 #include "cellmetry/basics/statistics.h"
 #include "cellmetry/cell/workcell.h"
 #include "diagnosis_linear.h"
@@ -27,6 +31,15 @@ struct Fitted {
 
 bool Carried(const Recording& recording, const std::string& target) {
   return recording.targets.at(target) != kWorldCarrier;
+}
+
+// The held-out figures of a fit's cross-validation.
+void SummarizeHeldOut(Fitted* f) {
+  f->summary.held_out_rms_mm = f->result.held_out.total.norm;
+  double ss = 0.0;
+  for (double fold : f->result.held_out.per_fold_normalized_rms) ss += fold * fold;
+  const size_t n_folds = f->result.held_out.per_fold_normalized_rms.size();
+  f->summary.held_out_sigma = n_folds ? std::sqrt(ss / n_folds) : 0.0;
 }
 
 Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
@@ -47,11 +60,29 @@ Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
   f.summary.rms_mm = tool.norm;
   f.summary.dof = rows - static_cast<double>(f.result.uncertainty.names.size());
   f.summary.p_value = ChiSquareSurvival(f.summary.chi2, f.summary.dof);
-  f.summary.held_out_rms_mm = f.result.held_out.total.norm;
-  double ss = 0.0;
-  for (double fold : f.result.held_out.per_fold_normalized_rms) ss += fold * fold;
-  const size_t n_folds = f.result.held_out.per_fold_normalized_rms.size();
-  f.summary.held_out_sigma = n_folds ? std::sqrt(ss / n_folds) : 0.0;
+  SummarizeHeldOut(&f);
+  return f;
+}
+
+// `refit` (a Fit without folds) with `folds`-fold cross-validation: what Fit with `folds` would
+// return, without fitting again. IdentifyWorkcell's folds are the last step of the same fit,
+// run at its answer with its noise model and held parameters; where the fit left outliers out,
+// its folds ran on the recording without them, so it is fitted again in full.
+Fitted WithHeldOut(const Fitted& refit, const Recording& recording,
+                   const SolverMaker& make_solver, int folds) {
+  if (!refit.result.outliers.empty()) return Fit(refit.spec, recording, make_solver, folds);
+  Fitted f = refit;
+  f.spec.folds = folds;
+  std::set<std::string> held;
+  for (const auto& u : f.result.unidentifiable) held.insert(u.name);
+  StageClock clock;
+  f.result.held_out = CrossValidate(f.spec, recording, PrepareWorkcellData(f.spec, recording),
+                                    f.result.noise, f.result.estimate, held, make_solver);
+  clock.Lap("cross_validation");
+  for (StageTime& stage : f.result.stages) {  // the fit's own lap of its (empty) folds
+    if (stage.stage == "cross_validation") stage = clock.stages().back();
+  }
+  SummarizeHeldOut(&f);
   return f;
 }
 
@@ -277,8 +308,31 @@ class Diagnoser {
       : recording_(recording), make_solver_(make_solver), candidates_(candidates),
         options_(options), noise_(noise), data_(data), n_poses_(CountPoses(recording)) {}
 
-  // Linearizes the current model, scores every candidate not `done`; untestable ones go to
-  // `untestable` and join `done`.
+  // A candidate's finding from its score test; untestable (and why) where the recording lacks
+  // its facts, it does not act (`silent`: its columns are zero) or the geometry absorbs it.
+  CandidateFinding Finding(const CandidateEffect& c, const ScoreTest& test, bool silent) const {
+    CandidateFinding f;
+    f.name = c.effect.name;
+    f.label = c.label;
+    f.unabsorbed = test.unabsorbed;
+    f.dof = test.dof;
+    f.score = test.statistic;
+    f.p_holm = test.p_value;
+    const std::string missing = MissingFacts(c.effect.effect->needs(), data_.facts);
+    if (!missing.empty() || test.unabsorbed < options_.min_unabsorbed || test.dof == 0) {
+      f.testable = false;
+      f.untestable_because =
+          !missing.empty() ? std::string("not in this recording or robot model")
+          : silent ? "it does not act on these poses"
+                   : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
+                         " % of its signature is absorbed by the geometry";
+      f.data_needed = !missing.empty() ? missing : c.data_hint;
+    }
+    return f;
+  }
+
+  // Linearizes the current model once, scores every candidate not `done`; untestable ones go
+  // to `untestable` and join `done`.
   ScoredRound Score(const Fitted& current, std::set<std::string>* done,
                     std::vector<CandidateFinding>* untestable) const {
     ScoredRound s;
@@ -290,40 +344,37 @@ class Diagnoser {
     // every candidate that takes a sliver of it. At the floor the dispersion is 1.
     s.round.dispersion = std::max(1.0, current.summary.chi2 / std::max(1.0, current.summary.dof));
     s.base.r /= std::sqrt(s.round.dispersion);
-    const Eigen::MatrixXd Q = OrthonormalBasis(s.base.J_model);
-    Progress progress("scoring candidate", static_cast<int>(candidates_.size() - done->size()));
+    std::vector<const CandidateEffect*> open;
+    std::vector<WorkcellEffect> effects;
     for (const auto& c : candidates_) {
       if (done->count(c.effect.name)) continue;
-      progress.Advance();
-      const CandidateLinearization lin = LinearizeWithCandidate(
-          With(current.spec, c), recording_, data_, noise_, current.result.estimate, true);
-      const Eigen::MatrixXd unabsorbed = ProjectOut(Q, lin.J_candidate);
-      const ScoreTest test = cellmetry::Score(s.base.r, lin.J_candidate, unabsorbed);
-      CandidateFinding f;
-      f.name = c.effect.name;
-      f.label = c.label;
-      f.unabsorbed = test.unabsorbed;
-      f.dof = test.dof;
-      f.score = test.statistic;
-      f.p_holm = test.p_value;
-      const std::string missing = MissingFacts(c.effect.effect->needs(), data_.facts);
-      if (!missing.empty() || test.unabsorbed < options_.min_unabsorbed || test.dof == 0) {
-        f.testable = false;
-        f.untestable_because =
-            !missing.empty() ? std::string("not in this recording or robot model")
-            : lin.J_candidate.norm() == 0.0
-                ? "it does not act on these poses"
-                : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
-                      " % of its signature is absorbed by the geometry";
-        f.data_needed = !missing.empty() ? missing : c.data_hint;
+      open.push_back(&c);
+      effects.push_back(c.effect);
+    }
+    Progress::Note("linearizing the model with " + std::to_string(open.size()) +
+                   " candidates at zero");
+    std::vector<Eigen::MatrixXd> signatures =
+        CandidateColumns(current.spec, effects, recording_, data_, noise_,
+                         current.result.estimate, s.base.r.size());
+    const Eigen::MatrixXd Q = OrthonormalBasis(s.base.J_model);
+    std::vector<ScoreTest> tests(open.size());
+    std::vector<Eigen::MatrixXd> bases(open.size());
+    tbb::parallel_for(size_t(0), open.size(), [&](size_t i) {
+      const Eigen::MatrixXd unabsorbed = ProjectOut(Q, signatures[i]);
+      tests[i] = cellmetry::Score(s.base.r, signatures[i], unabsorbed);
+      bases[i] = OrthonormalBasis(unabsorbed);
+    });
+    for (size_t i = 0; i < open.size(); ++i) {
+      CandidateFinding f = Finding(*open[i], tests[i], signatures[i].norm() == 0.0);
+      if (!f.testable) {
         untestable->push_back(f);
-        done->insert(c.effect.name);
+        done->insert(open[i]->effect.name);
         continue;
       }
       s.round.candidates.push_back(f);
-      s.testable.push_back(&c);
-      s.signatures.push_back(lin.J_candidate);
-      s.unabsorbed_bases.push_back(OrthonormalBasis(unabsorbed));
+      s.testable.push_back(open[i]);
+      s.signatures.push_back(std::move(signatures[i]));
+      s.unabsorbed_bases.push_back(std::move(bases[i]));
     }
     // Holm over the round's candidates, on the score tests.
     std::vector<double> p;
@@ -343,13 +394,20 @@ class Diagnoser {
       return Strength(candidates[a].score, candidates[a].dof) >
              Strength(candidates[b].score, candidates[b].dof);
     });
-    int best = -1;
-    Progress progress("refitting the strongest candidates:",
-                      std::min<int>(static_cast<int>(order.size()), options_.refits));
-    for (size_t k = 0; k < order.size() && static_cast<int>(k) < options_.refits; ++k) {
+    // The refits side by side (each solve's own threads leave its serial parts to overlap).
+    const size_t n = std::min<size_t>(order.size(), std::max(0, options_.refits));
+    Progress progress("refitting the strongest candidates:", static_cast<int>(n));
+    std::vector<Fitted> refits(n);
+    std::mutex progress_mutex;
+    tbb::parallel_for(size_t(0), n, [&](size_t k) {
+      refits[k] = Fit(With(current.spec, *s->testable[order[k]]), recording_, make_solver_, 0);
+      const std::lock_guard<std::mutex> lock(progress_mutex);
       progress.Advance();
+    });
+    int best = -1;
+    for (size_t k = 0; k < n; ++k) {
       CandidateFinding& f = candidates[order[k]];
-      Fitted refit = Fit(With(current.spec, *s->testable[order[k]]), recording_, make_solver_, 0);
+      Fitted& refit = refits[k];
       f.refitted = true;
       f.likelihood_ratio =
           std::max(0.0, current.summary.chi2 - refit.summary.chi2) / s->round.dispersion;
@@ -382,7 +440,7 @@ class Diagnoser {
                     int effects_left, unsigned seed) const {
     CandidateFinding& chosen = s->round.candidates[best];
     Progress::Note("cross-validating and bootstrapping " + chosen.label);
-    Fitted with_cv = Fit(best_fit.spec, recording_, make_solver_, options_.folds);
+    Fitted with_cv = WithHeldOut(best_fit, recording_, make_solver_, options_.folds);
     const auto [gain, se] = CvGain(current.result.held_out, with_cv.result.held_out);
     chosen.cv_rms_mm = with_cv.summary.held_out_rms_mm;
     chosen.cv_gain = gain;

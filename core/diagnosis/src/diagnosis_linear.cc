@@ -2,11 +2,16 @@
 // projections out of its span, score tests, and greedy selection on bootstrap resamples of poses.
 #include "diagnosis_linear.h"
 
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <map>
+#include <stdexcept>
 
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/model/robot_model.h"
 
 namespace cellmetry {
 
@@ -41,6 +46,80 @@ CandidateLinearization LinearizeWithCandidate(const WorkcellProblem& spec,
     for (int k = 0; k < rows; ++k) {
       out.rows[first_row[b] + k] = infos[b];
       out.row_axis[first_row[b] + k] = k;
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// Candidates evaluated together: as many as fill one pass of the cell's Jet costs (an
+// automatic-differentiation cost evaluates its chain once per kJetStride parameters asked for,
+// so a group costs what its members would together, and its Jacobian stays small).
+constexpr int kColumnsPerGroup = kJetStride;
+
+// Groups of consecutive candidates (indices) whose free parameters fit one pass.
+std::vector<std::vector<size_t>> PassGroups(const std::vector<int>& free_per_candidate) {
+  std::vector<std::vector<size_t>> groups;
+  int filled = kColumnsPerGroup;
+  for (size_t k = 0; k < free_per_candidate.size(); ++k) {
+    if (groups.empty() || filled + free_per_candidate[k] > kColumnsPerGroup) {
+      groups.emplace_back();
+      filled = 0;
+    }
+    groups.back().push_back(k);
+    filled += free_per_candidate[k];
+  }
+  return groups;
+}
+
+}  // namespace
+
+std::vector<Eigen::MatrixXd> CandidateColumns(const WorkcellProblem& spec,
+                                              const std::vector<WorkcellEffect>& candidates,
+                                              const Recording& recording,
+                                              const WorkcellData& data, const NoiseModel& noise,
+                                              const WorkcellEstimate& estimate,
+                                              Eigen::Index rows) {
+  WorkcellProblem all = spec;
+  all.effects.insert(all.effects.end(), candidates.begin(), candidates.end());
+  auto assembled = AssembleWorkcell(all, recording, data, noise, estimate);
+  const Problem& problem = assembled->problem;
+  if (problem.num_residuals() < rows) {
+    throw std::logic_error("CandidateColumns: fewer rows than the current model's");
+  }
+  const size_t first = spec.effects.size();  // the candidates' blocks follow the model's effects
+  std::map<int, size_t> candidate_of_block;
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    candidate_of_block[assembled->effect_block[first + k]] = k;
+  }
+  std::vector<int> free_per_candidate(candidates.size(), 0);
+  for (const auto& p : problem.free_parameters()) {
+    const auto k = candidate_of_block.find(p.block);
+    if (k != candidate_of_block.end()) ++free_per_candidate[k->second];
+  }
+  std::vector<Eigen::MatrixXd> out(candidates.size());
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    out[k] = Eigen::MatrixXd::Zero(rows, free_per_candidate[k]);
+  }
+  for (const auto& group : PassGroups(free_per_candidate)) {
+    std::vector<int> blocks;
+    for (size_t k : group) blocks.push_back(assembled->effect_block[first + k]);
+    SparseJacobian J;
+    std::vector<int> columns;  // free-parameter order: each candidate's own, in order
+    if (!problem.EvaluateSparseColumns(blocks, &J, &columns)) {
+      throw std::runtime_error("the candidates' Jacobian cannot be evaluated at the estimate");
+    }
+    std::vector<std::pair<size_t, int>> target(columns.size());  // candidate, its column
+    std::vector<int> filled(candidates.size(), 0);
+    for (size_t c = 0; c < columns.size(); ++c) {
+      const size_t k = candidate_of_block.at(problem.free_parameters()[columns[c]].block);
+      target[c] = {k, filled[k]++};
+    }
+    for (Eigen::Index row = 0; row < rows; ++row) {
+      for (SparseJacobian::InnerIterator it(J, row); it; ++it) {
+        out[target[it.col()].first](row, target[it.col()].second) = it.value();
+      }
     }
   }
   return out;
@@ -113,6 +192,117 @@ std::vector<int> GreedyInclusions(const Eigen::VectorXd& r, const Eigen::MatrixX
   return included;
 }
 
+// Rows grouped by pose: the index (in order of first appearance) of each row's pose, -1 for
+// rows of no pose (weight 1 in every resample).
+struct PoseIndex {
+  std::vector<int> of_row;
+  int poses = 0;
+};
+
+PoseIndex IndexPoses(const std::vector<int>& row_pose) {
+  PoseIndex out;
+  std::map<int, int> index_of;
+  for (int p : row_pose) {
+    if (p >= 0 && !index_of.count(p)) index_of[p] = out.poses++;
+    out.of_row.push_back(p >= 0 ? index_of.at(p) : -1);
+  }
+  return out;
+}
+
+// Each resample's count of every pose: poses drawn with replacement, in order from `seed`.
+std::vector<std::vector<double>> DrawCounts(int poses, int resamples, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> pick(0, poses - 1);
+  std::vector<std::vector<double>> counts(resamples, std::vector<double>(poses, 0.0));
+  for (auto& count : counts) {
+    for (int i = 0; i < poses; ++i) count[pick(rng)] += 1.0;
+  }
+  return counts;
+}
+
+// One resample's selection on A's column blocks (J_model, each candidate, r), A any matrix whose
+// cross products are the resample's.
+std::vector<int> GreedyOnColumns(const Eigen::MatrixXd& A, Eigen::Index model_columns,
+                                 const std::vector<Eigen::MatrixXd>& candidates,
+                                 double penalty_per_dof, int max_steps) {
+  std::vector<Eigen::MatrixXd> blocks;
+  Eigen::Index at = model_columns;
+  for (const auto& J : candidates) {
+    blocks.push_back(A.middleCols(at, J.cols()));
+    at += J.cols();
+  }
+  return GreedyInclusions(A.col(at), A.leftCols(model_columns), blocks, penalty_per_dof,
+                          max_steps);
+}
+
+Eigen::MatrixXd Stack(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
+                      const std::vector<Eigen::MatrixXd>& candidates) {
+  Eigen::Index n = J_model.cols() + 1;
+  for (const auto& J : candidates) n += J.cols();
+  Eigen::MatrixXd A(r.size(), n);
+  A.leftCols(J_model.cols()) = J_model;
+  Eigen::Index at = J_model.cols();
+  for (const auto& J : candidates) {
+    A.middleCols(at, J.cols()) = J;
+    at += J.cols();
+  }
+  A.col(at) = r;
+  return A;
+}
+
+// The cross products of A = [J_model, candidates, r] per pose, through A = Q R: per pose
+// Q_p^T Q_p of its rows of Q, and the squared norms of its rows' part of each column of A
+// (which columns a resample supports at all); `fixed`: the rows of no pose.
+struct PoseCrossProducts {
+  Eigen::MatrixXd R;
+  std::vector<Eigen::MatrixXd> QtQ;
+  std::vector<Eigen::VectorXd> support;
+  Eigen::MatrixXd fixed_QtQ;
+  Eigen::VectorXd fixed_support;
+};
+
+PoseCrossProducts CrossProducts(Eigen::MatrixXd A, const PoseIndex& index) {
+  std::vector<std::vector<Eigen::Index>> rows(index.poses + 1);  // last: rows of no pose
+  for (size_t i = 0; i < index.of_row.size(); ++i) {
+    rows[index.of_row[i] >= 0 ? index.of_row[i] : index.poses].push_back(i);
+  }
+  std::vector<Eigen::VectorXd> support(rows.size());
+  for (size_t p = 0; p < rows.size(); ++p) {
+    support[p] = A(rows[p], Eigen::all).colwise().squaredNorm().transpose();
+  }
+  const Eigen::Index n = A.cols();
+  const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(A);  // in place: A holds Q and R
+  PoseCrossProducts out;
+  out.R = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(A.rows(), n);
+  std::vector<Eigen::MatrixXd> QtQ(rows.size());
+  tbb::parallel_for(size_t(0), rows.size(), [&](size_t p) {
+    const Eigen::MatrixXd Q_p = Q(rows[p], Eigen::all);
+    QtQ[p] = Q_p.transpose() * Q_p;
+  });
+  out.fixed_QtQ = std::move(QtQ.back());
+  out.fixed_support = std::move(support.back());
+  QtQ.pop_back();
+  support.pop_back();
+  out.QtQ = std::move(QtQ);
+  out.support = std::move(support);
+  return out;
+}
+
+// B (N x N) with B^T B = R^T M R for M = F^T F positive semidefinite (pivoted LDL^T); columns
+// without `support` are zero, as they are in the reweighted rows.
+Eigen::MatrixXd CompressedRows(const Eigen::MatrixXd& M, const Eigen::MatrixXd& R,
+                               const Eigen::VectorXd& support) {
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(M);
+  Eigen::MatrixXd B = ldlt.transpositionsP() * R;
+  B = ldlt.matrixU() * B;
+  B = ldlt.vectorD().cwiseMax(0.0).cwiseSqrt().asDiagonal() * B;
+  for (Eigen::Index j = 0; j < B.cols(); ++j) {
+    if (support[j] == 0.0) B.col(j).setZero();
+  }
+  return B;
+}
+
 }  // namespace
 
 std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
@@ -121,31 +311,49 @@ std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
                                                   const std::vector<int>& row_pose, int resamples,
                                                   double penalty_per_dof, int max_steps,
                                                   unsigned seed) {
-  std::vector<int> poses;
-  std::map<int, int> index_of;
-  for (int p : row_pose) {
-    if (p >= 0 && !index_of.count(p)) {
-      index_of[p] = static_cast<int>(poses.size());
-      poses.push_back(p);
-    }
+  const PoseIndex index = IndexPoses(row_pose);
+  if (index.poses == 0 || candidates.empty()) return {};
+  Eigen::MatrixXd A = Stack(r, J_model, candidates);
+  if (A.rows() <= A.cols()) {
+    return BootstrapInclusionsOnRows(r, J_model, candidates, row_pose, resamples,
+                                     penalty_per_dof, max_steps, seed);
   }
-  std::vector<std::vector<int>> out;
-  if (poses.empty() || candidates.empty()) return out;
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> pick(0, static_cast<int>(poses.size()) - 1);
-  for (int b = 0; b < resamples; ++b) {
-    std::vector<double> count(poses.size(), 0.0);
-    for (size_t i = 0; i < poses.size(); ++i) count[pick(rng)] += 1.0;
+  const std::vector<std::vector<double>> counts = DrawCounts(index.poses, resamples, seed);
+  const PoseCrossProducts pose = CrossProducts(std::move(A), index);
+  std::vector<std::vector<int>> out(resamples);
+  tbb::parallel_for(0, resamples, [&](int b) {
+    Eigen::MatrixXd M = pose.fixed_QtQ;
+    Eigen::VectorXd support = pose.fixed_support;
+    for (int p = 0; p < index.poses; ++p) {
+      if (counts[b][p] == 0.0) continue;
+      M += counts[b][p] * pose.QtQ[p];
+      support += counts[b][p] * pose.support[p];
+    }
+    out[b] = GreedyOnColumns(CompressedRows(M, pose.R, support), J_model.cols(), candidates,
+                             penalty_per_dof, max_steps);
+  });
+  return out;
+}
+
+std::vector<std::vector<int>> BootstrapInclusionsOnRows(
+    const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
+    const std::vector<Eigen::MatrixXd>& candidates, const std::vector<int>& row_pose,
+    int resamples, double penalty_per_dof, int max_steps, unsigned seed) {
+  const PoseIndex index = IndexPoses(row_pose);
+  if (index.poses == 0 || candidates.empty()) return {};
+  const std::vector<std::vector<double>> counts = DrawCounts(index.poses, resamples, seed);
+  const Eigen::MatrixXd A = Stack(r, J_model, candidates);
+  std::vector<std::vector<int>> out(resamples);
+  tbb::parallel_for(0, resamples, [&](int b) {
     // Rows weighted by how often their pose was drawn; sqrt(w) scales whitened rows.
-    Eigen::VectorXd sqrt_w(r.size());
-    for (Eigen::Index i = 0; i < r.size(); ++i) {
-      sqrt_w[i] = row_pose[i] < 0 ? 1.0 : std::sqrt(count[index_of.at(row_pose[i])]);
+    Eigen::VectorXd sqrt_w(A.rows());
+    for (Eigen::Index i = 0; i < A.rows(); ++i) {
+      const int p = index.of_row[i];
+      sqrt_w[i] = p < 0 ? 1.0 : std::sqrt(counts[b][p]);
     }
-    std::vector<Eigen::MatrixXd> weighted;
-    for (const auto& J : candidates) weighted.push_back(sqrt_w.asDiagonal() * J);
-    out.push_back(GreedyInclusions(sqrt_w.asDiagonal() * r, sqrt_w.asDiagonal() * J_model,
-                                   weighted, penalty_per_dof, max_steps));
-  }
+    out[b] = GreedyOnColumns(sqrt_w.asDiagonal() * A, J_model.cols(), candidates,
+                             penalty_per_dof, max_steps);
+  });
   return out;
 }
 

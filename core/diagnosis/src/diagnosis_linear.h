@@ -34,6 +34,20 @@ CandidateLinearization LinearizeWithCandidate(const WorkcellProblem& spec,
                                               const NoiseModel& noise,
                                               const WorkcellEstimate& estimate, bool candidate);
 
+// Every candidate's Jacobian columns from one linearization of the current model: `spec` with
+// all of `candidates` added at zero, evaluated once at `estimate` and differentiated only with
+// respect to the candidates' parameters (Problem::EvaluateSparseColumns: a candidate's columns
+// are filled only on the rows it acts on, and the model's columns are not computed again).
+// An effect at zero leaves the prediction as it is, so each one's columns are those it has
+// when added alone (LinearizeWithCandidate's J_candidate), over the current model's first
+// `rows` rows (its measurements and priors; a candidate's own priors are left out).
+std::vector<Eigen::MatrixXd> CandidateColumns(const WorkcellProblem& spec,
+                                              const std::vector<WorkcellEffect>& candidates,
+                                              const Recording& recording,
+                                              const WorkcellData& data, const NoiseModel& noise,
+                                              const WorkcellEstimate& estimate,
+                                              Eigen::Index rows);
+
 // An orthonormal basis of the columns' span (rank-revealing QR).
 Eigen::MatrixXd OrthonormalBasis(const Eigen::MatrixXd& columns);
 
@@ -63,11 +77,30 @@ ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,
 // Counting inclusion rather than first place keeps a chance winner of one resample (a signature
 // concentrated on few poses swings most under resampling) from voting the real effect out.
 // Returns, per resample, the indices (into `candidates`) it included.
+//
+// How: everything the selection computes (projections, norms, singular values, inner products)
+// depends on a resample's rows only through their cross products, so each resample runs on an
+// (N x N) matrix B with B^T B = A^T W A, A = [J_model, candidates, r] (N columns) and W the
+// resample's pose counts, instead of on its thousands of rows. A = Q R once (Householder);
+// then A^T W A = R^T (Q^T W Q) R, and Q^T W Q = sum over poses of count x Q_p^T Q_p, summed
+// from per-pose blocks computed once, is factored (pivoted LDL^T) into F^T F: B = F R. The ill
+// conditioning of J stays in R, never squared; the factored matrix is a reweighted identity.
+// Columns that no drawn pose supports are exactly zero, as in the rows. Resamples run in
+// parallel, each on its counts drawn in order from `seed`: the result does not depend on the
+// threads.
 std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
                                                   const Eigen::MatrixXd& J_model,
                                                   const std::vector<Eigen::MatrixXd>& candidates,
                                                   const std::vector<int>& row_pose, int resamples,
                                                   double penalty_per_dof, int max_steps,
                                                   unsigned seed);
+
+// The same selection on each resample's reweighted rows as they are (sqrt(count) times each
+// row): the reference the compressed form above must agree with, and its path where there are
+// no more rows than columns.
+std::vector<std::vector<int>> BootstrapInclusionsOnRows(
+    const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
+    const std::vector<Eigen::MatrixXd>& candidates, const std::vector<int>& row_pose,
+    int resamples, double penalty_per_dof, int max_steps, unsigned seed);
 
 }  // namespace cellmetry

@@ -340,6 +340,110 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
   return true;
 }
 
+namespace {
+
+// Where a residual block's Jacobian entries go: (column, parameter block of the residual, entry
+// in it), in column order.
+struct ColumnEntry {
+  int column, slot, index;
+  bool operator<(const ColumnEntry& other) const { return column < other.column; }
+};
+
+// Per residual block, the entries of the asked-for blocks' free columns (`renumbered`: free
+// column -> output column, -1 when not asked for); `row_start`: each row's first entry.
+struct ColumnLayout {
+  std::vector<std::vector<ColumnEntry>> entries_of;
+  std::vector<int> row_start;
+};
+
+ColumnLayout LayOutColumns(
+    const std::vector<std::pair<ceres::CostFunction*, std::vector<int>>>& evaluation_order,
+    const std::vector<std::vector<int>>& free_column, const std::vector<int>& first_row,
+    int num_residuals, const std::vector<bool>& asked, const std::vector<int>& renumbered) {
+  ColumnLayout out;
+  out.entries_of.resize(evaluation_order.size());
+  out.row_start.assign(num_residuals + 1, 0);
+  for (size_t k = 0; k < evaluation_order.size(); ++k) {
+    const auto& [cost, block_ids] = evaluation_order[k];
+    for (size_t slot = 0; slot < block_ids.size(); ++slot) {
+      if (!asked[block_ids[slot]]) continue;
+      const auto& columns = free_column[block_ids[slot]];
+      for (size_t i = 0; i < columns.size(); ++i) {
+        if (columns[i] < 0) continue;
+        out.entries_of[k].push_back(
+            {renumbered[columns[i]], static_cast<int>(slot), static_cast<int>(i)});
+      }
+    }
+    std::sort(out.entries_of[k].begin(), out.entries_of[k].end());
+    for (int row = 0; row < cost->num_residuals(); ++row) {
+      out.row_start[first_row[k] + row + 1] = static_cast<int>(out.entries_of[k].size());
+    }
+  }
+  for (int row = 0; row < num_residuals; ++row) out.row_start[row + 1] += out.row_start[row];
+  return out;
+}
+
+}  // namespace
+
+bool Problem::EvaluateSparseColumns(const std::vector<int>& blocks, SparseJacobian* jacobian,
+                                    std::vector<int>* columns) const {
+  std::vector<bool> asked(blocks_.size(), false);
+  for (int b : blocks) asked.at(b) = true;
+  std::vector<int> renumbered(free_.size(), -1);
+  columns->clear();
+  for (size_t c = 0; c < free_.size(); ++c) {
+    if (!asked[free_[c].block]) continue;
+    renumbered[c] = static_cast<int>(columns->size());
+    columns->push_back(static_cast<int>(c));
+  }
+  const ColumnLayout layout =
+      LayOutColumns(evaluation_order_, free_column_, rows_, num_residuals_, asked, renumbered);
+  std::vector<int> column_index(static_cast<size_t>(layout.row_start.back()));
+  std::vector<double> entries(column_index.size());
+  std::atomic<bool> valid{true};
+  const int num_blocks = static_cast<int>(evaluation_order_.size());
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks, 64), [&](const auto& range) {
+    std::vector<const double*> parameters;
+    std::vector<std::vector<double>> block_jacobians;
+    std::vector<double*> jacobian_pointers;
+    std::vector<double> residuals;
+    for (int k = range.begin(); k != range.end() && valid; ++k) {
+      if (layout.entries_of[k].empty()) continue;  // reads none of the blocks asked for
+      const auto& [cost, block_ids] = evaluation_order_[k];
+      const int num_rows = cost->num_residuals();
+      parameters.clear();
+      block_jacobians.resize(block_ids.size());
+      jacobian_pointers.assign(block_ids.size(), nullptr);  // not asked for: not differentiated
+      for (size_t slot = 0; slot < block_ids.size(); ++slot) {
+        parameters.push_back(values(block_ids[slot]));
+        if (!asked[block_ids[slot]]) continue;
+        block_jacobians[slot].resize(static_cast<size_t>(num_rows) *
+                                     blocks_[block_ids[slot]]->params.size());
+        jacobian_pointers[slot] = block_jacobians[slot].data();
+      }
+      residuals.resize(num_rows);
+      if (!cost->Evaluate(parameters.data(), residuals.data(), jacobian_pointers.data())) {
+        valid = false;
+        break;
+      }
+      for (int row = 0; row < num_rows; ++row) {
+        int at = layout.row_start[rows_[k] + row];
+        for (const ColumnEntry& e : layout.entries_of[k]) {
+          const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
+          column_index[at] = e.column;
+          entries[at++] = block_jacobians[e.slot][row * width + e.index];  // row-major
+        }
+      }
+    }
+  });
+  if (!valid) return false;
+  *jacobian = Eigen::Map<const SparseJacobian>(
+      num_residuals_, static_cast<Eigen::Index>(columns->size()),
+      static_cast<Eigen::Index>(entries.size()), layout.row_start.data(), column_index.data(),
+      entries.data());
+  return true;
+}
+
 Linearization Linearize(Problem& problem) {
   Linearization at;
   at.valid = problem.EvaluateSparse(&at.residuals, &at.jacobian);

@@ -11,7 +11,9 @@
 //      in capture order
 //   4. per candidate effect: the part of its signature (its Jacobian columns) outside the span
 //      of the geometric Jacobian; an effect whose signature the geometry absorbs, or whose facts
-//      the recording lacks, is "untestable here", with the data that would make it testable
+//      the recording lacks, is "untestable here", with the data that would make it testable.
+//      Every candidate's columns come from one linearization per round (the current model with
+//      all candidates at zero, differentiated with respect to theirs alone)
 //   5. greedy selection, one effect per round, every statistic divided by the dispersion (the
 //      current fit's chi-square/dof, at least 1: quasi-likelihood, so that on a recording whose
 //      mismatch is mostly unexplained an effect must explain a share of what is left, not beat

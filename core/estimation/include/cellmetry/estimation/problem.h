@@ -102,6 +102,14 @@ class Problem {
   // cost functions are called directly, on every core (Ceres's Evaluate builds a program of
   // the chosen blocks at every call, which costs more than the evaluation).
   bool EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const;
+  // The Jacobian's columns of the free entries of `blocks` alone (ids from AddBlock), in
+  // FreeValues() order and numbered from 0 (`columns`: each one's index into
+  // free_parameters()). Only the residual blocks that read one of `blocks` are evaluated, and
+  // each differentiates only those (an automatic-differentiation cost seeds only the
+  // parameters asked for): a few columns of a large problem cost a few columns, not all of
+  // them. Every residual has its row; rows of the blocks not evaluated are empty.
+  bool EvaluateSparseColumns(const std::vector<int>& blocks, SparseJacobian* jacobian,
+                             std::vector<int>* columns) const;
 
  private:
   struct Block;

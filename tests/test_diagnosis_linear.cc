@@ -1,0 +1,135 @@
+// The physics finder's linear algebra (core/diagnosis/src/diagnosis_linear.h), on a simulated
+// UR3 cell with a concealed compliance fitted by its geometry: the candidates' columns from the
+// one linearization with every candidate at zero are each candidate's columns added alone, the
+// Jacobian of a few blocks is those blocks' columns of the full one, and the bootstrap on the
+// compressed cross products includes what it includes on the reweighted rows themselves.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "diagnosis_linear.h"
+#include "support/test_support.h"
+
+namespace cellmetry {
+namespace {
+
+class DiagnosisLinear : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string dir = testing::TempDirForThisTest("diagnosis_linear");
+    std::string sim =
+        testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
+    sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml",
+                               testing::Source("configs/robots/ur3.yaml"));
+    sim = testing::ReplaceOnce(sim, "random: 150", "random: 60");
+    testing::WriteText(dir + "/sim.yaml", sim);
+    WorkcellSimulationSpec simulation =
+        LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
+    testing::ConcealJoint3Compliance(&simulation);
+    recording_ = SimulateWorkcell(simulation, nullptr);
+    job_ = testing::Ur3DiagnoseJob(dir);
+    spec_ = job_.workcell.problem;
+    spec_.folds = 0;
+    spec_.compare_camera_models = false;
+    for (const auto& c : JobCandidates(job_, recording_, testing::Plugins())) {
+      candidates_.push_back(c.effect);
+    }
+    WorkcellProblem all = spec_;
+    all.effects.insert(all.effects.end(), candidates_.begin(), candidates_.end());
+    data_ = std::make_unique<WorkcellData>(PrepareWorkcellData(all, recording_));
+    noise_ = BuildNoiseModel(recording_, spec_.noise);
+    estimate_ = IdentifyWorkcell(spec_, recording_, testing::JobSolver(job_.workcell)).estimate;
+  }
+
+  Recording recording_;
+  DiagnosisJob job_;
+  WorkcellProblem spec_;
+  std::vector<WorkcellEffect> candidates_;
+  std::unique_ptr<WorkcellData> data_;
+  NoiseModel noise_;
+  WorkcellEstimate estimate_;
+};
+
+TEST_F(DiagnosisLinear, OneLinearizationGivesEachCandidatesOwnColumns) {
+  ASSERT_GT(candidates_.size(), 30u);
+  const CandidateLinearization base =
+      LinearizeWithCandidate(spec_, recording_, *data_, noise_, estimate_, false);
+  const std::vector<Eigen::MatrixXd> columns = CandidateColumns(
+      spec_, candidates_, recording_, *data_, noise_, estimate_, base.r.size());
+  ASSERT_EQ(columns.size(), candidates_.size());
+  int acting = 0;
+  for (size_t k = 0; k < candidates_.size(); ++k) {
+    WorkcellProblem with = spec_;
+    with.effects.push_back(candidates_[k]);
+    const CandidateLinearization alone =
+        LinearizeWithCandidate(with, recording_, *data_, noise_, estimate_, true);
+    ASSERT_EQ(alone.J_candidate.rows(), columns[k].rows()) << candidates_[k].name;
+    ASSERT_EQ(alone.J_candidate.cols(), columns[k].cols()) << candidates_[k].name;
+    const double scale = alone.J_candidate.cwiseAbs().maxCoeff();
+    acting += scale > 0.0;
+    EXPECT_LE((columns[k] - alone.J_candidate).cwiseAbs().maxCoeff(), 1e-12 * scale)
+        << candidates_[k].name;
+  }
+  EXPECT_GT(acting, 20);
+}
+
+TEST_F(DiagnosisLinear, SomeBlocksColumnsAreThoseOfTheFullJacobian) {
+  WorkcellProblem all = spec_;
+  all.effects.insert(all.effects.end(), candidates_.begin(), candidates_.end());
+  auto assembled = AssembleWorkcell(all, recording_, *data_, noise_, estimate_);
+  const Problem& problem = assembled->problem;
+  Eigen::VectorXd r;
+  SparseJacobian full;
+  ASSERT_TRUE(problem.EvaluateSparse(&r, &full));
+  // A geometric block (the base) and two effects: the columns asked for, no others.
+  const std::vector<int> blocks = {assembled->base_block[0], assembled->effect_block[3],
+                                   assembled->effect_block.back()};
+  SparseJacobian some;
+  std::vector<int> columns;
+  ASSERT_TRUE(problem.EvaluateSparseColumns(blocks, &some, &columns));
+  int expected_columns = 0;
+  for (const auto& p : problem.free_parameters()) {
+    expected_columns += std::count(blocks.begin(), blocks.end(), p.block) > 0;
+  }
+  ASSERT_EQ(static_cast<int>(columns.size()), expected_columns);
+  ASSERT_EQ(some.rows(), full.rows());
+  const Eigen::MatrixXd dense_full(full), dense_some(some);
+  for (size_t c = 0; c < columns.size(); ++c) {
+    const double scale = dense_full.col(columns[c]).cwiseAbs().maxCoeff();
+    EXPECT_LE((dense_some.col(c) - dense_full.col(columns[c])).cwiseAbs().maxCoeff(),
+              1e-14 * scale)
+        << problem.free_parameters()[columns[c]].name;
+  }
+}
+
+TEST_F(DiagnosisLinear, CompressedBootstrapIncludesWhatTheRowsInclude) {
+  const CandidateLinearization base =
+      LinearizeWithCandidate(spec_, recording_, *data_, noise_, estimate_, false);
+  const std::vector<Eigen::MatrixXd> columns = CandidateColumns(
+      spec_, candidates_, recording_, *data_, noise_, estimate_, base.r.size());
+  std::vector<Eigen::MatrixXd> acting;  // the testable ones: those that act on these poses
+  for (const auto& J : columns) {
+    if (J.norm() > 0.0) acting.push_back(J);
+  }
+  std::vector<int> row_pose;
+  for (const auto& info : base.rows) row_pose.push_back(info.pose);
+  const double penalty = std::log(60.0);
+  const auto compressed =
+      BootstrapInclusions(base.r, base.J_model, acting, row_pose, 30, penalty, 4, 17u);
+  const auto rows =
+      BootstrapInclusionsOnRows(base.r, base.J_model, acting, row_pose, 30, penalty, 4, 17u);
+  ASSERT_EQ(compressed.size(), 30u);
+  EXPECT_EQ(compressed, rows);
+  int included = 0;  // the concealed compliance shows: the comparison is not of empty lists
+  for (const auto& resample : rows) included += !resample.empty();
+  EXPECT_GT(included, 20);
+}
+
+}  // namespace
+}  // namespace cellmetry
