@@ -185,6 +185,7 @@ void Problem::Build() {
       variable_blocks_.push_back(block.values.data());
     }
   }
+  BuildSparseLayout();
 }
 
 Eigen::VectorXd Problem::FreeValues() const {
@@ -256,34 +257,50 @@ bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd
   return true;
 }
 
-bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const {
+void Problem::BuildSparseLayout() {
   // Each residual block's rows hold the same columns: the free entries of its blocks, in
   // column order. Their count fixes every row's start before any evaluation.
-  struct Entry {
-    int column, slot, index;  // free column; parameter block of the residual, entry in it
-    bool operator<(const Entry& other) const { return column < other.column; }
-  };
   const int num_blocks = static_cast<int>(evaluation_order_.size());
-  std::vector<std::vector<Entry>> columns(num_blocks);
-  std::vector<int> row_start(num_residuals_ + 1, 0);
+  sparse_entries_.clear();
+  sparse_entry_start_.assign(num_blocks + 1, 0);
+  sparse_row_start_.assign(num_residuals_ + 1, 0);
   for (int k = 0; k < num_blocks; ++k) {
     const auto& [cost, block_ids] = evaluation_order_[k];
+    const size_t first = sparse_entries_.size();
     for (size_t slot = 0; slot < block_ids.size(); ++slot) {
       const auto& free_column = free_column_[block_ids[slot]];
       for (size_t i = 0; i < free_column.size(); ++i) {
         if (free_column[i] >= 0) {
-          columns[k].push_back({free_column[i], static_cast<int>(slot), static_cast<int>(i)});
+          sparse_entries_.push_back(
+              {free_column[i], static_cast<int>(slot), static_cast<int>(i)});
         }
       }
     }
-    std::sort(columns[k].begin(), columns[k].end());
+    std::sort(sparse_entries_.begin() + first, sparse_entries_.end(),
+              [](const SparseEntry& a, const SparseEntry& b) { return a.column < b.column; });
+    sparse_entry_start_[k + 1] = static_cast<int>(sparse_entries_.size());
     for (int row = 0; row < cost->num_residuals(); ++row) {
-      row_start[rows_[k] + row + 1] = static_cast<int>(columns[k].size());
+      sparse_row_start_[rows_[k] + row + 1] = static_cast<int>(sparse_entries_.size() - first);
     }
   }
-  for (int row = 0; row < num_residuals_; ++row) row_start[row + 1] += row_start[row];
-  std::vector<int> column_index(static_cast<size_t>(row_start.back()));
-  std::vector<double> entries(static_cast<size_t>(row_start.back()));
+  for (int row = 0; row < num_residuals_; ++row) {
+    sparse_row_start_[row + 1] += sparse_row_start_[row];
+  }
+}
+
+bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const {
+  const int num_blocks = static_cast<int>(evaluation_order_.size());
+  const std::vector<int>& row_start = sparse_row_start_;
+  // Written in place into the compressed row storage (no triplets, no copy of a map).
+  int* column_index = nullptr;
+  double* entries = nullptr;
+  if (jacobian) {
+    jacobian->resize(num_residuals_, num_free());
+    jacobian->resizeNonZeros(row_start.back());
+    std::copy(row_start.begin(), row_start.end(), jacobian->outerIndexPtr());
+    column_index = jacobian->innerIndexPtr();
+    entries = jacobian->valuePtr();
+  }
   Eigen::VectorXd r(num_residuals_);
   std::atomic<bool> valid{true};
   tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks, 256), [&](const auto& range) {
@@ -300,6 +317,10 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
         parameters.push_back(values(block_ids[slot]));
         block_jacobians[slot].resize(static_cast<size_t>(num_rows) *
                                      blocks_[block_ids[slot]]->params.size());
+        jacobian_pointers[slot] = nullptr;  // a block without free entries: not asked for
+      }
+      for (int e = sparse_entry_start_[k]; e < sparse_entry_start_[k + 1]; ++e) {
+        const int slot = sparse_entries_[e].slot;
         jacobian_pointers[slot] = block_jacobians[slot].data();
       }
       double* block_residuals = r.data() + rows_[k];
@@ -311,7 +332,8 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
       if (!jacobian) continue;
       for (int row = 0; row < num_rows; ++row) {
         int at = row_start[rows_[k] + row];
-        for (const Entry& e : columns[k]) {
+        for (int k_e = sparse_entry_start_[k]; k_e < sparse_entry_start_[k + 1]; ++k_e) {
+          const SparseEntry& e = sparse_entries_[k_e];
           const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
           column_index[at] = e.column;
           entries[at++] = block_jacobians[e.slot][row * width + e.index];  // row-major
@@ -319,14 +341,11 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
       }
     }
   });
-  if (!valid) return false;
-  if (residuals) *residuals = r;
-  if (jacobian) {
-    *jacobian = Eigen::Map<const SparseJacobian>(num_residuals_, num_free(),
-                                                 static_cast<Eigen::Index>(entries.size()),
-                                                 row_start.data(), column_index.data(),
-                                                 entries.data());
+  if (!valid) {
+    if (jacobian) jacobian->setZero();
+    return false;
   }
+  if (residuals) *residuals = std::move(r);
   return true;
 }
 

@@ -117,6 +117,15 @@ class Problem {
   // its column among the free parameters (-1: fixed).
   std::vector<std::pair<ceres::CostFunction*, std::vector<int>>> evaluation_order_;
   std::vector<std::vector<int>> free_column_;
+  // EvaluateSparse's layout, fixed by Build(): per residual block the free columns its rows
+  // hold, in column order, with the slot and entry of the parameter block each comes from.
+  struct SparseEntry {
+    int column, slot, index;
+  };
+  void BuildSparseLayout();
+  std::vector<SparseEntry> sparse_entries_;
+  std::vector<int> sparse_entry_start_;  // per residual block, into sparse_entries_; then end
+  std::vector<int> sparse_row_start_;    // per row, then the end: the CRS row pointers
   int num_residuals_ = 0;
   RobustLossKind loss_kind_ = RobustLossKind::kNone;
   double loss_scale_ = 1.0;
