@@ -139,6 +139,9 @@ struct Linearization {
   Eigen::VectorXd residuals;
   SparseJacobian jacobian;
   bool valid = false;   // false: a cost function failed at these values (no numbers to trust)
+  // RFactor(jacobian) (r_factor.h) once something computed it (FindUnidentifiable); empty
+  // before. Whoever needs it next takes it from here instead of factoring J again.
+  Eigen::MatrixXd r_factor;
 };
 Linearization Linearize(Problem& problem);
 
