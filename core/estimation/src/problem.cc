@@ -103,27 +103,18 @@ void Problem::SetRobustLoss(RobustLossKind kind, double scale) {
 }
 
 void Problem::Build() {
-  ceres::Problem::Options options;
-  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.enable_fast_removal = false;
-  ceres_problem_ = std::make_unique<ceres::Problem>(options);
-  residual_ids_.clear();
   losses_.clear();
-  manifolds_.clear();
   prior_costs_.clear();
   infos_.resize(num_measurement_residuals_);  // priors are re-derived below
   rows_.clear();
   evaluation_order_.clear();
+  evaluation_losses_.clear();
   num_residuals_ = 0;
 
   auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss,
                  const std::vector<int>& block_ids) {
-    std::vector<double*> pointers;
-    for (int b : block_ids) pointers.push_back(values(b));
-    residual_ids_.push_back(ceres_problem_->AddResidualBlock(cost, loss, pointers));
     evaluation_order_.emplace_back(cost, block_ids);
+    evaluation_losses_.push_back(loss);
     rows_.push_back(num_residuals_);
     num_residuals_ += cost->num_residuals();
   };
@@ -144,24 +135,17 @@ void Problem::Build() {
   }
 
   free_.clear();
-  variable_blocks_.clear();
   free_column_.assign(blocks_.size(), {});
   for (size_t b = 0; b < blocks_.size(); ++b) {
     Block& block = *blocks_[b];
     free_column_[b].assign(block.params.size(), -1);
     if (!block.used) continue;
-    std::vector<int> fixed;
     for (size_t i = 0; i < block.params.size(); ++i) {
       const Parameter& p = block.params[i];
-      if (p.fixed) {
-        fixed.push_back(static_cast<int>(i));
-        continue;
-      }
+      if (p.fixed) continue;
       free_column_[b][i] = static_cast<int>(free_.size());
       free_.push_back({static_cast<int>(b), static_cast<int>(i), block.name + "." + p.name,
                        p.unit});
-      if (p.lower) ceres_problem_->SetParameterLowerBound(block.values.data(), i, *p.lower);
-      if (p.upper) ceres_problem_->SetParameterUpperBound(block.values.data(), i, *p.upper);
       if (p.prior_sigma) {
         prior_costs_.push_back(std::make_unique<PriorCost>(static_cast<int>(block.params.size()),
                                                            static_cast<int>(i), p.nominal,
@@ -174,6 +158,47 @@ void Problem::Build() {
         infos_.push_back(info);
       }
     }
+  }
+  BuildSparseLayout();
+  ceres_problem_.reset();  // built when a solver or Evaluate first needs it (BuildCeres)
+}
+
+ceres::Problem& Problem::ceres_problem() {
+  if (!ceres_problem_) BuildCeres();
+  return *ceres_problem_;
+}
+
+void Problem::BuildCeres() {
+  ceres::Problem::Options options;
+  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.enable_fast_removal = false;
+  ceres_problem_ = std::make_unique<ceres::Problem>(options);
+  residual_ids_.clear();
+  manifolds_.clear();
+  variable_blocks_.clear();
+  std::vector<double*> pointers;
+  for (size_t k = 0; k < evaluation_order_.size(); ++k) {
+    const auto& [cost, block_ids] = evaluation_order_[k];
+    pointers.clear();
+    for (int b : block_ids) pointers.push_back(values(b));
+    residual_ids_.push_back(
+        ceres_problem_->AddResidualBlock(cost, evaluation_losses_[k], pointers));
+  }
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    Block& block = *blocks_[b];
+    if (!block.used) continue;
+    std::vector<int> fixed;
+    for (size_t i = 0; i < block.params.size(); ++i) {
+      const Parameter& p = block.params[i];
+      if (p.fixed) {
+        fixed.push_back(static_cast<int>(i));
+        continue;
+      }
+      if (p.lower) ceres_problem_->SetParameterLowerBound(block.values.data(), i, *p.lower);
+      if (p.upper) ceres_problem_->SetParameterUpperBound(block.values.data(), i, *p.upper);
+    }
     if (fixed.size() == block.params.size()) {
       ceres_problem_->SetParameterBlockConstant(block.values.data());
     } else {
@@ -185,7 +210,6 @@ void Problem::Build() {
       variable_blocks_.push_back(block.values.data());
     }
   }
-  BuildSparseLayout();
 }
 
 Eigen::VectorXd Problem::FreeValues() const {
@@ -242,7 +266,8 @@ bool EvaluateCeres(ceres::Problem& problem, const std::vector<double*>& paramete
 bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd* jacobian,
                        bool apply_loss) {
   ceres::CRSMatrix crs;
-  if (!EvaluateCeres(*ceres_problem_, variable_blocks_, residual_ids_, apply_loss, cost, residuals,
+  ceres::Problem& ceres = ceres_problem();
+  if (!EvaluateCeres(ceres, variable_blocks_, residual_ids_, apply_loss, cost, residuals,
                      jacobian ? &crs : nullptr)) {
     return false;
   }

@@ -74,7 +74,9 @@ class Problem {
   void SetRobustLoss(RobustLossKind kind, double scale);
 
   void Build();
-  ceres::Problem& ceres_problem() { return *ceres_problem_; }
+  // The ceres::Problem of what Build() set up, built on first use: a problem only linearized
+  // (EvaluateSparse: the covariance, the uncertain inputs) never pays for Ceres's own structures.
+  ceres::Problem& ceres_problem();
 
   const std::vector<FreeParameter>& free_parameters() const { return free_; }
   int num_free() const { return static_cast<int>(free_.size()); }
@@ -116,6 +118,8 @@ class Problem {
   // Per residual block (in rows_ order): its cost and parameter blocks; per block and entry,
   // its column among the free parameters (-1: fixed).
   std::vector<std::pair<ceres::CostFunction*, std::vector<int>>> evaluation_order_;
+  std::vector<ceres::LossFunction*> evaluation_losses_;  // per residual block; null: none
+  void BuildCeres();
   std::vector<std::vector<int>> free_column_;
   // EvaluateSparse's layout, fixed by Build(): per residual block the free columns its rows
   // hold, in column order, with the slot and entry of the parameter block each comes from.
