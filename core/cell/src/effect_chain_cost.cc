@@ -80,6 +80,8 @@ bool EffectChainCost::Predict(double const* const* parameters, bool with_twists,
     if (!ok) return false;
     c->T_world_base = FrameFromBlock(c->base, refs_.world_base);
     c->T_flange_target = FrameFromBlock(c->tool, refs_.flange_target);
+  } else {  // the world target: the world frame itself
+    c->T_world_base = c->T_base_flange = c->T_flange_target = Pose::Identity();
   }
   c->T_world_cam = c->camera ? FrameFromBlock(c->camera, refs_.world_cam) : T_world_cam_fixed_;
   const Eigen::Matrix3d R_cw = c->T_world_cam.R.transpose();
@@ -98,11 +100,16 @@ void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effe
   for (int size : effect_sizes_) num_effect_params += size;
   const int directions = 6 + (effects_asked ? num_effect_params : 0);
   H->resize(3, directions);
-  std::vector<std::vector<Jet>> effect_jets(effects_.size());
-  std::vector<const Jet*> effect_pointers(effects_.size());
+  // Reused per thread: an evaluation allocates nothing once the first has run.
+  thread_local std::vector<Jet> effect_jets;
+  thread_local std::vector<const Jet*> effect_pointers;
+  effect_jets.clear();
+  effect_pointers.clear();
   for (size_t e = 0; e < effects_.size(); ++e) {
-    for (int i = 0; i < effect_sizes_[e]; ++i) effect_jets[e].emplace_back(effect_params[e][i]);
-    effect_pointers[e] = effect_jets[e].data();
+    for (int i = 0; i < effect_sizes_[e]; ++i) effect_jets.emplace_back(effect_params[e][i]);
+  }
+  for (size_t e = 0, at = 0; e < effects_.size(); at += effect_sizes_[e++]) {
+    effect_pointers.push_back(effect_jets.data() + at);
   }
   for (int first = 0; first < directions; first += kJetStride) {
     Jet s[3], w[3];
@@ -113,14 +120,12 @@ void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effe
       if (i + 3 >= first && i + 3 < first + kJetStride) w[i].v[i + 3 - first] = 1.0;
     }
     int direction = 6;
-    for (auto& jets : effect_jets) {
-      for (Jet& p : jets) {
-        p.v.setZero();
-        if (effects_asked && direction >= first && direction < first + kJetStride) {
-          p.v[direction - first] = 1.0;
-        }
-        ++direction;
+    for (Jet& p : effect_jets) {
+      p.v.setZero();
+      if (effects_asked && direction >= first && direction < first + kJetStride) {
+        p.v[direction - first] = 1.0;
       }
+      ++direction;
     }
     // (P.t + s, Exp(w) P.R) to first order, which is all a Jet carries: Exp(w) = I + [w]x.
     Transform<Jet> moved;
@@ -187,7 +192,7 @@ bool EffectChainCost::Evaluate(double const* const* parameters, double* residual
                                double** jacobians) const {
   const int model_slot = first_effect_ - 1;
   const bool model_asked = model_ && jacobians && jacobians[model_slot];
-  Chain c;
+  thread_local Chain c;  // its twists' storage is reused
   if (!Predict(parameters, model_asked, &c)) return false;
   double const* const* effect_params = parameters + first_effect_;
   if (jacobians == nullptr) {
@@ -200,7 +205,7 @@ bool EffectChainCost::Evaluate(double const* const* parameters, double* residual
   for (size_t e = 0; e < effects_.size(); ++e) {
     effects_asked = effects_asked || jacobians[first_effect_ + e] != nullptr;
   }
-  Eigen::Matrix<double, 3, Eigen::Dynamic> H;
+  thread_local Eigen::Matrix<double, 3, Eigen::Dynamic> H;
   MeasureAndCompare(c.P, effect_params, effects_asked, residuals, &H);
   StoreFrameJacobians(c, H.leftCols<6>(), jacobians);
   int column = 6;

@@ -49,7 +49,8 @@ bool SerialMdhModel::ForwardWithTwists(const double* q, const double* params,
     Eigen::Vector3d axis, point;  // unit axis; a point on it (a turn's centre)
     bool turn = false;
   };
-  std::vector<Motion> motions(kParamsPerJoint * joints_.size());
+  thread_local std::vector<Motion> motions;  // reused: no allocation per evaluation
+  motions.resize(kParamsPerJoint * joints_.size());
   Pose chain = Pose::Identity();
   for (size_t i = 0; i < joints_.size(); ++i) {
     const double* p = params + kParamsPerJoint * i;
