@@ -286,7 +286,12 @@ void Problem::BuildSparseLayout() {
   // Each residual block's rows hold the same columns: the free entries of its blocks, in
   // column order. Their count fixes every row's start before any evaluation.
   const int num_blocks = static_cast<int>(evaluation_order_.size());
+  size_t count = 0;  // every residual block's free entries: reserved once, not grown
+  for (const auto& [cost, block_ids] : evaluation_order_) {
+    for (int b : block_ids) count += free_column_[b].size();
+  }
   sparse_entries_.clear();
+  sparse_entries_.reserve(count);
   sparse_entry_start_.assign(num_blocks + 1, 0);
   sparse_row_start_.assign(num_residuals_ + 1, 0);
   for (int k = 0; k < num_blocks; ++k) {
