@@ -74,6 +74,7 @@ class TranslationStep {
         }
       }
     }
+    if (columns_.empty()) return;  // nothing to solve for: the rounds stop at once
     if (A_.rows() >= A_.cols()) {
       qr_.compute(A_);
       const Eigen::MatrixXd R = qr_.matrixQR().topRows(A_.cols()).triangularView<Eigen::Upper>();
