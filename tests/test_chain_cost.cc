@@ -4,8 +4,13 @@
 
 #include <random>
 
+#include <ceres/dynamic_autodiff_cost_function.h>
+
 #include "cellmetry/basics/so3_jacobians.h"
 #include "chain_cost.h"
+#include "effect_chain_cost.h"
+#include "effect_residuals.h"
+#include "support/test_support.h"
 
 namespace cellmetry {
 namespace {
@@ -121,6 +126,156 @@ INSTANTIATE_TEST_SUITE_P(
                       ChainCase{{true, true, false}, Compared::kRotation},
                       ChainCase{{false, false, true}, Compared::kPosition},
                       ChainCase{{false, false, true}, Compared::kRotation}));
+
+// EffectChainCost (effect_chain_cost.h): a UR3 chain with measurement effects (a target's
+// printed scale, a camera's focal length, principal point and distortion, all off zero), each
+// block's Jacobian against central differences and against the Jets over the whole chain it
+// replaces (EffectChainResidual, WorldEffectResidual), with the residuals themselves.
+struct EffectChainCase {
+  bool robot;          // a carried target (else the world target)
+  bool static_camera;  // a camera block (else the measured per-frame camera)
+  Compared compared;
+};
+
+class EffectChainCostTest : public ::testing::TestWithParam<EffectChainCase> {};
+
+std::unique_ptr<Effect> MakeEffect(const std::string& yaml, const RobotModel& robot) {
+  const ConfigNode config = ConfigNode::LoadString(yaml, "test");
+  return testing::Plugins().CreateEffect(config["type"].AsString(), config, robot);
+}
+
+TEST_P(EffectChainCostTest, JacobianMatchesCentralDifferencesAndTheJets) {
+  const EffectChainCase c = GetParam();
+  const auto ur3 = testing::Plugins().CreateRobotModel(
+      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
+  const auto scale = MakeEffect("{type: target_scale, targets: [tool, world]}", *ur3);
+  const auto intrinsics = MakeEffect("{type: camera_intrinsics, cameras: [cam2, cam1]}", *ur3);
+  const std::vector<const Effect*> effects = {scale.get(), intrinsics.get()};
+  const std::vector<int> effect_sizes = {int(scale->parameters().size()),
+                                         int(intrinsics->parameters().size())};
+  std::mt19937 rng(17);
+  for (int trial = 0; trial < 10; ++trial) {
+    FrameRefs refs;
+    refs.world_base = RandomPose(rng).R;
+    refs.flange_target = RandomPose(rng).R;
+    refs.world_cam = RandomPose(rng).R;
+    std::vector<double> q(6);
+    for (double& v : q) v = RandomVector(rng, 3.0)[0];
+    EffectContext context;
+    context.num_joints = 6;
+    context.q = q.data();
+    context.camera = "cam1";
+    context.target = c.robot ? "tool" : "world";
+    // Blocks in the cost's order, values off zero everywhere.
+    std::vector<std::vector<double>> values;
+    auto frame = [&] {
+      const Eigen::Vector3d t = RandomVector(rng, 300.0), r = RandomVector(rng, 0.8);
+      values.push_back({t.x(), t.y(), t.z(), r.x(), r.y(), r.z()});
+    };
+    if (c.robot) frame(), frame();
+    if (c.static_camera) frame();
+    if (c.robot) {
+      values.emplace_back();
+      for (const auto& p : ur3->parameters()) {
+        values.back().push_back(p.nominal + RandomVector(rng, p.unit == "mm" ? 2.0 : 0.02)[0]);
+      }
+    }
+    for (int size : effect_sizes) {
+      values.emplace_back();
+      for (int i = 0; i < size; ++i) values.back().push_back(RandomVector(rng, 0.02)[0]);
+    }
+    std::vector<const double*> params;
+    for (auto& v : values) params.push_back(v.data());
+    // The camera where a camera is: the target 0.6 to 1.2 m in front of it, off its axis.
+    Pose T_world_target = Pose::Identity();
+    if (c.robot) {
+      Pose T_base_flange;
+      ASSERT_TRUE(ur3->Forward(q.data(), params[c.static_camera ? 3 : 2], &T_base_flange));
+      T_world_target = FrameFromBlock(params[0], refs.world_base) * T_base_flange *
+                       FrameFromBlock(params[1], refs.flange_target);
+    }
+    Pose T_world_cam = RandomPose(rng);
+    if (c.static_camera) T_world_cam = FrameFromBlock(params[c.robot ? 2 : 0], refs.world_cam);
+    const Eigen::Vector3d in_view(RandomVector(rng, 200.0)[0], RandomVector(rng, 200.0)[1],
+                                  900.0 + RandomVector(rng, 300.0)[2]);
+    T_world_cam.t = T_world_target.t - T_world_cam.R * in_view;
+    if (c.static_camera) {
+      auto& camera = values[c.robot ? 2 : 0];
+      for (int i = 0; i < 3; ++i) camera[i] = T_world_cam.t[i];
+    }
+    const Pose T_cam_world_measured = T_world_cam.inverse();
+    // The measurement: the prediction (with the effects at zero) turned and shifted a little.
+    const Pose predicted = T_cam_world_measured * T_world_target;
+    const Eigen::Vector3d turn = RandomVector(rng, 0.2);
+    const Pose measured{RotationFromRvec(turn.data()) * predicted.R,
+                        predicted.t + RandomVector(rng, 5.0)};
+    const TargetComparison comparison(c.compared, measured, Eigen::Vector3d(0.5, 0.7, 2.0));
+
+    EffectChainCost cost(comparison, refs, c.robot ? ur3.get() : nullptr, context,
+                         c.static_camera, T_cam_world_measured, effects, effect_sizes);
+    std::unique_ptr<ceres::CostFunction> jets;
+    if (c.robot) {
+      jets.reset(new ceres::DynamicAutoDiffCostFunction<EffectChainResidual, kJetStride>(
+          new EffectChainResidual(comparison, refs, ur3.get(), context, c.static_camera,
+                                  T_cam_world_measured, effects)));
+    } else {
+      jets.reset(new ceres::DynamicAutoDiffCostFunction<WorldEffectResidual, kJetStride>(
+          new WorldEffectResidual(comparison, refs.world_cam, context, effects)));
+    }
+    auto* dynamic = static_cast<ceres::DynamicCostFunction*>(jets.get());
+    for (const auto& v : values) dynamic->AddParameterBlock(static_cast<int>(v.size()));
+    dynamic->SetNumResiduals(3);
+    ASSERT_EQ(cost.parameter_block_sizes(), jets->parameter_block_sizes());
+
+    std::vector<std::vector<double>> analytic, reference;
+    std::vector<double*> analytic_ptr, reference_ptr;
+    for (const auto& v : values) {
+      analytic.emplace_back(3 * v.size());
+      reference.emplace_back(3 * v.size());
+    }
+    for (size_t b = 0; b < values.size(); ++b) {
+      analytic_ptr.push_back(analytic[b].data());
+      reference_ptr.push_back(reference[b].data());
+    }
+    double r[3], r_jets[3];
+    ASSERT_TRUE(cost.Evaluate(params.data(), r, analytic_ptr.data()));
+    ASSERT_TRUE(jets->Evaluate(params.data(), r_jets, reference_ptr.data()));
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i], r_jets[i], 1e-9 * (1 + std::abs(r_jets[i])));
+    double r_plain[3];
+    ASSERT_TRUE(cost.Evaluate(params.data(), r_plain, nullptr));
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r_plain[i], r[i], 1e-12 * (1 + std::abs(r[i])));
+
+    for (size_t b = 0; b < values.size(); ++b) {
+      const int width = static_cast<int>(values[b].size());
+      for (int j = 0; j < width; ++j) {
+        double plus[3], minus[3];
+        const double saved = values[b][j];
+        values[b][j] = saved + kStep;
+        cost.Evaluate(params.data(), plus, nullptr);
+        values[b][j] = saved - kStep;
+        cost.Evaluate(params.data(), minus, nullptr);
+        values[b][j] = saved;
+        for (int i = 0; i < 3; ++i) {
+          const double numeric = (plus[i] - minus[i]) / (2 * kStep);
+          const double a = analytic[b][i * width + j], jet = reference[b][i * width + j];
+          EXPECT_NEAR(a, numeric, 1e-6 * std::max(1.0, std::abs(numeric)))
+              << "trial " << trial << " block " << b << " parameter " << j << " row " << i;
+          EXPECT_NEAR(a, jet, 1e-9 * std::max(1.0, std::abs(jet)))
+              << "trial " << trial << " block " << b << " parameter " << j << " row " << i;
+        }
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllChains, EffectChainCostTest,
+    ::testing::Values(EffectChainCase{true, true, Compared::kPosition},
+                      EffectChainCase{true, true, Compared::kRotation},
+                      EffectChainCase{true, false, Compared::kPosition},
+                      EffectChainCase{true, false, Compared::kRotation},
+                      EffectChainCase{false, true, Compared::kPosition},
+                      EffectChainCase{false, true, Compared::kRotation}));
 
 }  // namespace
 }  // namespace cellmetry

@@ -5,7 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
 #include <set>
+#include <sstream>
 
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/result_io.h"
@@ -125,6 +130,85 @@ TEST(RealRecordings, SigmaCoversTheMeasuredPlacement) {
     EXPECT_THAT(WorkcellSummary(r), ::testing::HasSubstr("rad +- (held, held, 0.0"));
   }
 }
+
+// The answers BM_Identify times (issue 15), pinned: the verdicts (what was held as
+// unidentifiable, which rows were outliers) and every estimate and sigma part, as the code
+// before the speed-ups computed them. Faster code must compute the same numbers, to 1e-6
+// relative. CELLMETRY_PIN_ANSWERS=1 writes the files again (only for a deliberate change of what
+// is computed, said so in its commit).
+std::map<std::string, double> PinnedQuantities(const WorkcellResult& r) {
+  std::map<std::string, double> out;
+  for (const auto& u : r.unidentifiable) out["unidentifiable " + u.name] = 1.0;
+  out["outliers"] = static_cast<double>(r.outliers.size());
+  for (const auto& o : r.outliers) {
+    out["outlier sample " + std::to_string(o.sample) + " " + o.camera + "/" + o.target + " " +
+        o.kind] = 1.0;
+  }
+  for (const FrameEstimate& f : r.frames) {
+    const Eigen::Vector3d rvec = RvecFromRotation(f.pose.R);
+    for (int i = 0; i < 6; ++i) {
+      const std::string name = f.name + "." + kFrameParameterNames[i];
+      out[name + " value"] = i < 3 ? f.pose.t[i] : rvec[i - 3];
+      out[name + " sigma"] = i < 3 ? f.sigma_mm[i] : f.sigma_rad[i - 3];
+      out[name + " statistical"] = f.sigma_statistical[i];
+      out[name + " systematic"] = f.sigma_systematic[i];
+      out[name + " inputs"] = f.sigma_inputs[i];
+    }
+  }
+  for (const ScalarEstimate& s : r.model_parameters) {
+    out[s.name + " value"] = s.value;
+    out[s.name + " sigma"] = s.sigma;
+    out[s.name + " statistical"] = s.sigma_statistical;
+    out[s.name + " systematic"] = s.sigma_systematic;
+    out[s.name + " inputs"] = s.sigma_inputs;
+  }
+  return out;
+}
+
+class PinnedAnswers : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+
+TEST_P(PinnedAnswers, AreComputedAgainToOnePartInAMillion) {
+  const auto& [job, pinned_file] = GetParam();
+  const auto now = PinnedQuantities(RunJob(job, "type: ceres_lm", 0));
+  const std::string path = testing::Source(pinned_file);
+  if (std::getenv("CELLMETRY_PIN_ANSWERS")) {
+    std::ofstream out(path);
+    out << "# " << job << ", ceres_lm, no cross-validation: tests/test_workcell_vsb.cc pins it\n";
+    char line[64];
+    for (const auto& [name, value] : now) {
+      std::snprintf(line, sizeof(line), "%.17g", value);
+      out << name << " = " << line << "\n";
+    }
+    GTEST_SKIP() << "wrote " << path;
+  }
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path;
+  std::map<std::string, double> pinned;
+  for (std::string line; std::getline(in, line);) {
+    const auto eq = line.find(" = ");
+    if (line.empty() || line[0] == '#' || eq == std::string::npos) continue;
+    pinned[line.substr(0, eq)] = std::stod(line.substr(eq + 3));
+  }
+  ASSERT_GT(pinned.size(), 50u);
+  for (const auto& [name, value] : pinned) {
+    ASSERT_TRUE(now.count(name)) << job << ": " << name << " is gone";
+    // A part of sigma is compared on the scale of the whole (a part at rounding level, 1e-13
+    // of its sigma, has no sixth digit to keep); a value on its own scale or its sigma's.
+    const auto sigma = pinned.find(name.substr(0, name.rfind(' ')) + " sigma");
+    const double sigma_scale = sigma == pinned.end() ? 0.0 : std::abs(sigma->second);
+    const double scale = std::max({std::abs(value), std::abs(now.at(name)), sigma_scale, 1e-12});
+    EXPECT_LE(std::abs(now.at(name) - value), 1e-6 * scale)
+        << job << ": " << name << " = " << now.at(name) << ", pinned " << value;
+  }
+  for (const auto& [name, value] : now) EXPECT_TRUE(pinned.count(name)) << job << ": new " << name;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    VsbJobs, PinnedAnswers,
+    ::testing::Values(std::make_pair(std::string("configs/jobs/vsb_sim_b.yaml"),
+                                     std::string("tests/data/vsb/pinned_answers_sim_b.txt")),
+                      std::make_pair(std::string("configs/jobs/vsb_exp_a_geometry.yaml"),
+                                     std::string("tests/data/vsb/pinned_answers_exp_a.txt"))));
 
 }  // namespace
 }  // namespace cellmetry

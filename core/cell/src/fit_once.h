@@ -17,6 +17,7 @@ struct Fit {
   SolverSummary summary;
   std::vector<UnidentifiableParameter> unidentifiable;
   int free_as_asked = 0;  // free parameters before anything was held as unidentifiable
+  Linearization at_answer;  // IdentifiedSolve's: valid when the solve's last check held nothing
 };
 
 // Assembles on `poses` (empty: all), holds `held` and whatever the data cannot determine, and

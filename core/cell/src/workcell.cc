@@ -32,6 +32,7 @@ Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const Workc
                                  std::move(held), make_solver, warm_start);
   fit.summary = solved.summary;
   fit.unidentifiable = std::move(solved.unidentifiable);
+  fit.at_answer = std::move(solved.at_answer);
   return fit;
 }
 
@@ -366,7 +367,9 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   result.unidentifiable = fit.unidentifiable;
   result.estimate = ReadEstimate(spec, *fit.assembled);
   clock.Lap("solve");
-  const Linearization at_answer = Linearize(fit.assembled->problem);
+  // The solve's last identifiability check linearized here already (with its R factor).
+  const Linearization at_answer =
+      fit.at_answer.valid ? std::move(fit.at_answer) : Linearize(fit.assembled->problem);
   result.uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
   result.strong_correlations = StrongCorrelations(result.uncertainty);
   const std::set<std::string> held = Names(result.unidentifiable);

@@ -6,6 +6,7 @@
 
 #include "cellmetry/basics/error.h"
 #include "chain_cost.h"
+#include "effect_chain_cost.h"
 #include "effect_residuals.h"
 #include "jet_costs.h"
 #include "joint_space_residual.h"
@@ -80,6 +81,12 @@ void ChainEffects(const WorkcellProblem& spec, const AssembledWorkcell& out,
       blocks->push_back(out.effect_block[k]);
     }
   }
+}
+
+std::vector<int> BlockSizes(const Problem& problem, const std::vector<int>& blocks) {
+  std::vector<int> sizes;
+  for (int b : blocks) sizes.push_back(static_cast<int>(problem.block_parameters(b).size()));
+  return sizes;
 }
 
 ResidualInfo InfoFor(const Recording& recording, int observation, ResidualInfo::Kind kind,
@@ -188,6 +195,11 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
     context.target = obs.target;
     blocks->push_back(out->model_block[c.m.robot]);
     blocks->insert(blocks->end(), effect_blocks.begin(), effect_blocks.end());
+    if (AllMeasurementEffects(effects)) {  // analytic but for the measurement stage
+      return std::make_unique<EffectChainCost>(comparison, c.refs, robot.model.get(), context,
+                                               c.static_camera, c.m.T_cam_world, effects,
+                                               BlockSizes(out->problem, effect_blocks));
+    }
     return OnJets(new EffectChainResidual(comparison, c.refs, robot.model.get(), context,
                                           c.static_camera, c.m.T_cam_world, effects),
                   out->problem, *blocks);
@@ -298,8 +310,11 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
         context.camera = obs.camera;
         context.target = obs.target;
         blocks.insert(blocks.end(), effect_blocks.begin(), effect_blocks.end());
-        cost = OnJets(new WorldEffectResidual(comparison, out->R_ref.at(camera), context, effects),
-                      out->problem, blocks);
+        FrameRefs refs;
+        refs.world_cam = out->R_ref.at(camera);
+        cost = std::make_unique<EffectChainCost>(comparison, refs, /*model=*/nullptr, context,
+                                                 /*static_camera=*/true, Pose::Identity(),
+                                                 effects, BlockSizes(out->problem, effect_blocks));
       } else {
         FrameRefs refs;
         refs.world_cam = out->R_ref.at(camera);

@@ -41,6 +41,89 @@ struct RobotPoint {
   int tool = 0;
 };
 
+// The linear step of InitialBaseAndTools: base translation (when free or not given) and free
+// tool translations, least squares with minimum norm (where the poses cannot separate base and
+// tool translations, as on a delta whose flange never turns, neither runs off to 1e12 mm; the
+// fit's identifiability check then says which to hold).
+//
+// Point i's rows are [I | R_world_base R_base_flange_i S] (S: the free tool axes). With the base
+// translation's unknown taken as R_world_base^T t (an orthogonal change of unknowns: same
+// residuals, same norms, same singular values) they are [I | R_base_flange_i S], which no round
+// changes: the matrix is factored once (QR, then an SVD of its small R with the old 1e-9
+// threshold) and each round only rotates the right-hand side. The SVD of the whole 3N x 6
+// matrix in every one of ~45 rounds was most of exp_a's closed-form start.
+class TranslationStep {
+ public:
+  TranslationStep(const WorkcellRobot& robot, const std::vector<RobotPoint>& points) {
+    for (int a = 0; a < 3; ++a) {
+      if (!robot.base_start) columns_.push_back({-1, a});
+    }
+    for (size_t t = 0; t < robot.tools.size(); ++t) {
+      for (int a = 0; a < 3; ++a) {
+        if (robot.tools[t].flange_tool.free[a]) columns_.push_back({static_cast<int>(t), a});
+      }
+    }
+    A_ = Eigen::MatrixXd::Zero(3 * points.size(), columns_.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+      for (size_t c = 0; c < columns_.size(); ++c) {
+        const auto [tool, axis] = columns_[c];
+        if (tool < 0) {
+          A_(3 * i + axis, c) = 1.0;
+        } else if (tool == points[i].tool) {
+          A_.block<3, 1>(3 * i, c) = points[i].T_base_flange.R.col(axis);
+        }
+      }
+    }
+    if (columns_.empty()) return;  // nothing to solve for: the rounds stop at once
+    if (A_.rows() >= A_.cols()) {
+      qr_.compute(A_);
+      const Eigen::MatrixXd R = qr_.matrixQR().topRows(A_.cols()).triangularView<Eigen::Upper>();
+      svd_.compute(R, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    } else {
+      svd_.compute(A_, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    }
+    svd_.setThreshold(1e-9);
+  }
+
+  const std::vector<std::pair<int, int>>& columns() const { return columns_; }
+
+  // The minimum-norm solution for right-hand side `b` (rows as A's), base part in the base's
+  // rotated frame.
+  Eigen::VectorXd Solve(const Eigen::VectorXd& b) const {
+    if (A_.rows() < A_.cols()) return svd_.solve(b);
+    const Eigen::VectorXd Qt_b = qr_.householderQ().transpose() * b;
+    return svd_.solve(Qt_b.head(A_.cols()));
+  }
+
+ private:
+  std::vector<std::pair<int, int>> columns_;  // (-1, axis) base; (tool, axis) tool
+  Eigen::MatrixXd A_;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd_;
+};
+
+// The linear step's right-hand side for point i, in the base's rotated frame: what remains of
+// R_wb^T p_world once the flange position (and a given base translation, and the held tool
+// translation components) are taken away.
+Eigen::VectorXd TranslationRhs(const WorkcellRobot& robot, const std::vector<RobotPoint>& points,
+                               const Pose& T_world_base,
+                               const std::vector<Eigen::Vector3d>& tool_t) {
+  Eigen::VectorXd b(3 * points.size());
+  const Eigen::Matrix3d R_bw = T_world_base.R.transpose();
+  for (size_t i = 0; i < points.size(); ++i) {
+    const RobotPoint& p = points[i];
+    Eigen::Vector3d rhs = R_bw * p.p_world - p.T_base_flange.t;
+    if (robot.base_start) rhs -= R_bw * T_world_base.t;
+    for (int a = 0; a < 3; ++a) {
+      if (!robot.tools[p.tool].flange_tool.free[a]) {
+        rhs -= p.T_base_flange.R.col(a) * tool_t[p.tool][a];
+      }
+    }
+    b.segment<3>(3 * i) = rhs;
+  }
+  return b;
+}
+
 // Alternates Kabsch (rotation + translation) with a linear solve for translations.
 void InitialBaseAndTools(const WorkcellRobot& robot, const std::vector<RobotPoint>& points,
                          WorkcellEstimate* estimate) {
@@ -49,6 +132,7 @@ void InitialBaseAndTools(const WorkcellRobot& robot, const std::vector<RobotPoin
   Pose T_world_base = robot.base_start ? *robot.base_start : Pose::Identity();
   std::vector<Eigen::Vector3d> world;
   for (const auto& p : points) world.push_back(p.p_world);
+  const TranslationStep step(robot, points);
 
   for (int round = 0; round < 50; ++round) {
     if (!robot.base_start) {
@@ -58,52 +142,18 @@ void InitialBaseAndTools(const WorkcellRobot& robot, const std::vector<RobotPoin
       if (!fit) break;
       T_world_base = *fit;
     }
-    // Unknowns: base translation (3, when it is free or not given) and free tool translations.
-    std::vector<std::pair<int, int>> columns;  // (-1, axis) base; (tool, axis) tool
-    for (int a = 0; a < 3; ++a) {
-      if (!robot.base_start) columns.push_back({-1, a});
-    }
-    for (size_t t = 0; t < robot.tools.size(); ++t) {
-      for (int a = 0; a < 3; ++a) {
-        if (robot.tools[t].flange_tool.free[a]) columns.push_back({static_cast<int>(t), a});
-      }
-    }
-    if (columns.empty()) break;
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3 * points.size(), columns.size());
-    Eigen::VectorXd b(3 * points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-      const auto& p = points[i];
-      const Eigen::Matrix3d R_world_flange = T_world_base.R * p.T_base_flange.R;
-      Eigen::Vector3d rhs = p.p_world - T_world_base.R * p.T_base_flange.t;
-      if (robot.base_start) rhs -= T_world_base.t;
-      for (size_t c = 0; c < columns.size(); ++c) {
-        const auto [tool, axis] = columns[c];
-        if (tool < 0) {
-          A(3 * i + axis, c) = 1.0;
-        } else if (tool == p.tool) {
-          A.block<3, 1>(3 * i, c) = R_world_flange.col(axis);
-        }
-      }
-      // Fixed tool translation components are known: move them to the right-hand side.
-      for (int a = 0; a < 3; ++a) {
-        if (!robot.tools[p.tool].flange_tool.free[a]) {
-          rhs -= R_world_flange.col(a) * tool_t[p.tool][a];
-        }
-      }
-      b.segment<3>(3 * i) = rhs;
-    }
-    // Minimum norm: where the poses cannot separate base and tool translations (a delta's
-    // flange never turns, so only their sum is seen), neither runs off to 1e12 mm; the fit's
-    // identifiability check then says which to hold.
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
-    svd.setThreshold(1e-9);
-    const Eigen::VectorXd x = svd.solve(b);
+    if (step.columns().empty()) break;
+    const Eigen::VectorXd x = step.Solve(TranslationRhs(robot, points, T_world_base, tool_t));
+    // The base's unknown was R_world_base^T t: back in the world frame.
+    const Eigen::Vector3d base_t =
+        robot.base_start ? T_world_base.t : Eigen::Vector3d(T_world_base.R * x.head<3>());
     double change = 0.0;
-    for (size_t c = 0; c < columns.size(); ++c) {
-      const auto [tool, axis] = columns[c];
+    for (size_t c = 0; c < step.columns().size(); ++c) {
+      const auto [tool, axis] = step.columns()[c];
       double& value = tool < 0 ? T_world_base.t[axis] : tool_t[tool][axis];
-      change = std::max(change, std::abs(value - x[c]));
-      value = x[c];
+      const double solved = tool < 0 ? base_t[axis] : x[c];
+      change = std::max(change, std::abs(value - solved));
+      value = solved;
     }
     if (change < 1e-9) break;
   }

@@ -19,13 +19,33 @@ std::vector<int> Columns(const Problem& problem, const std::vector<std::string>&
   return out;
 }
 
-// The columns `columns` of J (zero where -1), as J times a selection matrix: sparse stays sparse.
-SparseJacobian Select(const SparseJacobian& J, const std::vector<int>& columns) {
-  Eigen::SparseMatrix<double> selection(J.cols(), static_cast<Eigen::Index>(columns.size()));
-  for (size_t k = 0; k < columns.size(); ++k) {
-    if (columns[k] >= 0) selection.insert(columns[k], static_cast<Eigen::Index>(k)) = 1.0;
+// J[:, estimated]^T J[:, inputs] (zero rows and columns where a column is -1), accumulated row
+// by row over J's nonzeros: a row touches a few of both, and no selected copy of J is formed.
+Eigen::MatrixXd CrossProduct(const SparseJacobian& J, const std::vector<int>& estimated,
+                             const std::vector<int>& inputs) {
+  std::vector<int> as_estimated(J.cols(), -1), as_input(J.cols(), -1);
+  for (size_t k = 0; k < estimated.size(); ++k) {
+    if (estimated[k] >= 0) as_estimated[estimated[k]] = static_cast<int>(k);
   }
-  return J * selection;
+  for (size_t k = 0; k < inputs.size(); ++k) {
+    if (inputs[k] >= 0) as_input[inputs[k]] = static_cast<int>(k);
+  }
+  Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(estimated.size()),
+                                                static_cast<Eigen::Index>(inputs.size()));
+  std::vector<std::pair<int, double>> row_estimated, row_inputs;
+  for (Eigen::Index row = 0; row < J.outerSize(); ++row) {
+    row_estimated.clear();
+    row_inputs.clear();
+    for (SparseJacobian::InnerIterator it(J, row); it; ++it) {
+      const int t = as_estimated[it.col()], c = as_input[it.col()];
+      if (t >= 0) row_estimated.emplace_back(t, it.value());
+      if (c >= 0) row_inputs.emplace_back(c, it.value());
+    }
+    for (const auto& [c, v] : row_inputs) {
+      for (const auto& [t, u] : row_estimated) cross(t, c) += u * v;
+    }
+  }
+  return cross;
 }
 
 }  // namespace
@@ -46,9 +66,8 @@ Eigen::MatrixXd ConsiderCovariance(const Problem& augmented, const Linearization
     sigma[static_cast<Eigen::Index>(inputs.size())] = s;
     inputs.push_back(name);
   }
-  const SparseJacobian J_t = Select(at.jacobian, Columns(augmented, estimated));
-  const SparseJacobian J_c = Select(at.jacobian, Columns(augmented, inputs));
-  const Eigen::MatrixXd cross = Eigen::MatrixXd(J_t.transpose() * J_c);
+  const Eigen::MatrixXd cross =
+      CrossProduct(at.jacobian, Columns(augmented, estimated), Columns(augmented, inputs));
   const Eigen::MatrixXd G = -bread * cross;
   if (sensitivity) *sensitivity = G;
   Eigen::MatrixXd cov = G * sigma.cwiseAbs2().asDiagonal() * G.transpose();

@@ -64,13 +64,20 @@ std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
   return found;
 }
 
-std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance) {
-  SparseJacobian J;
-  if (problem.num_free() == 0 || !problem.EvaluateSparse(nullptr, &J)) return {};
+std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance,
+                                                        Linearization* at) {
+  Linearization local;
+  if (at == nullptr) at = &local;
+  *at = Linearization{};
+  if (problem.num_free() == 0) return {};
+  at->valid = problem.EvaluateSparse(at == &local ? nullptr : &at->residuals, &at->jacobian);
+  if (!at->valid) return {};
+  const SparseJacobian& J = at->jacobian;
+  at->r_factor = RFactor(J);
   const auto& free = problem.free_parameters();
   std::vector<UnidentifiableParameter> found;
   for (const DegenerateColumn& column :
-       FindDegenerateColumns(RFactor(J), ColumnNorms(J), tolerance)) {
+       FindDegenerateColumns(at->r_factor, ColumnNorms(J), tolerance)) {
     std::string partners;
     std::vector<GaugePartner> moves_with;
     for (size_t k = 0; k < column.partners.size(); ++k) {
@@ -120,7 +127,7 @@ IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
   IdentifiedSolve out;
   if (!held.empty()) HoldParameters(problem, held);
   auto hold_unidentifiable = [&] {
-    const auto found = FindUnidentifiable(*problem, tolerance);
+    const auto found = FindUnidentifiable(*problem, tolerance, &out.at_answer);
     for (const auto& f : found) held.insert(f.name);
     out.unidentifiable.insert(out.unidentifiable.end(), found.begin(), found.end());
     if (!found.empty()) HoldParameters(problem, held);
@@ -130,6 +137,7 @@ IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
   out.summary = make_solver()->Solve(*problem);
   CheckSolveEnded(*problem, out.summary);
   if (hold_unidentifiable()) {
+    out.at_answer = Linearization{};  // made before the parameters it found were held
     out.summary = make_solver()->Solve(*problem);
     CheckSolveEnded(*problem, out.summary);
   }
@@ -175,7 +183,7 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   const Eigen::VectorXd norms = ColumnNorms(J).cwiseMax(1e-300);
   std::vector<int> every(n);
   for (int j = 0; j < n; ++j) every[j] = j;
-  const auto svd = ScaledSvd(RFactor(J), every, norms);
+  const auto svd = ScaledSvd(at.r_factor.size() > 0 ? at.r_factor : RFactor(J), every, norms);
   const Eigen::VectorXd s = svd.singularValues();
   u.condition_number = s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());

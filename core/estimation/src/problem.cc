@@ -109,27 +109,18 @@ void Problem::SetWhitenedRobustLoss(RobustLossKind kind, std::vector<double> whi
 }
 
 void Problem::Build() {
-  ceres::Problem::Options options;
-  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.enable_fast_removal = false;
-  ceres_problem_ = std::make_unique<ceres::Problem>(options);
-  residual_ids_.clear();
   losses_.clear();
-  manifolds_.clear();
   prior_costs_.clear();
   infos_.resize(num_measurement_residuals_);  // priors are re-derived below
   rows_.clear();
   evaluation_order_.clear();
+  evaluation_losses_.clear();
   num_residuals_ = 0;
 
   auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss,
                  const std::vector<int>& block_ids) {
-    std::vector<double*> pointers;
-    for (int b : block_ids) pointers.push_back(values(b));
-    residual_ids_.push_back(ceres_problem_->AddResidualBlock(cost, loss, pointers));
     evaluation_order_.emplace_back(cost, block_ids);
+    evaluation_losses_.push_back(loss);
     rows_.push_back(num_residuals_);
     num_residuals_ += cost->num_residuals();
   };
@@ -154,24 +145,17 @@ void Problem::Build() {
   }
 
   free_.clear();
-  variable_blocks_.clear();
   free_column_.assign(blocks_.size(), {});
   for (size_t b = 0; b < blocks_.size(); ++b) {
     Block& block = *blocks_[b];
     free_column_[b].assign(block.params.size(), -1);
     if (!block.used) continue;
-    std::vector<int> fixed;
     for (size_t i = 0; i < block.params.size(); ++i) {
       const Parameter& p = block.params[i];
-      if (p.fixed) {
-        fixed.push_back(static_cast<int>(i));
-        continue;
-      }
+      if (p.fixed) continue;
       free_column_[b][i] = static_cast<int>(free_.size());
       free_.push_back({static_cast<int>(b), static_cast<int>(i), block.name + "." + p.name,
                        p.unit});
-      if (p.lower) ceres_problem_->SetParameterLowerBound(block.values.data(), i, *p.lower);
-      if (p.upper) ceres_problem_->SetParameterUpperBound(block.values.data(), i, *p.upper);
       if (p.prior_sigma) {
         prior_costs_.push_back(std::make_unique<PriorCost>(static_cast<int>(block.params.size()),
                                                            static_cast<int>(i), p.nominal,
@@ -183,6 +167,47 @@ void Problem::Build() {
         info.sigma = Eigen::Vector3d::Constant(*p.prior_sigma);
         infos_.push_back(info);
       }
+    }
+  }
+  BuildSparseLayout();
+  ceres_problem_.reset();  // built when a solver or Evaluate first needs it (BuildCeres)
+}
+
+ceres::Problem& Problem::ceres_problem() {
+  if (!ceres_problem_) BuildCeres();
+  return *ceres_problem_;
+}
+
+void Problem::BuildCeres() {
+  ceres::Problem::Options options;
+  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.enable_fast_removal = false;
+  ceres_problem_ = std::make_unique<ceres::Problem>(options);
+  residual_ids_.clear();
+  manifolds_.clear();
+  variable_blocks_.clear();
+  std::vector<double*> pointers;
+  for (size_t k = 0; k < evaluation_order_.size(); ++k) {
+    const auto& [cost, block_ids] = evaluation_order_[k];
+    pointers.clear();
+    for (int b : block_ids) pointers.push_back(values(b));
+    residual_ids_.push_back(
+        ceres_problem_->AddResidualBlock(cost, evaluation_losses_[k], pointers));
+  }
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    Block& block = *blocks_[b];
+    if (!block.used) continue;
+    std::vector<int> fixed;
+    for (size_t i = 0; i < block.params.size(); ++i) {
+      const Parameter& p = block.params[i];
+      if (p.fixed) {
+        fixed.push_back(static_cast<int>(i));
+        continue;
+      }
+      if (p.lower) ceres_problem_->SetParameterLowerBound(block.values.data(), i, *p.lower);
+      if (p.upper) ceres_problem_->SetParameterUpperBound(block.values.data(), i, *p.upper);
     }
     if (fixed.size() == block.params.size()) {
       ceres_problem_->SetParameterBlockConstant(block.values.data());
@@ -251,7 +276,8 @@ bool EvaluateCeres(ceres::Problem& problem, const std::vector<double*>& paramete
 bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd* jacobian,
                        bool apply_loss) {
   ceres::CRSMatrix crs;
-  if (!EvaluateCeres(*ceres_problem_, variable_blocks_, residual_ids_, apply_loss, cost, residuals,
+  ceres::Problem& ceres = ceres_problem();
+  if (!EvaluateCeres(ceres, variable_blocks_, residual_ids_, apply_loss, cost, residuals,
                      jacobian ? &crs : nullptr)) {
     return false;
   }
@@ -266,34 +292,55 @@ bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd
   return true;
 }
 
-bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const {
+void Problem::BuildSparseLayout() {
   // Each residual block's rows hold the same columns: the free entries of its blocks, in
   // column order. Their count fixes every row's start before any evaluation.
-  struct Entry {
-    int column, slot, index;  // free column; parameter block of the residual, entry in it
-    bool operator<(const Entry& other) const { return column < other.column; }
-  };
   const int num_blocks = static_cast<int>(evaluation_order_.size());
-  std::vector<std::vector<Entry>> columns(num_blocks);
-  std::vector<int> row_start(num_residuals_ + 1, 0);
+  size_t count = 0;  // every residual block's free entries: reserved once, not grown
+  for (const auto& [cost, block_ids] : evaluation_order_) {
+    for (int b : block_ids) count += free_column_[b].size();
+  }
+  sparse_entries_.clear();
+  sparse_entries_.reserve(count);
+  sparse_entry_start_.assign(num_blocks + 1, 0);
+  sparse_row_start_.assign(num_residuals_ + 1, 0);
   for (int k = 0; k < num_blocks; ++k) {
     const auto& [cost, block_ids] = evaluation_order_[k];
+    const size_t first = sparse_entries_.size();
     for (size_t slot = 0; slot < block_ids.size(); ++slot) {
       const auto& free_column = free_column_[block_ids[slot]];
       for (size_t i = 0; i < free_column.size(); ++i) {
         if (free_column[i] >= 0) {
-          columns[k].push_back({free_column[i], static_cast<int>(slot), static_cast<int>(i)});
+          sparse_entries_.push_back(
+              {free_column[i], static_cast<int>(slot), static_cast<int>(i)});
         }
       }
     }
-    std::sort(columns[k].begin(), columns[k].end());
+    std::sort(sparse_entries_.begin() + first, sparse_entries_.end(),
+              [](const SparseEntry& a, const SparseEntry& b) { return a.column < b.column; });
+    sparse_entry_start_[k + 1] = static_cast<int>(sparse_entries_.size());
     for (int row = 0; row < cost->num_residuals(); ++row) {
-      row_start[rows_[k] + row + 1] = static_cast<int>(columns[k].size());
+      sparse_row_start_[rows_[k] + row + 1] = static_cast<int>(sparse_entries_.size() - first);
     }
   }
-  for (int row = 0; row < num_residuals_; ++row) row_start[row + 1] += row_start[row];
-  std::vector<int> column_index(static_cast<size_t>(row_start.back()));
-  std::vector<double> entries(static_cast<size_t>(row_start.back()));
+  for (int row = 0; row < num_residuals_; ++row) {
+    sparse_row_start_[row + 1] += sparse_row_start_[row];
+  }
+}
+
+bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const {
+  const int num_blocks = static_cast<int>(evaluation_order_.size());
+  const std::vector<int>& row_start = sparse_row_start_;
+  // Written in place into the compressed row storage (no triplets, no copy of a map).
+  int* column_index = nullptr;
+  double* entries = nullptr;
+  if (jacobian) {
+    jacobian->resize(num_residuals_, num_free());
+    jacobian->resizeNonZeros(row_start.back());
+    std::copy(row_start.begin(), row_start.end(), jacobian->outerIndexPtr());
+    column_index = jacobian->innerIndexPtr();
+    entries = jacobian->valuePtr();
+  }
   Eigen::VectorXd r(num_residuals_);
   std::atomic<bool> valid{true};
   tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks, 256), [&](const auto& range) {
@@ -310,6 +357,10 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
         parameters.push_back(values(block_ids[slot]));
         block_jacobians[slot].resize(static_cast<size_t>(num_rows) *
                                      blocks_[block_ids[slot]]->params.size());
+        jacobian_pointers[slot] = nullptr;  // a block without free entries: not asked for
+      }
+      for (int e = sparse_entry_start_[k]; e < sparse_entry_start_[k + 1]; ++e) {
+        const int slot = sparse_entries_[e].slot;
         jacobian_pointers[slot] = block_jacobians[slot].data();
       }
       double* block_residuals = r.data() + rows_[k];
@@ -321,7 +372,8 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
       if (!jacobian) continue;
       for (int row = 0; row < num_rows; ++row) {
         int at = row_start[rows_[k] + row];
-        for (const Entry& e : columns[k]) {
+        for (int k_e = sparse_entry_start_[k]; k_e < sparse_entry_start_[k + 1]; ++k_e) {
+          const SparseEntry& e = sparse_entries_[k_e];
           const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
           column_index[at] = e.column;
           entries[at++] = block_jacobians[e.slot][row * width + e.index];  // row-major
@@ -329,14 +381,11 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
       }
     }
   });
-  if (!valid) return false;
-  if (residuals) *residuals = r;
-  if (jacobian) {
-    *jacobian = Eigen::Map<const SparseJacobian>(num_residuals_, num_free(),
-                                                 static_cast<Eigen::Index>(entries.size()),
-                                                 row_start.data(), column_index.data(),
-                                                 entries.data());
+  if (!valid) {
+    if (jacobian) jacobian->setZero();
+    return false;
   }
+  if (residuals) *residuals = std::move(r);
   return true;
 }
 

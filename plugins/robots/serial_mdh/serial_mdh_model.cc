@@ -40,6 +40,48 @@ std::vector<std::string> SerialMdhModel::Warnings() const {
   return warnings;
 }
 
+bool SerialMdhModel::ForwardWithTwists(const double* q, const double* params,
+                                       Pose* T_base_flange,
+                                       Eigen::Matrix<double, 6, Eigen::Dynamic>* twists) const {
+  // A = Rx(alpha) Tx(a) Ry(beta) Rz(q + offset) Tz(d): each factor moves what follows it about
+  // or along one axis of the frame it starts from (base coordinates).
+  struct Motion {
+    Eigen::Vector3d axis, point;  // unit axis; a point on it (a turn's centre)
+    bool turn = false;
+  };
+  thread_local std::vector<Motion> motions;  // reused: no allocation per evaluation
+  motions.resize(kParamsPerJoint * joints_.size());
+  Pose chain = Pose::Identity();
+  for (size_t i = 0; i < joints_.size(); ++i) {
+    const double* p = params + kParamsPerJoint * i;
+    Motion* m = &motions[kParamsPerJoint * i];
+    const Eigen::Vector3d x = chain.R.col(0);
+    m[kAlpha] = {x, chain.t, true};
+    m[kA] = {x, chain.t, false};  // Rx(alpha) keeps x
+    const Eigen::Vector3d origin = chain.t + p[kA] * x;
+    const double ca = std::cos(p[kAlpha]), sa = std::sin(p[kAlpha]);
+    const double cb = std::cos(p[kBeta]), sb = std::sin(p[kBeta]);
+    const Eigen::Matrix3d& R = chain.R;
+    m[kBeta] = {R * Eigen::Vector3d(0.0, ca, sa), origin, true};        // y after Rx(alpha)
+    const Eigen::Vector3d z = R * Eigen::Vector3d(sb, -sa * cb, ca * cb);  // z after Ry(beta)
+    m[kOffset] = {z, origin, true};
+    m[kD] = {z, origin, false};  // Rz(theta) keeps z
+    chain = chain * Link(p[kAlpha], p[kA], p[kBeta], q[i] + p[kOffset], p[kD]);
+  }
+  *T_base_flange = chain;
+  twists->resize(6, static_cast<Eigen::Index>(motions.size()));
+  for (size_t k = 0; k < motions.size(); ++k) {
+    const Motion& m = motions[k];
+    const Eigen::Index column = static_cast<Eigen::Index>(k);
+    if (m.turn) {
+      twists->col(column) << m.axis.cross(chain.t - m.point), m.axis;
+    } else {
+      twists->col(column) << m.axis, Eigen::Vector3d::Zero();
+    }
+  }
+  return true;
+}
+
 bool SerialMdhModel::AsSerialChain(const double* params, SerialChain* chain) const {
   chain->T_parent_joint.clear();
   for (size_t i = 0; i < joints_.size(); ++i) {

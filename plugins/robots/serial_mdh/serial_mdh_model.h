@@ -48,6 +48,10 @@ class SerialMdhModel : public RobotModelFromTemplate<SerialMdhModel> {
   // The `serial_mdh` config with `params` as its table (mm, rad), name and description kept.
   std::string CalibratedConfig(const ConfigNode& config, const double* params) const override;
   int JointOffsetParameter(int joint) const override { return kParamsPerJoint * joint + kOffset; }
+  // Closed form: each parameter turns the rest of the chain about one axis (alpha, beta,
+  // offset) or shifts it along one (a, d); no Jets.
+  bool ForwardWithTwists(const double* q, const double* params, Pose* T_base_flange,
+                         Eigen::Matrix<double, 6, Eigen::Dynamic>* twists) const override;
   // Frame i of the chain (A_1 ... A_i) has joint i's axis as its z axis; the flange is frame n.
   bool JointFrames(const double* q, const double* params,
                    std::vector<Pose>* T_base_joint) const override {

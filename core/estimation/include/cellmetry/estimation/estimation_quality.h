@@ -38,8 +38,10 @@ struct UnidentifiableParameter {
   std::vector<GaugePartner> moves_with;
 };
 
-// Free parameters that the data cannot determine, in the order they should be held.
-std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance);
+// Free parameters that the data cannot determine, in the order they should be held. With `at`,
+// also the linearization the verdict was made on (residuals, Jacobian, its R factor).
+std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance,
+                                                        Linearization* at = nullptr);
 
 // The same on columns of a Jacobian given by its R factor and column norms (r_factor.h): first
 // the columns no row depends on (norm <= 1e-12 of the largest), then one at a time the column
@@ -61,6 +63,10 @@ void HoldParameters(Problem* problem, const std::set<std::string>& names);
 struct IdentifiedSolve {
   SolverSummary summary;
   std::vector<UnidentifiableParameter> unidentifiable;  // held at their starting values
+  // The linearization at the answer that the last check was made on, when that check held
+  // nothing more (else not valid): the covariance needs exactly it, so it is not evaluated and
+  // factored a second time.
+  Linearization at_answer;
 };
 
 // Holds `held` and whatever the data cannot determine, solves, and checks again at the answer

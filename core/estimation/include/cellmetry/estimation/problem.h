@@ -79,7 +79,9 @@ class Problem {
   void SetWhitenedRobustLoss(RobustLossKind kind, std::vector<double> whitened_scale);
 
   void Build();
-  ceres::Problem& ceres_problem() { return *ceres_problem_; }
+  // The ceres::Problem of what Build() set up, built on first use: a problem only linearized
+  // (EvaluateSparse: the covariance, the uncertain inputs) never pays for Ceres's own structures.
+  ceres::Problem& ceres_problem();
 
   const std::vector<FreeParameter>& free_parameters() const { return free_; }
   int num_free() const { return static_cast<int>(free_.size()); }
@@ -129,7 +131,18 @@ class Problem {
   // Per residual block (in rows_ order): its cost and parameter blocks; per block and entry,
   // its column among the free parameters (-1: fixed).
   std::vector<std::pair<ceres::CostFunction*, std::vector<int>>> evaluation_order_;
+  std::vector<ceres::LossFunction*> evaluation_losses_;  // per residual block; null: none
+  void BuildCeres();
   std::vector<std::vector<int>> free_column_;
+  // EvaluateSparse's layout, fixed by Build(): per residual block the free columns its rows
+  // hold, in column order, with the slot and entry of the parameter block each comes from.
+  struct SparseEntry {
+    int column, slot, index;
+  };
+  void BuildSparseLayout();
+  std::vector<SparseEntry> sparse_entries_;
+  std::vector<int> sparse_entry_start_;  // per residual block, into sparse_entries_; then end
+  std::vector<int> sparse_row_start_;    // per row, then the end: the CRS row pointers
   int num_residuals_ = 0;
   RobustLossKind loss_kind_ = RobustLossKind::kNone;
   double loss_scale_ = 1.0;
@@ -144,6 +157,9 @@ struct Linearization {
   Eigen::VectorXd residuals;
   SparseJacobian jacobian;
   bool valid = false;   // false: a cost function failed at these values (no numbers to trust)
+  // RFactor(jacobian) (r_factor.h) once something computed it (FindUnidentifiable); empty
+  // before. Whoever needs it next takes it from here instead of factoring J again.
+  Eigen::MatrixXd r_factor;
 };
 Linearization Linearize(Problem& problem);
 

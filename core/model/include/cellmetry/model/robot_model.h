@@ -85,6 +85,14 @@ class RobotModel {
   virtual bool Forward(const double* q, const double* params, Transform<double>* out) const = 0;
   virtual bool Forward(const double* q, const Jet* params, Transform<Jet>* out) const = 0;
 
+  // The flange pose at (q, params) and how it moves with each model parameter: column k of
+  // `twists` (6 x parameters().size()) is (d t / d p_k; w_k) in the base frame, where
+  // d R / d p_k = [w_k]x R. What an analytic chain Jacobian needs from a model, at one
+  // evaluation's cost. False where Forward fails. The default differentiates Forward on Jets
+  // (kJetStride parameters per pass); a model with a closed form overrides it. Exact either way.
+  virtual bool ForwardWithTwists(const double* q, const double* params, Pose* T_base_flange,
+                                 Eigen::Matrix<double, 6, Eigen::Dynamic>* twists) const;
+
   // Index into parameters() of the angle added to joint i's reading (theta_i = q_i + param_i),
   // or -1 when the model has none. Joint effects (effect.h) act through it.
   virtual int JointOffsetParameter(int /*joint*/) const { return -1; }

@@ -1,0 +1,219 @@
+// EffectChainCost (effect_chain_cost.h): the chain in plain numbers, Jets on the measurement
+// stage alone, closed-form motions of the prediction for frames and model.
+#include "effect_chain_cost.h"
+
+#include "cellmetry/basics/so3_jacobians.h"
+#include "effect_residuals.h"
+
+namespace cellmetry {
+namespace {
+
+using Motion = Eigen::Matrix<double, 6, 6>;  // d(s, w) / d(frame block), s then w
+
+Eigen::Vector3d RotationPart(const double* block) {
+  return Eigen::Vector3d(block[3], block[4], block[5]);
+}
+
+// (s; w) of a frame block's translation and turn: s = [t_part, rotation_shift], w = turn.
+Motion FrameMotion(const Eigen::Matrix3d& d_shift_d_t, const Eigen::Matrix3d& d_shift_d_r,
+                   const Eigen::Matrix3d& d_turn_d_r) {
+  Motion D = Motion::Zero();
+  D.topLeftCorner<3, 3>() = d_shift_d_t;
+  D.topRightCorner<3, 3>() = d_shift_d_r;
+  D.bottomRightCorner<3, 3>() = d_turn_d_r;
+  return D;
+}
+
+// Writes a 3 x cols Jacobian row-major where Ceres asked for it.
+void Store(double* jacobian, const Eigen::Matrix<double, 3, Eigen::Dynamic>& J) {
+  if (jacobian == nullptr) return;
+  Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>>(jacobian, 3, J.cols()) = J;
+}
+
+}  // namespace
+
+bool AllMeasurementEffects(const std::vector<const Effect*>& effects) {
+  for (const Effect* e : effects) {
+    if (e->stage() != EffectStage::kMeasurement) return false;
+  }
+  return true;
+}
+
+struct EffectChainCost::Chain {
+  Pose P;                    // the target in the camera, before the measurement effects
+  Pose T_world_base, T_base_flange, T_flange_target, T_world_cam;
+  Eigen::Vector3d p_world;   // the target's origin in the world
+  Eigen::Matrix<double, 6, Eigen::Dynamic> twists;  // the model's flange twists (base frame)
+  const double* base = nullptr;
+  const double* tool = nullptr;
+  const double* camera = nullptr;
+};
+
+EffectChainCost::EffectChainCost(TargetComparison comparison, FrameRefs refs,
+                                 const RobotModel* model, EffectContext context,
+                                 bool static_camera, const Pose& T_cam_world_measured,
+                                 std::vector<const Effect*> effects,
+                                 const std::vector<int>& effect_sizes)
+    : comparison_(comparison), refs_(refs), model_(model), context_(std::move(context)),
+      static_camera_(static_camera), T_world_cam_fixed_(T_cam_world_measured.inverse()),
+      effects_(std::move(effects)), effect_sizes_(effect_sizes) {
+  set_num_residuals(3);
+  auto* sizes = mutable_parameter_block_sizes();
+  if (model_) sizes->insert(sizes->end(), {6, 6});
+  if (static_camera_) sizes->push_back(6);
+  if (model_) sizes->push_back(static_cast<int>(model_->parameters().size()));
+  first_effect_ = static_cast<int>(sizes->size());
+  sizes->insert(sizes->end(), effect_sizes_.begin(), effect_sizes_.end());
+}
+
+bool EffectChainCost::Predict(double const* const* parameters, bool with_twists,
+                              Chain* c) const {
+  int k = 0;
+  c->base = model_ ? parameters[k++] : nullptr;
+  c->tool = model_ ? parameters[k++] : nullptr;
+  c->camera = static_camera_ ? parameters[k++] : nullptr;
+  if (model_) {
+    const double* model_params = parameters[k++];
+    const bool ok = with_twists ? model_->ForwardWithTwists(context_.q, model_params,
+                                                            &c->T_base_flange, &c->twists)
+                                : model_->Forward(context_.q, model_params, &c->T_base_flange);
+    if (!ok) return false;
+    c->T_world_base = FrameFromBlock(c->base, refs_.world_base);
+    c->T_flange_target = FrameFromBlock(c->tool, refs_.flange_target);
+  } else {  // the world target: the world frame itself
+    c->T_world_base = c->T_base_flange = c->T_flange_target = Pose::Identity();
+  }
+  c->T_world_cam = c->camera ? FrameFromBlock(c->camera, refs_.world_cam) : T_world_cam_fixed_;
+  const Eigen::Matrix3d R_cw = c->T_world_cam.R.transpose();
+  const Pose T_world_flange = c->T_world_base * c->T_base_flange;
+  c->p_world = T_world_flange * c->T_flange_target.t;
+  c->P.t = R_cw * (c->p_world - c->T_world_cam.t);
+  c->P.R = R_cw * T_world_flange.R * c->T_flange_target.R;
+  return true;
+}
+
+void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effect_params,
+                                        bool effects_asked, double* residuals,
+                                        Eigen::Matrix<double, 3, Eigen::Dynamic>* H) const {
+  // Directions: s (3), w (3), then every effect parameter where asked for.
+  int num_effect_params = 0;
+  for (int size : effect_sizes_) num_effect_params += size;
+  const int directions = 6 + (effects_asked ? num_effect_params : 0);
+  H->resize(3, directions);
+  // Reused per thread: an evaluation allocates nothing once the first has run.
+  thread_local std::vector<Jet> effect_jets;
+  thread_local std::vector<const Jet*> effect_pointers;
+  effect_jets.clear();
+  effect_pointers.clear();
+  for (size_t e = 0; e < effects_.size(); ++e) {
+    for (int i = 0; i < effect_sizes_[e]; ++i) effect_jets.emplace_back(effect_params[e][i]);
+  }
+  for (size_t e = 0, at = 0; e < effects_.size(); at += effect_sizes_[e++]) {
+    effect_pointers.push_back(effect_jets.data() + at);
+  }
+  for (int first = 0; first < directions; first += kJetStride) {
+    Jet s[3], w[3];
+    for (int i = 0; i < 3; ++i) {
+      s[i] = Jet(0.0);
+      w[i] = Jet(0.0);
+      if (i >= first && i < first + kJetStride) s[i].v[i - first] = 1.0;
+      if (i + 3 >= first && i + 3 < first + kJetStride) w[i].v[i + 3 - first] = 1.0;
+    }
+    int direction = 6;
+    for (Jet& p : effect_jets) {
+      p.v.setZero();
+      if (effects_asked && direction >= first && direction < first + kJetStride) {
+        p.v[direction - first] = 1.0;
+      }
+      ++direction;
+    }
+    // (P.t + s, Exp(w) P.R) to first order, which is all a Jet carries: Exp(w) = I + [w]x.
+    Transform<Jet> moved;
+    for (int i = 0; i < 3; ++i) moved.t[i] = Jet(P.t[i]) + s[i];
+    for (int col = 0; col < 3; ++col) {
+      const Eigen::Vector3d r = P.R.col(col);
+      moved.R(0, col) = Jet(r[0]) + w[1] * r[2] - w[2] * r[1];
+      moved.R(1, col) = Jet(r[1]) + w[2] * r[0] - w[0] * r[2];
+      moved.R(2, col) = Jet(r[2]) + w[0] * r[1] - w[1] * r[0];
+    }
+    ApplyMeasurement(effects_, effect_pointers.data(), context_, &moved);
+    Jet r[3];
+    comparison_.Compare(moved, r);
+    for (int i = 0; i < 3; ++i) {
+      residuals[i] = r[i].a;
+      for (int d = 0; d < kJetStride && first + d < directions; ++d) (*H)(i, first + d) = r[i].v[d];
+    }
+  }
+}
+
+void EffectChainCost::StoreFrameJacobians(const Chain& c,
+                                          const Eigen::Matrix<double, 3, 6>& H_motion,
+                                          double** jacobians) const {
+  const Eigen::Matrix3d R_cw = c.T_world_cam.R.transpose();
+  const Eigen::Matrix3d zero = Eigen::Matrix3d::Zero();
+  int k = 0;
+  if (model_) {
+    if (jacobians[k]) {  // base: p_world - t turns with it
+      const Eigen::Matrix3d J_l = LeftJacobian(RotationPart(c.base));
+      Store(jacobians[k],
+            H_motion * FrameMotion(R_cw, -R_cw * Skew(c.p_world - c.T_world_base.t) * J_l,
+                                   R_cw * J_l));
+    }
+    ++k;
+    if (jacobians[k]) {  // tool: shifts along the flange's axes, turns about them
+      const Eigen::Matrix3d R_cf = R_cw * c.T_world_base.R * c.T_base_flange.R;
+      Store(jacobians[k],
+            H_motion * FrameMotion(R_cf, zero, R_cf * LeftJacobian(RotationPart(c.tool))));
+    }
+    ++k;
+  }
+  if (static_camera_) {
+    if (jacobians[k]) {  // camera: the world moves the other way
+      const Eigen::Matrix3d J_l = LeftJacobian(RotationPart(c.camera));
+      Store(jacobians[k], H_motion * FrameMotion(-R_cw,
+                                                 R_cw * Skew(c.p_world - c.T_world_cam.t) * J_l,
+                                                 -R_cw * J_l));
+    }
+    ++k;
+  }
+  if (model_ && jacobians[k]) {
+    // A flange twist (dt, w) in the base frame moves the target by dt + w x (R_bf t_tool).
+    const Eigen::Matrix3d R_cb = R_cw * c.T_world_base.R;
+    const Eigen::Vector3d lever = c.T_base_flange.R * c.T_flange_target.t;
+    Motion to_camera = Motion::Zero();
+    to_camera.topLeftCorner<3, 3>() = R_cb;
+    to_camera.topRightCorner<3, 3>() = -R_cb * Skew(lever);
+    to_camera.bottomRightCorner<3, 3>() = R_cb;
+    Store(jacobians[k], H_motion * (to_camera * c.twists));
+  }
+}
+
+bool EffectChainCost::Evaluate(double const* const* parameters, double* residuals,
+                               double** jacobians) const {
+  const int model_slot = first_effect_ - 1;
+  const bool model_asked = model_ && jacobians && jacobians[model_slot];
+  thread_local Chain c;  // its twists' storage is reused
+  if (!Predict(parameters, model_asked, &c)) return false;
+  double const* const* effect_params = parameters + first_effect_;
+  if (jacobians == nullptr) {
+    Transform<double> measured = c.P;
+    ApplyMeasurement(effects_, effect_params, context_, &measured);
+    comparison_.Compare(measured, residuals);
+    return true;
+  }
+  bool effects_asked = false;
+  for (size_t e = 0; e < effects_.size(); ++e) {
+    effects_asked = effects_asked || jacobians[first_effect_ + e] != nullptr;
+  }
+  thread_local Eigen::Matrix<double, 3, Eigen::Dynamic> H;
+  MeasureAndCompare(c.P, effect_params, effects_asked, residuals, &H);
+  StoreFrameJacobians(c, H.leftCols<6>(), jacobians);
+  int column = 6;
+  for (size_t e = 0; e < effects_.size(); ++e) {
+    Store(jacobians[first_effect_ + e], H.middleCols(column, effect_sizes_[e]));
+    column += effect_sizes_[e];
+  }
+  return true;
+}
+
+}  // namespace cellmetry

@@ -1,0 +1,68 @@
+// EffectChainCost: the residuals of effect_residuals.h with analytic derivatives, for chains whose
+// effects all act at the measurement stage (none at the joint or flange stage).
+//
+//   P = T_cam_world * T_world_base * T_base_flange(model) * T_flange_target   (target in camera)
+//   r = Compare(Measure(P, effect parameters))
+//
+// Every parameter except the effects' acts through P, so the Jacobian factors through a small
+// motion of P, a shift s and a turn w in the camera frame (P.t + s, Exp(w) P.R):
+//
+//   dr / d(frame or model parameter) = dr/d(s, w) * d(s, w)/d(parameter)
+//
+// dr/d(s, w) and the effects' columns come from Jets over 6 + (effect parameters) directions
+// on the measurement stage and the comparison alone; d(s, w)/d(parameter) is closed form: the
+// frame blocks' as in chain_cost.h, the model's from its flange twists
+// (RobotModel::ForwardWithTwists; the model's closed form where it has one). Jets over the
+// whole chain instead (EffectChainResidual) run a UR3's forward kinematics seven times per
+// residual for its 30 parameters and the three frames; the input-uncertainty linearization of
+// exp_a spent most of its time there. Checked against central differences in
+// tests/test_chain_cost.cc.
+#pragma once
+
+#include <ceres/cost_function.h>
+
+#include <vector>
+
+#include "cellmetry/model/effect.h"
+#include "workcell_residuals.h"
+
+namespace cellmetry {
+
+// True when every effect acts at the measurement stage (EffectChainCost applies).
+bool AllMeasurementEffects(const std::vector<const Effect*>& effects);
+
+class EffectChainCost : public ceres::CostFunction {
+ public:
+  // `model` not null: a carried target, blocks base, tool, [camera,] model, one per effect
+  // (EffectChainResidual's). `model` null: the world target seen by a static camera, blocks
+  // camera, one per effect (WorldEffectResidual's). `effect_sizes`: each effect's parameter
+  // count. `context` points into the sample's SampleFacts, which must outlive the cost.
+  EffectChainCost(TargetComparison comparison, FrameRefs refs, const RobotModel* model,
+                  EffectContext context, bool static_camera, const Pose& T_cam_world_measured,
+                  std::vector<const Effect*> effects, const std::vector<int>& effect_sizes);
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  // The prediction P and what its motion (s, w) does per frame and model parameter.
+  struct Chain;
+  bool Predict(double const* const* parameters, bool with_twists, Chain* chain) const;
+  // r and dr/d(s, w, effect parameters) at P; the effects' directions only where asked for.
+  void MeasureAndCompare(const Pose& P, double const* const* effect_params, bool effects_asked,
+                         double* residuals, Eigen::Matrix<double, 3, Eigen::Dynamic>* H) const;
+  void StoreFrameJacobians(const Chain& chain, const Eigen::Matrix<double, 3, 6>& H_motion,
+                           double** jacobians) const;
+
+  TargetComparison comparison_;
+  FrameRefs refs_;
+  const RobotModel* model_;
+  EffectContext context_;
+  bool static_camera_;
+  Pose T_world_cam_fixed_;
+  std::vector<const Effect*> effects_;
+  std::vector<int> effect_sizes_;
+  int first_effect_ = 0;  // block index of the first effect
+};
+
+}  // namespace cellmetry
