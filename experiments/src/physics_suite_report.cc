@@ -212,7 +212,10 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
       << " | >= 95 % | " << verdict(t.clean_right, t.clean_runs, kCleanTarget) << " |\n";
   out << "| outside the library reported as unexplained | "
       << rate(t.outside_right, t.outside_runs) << " | all | "
-      << (t.outside_right < t.outside_runs ? "missed" : "no miss") << " |\n";
+      << (t.outside_runs == 0                  ? "-"
+          : t.outside_right < t.outside_runs ? "missed"
+                                             : "no miss")
+      << " |\n";
   out << "| held-out RMS / noise floor after modelling: median; mean [95 % t] | "
       << Fixed(Median(t.held_out_over_floor), 2) << "; " << Fixed(floor.mean, 2) << " ["
       << Fixed(floor.low, 2) << ", " << Fixed(floor.high, 2) << "] | <= 1.2 | "
