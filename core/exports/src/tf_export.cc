@@ -115,9 +115,9 @@ std::string TfLaunchExport(const CalibratedCell& cell) {
     const std::string child = RosFrameName(frame.name);
     out << XmlComment({FrameSigmaText(frame)}, "  ")
         << "  <node pkg=\"tf2_ros\" exec=\"static_transform_publisher\" name=\""
-        << XmlAttribute(NodeName(child)) << "\"\n        args=\""
-        << PoseArguments(frame.T_parent_frame) << " --frame-id " << XmlAttribute(parent)
-        << " --child-frame-id " << XmlAttribute(child) << "\"/>\n";
+        << EscapeXml(NodeName(child)) << "\"\n        args=\""
+        << PoseArguments(frame.T_parent_frame) << " --frame-id " << EscapeXml(parent)
+        << " --child-frame-id " << EscapeXml(child) << "\"/>\n";
   }
   const std::vector<std::string> relative = RobotToRobot(cell);
   if (!relative.empty()) {

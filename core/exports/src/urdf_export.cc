@@ -13,14 +13,14 @@ namespace cellmetry {
 namespace {
 
 void Link(const std::string& name, std::ostream& out) {
-  out << "  <link name=\"" << XmlAttribute(name) << "\"/>\n";
+  out << "  <link name=\"" << EscapeXml(name) << "\"/>\n";
 }
 
 void FixedJoint(const std::string& name, const std::string& parent, const std::string& child,
                 const Pose& T_parent_child, std::ostream& out) {
-  out << "  <joint name=\"" << XmlAttribute(name) << "\" type=\"fixed\">\n"
-      << "    <parent link=\"" << XmlAttribute(parent) << "\"/>\n"
-      << "    <child link=\"" << XmlAttribute(child) << "\"/>\n"
+  out << "  <joint name=\"" << EscapeXml(name) << "\" type=\"fixed\">\n"
+      << "    <parent link=\"" << EscapeXml(parent) << "\"/>\n"
+      << "    <child link=\"" << EscapeXml(child) << "\"/>\n"
       << "    " << UrdfOrigin(T_parent_child) << "\n"
       << "  </joint>\n";
 }
@@ -55,7 +55,7 @@ std::string UrdfExport(const CalibratedCell& cell, const CalibratedRobot& robot)
   const std::string flange = RosFrameName(robot.name + ".flange");
   std::ostringstream out;
   out << "<?xml version=\"1.0\"?>\n" << XmlComment(Comment(cell, robot, chain), "");
-  out << "<robot name=\"" << XmlAttribute(RosFrameName(robot.name)) << "\">\n";
+  out << "<robot name=\"" << EscapeXml(RosFrameName(robot.name)) << "\">\n";
   Link("world", out);
   Link(base, out);
   const CalibratedFrame* base_frame = FindFrame(cell, robot.name + ".base");
@@ -69,10 +69,10 @@ std::string UrdfExport(const CalibratedCell& cell, const CalibratedRobot& robot)
     const std::string link = RosFrameName(robot.name) + "_link" + index;
     const bool limited = i < limits.joint_min_rad.size() && i < limits.joint_max_rad.size();
     Link(link, out);
-    out << "  <joint name=\"" << XmlAttribute(RosFrameName(robot.name) + "_joint" + index)
+    out << "  <joint name=\"" << EscapeXml(RosFrameName(robot.name) + "_joint" + index)
         << "\" type=\"" << (limited ? "revolute" : "continuous") << "\">\n"
-        << "    <parent link=\"" << XmlAttribute(parent) << "\"/>\n"
-        << "    <child link=\"" << XmlAttribute(link) << "\"/>\n"
+        << "    <parent link=\"" << EscapeXml(parent) << "\"/>\n"
+        << "    <child link=\"" << EscapeXml(link) << "\"/>\n"
         << "    " << UrdfOrigin(chain.T_parent_joint[i]) << "\n"
         << "    <axis xyz=\"0 0 1\"/>\n";
     if (limited) {

@@ -6,20 +6,6 @@
 
 namespace cellmetry {
 
-std::string XmlAttribute(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
 std::string XmlComment(const std::vector<std::string>& lines, const std::string& indent) {
   std::string body;
   for (size_t i = 0; i < lines.size(); ++i) {

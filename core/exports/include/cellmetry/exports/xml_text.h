@@ -5,11 +5,9 @@
 #include <vector>
 
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/formats/xml_escape.h"  // EscapeXml: text and attribute values
 
 namespace cellmetry {
-
-// `text` safe inside an attribute value in double quotes (& < > " escaped).
-std::string XmlAttribute(const std::string& text);
 
 // One <!-- ... --> comment of `lines`, each indented by `indent`; "--", which XML forbids in a
 // comment, becomes "- -".

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "cellmetry/formats/xml_escape.h"  // EscapeXml, used by every page and plot
+
 namespace cellmetry::report {
 
 struct Range {
@@ -26,7 +28,6 @@ Range Union(Range a, Range b);
 
 // "1.23", "0.000456", "1.2e+06": %.{digits}g without trailing noise.
 std::string Num(double value, int digits = 4);
-std::string EscapeXml(const std::string& text);
 
 // A palette for series (cameras, axes, parts); wraps around.
 const char* SeriesColor(int index);
