@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cellmetry/formats/csv_table.h"
 #include "cellmetry/formats/recording.h"
 #include "support/test_support.h"
 
@@ -159,6 +160,18 @@ void ExpectSameObservations(const std::vector<Observation>& read,
       EXPECT_EQ(*read[i].rotation_covariance_rad2, *written[i].rotation_covariance_rad2);
     }
   }
+}
+
+// Text written by cellmetry's comparisons (table.csv) is read by the same reader as a recording:
+// quoted cells keep their commas, and a doubled quote inside one is one quote (RFC 4180).
+TEST(CsvTable, ParsesQuotedCellsFromText) {
+  const CsvTable table =
+      CsvTable::Parse("name,value\n\"a, b\",1\n\"say \"\"hi\"\"\",2\n", "table.csv");
+  ASSERT_EQ(table.num_rows(), 2u);
+  EXPECT_EQ(table.Text(0, "name"), "a, b");
+  EXPECT_EQ(table.Text(1, "name"), "say \"hi\"");
+  EXPECT_EQ(table.line_of(1), 3);
+  EXPECT_TRUE(CsvTable::Parse("", "empty.csv").header().empty());
 }
 
 TEST(WriteRecording, ReadingBackGivesTheSameRecording) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 
 #include "cellmetry/formats/config_node.h"
 
@@ -22,8 +23,12 @@ std::vector<std::string> SplitCsvLine(const std::string& line) {
   std::vector<std::string> cells;
   std::string cell;
   bool quoted = false;
-  for (char c : line) {
-    if (c == '"') {
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') {
+      cell += '"';  // RFC 4180: a doubled quote inside a quoted cell is one quote
+      ++i;
+    } else if (c == '"') {
       quoted = !quoted;
     } else if (c == ',' && !quoted) {
       cells.push_back(Trim(cell));
@@ -41,6 +46,17 @@ std::vector<std::string> SplitCsvLine(const std::string& line) {
 CsvTable CsvTable::Read(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError({path, 0, 0}, "cannot open file", "Check that the file exists");
+  std::ostringstream text;
+  text << in.rdbuf();
+  CsvTable table = Parse(text.str(), path);
+  if (table.header_.empty()) {
+    throw InputError({path, 1, 0}, "file is empty", "The first line must be the column header");
+  }
+  return table;
+}
+
+CsvTable CsvTable::Parse(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
   CsvTable table;
   table.path_ = path;
   std::string line;
@@ -64,9 +80,6 @@ CsvTable CsvTable::Read(const std::string& path) {
     cells.resize(table.header_.size());  // short rows: trailing optional cells left empty
     table.rows_.push_back(std::move(cells));
     table.lines_.push_back(line_number);
-  }
-  if (table.header_.empty()) {
-    throw InputError({path, 1, 0}, "file is empty", "The first line must be the column header");
   }
   return table;
 }

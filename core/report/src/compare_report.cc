@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/formats/csv_table.h"
 
 #include "cellmetry/report/html_page.h"
 #include "cellmetry/report/plots.h"
@@ -15,33 +16,6 @@
 
 namespace cellmetry::report {
 namespace {
-
-// RFC 4180 enough for what cellmetry writes: commas, double quotes around a field.
-std::vector<std::vector<std::string>> ParseCsv(const std::string& text) {
-  std::vector<std::vector<std::string>> rows;
-  std::vector<std::string> row;
-  std::string field;
-  bool quoted = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') field += '"', ++i;
-      else if (c == '"') quoted = false;
-      else field += c;
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      row.push_back(field), field.clear();
-    } else if (c == '\n') {
-      row.push_back(field), field.clear();
-      rows.push_back(row), row.clear();
-    } else if (c != '\r') {
-      field += c;
-    }
-  }
-  if (!field.empty() || !row.empty()) row.push_back(field), rows.push_back(row);
-  return rows;
-}
 
 bool IsNumber(const std::string& s, double* value) {
   if (s.empty()) return false;
@@ -163,7 +137,10 @@ std::vector<IntervalRow> ColumnRows(const std::vector<std::vector<std::string>>&
 
 std::string CompareReportHtml(const std::string& csv, const std::string& markdown,
                               const std::string& title) {
-  const auto table = ParseCsv(csv);
+  // Row 0 the header, then every data row, each as long as the header.
+  const CsvTable csv_table = CsvTable::Parse(csv, "table.csv");
+  std::vector<std::vector<std::string>> table = csv_table.rows();
+  if (!csv_table.header().empty()) table.insert(table.begin(), csv_table.header());
   HtmlPage page(title, "cellmetry compare: " +
                            std::to_string(table.empty() ? 0 : table.size() - 1) + " table rows");
   if (table.size() < 2) {

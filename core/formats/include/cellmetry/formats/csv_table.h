@@ -17,10 +17,15 @@ class CsvTable {
  public:
   // Reads `path`. Raises InputError when the file cannot be opened or has no header row.
   static CsvTable Read(const std::string& path);
+  // The same from text already in memory (`path` names it in errors). Empty text gives a table
+  // without header or rows; Read refuses that.
+  static CsvTable Parse(const std::string& text, const std::string& path);
 
   const std::string& path() const { return path_; }
   const std::vector<std::string>& header() const { return header_; }
   size_t num_rows() const { return rows_.size(); }
+  // Every data row, each as long as the header (short rows padded with empty cells).
+  const std::vector<std::vector<std::string>>& rows() const { return rows_; }
   int line_of(size_t row) const { return lines_[row]; }
 
   bool HasColumn(const std::string& name) const { return ColumnIndex(name).has_value(); }
