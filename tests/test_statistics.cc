@@ -44,5 +44,12 @@ TEST(Statistics, DurbinWatsonSeesDrift) {
   EXPECT_LT(DurbinWatson(drifting), 0.1);              // slow drift
 }
 
+TEST(Statistics, MedianOfOddAndEvenCounts) {
+  EXPECT_DOUBLE_EQ(Median({3.0, 1.0, 2.0}), 2.0);
+  EXPECT_DOUBLE_EQ(Median({4.0, 1.0, 3.0, 2.0}), 2.5);  // the two middle values' mean
+  EXPECT_DOUBLE_EQ(Median({-1.0}), -1.0);
+  EXPECT_TRUE(std::isnan(Median({})));
+}
+
 }  // namespace
 }  // namespace cellmetry

@@ -13,6 +13,7 @@
 
 #include "cellmetry/experiments/concealed_physics.h"
 #include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/formats/fixed_number.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
@@ -76,26 +77,19 @@ double MagnitudeForSnr(const PhysicsSuiteSpec& suite, const WorkcellSimulationSp
   return kTrialMagnitude * suite.snr / std::sqrt(chi2);
 }
 
-std::string Fixed(double v, int digits) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.*f", digits, v);
-  return b;
-}
-
-
 // The tests the round's chosen candidate failed, for the misses column.
 std::string FailedTests(const CandidateFinding& f) {
   std::string failed = f.name + ":";
   for (const auto& test : f.failed) {
     failed += " " + test;
     if (test == "bootstrap") {
-      failed += " " + Fixed(f.bootstrap_share, 2);
+      failed += " " + FixedNumber(f.bootstrap_share, 2);
       if (!f.bootstrap_rival.empty()) failed += " vs " + f.bootstrap_rival;
     }
   }
   if (!f.look_alikes.empty()) {
     failed += " (like " + f.look_alikes.front().label + ", " +
-              Fixed(f.look_alikes.front().correlation, 2) + ")";
+              FixedNumber(f.look_alikes.front().correlation, 2) + ")";
   }
   return failed;
 }
@@ -138,7 +132,7 @@ SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
 std::string CheckpointPath(const PhysicsSuiteSpec& suite) { return suite.output + ".partial.json"; }
 
 std::string CaseKey(const PhysicsSuiteSpec& suite, const SuiteCell& cell, const SuiteCase& c) {
-  return cell.name + "/" + c.name + "/" + std::to_string(suite.seeds) + "/" + Fixed(suite.snr, 3);
+  return cell.name + "/" + c.name + "/" + std::to_string(suite.seeds) + "/" + FixedNumber(suite.snr, 3);
 }
 
 nlohmann::json ToJson(const SuiteCaseResult& r) {

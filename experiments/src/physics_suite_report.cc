@@ -7,7 +7,9 @@
 #include <set>
 #include <sstream>
 
+#include "cellmetry/basics/statistics.h"
 #include "cellmetry/experiments/intervals.h"
+#include "cellmetry/formats/fixed_number.h"
 #include "cellmetry/experiments/physics_suite.h"
 
 namespace cellmetry {
@@ -17,19 +19,7 @@ constexpr double kNamedTarget = 0.90;  // issue 13: the right effect named in >=
 constexpr double kCleanTarget = 0.95;  // clean recordings: no claim in >= 95 %
 constexpr double kFloorTarget = 1.2;   // held-out RMS at most 1.2x the noise floor
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-std::string Fixed(double v, int digits) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.*f", digits, v);
-  return b;
-}
-
-std::string Percent(double rate) { return Fixed(100.0 * rate, 0) + " %"; }
+std::string Percent(double rate) { return FixedNumber(100.0 * rate, 0) + " %"; }
 
 // The suite's runs in three groups, and the held-out ratios and times of the effect cases.
 struct SuiteTally {
@@ -89,9 +79,9 @@ std::string AllDecision(const std::string& question, int k, int n) {
 
 std::string FloorDecision(const std::vector<double>& ratios) {
   const MeanInterval m = TInterval95(ratios);
-  const std::string figures = Fixed(m.mean, 2) + " [" + Fixed(m.low, 2) + ", " + Fixed(m.high, 2) +
+  const std::string figures = FixedNumber(m.mean, 2) + " [" + FixedNumber(m.low, 2) + ", " + FixedNumber(m.high, 2) +
                               "] (mean of " + std::to_string(m.n) + " runs) against <= " +
-                              Fixed(kFloorTarget, 1);
+                              FixedNumber(kFloorTarget, 1);
   const std::string question = "Does the accepted model bring the held-out RMS to the floor?";
   if (m.n < 2) return question + " undecided: fewer than two runs";
   if (m.high <= kFloorTarget) return question + " met: " + figures;
@@ -122,7 +112,7 @@ std::string WeakCases(const std::string& cell, const std::vector<SuiteCaseResult
     weak += (weak.empty() ? "" : "; ") + r.spec.name + " " + std::to_string(rate.k) + "/" +
             std::to_string(rate.n) + " (named instead: " + named + ")";
   }
-  std::string line = cell + " at SNR " + Fixed(snr, 1) + ": ";
+  std::string line = cell + " at SNR " + FixedNumber(snr, 1) + ": ";
   line += weak.empty() ? "no case shown below " + Percent(kNamedTarget)
                        : "shown below " + Percent(kNamedTarget) + ", do not trust a silence or "
                                                                     "these names: " + weak;
@@ -173,7 +163,7 @@ std::string CaseRow(const SuiteCaseResult& r) {
   const RateInterval rate = WilsonInterval95(r.right(), static_cast<int>(r.runs.size()));
   return "| " + r.cell + " | " + r.spec.name + " | " + r.spec.expect + " | " + size + " | " +
          std::to_string(rate.k) + "/" + std::to_string(rate.n) + " [" + Percent(rate.low) +
-         ", " + Percent(rate.high) + "] | " + Fixed(Median(ratios), 2) + " | " + misses + " |\n";
+         ", " + Percent(rate.high) + "] | " + FixedNumber(Median(ratios), 2) + " | " + misses + " |\n";
 }
 
 }  // namespace
@@ -202,7 +192,7 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
   const MeanInterval floor = TInterval95(t.held_out_over_floor);
   std::ostringstream out;
   out << "Concealed-effect suite: " << spec.seeds << " seeds per case, unabsorbed SNR "
-      << Fixed(spec.snr, 1) << ". Rates with their 95 % Wilson interval; a target is met when "
+      << FixedNumber(spec.snr, 1) << ". Rates with their 95 % Wilson interval; a target is met when "
       << "the whole interval clears it, missed when the whole interval falls short.\n\n";
   out << "| measure | result [95 % interval] | target | verdict |\n|---|---|---|---|\n";
   out << "| right effect named (library and richer variants) | "
@@ -217,11 +207,11 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
                                              : "no miss")
       << " |\n";
   out << "| held-out RMS / noise floor after modelling: median; mean [95 % t] | "
-      << Fixed(Median(t.held_out_over_floor), 2) << "; " << Fixed(floor.mean, 2) << " ["
-      << Fixed(floor.low, 2) << ", " << Fixed(floor.high, 2) << "] | <= 1.2 | "
+      << FixedNumber(Median(t.held_out_over_floor), 2) << "; " << FixedNumber(floor.mean, 2) << " ["
+      << FixedNumber(floor.low, 2) << ", " << FixedNumber(floor.high, 2) << "] | <= 1.2 | "
       << (floor.high <= kFloorTarget ? "met" : floor.low > kFloorTarget ? "missed" : "undecided")
       << " |\n";
-  out << "| seconds per diagnosis (median) | " << Fixed(Median(t.seconds), 1) << " | | |\n\n";
+  out << "| seconds per diagnosis (median) | " << FixedNumber(Median(t.seconds), 1) << " | | |\n\n";
   out << "Decisions:\n\n";
   for (const auto& line : PhysicsSuiteRecommendations(spec, results)) out << "- " << line << "\n";
   out << "\n| cell | case | expected | effect size | right [95 %] | held-out / floor (median) | "

@@ -77,6 +77,15 @@ std::vector<double> HolmAdjusted(const std::vector<double>& p) {
   return adjusted;
 }
 
+double Median(std::vector<double> values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  if (values.size() % 2) return values[mid];
+  const double upper = values[mid];
+  return 0.5 * (*std::max_element(values.begin(), values.begin() + mid) + upper);
+}
+
 MeanInterval TInterval95(const std::vector<double>& values) {
   MeanInterval m;
   m.n = static_cast<int>(values.size());

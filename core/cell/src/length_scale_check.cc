@@ -9,6 +9,7 @@
 #include <map>
 #include <vector>
 
+#include "cellmetry/basics/statistics.h"
 #include "cellmetry/formats/config_node.h"
 
 namespace cellmetry {
@@ -49,11 +50,6 @@ SourceLocation DeclaredLength(const std::string& file, std::string* unit) {
 
 // Where a camera in a robot cell sees a target: 2 cm to 20 m (mm).
 bool PlausibleCameraDistance(double mm) { return mm >= 20.0 && mm <= 2e4; }
-
-double Median(std::vector<double> values) {
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
 
 [[noreturn]] void Refuse(const WorkcellJob& job, const WorkcellRobot& robot,
                          const Recording& recording, const std::string& target,

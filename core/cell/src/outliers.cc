@@ -16,13 +16,6 @@ namespace {
 constexpr double kGrossSigmas = 10.0;
 constexpr size_t kMinGroupRows = 10;
 
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  return values[mid];
-}
-
 }  // namespace
 
 std::vector<double> RobustScales(const std::vector<ResidualRow>& rows) {

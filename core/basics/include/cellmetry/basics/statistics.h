@@ -1,6 +1,6 @@
 // Small statistics the physics finder and the comparisons need: tail probabilities of the
-// chi-square and normal distributions, the Durbin-Watson statistic, the Holm correction, and a
-// mean's 95 % Student-t interval.
+// chi-square and normal distributions, the Durbin-Watson statistic, the Holm correction, a
+// median, and a mean's 95 % Student-t interval.
 #pragma once
 
 #include <vector>
@@ -29,6 +29,10 @@ double DurbinWatson(const std::vector<double>& residuals);
 // Holm's step-down adjusted p-values (Holm 1979): the family-wise error rate stays at alpha when
 // each hypothesis is rejected at adjusted p < alpha. Same order as `p`.
 std::vector<double> HolmAdjusted(const std::vector<double>& p);
+
+// The median: the middle value, or the mean of the two middle values of an even count; NaN for
+// no values.
+double Median(std::vector<double> values);
 
 // A mean and its two-sided 95 % Student-t interval, mean +- t(0.975, n-1) s / sqrt(n); with
 // fewer than two values the interval is unbounded (nothing can be told apart).
