@@ -185,7 +185,9 @@ TEST(RobotToRobot, WrittenInEveryResultFile) {
   }
   EXPECT_EQ(scored, 6);
   for (const auto& q : EvaluateWorkcell(j, truth, "truth").quantities) {
-    if (q.name.rfind("T_ur3_ur5e.", 0) == 0) EXPECT_LT(std::abs(q.normalized()), 3.0) << q.name;
+    if (q.name.rfind("T_ur3_ur5e.", 0) == 0) {
+      EXPECT_LT(std::abs(q.normalized()), 3.0) << q.name;
+    }
   }
 }
 
