@@ -5,17 +5,63 @@
 // markdown file; or solvers x camera models over seeds with a
 // recommendation per question (`compare: solvers`, solver_compare.h).
 #include <cstdio>
+#include <functional>
+#include <memory>
+#include <utility>
 
-#include "cellmetry/formats/atomic_file.h"
-#include "cellmetry/report/reports.h"
+#include "cellmetry/basics/progress.h"
 #include "cellmetry/experiments/kinematic_compare.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/physics_suite.h"
 #include "cellmetry/experiments/solver_compare.h"
-#include "cellmetry/basics/progress.h"
+#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/report/reports.h"
 #include "commands.h"
 
 namespace cellmetry::app {
+namespace {
+
+// A table-writing comparison, loaded: where it writes by default, and the work that makes its
+// table.md and table.csv (run only after the output folder was found replaceable).
+struct TableComparison {
+  std::string output;
+  std::function<std::pair<std::string, std::string>()> run;  // {markdown, csv}
+};
+
+TableComparison LoadMarkers(const std::string& path, int seeds) {
+  auto spec =
+      std::make_shared<MarkerComparisonSpec>(LoadMarkerComparison(path, Registry::Global()));
+  if (seeds > 0) spec->seeds = seeds;
+  return {spec->output, [spec] {
+            if (spec->seeds > 1) {  // every figure over seeds, with a recommendation
+              const auto per_seed = CompareMarkersOverSeeds(*spec, Registry::Global());
+              return std::pair(MarkerSeedsMarkdown(*spec, per_seed),
+                               MarkerSeedsCsv(*spec, per_seed));
+            }
+            const auto rows = CompareMarkers(*spec, Registry::Global());
+            return std::pair(MarkerTableMarkdown(*spec, rows), MarkerTableCsv(rows));
+          }};
+}
+
+TableComparison LoadSolvers(const std::string& path, int seeds) {
+  auto spec = std::make_shared<SolverCompareSpec>(LoadSolverCompare(path, Registry::Global()));
+  if (seeds > 0) spec->seeds = seeds;
+  return {spec->output, [spec] {
+            const auto rows = RunSolverCompare(*spec, Registry::Global());
+            return std::pair(SolverCompareMarkdown(*spec, rows), SolverCompareCsv(rows));
+          }};
+}
+
+TableComparison LoadKinematic(const std::string& path, int seeds) {
+  auto spec = std::make_shared<CompareSpec>(LoadCompareSpec(path, Registry::Global()));
+  if (seeds > 0) spec->seeds = seeds;
+  return {spec->output, [spec] {
+            const auto rows = RunComparison(*spec, Registry::Global());
+            return std::pair(CompareTableMarkdown(*spec, rows), CompareTableCsv(rows));
+          }};
+}
+
+}  // namespace
 
 void AddCompareCommand(CLI::App& app, Context& context) {
   CLI::App* cmd = app.add_subcommand(
@@ -42,54 +88,30 @@ void AddCompareCommand(CLI::App& app, Context& context) {
           "(Tables 3 and 4: marker detectors), physics (the concealed-effect suite) or solvers "
           "(solvers x camera models over seeds, with a recommendation); docs/formats.md");
     }
-    std::string table, csv, folder;
     if (kind == "physics") {
       PhysicsSuiteSpec spec = LoadPhysicsSuite(spec_path);
       if (seeds > 0) spec.seeds = seeds;
       const auto results = RunPhysicsSuite(spec, Registry::Global());
-      table = PhysicsSuiteMarkdown(spec, results);
+      const std::string table = PhysicsSuiteMarkdown(spec, results);
       WritePhysicsSuite(spec, output.empty() ? spec.output : output, table);
-      std::printf("%s  written: %s\n", table.c_str(), (output.empty() ? spec.output : output).c_str());
+      std::printf("%s  written: %s\n", table.c_str(),
+                  (output.empty() ? spec.output : output).c_str());
       return;
     }
-    if (kind == "markers") {
-      MarkerComparisonSpec spec = LoadMarkerComparison(spec_path, Registry::Global());
-      if (seeds > 0) spec.seeds = seeds;
-      folder = output.empty() ? spec.output : output;
-      CheckReplaceable(folder, "comparison");  // before the work, not after it
-      if (spec.seeds > 1) {  // every figure over seeds, with a recommendation
-        const auto per_seed = CompareMarkersOverSeeds(spec, Registry::Global());
-        table = MarkerSeedsMarkdown(spec, per_seed);
-        csv = MarkerSeedsCsv(spec, per_seed);
-      } else {
-        const auto rows = CompareMarkers(spec, Registry::Global());
-        table = MarkerTableMarkdown(spec, rows);
-        csv = MarkerTableCsv(rows);
-      }
-    } else if (kind == "solvers") {
-      SolverCompareSpec spec = LoadSolverCompare(spec_path, Registry::Global());
-      if (seeds > 0) spec.seeds = seeds;
-      folder = output.empty() ? spec.output : output;
-      CheckReplaceable(folder, "comparison");
-      const auto rows = RunSolverCompare(spec, Registry::Global());
-      table = SolverCompareMarkdown(spec, rows);
-      csv = SolverCompareCsv(rows);
-    } else {
-      CompareSpec spec = LoadCompareSpec(spec_path, Registry::Global());
-      if (seeds > 0) spec.seeds = seeds;
-      folder = output.empty() ? spec.output : output;
-      CheckReplaceable(folder, "comparison");
-      const auto rows = RunComparison(spec, Registry::Global());
-      table = CompareTableMarkdown(spec, rows);
-      csv = CompareTableCsv(rows);
-    }
+    const TableComparison comparison = kind == "markers"   ? LoadMarkers(spec_path, seeds)
+                                       : kind == "solvers" ? LoadSolvers(spec_path, seeds)
+                                                           : LoadKinematic(spec_path, seeds);
+    const std::string folder = output.empty() ? comparison.output : output;
+    CheckReplaceable(folder, "comparison");  // before the work, not after it
+    const auto [table, csv] = comparison.run();
     StagedDirectory out(folder, "comparison");
     AtomicWriteFile(out.File("table.md"), table);
     AtomicWriteFile(out.File("table.csv"), csv);
     AtomicWriteFile(out.File(report::kReportFile),
                     report::CompareReportHtml(csv, table, "cellmetry compare: " + spec_path));
     out.Commit();
-    std::printf("%s  written: %s/{table.md,table.csv,report.html}\n", table.c_str(), folder.c_str());
+    std::printf("%s  written: %s/{table.md,table.csv,report.html}\n", table.c_str(),
+                folder.c_str());
   });
 }
 
