@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "cellmetry/basics/progress.h"
@@ -313,6 +314,29 @@ void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recordi
   for (auto& [key, rms] : result->rotation_rms) rms.Finish();
 }
 
+// A job's effect fitted beyond the size its physics plausibly has (Parameter::plausible): the fit
+// may be using it for something else with its signature, so the user is told before a robot
+// controller is.
+void AddImplausibleEffectWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
+  for (const WorkcellEffect& effect : spec.effects) {
+    for (const Parameter& p : effect.effect->parameters()) {
+      if (!p.plausible) continue;
+      for (const ScalarEstimate& s : result->model_parameters) {
+        if (s.name != effect.name + "." + p.name || s.held || std::abs(s.value) <= *p.plausible) {
+          continue;
+        }
+        char text[320];
+        std::snprintf(text, sizeof text,
+                      "%s = %.3g +- %.2g %s is beyond the size its physics plausibly has (%.3g): "
+                      "either that physics is larger here than expected, or the fit uses it for "
+                      "something else with the same signature; docs/physics.md lists look-alikes",
+                      s.name.c_str(), s.value, s.sigma, s.unit.c_str(), *p.plausible);
+        result->warnings.push_back(text);
+      }
+    }
+  }
+}
+
 void AddWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
   result->weakly_identified = WeaklyIdentified(result->uncertainty, spec.weak_vif);
   if (!result->weakly_identified.empty()) {
@@ -322,6 +346,7 @@ void AddWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
                                ": they move together; record poses that vary them "
                                "independently (other heights, the workspace's edges)");
   }
+  AddImplausibleEffectWarnings(spec, result);
   if (result->uncertainty.reduced_chi2 > 4.0) {
     result->warnings.push_back(
         "residuals are " + std::to_string(std::sqrt(result->uncertainty.reduced_chi2)).substr(0, 4) +
