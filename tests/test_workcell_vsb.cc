@@ -119,8 +119,8 @@ void ExpectCovers(const WorkcellResult& r, const std::string& job) {
 }
 
 TEST(RealRecordings, SigmaCoversTheMeasuredPlacement) {
-  for (const char* job : {"configs/jobs/vsb_exp_a.yaml", "configs/jobs/vsb_exp_a_geometry.yaml",
-                          "configs/jobs/vsb_sim_b.yaml"}) {
+  for (const char* job : {"configs/jobs/vsb_exp_a.yaml", "configs/jobs/vsb_exp_a_boards.yaml",
+                          "configs/jobs/vsb_exp_a_geometry.yaml", "configs/jobs/vsb_sim_b.yaml"}) {
     const WorkcellResult r = RunJob(job, "type: ceres_lm", 0);
     ExpectCovers(r, job);
     if (std::string(job) != "configs/jobs/vsb_exp_a.yaml") continue;
@@ -129,6 +129,21 @@ TEST(RealRecordings, SigmaCoversTheMeasuredPlacement) {
     EXPECT_EQ(base.held, (std::array<bool, 6>{false, false, false, true, true, false}));
     EXPECT_THAT(WorkcellSummary(r), ::testing::HasSubstr("rad +- (held, held, 0.0"));
   }
+}
+
+// The scoreboard's best model against the boards-only one (docs/real-data.md): with each
+// camera's principal point the held-out positions fall by nearly half (6.1 -> 3.3 mm against a
+// 1.49 mm floor) while the base stays within 5 mm of the measured placement and the tool within
+// 2 mm of its 66 mm, as the issue asks of experiment A.
+TEST(RealRecordings, PrincipalPointsHalveTheHeldOutErrorOnExperimentA) {
+  const WorkcellResult boards = RunJob("configs/jobs/vsb_exp_a_boards.yaml", "type: ceres_lm", 5);
+  const WorkcellResult best = RunJob("configs/jobs/vsb_exp_a.yaml", "type: ceres_lm", 5);
+  ASSERT_EQ(best.held_out.folds, 5);
+  EXPECT_LT(best.held_out.total.norm, 0.6 * boards.held_out.total.norm)
+      << best.held_out.total.norm << " vs " << boards.held_out.total.norm;
+  const Eigen::Vector3d placement(431.0, 555.0, -460.0);
+  EXPECT_LT((Frame(best, "ur3.base").pose.t - placement).norm(), 5.0);
+  EXPECT_NEAR(Frame(best, "tool").pose.t.z(), 66.0, 2.0);
 }
 
 // The answers BM_Identify times (issue 15), pinned: the verdicts (what was held as
