@@ -32,6 +32,7 @@ sim_ur3_physics        simulate configs/simulations/ur3_physics_base.yaml -o res
 sim_ur3_two_cameras    simulate configs/simulations/ur3_two_cameras.yaml -o results/ur3_two_cameras
 run_vsb_sim_b          run configs/jobs/vsb_sim_b.yaml
 run_vsb_exp_a          run configs/jobs/vsb_exp_a.yaml
+run_vsb_exp_a_boards   run configs/jobs/vsb_exp_a_boards.yaml
 import_vsb_exp_a_excerpt import configs/import/vsb_exp_a_excerpt.yaml -o results/vsb_exp_a_excerpt
 run_vsb_exp_a_excerpt  run configs/jobs/vsb_exp_a_excerpt.yaml
 run_delta_calibration  run configs/jobs/delta_calibration.yaml
