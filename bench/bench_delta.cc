@@ -64,7 +64,8 @@ Scenario& Load() {
       const auto start = std::chrono::steady_clock::now();
       s.lm_forward_cost =
           IdentifyWorkcell(problem, s.recording, Maker("type: ceres_lm")).solver.final_cost;
-      times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      times.push_back(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
     std::nth_element(times.begin(), times.begin() + 4, times.end());
     s.lm_forward_s = times[4];
@@ -96,9 +97,11 @@ void BM_DeltaCalibrate(benchmark::State& state, ResidualForm residual, std::stri
                                s.validation).rms_mm;
 }
 
-BENCHMARK_CAPTURE(BM_DeltaCalibrate, lm_forward, ResidualForm::kCartesian, std::string("type: ceres_lm"))
+BENCHMARK_CAPTURE(BM_DeltaCalibrate, lm_forward, ResidualForm::kCartesian,
+                  std::string("type: ceres_lm"))
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_DeltaCalibrate, lm_inverse, ResidualForm::kJointSpace, std::string("type: ceres_lm"))
+BENCHMARK_CAPTURE(BM_DeltaCalibrate, lm_inverse, ResidualForm::kJointSpace,
+                  std::string("type: ceres_lm"))
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_DeltaCalibrate, adam_forward, ResidualForm::kCartesian, std::string("adam"))
     ->Unit(benchmark::kMillisecond)

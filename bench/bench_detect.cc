@@ -22,7 +22,8 @@ const std::string& Recording2000() {
   static const std::string folder = [] {
     Progress::SetQuiet(true);
     Registry::Global().LoadFolder(CELLMETRY_PLUGIN_DIR);
-    const std::string dir = (std::filesystem::temp_directory_path() / "cellmetry_bench_detect").string();
+    const std::string dir =
+        (std::filesystem::temp_directory_path() / "cellmetry_bench_detect").string();
     WorkcellSimulationSpec spec = LoadWorkcellSimulation(
         std::string(CELLMETRY_SOURCE_DIR) + "/configs/simulations/delta_images.yaml",
         Registry::Global());
@@ -44,8 +45,9 @@ const std::string& Recording2000() {
 void BM_Detect(benchmark::State& state) {
   DetectJob job;
   job.recording = Recording2000();
-  job.targets = {ReadTargetMarker(
-      "marker", ConfigNode::LoadString("{type: dot, diameter_mm: 10}", "bench"), Registry::Global())};
+  job.targets = {ReadTargetMarker("marker",
+                                  ConfigNode::LoadString("{type: dot, diameter_mm: 10}", "bench"),
+                                  Registry::Global())};
   job.cameras["stereo"].rig = OakDLikeRig();
   job.threads = static_cast<int>(state.range(0));
   int frames = 0;

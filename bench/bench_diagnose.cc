@@ -23,7 +23,8 @@ void BM_Diagnose250Poses(benchmark::State& state) {
                             upper = {6.2, 4.2, 2.2, 6.2, 6.2, 6.2};
   for (int i = 0; i < 250; ++i) {
     std::vector<double> q(6);
-    for (int j = 0; j < 6; ++j) q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);
+    for (int j = 0; j < 6; ++j)
+      q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);
     spec.robots[0].joint_poses.push_back(q);
   }
   SimulatedEffect compliance;

@@ -13,7 +13,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   cellmetry::fuzz::WriteFile(path, data, size);
   cellmetry::fuzz::CheckContract([&] {
     for (const auto& d : cellmetry::ReadDetectionLog(path)) {
-      if (d.sample < 0) cellmetry::fuzz::Violation("ReadDetectionLog", "a negative sample id loaded");
+      if (d.sample < 0)
+        cellmetry::fuzz::Violation("ReadDetectionLog", "a negative sample id loaded");
       for (const auto& k : d.detection.keypoints) {
         if (!k.pixel.allFinite() || !k.covariance_px2.allFinite()) {
           cellmetry::fuzz::Violation("ReadDetectionLog", "a keypoint that is not finite loaded");

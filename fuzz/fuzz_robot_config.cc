@@ -24,7 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const auto& p : model->parameters()) params.push_back(p.nominal);
     const std::vector<double> q(static_cast<size_t>(model->num_joints()), 0.0);
     cellmetry::Transform<double> T;
-    if (!model->Forward(q.data(), params.data(), &T)) (void)model->ForwardFailure(q.data(), params.data());
+    if (!model->Forward(q.data(), params.data(), &T))
+      (void)model->ForwardFailure(q.data(), params.data());
   });
   return 0;
 }

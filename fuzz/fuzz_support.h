@@ -18,7 +18,8 @@ const std::string& TempDir();
 void WriteFile(const std::string& path, const std::uint8_t* data, std::size_t size);
 void WriteFile(const std::string& path, const std::string& text);
 void CopyFile(const std::string& from, const std::string& to);
-// The first `lines` lines of a text file (a template small enough to parse thousands of times a second).
+// The first `lines` lines of a text file (a template small enough to parse thousands of times a
+// second).
 std::string HeadLines(const std::string& path, int lines);
 
 // Runs `load`; returns true when it loaded, false on InputError; aborts on anything else.

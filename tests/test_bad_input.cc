@@ -140,7 +140,8 @@ TEST_F(BadInput, MissingRobotConfigPointsAtTheJobLine) {
 // Found by fuzz_job: a name longer than the file system allows threw std::filesystem_error
 // (exit 1, "internal error") instead of saying the file is not there.
 TEST_F(BadInput, RobotConfigNameTooLongForTheFileSystem) {
-  WriteJob(ReplaceOnce(JobText(), "model: " + robot_, "model: " + std::string(5000, 'x') + ".yaml"));
+  WriteJob(
+      ReplaceOnce(JobText(), "model: " + robot_, "model: " + std::string(5000, 'x') + ".yaml"));
   ExpectRejected(Run(), "job.yaml:8:12:", "Give a path relative to the job file");
 }
 
@@ -248,12 +249,14 @@ TEST_F(BadInput, UnknownSolverTypeListsTheKnownOnes) {
   const auto r = Run();
   ExpectRejected(r, "job.yaml:13:9:", "Did you mean 'ceres_lm'?");
   EXPECT_THAT(r.output, HasSubstr("unknown solver type 'ceres_lmm'"));
-  EXPECT_THAT(r.output, HasSubstr("Known solver types: ceres_lm, gradient_descent, jacobian_pinv, nlopt"));
+  EXPECT_THAT(r.output,
+              HasSubstr("Known solver types: ceres_lm, gradient_descent, jacobian_pinv, nlopt"));
 }
 
 TEST_F(BadInput, UnknownRobotModelTypeListsTheKnownOnes) {
   WriteJob();
-  testing::WriteText(robot_, ReplaceOnce(ReadText(robot_), "type: serial_mdh", "type: serial_mdhh"));
+  testing::WriteText(robot_,
+                     ReplaceOnce(ReadText(robot_), "type: serial_mdh", "type: serial_mdhh"));
   const auto r = Run();
   ExpectRejected(r, "ur3.yaml:4:7:", "Did you mean 'serial_mdh'?");
   EXPECT_THAT(r.output, HasSubstr("unknown robot model type 'serial_mdhh'"));
@@ -1114,16 +1117,18 @@ TEST_F(BadInput, MillimetresReadAsMetresAreRefusedWhereTheJobIsLoaded) {
   for (auto& o : recording.observations) o.position_mm *= 1000.0;
   const WorkcellJob job = LoadWorkcellJob(job_, testing::Plugins());
   // A recording that declares m.
-  testing::WriteText(recording_ + "/recording.yaml",
-                     ReplaceOnce(ReadText(recording_ + "/recording.yaml"), "length: mm", "length: m"));
+  testing::WriteText(
+      recording_ + "/recording.yaml",
+      ReplaceOnce(ReadText(recording_ + "/recording.yaml"), "length: mm", "length: m"));
   InputError e = testing::CatchInputError([&] { ValidateJobAgainstRecording(job, recording); });
   EXPECT_EQ(FormatLocation(e.where()), recording_ + "/recording.yaml:3:17: ");
   EXPECT_THAT(e.message(), HasSubstr("disagree in size by about 1000 times"));
   EXPECT_EQ(e.hint(), "The recording's numbers look like millimetres but recording.yaml "
                       "declares length: m: declare units: {length: mm}");
   // An imported recording (always written in mm): the mapping is what to fix.
-  testing::WriteText(recording_ + "/recording.yaml",
-                     ReplaceOnce(ReadText(recording_ + "/recording.yaml"), "length: m", "length: mm"));
+  testing::WriteText(
+      recording_ + "/recording.yaml",
+      ReplaceOnce(ReadText(recording_ + "/recording.yaml"), "length: m", "length: mm"));
   testing::WriteText(recording_ + "/import.yaml", "# the mapping it was imported with\n");
   e = testing::CatchInputError([&] { ValidateJobAgainstRecording(job, recording); });
   EXPECT_EQ(FormatLocation(e.where()), recording_ + "/recording.yaml:3:17: ");
@@ -1175,29 +1180,30 @@ const char kSeed[] = ",q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad";
 INSTANTIATE_TEST_SUITE_P(
     Compensate, BadTargets,
     ::testing::Values(
-        TargetsEdit{"NonFiniteCoordinate", "id,x_mm,y_mm,z_mm\na,400,nan,-300\n", "2:3:",
-                    "replace the value with a measurement",
+        TargetsEdit{"NonFiniteCoordinate", "id,x_mm,y_mm,z_mm\na,400,nan,-300\n",
+                    "2:3:", "replace the value with a measurement",
                     "column 'y_mm': 'nan' is not a finite number"},
         TargetsEdit{"MissingCellInARow", "id,x_mm,y_mm,z_mm\na,400,500,-300\nb,400,500\n",
                     "3:4:", "Fill in a number", "column 'z_mm': empty cell"},
-        TargetsEdit{"MissingColumn", "id,x_mm,y_mm\na,400,500\n", "1:",
-                    "Give all of x_mm ... z_mm, or none", "missing column 'z_mm'"},
-        TargetsEdit{"UnknownColumn", "id,x_mm,y_mm,z_m\na,400,500,-300\n", "1:4:",
-                    "Did you mean 'z_mm'?", "unknown column 'z_m'"},
+        TargetsEdit{"MissingColumn", "id,x_mm,y_mm\na,400,500\n",
+                    "1:", "Give all of x_mm ... z_mm, or none", "missing column 'z_mm'"},
+        TargetsEdit{"UnknownColumn", "id,x_mm,y_mm,z_m\na,400,500,-300\n",
+                    "1:4:", "Did you mean 'z_mm'?", "unknown column 'z_m'"},
         TargetsEdit{"TextForANumber", "x_mm,y_mm,z_mm,rx_rad,ry_rad,rz_rad\n1,2,3,0,abc,0\n",
-                    "2:5:", "Write a plain decimal number", "column 'ry_rad': 'abc' is not a number"},
+                    "2:5:", "Write a plain decimal number",
+                    "column 'ry_rad': 'abc' is not a number"},
         TargetsEdit{"HalfASeed",
-                    std::string("x_mm,y_mm,z_mm") + kSeed + "\n400,500,-300,1,2,3,,,\n", "2:7:",
-                    "on this row, or none", "column 'q4_rad': empty cell"},
-        TargetsEdit{"NegativePayload", "x_mm,y_mm,z_mm,payload_kg\n400,500,-300,-1\n", "2:4:",
-                    "Give the load at the flange in kg", "a payload cannot be negative"},
+                    std::string("x_mm,y_mm,z_mm") + kSeed + "\n400,500,-300,1,2,3,,,\n",
+                    "2:7:", "on this row, or none", "column 'q4_rad': empty cell"},
+        TargetsEdit{"NegativePayload", "x_mm,y_mm,z_mm,payload_kg\n400,500,-300,-1\n",
+                    "2:4:", "Give the load at the flange in kg", "a payload cannot be negative"},
         TargetsEdit{"ApproachNotASign",
                     "x_mm,y_mm,z_mm,approach_j1,approach_j2,approach_j3,approach_j4,approach_j5,"
-                    "approach_j6\n400,500,-300,1,1,2,1,1,1\n", "2:6:",
-                    "Write 1 (the joint moves up into the target)",
+                    "approach_j6\n400,500,-300,1,1,2,1,1,1\n",
+                    "2:6:", "Write 1 (the joint moves up into the target)",
                     "an approach direction must be -1, 0 or 1"},
-        TargetsEdit{"NoTargetColumns", "id,payload_kg\na,1\n", "1:",
-                    "Give x_mm, y_mm, z_mm", "no target columns"}),
+        TargetsEdit{"NoTargetColumns", "id,payload_kg\na,1\n", "1:", "Give x_mm, y_mm, z_mm",
+                    "no target columns"}),
     [](const ::testing::TestParamInfo<TargetsEdit>& info) { return info.param.name; });
 
 }  // namespace

@@ -80,7 +80,8 @@ TEST(PhysicsSuiteRecommendations, SayMetMissedOrUndecidedWithWhatWouldDecide) {
   EXPECT_THAT(lines[2], HasSubstr("so far: 100 % [44 %, 100 %] (3/3), no miss"));
   EXPECT_THAT(lines[3], HasSubstr("held-out RMS to the floor? met: 1.00 [1.00, 1.00]"));
   EXPECT_THAT(lines[4], HasSubstr("UR3 at SNR 6.0: shown below 90 %"));
-  EXPECT_THAT(lines[4], HasSubstr("joint 2 compliance 2/5 (named instead: none 2, ur3.scale_j2 1)"));
+  EXPECT_THAT(lines[4],
+              HasSubstr("joint 2 compliance 2/5 (named instead: none 2, ur3.scale_j2 1)"));
   EXPECT_THAT(lines[4], HasSubstr("0 shown at or above, 1 undecided"));
   EXPECT_THAT(PhysicsSuiteMarkdown(spec, results), HasSubstr("Decisions:"));
 }

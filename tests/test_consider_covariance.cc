@@ -24,7 +24,8 @@ constexpr double kScale = 0.002;  // the tool board's printed size, relative
 WorkcellSimulationSpec SimulateScaledBoard(const std::string& dir, double scale) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
   sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b", testing::Source("tests/data/vsb/sim_b"));
+  sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
+                             testing::Source("tests/data/vsb/sim_b"));
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
   spec.sigma_position_mm.setZero();

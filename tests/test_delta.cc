@@ -23,7 +23,8 @@ std::vector<double> PerturbedParameters(const RobotModel& model, unsigned seed) 
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> mm(-1.0, 1.0), rad(-0.01, 0.01);
   std::vector<double> values;
-  for (const auto& p : model.parameters()) values.push_back(p.nominal + (p.unit == "mm" ? mm(rng) : rad(rng)));
+  for (const auto& p : model.parameters())
+    values.push_back(p.nominal + (p.unit == "mm" ? mm(rng) : rad(rng)));
   return values;
 }
 
@@ -183,7 +184,8 @@ TEST(Delta, SpheresThatDoNotMeetAreReported) {
 
 TEST(Delta, ConfigWithTwoArmsIsRejected) {
   const ConfigNode config = ConfigNode::LoadString(
-      "type: delta\narms:\n  - {R: 150, r: 40, L: 250, l: 600}\n  - {R: 150, r: 40, L: 250, l: 600}\n",
+      "type: delta\narms:\n  - {R: 150, r: 40, L: 250, l: 600}\n  - {R: 150, r: 40, L: 250, l: "
+      "600}\n",
       "delta.yaml");
   const InputError e = testing::CatchInputError(
       [&] { testing::Plugins().CreateRobotModel("delta", config); });

@@ -93,8 +93,13 @@ TEST_F(DeltaBadInput, UnreachableCommand) {
 TEST_F(DeltaBadInput, CommandWhereTheRodSpheresDoNotMeet) {
   // A config whose rods (300 mm) are shorter than the elbows' spread: the recorded commands have
   // no pose under it.
-  testing::WriteText(robot_, ReplaceOnce(ReadText(robot_), "arms:\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}",
-                                         "arms:\n  - {R: 150, r: 40, L: 250, l: 300}\n  - {R: 150, r: 40, L: 250, l: 300}\n  - {R: 150, r: 40, L: 250, l: 300}"));
+  testing::WriteText(
+      robot_,
+      ReplaceOnce(ReadText(robot_),
+                  "arms:\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}\n  - {R: 150, r: 40, L: "
+                  "250, l: 600, homing: 0}\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}",
+                  "arms:\n  - {R: 150, r: 40, L: 250, l: 300}\n  - {R: 150, r: 40, L: 250, l: "
+                  "300}\n  - {R: 150, r: 40, L: 250, l: 300}"));
   ExpectRejected(Run("run", CalibrationJob("cartesian")), "samples.csv:2:",
                  "the three rod spheres do not meet");
 }

@@ -89,8 +89,8 @@ class Detection : public ::testing::Test {
     recording.observations.clear();
     views_ = WorkcellViews(draw.truth, recording);
     ImageRenderSpec images;
-    images.markers = {ReadTargetMarker(kTarget, ConfigNode::LoadString("type: test_centroid", "test"),
-                                       testing::Plugins())};
+    images.markers = {ReadTargetMarker(
+        kTarget, ConfigNode::LoadString("type: test_centroid", "test"), testing::Plugins())};
     images.cameras[kCamera].rig = OakDLikeRig();
     images.render.noise_sigma = 1.0;
     images.render.supersampling = 3;
@@ -143,7 +143,8 @@ TEST_F(Detection, TriangulatedObservationsAreWhereTheMarkerIs) {
     // This test's centroid is biased by perspective (a few hundredths of a pixel, differently in
     // the two views), which depth magnifies: within 2 mm at 0.35-0.55 m. Detector accuracy is
     // the detector plugins' tests' business; this checks the pipeline puts points in place.
-    EXPECT_LT((o.position_mm - view->T_cam_target.at(kTarget).t).norm(), 2.0) << "sample " << o.sample;
+    EXPECT_LT((o.position_mm - view->T_cam_target.at(kTarget).t).norm(), 2.0)
+        << "sample " << o.sample;
     EXPECT_GT((*o.covariance_mm2)(2, 2), (*o.covariance_mm2)(0, 0));  // depth is the weak axis
   }
 }
@@ -152,7 +153,8 @@ TEST_F(Detection, BadImagesAreRecordedWithTheirReasonAndTheRunGoesOn) {
   testing::WriteText(dir_ + "/rec/images/0_" + kCamera + "_left.png", "this is not a png");
   testing::WriteText(dir_ + "/rec/images/1_" + kCamera + "_left.png", "");
   WriteGrayImage(GrayImage(640, 480, 128), dir_ + "/rec/images/2_" + kCamera + "_left.png");
-  WriteGrayImage(GrayImage(1280, 800, 200), dir_ + "/rec/images/3_" + kCamera + "_left.png");  // no marker
+  WriteGrayImage(GrayImage(1280, 800, 200),
+                 dir_ + "/rec/images/3_" + kCamera + "_left.png");  // no marker
   fs::remove(dir_ + "/rec/images/4_" + kCamera + "_left.png");
   const DetectSummary s = RunDetection(job_, testing::Plugins());
   EXPECT_EQ(s.processed, 24);

@@ -20,7 +20,8 @@ class Diagnosis : public ::testing::Test {
     dir_ = testing::TempDirForThisTest("diagnosis");
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-    sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+    sim =
+        testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
     sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");  // quick, still wide
     testing::WriteText(dir_ + "/sim.yaml", sim);
     base_ = LoadWorkcellSimulation(dir_ + "/sim.yaml", testing::Plugins());
@@ -134,7 +135,8 @@ TEST_F(Diagnosis, TooFewPosesIsRefusedInWords) {
 
 TEST_F(Diagnosis, NoRepeatsAndNoSigmaIsRefusedInWords) {
   job_.workcell.problem.noise = NoiseSpec{};
-  const InputError e = testing::CatchInputError([&] { Diagnose(SimulateWorkcell(base_, nullptr)); });
+  const InputError e =
+      testing::CatchInputError([&] { Diagnose(SimulateWorkcell(base_, nullptr)); });
   EXPECT_THAT(e.message(), HasSubstr("no repeated captures and no sigma given"));
   EXPECT_THAT(e.hint(), HasSubstr("two or more times"));
 }

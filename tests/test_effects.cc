@@ -225,7 +225,8 @@ TEST(Effects, GravityTorqueOfAHorizontalArmIsMassTimesLever) {
   // Joint 1 turns about the vertical, joint 2 about a horizontal axis (y); the arm reaches 400 mm
   // along x to the flange. Link 2 (2 kg) sits at 200 mm, a 1 kg payload at 400 mm.
   std::vector<Pose> frames(3, Pose::Identity());
-  frames[1].R = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();  // z = +y
+  frames[1].R =
+      Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();  // z = +y
   frames[2].t = Eigen::Vector3d(400, 0, 0);
   const auto torque = GravityTorques(frames, {0.0, 2.0}, 1.0, Eigen::Vector3d(0, 0, -9.81));
   ASSERT_EQ(torque.size(), 2u);
@@ -299,7 +300,8 @@ TEST(EffectsInWorkcell, SimulatedPayloadsCycleOverThePoses) {
   ASSERT_GE(read.samples.size(), 4u);
   for (size_t i = 0; i < 4; ++i) {
     ASSERT_TRUE(read.samples[i].payload_kg.has_value());
-    EXPECT_EQ(*read.samples[i].payload_kg, std::vector<double>({0, 1.0, 2.5})[read.samples[i].pose % 3]);
+    EXPECT_EQ(*read.samples[i].payload_kg,
+              std::vector<double>({0, 1.0, 2.5})[read.samples[i].pose % 3]);
   }
 }
 
@@ -336,7 +338,8 @@ std::vector<double> FlangeValues() {
 TEST(DeltaEffects, JetDerivativesMatchCentralDifferences) {
   const auto delta = Delta();
   const DeltaContext fixture(*delta, {0.2, 0.7, -0.1});
-  for (const std::string yaml : {"{type: platform_tilt}", "{type: ball_joint_clearance, arms: [1, 3]}"}) {
+  for (const std::string yaml :
+       {"{type: platform_tilt}", "{type: ball_joint_clearance, arms: [1, 3]}"}) {
     SCOPED_TRACE(yaml);
     const auto effect = MakeEffect(yaml, *delta);
     const size_t n = effect->parameters().size();
@@ -442,7 +445,8 @@ void ExpectRecovered(const std::string& robot_effects, const std::string& camera
   const std::string dir = testing::TempDirForThisTest("effects");
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
   sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b", testing::Source("tests/data/vsb/sim_b"));
+  sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
+                             testing::Source("tests/data/vsb/sim_b"));
   sim = testing::ReplaceOnce(sim, "    poses:", "    effects: " + robot_effects + "\n    poses:");
   sim += camera_effects.empty() ? "" : "effects: " + camera_effects + "\n";
   testing::WriteText(dir + "/sim.yaml", sim);

@@ -35,21 +35,24 @@ TEST(EndToEndFromImages, DeltaArmThroughDetectAndRunLandsWithinThreeSigma) {
                      testing::ReplaceOnce(detect, "../cameras/oakd_like.yaml",
                                           testing::Source("configs/cameras/oakd_like.yaml")));
   run("detect " + dir + "/detect.yaml");
-  std::string job = testing::ReadText(testing::Source("configs/jobs/delta_calibration_images.yaml"));
+  std::string job =
+      testing::ReadText(testing::Source("configs/jobs/delta_calibration_images.yaml"));
   job = testing::ReplaceOnce(job, "recording: ../../results/delta_images", "recording: " + rec);
   job = testing::ReplaceOnce(job, "model: ../robots/delta.yaml",
                              "model: " + testing::Source("configs/robots/delta.yaml"));
   testing::WriteText(dir + "/calibrate.yaml", job);
   run("run " + dir + "/calibrate.yaml -o " + dir + "/result");
 
-  const nlohmann::json result = nlohmann::json::parse(testing::ReadText(dir + "/result/result.json"));
+  const nlohmann::json result =
+      nlohmann::json::parse(testing::ReadText(dir + "/result/result.json"));
   const WorkcellTruth truth = ReadTruth(rec + "/truth.yaml");
   std::map<std::string, std::pair<double, double>> estimate;  // name -> value, sigma
   for (const auto& p : result["model_parameters"]) {
     estimate[p["name"].get<std::string>()] = {p["value"].get<double>(), p["sigma"].get<double>()};
   }
   ASSERT_EQ(estimate.size(), 12u);  // the job frees 4 of each arm's 5 entries
-  const ConfigNode arms = ConfigNode::LoadFile(testing::Source("configs/robots/delta.yaml"))["arms"];
+  const ConfigNode arms =
+      ConfigNode::LoadFile(testing::Source("configs/robots/delta.yaml"))["arms"];
   for (int arm = 1; arm <= 3; ++arm) {
     const std::string a = "delta.model.arm" + std::to_string(arm) + ".";
     auto t = [&](const std::string& name) { return truth.model.at(a + name); };
@@ -73,18 +76,24 @@ TEST(EndToEndFromImages, Ur3WithAprilTagCubeThroughDetectAndRunLandsWithinThreeS
     return r;
   };
   const std::string camera = testing::Source("configs/cameras/ceiling_1280x720.yaml");
-  std::string spec = testing::ReadText(testing::Source("configs/simulations/ur3_apriltag_images.yaml"));
-  spec = testing::ReplaceOnce(spec, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  spec = testing::ReplaceOnce(spec, "../../tests/data/vsb/sim_b", testing::Source("tests/data/vsb/sim_b"));
+  std::string spec =
+      testing::ReadText(testing::Source("configs/simulations/ur3_apriltag_images.yaml"));
+  spec =
+      testing::ReplaceOnce(spec, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  spec = testing::ReplaceOnce(spec, "../../tests/data/vsb/sim_b",
+                              testing::Source("tests/data/vsb/sim_b"));
   spec = testing::ReplaceOnce(spec, "every: 2", "every: 4");  // 63 poses: enough, and quick
   spec = testing::ReplaceOnce(spec, "../cameras/ceiling_1280x720.yaml", camera);
   testing::WriteText(dir + "/simulate.yaml", spec);
   run("simulate " + dir + "/simulate.yaml -o " + rec);
 
   std::string detect = testing::ReadText(testing::Source("configs/jobs/ur3_apriltag_detect.yaml"));
-  detect = testing::ReplaceOnce(detect, "recording: ../../results/ur3_apriltag_images", "recording: " + rec);
-  detect = testing::ReplaceOnce(detect, "cam1: {mono: ../cameras/ceiling_1280x720.yaml}", "cam1: {mono: " + camera + "}");
-  detect = testing::ReplaceOnce(detect, "cam2: {mono: ../cameras/ceiling_1280x720.yaml}", "cam2: {mono: " + camera + "}");
+  detect = testing::ReplaceOnce(detect, "recording: ../../results/ur3_apriltag_images",
+                                "recording: " + rec);
+  detect = testing::ReplaceOnce(detect, "cam1: {mono: ../cameras/ceiling_1280x720.yaml}",
+                                "cam1: {mono: " + camera + "}");
+  detect = testing::ReplaceOnce(detect, "cam2: {mono: ../cameras/ceiling_1280x720.yaml}",
+                                "cam2: {mono: " + camera + "}");
   testing::WriteText(dir + "/detect.yaml", detect);
   run("detect " + dir + "/detect.yaml");
   const Recording detected = ReadRecording(rec);
@@ -92,12 +101,15 @@ TEST(EndToEndFromImages, Ur3WithAprilTagCubeThroughDetectAndRunLandsWithinThreeS
   EXPECT_GE(detected.observations.size(), 0.95 * 4 * detected.samples.size());
 
   std::string job = testing::ReadText(testing::Source("configs/jobs/ur3_apriltag_images.yaml"));
-  job = testing::ReplaceOnce(job, "recording: ../../results/ur3_apriltag_images\n", "recording: " + rec + "\n");
-  job = testing::ReplaceOnce(job, "model: ../robots/ur3.yaml", "model: " + testing::Source("configs/robots/ur3.yaml"));
+  job = testing::ReplaceOnce(job, "recording: ../../results/ur3_apriltag_images\n",
+                             "recording: " + rec + "\n");
+  job = testing::ReplaceOnce(job, "model: ../robots/ur3.yaml",
+                             "model: " + testing::Source("configs/robots/ur3.yaml"));
   testing::WriteText(dir + "/identify.yaml", job);
   run("run " + dir + "/identify.yaml -o " + dir + "/result");
 
-  const nlohmann::json result = nlohmann::json::parse(testing::ReadText(dir + "/result/result.json"));
+  const nlohmann::json result =
+      nlohmann::json::parse(testing::ReadText(dir + "/result/result.json"));
   const WorkcellEvaluation evaluation =
       EvaluateWorkcell(result, ReadTruth(rec + "/truth.yaml"), rec + "/truth.yaml");
   int checked = 0;

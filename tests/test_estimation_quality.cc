@@ -26,7 +26,8 @@ TEST(Identifiability, TiedParametersAreNamedAndHeld) {
   robot.T_flange_target["tool"] = PoseFromRvecT({0, 0, 0}, {0, 0, 66});
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> q(-M_PI, M_PI);
-  for (int i = 0; i < 40; ++i) robot.joint_poses.push_back({q(rng), q(rng), q(rng), q(rng), q(rng), q(rng)});
+  for (int i = 0; i < 40; ++i)
+    robot.joint_poses.push_back({q(rng), q(rng), q(rng), q(rng), q(rng), q(rng)});
   sim.robots.push_back(robot);
   sim.T_world_cam["cam1"] = PoseFromRvecT({1.48, -2.65, -0.07}, {440, 404, 811});
   const Recording recording = SimulateWorkcell(sim, nullptr);

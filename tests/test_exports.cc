@@ -133,10 +133,10 @@ class Exports : public ::testing::Test {
                          "configs/simulations/delta_uniform_125.yaml",
                          "configs/simulations/delta_validation.yaml",
                          "configs/jobs/delta_calibration.yaml"});
-    for (const auto& [spec, out] :
-         std::vector<std::pair<std::string, std::string>>{{"ur3_pair_geometry", "ur3_pair"},
-                                                          {"delta_uniform_125", "delta_sim"},
-                                                          {"delta_validation", "delta_validation"}}) {
+    for (const auto& [spec, out] : std::vector<std::pair<std::string, std::string>>{
+             {"ur3_pair_geometry", "ur3_pair"},
+             {"delta_uniform_125", "delta_sim"},
+             {"delta_validation", "delta_validation"}}) {
       const auto sim = testing::RunCellmetry("simulate " + dir_ + "/configs/simulations/" + spec +
                                              ".yaml -o " + dir_ + "/results/" + out);
       ASSERT_EQ(sim.exit_code, 0) << sim.output;
@@ -384,8 +384,10 @@ TEST_F(Exports, TfLaunchFileHoldsEveryFrameOfTheResult) {
   // Robot to robot: ur3b's base in ur3's, in a comment.
   std::smatch m;
   ASSERT_TRUE(std::regex_search(
-      launch, m, std::regex("ur3b_base in ur3_base: xyz \\(m\\) = \\(([^,]+), ([^,]+), ([^)]+)\\)")));
-  const Pose relative = FromRvecMm(frames.at("ur3.base")).inverse() * FromRvecMm(frames.at("ur3b.base"));
+      launch, m,
+      std::regex("ur3b_base in ur3_base: xyz \\(m\\) = \\(([^,]+), ([^,]+), ([^)]+)\\)")));
+  const Pose relative =
+      FromRvecMm(frames.at("ur3.base")).inverse() * FromRvecMm(frames.at("ur3b.base"));
   EXPECT_NEAR(std::stod(m[1]), relative.t.x() / 1000.0, 1e-12);
   EXPECT_NEAR(std::stod(m[2]), relative.t.y() / 1000.0, 1e-12);
   EXPECT_NEAR(std::stod(m[3]), relative.t.z() / 1000.0, 1e-12);
@@ -410,10 +412,12 @@ TEST_F(Exports, BadInputIsOneLineAndExitCodeTwo) {
                               bad + "/none:", "no such result folder");
   testing::ExpectOneLineError(testing::RunCellmetry("export " + bad + " --format urdf"),
                               bad + "/result.json:", "cannot open the result");
-  testing::ExpectOneLineError(testing::RunCellmetry("export " + ur3_result_ + " --format sdf"),
-                              "--format:", "unknown export format 'sdf'. Give one of: urdf, ur, tf, robot");
-  testing::ExpectOneLineError(testing::RunCellmetry("export " + ur3_result_ + " --format urdf"),
-                              ur3_result_ + "/result.json:", "several robots (ur3, ur3b). Name one with --robot");
+  testing::ExpectOneLineError(
+      testing::RunCellmetry("export " + ur3_result_ + " --format sdf"),
+      "--format:", "unknown export format 'sdf'. Give one of: urdf, ur, tf, robot");
+  testing::ExpectOneLineError(
+      testing::RunCellmetry("export " + ur3_result_ + " --format urdf"),
+      ur3_result_ + "/result.json:", "several robots (ur3, ur3b). Name one with --robot");
   testing::ExpectOneLineError(
       testing::RunCellmetry("export " + ur3_result_ + " --format urdf --robot ur9"),
       ur3_result_ + "/result.json:", "has no robot 'ur9'. Its robots: ur3, ur3b");
@@ -518,7 +522,8 @@ TEST(RelativePose, JacobianMatchesCentralDifferences) {
       const Pose minus = perturbed(a, -da).inverse() * perturbed(b, -db);
       Eigen::Matrix<double, 6, 1> numeric;
       numeric.head<3>() = (plus.t - minus.t) / (2 * h);
-      numeric.tail<3>() = (RotationError(plus.R, T_ab.R) - RotationError(minus.R, T_ab.R)) / (2 * h);
+      numeric.tail<3>() =
+          (RotationError(plus.R, T_ab.R) - RotationError(minus.R, T_ab.R)) / (2 * h);
       EXPECT_LE((numeric - J.col(k)).norm(), 1e-6 * std::max(1.0, J.col(k).norm()))
           << "column " << k << ": numeric " << numeric.transpose() << ", analytic "
           << J.col(k).transpose();

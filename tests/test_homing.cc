@@ -77,7 +77,8 @@ TEST(Homing, WithinOneIncrementOfTheTruthIn97PercentOfRuns) {
     const Eigen::Vector3d lsq_error = run.result.lsq_offset_rad - run.truth_rad;
     interval_ok += (interval_error.cwiseAbs().array() < increment).all();
     lsq_ok += (lsq_error.cwiseAbs().array() < increment).all();
-    for (int i = 0; i < 3; ++i) lsq_inside_3_sigma += std::abs(lsq_error[i]) < 3 * run.result.lsq_sigma_rad[i];
+    for (int i = 0; i < 3; ++i)
+      lsq_inside_3_sigma += std::abs(lsq_error[i]) < 3 * run.result.lsq_sigma_rad[i];
     worst_interval = std::max(worst_interval, interval_error.cwiseAbs().maxCoeff() / increment);
     worst_lsq = std::max(worst_lsq, lsq_error.cwiseAbs().maxCoeff() / increment);
     truth_size = std::max(truth_size, run.truth_rad.cwiseAbs().maxCoeff() / increment);
@@ -107,7 +108,8 @@ TEST(Homing, SaysHowManyPositionsItUsedAndHowWideTheIntervalIs) {
 
 TEST(Homing, TooFewPositionsIsAnInputError) {
   const InputError e = testing::CatchInputError([] { Home(Spec(), 2, 1); });
-  EXPECT_THAT(e.what(), HasSubstr("homing needs at least 3 measured positions, the recording has 2"));
+  EXPECT_THAT(e.what(),
+              HasSubstr("homing needs at least 3 measured positions, the recording has 2"));
 }
 
 }  // namespace

@@ -195,10 +195,11 @@ TEST(DataTable, CsvWithByteOrderMarkQuotesSemicolonsAndDecimalCommas) {
 
 TEST(DataTable, JsonLinesFlattenNestedObjectsAndArrays) {
   const std::string dir = testing::TempDirForThisTest("import");
-  testing::WriteText(dir + "/t.jsonl",
-                     "{\"id\": 1, \"pose\": {\"t\": [0.1, 0.2, 0.30000000000000004]}, \"cam\": \"c1\"}\n"
-                     "\n"
-                     "{\"id\": 2, \"pose\": {\"t\": [1, 2, 3]}, \"note\": null}\n");
+  testing::WriteText(
+      dir + "/t.jsonl",
+      "{\"id\": 1, \"pose\": {\"t\": [0.1, 0.2, 0.30000000000000004]}, \"cam\": \"c1\"}\n"
+      "\n"
+      "{\"id\": 2, \"pose\": {\"t\": [1, 2, 3]}, \"note\": null}\n");
   const DataTable t = ReadJsonLinesTable(dir + "/t.jsonl");
   EXPECT_EQ(t.columns(), (std::vector<std::string>{"id", "pose.t[0]", "pose.t[1]", "pose.t[2]",
                                                    "cam", "note"}));
@@ -328,8 +329,9 @@ std::vector<double> PoseCells(const Observation& o, const Variant& v, bool negat
   } else if (r == "wxyz" || r == "xyzw") {
     Eigen::Quaterniond q(R);
     if (negate_quaternion) q.coeffs() = -q.coeffs();  // the same rotation
-    const std::vector<double> values = r == "wxyz" ? std::vector<double>{q.w(), q.x(), q.y(), q.z()}
-                                                   : std::vector<double>{q.x(), q.y(), q.z(), q.w()};
+    const std::vector<double> values = r == "wxyz"
+                                           ? std::vector<double>{q.w(), q.x(), q.y(), q.z()}
+                                           : std::vector<double>{q.x(), q.y(), q.z(), q.w()};
     cells.insert(cells.end(), values.begin(), values.end());
   } else if (r == "rotvec") {
     const Eigen::AngleAxisd aa(R);
@@ -372,7 +374,9 @@ std::string WriteTable(const std::vector<Row>& rows, const Variant& v) {
         const size_t bracket = key.find('[');
         const std::string array = bracket == std::string::npos ? "" : key.substr(0, bracket);
         const bool quoted = value.empty() || !(std::isdigit(value[0]) || value[0] == '-');
-        const std::string json_value = value.empty() ? "null" : quoted ? "\"" + value + "\"" : value;
+        const std::string json_value = value.empty() ? "null"
+                                       : quoted      ? "\"" + value + "\""
+                                                     : value;
         if (!array.empty() && array == open_array && object == open_object) {
           line += ", " + json_value;
           continue;
@@ -580,12 +584,16 @@ class ImportEveryConvention : public ::testing::TestWithParam<Variant> {
     // One folder per process: CTest runs each test as its own process, several at once, and a
     // shared folder was removed under a sibling's feet (its tests then reported as skipped).
     const std::string dir = testing::TempDir("import/truth_" + std::to_string(::getpid()));
-    std::string spec = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
-    spec = testing::ReplaceOnce(spec, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml") +
-                                "\n    payloads_kg: [0, 0.75, 1.5]");
-    spec = testing::ReplaceOnce(spec, "../../tests/data/vsb/sim_b", testing::Source("tests/data/vsb/sim_b"));
+    std::string spec =
+        testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
+    spec = testing::ReplaceOnce(
+        spec, "../robots/ur3.yaml",
+        testing::Source("configs/robots/ur3.yaml") + "\n    payloads_kg: [0, 0.75, 1.5]");
+    spec = testing::ReplaceOnce(spec, "../../tests/data/vsb/sim_b",
+                                testing::Source("tests/data/vsb/sim_b"));
     spec = testing::ReplaceOnce(spec, "repeats: 1", "repeats: 2");
-    spec += "timeline: {seconds_per_sample: 2.5, temperature_start_c: 20.5, temperature_end_c: 27}\n";
+    spec +=
+        "timeline: {seconds_per_sample: 2.5, temperature_start_c: 20.5, temperature_end_c: 27}\n";
     testing::WriteText(dir + "/spec.yaml", spec);
     const auto r = testing::RunCellmetry("simulate " + dir + "/spec.yaml -o " + dir + "/recording");
     ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -694,7 +702,8 @@ TEST_F(ImportEveryConvention, CommandWritesAMarkedRecordingThatReadsBack) {
 // The example docs/your-data.md walks through: the spreadsheet excerpt of VSB experiment A
 // imports to the bundled recording's numbers, and its job finds the measured placement.
 TEST(BundledExample, SpreadsheetExcerptImportsToTheBundledRecordingAndItsJobRuns) {
-  const Recording imported = ImportRecording(testing::Source("configs/import/vsb_exp_a_excerpt.yaml"));
+  const Recording imported =
+      ImportRecording(testing::Source("configs/import/vsb_exp_a_excerpt.yaml"));
   const Recording exp_a = ReadRecording(testing::Source("tests/data/vsb/exp_a"));
   ASSERT_EQ(imported.samples.size(), 96u);
   ASSERT_EQ(imported.observations.size(), 576u);

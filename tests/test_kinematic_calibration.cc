@@ -124,8 +124,10 @@ std::map<std::string, double> NormalizedErrors(const SimulatedRun& run) {
     const int b = 5 * arm;
     const std::string prefix = "arm" + std::to_string(arm + 1) + ".";
     const double sigma_diff = std::hypot(est[b].sigma, est[b + 1].sigma);
-    out[prefix + "R-r"] = ((est[b].value - est[b + 1].value) - (truth[b] - truth[b + 1])) / sigma_diff;
-    for (int k : {2, 3, 4}) out[est[b + k].name] = (est[b + k].value - truth[b + k]) / est[b + k].sigma;
+    out[prefix + "R-r"] =
+        ((est[b].value - est[b + 1].value) - (truth[b] - truth[b + 1])) / sigma_diff;
+    for (int k : {2, 3, 4})
+      out[est[b + k].name] = (est[b + k].value - truth[b + k]) / est[b + k].sigma;
   }
   return out;
 }

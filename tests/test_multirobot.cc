@@ -92,8 +92,8 @@ struct Figures {
 TEST(RobotToRobot, WithinThreeSigmaAndSigmaMatchesTheSpreadOver20Seeds) {
   WorkcellSimulationSpec sim = LoadWorkcellSimulation(
       testing::Source("configs/simulations/ur5e_ur3_cell.yaml"), testing::Plugins());
-  WorkcellJob job =
-      LoadWorkcellJob(testing::Source("configs/jobs/ur5e_ur3_cell.yaml"), testing::Plugins(), false);
+  WorkcellJob job = LoadWorkcellJob(testing::Source("configs/jobs/ur5e_ur3_cell.yaml"),
+                                    testing::Plugins(), false);
   job.problem.folds = 0;
   const Pose truth = sim.robots[0].T_world_base.inverse() * sim.robots[1].T_world_base;
   constexpr int kSeeds = 20;
@@ -118,10 +118,14 @@ TEST(RobotToRobot, WithinThreeSigmaAndSigmaMatchesTheSpreadOver20Seeds) {
     f.mean_mahalanobis += e.dot(pair.covariance.ldlt().solve(e)) / kSeeds;
     f.mean_sigma += sigma / kSeeds;
     // What adding the two bases' sigmas (no cross-covariance) would say, for the figures.
-    const Eigen::Matrix<double, 6, 1> sa = (Eigen::Matrix<double, 6, 1>() <<
-        testing::Frame(result, "ur5e.base").sigma_mm, testing::Frame(result, "ur5e.base").sigma_rad).finished();
-    const Eigen::Matrix<double, 6, 1> sb = (Eigen::Matrix<double, 6, 1>() <<
-        testing::Frame(result, "ur3.base").sigma_mm, testing::Frame(result, "ur3.base").sigma_rad).finished();
+    const Eigen::Matrix<double, 6, 1> sa =
+        (Eigen::Matrix<double, 6, 1>() << testing::Frame(result, "ur5e.base").sigma_mm,
+         testing::Frame(result, "ur5e.base").sigma_rad)
+            .finished();
+    const Eigen::Matrix<double, 6, 1> sb =
+        (Eigen::Matrix<double, 6, 1>() << testing::Frame(result, "ur3.base").sigma_mm,
+         testing::Frame(result, "ur3.base").sigma_rad)
+            .finished();
     f.sum_sigma += (sa.cwiseAbs2() + sb.cwiseAbs2()).cwiseSqrt() / kSeeds;
     Uncertainty model_only = result.uncertainty;
     model_only.correlation.resize(0, 0);  // FramePairCovariance then reads the covariance itself
@@ -163,11 +167,12 @@ TEST(RobotToRobot, WithinThreeSigmaAndSigmaMatchesTheSpreadOver20Seeds) {
 TEST(RobotToRobot, WrittenInEveryResultFile) {
   WorkcellSimulationSpec sim = LoadWorkcellSimulation(
       testing::Source("configs/simulations/ur5e_ur3_cell.yaml"), testing::Plugins());
-  WorkcellJob job =
-      LoadWorkcellJob(testing::Source("configs/jobs/ur5e_ur3_cell.yaml"), testing::Plugins(), false);
+  WorkcellJob job = LoadWorkcellJob(testing::Source("configs/jobs/ur5e_ur3_cell.yaml"),
+                                    testing::Plugins(), false);
   job.problem.folds = 0;
   const WorkcellResult result = testing::Identify(job, SimulateWorkcell(sim, nullptr));
-  EXPECT_THAT(WorkcellResultYaml(result), HasSubstr("robot_to_robot:\n  T_ur5e_ur3:\n    parent: ur5e.base"));
+  EXPECT_THAT(WorkcellResultYaml(result),
+              HasSubstr("robot_to_robot:\n  T_ur5e_ur3:\n    parent: ur5e.base"));
   const nlohmann::json j = WorkcellResultJson(result);
   ASSERT_TRUE(j["robot_to_robot"].contains("T_ur5e_ur3"));
   ASSERT_TRUE(j["robot_to_robot"].contains("T_ur3_ur5e"));
@@ -196,8 +201,8 @@ TEST(RobotToRobot, WrittenInEveryResultFile) {
 TEST(RobotToRobot, TheTfExportSaysTheSameSigma) {
   WorkcellSimulationSpec sim = LoadWorkcellSimulation(
       testing::Source("configs/simulations/ur5e_ur3_cell.yaml"), testing::Plugins());
-  WorkcellJob job =
-      LoadWorkcellJob(testing::Source("configs/jobs/ur5e_ur3_cell.yaml"), testing::Plugins(), false);
+  WorkcellJob job = LoadWorkcellJob(testing::Source("configs/jobs/ur5e_ur3_cell.yaml"),
+                                    testing::Plugins(), false);
   job.problem.folds = 0;
   const WorkcellResult result = testing::Identify(job, SimulateWorkcell(sim, nullptr));
   const std::string dir = testing::TempDirForThisTest("multirobot");

@@ -27,7 +27,8 @@ class Outliers : public ::testing::Test {
     const std::string dir = testing::TempDirForThisTest("outliers");
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
-    sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+    sim =
+        testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
     sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
                                testing::Source("tests/data/vsb/sim_b"));
     testing::WriteText(dir + "/sim.yaml", sim);

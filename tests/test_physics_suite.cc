@@ -15,11 +15,14 @@ namespace {
 using ::testing::HasSubstr;
 
 std::string SuiteYaml(const std::string& seeds) {
-  return "compare: physics\nseeds: " + seeds + "\nsnr: 6\ncells:\n  - name: delta\n"
-         "    simulation: " + testing::Source("configs/simulations/delta_physics_base.yaml") +
+  return "compare: physics\nseeds: " + seeds +
+         "\nsnr: 6\ncells:\n  - name: delta\n"
+         "    simulation: " +
+         testing::Source("configs/simulations/delta_physics_base.yaml") +
          "\n    job: " + testing::Source("configs/jobs/delta_diagnose.yaml") +
          "\n    cases:\n      - {name: clean, expect: none}\n"
-         "      - {name: arm 1 skew, expect: delta.tilt_arm1, effect: {type: platform_tilt, arms: [1]}}\n"
+         "      - {name: arm 1 skew, expect: delta.tilt_arm1, effect: {type: platform_tilt, arms: "
+         "[1]}}\n"
          "output: doc.md\n";
 }
 
@@ -71,9 +74,10 @@ TEST(PhysicsSuite, EachSeedDrawsItsOwnNoise) {
   const std::string dir = testing::TempDirForThisTest("suite_seeds");
   testing::WriteText(dir + "/suite.yaml",
                      "compare: physics\nseeds: 2\nsnr: 6\ncells:\n  - name: delta\n"
-                     "    simulation: " + testing::Source("configs/simulations/delta_physics_base.yaml") +
-                     "\n    job: " + testing::Source("configs/jobs/delta_diagnose.yaml") +
-                     "\n    cases:\n      - {name: clean, expect: none}\noutput: doc.md\n");
+                     "    simulation: " +
+                         testing::Source("configs/simulations/delta_physics_base.yaml") +
+                         "\n    job: " + testing::Source("configs/jobs/delta_diagnose.yaml") +
+                         "\n    cases:\n      - {name: clean, expect: none}\noutput: doc.md\n");
   const auto results = RunPhysicsSuite(LoadPhysicsSuite(dir + "/suite.yaml"), testing::Plugins());
   ASSERT_EQ(results.size(), 1u);
   ASSERT_EQ(results[0].runs.size(), 2u);

@@ -18,7 +18,8 @@ namespace {
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-const std::vector<std::string> kBuiltSolvers = {"ceres_lm", "gradient_descent", "jacobian_pinv", "nlopt"};
+const std::vector<std::string> kBuiltSolvers = {"ceres_lm", "gradient_descent", "jacobian_pinv",
+                                                "nlopt"};
 const std::vector<std::string> kBuiltRobotModels = {"delta", "serial_mdh"};
 const std::vector<std::string> kBuiltDetectors = {"apriltag_board", "aruco", "dot", "dot_pattern"};
 

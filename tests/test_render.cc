@@ -60,7 +60,8 @@ TEST(ReadCamera, MissingFieldIsNamed) {
   const InputError e = testing::CatchInputError([&] { ReadCamera(dir + "/opencv.yml"); });
   EXPECT_THAT(e.what(), HasSubstr("missing field 'distortion_coefficients'"));
   const InputError ours = testing::CatchInputError([&] {
-    testing::WriteText(dir + "/ours.yaml", "camera: {width: 1280, height: 800, fx: 880, cx: 640, cy: 400}\n");
+    testing::WriteText(dir + "/ours.yaml",
+                       "camera: {width: 1280, height: 800, fx: 880, cx: 640, cy: 400}\n");
     ReadCamera(dir + "/ours.yaml");
   });
   EXPECT_THAT(ours.what(), HasSubstr("missing key 'fy'"));
@@ -74,13 +75,16 @@ TEST(Readers, SurviveFuzzedInput) {
   GrayImage small(16, 12, 100);
   WriteGrayImage(small, dir + "/valid.png");
   const std::string png = testing::ReadText(dir + "/valid.png");
-  const std::string yaml = "camera: {width: 1280, height: 800, fx: 880, fy: 880, cx: 640, cy: 400}\n";
+  const std::string yaml =
+      "camera: {width: 1280, height: 800, fx: 880, fy: 880, cx: 640, cy: 400}\n";
   for (int i = 0; i < 300; ++i) {
     std::string image = png, camera = yaml;
     const int flips = 1 + i % 8;
     for (int k = 0; k < flips; ++k) {
-      image[std::uniform_int_distribution<size_t>(0, image.size() - 1)(rng)] = static_cast<char>(byte(rng));
-      camera[std::uniform_int_distribution<size_t>(0, camera.size() - 1)(rng)] = static_cast<char>(byte(rng));
+      image[std::uniform_int_distribution<size_t>(0, image.size() - 1)(rng)] =
+          static_cast<char>(byte(rng));
+      camera[std::uniform_int_distribution<size_t>(0, camera.size() - 1)(rng)] =
+          static_cast<char>(byte(rng));
     }
     if (i % 10 == 0) image.resize(image.size() / 2);  // truncated
     testing::WriteText(dir + "/fuzz.png", image);

@@ -35,7 +35,8 @@ int Count(const std::string& text, const std::string& what) {
 
 // What a page must be whatever opens it: self-contained, every plot with marks.
 void ExpectSelfContained(const std::string& html) {
-  EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org/2000/svg"));  // only the SVG namespace
+  EXPECT_EQ(html.find("http://"),
+            html.find("http://www.w3.org/2000/svg"));  // only the SVG namespace
   EXPECT_EQ(html.find("https://"), std::string::npos);
   EXPECT_EQ(html.find("<script src"), std::string::npos);
   EXPECT_EQ(html.find("<link"), std::string::npos);
@@ -51,7 +52,8 @@ int OpenInChromium(const std::string& path, const std::string& name) {
       "chromium --headless --disable-gpu --no-sandbox --virtual-time-budget=3000 "
       "--enable-logging=stderr --v=0 ";
   const std::string url = "file://" + fs::absolute(path).string();
-  EXPECT_EQ(std::system((flags + "--dump-dom '" + url + "' >'" + dom + "' 2>'" + log + "'").c_str()), 0);
+  EXPECT_EQ(
+      std::system((flags + "--dump-dom '" + url + "' >'" + dom + "' 2>'" + log + "'").c_str()), 0);
   EXPECT_EQ(std::system((flags + "--window-size=1300,3000 --screenshot='" + Artifacts() + "/" +
                          name + ".png' '" + url + "' >/dev/null 2>&1").c_str()), 0);
   const std::string console = testing::ReadText(log);
@@ -70,8 +72,8 @@ int OpenInChromium(const std::string& path, const std::string& name) {
 
 TEST(Report, RunWritesAPageWithEveryPlotDrawn) {
   const std::string out = testing::TempDirForThisTest("report") + "/vsb";
-  const auto run = testing::RunCellmetry("-q run " + testing::Source("configs/jobs/vsb_sim_b.yaml") +
-                                         " -o " + out);
+  const auto run = testing::RunCellmetry(
+      "-q run " + testing::Source("configs/jobs/vsb_sim_b.yaml") + " -o " + out);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string html = testing::ReadText(out + "/report.html");
   ExpectSelfContained(html);
@@ -80,7 +82,8 @@ TEST(Report, RunWritesAPageWithEveryPlotDrawn) {
     EXPECT_GT(Count(html, std::string("data-plot=\"") + kind + "\""), 0) << kind;
   }
   EXPECT_NE(html.find("ur3.base"), std::string::npos);  // the frames table
-  fs::copy_file(out + "/report.html", Artifacts() + "/run.html", fs::copy_options::overwrite_existing);
+  fs::copy_file(out + "/report.html", Artifacts() + "/run.html",
+                fs::copy_options::overwrite_existing);
   if (!HaveChromium()) GTEST_SKIP() << "chromium is not installed: DOM-level checks only";
   EXPECT_GE(OpenInChromium(out + "/report.html", "run"), 14);
 }
@@ -158,7 +161,8 @@ TEST(Report, HomeWritesAPageOfItsOffsetsAndRuns) {
   std::string job = testing::ReadText(testing::Source("configs/jobs/delta_homing.yaml"));
   job = testing::ReplaceOnce(job, "../../results/delta_homing_sim", dir + "/sim");
   job = testing::ReplaceOnce(job, "../../results/delta_homing", dir + "/out");
-  job = testing::ReplaceOnce(job, "../robots/delta.yaml", testing::Source("configs/robots/delta.yaml"));
+  job = testing::ReplaceOnce(job, "../robots/delta.yaml",
+                             testing::Source("configs/robots/delta.yaml"));
   testing::WriteText(dir + "/job.yaml", job);
   const auto homed = testing::RunCellmetry("home " + dir + "/job.yaml");
   ASSERT_EQ(homed.exit_code, 0) << homed.output;

@@ -34,7 +34,8 @@ TEST(Triangulate, NoiseFreePointsComeBackExactly) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 200; ++i) {
     const Eigen::Vector3d p(150 * u(rng), 100 * u(rng), 450 + 150 * u(rng));
-    const auto t = Triangulate(rig, Seen(rig.left, p, 0.1), Seen(rig.right, rig.T_right_left * p, 0.1));
+    const auto t =
+        Triangulate(rig, Seen(rig.left, p, 0.1), Seen(rig.right, rig.T_right_left * p, 0.1));
     ASSERT_TRUE(t.has_value());
     EXPECT_LT((t->p_left_mm - p).norm(), 1e-9);
   }
@@ -63,7 +64,8 @@ TEST(Triangulate, CovarianceMatchesMonteCarloAndTheDepthFormula) {
       predicted = t->covariance_mm2;
     }
     for (int k = 0; k < 3; ++k) {
-      EXPECT_NEAR(std::sqrt(scatter(k, k)) / std::sqrt(predicted(k, k)), 1.0, 0.06) << "axis " << k << " z " << z;
+      EXPECT_NEAR(std::sqrt(scatter(k, k)) / std::sqrt(predicted(k, k)), 1.0, 0.06)
+          << "axis " << k << " z " << z;
     }
     const double depth_formula = z * z * std::sqrt(2.0) * sigma_px / (880.0 * 75.0);
     EXPECT_NEAR(std::sqrt(predicted(2, 2)) / depth_formula, 1.0, 0.02) << "z " << z;
@@ -78,17 +80,18 @@ TEST(ReadStereoRig, OurYamlAndOpenCvStereoCalibrationAgree) {
                      "  right: {width: 1280, height: 800, fx: 881, fy: 881, cx: 640.5, cy: 400.5,"
                      " distortion: [0.01, 0, 0, 0, 0]}\n"
                      "  T_right_left: {xyz: [-75, 0.1, 0.2], rvec: [0, 0, 0]}\n");
-  testing::WriteText(dir + "/opencv.yml",
-                     "%YAML:1.0\n---\nimage_width: 1280\nimage_height: 800\n"
-                     "M1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
-                     "   data: [ 880., 0., 639.5, 0., 880., 399.5, 0., 0., 1. ]\n"
-                     "D1: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n"
-                     "M2: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
-                     "   data: [ 881., 0., 640.5, 0., 881., 400.5, 0., 0., 1. ]\n"
-                     "D2: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0.01, 0., 0., 0., 0. ]\n"
-                     "R: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
-                     "   data: [ 1., 0., 0., 0., 1., 0., 0., 0., 1. ]\n"
-                     "T: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ -75., 0.1, 0.2 ]\n");
+  testing::WriteText(
+      dir + "/opencv.yml",
+      "%YAML:1.0\n---\nimage_width: 1280\nimage_height: 800\n"
+      "M1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+      "   data: [ 880., 0., 639.5, 0., 880., 399.5, 0., 0., 1. ]\n"
+      "D1: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n"
+      "M2: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+      "   data: [ 881., 0., 640.5, 0., 881., 400.5, 0., 0., 1. ]\n"
+      "D2: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0.01, 0., 0., 0., 0. ]\n"
+      "R: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+      "   data: [ 1., 0., 0., 0., 1., 0., 0., 0., 1. ]\n"
+      "T: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ -75., 0.1, 0.2 ]\n");
   const StereoRig a = ReadStereoRig(dir + "/ours.yaml"), b = ReadStereoRig(dir + "/opencv.yml");
   EXPECT_DOUBLE_EQ(a.right.fx, b.right.fx);
   EXPECT_EQ(a.right.distortion, b.right.distortion);

@@ -214,7 +214,8 @@ TEST(SimulatedUr3, EachParameterIsInsideThreeSigmaInAtLeast95PercentOfRuns) {
 // Two robots share the world and two cameras; both bases come back, solved in one problem.
 TEST(SimulatedWorkcell, TwoRobotsTwoCamerasRecoverBothBases) {
   WorkcellSimulationSpec sim = TwoCameraSpec(21);
-  sim.robots.push_back(SimRobot("ur3b", "tool_b", PoseFromRvecT({0, 0, 1.2}, {-300, 200, -450}), 22));
+  sim.robots.push_back(
+      SimRobot("ur3b", "tool_b", PoseFromRvecT({0, 0, 1.2}, {-300, 200, -450}), 22));
   sim.sigma_position_mm = {0.05, 0.05, 0.2};
   sim.sigma_rotation_rad = {3e-4, 3e-4, 6e-4};
   WorkcellProblem problem;

@@ -56,7 +56,8 @@ INSTANTIATE_TEST_SUITE_P(
                       "{type: nlopt, algorithm: LN_BOBYQA}"));
 
 TEST(ExpA, StaticCamerasPredictHeldOutPosesBetterThanPerFrameWorldTags) {
-  const WorkcellResult r = RunJob("configs/jobs/vsb_exp_a_geometry.yaml", "type: ceres_lm", 5, true);
+  const WorkcellResult r =
+      RunJob("configs/jobs/vsb_exp_a_geometry.yaml", "type: ceres_lm", 5, true);
   ASSERT_EQ(r.held_out.folds, 5);
   ASSERT_TRUE(r.other_models.count("per_frame"));
   const double static_rms = r.held_out.total.norm;
@@ -93,7 +94,8 @@ TEST(NoiseFloor, SaysInWordsWhereItCameFrom) {
   }
   exp_a.observations = observations;
   const NoiseModel few = EstimateRepeatability(exp_a);
-  EXPECT_EQ(few.at("cam1", "tool").source, "spread of 3 to 10 repeated captures at each of 3 poses");
+  EXPECT_EQ(few.at("cam1", "tool").source,
+            "spread of 3 to 10 repeated captures at each of 3 poses");
   EXPECT_EQ(few.at("cam1", "world").source, "spread of 23 captures of a world-fixed target");
 }
 

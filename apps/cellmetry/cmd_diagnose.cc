@@ -36,8 +36,9 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
     StagedDirectory out(folder, "diagnosis");
     AtomicWriteFile(out.File("diagnosis.json"), DiagnosisJson(result).dump(2) + "\n");
     AtomicWriteFile(out.File("report.txt"), DiagnosisReport(result));
-    AtomicWriteFile(out.File(report::kReportFile),
-                    report::DiagnoseReportHtml(result, recording, "cellmetry diagnose: " + job_path));
+    AtomicWriteFile(
+        out.File(report::kReportFile),
+        report::DiagnoseReportHtml(result, recording, "cellmetry diagnose: " + job_path));
     WriteWorkcellResult(result.final_fit, out.File("final_fit"), [&](const std::string& staging) {
       AtomicWriteFile(staging + "/" + report::kReportFile,
                       report::RunReportHtml(result.final_fit, recording,
@@ -45,7 +46,8 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
     });
     out.Commit();
     std::printf("%s", DiagnosisReport(result).c_str());
-    std::printf("  written: %s/{report.txt,report.html,diagnosis.json,final_fit/}\n", folder.c_str());
+    std::printf("  written: %s/{report.txt,report.html,diagnosis.json,final_fit/}\n",
+                folder.c_str());
   });
 }
 

@@ -40,7 +40,8 @@ void RunJob(const std::string& job_path, const std::string& output) {
                     report::RunReportHtml(result, recording, "cellmetry run: " + job_path));
   });
   std::printf("%s", WorkcellSummary(result).c_str());
-  std::printf("  written: %s/{result.yaml,result.json,residuals.csv,report.html}\n", folder.c_str());
+  std::printf("  written: %s/{result.yaml,result.json,residuals.csv,report.html}\n",
+              folder.c_str());
 }
 
 }  // namespace

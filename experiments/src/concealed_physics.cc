@@ -53,8 +53,9 @@ std::vector<DisturbanceAction> DistributedCompliance(const ConcealedPhysics& c,
 // The joint sits inside its play where its last push left it: a move drags it against one side
 // of the play, but friction lets short moves take up only part of it (1 - exp(-|move| / 0.3
 // rad)), and a move that does not cross the play leaves it where it was.
-std::vector<DisturbanceAction> DeadZoneBacklash(const ConcealedPhysics& c, const Recording& recording,
-                                              const std::vector<SampleFacts>& facts) {
+std::vector<DisturbanceAction> DeadZoneBacklash(const ConcealedPhysics& c,
+                                                const Recording& recording,
+                                                const std::vector<SampleFacts>& facts) {
   std::vector<DisturbanceAction> out(facts.size());
   const double half = 0.5 * c.magnitude;
   std::optional<double> actual, previous;
@@ -125,9 +126,9 @@ std::shared_ptr<const Disturbance> ReadConcealedDisturbance(const ConfigNode& no
   return std::make_shared<ConcealedPhysics>(ReadConcealedPhysics(node));
 }
 
-std::vector<DisturbanceAction> ConcealedPhysics::Actions(const Recording& recording,
-                                                         const std::vector<SampleFacts>& facts,
-                                                         const Eigen::Vector3d& gravity_base) const {
+std::vector<DisturbanceAction> ConcealedPhysics::Actions(
+    const Recording& recording, const std::vector<SampleFacts>& facts,
+    const Eigen::Vector3d& gravity_base) const {
   const ConcealedPhysics& c = *this;
   if (c.kind == "distributed_compliance") {
     return DistributedCompliance(c, recording, facts, gravity_base);

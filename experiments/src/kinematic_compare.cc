@@ -52,7 +52,8 @@ CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
                                    "camera, without a world target",
                                    "Point simulation: at such a spec (world_target: none)");
   }
-  for (const auto& node : root["pose_sets"].Elements()) spec.pose_sets.push_back(ParsePoseSet(node));
+  for (const auto& node : root["pose_sets"].Elements())
+    spec.pose_sets.push_back(ParsePoseSet(node));
   for (const auto& node : root["sizes"].Elements()) {
     spec.sizes.push_back(node.AsInt());
     if (spec.sizes.back() < 1) throw node.Error("a pose set needs at least one sample");
@@ -274,15 +275,17 @@ std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<Comp
         << SeededMarkdown(spec, rows);
     return out.str();
   }
-  out << "| pose set | size | formulation | solver | mean (mm) | max (mm) | RMS (mm) | floor RMS (mm) "
+  out << "| pose set | size | formulation | solver | mean (mm) | max (mm) | RMS (mm) | floor RMS "
+         "(mm) "
          "| iterations | time (ms) |\n";
   out << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     out << "| " << PoseSetName(r.pose_set) << " | " << r.size << " | "
         << FormulationName(r.formulation) << " | " << r.solver << " | "
         << Number(r.validation.mean_mm) << " | " << Number(r.validation.max_mm) << " | "
-        << Number(r.validation.rms_mm) << " | " << (r.floor_rms_mm > 0 ? Number(r.floor_rms_mm) : "-")
-        << " | " << r.iterations << " | " << Number(r.time_s * 1e3) << " |\n";
+        << Number(r.validation.rms_mm) << " | "
+        << (r.floor_rms_mm > 0 ? Number(r.floor_rms_mm) : "-") << " | " << r.iterations << " | "
+        << Number(r.time_s * 1e3) << " |\n";
   }
   return out.str();
 }

@@ -50,15 +50,17 @@ StereoShot Shoot(const MarkerComparisonSpec& spec, Detector& detector,
                  const Pose& T_cam_marker, std::mt19937& rng) {
   const Pose T_cam_target = shown.Shown(T_cam_marker);
   const GrayImage left = RenderView(spec.rig.left, {{T_cam_target, &faces}}, spec.render, rng);
-  const GrayImage right = RenderView(spec.rig.right, {{spec.rig.T_right_left * T_cam_target, &faces}},
-                                     spec.render, rng);
+  const GrayImage right = RenderView(
+      spec.rig.right, {{spec.rig.T_right_left * T_cam_target, &faces}}, spec.render, rng);
   StereoShot shot;
   const auto start = std::chrono::steady_clock::now();
   const Detection l = detector.Detect(left.view());
-  shot.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  shot.ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   const Detection r = detector.Detect(right.view());
   if (l.found() && r.found()) {
-    shot.origin = TargetOriginFromStereo(spec.rig, l.keypoints, r.keypoints, shown.centred_layout, 0);
+    shot.origin =
+        TargetOriginFromStereo(spec.rig, l.keypoints, r.keypoints, shown.centred_layout, 0);
   }
   return shot;
 }
@@ -71,24 +73,29 @@ Eigen::Vector3d Floor(const MarkerComparisonSpec& spec, const std::vector<Marker
   const Pose T_right = spec.rig.T_right_left * T;
   const auto l_ideal = RenderIdeal(spec.rig.left, {{T, &faces}}, spec.render);
   const auto r_ideal = RenderIdeal(spec.rig.right, {{T_right, &faces}}, spec.render);
-  const Eigen::Vector2d l_crb = ImageShiftCramerRao(l_ideal, spec.rig.left.width, spec.rig.left.height, spec.render.noise_sigma);
-  const Eigen::Vector2d r_crb = ImageShiftCramerRao(r_ideal, spec.rig.right.width, spec.rig.right.height, spec.render.noise_sigma);
+  const Eigen::Vector2d l_crb = ImageShiftCramerRao(l_ideal, spec.rig.left.width,
+                                                    spec.rig.left.height, spec.render.noise_sigma);
+  const Eigen::Vector2d r_crb = ImageShiftCramerRao(r_ideal, spec.rig.right.width,
+                                                    spec.rig.right.height, spec.render.noise_sigma);
   Keypoint l, r;
   l.pixel = spec.rig.left.Project(spec.static_pose.t);
   r.pixel = spec.rig.right.Project(spec.rig.T_right_left * spec.static_pose.t);
   l.covariance_px2 = l_crb.cwiseAbs2().asDiagonal();
   r.covariance_px2 = r_crb.cwiseAbs2().asDiagonal();
   const auto point = Triangulate(spec.rig, l, r);
-  return point ? Eigen::Vector3d(point->covariance_mm2.diagonal().cwiseSqrt()) : Eigen::Vector3d::Zero();
+  return point ? Eigen::Vector3d(point->covariance_mm2.diagonal().cwiseSqrt())
+               : Eigen::Vector3d::Zero();
 }
 
 Pose RandomWorkspacePose(const MarkerComparisonSpec& spec, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0), depth(spec.depth_mm.x(), spec.depth_mm.y());
   const Eigen::Vector3d tilt(spec.tilt_rad * u(rng), spec.tilt_rad * u(rng), M_PI * u(rng));
   // Facing the camera (z out of the paper toward it), then tilted.
-  const Eigen::Matrix3d facing = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  return Pose{RotationFromRvec(tilt.data()) * facing,
-              Eigen::Vector3d(spec.lateral_mm * u(rng), spec.lateral_mm * 0.6 * u(rng), depth(rng))};
+  const Eigen::Matrix3d facing =
+      Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  return Pose{
+      RotationFromRvec(tilt.data()) * facing,
+      Eigen::Vector3d(spec.lateral_mm * u(rng), spec.lateral_mm * 0.6 * u(rng), depth(rng))};
 }
 
 MarkerRow CompareOne(const MarkerComparisonSpec& spec, const std::string& label,
@@ -152,10 +159,11 @@ MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& reg
     spec.detectors.emplace_back(label, block);
   }
   if (root.Has("stereo")) spec.rig = ReadStereoRig(root.ResolvePath(root["stereo"].AsString()));
-  spec.static_pose = root.Has("static_pose")
-                         ? ReadPose(root["static_pose"])
-                         : Pose{Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(),
-                                Eigen::Vector3d(0, 0, 450)};
+  spec.static_pose =
+      root.Has("static_pose")
+          ? ReadPose(root["static_pose"])
+          : Pose{Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(),
+                 Eigen::Vector3d(0, 0, 450)};
   spec.captures = root.GetInt("captures", spec.captures);
   if (root.Has("workspace")) {
     const ConfigNode w = root["workspace"];
@@ -178,7 +186,8 @@ MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& reg
   spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
   spec.seeds = root.GetIntIn("seeds", spec.seeds, 1, 100000,
                              "Repetitions of the comparison; 1 is the seed's alone");
-  spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString()) : "results/markers";
+  spec.output =
+      root.Has("output") ? root.ResolvePath(root["output"].AsString()) : "results/markers";
   if (spec.captures < 2) throw root["captures"].Error("need at least 2 captures for a sigma");
   return spec;
 }
@@ -194,21 +203,24 @@ std::vector<MarkerRow> CompareMarkers(const MarkerComparisonSpec& spec, Registry
   return rows;
 }
 
-std::string MarkerTableMarkdown(const MarkerComparisonSpec& spec, const std::vector<MarkerRow>& rows) {
+std::string MarkerTableMarkdown(const MarkerComparisonSpec& spec,
+                                const std::vector<MarkerRow>& rows) {
   std::ostringstream out;
   out << "Stereo rig: baseline " << F(-spec.rig.T_right_left.t.x(), 1) << " mm, "
       << spec.rig.left.width << "x" << spec.rig.left.height << ", f " << F(spec.rig.left.fx, 0)
       << " px; static pose at " << F(spec.static_pose.t.z(), 0) << " mm; " << spec.captures
       << " captures; render noise " << F(spec.render.noise_sigma, 1) << " gray levels.\n\n";
-  out << "| detector | sigma X (mm) | sigma Y (mm) | sigma depth (mm) | floor depth (mm) | depth / floor "
+  out << "| detector | sigma X (mm) | sigma Y (mm) | sigma depth (mm) | floor depth (mm) | depth / "
+         "floor "
          "| bias at the static pose (mm) | workspace RMS error (mm) | detected | ms / frame |\n";
   out << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     const double ratio = r.floor_mm.z() > 0 ? r.repeatability_mm.z() / r.floor_mm.z() : 0.0;
-    out << "| " << r.label << " | " << F(r.repeatability_mm.x()) << " | " << F(r.repeatability_mm.y())
-        << " | " << F(r.repeatability_mm.z()) << " | " << F(r.floor_mm.z()) << " | " << F(ratio, 2)
-        << " | " << F(r.static_bias_mm) << " | " << F(r.workspace_rms_mm) << " | "
-        << r.positions_found << "/" << r.positions << " | " << F(r.ms_per_frame, 2) << " |\n";
+    out << "| " << r.label << " | " << F(r.repeatability_mm.x()) << " | "
+        << F(r.repeatability_mm.y()) << " | " << F(r.repeatability_mm.z()) << " | "
+        << F(r.floor_mm.z()) << " | " << F(ratio, 2) << " | " << F(r.static_bias_mm) << " | "
+        << F(r.workspace_rms_mm) << " | " << r.positions_found << "/" << r.positions << " | "
+        << F(r.ms_per_frame, 2) << " |\n";
   }
   return out.str();
 }

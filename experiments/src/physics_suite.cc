@@ -132,7 +132,8 @@ SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
 std::string CheckpointPath(const PhysicsSuiteSpec& suite) { return suite.output + ".partial.json"; }
 
 std::string CaseKey(const PhysicsSuiteSpec& suite, const SuiteCell& cell, const SuiteCase& c) {
-  return cell.name + "/" + c.name + "/" + std::to_string(suite.seeds) + "/" + FixedNumber(suite.snr, 3);
+  return cell.name + "/" + c.name + "/" + std::to_string(suite.seeds) + "/" +
+         FixedNumber(suite.snr, 3);
 }
 
 nlohmann::json ToJson(const SuiteCaseResult& r) {
@@ -230,7 +231,8 @@ std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& suite, Regi
   nlohmann::json done = ReadCheckpoint(suite);
   std::vector<SuiteCaseResult> results;
   for (const auto& cell : suite.cells) {
-    const WorkcellSimulationSpec base = LoadWorkcellSimulation(cell.simulation, registry, ReadConcealedDisturbance);
+    const WorkcellSimulationSpec base =
+        LoadWorkcellSimulation(cell.simulation, registry, ReadConcealedDisturbance);
     const DiagnosisJob job = LoadDiagnosisJob(cell.job, registry, /*recording_must_exist=*/false);
     for (const auto& c : cell.cases) {
       const std::string key = CaseKey(suite, cell, c);

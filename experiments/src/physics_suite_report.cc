@@ -79,9 +79,9 @@ std::string AllDecision(const std::string& question, int k, int n) {
 
 std::string FloorDecision(const std::vector<double>& ratios) {
   const MeanInterval m = TInterval95(ratios);
-  const std::string figures = FixedNumber(m.mean, 2) + " [" + FixedNumber(m.low, 2) + ", " + FixedNumber(m.high, 2) +
-                              "] (mean of " + std::to_string(m.n) + " runs) against <= " +
-                              FixedNumber(kFloorTarget, 1);
+  const std::string figures = FixedNumber(m.mean, 2) + " [" + FixedNumber(m.low, 2) + ", " +
+                              FixedNumber(m.high, 2) + "] (mean of " + std::to_string(m.n) +
+                              " runs) against <= " + FixedNumber(kFloorTarget, 1);
   const std::string question = "Does the accepted model bring the held-out RMS to the floor?";
   if (m.n < 2) return question + " undecided: fewer than two runs";
   if (m.high <= kFloorTarget) return question + " met: " + figures;
@@ -162,8 +162,8 @@ std::string CaseRow(const SuiteCaseResult& r) {
   }
   const RateInterval rate = WilsonInterval95(r.right(), static_cast<int>(r.runs.size()));
   return "| " + r.cell + " | " + r.spec.name + " | " + r.spec.expect + " | " + size + " | " +
-         std::to_string(rate.k) + "/" + std::to_string(rate.n) + " [" + Percent(rate.low) +
-         ", " + Percent(rate.high) + "] | " + FixedNumber(Median(ratios), 2) + " | " + misses + " |\n";
+         std::to_string(rate.k) + "/" + std::to_string(rate.n) + " [" + Percent(rate.low) + ", " +
+         Percent(rate.high) + "] | " + FixedNumber(Median(ratios), 2) + " | " + misses + " |\n";
 }
 
 }  // namespace
@@ -192,7 +192,8 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
   const MeanInterval floor = TInterval95(t.held_out_over_floor);
   std::ostringstream out;
   out << "Concealed-effect suite: " << spec.seeds << " seeds per case, unabsorbed SNR "
-      << FixedNumber(spec.snr, 1) << ". Rates with their 95 % Wilson interval; a target is met when "
+      << FixedNumber(spec.snr, 1)
+      << ". Rates with their 95 % Wilson interval; a target is met when "
       << "the whole interval clears it, missed when the whole interval falls short.\n\n";
   out << "| measure | result [95 % interval] | target | verdict |\n|---|---|---|---|\n";
   out << "| right effect named (library and richer variants) | "

@@ -41,7 +41,8 @@ std::unique_ptr<Effect> CreateTransmission(const ConfigNode& config, const Robot
   if (config.Has("harmonics")) {
     harmonics.clear();
     for (const auto& node : config["harmonics"].Elements()) {
-      if (node.AsInt() < 1) throw node.Error("a harmonic is a whole number of cycles per turn, >= 1");
+      if (node.AsInt() < 1)
+        throw node.Error("a harmonic is a whole number of cycles per turn, >= 1");
       harmonics.push_back(node.AsInt());
     }
   }
@@ -57,7 +58,8 @@ std::unique_ptr<Effect> CreateThermal(const ConfigNode& config, const RobotModel
   config.ExpectKeys({"type", "model", "reference_c", "time_constant_s"});
   const std::string model = config.GetString("model", "temperature");
   if (model != "temperature" && model != "warmup") {
-    throw config["model"].Error("unknown thermal model '" + model + "'", "Use temperature or warmup");
+    throw config["model"].Error("unknown thermal model '" + model + "'",
+                                "Use temperature or warmup");
   }
   const double tau = config.GetDouble("time_constant_s", 1800.0);
   if (!(tau > 0)) throw config["time_constant_s"].Error("must be positive");
@@ -105,7 +107,8 @@ std::unique_ptr<Effect> CreateDetectionBias(const ConfigNode& config, const Robo
   Eigen::Vector3d prior(0.1, 0.1, 0.3);
   if (config.Has("prior_mm")) {
     const ConfigNode node = config["prior_mm"];
-    const auto values = node.IsSequence() ? node.AsDoubles(3) : std::vector<double>(3, node.AsDouble());
+    const auto values =
+        node.IsSequence() ? node.AsDoubles(3) : std::vector<double>(3, node.AsDouble());
     prior = Eigen::Vector3d(values[0], values[1], values[2]);
     if (!(prior.minCoeff() > 0)) throw node.Error("must be positive");
   }
@@ -119,7 +122,8 @@ std::vector<std::string> Names(const ConfigNode& config, const std::string& key,
                                const std::string& example) {
   std::vector<std::string> names;
   for (const auto& node : config[key].Elements()) names.push_back(node.AsString());
-  if (names.empty()) throw config[key].Error("lists no name", "e.g. " + key + ": [" + example + "]");
+  if (names.empty())
+    throw config[key].Error("lists no name", "e.g. " + key + ": [" + example + "]");
   return names;
 }
 
@@ -251,15 +255,15 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                        {{"cameras", "", "", "cameras it acts on"},
                         {"terms", "", "[scale, quadratic]", "which of scale, quadratic, tilt"}}),
                       &fx::CreateDepthBias);
-  registry->AddEffect(Info("detection_bias",
-                           "a detector's systematic error repeating in one camera's view: p' = p + b",
-                           {{"cameras", "", "", "cameras it acts on"},
-                            {"targets", "", "", "targets it acts on"},
-                            {"prior_mm", "mm", "[0.1, 0.1, 0.3]",
-                             "expected size along x, y, z (Gaussian prior)"},
-                            {"prior_rad", "rad", "0.5e-3", "expected rotation error (prior)"},
-                            {"frame", "", "camera", "camera | target: the axes it is fixed in"}}),
-                      &fx::CreateDetectionBias);
+  registry->AddEffect(
+      Info("detection_bias",
+           "a detector's systematic error repeating in one camera's view: p' = p + b",
+           {{"cameras", "", "", "cameras it acts on"},
+            {"targets", "", "", "targets it acts on"},
+            {"prior_mm", "mm", "[0.1, 0.1, 0.3]", "expected size along x, y, z (Gaussian prior)"},
+            {"prior_rad", "rad", "0.5e-3", "expected rotation error (prior)"},
+            {"frame", "", "camera", "camera | target: the axes it is fixed in"}}),
+      &fx::CreateDetectionBias);
   registry->AddEffect(Info("target_scale",
                            "a target printed at another size: p' = p (1 + s) in every camera",
                            {{"targets", "", "", "targets it acts on"}}),
@@ -280,10 +284,10 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                             {"axes", "", "[x, y]", "[x, y] (tilt) or [x, y, z] (and turn)"}}),
                       &fx::CreateWorldFrame);
   const cellmetry::OptionDoc arms{"arms", "", "all", "1-based arms of a delta it acts on"};
-  registry->AddEffect(Info("platform_tilt",
-                           "delta parallelograms out of true: the platform tilts, (e_i x u_i).w = k_i",
-                           {arms}),
-                      &fx::CreatePlatformTilt);
+  registry->AddEffect(
+      Info("platform_tilt",
+           "delta parallelograms out of true: the platform tilts, (e_i x u_i).w = k_i", {arms}),
+      &fx::CreatePlatformTilt);
   registry->AddEffect(Info("ball_joint_clearance",
                            "delta ball-joint play along the rod force: u_i.dp = -c_i s_i",
                            {arms}),

@@ -54,8 +54,9 @@ DepthBias::DepthBias(std::vector<std::string> cameras, bool scale, bool quadrati
 }
 
 std::string DepthBias::Describe(const std::vector<double>& params) const {
-  return WithParameters(tilt_ && !scale_ && !quadratic_ ? "camera depth error tilting across the image"
-                                                        : "camera depth bias",
+  return WithParameters(tilt_ && !scale_ && !quadratic_
+                            ? "camera depth error tilting across the image"
+                            : "camera depth bias",
                         parameters_, params);
 }
 

@@ -9,9 +9,10 @@
 //
 // `world_frame`: the world tag turned from the frame in which the robot's placement was measured
 // (glued a little off level): R' = R exp([t_x, t_y, 0]), "world_frame.tilt_x/y"; with
-// `axes: [x, y, z]` also turned in its plane ("tilt_z"). Everything the cell finds is in the tag's frame; with it, in the
-// placement's. A gauge otherwise (turning the world turns every base and camera with it): it is
-// determined only where a base's rotation is given, e.g. a robot placed square to the cell
+// `axes: [x, y, z]` also turned in its plane ("tilt_z"). Everything the cell finds is in the tag's
+// frame; with it, in the placement's. A gauge otherwise (turning the world turns every base and
+// camera with it): it is determined only where a base's rotation is given, e.g. a robot placed
+// square to the cell
 // (`base: {free: [x, y, z]}`, its rotation held at the placement's).
 //
 // `targets: [tool]` for target_tilt (required); world_frame acts on the job's world target.

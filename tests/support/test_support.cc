@@ -62,7 +62,8 @@ std::string ReplaceOnce(const std::string& text, const std::string& from, const 
 void EditLine(const std::string& path, int line, const std::string& replacement) {
   std::istringstream in(ReadText(path));
   std::string text, current;
-  for (int n = 1; std::getline(in, current); ++n) text += (n == line ? replacement : current) + "\n";
+  for (int n = 1; std::getline(in, current); ++n)
+    text += (n == line ? replacement : current) + "\n";
   WriteText(path, text);
 }
 
@@ -72,7 +73,8 @@ CommandResult RunCellmetry(const std::string& arguments) {
   FILE* pipe = popen(command.c_str(), "r");
   std::array<char, 4096> buffer;
   size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;

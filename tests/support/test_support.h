@@ -40,7 +40,8 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs `action`, which must raise InputError, and returns the error (a test failure if it does not).
+// Runs `action`, which must raise InputError, and returns the error (a test failure if it does
+// not).
 template <typename Action>
 InputError CatchInputError(Action action) {
   try {

@@ -106,8 +106,9 @@ HomingRun Intersect(std::vector<MeasuredOffset>* pool, const Eigen::Vector3d& ap
 
 std::string Describe(const Eigen::Vector3d& rad, double increment) {
   char text[128];
-  std::snprintf(text, sizeof(text), "(%.2f, %.2f, %.2f) increments", InIncrements(rad[0], increment),
-                InIncrements(rad[1], increment), InIncrements(rad[2], increment));
+  std::snprintf(text, sizeof(text), "(%.2f, %.2f, %.2f) increments",
+                InIncrements(rad[0], increment), InIncrements(rad[1], increment),
+                InIncrements(rad[2], increment));
   return text;
 }
 
@@ -158,7 +159,8 @@ HomingResult HomeVisually(const HomingArm& arm, const std::vector<PointSample>& 
     result.runs.push_back(Intersect(&pool, offset, options, target));
     const HomingRun& check = result.runs.back();
     const Eigen::Vector3d residual = 0.5 * (check.lower_rad + check.upper_rad);
-    const bool holds_zero = (check.lower_rad.array() <= 0).all() && (check.upper_rad.array() >= 0).all();
+    const bool holds_zero =
+        (check.lower_rad.array() <= 0).all() && (check.upper_rad.array() >= 0).all();
     const bool small = (residual.cwiseAbs().array() <
                         (result.increment_rad > 0 ? result.increment_rad : target))
                            .all();

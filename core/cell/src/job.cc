@@ -336,8 +336,9 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   problem->identifiability_tolerance = root.GetDoubleIn(
       "identifiability_tolerance", problem->identifiability_tolerance, 1e-16, 0.1,
       "A relative singular value: 1e-8 is the default");
-  problem->weak_vif = root.GetDoubleIn("weak_vif", problem->weak_vif, 1.0, 1e300,
-                                       "A variance inflation factor is at least 1; 1e5 is the default");
+  problem->weak_vif =
+      root.GetDoubleIn("weak_vif", problem->weak_vif, 1.0, 1e300,
+                       "A variance inflation factor is at least 1; 1e5 is the default");
   if (root.Has("gravity_base")) {
     const auto g = root["gravity_base"].AsDoubles(3);
     problem->gravity_base = Eigen::Vector3d(g[0], g[1], g[2]);
@@ -349,7 +350,8 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   problem->folds = v.GetIntIn("folds", problem->folds, 0, 1000,
                               "0 turns cross-validation off; 5 is usual");
   if (problem->folds == 1) {
-    throw v["folds"].Error("one fold holds nothing out", "0 turns cross-validation off; 5 is usual");
+    throw v["folds"].Error("one fold holds nothing out",
+                           "0 turns cross-validation off; 5 is usual");
   }
   problem->seed = static_cast<unsigned>(
       v.GetIntIn("seed", 1, 0, 2147483647, "A seed is a whole number, 0 or more"));

@@ -31,7 +31,8 @@ class JointSpaceResidual {
     if (!model_->Inverse(flange.data(), blocks[layout_.model], q)) return false;
     T dq[3];
     for (int i = 0; i < 3; ++i) dq[i] = q[i] - q_[i];
-    for (int i = 0; i < 3; ++i) residual[i] = W_(i, 0) * dq[0] + W_(i, 1) * dq[1] + W_(i, 2) * dq[2];
+    for (int i = 0; i < 3; ++i)
+      residual[i] = W_(i, 0) * dq[0] + W_(i, 1) * dq[1] + W_(i, 2) * dq[2];
     return true;
   }
 

@@ -272,8 +272,10 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   }
   j["noise_used"] = NoiseJson(r.noise);
   j["repeatability"] = NoiseJson(r.repeatability);
-  for (const auto& [key, rms] : r.position_rms) j["residual_rms"]["position_mm"][key] = RmsJson(rms);
-  for (const auto& [key, rms] : r.rotation_rms) j["residual_rms"]["rotation_rad"][key] = RmsJson(rms);
+  for (const auto& [key, rms] : r.position_rms)
+    j["residual_rms"]["position_mm"][key] = RmsJson(rms);
+  for (const auto& [key, rms] : r.rotation_rms)
+    j["residual_rms"]["rotation_rad"][key] = RmsJson(rms);
   j["held_out"] = HeldOutJson(r.held_out);
   for (const auto& [model, h] : r.other_models) j["other_models"][model] = HeldOutJson(h);
   if (r.validation) j["validation"] = ScoreJson(*r.validation);

@@ -73,8 +73,10 @@ void ReadPoses(const ConfigNode& poses, std::mt19937& rng, SimulatedRobot* robot
   }
   const int count = poses.GetIntIn("random", 0, 1, 1000000, "How many random poses to draw");
   const int n = robot->model->num_joints();
-  const auto lower = poses.Has("lower") ? poses["lower"].AsDoubles(n) : std::vector<double>(n, -M_PI);
-  const auto upper = poses.Has("upper") ? poses["upper"].AsDoubles(n) : std::vector<double>(n, M_PI);
+  const auto lower =
+      poses.Has("lower") ? poses["lower"].AsDoubles(n) : std::vector<double>(n, -M_PI);
+  const auto upper =
+      poses.Has("upper") ? poses["upper"].AsDoubles(n) : std::vector<double>(n, M_PI);
   // uniform_real_distribution(a, b) with a > b is undefined: it drew poses outside both.
   for (int j = 0; j < n; ++j) {
     if (lower[j] > upper[j]) {
@@ -85,7 +87,8 @@ void ReadPoses(const ConfigNode& poses, std::mt19937& rng, SimulatedRobot* robot
   }
   for (int i = 0; i < count; ++i) {
     std::vector<double> q(n);
-    for (int j = 0; j < n; ++j) q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);
+    for (int j = 0; j < n; ++j)
+      q[j] = std::uniform_real_distribution<double>(lower[j], upper[j])(rng);
     robot->joint_poses.push_back(q);
   }
 }
@@ -194,7 +197,8 @@ void ReadTimeline(const ConfigNode& t, SimulatedTimeline* timeline) {
   t.ExpectKeys({"seconds_per_sample", "temperature_start_c", "temperature_end_c"});
   timeline->seconds_per_sample = t.GetDoubleIn("seconds_per_sample", 0.0, 0.0, 1e7,
                                                "The time between captures, 0 s or more");
-  if (t.Has("temperature_start_c")) timeline->temperature_start_c = t["temperature_start_c"].AsDouble();
+  if (t.Has("temperature_start_c"))
+    timeline->temperature_start_c = t["temperature_start_c"].AsDouble();
   if (t.Has("temperature_end_c")) timeline->temperature_end_c = t["temperature_end_c"].AsDouble();
 }
 
@@ -229,9 +233,10 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
                    "noise", "repeats", "images", "effects", "timeline", "concealed",
                    "gravity_base"});
   if (root["simulation"].AsString() != "workcell") {
-    throw root["simulation"].Error("unknown simulation kind '" + root["simulation"].AsString() + "'",
-                                   "Use simulation: workcell (a delta arm is a cell too: "
-                                   "docs/formats.md)");
+    throw root["simulation"].Error(
+        "unknown simulation kind '" + root["simulation"].AsString() + "'",
+        "Use simulation: workcell (a delta arm is a cell too: "
+        "docs/formats.md)");
   }
   WorkcellSimulationSpec spec;
   spec.seed = static_cast<unsigned>(

@@ -126,7 +126,8 @@ std::vector<SampleFacts> GatherAllFacts(const WorkcellProblem& spec, const Recor
   for (const auto& robot : spec.robots) {
     std::vector<double> nominal;
     for (const auto& p : robot.model_parameters) nominal.push_back(p.nominal);
-    std::vector<SampleFacts> facts = GatherSampleFacts(recording, robot.name, *robot.model, nominal);
+    std::vector<SampleFacts> facts =
+        GatherSampleFacts(recording, robot.name, *robot.model, nominal);
     for (size_t i = 0; i < facts.size(); ++i) {
       if (recording.samples[i].robot == robot.name) all[i] = std::move(facts[i]);
     }

@@ -87,7 +87,8 @@ struct JetChainLayout {
 
   template <typename T>
   Transform<T> Base(T const* const* blocks, const FrameRefs& refs) const {
-    return base < 0 ? refs.held_world_base->cast<T>() : FrameFromBlock(blocks[base], refs.world_base);
+    return base < 0 ? refs.held_world_base->cast<T>()
+                    : FrameFromBlock(blocks[base], refs.world_base);
   }
   template <typename T>
   Transform<T> Tool(T const* const* blocks, const FrameRefs& refs) const {

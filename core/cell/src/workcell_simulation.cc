@@ -133,7 +133,8 @@ void MeasureRobot(const WorkcellSimulationSpec& spec, const SimulatedRobot& robo
     }
     T_base_flange.t *= 1.0 + flange_scale;
     for (const auto& [camera_name, T_world_cam] : spec.T_world_cam) {
-      const std::string& camera = camera_name;  // C++17: a lambda cannot capture a structured binding
+      const std::string& camera =
+          camera_name;  // C++17: a lambda cannot capture a structured binding
       context.camera = camera;
       auto measure = [&](const std::string& target, Pose T_cam_target) {
         context.target = target;
@@ -277,7 +278,8 @@ WorkcellProblem SimulatedProblem(const WorkcellSimulationSpec& spec, ResidualFor
   const Eigen::Vector3d sigma = spec.sigma_position_mm.isZero()
                                     ? Eigen::Vector3d::Constant(noise_free_sigma_mm)
                                     : spec.sigma_position_mm;
-  for (const auto& [camera, pose] : spec.T_world_cam) problem.noise.position_sigma_mm[camera] = sigma;
+  for (const auto& [camera, pose] : spec.T_world_cam)
+    problem.noise.position_sigma_mm[camera] = sigma;
   return problem;
 }
 
@@ -297,8 +299,9 @@ std::vector<SampleView> WorkcellViews(const WorkcellSimulationSpec& spec,
                                       const Recording& recording) {
   std::vector<SampleView> views;
   for (const auto& sample : recording.samples) {
-    const auto robot = std::find_if(spec.robots.begin(), spec.robots.end(),
-                                    [&](const SimulatedRobot& r) { return r.name == sample.robot; });
+    const auto robot =
+        std::find_if(spec.robots.begin(), spec.robots.end(),
+                     [&](const SimulatedRobot& r) { return r.name == sample.robot; });
     Pose T_base_flange;
     if (robot == spec.robots.end() ||
         !robot->model->Forward(sample.q.data(), robot->model_values.data(), &T_base_flange)) {
@@ -309,7 +312,8 @@ std::vector<SampleView> WorkcellViews(const WorkcellSimulationSpec& spec,
       const Pose T_cam_world = T_world_cam.inverse();
       if (!spec.world_target.empty()) view.T_cam_target[spec.world_target] = T_cam_world;
       for (const auto& [target, T_flange_target] : robot->T_flange_target) {
-        view.T_cam_target[target] = T_cam_world * robot->T_world_base * T_base_flange * T_flange_target;
+        view.T_cam_target[target] =
+            T_cam_world * robot->T_world_base * T_base_flange * T_flange_target;
       }
       views.push_back(view);
     }

@@ -63,8 +63,9 @@ std::string PastJointLimit(const RobotModel& model, const std::vector<double>& q
     if (q[j] >= lo + margin && q[j] <= hi - margin) continue;
     const bool low = q[j] < lo + margin;
     return "past joint limits: joint " + std::to_string(j + 1) + " would need " +
-           ShortNumber(q[j]) + " rad, " + (low ? "below" : "above") + " its limit " + ShortNumber(low ? lo : hi) +
-           " rad" + (margin > 0 ? " less the margin " + ShortNumber(margin) + " rad" : "");
+           ShortNumber(q[j]) + " rad, " + (low ? "below" : "above") + " its limit " +
+           ShortNumber(low ? lo : hi) + " rad" +
+           (margin > 0 ? " less the margin " + ShortNumber(margin) + " rad" : "");
   }
   return "";
 }

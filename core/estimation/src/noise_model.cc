@@ -141,8 +141,9 @@ NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec) {
         const bool has_repeats = repeat != repeats.entries.end();
         noise.position_mm = has_repeats ? detected->second.position_mm.cwiseMax(noise.position_mm)
                                         : detected->second.position_mm;
-        noise.rotation_rad = has_repeats ? detected->second.rotation_rad.cwiseMax(noise.rotation_rad)
-                                         : detected->second.rotation_rad;
+        noise.rotation_rad = has_repeats
+                                 ? detected->second.rotation_rad.cwiseMax(noise.rotation_rad)
+                                 : detected->second.rotation_rad;
         noise.source = detected->second.source;
       }
       const auto job_position = spec.position_sigma_mm.find(camera);

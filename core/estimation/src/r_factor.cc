@@ -39,7 +39,8 @@ std::vector<RowGroup> GroupRowsByColumns(const SparseJacobian& J) {
 // The triangular factor of a group's dense block, scattered into `stack` at row `at`.
 int AppendGroupR(const SparseJacobian& J, const RowGroup& group, Eigen::MatrixXd* stack, int at) {
   const int width = static_cast<int>(group.columns.size());
-  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(group.rows.size()), width);
+  Eigen::MatrixXd block =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(group.rows.size()), width);
   for (size_t k = 0; k < group.rows.size(); ++k) {
     int c = 0;
     for (SparseJacobian::InnerIterator it(J, group.rows[k]); it; ++it, ++c) {

@@ -54,8 +54,9 @@ void CombineUncertainty(const Eigen::MatrixXd& cluster, const Jackknife& jackkni
                         Uncertainty* u, double quantile) {
   const Eigen::Index n = u->sigma.size();
   u->sigma_model = u->sigma;
-  u->sigma_cluster = cluster.size() == n * n ? Eigen::VectorXd(cluster.diagonal().cwiseMax(0.0).cwiseSqrt())
-                                             : Eigen::VectorXd(Eigen::VectorXd::Zero(n));
+  u->sigma_cluster = cluster.size() == n * n
+                         ? Eigen::VectorXd(cluster.diagonal().cwiseMax(0.0).cwiseSqrt())
+                         : Eigen::VectorXd(Eigen::VectorXd::Zero(n));
   u->sigma_statistical = u->sigma_model.cwiseMax(u->sigma_cluster);
   u->sigma_systematic = Eigen::VectorXd::Zero(n);
   if (jackknife.variance.size() == n) {

@@ -37,7 +37,8 @@ std::string FrameSigmaText(const CalibratedFrame& frame) {
     std::string text = "(";
     for (int i = 0; i < 3; ++i) {
       char value[32] = "held";
-      if (frame.sigma[offset + i]) std::snprintf(value, sizeof value, "%.2g", *frame.sigma[offset + i]);
+      if (frame.sigma[offset + i])
+        std::snprintf(value, sizeof value, "%.2g", *frame.sigma[offset + i]);
       text += (i ? ", " : "") + std::string(value);
     }
     return text + ")";

@@ -167,7 +167,8 @@ void StagedDirectory::Commit() {
   fs::rename(staging_, final_path_, ec);
   if (ec) {
     std::error_code ignored;
-    if (fs::exists(previous) && !fs::exists(final_path_)) fs::rename(previous, final_path_, ignored);
+    if (fs::exists(previous) && !fs::exists(final_path_))
+      fs::rename(previous, final_path_, ignored);
     throw InputError({final_path_, 0, 0}, "cannot move the finished output into place",
                      "Check permissions on the parent folder");
   }

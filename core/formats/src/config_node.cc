@@ -94,10 +94,10 @@ void RefuseDuplicateKeys(const YAML::Node& node, const std::string& origin) {
     // reader takes keys as words.
     if (entry.first.IsSequence() || entry.first.IsMap()) {
       const YAML::Mark mark = entry.first.Mark();
-      throw InputError({origin, mark.line + 1, mark.column + 1},
-                       "a key must be a word, not a " +
-                           std::string(entry.first.IsSequence() ? "list" : "map"),
-                       "Write 'name: value'; a '?' at the start of a line makes what follows a key");
+      throw InputError(
+          {origin, mark.line + 1, mark.column + 1},
+          "a key must be a word, not a " + std::string(entry.first.IsSequence() ? "list" : "map"),
+          "Write 'name: value'; a '?' at the start of a line makes what follows a key");
     }
     if (entry.first.IsScalar() && !seen.insert(entry.first.Scalar()).second) {
       const YAML::Mark mark = entry.first.Mark();

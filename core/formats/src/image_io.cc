@@ -42,7 +42,8 @@ GrayImage ReadGrayImage(const std::string& path) {
   // every codec it links, and one of them (GDCM's DICOM reader) aborts on malformed input
   // (found by fuzz_image).
   if (!IsCameraImageFormat(bytes)) {
-    throw InputError(where, "the image cannot be decoded: not a PNG, JPEG, TIFF, BMP or PGM/PPM file",
+    throw InputError(where,
+                     "the image cannot be decoded: not a PNG, JPEG, TIFF, BMP or PGM/PPM file",
                      "Save the frame in one of these formats");
   }
   cv::Mat decoded;

@@ -36,8 +36,9 @@ double Within(const CsvTable& table, size_t row, const std::string& column, doub
     char limit[32];
     std::snprintf(limit, sizeof(limit), "%g", max_abs);
     throw table.Error(row, column,
-                      "'" + std::to_string(value) + "' is beyond any measurement of it (|value| <= " +
-                          limit + " in this file's units)",
+                      "'" + std::to_string(value) +
+                          "' is beyond any measurement of it (|value| <= " + limit +
+                          " in this file's units)",
                       "Fix the value, or check the units declared in recording.yaml");
   }
   return value;
@@ -284,8 +285,9 @@ std::string ObservationsCsv(const std::vector<Observation>& list) {
   const bool any_covariance = std::any_of(list.begin(), list.end(), [](const Observation& o) {
     return o.covariance_mm2.has_value();
   });
-  const bool any_rotation_covariance = std::any_of(
-      list.begin(), list.end(), [](const Observation& o) { return o.rotation_covariance_rad2.has_value(); });
+  const bool any_rotation_covariance =
+      std::any_of(list.begin(), list.end(),
+                  [](const Observation& o) { return o.rotation_covariance_rad2.has_value(); });
   std::ostringstream out;
   out << "sample,camera,target,x,y,z,rx,ry,rz";
   if (any_covariance) {

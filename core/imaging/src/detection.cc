@@ -32,7 +32,8 @@ namespace cellmetry {
 namespace {
 
 constexpr const char* kLog = "detections.jsonl";
-using DoneKey = std::tuple<int, std::string, std::string, std::string>;  // sample, camera, view, target
+using DoneKey =
+    std::tuple<int, std::string, std::string, std::string>;  // sample, camera, view, target
 using Detectors = std::map<std::string, std::unique_ptr<Detector>>;     // by target
 
 nlohmann::json ToJson(const ImageDetection& d) {
@@ -169,7 +170,8 @@ namespace {
 Detectors MakeDetectors(const DetectJob& job, Registry& registry) {
   Detectors detectors;
   for (const auto& marker : job.targets) {
-    detectors[marker.target] = registry.CreateDetector(marker.detector_type, *marker.detector_config);
+    detectors[marker.target] =
+        registry.CreateDetector(marker.detector_type, *marker.detector_config);
   }
   return detectors;
 }
@@ -201,8 +203,9 @@ std::vector<ImageDetection> DetectOne(const DetectJob& job, const ImageRef& ref,
     const auto begin = std::chrono::steady_clock::now();
     d.detection.failure = failure;
     if (failure.empty()) d.detection = detectors.at(target)->Detect(image.view());
-    d.time_ms = read_ms / targets.size() +
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+    d.time_ms =
+        read_ms / targets.size() +
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
     out.push_back(std::move(d));
   }
   return out;
@@ -214,7 +217,8 @@ std::vector<Observation> MakeObservations(const DetectJob& job, const Detectors&
   using ViewKey = std::tuple<std::string, std::string, int>;  // camera, target, sample
   std::map<ViewKey, const ImageDetection*> left, right, mono;
   for (const auto& d : log) {
-    if (!job.cameras.count(d.camera) || !detectors.count(d.target) || !d.detection.found()) continue;
+    if (!job.cameras.count(d.camera) || !detectors.count(d.target) || !d.detection.found())
+      continue;
     auto& side = d.view == "right" ? right : d.view == "left" ? left : mono;
     side[{d.camera, d.target, d.sample}] = &d;
   }
@@ -255,7 +259,8 @@ std::vector<Observation> MakeObservations(const DetectJob& job, const Detectors&
     const Eigen::Vector3d rvec = RvecFromRotation(pose->T_cam_target.R);
     const Eigen::Matrix3d J_l = LeftJacobian(rvec);
     out.back().rvec = rvec;
-    out.back().rotation_covariance_rad2 = J_l * pose->covariance.topLeftCorner<3, 3>() * J_l.transpose();
+    out.back().rotation_covariance_rad2 =
+        J_l * pose->covariance.topLeftCorner<3, 3>() * J_l.transpose();
   }
   std::sort(out.begin(), out.end(), [](const Observation& a, const Observation& b) {
     return std::tie(a.sample, a.camera, a.target) < std::tie(b.sample, b.camera, b.target);
@@ -358,10 +363,12 @@ DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit) 
     }
   }
   std::FILE* out = std::fopen(log_path.c_str(), "a");
-  if (!out) throw InputError({log_path, 0, 0}, "cannot append to the detection log", "Check permissions");
+  if (!out)
+    throw InputError({log_path, 0, 0}, "cannot append to the detection log", "Check permissions");
   std::mutex mutex;
   Progress progress("detecting images", static_cast<int>(pending.size()));
-  tbb::enumerable_thread_specific<Detectors> detectors([&] { return MakeDetectors(job, registry); });
+  tbb::enumerable_thread_specific<Detectors> detectors(
+      [&] { return MakeDetectors(job, registry); });
   tbb::task_arena arena(job.threads > 0 ? job.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(size_t(0), pending.size(), [&](size_t i) {

@@ -154,7 +154,8 @@ std::function<void(const std::string&)> PlanImages(const ImageRenderSpec& spec,
         std::vector<PlacedTarget> placed;
         for (const auto& [target, T_cam_target] : sample_view.T_cam_target) {
           const auto it = printed.find(target);
-          if (it != printed.end()) placed.push_back({T_view_camera * T_cam_target, &it->second.faces});
+          if (it != printed.end())
+            placed.push_back({T_view_camera * T_cam_target, &it->second.faces});
         }
         // One seed per image: the same spec renders the same pixels whatever the thread order.
         std::mt19937 rng(seed * 1000003u + static_cast<unsigned>(sample_view.sample) * 64u +

@@ -35,14 +35,16 @@ cv::Rect FaceBox(const PinholeCamera& camera, const FaceInCamera& f, int margin)
   for (int i = 0; i <= 8; ++i) {
     for (int j = 0; j <= 8; ++j) {
       if (i != 0 && i != 8 && j != 0 && j != 8) continue;  // the border only
-      const Eigen::Vector3d p = f.T_cam_face * Eigen::Vector3d(f.width_mm * i / 8, f.height_mm * j / 8, 0);
+      const Eigen::Vector3d p =
+          f.T_cam_face * Eigen::Vector3d(f.width_mm * i / 8, f.height_mm * j / 8, 0);
       if (p.z() <= 1e-6) return {};
       const Eigen::Vector2d px = camera.Project(p);
       x0 = std::min(x0, px.x()), y0 = std::min(y0, px.y());
       x1 = std::max(x1, px.x()), y1 = std::max(y1, px.y());
     }
   }
-  const cv::Rect box(static_cast<int>(std::floor(x0)) - margin, static_cast<int>(std::floor(y0)) - margin,
+  const cv::Rect box(static_cast<int>(std::floor(x0)) - margin,
+                     static_cast<int>(std::floor(y0)) - margin,
                      static_cast<int>(std::ceil(x1 - x0)) + 2 * margin + 1,
                      static_cast<int>(std::ceil(y1 - y0)) + 2 * margin + 1);
   return box & cv::Rect(0, 0, camera.width, camera.height);
@@ -112,7 +114,8 @@ std::vector<float> RenderIdeal(const PinholeCamera& camera,
   // Light falls off linearly across the frame; then optics and sensor blur.
   for (int y = 0; y < camera.height; ++y) {
     for (int x = 0; x < camera.width; ++x) {
-      const double light = 1.0 + options.illumination_gradient.x() * (x - camera.cx) / camera.width +
+      const double light = 1.0 +
+                           options.illumination_gradient.x() * (x - camera.cx) / camera.width +
                            options.illumination_gradient.y() * (y - camera.cy) / camera.height;
       image.at<float>(y, x) *= static_cast<float>(light);
     }

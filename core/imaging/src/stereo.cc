@@ -21,7 +21,8 @@ namespace {
 using Jet3 = ceres::Jet<double, 3>;
 
 // Both projections of p (left frame) and their 4x3 Jacobian.
-Eigen::Vector4d Project(const StereoRig& rig, const Eigen::Vector3d& p, Eigen::Matrix<double, 4, 3>* J) {
+Eigen::Vector4d Project(const StereoRig& rig, const Eigen::Vector3d& p,
+                        Eigen::Matrix<double, 4, 3>* J) {
   const Vector3<Jet3> pj(Jet3(p.x(), 0), Jet3(p.y(), 1), Jet3(p.z(), 2));
   const Vector2<Jet3> a = rig.left.Project(pj);
   const Vector3<Jet3> pr = rig.T_right_left.R.cast<Jet3>() * pj + rig.T_right_left.t.cast<Jet3>();
@@ -40,7 +41,8 @@ std::optional<Eigen::Vector3d> Midpoint(const StereoRig& rig, const Keypoint& le
                                         const Keypoint& right) {
   const Pose T_left_right = rig.T_right_left.inverse();
   const Eigen::Vector3d o1 = Eigen::Vector3d::Zero(), d1 = rig.left.Ray(left.pixel).normalized();
-  const Eigen::Vector3d o2 = T_left_right.t, d2 = (T_left_right.R * rig.right.Ray(right.pixel)).normalized();
+  const Eigen::Vector3d o2 = T_left_right.t,
+                        d2 = (T_left_right.R * rig.right.Ray(right.pixel)).normalized();
   const double b = d1.dot(d2);
   const double denom = 1.0 - b * b;
   if (denom < 1e-12) return std::nullopt;
@@ -80,7 +82,8 @@ StereoRig FromOpenCv(const std::string& path) {
     const cv::Mat D = matrix(side == 0 ? "D1" : "D2", -1, -1);
     c.fx = K.at<double>(0, 0), c.fy = K.at<double>(1, 1);
     c.cx = K.at<double>(0, 2), c.cy = K.at<double>(1, 2);
-    for (int i = 0; i < static_cast<int>(D.total()) && i < 5; ++i) c.distortion[i] = D.at<double>(i);
+    for (int i = 0; i < static_cast<int>(D.total()) && i < 5; ++i)
+      c.distortion[i] = D.at<double>(i);
     if (fs["image_width"].empty() || fs["image_height"].empty()) {
       throw InputError({path, 0, 0}, "missing field 'image_width' or 'image_height'",
                        "Add the image size the calibration was made at");

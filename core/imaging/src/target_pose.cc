@@ -36,7 +36,8 @@ void Evaluate(const PinholeCamera& camera, const std::vector<Match>& matches,
     // Whiten by the keypoint covariance: L^-1 (prediction - measurement), C = L L^T.
     const Eigen::Matrix2d L_inv =
         Eigen::Matrix2d(matches[k].keypoint.covariance_px2.llt().matrixL()).inverse();
-    const Vector2<Jet6> e(px.x() - matches[k].keypoint.pixel.x(), px.y() - matches[k].keypoint.pixel.y());
+    const Vector2<Jet6> e(px.x() - matches[k].keypoint.pixel.x(),
+                          px.y() - matches[k].keypoint.pixel.y());
     const Vector2<Jet6> w = L_inv.cast<Jet6>() * e;
     for (int i = 0; i < 2; ++i) {
       (*r)[2 * k + i] = w[i].a;

@@ -46,7 +46,8 @@ double AngleToRad(const ConfigNode& node) {
 
 ColumnRef Column(const ConfigNode& node) {
   if (!node.IsScalar() || node.AsString().empty()) {
-    throw node.Error("expected a column name", "Write the column's name as the table's header has it");
+    throw node.Error("expected a column name",
+                     "Write the column's name as the table's header has it");
   }
   return {node.AsString(), node.location()};
 }
@@ -79,8 +80,9 @@ NameSource ReadName(const ConfigNode& node, const std::string& what) {
   NameSource source;
   if (node.IsMap()) {
     node.ExpectKeys({"column"});
-    source.column = Column(Required(node, "column", "Write {column: NAME}: the column that names the " +
-                                                        what + " in each row"));
+    source.column = Column(
+        Required(node, "column",
+                 "Write {column: NAME}: the column that names the " + what + " in each row"));
   } else {
     source.fixed = node.AsString();
     if (source.fixed.find_first_of(",\"\n") != std::string::npos || source.fixed.empty()) {
@@ -117,7 +119,8 @@ RotationSpec ReadRotation(const ConfigNode& node) {
   if (convention == "euler") {
     node.ExpectKeys({"convention", "order", "axes", "columns"});
     c.kind = RotationKind::kEuler;
-    const ConfigNode order = Required(node, "order", "Give the axes in turn order, e.g. order: ZYX");
+    const ConfigNode order =
+        Required(node, "order", "Give the axes in turn order, e.g. order: ZYX");
     const auto axes = ParseEulerOrder(order.AsString());
     if (!axes) {
       throw order.Error("'" + order.AsString() + "' is not an Euler sequence",
@@ -282,8 +285,8 @@ ImportMapping ReadImportMapping(const std::string& path) {
                    "targets", "observations", "facts"});
   ImportMapping m;
   m.file = path;
-  const ConfigNode format = Required(root, "mapping", std::string("Start the file with 'mapping: ") +
-                                                          kImportMappingFormat + "'");
+  const ConfigNode format = Required(
+      root, "mapping", std::string("Start the file with 'mapping: ") + kImportMappingFormat + "'");
   if (format.AsString() != kImportMappingFormat) {
     throw format.Error("unsupported mapping format '" + format.AsString() + "'",
                        std::string("This version reads ") + kImportMappingFormat);
@@ -302,7 +305,8 @@ ImportMapping ReadImportMapping(const std::string& path) {
       const std::string s = OneOf(table["separator"], {",", ";", "tab"}, "separator");
       m.csv.separator = s == "tab" ? '\t' : s[0];
     }
-    if (table.Has("decimal")) m.csv.decimal = OneOf(table["decimal"], {".", ","}, "decimal mark")[0];
+    if (table.Has("decimal"))
+      m.csv.decimal = OneOf(table["decimal"], {".", ","}, "decimal mark")[0];
     if (m.csv.separator && m.csv.separator == m.csv.decimal) {
       throw table["decimal"].Error("the separator and the decimal mark are both ','",
                                    "A table with decimal commas separates its fields with ';'");
@@ -334,7 +338,8 @@ ImportMapping ReadImportMapping(const std::string& path) {
                                                    "ur3, joints: [q1, q2, q3, q4, q5, q6]}");
   robot.ExpectMap();
   robot.ExpectKeys({"name", "joints", "angle"});
-  m.robot = Required(robot, "name", "Name the robot as the job will (robot: {name: ur3})").AsString();
+  m.robot =
+      Required(robot, "name", "Name the robot as the job will (robot: {name: ur3})").AsString();
   if (m.robot == kWorldCarrier || m.robot.find_first_of(",\"\n ") != std::string::npos) {
     throw robot["name"].Error("'" + m.robot + "' cannot name a robot",
                               "Choose a plain name without spaces, not 'world'");
@@ -351,8 +356,9 @@ ImportMapping ReadImportMapping(const std::string& path) {
     const ConfigNode samples = root["samples"];
     samples.ExpectMap();
     samples.ExpectKeys({"column"});
-    m.sample_column = Column(Required(samples, "column", "Name the column that ties a sample's "
-                                                         "rows together: samples: {column: capture}"));
+    m.sample_column = Column(Required(samples, "column",
+                                      "Name the column that ties a sample's "
+                                      "rows together: samples: {column: capture}"));
   }
   if (root.Has("poses")) {
     const ConfigNode poses = root["poses"];
@@ -386,8 +392,9 @@ ImportMapping ReadImportMapping(const std::string& path) {
                                                      " or on: world");
     const std::string carrier = on.AsString();
     if (carrier != m.robot && carrier != kWorldCarrier) {
-      throw on.Error("target '" + name + "' is on '" + carrier + "', neither the robot nor the world",
-                     "Write on: " + m.robot + " (carried by the robot) or on: world (fixed)");
+      throw on.Error(
+          "target '" + name + "' is on '" + carrier + "', neither the robot nor the world",
+          "Write on: " + m.robot + " (carried by the robot) or on: world (fixed)");
     }
     if (name.find_first_of(",\"\n") != std::string::npos) {
       throw target.Error("a target name may not hold ',' '\"' or a line break", "Rename it");

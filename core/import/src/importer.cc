@@ -193,7 +193,8 @@ class Importer {
     // Another row of a sample already seen: the same robot state.
     const Sample& first = r->samples[found->second];
     const size_t first_row = rows_[found->second].first_row;
-    const std::string where = "sample '" + key + "' (data row " + std::to_string(first_row + 1) + ")";
+    const std::string where =
+        "sample '" + key + "' (data row " + std::to_string(first_row + 1) + ")";
     const std::string hint = "The rows of one sample are one robot state and must agree; check "
                              "samples: {column: ...} in the mapping";
     for (size_t j = 0; j < joints_.size(); ++j) {

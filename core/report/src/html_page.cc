@@ -52,7 +52,8 @@ void HtmlPage::Table(const std::vector<std::string>& header,
   body_ += "<table><tr>";
   for (const auto& h : header) body_ += "<th>" + EscapeXml(h) + "</th>";
   body_ += "</tr>\n";
-  const size_t shown = max_rows > 0 ? std::min(rows.size(), static_cast<size_t>(max_rows)) : rows.size();
+  const size_t shown =
+      max_rows > 0 ? std::min(rows.size(), static_cast<size_t>(max_rows)) : rows.size();
   for (size_t r = 0; r < shown; ++r) {
     body_ += "<tr>";
     for (const auto& cell : rows[r]) body_ += "<td>" + EscapeXml(cell) + "</td>";

@@ -14,7 +14,8 @@ bool IsPosition(const ResidualRow& row) { return row.kind == "position"; }
 
 // Residual rows by camera, then by target (a series per target).
 template <typename Fn>
-std::map<std::string, std::map<std::string, Series>> ByCameraTarget(const WorkcellResult& r, Fn fill) {
+std::map<std::string, std::map<std::string, Series>> ByCameraTarget(const WorkcellResult& r,
+                                                                    Fn fill) {
   std::map<std::string, std::map<std::string, Series>> out;
   for (const auto& row : r.residuals) {
     if (!IsPosition(row)) continue;

@@ -51,7 +51,8 @@ Range RangeOf(const std::vector<double>& values, bool with_zero, double pad) {
     lo = std::min(lo, 0.0);
     hi = std::max(hi, 0.0);
   }
-  if (hi - lo <= 1e-300) return {lo - std::max(1.0, std::abs(lo)), hi + std::max(1.0, std::abs(hi))};
+  if (hi - lo <= 1e-300)
+    return {lo - std::max(1.0, std::abs(lo)), hi + std::max(1.0, std::abs(hi))};
   const double margin = pad * (hi - lo);
   return {with_zero && lo == 0.0 ? 0.0 : lo - margin, hi + margin};
 }
@@ -133,13 +134,15 @@ void SvgPlot::Polyline(const std::vector<double>& xs, const std::vector<double>&
 void SvgPlot::HLine(double y, const std::string& color, const std::string& dash) {
   if (!std::isfinite(y) || y < std::min(y_.lo, y_.hi) || y > std::max(y_.lo, y_.hi)) return;
   body_ += "<line x1=\"" + F(left_) + "\" x2=\"" + F(width_ - right_) + "\" y1=\"" + F(Py(y)) +
-           "\" y2=\"" + F(Py(y)) + "\" stroke=\"" + color + "\" stroke-dasharray=\"" + dash + "\"/>";
+           "\" y2=\"" + F(Py(y)) + "\" stroke=\"" + color + "\" stroke-dasharray=\"" + dash +
+           "\"/>";
 }
 
 void SvgPlot::VLine(double x, const std::string& color, const std::string& dash) {
   if (!std::isfinite(x) || x < std::min(x_.lo, x_.hi) || x > std::max(x_.lo, x_.hi)) return;
   body_ += "<line y1=\"" + F(top_) + "\" y2=\"" + F(height_ - bottom_) + "\" x1=\"" + F(Px(x)) +
-           "\" x2=\"" + F(Px(x)) + "\" stroke=\"" + color + "\" stroke-dasharray=\"" + dash + "\"/>";
+           "\" x2=\"" + F(Px(x)) + "\" stroke=\"" + color + "\" stroke-dasharray=\"" + dash +
+           "\"/>";
 }
 
 void SvgPlot::Legend(const std::vector<std::pair<std::string, std::string>>& color_label) {

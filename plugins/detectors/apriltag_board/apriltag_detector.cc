@@ -130,7 +130,8 @@ bool AprilTagDetector::RedetectAtFullResolution(const ImageView& image, int id,
   const int y1 = std::min(image.height, static_cast<int>(std::ceil(hi.y() + margin)) + 1);
   if (x1 - x0 < 16 || y1 - y0 < 16) return false;
   const int w = x1 - x0, h = y1 - y0;
-  std::uint8_t* corner = const_cast<std::uint8_t*>(image.data) + static_cast<size_t>(y0) * image.stride + x0;
+  std::uint8_t* corner =
+      const_cast<std::uint8_t*>(image.data) + static_cast<size_t>(y0) * image.stride + x0;
   int stride = image.stride;
   if (options_.quad_sigma != 0.0f) {  // the library blurs an undecimated image in place
     scratch_.resize(static_cast<size_t>(w) * h);
@@ -144,7 +145,8 @@ bool AprilTagDetector::RedetectAtFullResolution(const ImageView& image, int id,
   image_u8_t window{w, h, stride, corner};
   apriltag_detector_t* td = detector_.get();
   td->quad_decimate = 1.0f;
-  const std::unique_ptr<zarray_t, DetectionsDeleter> detections(apriltag_detector_detect(td, &window));
+  const std::unique_ptr<zarray_t, DetectionsDeleter> detections(
+      apriltag_detector_detect(td, &window));
   td->quad_decimate = options_.quad_decimate;
   const Eigen::Vector2d centre = 0.5 * (lo + hi);
   for (int i = 0; i < zarray_size(detections.get()); ++i) {

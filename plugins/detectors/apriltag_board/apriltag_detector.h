@@ -42,7 +42,8 @@ struct AprilTagOptions {
   int nthreads = 1;
   int max_hamming = 1;
   bool edge_refinement = true;
-  bool redetect_unrefined = true;  // decimated tags the edge lines leave: library at full resolution
+  bool redetect_unrefined =
+      true;  // decimated tags the edge lines leave: library at full resolution
   double sigma_px = 0.1;
 };
 

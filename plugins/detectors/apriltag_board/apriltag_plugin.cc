@@ -122,9 +122,9 @@ void ReadCube(const ConfigNode& config, const apriltag_family_t& family,
 
 std::unique_ptr<Detector> Create(const ConfigNode& config) {
   config.ExpectKeys({"type", "family", "tags_x", "tags_y", "tag_size_mm", "spacing_mm", "first_id",
-                     "cube_mm", "cube_faces", "quad_decimate", "quad_sigma", "min_white_black_diff", "refine_edges",
-                     "decode_sharpening", "nthreads", "max_hamming", "edge_refinement",
-                     "redetect_unrefined", "sigma_px"});
+                     "cube_mm", "cube_faces", "quad_decimate", "quad_sigma", "min_white_black_diff",
+                     "refine_edges", "decode_sharpening", "nthreads", "max_hamming",
+                     "edge_refinement", "redetect_unrefined", "sigma_px"});
   AprilTagOptions o;
   FamilyPtr family = ReadFamily(config, &o.family);
   ReadGrid(config, *family, &o.board);

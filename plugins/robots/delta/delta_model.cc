@@ -26,8 +26,15 @@ DeltaModel::DeltaModel(std::array<Arm, kArms> arms, Pose marker_offset, RobotLim
     cos_alpha_[i] = std::cos(alpha);
     const std::string arm = "arm" + std::to_string(i + 1) + ".";
     const Arm& a = arms[i];
-    parameters_.push_back({arm + "R", "mm", a.R, false, {}, {}, {},
-                           "motor axis to the centre of the base (only R - r is identifiable)", {}});
+    parameters_.push_back({arm + "R",
+                           "mm",
+                           a.R,
+                           false,
+                           {},
+                           {},
+                           {},
+                           "motor axis to the centre of the base (only R - r is identifiable)",
+                           {}});
     parameters_.push_back({arm + "r", "mm", a.r, false, {}, {}, {},
                            "effector joint to the centre of the effector", {}});
     parameters_.push_back({arm + "L", "mm", a.L, false, {}, {}, {}, "upper arm length", {}});
@@ -61,7 +68,8 @@ std::string DeltaModel::ForwardFailure(const double* q, const double* params) co
     const double* arm = params + kParamsPerArm * i;
     const double theta = q[i] + arm[kHoming];
     const double rho = arm[kR] - arm[kSmallR] + arm[kL] * std::cos(theta);
-    centre[i] = Vector3<double>(rho * sin_alpha_[i], -rho * cos_alpha_[i], -arm[kL] * std::sin(theta));
+    centre[i] =
+        Vector3<double>(rho * sin_alpha_[i], -rho * cos_alpha_[i], -arm[kL] * std::sin(theta));
     radius[i] = arm[kSmallL];
   }
   double height2 = 0.0;

@@ -11,7 +11,8 @@ namespace {
 
 double Positive(const ConfigNode& node, const std::string& key, double fallback, double scale) {
   const double value = node.GetDouble(key, fallback / scale) * scale;
-  if (!(value > 0.0)) throw node[key].Error("must be positive", "Give the length in the config's units");
+  if (!(value > 0.0))
+    throw node[key].Error("must be positive", "Give the length in the config's units");
   return value;
 }
 
@@ -87,9 +88,11 @@ std::unique_ptr<RobotModel> Create(const ConfigNode& config) {
 CELLMETRY_PLUGIN_ENTRY(registry) {
   cellmetry::PluginInfo info;
   info.name = "delta";
-  info.description = "rotary delta arm, exact three-sphere forward and closed-form inverse kinematics";
+  info.description =
+      "rotary delta arm, exact three-sphere forward and closed-form inverse kinematics";
   info.options = {
-      {"arms", "", "", "three {R, r, L, l mm, homing rad}: base radius, effector radius, upper arm, rod"},
+      {"arms", "", "",
+       "three {R, r, L, l mm, homing rad}: base radius, effector radius, upper arm, rod"},
       {"marker_offset", "mm", "{xyz: [0, 0, 0]}", "marker on the extender, in the effector frame"},
       {"motor", "", "", "{increments_per_revolution}: motor resolution, for homing in increments"},
       {"joint_limits", "rad", "", "{min, max} motor angle"},

@@ -89,7 +89,8 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
   const std::string loss = config.GetString("loss", "none");
   if (loss == "huber") o.loss = RobustLossKind::kHuber;
   else if (loss == "cauchy") o.loss = RobustLossKind::kCauchy;
-  else if (loss != "none") throw config["loss"].Error("unknown loss '" + loss + "'", "Use none, huber or cauchy");
+  else if (loss != "none")
+    throw config["loss"].Error("unknown loss '" + loss + "'", "Use none, huber or cauchy");
   o.loss_scale = config.GetDoubleIn("loss_scale", o.loss_scale, 1e-12, 1e9,
                                     "Give the residual size (mm) where the loss bends, above 0");
   const std::string linear = config.GetString("linear_solver", "sparse_normal_cholesky");
@@ -122,7 +123,8 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
       {"loss", "", "none", "robust loss: none, huber or cauchy"},
       {"loss_scale", "mm", "1", "residual size where the robust loss starts to bend"},
       {"threads", "", "2", "threads for residual evaluation"},
-      {"linear_solver", "", "sparse_normal_cholesky", "sparse_normal_cholesky, dense_normal_cholesky or dense_qr"},
+      {"linear_solver", "", "sparse_normal_cholesky",
+       "sparse_normal_cholesky, dense_normal_cholesky or dense_qr"},
   };
   registry->AddSolver(info, &cellmetry::ceres_lm::Create);
 }

@@ -63,7 +63,8 @@ struct MarkerRow {
 
 MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& registry);
 std::vector<MarkerRow> CompareMarkers(const MarkerComparisonSpec& spec, Registry& registry);
-std::string MarkerTableMarkdown(const MarkerComparisonSpec& spec, const std::vector<MarkerRow>& rows);
+std::string MarkerTableMarkdown(const MarkerComparisonSpec& spec,
+                                const std::vector<MarkerRow>& rows);
 std::string MarkerTableCsv(const std::vector<MarkerRow>& rows);
 
 // The comparison once per seed (spec.seed + i, i < spec.seeds): [seed][detector].

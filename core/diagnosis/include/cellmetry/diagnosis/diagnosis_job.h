@@ -9,8 +9,8 @@
 //     max_effects: 4
 //     min_poses: 20
 //     link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]   # the gravity-torque regressor
-//     gear_harmonics: [3, 7] # of the drives: joined to 1 and 2 in each joint's transmission candidate
-//     candidates:            # default: the whole library on every joint and camera
+//     gear_harmonics: [3, 7] # of the drives: joined to 1 and 2 in each joint's transmission
+//     candidate candidates:            # default: the whole library on every joint and camera
 //       - {type: backlash, joints: [2]}
 //
 // Output: <job output>/diagnosis/{report.txt, diagnosis.json, result.json of the final fit}.

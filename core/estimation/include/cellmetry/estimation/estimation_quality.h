@@ -102,8 +102,8 @@ struct Uncertainty {
   double scale = 1.0;               // factor applied to the covariance
   double condition_number = 0.0;    // of the column-scaled Jacobian
   // Variance inflation factor per free parameter: how much larger its variance is than if every
-  // other parameter were known, 1 / (1 - R^2) of its Jacobian column on the others. 1 = independent;
-  // thousands = the data can barely tell it from a combination of the others.
+  // other parameter were known, 1 / (1 - R^2) of its Jacobian column on the others. 1 =
+  // independent; thousands = the data can barely tell it from a combination of the others.
   Eigen::VectorXd variance_inflation;
 };
 

@@ -66,8 +66,8 @@ struct DetectSummary {
   std::map<std::string, int> failures;  // "<target>: <reason>" -> images
 };
 
-// `limit` > 0 stops after that many new images (each with all its targets) (an interruption, for tests and for splitting
-// work); the next run continues.
+// `limit` > 0 stops after that many new images (each with all its targets) (an interruption, for
+// tests and for splitting work); the next run continues.
 DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit = 0);
 
 }  // namespace cellmetry

@@ -62,7 +62,8 @@ struct ObservationSpec {
   std::vector<ColumnRef> position; // x, y, z; empty when `transform` gives it
   std::optional<RotationSpec> rotation;  // none: position only (a dot)
   std::vector<ColumnRef> transform;      // 4x4 (16) or its top three rows (12), row-major
-  bool transform_bottom_optional = false; // from a prefix: T41..T44 read only when the table has them
+  bool transform_bottom_optional =
+      false;  // from a prefix: T41..T44 read only when the table has them
   double transform_tolerance = 1e-3;
   double to_mm = 1.0;              // the table's length unit -> mm
   double to_rad = 1.0;             // the table's angle unit -> rad

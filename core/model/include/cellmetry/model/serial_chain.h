@@ -2,7 +2,8 @@
 // kinematics files hold. A robot model offers it through RobotModel::AsSerialChain
 // (robot_model.h); exports (core/exports) write it in their formats without knowing the model.
 //
-//   T_base_flange(q) = T_base_joint1 Rz(q_1) T_joint1_joint2 Rz(q_2) ... T_joint(n-1)_jointn Rz(q_n)
+//   T_base_flange(q) = T_base_joint1 Rz(q_1) T_joint1_joint2 Rz(q_2) ... T_joint(n-1)_jointn
+//   Rz(q_n)
 //                      T_jointn_flange
 //
 // Joint i turns by the controller's reading q_i (rad) about the z axis of its own frame, whose

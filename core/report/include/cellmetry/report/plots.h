@@ -48,12 +48,14 @@ struct SigmaEntry {
   std::string name;
   double total = 0.0, statistical = 0.0, systematic = 0.0, inputs = 0.0;
 };
-std::string SigmaBars(const std::vector<SigmaEntry>& entries, const std::string& unit);  // plot_sigma_bars.cc
+std::string SigmaBars(const std::vector<SigmaEntry>& entries,
+                      const std::string& unit);  // plot_sigma_bars.cc
 
 // The correlation matrix as a heat map (blue -1 .. white 0 .. red +1); cells with |rho| < 0.05
 // are left white (not drawn) so that a 140-parameter matrix stays small.
-std::string CorrelationHeatmap(const std::vector<std::string>& names,
-                               const std::vector<std::vector<double>>& correlation);  // plot_heatmap.cc
+std::string CorrelationHeatmap(
+    const std::vector<std::string>& names,
+    const std::vector<std::vector<double>>& correlation);  // plot_heatmap.cc
 
 // One row per label: a dot at `value` and a bar from `lo` to `hi` (omitted when lo == hi).
 struct IntervalRow {
