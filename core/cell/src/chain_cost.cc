@@ -21,8 +21,13 @@ void Store(double* jacobian, const Eigen::Matrix3d& d_translation,
 
 ChainCost::ChainCost(TargetComparison comparison, FrameRefs refs, ChainBlocks blocks,
                      const Pose& T_base_flange, const Pose& T_cam_world_fixed)
-    : comparison_(comparison), refs_(refs), blocks_(blocks), T_base_flange_(T_base_flange),
-      T_world_cam_fixed_(T_cam_world_fixed.inverse()) {
+    : ChainCost(comparison, std::make_shared<const FrameRefs>(std::move(refs)), blocks,
+                T_base_flange, T_cam_world_fixed) {}
+
+ChainCost::ChainCost(TargetComparison comparison, std::shared_ptr<const FrameRefs> refs,
+                     ChainBlocks blocks, const Pose& T_base_flange, const Pose& T_cam_world_fixed)
+    : comparison_(comparison), blocks_(blocks), T_base_flange_(T_base_flange),
+      refs_(std::move(refs)), T_world_cam_fixed_(T_cam_world_fixed.inverse()) {
   set_num_residuals(3);
   for (bool is_block : {blocks.base, blocks.tool, blocks.camera}) {
     if (is_block) mutable_parameter_block_sizes()->push_back(6);
@@ -38,9 +43,9 @@ bool ChainCost::Evaluate(double const* const* parameters, double* residuals,
   // The frames every residual shares, each made once per thread for these values (frame_cache.h).
   const bool with_jacobian = jacobians != nullptr;
   CachedFrame base_frame, tool_frame, camera_frame;
-  if (base) base_frame = FrameOfBlock(base, refs_.world_base, with_jacobian);
-  if (tool) tool_frame = FrameOfBlock(tool, refs_.flange_target, with_jacobian);
-  if (camera) camera_frame = FrameOfBlock(camera, refs_.world_cam, with_jacobian);
+  if (base) base_frame = FrameOfBlock(base, refs_->world_base, with_jacobian);
+  if (tool) tool_frame = FrameOfBlock(tool, refs_->flange_target, with_jacobian);
+  if (camera) camera_frame = FrameOfBlock(camera, refs_->world_cam, with_jacobian);
   const Pose T_world_base = base ? base_frame.T : Pose::Identity();
   const Pose T_flange_target = tool ? tool_frame.T : Pose::Identity();
   const Pose T_world_cam = camera ? camera_frame.T : T_world_cam_fixed_;

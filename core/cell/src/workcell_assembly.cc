@@ -128,7 +128,18 @@ struct ToolContext {
   bool static_camera = false;
   bool model_free = false;
   ForwardMemos* memos = nullptr;
+  std::shared_ptr<const FrameRefs> shared_refs;  // `refs`, shared by the blocks of its frames
 };
+
+// One FrameRefs per combination of frame blocks (ChainCost's shared constructor): by block ids.
+using SharedRefs = std::map<std::vector<int>, std::shared_ptr<const FrameRefs>>;
+
+std::shared_ptr<const FrameRefs> Shared(const std::vector<int>& blocks, const FrameRefs& refs,
+                                        SharedRefs* shared) {
+  auto& entry = (*shared)[blocks];
+  if (!entry) entry = std::make_shared<const FrameRefs>(refs);
+  return entry;
+}
 
 // The blocks of a Jet chain residual, as JetChainLayout orders them (held frames left out).
 std::vector<int> JetBlocks(const ToolContext& c, const AssembledWorkcell& out) {
@@ -234,7 +245,8 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
                      "Check the joint values against the robot model");
   }
   const ChainBlocks chain{/*base=*/true, /*tool=*/true, /*camera=*/c.static_camera};
-  return std::make_unique<ChainCost>(comparison, c.refs, chain, T_base_flange, c.m.T_cam_world);
+  return std::make_unique<ChainCost>(comparison, c.shared_refs, chain, T_base_flange,
+                                     c.m.T_cam_world);
 }
 
 bool BlockHeld(const AssembledWorkcell& out, int block) {
@@ -258,6 +270,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
                       AssembledWorkcell* out) {
   const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
   ForwardMemos memos;
+  SharedRefs shared_refs;
   for (const ToolMeasurement& m : data.tools) {
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
@@ -280,6 +293,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
       c.blocks.push_back(out->camera_block.at(obs.camera));
       c.refs.world_cam = out->R_ref.at(c.blocks[2]);
     }
+    c.shared_refs = Shared(c.blocks, c.refs, &shared_refs);
     const TargetNoise& sigma = noise.at(obs.camera, obs.target);
     if (spec.residual == ResidualForm::kJointSpace) {
       std::vector<int> blocks = c.blocks;
@@ -311,6 +325,7 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
   std::vector<const Effect*> effects;
   std::vector<int> effect_blocks;
   ChainEffects(spec, *out, "", &effects, &effect_blocks);
+  SharedRefs shared_refs;
   for (int index : data.world_observations) {
     const Observation& obs = recording.observations[index];
     const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
@@ -337,8 +352,8 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
         FrameRefs refs;
         refs.world_cam = out->R_ref.at(camera);
         const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
-        cost = std::make_unique<ChainCost>(comparison, refs, camera_only, Pose::Identity(),
-                                           Pose::Identity());
+        cost = std::make_unique<ChainCost>(comparison, Shared({camera}, refs, &shared_refs),
+                                           camera_only, Pose::Identity(), Pose::Identity());
       }
       out->problem.AddResidual(
           std::move(cost), blocks,
