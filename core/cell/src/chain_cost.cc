@@ -27,7 +27,10 @@ ChainCost::ChainCost(TargetComparison comparison, FrameRefs refs, ChainBlocks bl
 ChainCost::ChainCost(TargetComparison comparison, std::shared_ptr<const FrameRefs> refs,
                      ChainBlocks blocks, const Pose& T_base_flange, const Pose& T_cam_world_fixed)
     : comparison_(comparison), blocks_(blocks), T_base_flange_(T_base_flange),
-      refs_(std::move(refs)), T_world_cam_fixed_(T_cam_world_fixed.inverse()) {
+      refs_(std::move(refs)) {
+  if (!blocks.camera) {
+    T_world_cam_fixed_ = std::make_unique<const Pose>(T_cam_world_fixed.inverse());
+  }
   set_num_residuals(3);
   for (bool is_block : {blocks.base, blocks.tool, blocks.camera}) {
     if (is_block) mutable_parameter_block_sizes()->push_back(6);
@@ -48,7 +51,7 @@ bool ChainCost::Evaluate(double const* const* parameters, double* residuals,
   if (camera) camera_frame = FrameOfBlock(camera, refs_->world_cam, with_jacobian);
   const Pose T_world_base = base ? base_frame.T : Pose::Identity();
   const Pose T_flange_target = tool ? tool_frame.T : Pose::Identity();
-  const Pose T_world_cam = camera ? camera_frame.T : T_world_cam_fixed_;
+  const Pose T_world_cam = camera ? camera_frame.T : *T_world_cam_fixed_;
   const Eigen::Matrix3d R_cw = T_world_cam.R.transpose();
   const Pose T_world_flange = T_world_base * T_base_flange_;
   const Eigen::Vector3d p_world = T_world_flange * T_flange_target.t;

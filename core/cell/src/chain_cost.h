@@ -54,7 +54,9 @@ class ChainCost : public ceres::CostFunction {
   ChainBlocks blocks_;
   Pose T_base_flange_;
   std::shared_ptr<const FrameRefs> refs_;
-  Pose T_world_cam_fixed_;
+  // The measured camera where it is not a block (the per-frame model); not held otherwise: the
+  // objects' size is what an evaluation reads.
+  std::unique_ptr<const Pose> T_world_cam_fixed_;
 };
 
 }  // namespace cellmetry
