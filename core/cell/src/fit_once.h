@@ -29,6 +29,7 @@ struct Fit {
 struct LeastSquaresFit {
   WorkcellProblem spec;
   WorkcellData data;
+  NoiseModel repeatability;  // EstimateRepeatability of the recording
   NoiseModel noise;
   WorkcellEstimate start;
   Fit fit;

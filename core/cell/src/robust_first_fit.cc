@@ -64,7 +64,8 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
   ls->spec = spec;
   ls->spec.residual = ResidualForm::kCartesian;
   ls->data = PrepareWorkcellData(ls->spec, recording);
-  ls->noise = BuildNoiseModel(recording, ls->spec.noise);
+  ls->repeatability = EstimateRepeatability(recording);
+  ls->noise = BuildNoiseModel(recording, ls->spec.noise, ls->repeatability);
   ls->start = InitialEstimate(ls->spec, recording, ls->data);
   Fit& fit = ls->fit;
   fit.assembled = AssembleWorkcell(ls->spec, recording, ls->data, ls->noise, ls->start);

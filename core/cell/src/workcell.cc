@@ -361,8 +361,9 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   if (!solved) prepared = PrepareWorkcellData(spec, recording);
   const WorkcellData& data = solved ? solved->data : prepared;
   result.skipped = data.skipped;
-  result.noise = solved ? solved->noise : BuildNoiseModel(recording, spec.noise);
-  result.repeatability = EstimateRepeatability(recording);
+  result.repeatability = solved ? solved->repeatability : EstimateRepeatability(recording);
+  result.noise =
+      solved ? solved->noise : BuildNoiseModel(recording, spec.noise, result.repeatability);
   result.start = solved ? solved->start : InitialEstimate(spec, recording, data);
   clock.Lap("start");
 
