@@ -18,22 +18,27 @@ bool SpansAPlane(const Eigen::Matrix3Xd& points) {
 
 }  // namespace
 
-std::optional<Pose> FitRigidTransform(const std::vector<Eigen::Vector3d>& from,
-                                      const std::vector<Eigen::Vector3d>& to) {
+RigidFitOnto::RigidFitOnto(const std::vector<Eigen::Vector3d>& to) : to_(3, to.size()) {
+  for (size_t i = 0; i < to.size(); ++i) to_.col(static_cast<Eigen::Index>(i)) = to[i];
+  usable_ = to.size() >= 3 && to_.allFinite() && SpansAPlane(to_);
+}
+
+std::optional<Pose> RigidFitOnto::Fit(const std::vector<Eigen::Vector3d>& from) const {
   const size_t n = from.size();
-  if (n < 3 || to.size() != n) return std::nullopt;
-  Eigen::Matrix3Xd src(3, n), dst(3, n);
-  for (size_t i = 0; i < n; ++i) {
-    src.col(i) = from[i];
-    dst.col(i) = to[i];
-  }
-  if (!src.allFinite() || !dst.allFinite()) return std::nullopt;
-  if (!SpansAPlane(src) || !SpansAPlane(dst)) return std::nullopt;
-  const Eigen::Matrix4d T = Eigen::umeyama(src, dst, /*with_scaling=*/false);
+  if (!usable_ || n != static_cast<size_t>(to_.cols())) return std::nullopt;
+  Eigen::Matrix3Xd src(3, n);
+  for (size_t i = 0; i < n; ++i) src.col(static_cast<Eigen::Index>(i)) = from[i];
+  if (!src.allFinite() || !SpansAPlane(src)) return std::nullopt;
+  const Eigen::Matrix4d T = Eigen::umeyama(src, to_, /*with_scaling=*/false);
   Pose pose;
   pose.R = T.topLeftCorner<3, 3>();
   pose.t = T.topRightCorner<3, 1>();
   return pose;
+}
+
+std::optional<Pose> FitRigidTransform(const std::vector<Eigen::Vector3d>& from,
+                                      const std::vector<Eigen::Vector3d>& to) {
+  return RigidFitOnto(to).Fit(from);
 }
 
 }  // namespace cellmetry

@@ -4,15 +4,12 @@
 
 #include "cellmetry/basics/so3_jacobians.h"
 #include "effect_residuals.h"
+#include "frame_cache.h"
 
 namespace cellmetry {
 namespace {
 
 using Motion = Eigen::Matrix<double, 6, 6>;  // d(s, w) / d(frame block), s then w
-
-Eigen::Vector3d RotationPart(const double* block) {
-  return Eigen::Vector3d(block[3], block[4], block[5]);
-}
 
 // (s; w) of a frame block's translation and turn: s = [t_part, rotation_shift], w = turn.
 Motion FrameMotion(const Eigen::Matrix3d& d_shift_d_t, const Eigen::Matrix3d& d_shift_d_r,
@@ -44,6 +41,7 @@ struct EffectChainCost::Chain {
   Pose T_world_base, T_base_flange, T_flange_target, T_world_cam;
   Eigen::Vector3d p_world;   // the target's origin in the world
   Eigen::Matrix<double, 6, Eigen::Dynamic> twists;  // the model's flange twists (base frame)
+  Eigen::Matrix3d J_base, J_tool, J_camera;  // each frame block's left Jacobian (when asked)
   const double* base = nullptr;
   const double* tool = nullptr;
   const double* camera = nullptr;
@@ -53,10 +51,11 @@ EffectChainCost::EffectChainCost(TargetComparison comparison, FrameRefs refs,
                                  const RobotModel* model, EffectContext context,
                                  bool static_camera, const Pose& T_cam_world_measured,
                                  std::vector<const Effect*> effects,
-                                 const std::vector<int>& effect_sizes)
+                                 const std::vector<int>& effect_sizes,
+                                 std::shared_ptr<ForwardMemo> forward)
     : comparison_(comparison), refs_(refs), model_(model), context_(std::move(context)),
       static_camera_(static_camera), T_world_cam_fixed_(T_cam_world_measured.inverse()),
-      effects_(std::move(effects)), effect_sizes_(effect_sizes) {
+      effects_(std::move(effects)), effect_sizes_(effect_sizes), forward_(std::move(forward)) {
   set_num_residuals(3);
   auto* sizes = mutable_parameter_block_sizes();
   if (model_) sizes->insert(sizes->end(), {6, 6});
@@ -67,23 +66,39 @@ EffectChainCost::EffectChainCost(TargetComparison comparison, FrameRefs refs,
 }
 
 bool EffectChainCost::Predict(double const* const* parameters, bool with_twists,
-                              Chain* c) const {
+                              bool with_jacobians, Chain* c) const {
   int k = 0;
   c->base = model_ ? parameters[k++] : nullptr;
   c->tool = model_ ? parameters[k++] : nullptr;
   c->camera = static_camera_ ? parameters[k++] : nullptr;
   if (model_) {
     const double* model_params = parameters[k++];
-    const bool ok = with_twists ? model_->ForwardWithTwists(context_.q, model_params,
-                                                            &c->T_base_flange, &c->twists)
-                                : model_->Forward(context_.q, model_params, &c->T_base_flange);
+    bool ok;
+    if (forward_) {
+      ok = forward_->Forward(model_params, &c->T_base_flange, with_twists ? &c->twists : nullptr);
+    } else {
+      ok = with_twists ? model_->ForwardWithTwists(context_.q, model_params, &c->T_base_flange,
+                                                   &c->twists)
+                       : model_->Forward(context_.q, model_params, &c->T_base_flange);
+    }
     if (!ok) return false;
-    c->T_world_base = FrameFromBlock(c->base, refs_.world_base);
-    c->T_flange_target = FrameFromBlock(c->tool, refs_.flange_target);
+    // The frames every block shares, made once per thread for these values (frame_cache.h).
+    const CachedFrame base = FrameOfBlock(c->base, refs_.world_base, with_jacobians);
+    const CachedFrame tool = FrameOfBlock(c->tool, refs_.flange_target, with_jacobians);
+    c->T_world_base = base.T;
+    c->T_flange_target = tool.T;
+    c->J_base = base.J_left;
+    c->J_tool = tool.J_left;
   } else {  // the world target: the world frame itself
     c->T_world_base = c->T_base_flange = c->T_flange_target = Pose::Identity();
   }
-  c->T_world_cam = c->camera ? FrameFromBlock(c->camera, refs_.world_cam) : T_world_cam_fixed_;
+  if (c->camera) {
+    const CachedFrame camera = FrameOfBlock(c->camera, refs_.world_cam, with_jacobians);
+    c->T_world_cam = camera.T;
+    c->J_camera = camera.J_left;
+  } else {
+    c->T_world_cam = T_world_cam_fixed_;
+  }
   const Eigen::Matrix3d R_cw = c->T_world_cam.R.transpose();
   const Pose T_world_flange = c->T_world_base * c->T_base_flange;
   c->p_world = T_world_flange * c->T_flange_target.t;
@@ -154,7 +169,7 @@ void EffectChainCost::StoreFrameJacobians(const Chain& c,
   int k = 0;
   if (model_) {
     if (jacobians[k]) {  // base: p_world - t turns with it
-      const Eigen::Matrix3d J_l = LeftJacobian(RotationPart(c.base));
+      const Eigen::Matrix3d& J_l = c.J_base;
       Store(jacobians[k],
             H_motion * FrameMotion(R_cw, -R_cw * Skew(c.p_world - c.T_world_base.t) * J_l,
                                    R_cw * J_l));
@@ -163,13 +178,13 @@ void EffectChainCost::StoreFrameJacobians(const Chain& c,
     if (jacobians[k]) {  // tool: shifts along the flange's axes, turns about them
       const Eigen::Matrix3d R_cf = R_cw * c.T_world_base.R * c.T_base_flange.R;
       Store(jacobians[k],
-            H_motion * FrameMotion(R_cf, zero, R_cf * LeftJacobian(RotationPart(c.tool))));
+            H_motion * FrameMotion(R_cf, zero, R_cf * c.J_tool));
     }
     ++k;
   }
   if (static_camera_) {
     if (jacobians[k]) {  // camera: the world moves the other way
-      const Eigen::Matrix3d J_l = LeftJacobian(RotationPart(c.camera));
+      const Eigen::Matrix3d& J_l = c.J_camera;
       Store(jacobians[k], H_motion * FrameMotion(-R_cw,
                                                  R_cw * Skew(c.p_world - c.T_world_cam.t) * J_l,
                                                  -R_cw * J_l));
@@ -193,7 +208,7 @@ bool EffectChainCost::Evaluate(double const* const* parameters, double* residual
   const int model_slot = first_effect_ - 1;
   const bool model_asked = model_ && jacobians && jacobians[model_slot];
   thread_local Chain c;  // its twists' storage is reused
-  if (!Predict(parameters, model_asked, &c)) return false;
+  if (!Predict(parameters, model_asked, jacobians != nullptr, &c)) return false;
   double const* const* effect_params = parameters + first_effect_;
   if (jacobians == nullptr) {
     Transform<double> measured = c.P;

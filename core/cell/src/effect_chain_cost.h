@@ -21,9 +21,11 @@
 
 #include <ceres/cost_function.h>
 
+#include <memory>
 #include <vector>
 
 #include "cellmetry/model/effect.h"
+#include "forward_memo.h"
 #include "workcell_residuals.h"
 
 namespace cellmetry {
@@ -37,9 +39,12 @@ class EffectChainCost : public ceres::CostFunction {
   // (EffectChainResidual's). `model` null: the world target seen by a static camera, blocks
   // camera, one per effect (WorldEffectResidual's). `effect_sizes`: each effect's parameter
   // count. `context` points into the sample's SampleFacts, which must outlive the cost.
+  // `forward`: the capture's forward kinematics shared with its other blocks (forward_memo.h;
+  // null: each evaluation runs the chain itself).
   EffectChainCost(TargetComparison comparison, FrameRefs refs, const RobotModel* model,
                   EffectContext context, bool static_camera, const Pose& T_cam_world_measured,
-                  std::vector<const Effect*> effects, const std::vector<int>& effect_sizes);
+                  std::vector<const Effect*> effects, const std::vector<int>& effect_sizes,
+                  std::shared_ptr<ForwardMemo> forward = nullptr);
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
@@ -47,7 +52,9 @@ class EffectChainCost : public ceres::CostFunction {
  private:
   // The prediction P and what its motion (s, w) does per frame and model parameter.
   struct Chain;
-  bool Predict(double const* const* parameters, bool with_twists, Chain* chain) const;
+  // `with_jacobians`: the frames' left Jacobians too (StoreFrameJacobians).
+  bool Predict(double const* const* parameters, bool with_twists, bool with_jacobians,
+               Chain* chain) const;
   // r and dr/d(s, w, effect parameters) at P; the effects' directions only where asked for.
   void MeasureAndCompare(const Pose& P, double const* const* effect_params, bool effects_asked,
                          double* residuals, Eigen::Matrix<double, 3, Eigen::Dynamic>* H) const;
@@ -63,6 +70,7 @@ class EffectChainCost : public ceres::CostFunction {
   std::vector<const Effect*> effects_;
   std::vector<int> effect_sizes_;
   int first_effect_ = 0;  // block index of the first effect
+  std::shared_ptr<ForwardMemo> forward_;
 };
 
 }  // namespace cellmetry

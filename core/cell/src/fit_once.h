@@ -20,6 +20,21 @@ struct Fit {
   Linearization at_answer;  // IdentifiedSolve's: valid when the solve's last check held nothing
 };
 
+// The least-squares fit of a whole recording that the robust first fit solves on its way to
+// the Cauchy one (robust_first_fit.h), left at its answer. For a Cartesian job it is the plain
+// fit's first solve exactly (the same problem from the same start by the same solver), so when
+// the robust fit leaves nothing out IdentifyOnce takes it instead of solving again: on exp_a
+// that solve and its assembly were a third of the identification. The residuals keep pointers
+// into `spec` and `data` (AssembleWorkcell): they live together, at one address.
+struct LeastSquaresFit {
+  WorkcellProblem spec;
+  WorkcellData data;
+  NoiseModel repeatability;  // EstimateRepeatability of the recording
+  NoiseModel noise;
+  WorkcellEstimate start;
+  Fit fit;
+};
+
 // Assembles on `poses` (empty: all), holds `held` and whatever the data cannot determine, and
 // solves from `start` (`warm_start`: a neighbouring fit's answer; SolveHoldingUnidentifiable).
 Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,

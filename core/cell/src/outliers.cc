@@ -22,18 +22,48 @@ std::vector<double> RobustScales(const std::vector<ResidualRow>& rows) {
   // The scale per camera, target and kind: a world board's repeated views scatter far less than
   // a carried board's, and one scale for both flags every carried observation.
   using Group = std::tuple<std::string, std::string, std::string>;
-  std::map<Group, std::vector<double>> groups;
-  for (const auto& row : rows) {
-    groups[{row.camera, row.target, row.kind}].push_back(row.normalized.squaredNorm());
+  // Each row's group looked up once, first among the few groups used last (a capture's rows
+  // cycle through its cameras), then in the map: a map of three strings per row, twice, was
+  // most of the test's time.
+  std::map<Group, int> index;
+  std::vector<std::vector<double>> values;
+  std::vector<const ResidualRow*> first_row;  // per group, a row of it
+  std::vector<int> recent;                    // the groups used last, newest first
+  std::vector<int> group_of(rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const ResidualRow& row = rows[i];
+    int group = -1;
+    for (size_t k = 0; k < recent.size() && group < 0; ++k) {
+      const ResidualRow& other = *first_row[recent[k]];
+      if (row.camera == other.camera && row.target == other.target && row.kind == other.kind) {
+        group = recent[k];
+        recent.erase(recent.begin() + static_cast<std::ptrdiff_t>(k));
+      }
+    }
+    if (group < 0) {
+      const auto [it, added] =
+          index.emplace(Group{row.camera, row.target, row.kind}, static_cast<int>(values.size()));
+      if (added) {
+        values.emplace_back();
+        first_row.push_back(&row);
+      }
+      group = it->second;
+      if (recent.size() == 8) recent.pop_back();
+    }
+    recent.insert(recent.begin(), group);
+    group_of[i] = group;
+    values[group].push_back(row.normalized.squaredNorm());
   }
-  std::map<Group, double> scale;
-  for (const auto& [key, values] : groups) {
+  std::vector<double> scale(values.size());
+  for (size_t g = 0; g < values.size(); ++g) {
     // Too few rows for a scale of their own: not tested.
-    scale[key] = values.size() < kMinGroupRows ? 0.0 : Median(values) / ChiSquareQuantile(0.5, 3);
+    scale[g] = values[g].size() < kMinGroupRows
+                   ? 0.0
+                   : Median(std::move(values[g])) / ChiSquareQuantile(0.5, 3);
   }
   std::vector<double> out;
   out.reserve(rows.size());
-  for (const auto& row : rows) out.push_back(scale.at({row.camera, row.target, row.kind}));
+  for (int g : group_of) out.push_back(scale[g]);
   return out;
 }
 

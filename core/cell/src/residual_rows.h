@@ -11,7 +11,8 @@
 
 namespace cellmetry {
 
-// The rows at the problem's current values, without the robust loss.
+// The rows at the problem's current values, without the robust loss (NaN where a cost function
+// fails).
 std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled);
 
 }  // namespace cellmetry

@@ -1,6 +1,7 @@
 // The robust first fit (robust_first_fit.h): least squares, then a Cauchy loss at its scale.
 #include "robust_first_fit.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cellmetry/basics/error.h"
@@ -23,35 +24,77 @@ void SetLossFromScale(const std::vector<ResidualRow>& rows, double width, Proble
   problem->Build();
 }
 
+// Every block's values and held entries: what the Cauchy solve changes in a problem that the
+// least-squares fit must get back as it left it.
+struct BlockStates {
+  std::vector<std::vector<double>> values;
+  std::vector<std::vector<bool>> fixed;
+};
+
+BlockStates Snapshot(Problem& problem) {
+  BlockStates states;
+  for (int b = 0; b < problem.num_blocks(); ++b) {
+    const auto& params = problem.block_parameters(b);
+    states.values.emplace_back(problem.values(b), problem.values(b) + params.size());
+    std::vector<bool> fixed;
+    for (const Parameter& p : params) fixed.push_back(p.fixed);
+    states.fixed.push_back(std::move(fixed));
+  }
+  return states;
+}
+
+// The least-squares problem again: values and held entries as snapshot, no loss.
+void Restore(const BlockStates& states, Problem* problem) {
+  for (int b = 0; b < problem->num_blocks(); ++b) {
+    std::copy(states.values[b].begin(), states.values[b].end(), problem->values(b));
+    for (size_t i = 0; i < states.fixed[b].size(); ++i) {
+      problem->SetFixed(b, static_cast<int>(i), states.fixed[b][i]);
+    }
+  }
+  problem->SetWhitenedRobustLoss(RobustLossKind::kNone, {});
+  problem->Build();
+}
+
 }  // namespace
 
-std::vector<Outlier> FindOutliersByRobustFit(const WorkcellProblem& spec,
-                                             const Recording& recording,
-                                             const SolverMaker& make_solver,
-                                             const RobustFirstFitOptions& options) {
-  WorkcellProblem cartesian = spec;
-  cartesian.residual = ResidualForm::kCartesian;
-  const WorkcellData data = PrepareWorkcellData(cartesian, recording);
-  const NoiseModel noise = BuildNoiseModel(recording, cartesian.noise);
-  const WorkcellEstimate start = InitialEstimate(cartesian, recording, data);
-  auto assembled = AssembleWorkcell(cartesian, recording, data, noise, start);
-  Problem& problem = assembled->problem;
+RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Recording& recording,
+                                       const SolverMaker& make_solver,
+                                       const RobustFirstFitOptions& options) {
+  auto ls = std::make_unique<LeastSquaresFit>();  // at one address: the residuals point into it
+  ls->spec = spec;
+  ls->spec.residual = ResidualForm::kCartesian;
+  ls->data = PrepareWorkcellData(ls->spec, recording);
+  ls->repeatability = EstimateRepeatability(recording);
+  ls->noise = BuildNoiseModel(recording, ls->spec.noise, ls->repeatability);
+  ls->start = InitialEstimate(ls->spec, recording, ls->data);
+  Fit& fit = ls->fit;
+  fit.assembled = AssembleWorkcell(ls->spec, recording, ls->data, ls->noise, ls->start);
+  Problem& problem = fit.assembled->problem;
+  fit.free_as_asked = problem.num_free();
   if (problem.num_residuals() < problem.num_free()) return {};  // the plain fit says why
+  RobustFirstFit out;
   try {
     // Plain least squares from the closed form first (a Cauchy loss from a start this far off
     // crawls: 200 iterations on exp_a), then the loss at the scale of that answer, warm.
-    const IdentifiedSolve plain = SolveHoldingUnidentifiable(
+    IdentifiedSolve plain = SolveHoldingUnidentifiable(
         &problem, spec.identifiability_tolerance, {}, make_solver);
     std::set<std::string> held;
     for (const auto& u : plain.unidentifiable) held.insert(u.name);
-    SetLossFromScale(ResidualRows(*assembled), options.cauchy_width, &problem);
+    fit.summary = plain.summary;
+    fit.unidentifiable = std::move(plain.unidentifiable);
+    fit.at_answer = std::move(plain.at_answer);
+    const BlockStates least_squares = Snapshot(problem);
+    SetLossFromScale(ResidualRows(*fit.assembled), options.cauchy_width, &problem);
     SolveHoldingUnidentifiable(&problem, spec.identifiability_tolerance, held, make_solver, true);
+    out.outliers = FindOutliers(ResidualRows(*fit.assembled), recording, options.alpha);
+    Restore(least_squares, &problem);
   } catch (const InputError& e) {
     Progress::Note(std::string("the robust first fit failed (") + e.what() +
                    "): outliers are tested on the plain fit only");
     return {};
   }
-  return FindOutliers(ResidualRows(*assembled), recording, options.alpha);
+  if (spec.residual == ResidualForm::kCartesian) out.least_squares = std::move(ls);
+  return out;
 }
 
 }  // namespace cellmetry

@@ -18,11 +18,14 @@
 // The fit is always Cartesian (the test is on camera-frame rows whatever the job's residual
 // form) and is used for nothing but the test: its answer and sigma are dropped. It is solved by
 // the job's solver; one that sets a loss of its own (ceres_lm's `loss:`) replaces this one.
+// The least-squares solve before it is kept (fit_once.h, LeastSquaresFit): for a Cartesian job
+// with nothing to leave out it is the plain fit, which then is not solved twice.
 #pragma once
 
 #include <vector>
 
 #include "cellmetry/cell/workcell.h"
+#include "fit_once.h"
 
 namespace cellmetry {
 
@@ -31,12 +34,19 @@ struct RobustFirstFitOptions {
   double alpha = 0.01;        // the outlier test's (outliers.h)
 };
 
-// The rows of `recording` that fail the outlier test at the robust first fit's answer. None
-// when the data are too few to fit (the plain fit says so) or the robust solve fails (noted;
-// the plain fit's own test still runs).
-std::vector<Outlier> FindOutliersByRobustFit(const WorkcellProblem& spec,
-                                             const Recording& recording,
-                                             const SolverMaker& make_solver,
-                                             const RobustFirstFitOptions& options = {});
+struct RobustFirstFit {
+  // The rows of the recording that fail the outlier test at the robust fit's answer.
+  std::vector<Outlier> outliers;
+  // The least-squares fit it started from, at that fit's answer with no loss (as
+  // SolveHoldingUnidentifiable left it); null when the job's residual is not Cartesian (the
+  // plain fit is another problem then) or nothing was solved.
+  std::unique_ptr<LeastSquaresFit> least_squares;
+};
+
+// The robust first fit of `recording`. No outliers when the data are too few to fit (the plain
+// fit says so) or a solve fails (noted; the plain fit's own test still runs).
+RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Recording& recording,
+                                       const SolverMaker& make_solver,
+                                       const RobustFirstFitOptions& options = {});
 
 }  // namespace cellmetry

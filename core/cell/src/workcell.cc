@@ -275,11 +275,13 @@ void CheckEnoughData(const Recording& recording, const Fit& fit) {
 }
 
 // Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
-// (variance component estimation), holding what the first fit found unidentifiable.
+// (variance component estimation), holding what the first fit found unidentifiable. `solved`:
+// that first fit done already (LeastSquaresFit), taken instead of solving.
 Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
                  const WorkcellEstimate& start, const SolverMaker& make_solver,
-                 NoiseModel* noise) {
-  Fit fit = FitOnce(spec, recording, data, *noise, start, {}, {}, make_solver);
+                 NoiseModel* noise, Fit* solved) {
+  Fit fit = solved ? std::move(*solved)
+                   : FitOnce(spec, recording, data, *noise, start, {}, {}, make_solver);
   CheckEnoughData(recording, fit);
   const bool any_unknown =
       std::any_of(noise->entries.begin(), noise->entries.end(),
@@ -370,24 +372,31 @@ void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording
 
 }  // namespace
 
-// One identification on `recording` as it is.
+// One identification on `recording` as it is. `solved`: the robust first fit's least-squares
+// fit of this very recording (a Cartesian job), which is the plain fit's first solve: its data,
+// noise, start and answer are taken, not made again.
 WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& recording,
-                            const SolverMaker& make_solver) {
+                            const SolverMaker& make_solver,
+                            std::unique_ptr<LeastSquaresFit> solved = nullptr) {
   WorkcellResult result;
   result.camera_model = spec.camera_model;
   result.residual_form = spec.residual;
   StageClock clock;
-  const WorkcellData data = PrepareWorkcellData(spec, recording);
+  WorkcellData prepared;  // `solved`'s residuals point into its own: that one is used then
+  if (!solved) prepared = PrepareWorkcellData(spec, recording);
+  const WorkcellData& data = solved ? solved->data : prepared;
   result.skipped = data.skipped;
-  result.noise = BuildNoiseModel(recording, spec.noise);
-  result.repeatability = EstimateRepeatability(recording);
-  result.start = InitialEstimate(spec, recording, data);
+  result.repeatability = solved ? solved->repeatability : EstimateRepeatability(recording);
+  result.noise =
+      solved ? solved->noise : BuildNoiseModel(recording, spec.noise, result.repeatability);
+  result.start = solved ? solved->start : InitialEstimate(spec, recording, data);
   clock.Lap("start");
 
   Progress::Note("fitting " + std::to_string(data.tools.size()) + " target observations (" +
                  CameraModelName(spec.camera_model) + ", " + ResidualFormName(spec.residual) +
                  " residual)");
-  Fit fit = FitWithSigma(spec, recording, data, result.start, make_solver, &result.noise);
+  Fit fit = FitWithSigma(spec, recording, data, result.start, make_solver, &result.noise,
+                         solved ? &solved->fit : nullptr);
   result.solver = fit.summary;
   result.unidentifiable = fit.unidentifiable;
   result.estimate = ReadEstimate(spec, *fit.assembled);
@@ -426,8 +435,11 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   // answer, untouched.
   StageClock clock;
   std::vector<Outlier> outliers;
+  std::unique_ptr<LeastSquaresFit> solved;  // the plain fit's first solve, when it is
   if (spec.outlier_test == OutlierTest::kRobust) {
-    outliers = FindOutliersByRobustFit(spec, recording, make_solver);
+    RobustFirstFit robust = FindOutliersByRobustFit(spec, recording, make_solver);
+    outliers = std::move(robust.outliers);
+    if (outliers.empty()) solved = std::move(robust.least_squares);
     clock.Lap("robust_first_fit");
   }
   if (!outliers.empty()) {
@@ -436,7 +448,7 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   }
   Recording kept = outliers.empty() ? Recording{} : WithoutOutliers(recording, outliers);
   const Recording& first = outliers.empty() ? recording : kept;
-  WorkcellResult result = IdentifyOnce(spec, first, make_solver);
+  WorkcellResult result = IdentifyOnce(spec, first, make_solver, std::move(solved));
   result.stages.insert(result.stages.begin(), clock.stages().begin(), clock.stages().end());
   if (outliers.empty()) kept = recording;
   const int passes = spec.outlier_test == OutlierTest::kOff ? 0 : 2;

@@ -8,6 +8,7 @@
 #include "chain_cost.h"
 #include "effect_chain_cost.h"
 #include "effect_residuals.h"
+#include "forward_memo.h"
 #include "jet_costs.h"
 #include "joint_space_residual.h"
 #include "workcell_residuals.h"
@@ -103,6 +104,18 @@ ResidualInfo InfoFor(const Recording& recording, int observation, ResidualInfo::
   return info;
 }
 
+// Each capture's forward kinematics, shared by every block that reads it (forward_memo.h): by
+// robot model and joint values (their address: a capture's, for as long as the data live).
+using ForwardMemos =
+    std::map<std::pair<const RobotModel*, const double*>, std::shared_ptr<ForwardMemo>>;
+
+std::shared_ptr<ForwardMemo> MemoFor(const RobotModel* model, const double* q,
+                                     ForwardMemos* memos) {
+  auto& memo = (*memos)[{model, q}];
+  if (!memo) memo = std::make_shared<ForwardMemo>(model, q);
+  return memo;
+}
+
 // Everything one carried-target measurement's residuals need.
 struct ToolContext {
   const WorkcellProblem& spec;
@@ -114,7 +127,19 @@ struct ToolContext {
   std::vector<int> blocks;   // base, tool, [camera]
   bool static_camera = false;
   bool model_free = false;
+  ForwardMemos* memos = nullptr;
+  std::shared_ptr<const FrameRefs> shared_refs;  // `refs`, shared by the blocks of its frames
 };
+
+// One FrameRefs per combination of frame blocks (ChainCost's shared constructor): by block ids.
+using SharedRefs = std::map<std::vector<int>, std::shared_ptr<const FrameRefs>>;
+
+std::shared_ptr<const FrameRefs> Shared(const std::vector<int>& blocks, const FrameRefs& refs,
+                                        SharedRefs* shared) {
+  auto& entry = (*shared)[blocks];
+  if (!entry) entry = std::make_shared<const FrameRefs>(refs);
+  return entry;
+}
 
 // The blocks of a Jet chain residual, as JetChainLayout orders them (held frames left out).
 std::vector<int> JetBlocks(const ToolContext& c, const AssembledWorkcell& out) {
@@ -196,9 +221,11 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
     blocks->push_back(out->model_block[c.m.robot]);
     blocks->insert(blocks->end(), effect_blocks.begin(), effect_blocks.end());
     if (AllMeasurementEffects(effects)) {  // analytic but for the measurement stage
+      auto forward = MemoFor(robot.model.get(), context.q, c.memos);
       return std::make_unique<EffectChainCost>(comparison, c.refs, robot.model.get(), context,
                                                c.static_camera, c.m.T_cam_world, effects,
-                                               BlockSizes(out->problem, effect_blocks));
+                                               BlockSizes(out->problem, effect_blocks),
+                                               std::move(forward));
     }
     return OnJets(new EffectChainResidual(comparison, c.refs, robot.model.get(), context,
                                           c.static_camera, c.m.T_cam_world, effects),
@@ -210,15 +237,16 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
                           c.m.T_cam_world, out->problem, *blocks);
   }
   Pose T_base_flange;
-  if (!robot.model->Forward(sample.q.data(), c.start.model.at(robot.name).data(),
-                            &T_base_flange)) {
+  if (!MemoFor(robot.model.get(), sample.q.data(), c.memos)
+           ->Forward(c.start.model.at(robot.name).data(), &T_base_flange, nullptr)) {
     throw InputError({c.recording.folder + "/samples.csv", sample.line, 0},
                      "robot '" + robot.name + "' has no pose for sample " +
                          std::to_string(sample.id),
                      "Check the joint values against the robot model");
   }
   const ChainBlocks chain{/*base=*/true, /*tool=*/true, /*camera=*/c.static_camera};
-  return std::make_unique<ChainCost>(comparison, c.refs, chain, T_base_flange, c.m.T_cam_world);
+  return std::make_unique<ChainCost>(comparison, c.shared_refs, chain, T_base_flange,
+                                     c.m.T_cam_world);
 }
 
 bool BlockHeld(const AssembledWorkcell& out, int block) {
@@ -241,6 +269,8 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
                       const WorkcellEstimate& start, const std::set<int>& poses,
                       AssembledWorkcell* out) {
   const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
+  ForwardMemos memos;
+  SharedRefs shared_refs;
   for (const ToolMeasurement& m : data.tools) {
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
@@ -248,6 +278,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     ToolContext c{spec, recording, data, start, m};
     c.static_camera = static_cameras;
     c.model_free = ModelFree(*out, m.robot);
+    c.memos = &memos;
     c.blocks = {out->base_block[m.robot], out->tool_block[m.robot][m.tool]};
     c.refs.world_base = out->R_ref.at(c.blocks[0]);
     if (BlockHeld(*out, c.blocks[0])) {
@@ -262,6 +293,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
       c.blocks.push_back(out->camera_block.at(obs.camera));
       c.refs.world_cam = out->R_ref.at(c.blocks[2]);
     }
+    c.shared_refs = Shared(c.blocks, c.refs, &shared_refs);
     const TargetNoise& sigma = noise.at(obs.camera, obs.target);
     if (spec.residual == ResidualForm::kJointSpace) {
       std::vector<int> blocks = c.blocks;
@@ -293,6 +325,7 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
   std::vector<const Effect*> effects;
   std::vector<int> effect_blocks;
   ChainEffects(spec, *out, "", &effects, &effect_blocks);
+  SharedRefs shared_refs;
   for (int index : data.world_observations) {
     const Observation& obs = recording.observations[index];
     const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
@@ -319,8 +352,8 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
         FrameRefs refs;
         refs.world_cam = out->R_ref.at(camera);
         const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
-        cost = std::make_unique<ChainCost>(comparison, refs, camera_only, Pose::Identity(),
-                                           Pose::Identity());
+        cost = std::make_unique<ChainCost>(comparison, Shared({camera}, refs, &shared_refs),
+                                           camera_only, Pose::Identity(), Pose::Identity());
       }
       out->problem.AddResidual(
           std::move(cost), blocks,

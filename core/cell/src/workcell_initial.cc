@@ -133,12 +133,13 @@ void InitialBaseAndTools(const WorkcellRobot& robot, const std::vector<RobotPoin
   std::vector<Eigen::Vector3d> world;
   for (const auto& p : points) world.push_back(p.p_world);
   const TranslationStep step(robot, points);
+  const RigidFitOnto onto_world(world);
 
   for (int round = 0; round < 50; ++round) {
     if (!robot.base_start) {
       std::vector<Eigen::Vector3d> in_base;
       for (const auto& p : points) in_base.push_back(p.T_base_flange * tool_t[p.tool]);
-      const auto fit = FitRigidTransform(in_base, world);
+      const auto fit = onto_world.Fit(in_base);
       if (!fit) break;
       T_world_base = *fit;
     }

@@ -128,7 +128,11 @@ NoiseModel DetectionAccuracy(const Recording& recording) {
 }
 
 NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec) {
-  const NoiseModel repeats = EstimateRepeatability(recording);
+  return BuildNoiseModel(recording, spec, EstimateRepeatability(recording));
+}
+
+NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec,
+                           const NoiseModel& repeats) {
   const NoiseModel detections = DetectionAccuracy(recording);
   NoiseModel model;
   for (const auto& camera : recording.cameras) {

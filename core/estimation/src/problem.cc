@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace cellmetry {
 
@@ -111,20 +112,27 @@ void Problem::SetWhitenedRobustLoss(RobustLossKind kind, std::vector<double> whi
 void Problem::Build() {
   losses_.clear();
   prior_costs_.clear();
+  prior_blocks_.clear();
   infos_.resize(num_measurement_residuals_);  // priors are re-derived below
   rows_.clear();
   evaluation_order_.clear();
   evaluation_losses_.clear();
   num_residuals_ = 0;
 
+  evaluation_order_.reserve(residuals_.size());
+  evaluation_losses_.reserve(residuals_.size());
+  rows_.reserve(residuals_.size());
   auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss,
                  const std::vector<int>& block_ids) {
-    evaluation_order_.emplace_back(cost, block_ids);
+    evaluation_order_.emplace_back(cost, &block_ids);
     evaluation_losses_.push_back(loss);
     rows_.push_back(num_residuals_);
     num_residuals_ += cost->num_residuals();
   };
 
+  // One loss object per scale: the blocks of a group share their scale (RobustScales), and
+  // 22,500 of them each allocating its own was a third of a Build.
+  std::map<double, ceres::LossFunction*> loss_of_scale;
   for (size_t i = 0; i < residuals_.size(); ++i) {
     ceres::LossFunction* loss = nullptr;
     double scale = 0.0;
@@ -134,12 +142,16 @@ void Problem::Build() {
       scale = loss_whitened_scale_[i];
     }
     if (loss_kind_ != RobustLossKind::kNone && std::isfinite(scale) && scale > 0.0) {
-      if (loss_kind_ == RobustLossKind::kHuber) {
-        losses_.push_back(std::make_unique<ceres::HuberLoss>(scale));
-      } else {
-        losses_.push_back(std::make_unique<ceres::CauchyLoss>(scale));
+      ceres::LossFunction*& shared = loss_of_scale[scale];
+      if (shared == nullptr) {
+        if (loss_kind_ == RobustLossKind::kHuber) {
+          losses_.push_back(std::make_unique<ceres::HuberLoss>(scale));
+        } else {
+          losses_.push_back(std::make_unique<ceres::CauchyLoss>(scale));
+        }
+        shared = losses_.back().get();
       }
-      loss = losses_.back().get();
+      loss = shared;
     }
     add(residuals_[i].cost.get(), loss, residuals_[i].blocks);
   }
@@ -160,7 +172,8 @@ void Problem::Build() {
         prior_costs_.push_back(std::make_unique<PriorCost>(static_cast<int>(block.params.size()),
                                                            static_cast<int>(i), p.nominal,
                                                            *p.prior_sigma));
-        add(prior_costs_.back().get(), nullptr, {static_cast<int>(b)});
+        prior_blocks_.push_back({static_cast<int>(b)});
+        add(prior_costs_.back().get(), nullptr, prior_blocks_.back());
         ResidualInfo info;
         info.kind = ResidualInfo::Kind::kPrior;
         info.target = block.name + "." + p.name;
@@ -190,7 +203,8 @@ void Problem::BuildCeres() {
   variable_blocks_.clear();
   std::vector<double*> pointers;
   for (size_t k = 0; k < evaluation_order_.size(); ++k) {
-    const auto& [cost, block_ids] = evaluation_order_[k];
+    const auto& [cost, ids] = evaluation_order_[k];
+    const std::vector<int>& block_ids = *ids;
     pointers.clear();
     for (int b : block_ids) pointers.push_back(values(b));
     residual_ids_.push_back(
@@ -298,14 +312,15 @@ void Problem::BuildSparseLayout() {
   const int num_blocks = static_cast<int>(evaluation_order_.size());
   size_t count = 0;  // every residual block's free entries: reserved once, not grown
   for (const auto& [cost, block_ids] : evaluation_order_) {
-    for (int b : block_ids) count += free_column_[b].size();
+    for (int b : *block_ids) count += free_column_[b].size();
   }
   sparse_entries_.clear();
   sparse_entries_.reserve(count);
   sparse_entry_start_.assign(num_blocks + 1, 0);
   sparse_row_start_.assign(num_residuals_ + 1, 0);
   for (int k = 0; k < num_blocks; ++k) {
-    const auto& [cost, block_ids] = evaluation_order_[k];
+    const auto& [cost, ids] = evaluation_order_[k];
+    const std::vector<int>& block_ids = *ids;
     const size_t first = sparse_entries_.size();
     for (size_t slot = 0; slot < block_ids.size(); ++slot) {
       const auto& free_column = free_column_[block_ids[slot]];
@@ -348,7 +363,8 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
     std::vector<std::vector<double>> block_jacobians;
     std::vector<double*> jacobian_pointers;
     for (int k = range.begin(); k != range.end() && valid; ++k) {
-      const auto& [cost, block_ids] = evaluation_order_[k];
+      const auto& [cost, ids] = evaluation_order_[k];
+      const std::vector<int>& block_ids = *ids;
       const int num_rows = cost->num_residuals();
       parameters.clear();
       block_jacobians.resize(block_ids.size());
@@ -406,14 +422,15 @@ struct ColumnLayout {
 };
 
 ColumnLayout LayOutColumns(
-    const std::vector<std::pair<ceres::CostFunction*, std::vector<int>>>& evaluation_order,
+    const std::vector<std::pair<ceres::CostFunction*, const std::vector<int>*>>& evaluation_order,
     const std::vector<std::vector<int>>& free_column, const std::vector<int>& first_row,
     int num_residuals, const std::vector<bool>& asked, const std::vector<int>& renumbered) {
   ColumnLayout out;
   out.entries_of.resize(evaluation_order.size());
   out.row_start.assign(num_residuals + 1, 0);
   for (size_t k = 0; k < evaluation_order.size(); ++k) {
-    const auto& [cost, block_ids] = evaluation_order[k];
+    const auto& [cost, ids] = evaluation_order[k];
+    const std::vector<int>& block_ids = *ids;
     for (size_t slot = 0; slot < block_ids.size(); ++slot) {
       if (!asked[block_ids[slot]]) continue;
       const auto& columns = free_column[block_ids[slot]];
@@ -458,7 +475,8 @@ bool Problem::EvaluateSparseColumns(const std::vector<int>& blocks, SparseJacobi
     std::vector<double> residuals;
     for (int k = range.begin(); k != range.end() && valid; ++k) {
       if (layout.entries_of[k].empty()) continue;  // reads none of the blocks asked for
-      const auto& [cost, block_ids] = evaluation_order_[k];
+      const auto& [cost, ids] = evaluation_order_[k];
+      const std::vector<int>& block_ids = *ids;
       const int num_rows = cost->num_residuals();
       parameters.clear();
       block_jacobians.resize(block_ids.size());

@@ -14,4 +14,17 @@ namespace cellmetry {
 std::optional<Pose> FitRigidTransform(const std::vector<Eigen::Vector3d>& from,
                                       const std::vector<Eigen::Vector3d>& to);
 
+// FitRigidTransform onto the same `to` again and again (the closed-form start's alternation fits
+// its base afresh each round onto the same world points): `to` is copied and checked once, not
+// in every round. The same answers.
+class RigidFitOnto {
+ public:
+  explicit RigidFitOnto(const std::vector<Eigen::Vector3d>& to);
+  std::optional<Pose> Fit(const std::vector<Eigen::Vector3d>& from) const;
+
+ private:
+  Eigen::Matrix3Xd to_;
+  bool usable_ = false;  // finite and not all on one line
+};
+
 }  // namespace cellmetry

@@ -60,5 +60,9 @@ NoiseModel DetectionAccuracy(const Recording& recording);
 // The sigma used for fitting: job values, else detections or repeatability (floored), else
 // "unknown" (1 mm, 1e-3 rad, to be re-estimated from residuals).
 NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec);
+// The same from `repeats`, EstimateRepeatability(recording) made already (an identification
+// reports it too: once, not twice; on exp_a each was 1 % of the identification).
+NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec,
+                           const NoiseModel& repeats);
 
 }  // namespace cellmetry

@@ -17,6 +17,7 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Core>
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -128,9 +129,11 @@ class Problem {
   std::vector<double*> variable_blocks_;
   std::vector<FreeParameter> free_;
   std::vector<int> rows_;
-  // Per residual block (in rows_ order): its cost and parameter blocks; per block and entry,
-  // its column among the free parameters (-1: fixed).
-  std::vector<std::pair<ceres::CostFunction*, std::vector<int>>> evaluation_order_;
+  // Per residual block (in rows_ order): its cost and parameter blocks (pointing into
+  // residuals_ or prior_blocks_: Build makes them again after any change); per block and
+  // entry, its column among the free parameters (-1: fixed).
+  std::vector<std::pair<ceres::CostFunction*, const std::vector<int>*>> evaluation_order_;
+  std::deque<std::vector<int>> prior_blocks_;  // each prior's block, at a stable address
   std::vector<ceres::LossFunction*> evaluation_losses_;  // per residual block; null: none
   void BuildCeres();
   std::vector<std::vector<int>> free_column_;
