@@ -487,6 +487,10 @@ class Diagnoser {
                           const Fitted& with_cv, const Fitted& current) const {
     AcceptedEffect a;
     a.name = c.effect.name;
+    a.label = c.label;
+    a.site = c.site;
+    a.held_out_sigma_before = current.summary.held_out_sigma;
+    a.held_out_sigma_after = with_cv.summary.held_out_sigma;
     const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);
     a.description = c.effect.effect->Describe(values);
     a.aliases = chosen.aliases;
@@ -594,6 +598,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   }
   out.final = current.summary;
   out.final_fit = current.result;
+  GroupFindings(options, &out);
   // Without an accepted effect the model is the geometry, whose findings are already known.
   out.unexplained = diagnoser.Unexplained(
       current.summary,
