@@ -73,6 +73,11 @@ TEST(PhysicalFindings, AFurtherEffectAtTheSameSiteIsSeparateOnlyWithAMaterialSha
   EXPECT_EQ(j["findings"][1]["headline"], "cam1_depth");
   EXPECT_EQ(j["findings"][1]["residual_shape"][0], "cam1_radial");
   EXPECT_EQ(j["accepted"][4]["role"], "residual shape");
+
+  // A result made by hand, not grouped: the report groups it itself, and shows every effect.
+  DiagnosisResult ungrouped = r;
+  ungrouped.findings.clear();
+  EXPECT_EQ(DiagnosisReport(ungrouped), report);
 }
 
 TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {

@@ -84,9 +84,22 @@ void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstr
   }
 }
 
+// `r`, its accepted effects grouped into findings if whoever made it did not (a result built by
+// hand, not by DiagnoseWorkcell): every accepted effect is shown as part of some finding.
+const DiagnosisResult& Grouped(const DiagnosisResult& r, DiagnosisResult* storage) {
+  if (!r.findings.empty() || r.accepted.empty()) return r;
+  *storage = r;
+  DiagnosisOptions options;
+  options.min_group_share = r.min_group_share;
+  GroupFindings(options, storage);
+  return *storage;
+}
+
 }  // namespace
 
-std::string DiagnosisReport(const DiagnosisResult& r) {
+std::string DiagnosisReport(const DiagnosisResult& result) {
+  DiagnosisResult storage;
+  const DiagnosisResult& r = Grouped(result, &storage);
   std::ostringstream out;
   out << "Mismatch: " << Mm(r.geometric.rms_mm) << " RMS against a " << Mm(r.floor_rms_mm)
       << " floor (" << r.noise_source << "); chi-square/dof "
@@ -142,7 +155,9 @@ std::string DiagnosisReport(const DiagnosisResult& r) {
   return out.str();
 }
 
-nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
+nlohmann::json DiagnosisJson(const DiagnosisResult& result) {
+  DiagnosisResult storage;
+  const DiagnosisResult& r = Grouped(result, &storage);
   auto summary = [](const FitSummary& s) {
     return nlohmann::json{{"chi2", s.chi2},         {"dof", s.dof},
                           {"p_value", s.p_value},   {"rms_mm", s.rms_mm},
