@@ -299,6 +299,20 @@ struct ScoredRound {
   std::vector<Eigen::MatrixXd> unabsorbed_bases;  // orthonormal, outside the model's span
 };
 
+// The canonical correlation of the round's chosen candidate's unabsorbed signature with that of
+// every other testable candidate at its site (AcceptedEffect::site_correlations).
+std::map<std::string, double> SiteCorrelations(const ScoredRound& s, int chosen) {
+  std::map<std::string, double> out;
+  const std::string& site = s.testable[chosen]->site;
+  if (site.empty()) return out;
+  for (size_t c = 0; c < s.testable.size(); ++c) {
+    if (static_cast<int>(c) == chosen || s.testable[c]->site != site) continue;
+    out[s.testable[c]->effect.name] =
+        CanonicalCorrelation(s.unabsorbed_bases[chosen], s.unabsorbed_bases[c]);
+  }
+  return out;
+}
+
 // The steps of one diagnosis, over the data every step shares.
 class Diagnoser {
  public:
@@ -588,6 +602,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
       const CandidateEffect& c = *scored.testable[best];
       scored.round.accepted = chosen.name;
       out.accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
+      out.accepted.back().site_correlations = SiteCorrelations(scored, best);
       for (const auto& other : candidates) {  // its nested variants would repeat its parameters
         if (other.family_name() == c.family_name()) done.insert(other.effect.name);
       }

@@ -1,6 +1,7 @@
 // Physical findings (diagnosis.h, step 7): the accepted effects grouped by the site they act at,
 // each group headed by its best single description, each further member named as separate
-// physics only where it removes a material share of what the group removes.
+// physics only where it removes a material share of what the group removes or does not look
+// like the headline.
 #include <algorithm>
 #include <map>
 
@@ -44,6 +45,7 @@ void GroupFindings(const DiagnosisOptions& options, DiagnosisResult* result) {
   std::vector<AcceptedEffect>& accepted = result->accepted;
   result->findings.clear();
   result->min_group_share = options.min_group_share;
+  result->shape_correlation = options.shape_correlation;
   std::map<std::string, size_t> finding_of_site;
   for (size_t i = 0; i < accepted.size(); ++i) {
     const std::string& site = accepted[i].site;
@@ -71,12 +73,18 @@ void GroupFindings(const DiagnosisOptions& options, DiagnosisResult* result) {
       f.held_out_excess_removed += removed[m];
     }
     f.separate.clear();  // refilled with those that pass
+    const auto& correlations = accepted[f.headline].site_correlations;
     for (int m : members) {
       AcceptedEffect& a = accepted[m];
       a.group_share = f.held_out_excess_removed > 0 ? removed[m] / f.held_out_excess_removed : 0.0;
+      // Every later member was a testable candidate in the headline's round (an untestable one
+      // is never tried again); one missing there cannot be said to look like it.
+      const auto c = correlations.find(a.name);
+      a.headline_correlation = m == f.headline ? 1.0 : c != correlations.end() ? c->second : 0.0;
       if (m == f.headline) {
         a.role = "headline";
-      } else if (a.group_share >= options.min_group_share) {
+      } else if (a.group_share >= options.min_group_share ||
+                 a.headline_correlation < options.shape_correlation) {
         a.role = "separate";
         f.separate.push_back(m);
       } else {

@@ -13,7 +13,8 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   const ConfigNode d = root["diagnosis"];
   d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "folds", "max_effects", "min_poses",
                 "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed",
-                "alias_correlation", "min_explained_share", "min_group_share"});
+                "alias_correlation", "min_explained_share", "min_group_share",
+                "shape_correlation"});
   DiagnosisOptions& o = job.options;
   o.alpha = d.GetDouble("alpha", o.alpha);
   o.bootstrap = d.GetInt("bootstrap", o.bootstrap);
@@ -35,6 +36,11 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   if (!(o.min_group_share >= 0 && o.min_group_share <= 1)) {
     throw d["min_group_share"].Error("must be in [0, 1]",
                                      "0 names every effect at a site as separate physics");
+  }
+  o.shape_correlation = d.GetDouble("shape_correlation", o.shape_correlation);
+  if (!(o.shape_correlation >= 0 && o.shape_correlation <= 1)) {
+    throw d["shape_correlation"].Error("must be in [0, 1]",
+                                       "0 calls every small effect at a site its residual shape");
   }
   if (!(o.alpha > 0 && o.alpha < 1)) throw d["alpha"].Error("must be between 0 and 1");
   if (o.folds < 2) throw d["folds"].Error("needs at least 2 folds", "5 is usual");

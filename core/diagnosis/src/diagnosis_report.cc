@@ -69,17 +69,22 @@ void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstr
   for (int m : f.separate) {
     const AcceptedEffect& a = r.accepted[m];
     out << "  Also at " << f.site << ", separate physics: " << a.description << " (up to "
-        << Mm(a.peak_mm) << "; " << Fixed(100 * a.group_share, 0)
-        << " % of what the finding removes, at least " << Fixed(100 * r.min_group_share, 0)
-        << " %).\n";
+        << Mm(a.peak_mm) << "; " << Fixed(100 * a.group_share, 1) << " % of what the finding removes";
+    if (a.group_share >= r.min_group_share) {
+      out << ", at least " << Fixed(100 * r.min_group_share, 0) << " %).\n";
+    } else {
+      out << ", but unlike the physics above: correlation " << Fixed(a.headline_correlation, 2)
+          << " with its signature, under " << Fixed(r.shape_correlation, 2) << ").\n";
+    }
     Details(a, out);
   }
   for (int m : f.residual_shape) {
     const AcceptedEffect& a = r.accepted[m];
     out << "  Also fitted at " << f.site << ": " << a.label << " (up to " << Mm(a.peak_mm)
         << "), " << Fixed(100 * a.group_share, 1) << " % of what the finding removes, under "
-        << Fixed(100 * r.min_group_share, 0) << " %: the residual shape of the physics above "
-        << "(its real form differs from the library's), not separate physics.\n";
+        << Fixed(100 * r.min_group_share, 0) << " %, and like the physics above (correlation "
+        << Fixed(a.headline_correlation, 2) << "): its residual shape (its real form differs "
+        << "from the library's), not separate physics.\n";
     Details(a, out);
   }
 }
@@ -91,6 +96,7 @@ const DiagnosisResult& Grouped(const DiagnosisResult& r, DiagnosisResult* storag
   *storage = r;
   DiagnosisOptions options;
   options.min_group_share = r.min_group_share;
+  options.shape_correlation = r.shape_correlation;
   GroupFindings(options, storage);
   return *storage;
 }
@@ -230,6 +236,8 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& result) {
                       {"held_out_sigma_before", a.held_out_sigma_before},
                       {"held_out_sigma_after", a.held_out_sigma_after},
                       {"role", a.role}, {"group_share", a.group_share},
+                      {"headline_correlation", a.headline_correlation},
+                      {"site_correlations", a.site_correlations},
                       {"parameters", nlohmann::json::array()}};
     for (const auto& p : a.parameters) {
       ja["parameters"].push_back(
@@ -238,6 +246,7 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& result) {
     j["accepted"].push_back(ja);
   }
   j["min_group_share"] = r.min_group_share;
+  j["shape_correlation"] = r.shape_correlation;
   j["findings"] = nlohmann::json::array();
   for (const auto& f : r.findings) {
     auto names = [&r](const std::vector<int>& members) {

@@ -47,9 +47,13 @@
 //      the strongest single description refitted, the others at zero. A later member at the
 //      same site is separate physics only if it removes at least `min_group_share` of the
 //      held-out excess the whole group removes (mean square in sigmas, each member's gain at
-//      its own acceptance); otherwise it is the residual shape of the headline's physics (a
-//      stiffening spring fitted as compliance leaves a misfit a tenth of its size, and the
-//      gear error of the same joint soaks it up): reported with the finding, not as physics.
+//      its own acceptance), or if, smaller, its signature is unlike the headline's (canonical
+//      correlation below `shape_correlation` of what the geometry leaves of the two, in the
+//      headline's round: a backlash beside a compliance). Otherwise it is the residual shape
+//      of the headline's physics (a stiffening spring fitted as compliance leaves a misfit a
+//      few percent of its size, a function of the same load, and the gear error of the same
+//      joint, which looks like the compliance, soaks it up): reported with the finding, not as
+//      physics. What is fitted does not change.
 //
 // Candidates (default): for every robot joint, joint_compliance, backlash, transmission_error
 // (harmonic 1, harmonic 2, and all of 1, 2 and the configured gear harmonics together) and
@@ -90,6 +94,8 @@ struct DiagnosisOptions {
   double min_group_share = 0.1;    // of the held-out excess its site's finding removes, a
                                    // further effect at the same site must remove to be named
                                    // as separate physics (step 7)
+  double shape_correlation = 0.5;  // ... unless unlike the headline: below this correlation
+                                   // with its signature, a smaller effect is separate too
   int max_effects = 4;
   int min_poses = 20;              // fewer: too few samples for the tests
   std::vector<double> link_masses_kg;  // gravity-torque regressor (default 1 kg per link)
@@ -194,6 +200,11 @@ struct AcceptedEffect {
   // or "residual shape" (did not); and the share of the group's held-out excess it removed.
   std::string role = "headline";
   double group_share = 1.0;
+  double headline_correlation = 1.0;  // its signature's with the headline's (site_correlations)
+  // In the round it was accepted, the canonical correlation of what the model then (geometry
+  // and the effects accepted before) leaves of its signature with what it leaves of every other
+  // testable candidate at its site, by candidate name.
+  std::map<std::string, double> site_correlations;
 };
 
 // Accepted effects at one site, as one physical finding (step 7); indices into
@@ -228,7 +239,8 @@ struct DiagnosisResult {
   std::vector<DiagnosisRound> rounds;
   std::vector<AcceptedEffect> accepted;
   std::vector<PhysicalFinding> findings;     // the accepted effects grouped by site (step 7)
-  double min_group_share = 0.1;              // the options' (the report states it)
+  double min_group_share = 0.1;              // the options' (the report states them)
+  double shape_correlation = 0.5;
   std::string unexplained;                   // "" or where structure remains, in words
   WorkcellResult final_fit;
 };
