@@ -61,8 +61,9 @@ void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstr
   out << "Left out: " << head.description << " (up to " << Mm(head.peak_mm) << " at the tool)";
   const size_t members = 1 + f.separate.size() + f.residual_shape.size();
   if (members > 1) {
-    out << "; one finding at " << f.site << " with what follows, this alone "
-        << Fixed(100 * head.group_share, 0) << " % of what it removes from the held-out excess";
+    out << "; one finding at " << f.site << " with the effects below (this one removes "
+        << Fixed(100 * head.group_share, 1) << " % of what they remove together from the "
+        << "held-out excess)";
   }
   out << ".\n";
   Details(head, out);
