@@ -299,6 +299,20 @@ struct ScoredRound {
   std::vector<Eigen::MatrixXd> unabsorbed_bases;  // orthonormal, outside the model's span
 };
 
+// The canonical correlation of the round's chosen candidate's unabsorbed signature with that of
+// every other testable candidate at its site (AcceptedEffect::site_correlations).
+std::map<std::string, double> SiteCorrelations(const ScoredRound& s, int chosen) {
+  std::map<std::string, double> out;
+  const std::string& site = s.testable[chosen]->site;
+  if (site.empty()) return out;
+  for (size_t c = 0; c < s.testable.size(); ++c) {
+    if (static_cast<int>(c) == chosen || s.testable[c]->site != site) continue;
+    out[s.testable[c]->effect.name] =
+        CanonicalCorrelation(s.unabsorbed_bases[chosen], s.unabsorbed_bases[c]);
+  }
+  return out;
+}
+
 // The steps of one diagnosis, over the data every step shares.
 class Diagnoser {
  public:
@@ -487,6 +501,10 @@ class Diagnoser {
                           const Fitted& with_cv, const Fitted& current) const {
     AcceptedEffect a;
     a.name = c.effect.name;
+    a.label = c.label;
+    a.site = c.site;
+    a.held_out_sigma_before = current.summary.held_out_sigma;
+    a.held_out_sigma_after = with_cv.summary.held_out_sigma;
     const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);
     a.description = c.effect.effect->Describe(values);
     a.aliases = chosen.aliases;
@@ -584,6 +602,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
       const CandidateEffect& c = *scored.testable[best];
       scored.round.accepted = chosen.name;
       out.accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
+      out.accepted.back().site_correlations = SiteCorrelations(scored, best);
       for (const auto& other : candidates) {  // its nested variants would repeat its parameters
         if (other.family_name() == c.family_name()) done.insert(other.effect.name);
       }
@@ -594,6 +613,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   }
   out.final = current.summary;
   out.final_fit = current.result;
+  GroupFindings(options, &out);
   // Without an accepted effect the model is the geometry, whose findings are already known.
   out.unexplained = diagnoser.Unexplained(
       current.summary,

@@ -18,6 +18,7 @@ CandidateEffect Make(const std::string& yaml, const std::string& name, const Wor
   c.effect.config = config.FlowText();
   c.label = label;
   c.data_hint = hint;
+  c.site = CandidateSite(config, robot.name);
   return c;
 }
 

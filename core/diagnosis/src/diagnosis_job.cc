@@ -13,7 +13,8 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   const ConfigNode d = root["diagnosis"];
   d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "folds", "max_effects", "min_poses",
                 "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed",
-                "alias_correlation", "min_explained_share"});
+                "alias_correlation", "min_explained_share", "min_group_share",
+                "shape_correlation"});
   DiagnosisOptions& o = job.options;
   o.alpha = d.GetDouble("alpha", o.alpha);
   o.bootstrap = d.GetInt("bootstrap", o.bootstrap);
@@ -30,6 +31,16 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   o.min_explained_share = d.GetDouble("min_explained_share", o.min_explained_share);
   if (!(o.min_explained_share >= 0 && o.min_explained_share < 1)) {
     throw d["min_explained_share"].Error("must be in [0, 1)", "0 turns the test off");
+  }
+  o.min_group_share = d.GetDouble("min_group_share", o.min_group_share);
+  if (!(o.min_group_share >= 0 && o.min_group_share <= 1)) {
+    throw d["min_group_share"].Error("must be in [0, 1]",
+                                     "0 names every effect at a site as separate physics");
+  }
+  o.shape_correlation = d.GetDouble("shape_correlation", o.shape_correlation);
+  if (!(o.shape_correlation >= 0 && o.shape_correlation <= 1)) {
+    throw d["shape_correlation"].Error("must be in [0, 1]",
+                                       "0 calls every small effect at a site its residual shape");
   }
   if (!(o.alpha > 0 && o.alpha < 1)) throw d["alpha"].Error("must be between 0 and 1");
   if (o.folds < 2) throw d["folds"].Error("needs at least 2 folds", "5 is usual");
@@ -66,6 +77,7 @@ std::vector<CandidateEffect> JobCandidates(const DiagnosisJob& job, const Record
     c.label = c.effect.effect->Describe(std::vector<double>(c.effect.effect->parameters().size()));
     c.label = c.label.substr(0, c.label.find(':'));
     c.data_hint = "poses that separate it from the geometry";
+    c.site = CandidateSite(config, robot.name);
     out.push_back(c);
   }
   return out;

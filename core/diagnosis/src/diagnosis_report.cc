@@ -43,9 +43,70 @@ std::string Value(const ScalarEstimate& s) {
   return b;
 }
 
+// One accepted effect's aliases and parameters, indented.
+void Details(const AcceptedEffect& a, std::ostringstream& out) {
+  if (!a.aliases.empty()) {
+    out << "  In these poses it is indistinguishable from";
+    for (size_t i = 0; i < a.aliases.size(); ++i) out << (i ? "," : "") << " " << a.aliases[i];
+    out << "; poses that tell them apart would settle which.\n";
+  }
+  for (const auto& p : a.parameters) out << "  " << Value(p) << "\n";
+}
+
+// One physical finding (diagnosis.h, step 7): its headline, then the further effects fitted at
+// the same site, each as separate physics or as the headline physics' residual shape, with the
+// share of the group's held-out excess that decided it.
+void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstream& out) {
+  const AcceptedEffect& head = r.accepted[f.headline];
+  out << "Left out: " << head.description << " (up to " << Mm(head.peak_mm) << " at the tool)";
+  const size_t members = 1 + f.separate.size() + f.residual_shape.size();
+  if (members > 1) {
+    out << "; one finding at " << f.site << " with the effects below (this one removes "
+        << Fixed(100 * head.group_share, 1) << " % of what they remove together from the "
+        << "held-out excess)";
+  }
+  out << ".\n";
+  Details(head, out);
+  for (int m : f.separate) {
+    const AcceptedEffect& a = r.accepted[m];
+    out << "  Also at " << f.site << ", separate physics: " << a.description << " (up to "
+        << Mm(a.peak_mm) << "; " << Fixed(100 * a.group_share, 1) << " % of what the finding removes";
+    if (a.group_share >= r.min_group_share) {
+      out << ", at least " << Fixed(100 * r.min_group_share, 0) << " %).\n";
+    } else {
+      out << ", but unlike the physics above: correlation " << Fixed(a.headline_correlation, 2)
+          << " with its signature, under " << Fixed(r.shape_correlation, 2) << ").\n";
+    }
+    Details(a, out);
+  }
+  for (int m : f.residual_shape) {
+    const AcceptedEffect& a = r.accepted[m];
+    out << "  Also fitted at " << f.site << ": " << a.label << " (up to " << Mm(a.peak_mm)
+        << "), " << Fixed(100 * a.group_share, 1) << " % of what the finding removes, under "
+        << Fixed(100 * r.min_group_share, 0) << " %, and like the physics above (correlation "
+        << Fixed(a.headline_correlation, 2) << "): its residual shape (its real form differs "
+        << "from the library's), not separate physics.\n";
+    Details(a, out);
+  }
+}
+
+// `r`, its accepted effects grouped into findings if whoever made it did not (a result built by
+// hand, not by DiagnoseWorkcell): every accepted effect is shown as part of some finding.
+const DiagnosisResult& Grouped(const DiagnosisResult& r, DiagnosisResult* storage) {
+  if (!r.findings.empty() || r.accepted.empty()) return r;
+  *storage = r;
+  DiagnosisOptions options;
+  options.min_group_share = r.min_group_share;
+  options.shape_correlation = r.shape_correlation;
+  GroupFindings(options, storage);
+  return *storage;
+}
+
 }  // namespace
 
-std::string DiagnosisReport(const DiagnosisResult& r) {
+std::string DiagnosisReport(const DiagnosisResult& result) {
+  DiagnosisResult storage;
+  const DiagnosisResult& r = Grouped(result, &storage);
   std::ostringstream out;
   out << "Mismatch: " << Mm(r.geometric.rms_mm) << " RMS against a " << Mm(r.floor_rms_mm)
       << " floor (" << r.noise_source << "); chi-square/dof "
@@ -56,15 +117,7 @@ std::string DiagnosisReport(const DiagnosisResult& r) {
     out << "It follows " << f.regressor << " (" << f.axis << " residuals, partial correlation "
         << std::to_string(f.partial_correlation).substr(0, 5) << ").\n";
   }
-  for (const auto& a : r.accepted) {
-    out << "Left out: " << a.description << " (up to " << Mm(a.peak_mm) << " at the tool).\n";
-    if (!a.aliases.empty()) {
-      out << "  In these poses it is indistinguishable from";
-      for (size_t i = 0; i < a.aliases.size(); ++i) out << (i ? "," : "") << " " << a.aliases[i];
-      out << "; poses that tell them apart would settle which.\n";
-    }
-    for (const auto& p : a.parameters) out << "  " << Value(p) << "\n";
-  }
+  for (const auto& f : r.findings) Finding(r, f, out);
   if (!r.accepted.empty()) {
     out << "Held-out RMS " << Mm(r.geometric.held_out_rms_mm) << " -> "
         << Mm(r.final.held_out_rms_mm) << " (positions), " << Fixed(r.geometric.held_out_sigma, 2)
@@ -109,7 +162,9 @@ std::string DiagnosisReport(const DiagnosisResult& r) {
   return out.str();
 }
 
-nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
+nlohmann::json DiagnosisJson(const DiagnosisResult& result) {
+  DiagnosisResult storage;
+  const DiagnosisResult& r = Grouped(result, &storage);
   auto summary = [](const FitSummary& s) {
     return nlohmann::json{{"chi2", s.chi2},         {"dof", s.dof},
                           {"p_value", s.p_value},   {"rms_mm", s.rms_mm},
@@ -176,14 +231,35 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& r) {
   }
   j["accepted"] = nlohmann::json::array();
   for (const auto& a : r.accepted) {
-    nlohmann::json ja{{"name", a.name}, {"description", a.description}, {"peak_mm", a.peak_mm},
+    nlohmann::json ja{{"name", a.name}, {"label", a.label}, {"site", a.site},
+                      {"description", a.description}, {"peak_mm", a.peak_mm},
                       {"aliases", a.aliases},
+                      {"held_out_sigma_before", a.held_out_sigma_before},
+                      {"held_out_sigma_after", a.held_out_sigma_after},
+                      {"role", a.role}, {"group_share", a.group_share},
+                      {"headline_correlation", a.headline_correlation},
+                      {"site_correlations", a.site_correlations},
                       {"parameters", nlohmann::json::array()}};
     for (const auto& p : a.parameters) {
       ja["parameters"].push_back(
           {{"name", p.name}, {"unit", p.unit}, {"value", p.value}, {"sigma", p.sigma}});
     }
     j["accepted"].push_back(ja);
+  }
+  j["min_group_share"] = r.min_group_share;
+  j["shape_correlation"] = r.shape_correlation;
+  j["findings"] = nlohmann::json::array();
+  for (const auto& f : r.findings) {
+    auto names = [&r](const std::vector<int>& members) {
+      std::vector<std::string> out;
+      for (int m : members) out.push_back(r.accepted[m].name);
+      return out;
+    };
+    j["findings"].push_back({{"site", f.site},
+                             {"headline", r.accepted[f.headline].name},
+                             {"separate", names(f.separate)},
+                             {"residual_shape", names(f.residual_shape)},
+                             {"held_out_excess_removed", f.held_out_excess_removed}});
   }
   j["unexplained"] = r.unexplained;
   j["report"] = DiagnosisReport(r);

@@ -200,9 +200,11 @@ double Unabsorbed(const Jacobian& jac, const std::vector<int>& rows,
   return ProjectOut(Q, Jc).norm() / Jc.norm();
 }
 
-// Each geometry parameter's sigma at the floor from `rows` (infinite where undetermined).
-Eigen::VectorXd SigmaAtFloor(const Jacobian& jac, const std::vector<int>& rows) {
-  const Eigen::MatrixXd G = Rows(jac.J, rows, jac.geometry);
+// Each of `columns`' parameters' sigma at the floor from `rows`, fitted together (1e150 where
+// undetermined: the pseudo-inverse of a zero singular value).
+Eigen::VectorXd SigmaAtFloor(const Jacobian& jac, const std::vector<int>& rows,
+                             const std::vector<int>& columns) {
+  const Eigen::MatrixXd G = Rows(jac.J, rows, columns);
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(G, Eigen::ComputeThinV);
   const Eigen::VectorXd& s = svd.singularValues();
   Eigen::VectorXd variance = Eigen::VectorXd::Zero(G.cols());
@@ -290,6 +292,27 @@ std::vector<int> Targets(const Jacobian& jac, const std::vector<CandidateEffect>
   return out;
 }
 
+// What the plan predicts for one candidate: the share of its signature the geometry leaves,
+// and its parameters' sigma at the floor when fitted with the geometry (the finder's refit: an
+// absorbed candidate's sigma is the geometry's near-singular direction, large), before and after.
+PlannedEffect PlannedFor(const Jacobian& jac, const CandidateEffect& candidate,
+                         const std::vector<int>& own, const std::vector<int>& before_rows,
+                         const std::vector<int>& after_rows) {
+  PlannedEffect e{candidate.effect.name, candidate.label, Unabsorbed(jac, before_rows, own),
+                  Unabsorbed(jac, after_rows, own), {}};
+  std::vector<int> columns = jac.geometry;
+  columns.insert(columns.end(), own.begin(), own.end());
+  const Eigen::VectorXd before = SigmaAtFloor(jac, before_rows, columns);
+  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows, columns);
+  const std::vector<Parameter>& parameters = candidate.effect.effect->parameters();
+  for (size_t i = 0; i < own.size() && i < parameters.size(); ++i) {
+    const Eigen::Index k = static_cast<Eigen::Index>(jac.geometry.size() + i);
+    e.sigma.push_back({candidate.effect.name + "." + parameters[i].name, parameters[i].unit,
+                       before[k], after[k]});
+  }
+  return e;
+}
+
 }  // namespace
 
 PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
@@ -329,12 +352,11 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
     after_rows.insert(after_rows.end(), draw_rows[k].begin(), draw_rows[k].end());
   }
   for (int c : targets) {
-    plan.effects.push_back({candidates[c].effect.name, candidates[c].label,
-                            Unabsorbed(jac, recorded_rows, jac.candidate[c]),
-                            Unabsorbed(jac, after_rows, jac.candidate[c])});
+    plan.effects.push_back(PlannedFor(jac, candidates[c], jac.candidate[c], recorded_rows,
+                                      after_rows));
   }
-  const Eigen::VectorXd before = SigmaAtFloor(jac, recorded_rows);
-  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows);
+  const Eigen::VectorXd before = SigmaAtFloor(jac, recorded_rows, jac.geometry);
+  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows, jac.geometry);
   for (size_t i = 0; i < jac.geometry.size(); ++i) {
     plan.sigma.push_back({jac.names[i], jac.units[i], before[i], after[i]});
   }
@@ -351,6 +373,11 @@ std::string PosePlanReport(const PosePlan& plan) {
                   e.label.c_str(), 100 * e.unabsorbed_before, 100 * e.unabsorbed_after,
                   e.unabsorbed_after >= 0.05 ? " (testable)" : " (still untestable)");
     out << line;
+    for (const auto& p : e.sigma) {
+      std::snprintf(line, sizeof(line), "    %s: sigma %.2g -> %.2g %s\n", p.name.c_str(),
+                    p.before, p.after, p.unit.c_str());
+      out << line;
+    }
   }
   out << "  predicted sigma at the floor, before -> after:\n";
   for (const auto& s : plan.sigma) {

@@ -42,6 +42,18 @@
 //      effect among thousands of residual rows barely moves it)
 //   6. what remains: structured (a regressor still correlates with the residuals, Bonferroni
 //      at `alpha`, or the chi-square exceeds the floor) along the strongest regressor, or noise
+//   7. physical findings: accepted effects acting at the same site (one joint, one camera, one
+//      target) are one finding. Its headline is the member accepted first: in that round it was
+//      the strongest single description refitted, the others at zero. A later member at the
+//      same site is separate physics only if it removes at least `min_group_share` of the
+//      held-out excess the whole group removes (mean square in sigmas, each member's gain at
+//      its own acceptance), or if, smaller, its signature is unlike the headline's (canonical
+//      correlation below `shape_correlation` of what the geometry leaves of the two, in the
+//      headline's round: a backlash beside a compliance). Otherwise it is the residual shape
+//      of the headline's physics (a stiffening spring fitted as compliance leaves a misfit a
+//      few percent of its size, a function of the same load, and the gear error of the same
+//      joint, which looks like the compliance, soaks it up): reported with the finding, not as
+//      physics. What is fitted does not change.
 //
 // Candidates (default): for every robot joint, joint_compliance, backlash, transmission_error
 // (harmonic 1, harmonic 2, and all of 1, 2 and the configured gear harmonics together) and
@@ -79,6 +91,11 @@ struct DiagnosisOptions {
   double min_explained_share = 0.1;  // of the held-out excess over the floor an accepted effect
                                     // must remove, where the excess is beyond chance; less is
                                     // a sliver of something else, reported as unexplained
+  double min_group_share = 0.1;    // of the held-out excess its site's finding removes, a
+                                   // further effect at the same site must remove to be named
+                                   // as separate physics (step 7)
+  double shape_correlation = 0.5;  // ... unless unlike the headline: below this correlation
+                                   // with its signature, a smaller effect is separate too
   int max_effects = 4;
   int min_poses = 20;              // fewer: too few samples for the tests
   std::vector<double> link_masses_kg;  // gravity-torque regressor (default 1 kg per link)
@@ -96,7 +113,14 @@ struct CandidateEffect {
   // family, since they name the same physics on the same joint. Empty: effect.name.
   std::string family;
   const std::string& family_name() const { return family.empty() ? effect.name : family; }
+  // Where it acts, in words ("ur3 joint 3", "camera cam2", "target tool"): accepted effects at
+  // one site are one physical finding (step 7). Empty: a site of its own (thermal growth).
+  std::string site;
 };
+
+// The site (CandidateEffect::site) of an effect configured by `config` on `robot`: its one joint,
+// arm, camera or target; "" where it names none or several.
+std::string CandidateSite(const ConfigNode& config, const std::string& robot);
 
 // Another candidate whose unabsorbed signature this pose set can hardly tell apart from one's own.
 struct LookAlike {
@@ -162,12 +186,35 @@ struct SignaturePoint {
 
 struct AcceptedEffect {
   std::string name;
+  std::string label;                         // the candidate's ("joint 3 compliance")
+  std::string site;                          // CandidateEffect::site
   std::string description;                   // Effect::Describe at the estimate
   std::vector<ScalarEstimate> parameters;
   double peak_mm = 0.0;                      // largest tool displacement it predicts
   std::vector<std::string> aliases;          // candidates these poses cannot tell from it
   std::vector<std::string> alias_names;      // the same, by candidate name
   std::vector<SignaturePoint> signature;     // rows it moves by more than 1e-9 mm
+  // The model's held-out RMS in sigmas just before and after it was accepted (same folds).
+  double held_out_sigma_before = 0.0, held_out_sigma_after = 0.0;
+  // Its physical finding (step 7): "headline", "separate" (passed its test against the group)
+  // or "residual shape" (did not); and the share of the group's held-out excess it removed.
+  std::string role = "headline";
+  double group_share = 1.0;
+  double headline_correlation = 1.0;  // its signature's with the headline's (site_correlations)
+  // In the round it was accepted, the canonical correlation of what the model then (geometry
+  // and the effects accepted before) leaves of its signature with what it leaves of every other
+  // testable candidate at its site, by candidate name.
+  std::map<std::string, double> site_correlations;
+};
+
+// Accepted effects at one site, as one physical finding (step 7); indices into
+// DiagnosisResult::accepted, in the order they were accepted.
+struct PhysicalFinding {
+  std::string site;                          // "" for a headline of no single site
+  int headline = 0;
+  std::vector<int> separate;                 // passed their test against the group
+  std::vector<int> residual_shape;           // did not: the headline physics' shape
+  double held_out_excess_removed = 0.0;      // by the whole group (mean square in sigmas)
 };
 
 struct FitSummary {
@@ -191,6 +238,9 @@ struct DiagnosisResult {
   std::vector<CandidateFinding> untestable;
   std::vector<DiagnosisRound> rounds;
   std::vector<AcceptedEffect> accepted;
+  std::vector<PhysicalFinding> findings;     // the accepted effects grouped by site (step 7)
+  double min_group_share = 0.1;              // the options' (the report states them)
+  double shape_correlation = 0.5;
   std::string unexplained;                   // "" or where structure remains, in words
   WorkcellResult final_fit;
 };
@@ -201,6 +251,10 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
                                                const Recording& recording,
                                                const DiagnosisOptions& options,
                                                Registry& registry);
+
+// Groups `result`'s accepted effects into physical findings (step 7): fills `findings` and each
+// accepted effect's role and group share. DiagnoseWorkcell calls it.
+void GroupFindings(const DiagnosisOptions& options, DiagnosisResult* result);
 
 // Raises InputError (naming `origin`) for too few poses or no noise floor.
 DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& recording,

@@ -16,8 +16,9 @@
 // refactorization per candidate). A candidate whose signature the geometry absorbs leaves M
 // nearly singular along it, so its direction dominates the gain until it is determined: the
 // criterion makes it testable first and then spends the rest on the geometry. Predicted: the
-// share of each candidate's signature outside the geometry's span, and each free parameter's
-// sigma at the floor, before and after.
+// share of each candidate's signature outside the geometry's span, each of its parameters' sigma
+// at the floor fitted together with the geometry (what the finder's refit would give, before the
+// dispersion), and each free parameter's sigma at the floor, before and after.
 #pragma once
 
 #include <string>
@@ -43,15 +44,16 @@ struct PlannedPose {
   std::vector<std::string> cameras;  // that will see its target
 };
 
+struct PlannedSigma {
+  std::string name, unit;
+  double before = 0.0, after = 0.0;  // predicted sigma at the floor
+};
+
 struct PlannedEffect {
   std::string name, label;
   double unabsorbed_before = 0.0;    // share of its signature outside the geometry's span
   double unabsorbed_after = 0.0;
-};
-
-struct PlannedSigma {
-  std::string name, unit;
-  double before = 0.0, after = 0.0;  // predicted sigma at the floor
+  std::vector<PlannedSigma> sigma;   // its parameters, fitted with the geometry
 };
 
 struct PosePlan {
