@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <functional>
 #include <set>
+#include <tuple>
 
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell.h"
@@ -145,6 +146,27 @@ TEST_F(Outliers, TenPercentOnTheToolMoveNothingByMoreThanItsCleanSigma) {
               "fit's test %.1f, robust first fit %.2f\n", bad.size(), clean_.samples.size(), off,
               plain, LargestMoveInSigma(clean, robust));
   ExpectFound(clean, robust, bad);
+}
+
+// residuals.csv numbers each row by its observation in the user's recording, also when some
+// were left out as outliers (the fit ran on fewer): each row names the sample, camera and
+// target of the observation it points at, and none points at an outlier.
+TEST_F(Outliers, ResidualRowsPointAtTheRecordingsObservations) {
+  std::set<int> bad;
+  const Recording corrupted = Corrupted("tool", 10, Plus20MmInX, &bad);
+  const WorkcellResult r = Identify(corrupted);
+  ASSERT_FALSE(r.outliers.empty());
+  std::set<std::tuple<int, std::string, std::string>> left_out;  // built in memory: no lines
+  for (const auto& o : r.outliers) left_out.insert({o.sample, o.camera, o.target});
+  for (const ResidualRow& row : r.residuals) {
+    ASSERT_LT(size_t(row.observation), corrupted.observations.size());
+    const Observation& obs = corrupted.observations[row.observation];
+    ASSERT_EQ(obs.sample, row.sample);
+    ASSERT_EQ(obs.camera, row.camera);
+    ASSERT_EQ(obs.target, row.target);
+    ASSERT_FALSE(left_out.count({obs.sample, obs.camera, obs.target}))
+        << "row points at an outlier: sample " << obs.sample << " " << obs.camera;
+  }
 }
 
 TEST_F(Outliers, TenPercentOnTheWorldBoardMoveNothingByMoreThanItsCleanSigma) {

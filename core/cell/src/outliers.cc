@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <sstream>
 #include <tuple>
 
@@ -106,6 +107,25 @@ Recording WithoutOutliers(const Recording& recording, const std::vector<Outlier>
     if (!gone) out.observations.push_back(obs);
   }
   return out;
+}
+
+void NumberByOriginal(const Recording& original, const Recording& kept,
+                      std::vector<ResidualRow>* rows) {
+  std::vector<int> index_in_original(kept.observations.size());
+  size_t at = 0;
+  for (size_t k = 0; k < kept.observations.size(); ++k) {
+    const Observation& obs = kept.observations[k];
+    auto same = [&](const Observation& o) {
+      return o.line == obs.line && o.sample == obs.sample && o.camera == obs.camera &&
+             o.target == obs.target;
+    };
+    while (at < original.observations.size() && !same(original.observations[at])) ++at;
+    if (at == original.observations.size()) {
+      throw std::logic_error("NumberByOriginal: an observation kept is not in the original");
+    }
+    index_in_original[k] = static_cast<int>(at++);
+  }
+  for (ResidualRow& row : *rows) row.observation = index_in_original.at(row.observation);
 }
 
 std::string OutliersCsv(const std::vector<Outlier>& outliers) {

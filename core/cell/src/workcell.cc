@@ -464,6 +464,7 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     for (StageTime& stage : result.stages) stage.stage = "again_without_outliers/" + stage.stage;
     result.stages.insert(result.stages.begin(), stages.begin(), stages.end());
   }
+  if (!outliers.empty()) NumberByOriginal(recording, kept, &result.residuals);
   result.outliers = outliers;
   return result;
 }

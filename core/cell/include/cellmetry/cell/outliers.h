@@ -46,6 +46,12 @@ std::vector<Outlier> FindOutliers(const std::vector<ResidualRow>& rows, const Re
 // `recording` without the observations `outliers` name (by line, else by sample, camera, target).
 Recording WithoutOutliers(const Recording& recording, const std::vector<Outlier>& outliers);
 
+// Residual rows fitted on `kept` (WithoutOutliers of `original`, possibly repeated) numbered by
+// their observation's index in `original`, as residuals.csv promises: kept's observations are
+// original's in the same order with some left out.
+void NumberByOriginal(const Recording& original, const Recording& kept,
+                      std::vector<ResidualRow>* rows);
+
 // outliers.csv: line,sample,camera,target,kind,score,threshold.
 std::string OutliersCsv(const std::vector<Outlier>& outliers);
 
