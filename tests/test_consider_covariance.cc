@@ -19,27 +19,6 @@ namespace {
 
 constexpr double kScale = 0.002;  // the tool board's printed size, relative
 
-// The UR3 cell of configs/simulations/ur3_two_cameras.yaml without noise, its tool board
-// printed `scale` large; written as a recording in `dir`.
-WorkcellSimulationSpec SimulateScaledBoard(const std::string& dir, double scale) {
-  std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
-                             testing::Source("tests/data/vsb/sim_b"));
-  testing::WriteText(dir + "/sim.yaml", sim);
-  WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
-  spec.sigma_position_mm.setZero();
-  spec.sigma_rotation_rad.setZero();
-  const ConfigNode config = ConfigNode::LoadString("{type: target_scale, targets: [tool]}", "test");
-  SimulatedEffect e;
-  e.name = "camera.target_scale";
-  e.effect = testing::Plugins().CreateEffect("target_scale", config, *spec.robots[0].model);
-  e.values = {scale};
-  spec.measurement_effects.push_back(e);
-  WriteRecording(SimulateWorkcell(spec, nullptr), dir + "/rec", "");
-  return spec;
-}
-
 WorkcellResult Identify(const std::string& dir, const std::string& uncertain_inputs) {
   const std::string job =
       "job: workcell\nrecording: " + dir + "/rec\n"
@@ -53,7 +32,7 @@ WorkcellResult Identify(const std::string& dir, const std::string& uncertain_inp
 
 TEST(UncertainInputs, SigmaOfAnInputIsTheShiftItsErrorCauses) {
   const std::string dir = testing::TempDirForThisTest("uncertain_inputs");
-  const WorkcellSimulationSpec truth = SimulateScaledBoard(dir, kScale);
+  const WorkcellSimulationSpec truth = testing::SimulateScaledToolBoard(dir, kScale);
   const WorkcellResult result = Identify(
       dir, "uncertain_inputs:\n  effects:\n    - {sigma: " + std::to_string(kScale) +
                ", effect: {type: target_scale, targets: [tool]}}\n");
@@ -78,7 +57,7 @@ TEST(UncertainInputs, SigmaOfAnInputIsTheShiftItsErrorCauses) {
 
 TEST(UncertainInputs, ANonPositiveSigmaIsRefusedWithItsLine) {
   const std::string dir = testing::TempDirForThisTest("uncertain_inputs_bad");
-  SimulateScaledBoard(dir, 0.0);
+  testing::SimulateScaledToolBoard(dir, 0.0);
   try {
     Identify(dir, "uncertain_inputs:\n  robot_model: {mm: 0, rad: 0.001}\n");
     FAIL() << "a zero sigma was accepted";

@@ -7,7 +7,6 @@
 
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell.h"
-#include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/formats/recording.h"
 #include "support/test_support.h"
 
@@ -17,21 +16,7 @@ namespace {
 // The UR3 cell of configs/simulations/ur3_two_cameras.yaml without noise, its tool board printed
 // `scale` large, identified with the target_scale effect free.
 WorkcellResult FitScaledBoard(const std::string& dir, double scale) {
-  std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
-                             testing::Source("tests/data/vsb/sim_b"));
-  testing::WriteText(dir + "/sim.yaml", sim);
-  WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
-  spec.sigma_position_mm.setZero();
-  spec.sigma_rotation_rad.setZero();
-  const ConfigNode config = ConfigNode::LoadString("{type: target_scale, targets: [tool]}", "test");
-  SimulatedEffect board;
-  board.name = "camera.target_scale";
-  board.effect = testing::Plugins().CreateEffect("target_scale", config, *spec.robots[0].model);
-  board.values = {scale};
-  spec.measurement_effects.push_back(board);
-  WriteRecording(SimulateWorkcell(spec, nullptr), dir + "/rec", "");
+  testing::SimulateScaledToolBoard(dir, scale);
   const std::string job =
       "job: workcell\nrecording: " + dir + "/rec\n"
       "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3.yaml") +

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/formats/recording.h"
 
 namespace fs = std::filesystem;
 
@@ -111,6 +112,24 @@ const FrameEstimate& Frame(const WorkcellResult& result, const std::string& name
 const char kTwoCameraNoiseYaml[] =
     "noise: {cameras: {cam1: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, "
     "0.001]}, cam2: {position_mm: [0.1, 0.1, 0.4], rotation_rad: [0.0005, 0.0005, 0.001]}}}\n";
+
+WorkcellSimulationSpec SimulateScaledToolBoard(const std::string& dir, double scale) {
+  std::string sim = ReadText(Source("configs/simulations/ur3_two_cameras.yaml"));
+  sim = ReplaceOnce(sim, "../robots/ur3.yaml", Source("configs/robots/ur3.yaml"));
+  sim = ReplaceOnce(sim, "../../tests/data/vsb/sim_b", Source("tests/data/vsb/sim_b"));
+  WriteText(dir + "/sim.yaml", sim);
+  WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", Plugins());
+  spec.sigma_position_mm.setZero();
+  spec.sigma_rotation_rad.setZero();
+  const ConfigNode config = ConfigNode::LoadString("{type: target_scale, targets: [tool]}", "test");
+  SimulatedEffect board;
+  board.name = "camera.target_scale";
+  board.effect = Plugins().CreateEffect("target_scale", config, *spec.robots[0].model);
+  board.values = {scale};
+  spec.measurement_effects.push_back(board);
+  WriteRecording(SimulateWorkcell(spec, nullptr), dir + "/rec", "");
+  return spec;
+}
 
 void ConcealJoint3Compliance(WorkcellSimulationSpec* spec) {
   SimulatedEffect e;

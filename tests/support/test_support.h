@@ -69,6 +69,10 @@ extern const char kTwoCameraNoiseYaml[];
 // `recording` with that job's solver and candidates.
 DiagnosisJob Ur3DiagnoseJob(const std::string& dir);
 
+// The UR3 cell of configs/simulations/ur3_two_cameras.yaml without noise, its tool board printed
+// `scale` large (target_scale), written as a recording in `dir`/rec; the spec is the truth.
+WorkcellSimulationSpec SimulateScaledToolBoard(const std::string& dir, double scale);
+
 // Hides a compliance of joint 3 (4e-5 rad/Nm, the UR3's link masses) in `spec`'s first robot:
 // the library effect the physics-finder tests conceal most.
 void ConcealJoint3Compliance(WorkcellSimulationSpec* spec);
