@@ -13,7 +13,8 @@ if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCH
 cxx=$(command -v clang++-14 || command -v clang++)
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="$cxx" \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
-  -DCELLMETRY_FUZZ=ON -DCELLMETRY_BUILD_BENCHMARKS=OFF "${launcher[@]}" >/dev/null
+  -DCELLMETRY_FUZZ=ON -DCELLMETRY_BUILD_BENCHMARKS=OFF -DCELLMETRY_TEST_TIMEOUT=7200 \
+  "${launcher[@]}" >/dev/null
 if [ "${1:-}" = "--configure" ]; then exit 0; fi
 # Leaks are not checked: plugins stay loaded (dlopen without dlclose) and TBB's and OpenCV's
 # thread pools live to exit; every other ASan and UBSan report fails the test.
@@ -27,5 +28,5 @@ if [ "$#" -gt 0 ]; then
   done
 else
   cmake --build "$build" -j"$(nproc)"
-  ctest --test-dir "$build" --output-on-failure -j"$(nproc)" -E '^PhysicsSuite\.' --timeout 1200
+  ctest --test-dir "$build" --output-on-failure -j"$(nproc)" -E '^PhysicsSuite\.'
 fi
