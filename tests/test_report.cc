@@ -143,6 +143,10 @@ TEST(Report, DiagnoseShowsTheAcceptedEffectsSignature) {
   ExpectSelfContained(html);
   EXPECT_GT(Count(html, "data-plot=\"effect_signature\""), 0);
   EXPECT_GT(Count(html, "data-plot=\"candidate_scores\""), 0);
+  // One physical finding per site, named by its headline (diagnosis.h, step 7).
+  ASSERT_FALSE(d.findings.empty());
+  EXPECT_EQ(Count(html, "id=\"findings\""), 1);
+  EXPECT_GT(Count(html, "<td>" + d.accepted.at(d.findings.front().headline).label + "</td>"), 0);
   testing::WriteText(Artifacts() + "/diagnose.html", html);
   testing::WriteText(Artifacts() + "/diagnose_final_fit.html",
                      report::RunReportHtml(d.final_fit, recording, "final fit"));

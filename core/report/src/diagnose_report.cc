@@ -88,6 +88,34 @@ void CandidatesSection(const DiagnosisResult& r, HtmlPage* page) {
   }
 }
 
+// One row per physical finding (step 7 of diagnosis.h): its headline, the effects at its site
+// that passed their own test, and those that are the headline's residual shape.
+void FindingsSection(const DiagnosisResult& r, HtmlPage* page) {
+  if (r.findings.empty()) return;
+  page->Section("Physical findings (accepted effects grouped by site)", "findings");
+  auto labels = [&](const std::vector<int>& indices) {
+    std::string text;
+    for (const int i : indices) {
+      const AcceptedEffect& a = r.accepted.at(i);
+      text += (text.empty() ? "" : "; ") + a.label + " (" + Num(100 * a.group_share, 2) +
+              " % of the group's gain, shape " + Num(a.headline_correlation, 2) + ")";
+    }
+    return text.empty() ? std::string("-") : text;
+  };
+  std::vector<std::vector<std::string>> rows;
+  for (const PhysicalFinding& f : r.findings) {
+    rows.push_back({f.site.empty() ? "-" : f.site, r.accepted.at(f.headline).label,
+                    labels(f.separate), labels(f.residual_shape),
+                    Num(f.held_out_excess_removed, 3)});
+  }
+  page->Table({"site", "finding (headline)", "also physics here", "its residual shape",
+               "held-out excess removed (σ²)"},
+              rows);
+  page->Note("An effect at a finding's site counts as physics of its own when it removes at least " +
+             Num(100 * r.min_group_share, 2) + " % of the group's held-out excess or is shaped " +
+             "unlike the headline (correlation below " + Num(r.shape_correlation, 2) + ").");
+}
+
 }  // namespace
 
 std::string DiagnoseReportHtml(const DiagnosisResult& r, const Recording& recording,
@@ -103,6 +131,7 @@ std::string DiagnoseReportHtml(const DiagnosisResult& r, const Recording& record
   page.Paragraph("Noise floor: " + r.noise_source + ", " + Num(r.floor_rms_mm, 3) + " mm RMS. " +
                  (r.unexplained.empty() ? "What remains is consistent with noise."
                                         : "Unexplained: " + r.unexplained + "."));
+  FindingsSection(r, &page);
   page.Section("Accepted effects and their signatures", "accepted");
   if (r.accepted.empty()) page.Paragraph("No effect passed every test.");
   for (const auto& a : r.accepted) {
