@@ -2,7 +2,9 @@
 // against central differences, at rotations far from the reference (up to ~1.5 rad).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
+#include <vector>
 
 #include <ceres/dynamic_autodiff_cost_function.h>
 
@@ -16,6 +18,22 @@ namespace cellmetry {
 namespace {
 
 constexpr double kStep = 1e-6;
+
+// d residual / d *value of a three-row cost by central differences, *value restored after.
+std::array<double, 3> CentralDifference(const ceres::CostFunction& cost,
+                                        const std::vector<const double*>& params,
+                                        double* value) {
+  double plus[3], minus[3];
+  const double saved = *value;
+  *value = saved + kStep;
+  cost.Evaluate(params.data(), plus, nullptr);
+  *value = saved - kStep;
+  cost.Evaluate(params.data(), minus, nullptr);
+  *value = saved;
+  std::array<double, 3> numeric;
+  for (int i = 0; i < 3; ++i) numeric[i] = (plus[i] - minus[i]) / (2 * kStep);
+  return numeric;
+}
 
 Eigen::Vector3d RandomVector(std::mt19937& rng, double scale) {
   std::uniform_real_distribution<double> u(-scale, scale);
@@ -101,15 +119,9 @@ TEST_P(ChainCostTest, JacobianMatchesCentralDifferences) {
 
     for (int b = 0; b < num_blocks; ++b) {
       for (int j = 0; j < 6; ++j) {
-        double plus[3], minus[3];
-        const double saved = values[b][j];
-        values[b][j] = saved + kStep;
-        cost.Evaluate(params.data(), plus, nullptr);
-        values[b][j] = saved - kStep;
-        cost.Evaluate(params.data(), minus, nullptr);
-        values[b][j] = saved;
+        const std::array<double, 3> numerics = CentralDifference(cost, params, &values[b][j]);
         for (int i = 0; i < 3; ++i) {
-          const double numeric = (plus[i] - minus[i]) / (2 * kStep);
+          const double numeric = numerics[i];
           EXPECT_NEAR(analytic[b][i * 6 + j], numeric, 1e-6 * std::max(1.0, std::abs(numeric)))
               << "trial " << trial << " block " << b << " parameter " << j << " row " << i;
         }
@@ -248,15 +260,9 @@ TEST_P(EffectChainCostTest, JacobianMatchesCentralDifferencesAndTheJets) {
     for (size_t b = 0; b < values.size(); ++b) {
       const int width = static_cast<int>(values[b].size());
       for (int j = 0; j < width; ++j) {
-        double plus[3], minus[3];
-        const double saved = values[b][j];
-        values[b][j] = saved + kStep;
-        cost.Evaluate(params.data(), plus, nullptr);
-        values[b][j] = saved - kStep;
-        cost.Evaluate(params.data(), minus, nullptr);
-        values[b][j] = saved;
+        const std::array<double, 3> numerics = CentralDifference(cost, params, &values[b][j]);
         for (int i = 0; i < 3; ++i) {
-          const double numeric = (plus[i] - minus[i]) / (2 * kStep);
+          const double numeric = numerics[i];
           const double a = analytic[b][i * width + j], jet = reference[b][i * width + j];
           EXPECT_NEAR(a, numeric, 1e-6 * std::max(1.0, std::abs(numeric)))
               << "trial " << trial << " block " << b << " parameter " << j << " row " << i;
