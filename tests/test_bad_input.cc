@@ -145,6 +145,13 @@ TEST_F(BadInput, RobotConfigNameTooLongForTheFileSystem) {
   ExpectRejected(Run(), "job.yaml:8:12:", "Give a path relative to the job file");
 }
 
+// Found by fuzz_job (CI, session 9): the same for a validation recording's folder name.
+TEST_F(BadInput, ValidationRecordingNameTooLongForTheFileSystem) {
+  WriteJob(ReplaceOnce(JobText(), "output: ",
+                       "validation_recording: " + std::string(5000, 's') + "\noutput: "));
+  ExpectRejected(Run(), "job.yaml:4:23:", "relative to the job file");
+}
+
 TEST_F(BadInput, SamplesWithoutThePoseColumn) {
   WriteJob();
   std::istringstream in(ReadText(recording_ + "/samples.csv"));

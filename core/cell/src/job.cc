@@ -389,7 +389,8 @@ WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
   if (root.Has("plugin_paths")) {
     for (const auto& node : root["plugin_paths"].Elements()) {
       const std::string folder = root.ResolvePath(node.AsString());
-      if (!std::filesystem::is_directory(folder)) {
+      std::error_code unreadable;  // a name the file system refuses is "no folder"
+      if (!std::filesystem::is_directory(folder, unreadable)) {
         throw node.Error("no plugin folder at '" + folder + "'",
                          "Point plugin_paths at the folder that holds the plugin libraries");
       }

@@ -46,7 +46,8 @@ Pose ReadPose(const ConfigNode& node) {
 
 std::string ReadRecordingPath(const ConfigNode& node) {
   const std::string folder = node.ResolvePath(node.AsString());
-  if (!std::filesystem::is_regular_file(folder + "/recording.yaml")) {
+  std::error_code unreadable;  // a name the file system refuses (too long) is "no recording"
+  if (!std::filesystem::is_regular_file(folder + "/recording.yaml", unreadable)) {
     throw node.Error("no recording at '" + folder + "' (expected " + folder + "/recording.yaml)",
                      "Point '" + node.key_path() +
                          ":' at a cellmetry-recording/1 folder, relative to the job file");
