@@ -11,7 +11,7 @@
 #include "cellmetry/basics/so3_jacobians.h"
 #include "chain_cost.h"
 #include "effect_chain_cost.h"
-#include "effect_residuals.h"
+#include "whole_chain_jets.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -140,7 +140,9 @@ INSTANTIATE_TEST_SUITE_P(
                       ChainCase{{false, false, true}, Compared::kRotation}));
 
 // EffectChainCost (effect_chain_cost.h): a UR3 chain with measurement effects (a target's
-// printed scale, a camera's focal length, principal point and distortion, all off zero), each
+// printed scale, a camera's focal length, principal point and distortion), and for a carried
+// target joint effects (compliance, backlash, gear error) and a flange effect (thermal growth),
+// all off zero; each
 // block's Jacobian against central differences and against the Jets over the whole chain it
 // replaces (EffectChainResidual, WorldEffectResidual), with the residuals themselves.
 struct EffectChainCase {
@@ -162,9 +164,20 @@ TEST_P(EffectChainCostTest, JacobianMatchesCentralDifferencesAndTheJets) {
       "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
   const auto scale = MakeEffect("{type: target_scale, targets: [tool, world]}", *ur3);
   const auto intrinsics = MakeEffect("{type: camera_intrinsics, cameras: [cam2, cam1]}", *ur3);
-  const std::vector<const Effect*> effects = {scale.get(), intrinsics.get()};
-  const std::vector<int> effect_sizes = {int(scale->parameters().size()),
-                                         int(intrinsics->parameters().size())};
+  // A carried target's chain also has effects at the joints (through the model's offsets) and
+  // at the flange, between the measurement effects so that each stage's columns are mixed in.
+  const auto compliance = MakeEffect("{type: joint_compliance, joints: [2, 3]}", *ur3);
+  const auto backlash = MakeEffect("{type: backlash, joints: [1, 5]}", *ur3);
+  const auto gear =  // 12 parameters: more than one Jet pass
+      MakeEffect("{type: transmission_error, joints: [4, 6], harmonics: [1, 2, 3]}", *ur3);
+  const auto thermal = MakeEffect("{type: thermal_drift}", *ur3);
+  std::vector<const Effect*> effects = {scale.get(), intrinsics.get()};
+  if (c.robot) {
+    effects = {compliance.get(), scale.get(), thermal.get(), backlash.get(), intrinsics.get(),
+               gear.get()};
+  }
+  std::vector<int> effect_sizes;
+  for (const Effect* e : effects) effect_sizes.push_back(int(e->parameters().size()));
   std::mt19937 rng(17);
   for (int trial = 0; trial < 10; ++trial) {
     FrameRefs refs;
@@ -178,6 +191,14 @@ TEST_P(EffectChainCostTest, JacobianMatchesCentralDifferencesAndTheJets) {
     context.q = q.data();
     context.camera = "cam1";
     context.target = c.robot ? "tool" : "world";
+    const std::vector<int> approach = {1, -1, 1, 0, -1, 1};
+    context.approach = approach.data();
+    context.temperature_c = 31.0;
+    std::vector<double> nominal;
+    for (const auto& p : ur3->parameters()) nominal.push_back(p.nominal);
+    std::vector<Pose> T_base_joint;  // gravity torques act at the nominal geometry (effect.h)
+    ASSERT_TRUE(ur3->JointFrames(q.data(), nominal.data(), &T_base_joint));
+    context.T_base_joint = &T_base_joint;
     // Blocks in the cost's order, values off zero everywhere.
     std::vector<std::vector<double>> values;
     auto frame = [&] {

@@ -1,9 +1,11 @@
-// EffectChainCost (effect_chain_cost.h): the chain in plain numbers, Jets on the measurement
-// stage alone, closed-form motions of the prediction for frames and model.
+// EffectChainCost (effect_chain_cost.h): the chain in plain numbers, Jets on each effect stage
+// alone, closed-form motions of the prediction for frames and model.
 #include "effect_chain_cost.h"
 
 #include "cellmetry/basics/so3_jacobians.h"
-#include "effect_residuals.h"
+#include "cellmetry/model/effect_chain.h"
+#include "workcell_residuals.h"
+#include "effect_stage_linearization.h"
 #include "frame_cache.h"
 
 namespace cellmetry {
@@ -29,13 +31,6 @@ void Store(double* jacobian, const Eigen::Matrix<double, 3, Eigen::Dynamic>& J) 
 
 }  // namespace
 
-bool AllMeasurementEffects(const std::vector<const Effect*>& effects) {
-  for (const Effect* e : effects) {
-    if (e->stage() != EffectStage::kMeasurement) return false;
-  }
-  return true;
-}
-
 struct EffectChainCost::Chain {
   Pose P;                    // the target in the camera, before the measurement effects
   Pose T_world_base, T_base_flange, T_flange_target, T_world_cam;
@@ -45,7 +40,20 @@ struct EffectChainCost::Chain {
   const double* base = nullptr;
   const double* tool = nullptr;
   const double* camera = nullptr;
+  FlangeTwists effect_twists;  // the flange's (s; w) per effect parameter (joint, flange stage)
 };
+
+// What a flange twist (dt, w) in the base frame does to the prediction P: it moves the target by
+// dt + w x (R_bf t_tool) and turns it by w, both seen in the camera.
+Eigen::Matrix<double, 6, 6> EffectChainCost::FlangeToCamera(const Chain& c) {
+  const Eigen::Matrix3d R_cb = c.T_world_cam.R.transpose() * c.T_world_base.R;
+  const Eigen::Vector3d lever = c.T_base_flange.R * c.T_flange_target.t;
+  Motion to_camera = Motion::Zero();
+  to_camera.topLeftCorner<3, 3>() = R_cb;
+  to_camera.topRightCorner<3, 3>() = -R_cb * Skew(lever);
+  to_camera.bottomRightCorner<3, 3>() = R_cb;
+  return to_camera;
+}
 
 EffectChainCost::EffectChainCost(TargetComparison comparison, FrameRefs refs,
                                  const RobotModel* model, EffectContext context,
@@ -63,25 +71,72 @@ EffectChainCost::EffectChainCost(TargetComparison comparison, FrameRefs refs,
   if (model_) sizes->push_back(static_cast<int>(model_->parameters().size()));
   first_effect_ = static_cast<int>(sizes->size());
   sizes->insert(sizes->end(), effect_sizes_.begin(), effect_sizes_.end());
+  for (int size : effect_sizes_) num_effect_params_ += size;
+  joint_effects_ = model_ && AnyEffectAt(effects_, EffectStage::kJoint);
+  flange_effects_ = model_ && AnyEffectAt(effects_, EffectStage::kFlange);
+}
+
+bool EffectChainCost::FlangeOfModel(const double* model_params, double const* const* effect_params,
+                                    bool with_twists, bool effect_twists, Chain* c) const {
+  // The joint stage: dq through the model's joint offsets (effect_chain.h, FlangeWithEffects).
+  thread_local std::vector<double> dq, shifted;
+  thread_local Eigen::MatrixXd d_dq;
+  const double* at = model_params;
+  if (joint_effects_) {
+    LinearizeJointStage(effects_, effect_sizes_, effect_params, context_, &dq,
+                        effect_twists ? &d_dq : nullptr);
+    shifted.assign(model_params, model_params + model_->parameters().size());
+    for (int j = 0; j < model_->num_joints(); ++j) {
+      const int offset = model_->JointOffsetParameter(j);
+      if (offset >= 0) shifted[offset] += dq[j];
+    }
+    at = shifted.data();
+  }
+  const bool twists = with_twists || (effect_twists && joint_effects_);
+  Eigen::Matrix<double, 6, Eigen::Dynamic>* twists_out = twists ? &c->twists : nullptr;
+  bool ok;
+  if (forward_) {
+    ok = forward_->Forward(at, &c->T_base_flange, twists_out);
+  } else {
+    ok = twists ? model_->ForwardWithTwists(context_.q, at, &c->T_base_flange, twists_out)
+                : model_->Forward(context_.q, at, &c->T_base_flange);
+  }
+  if (!ok) return false;
+  if (effect_twists) {
+    c->effect_twists.setZero(6, num_effect_params_);
+    for (int j = 0; joint_effects_ && j < model_->num_joints(); ++j) {
+      const int offset = model_->JointOffsetParameter(j);
+      if (offset >= 0) c->effect_twists += c->twists.col(offset) * d_dq.row(j);
+    }
+  }
+  if (flange_effects_) {  // the flange stage, and what it makes of the motions before it
+    if (!twists && !effect_twists) {
+      LinearizeFlangeStage(effects_, effect_sizes_, effect_params, context_, &c->T_base_flange,
+                           nullptr, nullptr);
+      return true;
+    }
+    Eigen::Matrix<double, 6, 6> motion_map;
+    FlangeTwists flange_twists;
+    LinearizeFlangeStage(effects_, effect_sizes_, effect_params, context_, &c->T_base_flange,
+                         &motion_map, &flange_twists);
+    if (twists) c->twists = motion_map * c->twists;
+    if (effect_twists) c->effect_twists = motion_map * c->effect_twists + flange_twists;
+  }
+  return true;
 }
 
 bool EffectChainCost::Predict(double const* const* parameters, bool with_twists,
-                              bool with_jacobians, Chain* c) const {
+                              bool with_jacobians, bool effect_twists, Chain* c) const {
   int k = 0;
   c->base = model_ ? parameters[k++] : nullptr;
   c->tool = model_ ? parameters[k++] : nullptr;
   c->camera = static_camera_ ? parameters[k++] : nullptr;
   if (model_) {
     const double* model_params = parameters[k++];
-    bool ok;
-    if (forward_) {
-      ok = forward_->Forward(model_params, &c->T_base_flange, with_twists ? &c->twists : nullptr);
-    } else {
-      ok = with_twists ? model_->ForwardWithTwists(context_.q, model_params, &c->T_base_flange,
-                                                   &c->twists)
-                       : model_->Forward(context_.q, model_params, &c->T_base_flange);
+    if (!FlangeOfModel(model_params, parameters + first_effect_, with_twists,
+                       effect_twists && (joint_effects_ || flange_effects_), c)) {
+      return false;
     }
-    if (!ok) return false;
     // The frames every block shares, made once per thread for these values (frame_cache.h).
     const CachedFrame base = FrameOfBlock(c->base, refs_.world_base, with_jacobians);
     const CachedFrame tool = FrameOfBlock(c->tool, refs_.flange_target, with_jacobians);
@@ -110,22 +165,12 @@ bool EffectChainCost::Predict(double const* const* parameters, bool with_twists,
 void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effect_params,
                                         bool effects_asked, double* residuals,
                                         Eigen::Matrix<double, 3, Eigen::Dynamic>* H) const {
-  // Directions: s (3), w (3), then every effect parameter where asked for.
-  int num_effect_params = 0;
-  for (int size : effect_sizes_) num_effect_params += size;
-  const int directions = 6 + (effects_asked ? num_effect_params : 0);
-  H->resize(3, directions);
-  // Reused per thread: an evaluation allocates nothing once the first has run.
-  thread_local std::vector<Jet> effect_jets;
-  thread_local std::vector<const Jet*> effect_pointers;
-  effect_jets.clear();
-  effect_pointers.clear();
-  for (size_t e = 0; e < effects_.size(); ++e) {
-    for (int i = 0; i < effect_sizes_[e]; ++i) effect_jets.emplace_back(effect_params[e][i]);
-  }
-  for (size_t e = 0, at = 0; e < effects_.size(); at += effect_sizes_[e++]) {
-    effect_pointers.push_back(effect_jets.data() + at);
-  }
+  // Directions: s (3), w (3), then the measurement effects' parameters where asked for.
+  thread_local EffectParameterJets effect_jets;  // an evaluation allocates nothing after the first
+  effect_jets.Reset(effects_, effect_sizes_, effect_params, EffectStage::kMeasurement, 6);
+  const int directions = effects_asked ? effect_jets.end_direction() : 6;
+  thread_local Eigen::Matrix<double, 3, Eigen::Dynamic> by_direction;
+  by_direction.resize(3, directions);
   for (int first = 0; first < directions; first += kJetStride) {
     Jet s[3], w[3];
     for (int i = 0; i < 3; ++i) {
@@ -134,14 +179,7 @@ void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effe
       if (i >= first && i < first + kJetStride) s[i].v[i - first] = 1.0;
       if (i + 3 >= first && i + 3 < first + kJetStride) w[i].v[i + 3 - first] = 1.0;
     }
-    int direction = 6;
-    for (Jet& p : effect_jets) {
-      p.v.setZero();
-      if (effects_asked && direction >= first && direction < first + kJetStride) {
-        p.v[direction - first] = 1.0;
-      }
-      ++direction;
-    }
+    effect_jets.Seed(first);
     // (P.t + s, Exp(w) P.R) to first order, which is all a Jet carries: Exp(w) = I + [w]x.
     Transform<Jet> moved;
     for (int i = 0; i < 3; ++i) moved.t[i] = Jet(P.t[i]) + s[i];
@@ -151,13 +189,22 @@ void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effe
       moved.R(1, col) = Jet(r[1]) + w[2] * r[0] - w[0] * r[2];
       moved.R(2, col) = Jet(r[2]) + w[0] * r[1] - w[1] * r[0];
     }
-    ApplyMeasurement(effects_, effect_pointers.data(), context_, &moved);
+    ApplyMeasurement(effects_, effect_jets.pointers(), context_, &moved);
     Jet r[3];
     comparison_.Compare(moved, r);
     for (int i = 0; i < 3; ++i) {
       residuals[i] = r[i].a;
-      for (int d = 0; d < kJetStride && first + d < directions; ++d) (*H)(i, first + d) = r[i].v[d];
+      for (int d = 0; d < kJetStride && first + d < directions; ++d) {
+        by_direction(i, first + d) = r[i].v[d];
+      }
     }
+  }
+  // H: the motion's six columns, then one per effect parameter (zero for the other stages').
+  H->setZero(3, 6 + (effects_asked ? num_effect_params_ : 0));
+  H->leftCols<6>() = by_direction.leftCols<6>();
+  for (int i = 0; effects_asked && i < effect_jets.count(); ++i) {
+    const int direction = effect_jets.direction_of(i);
+    if (direction >= 0) H->col(6 + i) = by_direction.col(direction);
   }
 }
 
@@ -191,24 +238,19 @@ void EffectChainCost::StoreFrameJacobians(const Chain& c,
     }
     ++k;
   }
-  if (model_ && jacobians[k]) {
-    // A flange twist (dt, w) in the base frame moves the target by dt + w x (R_bf t_tool).
-    const Eigen::Matrix3d R_cb = R_cw * c.T_world_base.R;
-    const Eigen::Vector3d lever = c.T_base_flange.R * c.T_flange_target.t;
-    Motion to_camera = Motion::Zero();
-    to_camera.topLeftCorner<3, 3>() = R_cb;
-    to_camera.topRightCorner<3, 3>() = -R_cb * Skew(lever);
-    to_camera.bottomRightCorner<3, 3>() = R_cb;
-    Store(jacobians[k], H_motion * (to_camera * c.twists));
-  }
+  if (model_ && jacobians[k]) Store(jacobians[k], H_motion * (FlangeToCamera(c) * c.twists));
 }
 
 bool EffectChainCost::Evaluate(double const* const* parameters, double* residuals,
                                double** jacobians) const {
   const int model_slot = first_effect_ - 1;
   const bool model_asked = model_ && jacobians && jacobians[model_slot];
+  bool effects_asked = false;
+  for (size_t e = 0; jacobians && e < effects_.size(); ++e) {
+    effects_asked = effects_asked || jacobians[first_effect_ + e] != nullptr;
+  }
   thread_local Chain c;  // its twists' storage is reused
-  if (!Predict(parameters, model_asked, jacobians != nullptr, &c)) return false;
+  if (!Predict(parameters, model_asked, jacobians != nullptr, effects_asked, &c)) return false;
   double const* const* effect_params = parameters + first_effect_;
   if (jacobians == nullptr) {
     Transform<double> measured = c.P;
@@ -216,13 +258,15 @@ bool EffectChainCost::Evaluate(double const* const* parameters, double* residual
     comparison_.Compare(measured, residuals);
     return true;
   }
-  bool effects_asked = false;
-  for (size_t e = 0; e < effects_.size(); ++e) {
-    effects_asked = effects_asked || jacobians[first_effect_ + e] != nullptr;
-  }
   thread_local Eigen::Matrix<double, 3, Eigen::Dynamic> H;
   MeasureAndCompare(c.P, effect_params, effects_asked, residuals, &H);
   StoreFrameJacobians(c, H.leftCols<6>(), jacobians);
+  if (!effects_asked) return true;
+  // The joint and flange effects act through the flange's motion; the measurement effects
+  // directly (their columns of H; the others' are zero there).
+  if (model_ && (joint_effects_ || flange_effects_)) {
+    H.rightCols(num_effect_params_) += H.leftCols<6>() * (FlangeToCamera(c) * c.effect_twists);
+  }
   int column = 6;
   for (size_t e = 0; e < effects_.size(); ++e) {
     Store(jacobians[first_effect_ + e], H.middleCols(column, effect_sizes_[e]));

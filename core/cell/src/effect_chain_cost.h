@@ -1,22 +1,26 @@
-// EffectChainCost: the residuals of effect_residuals.h with analytic derivatives, for chains whose
-// effects all act at the measurement stage (none at the joint or flange stage).
+// EffectChainCost: the workcell residual with effects (workcell_residuals.h) with analytic
+// derivatives, effects at every stage (joint, flange, measurement).
 //
-//   P = T_cam_world * T_world_base * T_base_flange(model) * T_flange_target   (target in camera)
-//   r = Compare(Measure(P, effect parameters))
+//   P = T_cam_world * T_world_base * T_base_flange(model, joint and flange effects)
+//         * T_flange_target                                         (target in camera)
+//   r = Compare(Measure(P, measurement effect parameters))
 //
-// Every parameter except the effects' acts through P, so the Jacobian factors through a small
-// motion of P, a shift s and a turn w in the camera frame (P.t + s, Exp(w) P.R):
+// Every parameter but the measurement effects' acts through P, so the Jacobian factors through
+// a small motion of P, a shift s and a turn w in the camera frame (P.t + s, Exp(w) P.R):
 //
-//   dr / d(frame or model parameter) = dr/d(s, w) * d(s, w)/d(parameter)
+//   dr / d(frame, model, joint or flange effect parameter) = dr/d(s, w) * d(s, w)/d(parameter)
 //
-// dr/d(s, w) and the effects' columns come from Jets over 6 + (effect parameters) directions
-// on the measurement stage and the comparison alone; d(s, w)/d(parameter) is closed form: the
-// frame blocks' as in chain_cost.h, the model's from its flange twists
-// (RobotModel::ForwardWithTwists; the model's closed form where it has one). Jets over the
-// whole chain instead (EffectChainResidual) run a UR3's forward kinematics seven times per
-// residual for its 30 parameters and the three frames; the input-uncertainty linearization of
-// exp_a spent most of its time there. Checked against central differences in
-// tests/test_chain_cost.cc.
+// dr/d(s, w) and the measurement effects' columns come from Jets over 6 + (effect parameters)
+// directions on the measurement stage and the comparison alone; d(s, w)/d(parameter) is closed
+// form for the frame blocks (as in chain_cost.h) and the model (its flange twists,
+// RobotModel::ForwardWithTwists; the model's closed form where it has one); the joint and flange
+// effects' come from Jets over their own stage (effect_stage_linearization.h) carried on by the
+// model's joint-offset twists and the flange stage's motion map. Jets over the whole chain
+// instead (EffectChainResidual, kept as the reference the tests compare with) run a UR3's
+// forward kinematics seven times per residual for its 30 parameters and the three frames: the
+// input-uncertainty linearization of exp_a spent most of its time there, and the physics
+// finder's refits with a joint effect three quarters of theirs. Checked against central
+// differences and those Jets in tests/test_chain_cost.cc.
 #pragma once
 
 #include <ceres/cost_function.h>
@@ -25,13 +29,11 @@
 #include <vector>
 
 #include "cellmetry/model/effect.h"
+#include "effect_stage_linearization.h"
 #include "forward_memo.h"
 #include "workcell_residuals.h"
 
 namespace cellmetry {
-
-// True when every effect acts at the measurement stage (EffectChainCost applies).
-bool AllMeasurementEffects(const std::vector<const Effect*>& effects);
 
 class EffectChainCost : public ceres::CostFunction {
  public:
@@ -50,11 +52,18 @@ class EffectChainCost : public ceres::CostFunction {
                 double** jacobians) const override;
 
  private:
-  // The prediction P and what its motion (s, w) does per frame and model parameter.
+  // The prediction P and what its motion (s, w) does per frame, model and effect parameter.
   struct Chain;
-  // `with_jacobians`: the frames' left Jacobians too (StoreFrameJacobians).
+  // `with_jacobians`: the frames' left Jacobians too (StoreFrameJacobians); `effect_twists`:
+  // the flange's motion per joint and flange effect parameter.
   bool Predict(double const* const* parameters, bool with_twists, bool with_jacobians,
-               Chain* chain) const;
+               bool effect_twists, Chain* chain) const;
+  // T_base_flange through the joint stage, the model and the flange stage; with `with_twists`
+  // the model's flange twists after the flange stage, with `effect_twists` the effects'.
+  bool FlangeOfModel(const double* model_params, double const* const* effect_params,
+                     bool with_twists, bool effect_twists, Chain* chain) const;
+  // d(s, w of P) / d(flange twist in the base frame).
+  static Eigen::Matrix<double, 6, 6> FlangeToCamera(const Chain& chain);
   // r and dr/d(s, w, effect parameters) at P; the effects' directions only where asked for.
   void MeasureAndCompare(const Pose& P, double const* const* effect_params, bool effects_asked,
                          double* residuals, Eigen::Matrix<double, 3, Eigen::Dynamic>* H) const;
@@ -70,6 +79,8 @@ class EffectChainCost : public ceres::CostFunction {
   std::vector<const Effect*> effects_;
   std::vector<int> effect_sizes_;
   int first_effect_ = 0;  // block index of the first effect
+  int num_effect_params_ = 0;
+  bool joint_effects_ = false, flange_effects_ = false;  // a carried target's chain has them
   std::shared_ptr<ForwardMemo> forward_;
 };
 

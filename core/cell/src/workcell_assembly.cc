@@ -7,7 +7,8 @@
 #include "cellmetry/basics/error.h"
 #include "chain_cost.h"
 #include "effect_chain_cost.h"
-#include "effect_residuals.h"
+#include "cellmetry/model/effect_chain.h"
+#include "workcell_residuals.h"
 #include "forward_memo.h"
 #include "jet_costs.h"
 #include "joint_space_residual.h"
@@ -220,16 +221,11 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
     context.target = obs.target;
     blocks->push_back(out->model_block[c.m.robot]);
     blocks->insert(blocks->end(), effect_blocks.begin(), effect_blocks.end());
-    if (AllMeasurementEffects(effects)) {  // analytic but for the measurement stage
-      auto forward = MemoFor(robot.model.get(), context.q, c.memos);
-      return std::make_unique<EffectChainCost>(comparison, c.refs, robot.model.get(), context,
-                                               c.static_camera, c.m.T_cam_world, effects,
-                                               BlockSizes(out->problem, effect_blocks),
-                                               std::move(forward));
-    }
-    return OnJets(new EffectChainResidual(comparison, c.refs, robot.model.get(), context,
-                                          c.static_camera, c.m.T_cam_world, effects),
-                  out->problem, *blocks);
+    auto forward = MemoFor(robot.model.get(), context.q, c.memos);
+    return std::make_unique<EffectChainCost>(comparison, c.refs, robot.model.get(), context,
+                                             c.static_camera, c.m.T_cam_world, effects,
+                                             BlockSizes(out->problem, effect_blocks),
+                                             std::move(forward));
   }
   if (c.model_free) {
     *blocks = JetBlocks(c, *out);

@@ -7,7 +7,8 @@
 
 #include "cellmetry/model/effect_context.h"
 #include "cellmetry/basics/error.h"
-#include "effect_residuals.h"
+#include "cellmetry/model/effect_chain.h"
+#include "workcell_residuals.h"
 
 namespace cellmetry {
 namespace {

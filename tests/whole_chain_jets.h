@@ -1,12 +1,14 @@
-// Residual functors of the workcell identification with effects (internal to the core).
-//
-// The prediction of workcell_residuals.h with the effects of effect.h in the chain:
+// The workcell residual with effects as Jets over the whole chain: the reference that
+// tests/test_chain_cost.cc checks the analytic EffectChainCost (core/cell/src/effect_chain_cost.h)
+// against, term by term. It is the chain written the plain way, once, for double and Jet:
 //
 //   q -> dq (joint effects, through the model's joint offsets) -> T_base_flange
 //     -> flange effects (pose) -> T_cam_target -> measurement effects (position in camera)
 //
 // Blocks: base, tool, [camera,] robot model, then one block per effect in `effects` order.
-// Evaluated with ceres::DynamicAutoDiffCostFunction: effects and robot models are templates.
+// Evaluated with ceres::DynamicAutoDiffCostFunction. The identification used it until every
+// effect stage had a closed-form motion (issue 15): it runs the forward kinematics once per
+// kJetStride parameters of the whole chain.
 #pragma once
 
 #include <vector>
