@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/experiments/concealed_physics.h"
@@ -54,6 +56,25 @@ TEST_F(Diagnosis, ConcealedComplianceIsNamedWithItsJointAndModelled) {
   EXPECT_EQ(d.final_fit.effect_models.front().stage, "joint");
   EXPECT_THAT(d.final_fit.effect_models.front().config,
               HasSubstr("{type: joint_compliance, joints: [3], link_masses_kg: [2"));
+}
+
+// A joint 3 "compliance" that bends the joint against gravity has a compliance's signature but
+// no physics: the finder refits it and never names it (Parameter::plausible_nonnegative); its
+// refit says why (diagnosis.json).
+TEST_F(Diagnosis, AComplianceBelowZeroIsNeverNamed) {
+  WorkcellSimulationSpec spec = base_;
+  testing::ConcealJoint3Compliance(&spec, -4e-5);
+  const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
+  for (const auto& accepted : d.accepted) {
+    EXPECT_NE(accepted.name, "ur3.compliance_j3") << DiagnosisReport(d);
+  }
+  ASSERT_FALSE(d.rounds.empty());
+  const auto& candidates = d.rounds.front().candidates;
+  const auto compliance = std::find_if(candidates.begin(), candidates.end(),
+                                       [](const auto& c) { return c.name == "ur3.compliance_j3"; });
+  ASSERT_NE(compliance, candidates.end());
+  ASSERT_TRUE(compliance->refitted) << DiagnosisReport(d);
+  EXPECT_THAT(compliance->implausible, HasSubstr("below zero, which this physics cannot be"));
 }
 
 TEST_F(Diagnosis, CleanRecordingGetsNoClaim) {

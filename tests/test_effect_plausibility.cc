@@ -1,12 +1,14 @@
 // A job's effect fitted beyond the size its physics plausibly has is a warning of the run
 // (workcell.cc, AddImplausibleEffectWarnings): a board printed 5 % off is fitted at 5 % (beyond
 // target_scale's plausible 2 %) and the run says so, naming the parameter; at 0.5 % it does not.
+// So is a compliance fitted well below zero (a joint giving against gravity), and not one at +.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/formats/recording.h"
 #include "support/test_support.h"
 
@@ -38,6 +40,42 @@ TEST(EffectPlausibility, AnEffectFittedBeyondItsPhysicsIsAWarning) {
   const WorkcellResult result =
       FitScaledBoard(testing::TempDirForThisTest("implausible_board"), 0.05);
   EXPECT_TRUE(WarnsAbout(result, "target_scale.tool.scale"));
+}
+
+// The physics suite's UR3 cell (payload alternating: compliance testable) with a joint 3
+// compliance of `compliance` hidden, fitted with joint 3 compliance free.
+WorkcellResult FitJoint3Compliance(const std::string& dir, double compliance) {
+  std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  testing::WriteText(dir + "/sim.yaml", sim);
+  WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
+  testing::ConcealJoint3Compliance(&spec, compliance);
+  WriteRecording(SimulateWorkcell(spec, nullptr), dir + "/rec", "");
+  const std::string job =
+      "job: workcell\nrecording: " + dir + "/rec\nuse_tool_rotation: true\n"
+      "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3.yaml") +
+      "\n    base: {free: all}\n    tools:\n      tool: {free: all}\n    effects:\n"
+      "      - {type: joint_compliance, joints: [3], link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, "
+      "0.35]}\n" +
+      testing::kTwoCameraNoiseYaml + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
+  testing::WriteText(dir + "/job.yaml", job);
+  return testing::Identify(LoadWorkcellJob(dir + "/job.yaml", testing::Plugins()),
+                           ReadRecording(dir + "/rec"));
+}
+
+bool WarnsBelowZero(const WorkcellResult& result, const std::string& parameter) {
+  return std::any_of(result.warnings.begin(), result.warnings.end(), [&](const std::string& w) {
+    return w.find(parameter) != std::string::npos && w.find("below zero") != std::string::npos;
+  });
+}
+
+TEST(EffectPlausibility, AComplianceFittedBelowZeroIsAWarning) {
+  const WorkcellResult against =
+      FitJoint3Compliance(testing::TempDirForThisTest("against_gravity"), -4e-5);
+  EXPECT_TRUE(WarnsBelowZero(against, "j3.compliance"));
+  const WorkcellResult with = FitJoint3Compliance(testing::TempDirForThisTest("with_gravity"), 4e-5);
+  EXPECT_FALSE(WarnsBelowZero(with, "j3.compliance"));
+  EXPECT_FALSE(WarnsAbout(with, "j3.compliance"));
 }
 
 TEST(EffectPlausibility, APlausibleSizeIsNoWarning) {

@@ -15,6 +15,7 @@ JointCompliance::JointCompliance(std::vector<int> joints, std::vector<double> li
     parameters_.push_back({JointName(j) + ".compliance", "rad/(N m)", 0.0, false, {}, {}, {},
                            "joint deflection per N m of gravity torque", {}});
     parameters_.back().plausible = 5e-4;  // a joint softer than 2,000 N m/rad is unusual
+    parameters_.back().plausible_nonnegative = true;  // a joint gives with gravity, not against
   }
 }
 
@@ -27,6 +28,7 @@ Backlash::Backlash(std::vector<int> joints) : joints_(std::move(joints)) {
     parameters_.push_back({JointName(j) + ".backlash", "rad", 0.0, false, {}, {}, {},
                            "play in the gear train (the joint lags by half of it)", {}});
     parameters_.back().plausible = 5e-3;  // 0.3 deg: spur gears; harmonic drives far less
+    parameters_.back().plausible_nonnegative = true;  // a joint lags where it came from
   }
 }
 

@@ -131,7 +131,7 @@ WorkcellSimulationSpec SimulateScaledToolBoard(const std::string& dir, double sc
   return spec;
 }
 
-void ConcealJoint3Compliance(WorkcellSimulationSpec* spec) {
+void ConcealJoint3Compliance(WorkcellSimulationSpec* spec, double compliance) {
   SimulatedEffect e;
   e.name = "ur3.joint_compliance";
   e.effect = Plugins().CreateEffect(
@@ -139,7 +139,7 @@ void ConcealJoint3Compliance(WorkcellSimulationSpec* spec) {
       ConfigNode::LoadString("{type: joint_compliance, joints: [3], "
                              "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}", "test"),
       *spec->robots[0].model);
-  e.values = {4e-5};
+  e.values = {compliance};
   spec->robots[0].effects.push_back(e);
 }
 

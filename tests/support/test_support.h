@@ -73,9 +73,10 @@ DiagnosisJob Ur3DiagnoseJob(const std::string& dir);
 // `scale` large (target_scale), written as a recording in `dir`/rec; the spec is the truth.
 WorkcellSimulationSpec SimulateScaledToolBoard(const std::string& dir, double scale);
 
-// Hides a compliance of joint 3 (4e-5 rad/Nm, the UR3's link masses) in `spec`'s first robot:
-// the library effect the physics-finder tests conceal most.
-void ConcealJoint3Compliance(WorkcellSimulationSpec* spec);
+// Hides a compliance of joint 3 (4e-5 rad/Nm unless said, the UR3's link masses) in `spec`'s
+// first robot: the library effect the physics-finder tests conceal most. A negative one is a
+// joint that gives against gravity: no physics, a stand-in for a look-alike.
+void ConcealJoint3Compliance(WorkcellSimulationSpec* spec, double compliance = 4e-5);
 DiagnosisResult Diagnose(const DiagnosisJob& job, const Recording& recording,
                          const std::string& origin);
 

@@ -316,24 +316,35 @@ void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recordi
   for (auto& [key, rms] : result->rotation_rms) rms.Finish();
 }
 
-// A job's effect fitted beyond the size its physics plausibly has (Parameter::plausible): the fit
-// may be using it for something else with its signature, so the user is told before a robot
-// controller is.
+// A job's effect fitted beyond the size its physics plausibly has (Parameter::plausible), or
+// below zero by more than three sigma where its physics cannot be negative
+// (plausible_nonnegative; within three sigma it is zero and noise): the fit may be using it for
+// something else with its signature, so the user is told before a robot controller is.
+std::string ImplausibleEffectWarning(const Parameter& p, const ScalarEstimate& s) {
+  const char* look_alikes = "the fit uses it for something else with the same signature; "
+                            "docs/physics.md lists look-alikes";
+  char text[360];
+  if (p.plausible_nonnegative && s.value < -3 * s.sigma) {
+    std::snprintf(text, sizeof text,
+                  "%s = %.3g +- %.2g %s is below zero, which its physics cannot be: %s",
+                  s.name.c_str(), s.value, s.sigma, s.unit.c_str(), look_alikes);
+    return text;
+  }
+  if (!p.plausible || std::abs(s.value) <= *p.plausible) return "";
+  std::snprintf(text, sizeof text,
+                "%s = %.3g +- %.2g %s is beyond the size its physics plausibly has (%.3g): "
+                "either that physics is larger here than expected, or %s",
+                s.name.c_str(), s.value, s.sigma, s.unit.c_str(), *p.plausible, look_alikes);
+  return text;
+}
+
 void AddImplausibleEffectWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
   for (const WorkcellEffect& effect : spec.effects) {
     for (const Parameter& p : effect.effect->parameters()) {
-      if (!p.plausible) continue;
       for (const ScalarEstimate& s : result->model_parameters) {
-        if (s.name != effect.name + "." + p.name || s.held || std::abs(s.value) <= *p.plausible) {
-          continue;
-        }
-        char text[320];
-        std::snprintf(text, sizeof text,
-                      "%s = %.3g +- %.2g %s is beyond the size its physics plausibly has (%.3g): "
-                      "either that physics is larger here than expected, or the fit uses it for "
-                      "something else with the same signature; docs/physics.md lists look-alikes",
-                      s.name.c_str(), s.value, s.sigma, s.unit.c_str(), *p.plausible);
-        result->warnings.push_back(text);
+        if (s.name != effect.name + "." + p.name || s.held) continue;
+        const std::string warning = ImplausibleEffectWarning(p, s);
+        if (!warning.empty()) result->warnings.push_back(warning);
       }
     }
   }

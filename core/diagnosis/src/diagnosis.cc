@@ -235,13 +235,19 @@ std::vector<std::pair<size_t, double>> LookAlikes(
   return out;
 }
 
-// The first parameter whose size is unusual for its physics (Parameter::plausible), in words;
-// "" when all are ordinary.
+// The first parameter whose value is unusual for its physics (Parameter::plausible, and
+// plausible_nonnegative: a refit worth accepting is well away from zero, so its sign is its
+// own), in words; "" when all are ordinary.
 std::string Unusual(const std::vector<Parameter>& parameters, const std::vector<double>& values) {
   for (size_t i = 0; i < parameters.size() && i < values.size(); ++i) {
     const auto& p = parameters[i];
-    if (!p.plausible || std::abs(values[i]) <= *p.plausible) continue;
     char text[256];
+    if (p.plausible_nonnegative && values[i] < 0) {
+      std::snprintf(text, sizeof(text), "%s = %.3g %s, below zero, which this physics cannot be",
+                    p.name.c_str(), values[i], p.unit.c_str());
+      return text;
+    }
+    if (!p.plausible || std::abs(values[i]) <= *p.plausible) continue;
     std::snprintf(text, sizeof(text), "%s = %.3g %s, where this physics is typically below %.3g",
                   p.name.c_str(), values[i], p.unit.c_str(), *p.plausible);
     return text;

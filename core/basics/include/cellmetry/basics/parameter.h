@@ -24,6 +24,9 @@ struct Parameter {
   // |value| beyond which the physics it stands for is unusual (effects, effect.h): a finding
   // that large is flagged in the report, not bounded.
   std::optional<double> plausible;
+  // True where a value below zero has no physics (a compliance: a joint that gives against
+  // gravity; a play or a clearance): such a finding is flagged as `plausible` flags a size.
+  bool plausible_nonnegative = false;
 };
 
 // Index of the parameter called `name` in `params`, or -1.
