@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "cellmetry/cell/job.h"
+#include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
@@ -167,6 +168,25 @@ TEST_F(Outliers, ResidualRowsPointAtTheRecordingsObservations) {
     ASSERT_FALSE(left_out.count({obs.sample, obs.camera, obs.target}))
         << "row points at an outlier: sample " << obs.sample << " " << obs.camera;
   }
+}
+
+// With the outlier test on the plain fit only, the identification again without the outliers
+// is timed as a second pass: the summary's time line says so, and result.json keeps its stages
+// apart (docs/formats.md).
+TEST_F(Outliers, TheSecondPassIsTimedApart) {
+  std::set<int> bad;
+  const WorkcellResult r = Identify(Corrupted("tool", 50, Plus20MmInX, &bad), OutlierTest::kPlain);
+  ASSERT_FALSE(r.outliers.empty());
+  EXPECT_NE(WorkcellSummary(r).find("over 2 passes (outliers left out)"), std::string::npos)
+      << WorkcellSummary(r);
+  const nlohmann::json json = WorkcellResultJson(r);
+  int first = 0, again = 0;
+  for (const auto& stage : json["stages"]) {
+    const std::string name = stage["stage"];
+    (name.rfind("again_without_outliers/", 0) == 0 ? again : first)++;
+  }
+  EXPECT_GT(first, 0);
+  EXPECT_GT(again, 0);
 }
 
 TEST_F(Outliers, TenPercentOnTheWorldBoardMoveNothingByMoreThanItsCleanSigma) {

@@ -12,16 +12,11 @@
 
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/formats/fixed_number.h"
 #include "result_yaml.h"
 
 namespace cellmetry {
 namespace {
-
-std::string Fixed(double value, int digits) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
-  return buffer;
-}
 
 nlohmann::json HeldOutJson(const HeldOut& h) {
   nlohmann::json j = {{"folds", h.folds}, {"total_mm", RmsJson(h.total)}};
@@ -126,7 +121,7 @@ std::string PairKey(const FrameEstimate& f) {
 std::string PairSummaryLine(const FrameEstimate& f) {
   const Eigen::Vector3d rvec = RvecFromRotation(f.pose.R);
   auto three = [](const Eigen::Vector3d& v, int digits) {
-    return "(" + Fixed(v.x(), digits) + ", " + Fixed(v.y(), digits) + ", " + Fixed(v.z(), digits) +
+    return "(" + FixedNumber(v.x(), digits) + ", " + FixedNumber(v.y(), digits) + ", " + FixedNumber(v.z(), digits) +
            ")";
   };
   auto sigmas = [](const Eigen::Vector3d& v) {
@@ -140,17 +135,14 @@ std::string PairSummaryLine(const FrameEstimate& f) {
 // "time: start 0.01 s, solve 0.42 s, ... = 1.3 s; peak memory 371 MB". The passes that
 // identify again without outliers add to their stage's time (result.json keeps them apart).
 std::string StagesLine(const std::vector<StageTime>& stages) {
-  const std::string again = "again_without_outliers/";
   std::vector<std::pair<std::string, double>> seconds;  // in the order stages first ran
   double total_s = 0.0, peak_mb = 0.0;
   int passes = 1;
   for (const StageTime& stage : stages) {
-    std::string name = stage.stage;
-    if (name.rfind(again, 0) == 0) name = name.substr(again.size());
-    if (name == "start" && stage.stage != name) ++passes;
+    passes = std::max(passes, stage.pass + 1);
     auto it = std::find_if(seconds.begin(), seconds.end(),
-                           [&](const auto& entry) { return entry.first == name; });
-    if (it == seconds.end()) it = seconds.insert(seconds.end(), {name, 0.0});
+                           [&](const auto& entry) { return entry.first == stage.stage; });
+    if (it == seconds.end()) it = seconds.insert(seconds.end(), {stage.stage, 0.0});
     it->second += stage.seconds;
     total_s += stage.seconds;
     peak_mb = std::max(peak_mb, stage.peak_resident_mb);
@@ -158,11 +150,11 @@ std::string StagesLine(const std::vector<StageTime>& stages) {
   std::ostringstream out;
   out << "time:";
   for (size_t i = 0; i < seconds.size(); ++i) {
-    out << (i ? ", " : " ") << seconds[i].first << " " << Fixed(seconds[i].second, 2) << " s";
+    out << (i ? ", " : " ") << seconds[i].first << " " << FixedNumber(seconds[i].second, 2) << " s";
   }
-  out << " = " << Fixed(total_s, 2) << " s";
+  out << " = " << FixedNumber(total_s, 2) << " s";
   if (passes > 1) out << " over " << passes << " passes (outliers left out)";
-  if (peak_mb > 0) out << "; peak memory " << Fixed(peak_mb, 0) << " MB";
+  if (peak_mb > 0) out << "; peak memory " << FixedNumber(peak_mb, 0) << " MB";
   return out.str();
 }
 
@@ -284,8 +276,9 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   j["skipped_observations"] = r.skipped;
   j["warnings"] = r.warnings;
   j["stages"] = nlohmann::json::array();
-  for (const auto& stage : r.stages) {
-    j["stages"].push_back({{"stage", stage.stage}, {"seconds", stage.seconds},
+  for (const auto& stage : r.stages) {  // the second pass's named as docs/formats.md says
+    const std::string name = stage.pass > 0 ? "again_without_outliers/" + stage.stage : stage.stage;
+    j["stages"].push_back({{"stage", name}, {"seconds", stage.seconds},
                            {"peak_resident_mb", stage.peak_resident_mb}});
   }
   return j;
@@ -321,7 +314,7 @@ std::string WorkcellSummary(const WorkcellResult& r) {
       << (r.residual_form == ResidualForm::kJointSpace ? ", joint-space residual" : "")
       << ", solver "
       << r.solver.solver << ": " << r.solver.iterations << " iterations, "
-      << Fixed(r.solver.time_s * 1e3, 1) << " ms, " << r.solver.stop_reason << ")\n";
+      << FixedNumber(r.solver.time_s * 1e3, 1) << " ms, " << r.solver.stop_reason << ")\n";
   for (const auto& f : r.frames) {
     const Eigen::Vector3d rvec = RvecFromRotation(f.pose.R);
     auto sigmas = [&f](const Eigen::Vector3d& sigma, int offset) {
@@ -331,10 +324,10 @@ std::string WorkcellSummary(const WorkcellResult& r) {
       }
       return "(" + text + ")";
     };
-    out << "  " << f.name << " in " << f.parent << ": xyz = (" << Fixed(f.pose.t.x(), 2) << ", "
-        << Fixed(f.pose.t.y(), 2) << ", " << Fixed(f.pose.t.z(), 2) << ") mm +- "
-        << sigmas(f.sigma_mm, 0) << ", rvec = (" << Fixed(rvec.x(), 4) << ", "
-        << Fixed(rvec.y(), 4) << ", " << Fixed(rvec.z(), 4) << ") rad +- " << sigmas(f.sigma_rad, 3)
+    out << "  " << f.name << " in " << f.parent << ": xyz = (" << FixedNumber(f.pose.t.x(), 2) << ", "
+        << FixedNumber(f.pose.t.y(), 2) << ", " << FixedNumber(f.pose.t.z(), 2) << ") mm +- "
+        << sigmas(f.sigma_mm, 0) << ", rvec = (" << FixedNumber(rvec.x(), 4) << ", "
+        << FixedNumber(rvec.y(), 4) << ", " << FixedNumber(rvec.z(), 4) << ") rad +- " << sigmas(f.sigma_rad, 3)
         << "\n";
     PrintSigmaParts(f, out);
   }
@@ -355,7 +348,7 @@ std::string WorkcellSummary(const WorkcellResult& r) {
     if (left > 0) out << "    ... and " << left << " more pairs in result.yaml\n";
   }
   for (const auto& p : r.model_parameters) {
-    out << "  " << p.name << " = " << Fixed(p.value, 5) << " "
+    out << "  " << p.name << " = " << FixedNumber(p.value, 5) << " "
         << (p.held ? "held (not identifiable)" : "+- " + SigmaText(p.sigma)) << " " << p.unit
         << "\n";
   }
@@ -369,32 +362,32 @@ std::string WorkcellSummary(const WorkcellResult& r) {
     out << "  not identifiable, held at nominal: " << u.name << " (" << u.reason << ")\n";
   }
   for (const auto& c : r.strong_correlations) {
-    out << "  strongly correlated: " << c.a << " ~ " << c.b << " (" << Fixed(c.correlation, 3)
+    out << "  strongly correlated: " << c.a << " ~ " << c.b << " (" << FixedNumber(c.correlation, 3)
         << ")\n";
   }
   for (const auto& [key, rms] : r.position_rms) {
-    out << "  residual RMS " << key << ": x " << Fixed(rms.axis.x(), 3) << ", y "
-        << Fixed(rms.axis.y(), 3) << ", depth " << Fixed(rms.axis.z(), 3) << " mm (n="
+    out << "  residual RMS " << key << ": x " << FixedNumber(rms.axis.x(), 3) << ", y "
+        << FixedNumber(rms.axis.y(), 3) << ", depth " << FixedNumber(rms.axis.z(), 3) << " mm (n="
         << rms.count << ")\n";
   }
   if (r.held_out.folds > 0) {
     out << "  held-out RMS (" << r.held_out.folds << "-fold by pose): "
-        << Fixed(r.held_out.total.norm, 3) << " mm";
+        << FixedNumber(r.held_out.total.norm, 3) << " mm";
     for (const auto& [model, h] : r.other_models) {
-      out << "; " << model << " model: " << Fixed(h.total.norm, 3) << " mm";
+      out << "; " << model << " model: " << FixedNumber(h.total.norm, 3) << " mm";
     }
     const double floor = NoiseFloorMm(r);
     out << "; noise floor "
         << (std::isnan(floor) ? std::string("unknown (no repeated captures)")
-                              : Fixed(floor, 3) + " mm")
+                              : FixedNumber(floor, 3) + " mm")
         << NoiseFloorSource(r) << "\n";
   }
   if (r.validation) {
     const RecordingScore& v = *r.validation;
     out << "  on fresh poses (" << v.after.count << " from " << v.recording
-        << "): RMS before " << Fixed(v.before.norm, 3) << " mm (closed-form start), after "
-        << Fixed(v.after.norm, 4) << " mm; mean " << Fixed(v.mean_after_mm, 4) << ", max "
-        << Fixed(v.max_after_mm, 4) << " mm\n";
+        << "): RMS before " << FixedNumber(v.before.norm, 3) << " mm (closed-form start), after "
+        << FixedNumber(v.after.norm, 4) << " mm; mean " << FixedNumber(v.mean_after_mm, 4) << ", max "
+        << FixedNumber(v.max_after_mm, 4) << " mm\n";
   }
   for (const auto& w : r.warnings) out << "  warning: " << w << "\n";
   if (!r.stages.empty()) out << "  " << StagesLine(r.stages) << "\n";

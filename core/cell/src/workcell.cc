@@ -472,7 +472,7 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     kept = WithoutOutliers(kept, found);
     std::vector<StageTime> stages = std::move(result.stages);
     result = IdentifyOnce(spec, kept, make_solver);
-    for (StageTime& stage : result.stages) stage.stage = "again_without_outliers/" + stage.stage;
+    for (StageTime& stage : result.stages) stage.pass = pass + 1;
     result.stages.insert(result.stages.begin(), stages.begin(), stages.end());
   }
   if (!outliers.empty()) NumberByOriginal(recording, kept, &result.residuals);

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "cellmetry/diagnosis/diagnosis.h"
+#include "cellmetry/formats/fixed_number.h"
 
 namespace cellmetry {
 namespace {
@@ -13,24 +14,18 @@ std::string Mm(double v) {
   return b;
 }
 
-std::string Fixed(double v, int digits = 1) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.*f", digits, v);
-  return b;
-}
-
 // A failed test (CandidateFinding::failed) in words.
 std::string Why(const CandidateFinding& f, const std::string& test) {
   if (test == "size") return "its fitted size rules it out (" + f.implausible + ")";
   if (test == "share") {
-    return "it removes " + Fixed(100 * f.explained_share, 0) +
+    return "it removes " + FixedNumber(100 * f.explained_share, 0) +
            " % of the held-out excess over the floor, a sliver of something else";
   }
   if (test == "LR") return "its likelihood-ratio test fails after Holm's correction";
   if (test == "positions") return "it makes the held-out positions worse";
   if (test == "BIC") return "BIC does not fall";
   if (test == "CV") return "its held-out gain is within its standard error";
-  std::string why = "the bootstrap includes it in " + Fixed(100 * f.bootstrap_share, 0) +
+  std::string why = "the bootstrap includes it in " + FixedNumber(100 * f.bootstrap_share, 0) +
                     " % of resamples, not 80 %";
   if (!f.bootstrap_rival.empty()) why += " (" + f.bootstrap_rival + " competes)";
   return why;
@@ -62,7 +57,7 @@ void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstr
   const size_t members = 1 + f.separate.size() + f.residual_shape.size();
   if (members > 1) {
     out << "; one finding at " << f.site << " with the effects below (this one removes "
-        << Fixed(100 * head.group_share, 1) << " % of what they remove together from the "
+        << FixedNumber(100 * head.group_share, 1) << " % of what they remove together from the "
         << "held-out excess)";
   }
   out << ".\n";
@@ -70,21 +65,21 @@ void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstr
   for (int m : f.separate) {
     const AcceptedEffect& a = r.accepted[m];
     out << "  Also at " << f.site << ", separate physics: " << a.description << " (up to "
-        << Mm(a.peak_mm) << "; " << Fixed(100 * a.group_share, 1) << " % of what the finding removes";
+        << Mm(a.peak_mm) << "; " << FixedNumber(100 * a.group_share, 1) << " % of what the finding removes";
     if (a.group_share >= r.min_group_share) {
-      out << ", at least " << Fixed(100 * r.min_group_share, 0) << " %).\n";
+      out << ", at least " << FixedNumber(100 * r.min_group_share, 0) << " %).\n";
     } else {
-      out << ", but unlike the physics above: correlation " << Fixed(a.headline_correlation, 2)
-          << " with its signature, under " << Fixed(r.shape_correlation, 2) << ").\n";
+      out << ", but unlike the physics above: correlation " << FixedNumber(a.headline_correlation, 2)
+          << " with its signature, under " << FixedNumber(r.shape_correlation, 2) << ").\n";
     }
     Details(a, out);
   }
   for (int m : f.residual_shape) {
     const AcceptedEffect& a = r.accepted[m];
     out << "  Also fitted at " << f.site << ": " << a.label << " (up to " << Mm(a.peak_mm)
-        << "), " << Fixed(100 * a.group_share, 1) << " % of what the finding removes, under "
-        << Fixed(100 * r.min_group_share, 0) << " %, and like the physics above (correlation "
-        << Fixed(a.headline_correlation, 2) << "): its residual shape (its real form differs "
+        << "), " << FixedNumber(100 * a.group_share, 1) << " % of what the finding removes, under "
+        << FixedNumber(100 * r.min_group_share, 0) << " %, and like the physics above (correlation "
+        << FixedNumber(a.headline_correlation, 2) << "): its residual shape (its real form differs "
         << "from the library's), not separate physics.\n";
     Details(a, out);
   }
@@ -120,14 +115,14 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
   for (const auto& f : r.findings) Finding(r, f, out);
   if (!r.accepted.empty()) {
     out << "Held-out RMS " << Mm(r.geometric.held_out_rms_mm) << " -> "
-        << Mm(r.final.held_out_rms_mm) << " (positions), " << Fixed(r.geometric.held_out_sigma, 2)
-        << " -> " << Fixed(r.final.held_out_sigma, 2)
+        << Mm(r.final.held_out_rms_mm) << " (positions), " << FixedNumber(r.geometric.held_out_sigma, 2)
+        << " -> " << FixedNumber(r.final.held_out_sigma, 2)
         << " sigma (every row fitted); fit RMS " << Mm(r.final.rms_mm) << " against the "
         << Mm(r.floor_rms_mm) << " floor.\n";
   } else if (!r.geometric.consistent_with_noise()) {
     out << "No effect in the library passed every test";
     if (!r.rounds.empty() && r.rounds.front().dispersion > 1.5) {
-      out << " (each judged against the residuals' own scatter, " << Fixed(r.rounds.front().dispersion)
+      out << " (each judged against the residuals' own scatter, " << FixedNumber(r.rounds.front().dispersion, 1)
           << "x the floor's chi-square)";
     }
     out << ".\n";
@@ -143,7 +138,7 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
         out << "  In these poses it looks like";
         for (size_t i = 0; i < f.look_alikes.size() && i < 3; ++i) {
           out << (i ? "," : "") << " " << f.look_alikes[i].label << " ("
-              << Fixed(f.look_alikes[i].correlation, 2) << ")";
+              << FixedNumber(f.look_alikes[i].correlation, 2) << ")";
         }
         out << " (canonical correlation of what the geometry leaves of them).\n";
       }

@@ -19,6 +19,8 @@ struct StageTime {
   std::string stage;              // a short identifier: "solve", "covariance", ...
   double seconds = 0.0;           // wall time of the stage
   double peak_resident_mb = 0.0;  // process peak resident memory at the stage's end (0: unknown)
+  int pass = 0;                   // 0 the first identification; 1 the one again without the
+                                  // outliers the first found (workcell.cc)
 };
 
 class StageClock {
