@@ -244,8 +244,34 @@ void CamerasThroughRobots(const WorkcellProblem& spec, const Recording& recordin
 
 }  // namespace
 
+namespace {
+
+// Whether `start` places every robot (base and model), tool and static camera `data` uses.
+bool PlacesEverything(const WorkcellEstimate& start, const WorkcellProblem& spec,
+                      const Recording& recording, const WorkcellData& data) {
+  for (const auto& robot : spec.robots) {
+    if (!start.T_world_base.count(robot.name) || !start.model.count(robot.name)) return false;
+    for (const auto& tool : robot.tools) {
+      if (!start.T_flange_target.count(tool.target)) return false;
+    }
+  }
+  if (spec.camera_model != CameraModel::kStaticCameras) return true;
+  std::vector<int> used;
+  for (const ToolMeasurement& m : data.tools) used.push_back(m.observation);
+  used.insert(used.end(), data.world_observations.begin(), data.world_observations.end());
+  for (int i : used) {
+    if (!start.T_world_cam.count(recording.observations[i].camera)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& recording,
                                  const WorkcellData& data) {
+  if (spec.warm_start && PlacesEverything(*spec.warm_start, spec, recording, data)) {
+    return *spec.warm_start;
+  }
   WorkcellEstimate estimate;
   const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
   if (static_cameras) {

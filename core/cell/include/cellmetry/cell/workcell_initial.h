@@ -18,7 +18,9 @@
 
 namespace cellmetry {
 
-// Raises InputError when a robot has fewer than three usable, non-collinear measurements.
+// The problem's warm start where it places everything the data uses (WorkcellProblem::
+// warm_start); otherwise the closed form, which raises InputError when a robot has fewer than
+// three usable, non-collinear measurements.
 WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& recording,
                                  const WorkcellData& data);
 

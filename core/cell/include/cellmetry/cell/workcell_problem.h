@@ -93,6 +93,15 @@ struct WorkcellCamera {
   std::array<bool, 6> free = {true, true, true, true, true, true};
 };
 
+// Where everything is, at the start or at the answer of an identification.
+struct WorkcellEstimate {
+  std::map<std::string, Pose> T_world_base;           // robot -> base
+  std::map<std::string, std::vector<double>> model;   // robot -> model parameter values
+  std::map<std::string, Pose> T_flange_target;        // target -> tool offset
+  std::map<std::string, Pose> T_world_cam;            // camera -> pose (static cameras only)
+  std::map<std::string, std::vector<double>> effects; // effect -> parameter values (none: zero)
+};
+
 struct WorkcellProblem {
   std::vector<WorkcellRobot> robots;
   CameraModel camera_model = CameraModel::kStaticCameras;
@@ -115,15 +124,10 @@ struct WorkcellProblem {
   std::vector<WorkcellEffect> effects;   // none: the geometric model alone
   UncertainInputs uncertain_inputs;      // none: sigma from the data alone
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2 in every base frame
-};
-
-// Where everything is, at the start or at the answer of an identification.
-struct WorkcellEstimate {
-  std::map<std::string, Pose> T_world_base;           // robot -> base
-  std::map<std::string, std::vector<double>> model;   // robot -> model parameter values
-  std::map<std::string, Pose> T_flange_target;        // target -> tool offset
-  std::map<std::string, Pose> T_world_cam;            // camera -> pose (static cameras only)
-  std::map<std::string, std::vector<double>> effects; // effect -> parameter values (none: zero)
+  // A neighbouring fit's answer to start from instead of the closed form (InitialEstimate): the
+  // physics finder's refits start from the model they add one effect to (its parameters at
+  // zero). Used only where it places every robot, tool and static camera the data has.
+  std::optional<WorkcellEstimate> warm_start;
 };
 
 }  // namespace cellmetry
