@@ -101,6 +101,32 @@ TEST(SimulatedUr3, NoiseFreeRecoversEveryFreeParameterExactly) {
   EXPECT_LT(e.max_rotation_error_rad, 1e-9);
 }
 
+// A warm start (WorkcellProblem::warm_start) is where the fit starts when it places everything
+// the data uses: started at the answer, the same answer. One that misses a camera is not used:
+// the closed form starts instead.
+TEST(SimulatedUr3, AWarmStartThatPlacesEverythingIsTheStart) {
+  const WorkcellSimulationSpec sim = TwoCameraSpec(12);
+  const Recording recording = SimulateWorkcell(sim, nullptr);
+  WorkcellProblem problem;
+  problem.robots.push_back(JobRobot(sim.robots[0]));
+  problem.noise.position_sigma_mm = {{"cam1", {0.1, 0.1, 0.3}}, {"cam2", {0.1, 0.1, 0.3}}};
+  problem.noise.rotation_sigma_rad = {{"cam1", {1e-3, 1e-3, 1e-3}}, {"cam2", {1e-3, 1e-3, 1e-3}}};
+  problem.folds = 0;
+  const auto solver = [] {
+    return testing::Plugins().CreateSolver("ceres_lm", ConfigNode::LoadString("{}", "solver"));
+  };
+  const WorkcellResult cold = IdentifyWorkcell(problem, recording, solver);
+  problem.warm_start = cold.estimate;
+  const WorkcellResult warm = IdentifyWorkcell(problem, recording, solver);
+  const Pose& cold_base = cold.estimate.T_world_base.at("ur3");
+  EXPECT_LT((warm.start.T_world_base.at("ur3").t - cold_base.t).norm(), 1e-12);
+  EXPECT_LT((warm.estimate.T_world_base.at("ur3").t - cold_base.t).norm(), 1e-6);
+  problem.warm_start->T_world_cam.erase("cam2");
+  const WorkcellResult partial = IdentifyWorkcell(problem, recording, solver);
+  EXPECT_LT((partial.start.T_world_base.at("ur3").t - cold.start.T_world_base.at("ur3").t).norm(),
+            1e-9);
+}
+
 // The result says where the time went: every stage of the pipeline, in the order it ran, with
 // a wall time and the memory it had reached (the summary's "time:" line and result.json).
 TEST(SimulatedUr3, ResultListsEveryStageWithItsTimeAndMemory) {

@@ -165,7 +165,7 @@ struct WorkcellResult {
   std::map<std::string, HeldOut> other_models;    // compare_camera_models: name -> held-out
   std::map<std::string, int> skipped;             // observation skip reasons
   std::vector<std::string> warnings;
-  WorkcellEstimate start;                         // the closed-form start
+  WorkcellEstimate start;                         // the closed-form start, or the warm one
   WorkcellEstimate estimate;                      // the answer
   std::optional<RecordingScore> validation;       // set by the caller (ScoreOnRecording)
   std::vector<StageTime> stages;                  // where the time went (stage_clock.h)
