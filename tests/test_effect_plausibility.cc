@@ -15,31 +15,26 @@
 namespace cellmetry {
 namespace {
 
-// The UR3 cell of configs/simulations/ur3_two_cameras.yaml without noise, its tool board printed
-// `scale` large, identified with the target_scale effect free.
-WorkcellResult FitScaledBoard(const std::string& dir, double scale) {
-  testing::SimulateScaledToolBoard(dir, scale);
-  const std::string job =
-      "job: workcell\nrecording: " + dir + "/rec\n"
-      "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3.yaml") +
-      "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n"
-      "effects:\n  - {type: target_scale, targets: [tool]}\n" +
-      testing::kTwoCameraNoiseYaml + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
+// A UR3 job on `dir`/rec, its base free and `robot_lines` after it (tools, effects), `job_lines`
+// before the robots, written to `dir`/job.yaml and identified.
+WorkcellResult FitUr3(const std::string& dir, const std::string& robot_lines,
+                      const std::string& job_lines = "") {
+  const std::string job = "job: workcell\nrecording: " + dir + "/rec\n" + job_lines +
+                          "robots:\n  ur3:\n    model: " +
+                          testing::Source("configs/robots/ur3.yaml") +
+                          "\n    base: {free: all}\n" + robot_lines + testing::kTwoCameraNoiseYaml +
+                          "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
   testing::WriteText(dir + "/job.yaml", job);
   return testing::Identify(LoadWorkcellJob(dir + "/job.yaml", testing::Plugins()),
                            ReadRecording(dir + "/rec"));
 }
 
-bool WarnsAbout(const WorkcellResult& result, const std::string& parameter) {
-  return std::any_of(result.warnings.begin(), result.warnings.end(), [&](const std::string& w) {
-    return w.find(parameter) != std::string::npos && w.find("plausibly") != std::string::npos;
-  });
-}
-
-TEST(EffectPlausibility, AnEffectFittedBeyondItsPhysicsIsAWarning) {
-  const WorkcellResult result =
-      FitScaledBoard(testing::TempDirForThisTest("implausible_board"), 0.05);
-  EXPECT_TRUE(WarnsAbout(result, "target_scale.tool.scale"));
+// The UR3 cell of configs/simulations/ur3_two_cameras.yaml without noise, its tool board printed
+// `scale` large, identified with the target_scale effect free.
+WorkcellResult FitScaledBoard(const std::string& dir, double scale) {
+  testing::SimulateScaledToolBoard(dir, scale);
+  return FitUr3(dir, "    tools:\n      tool: {free: [x, y, z]}\n",
+                "effects:\n  - {type: target_scale, targets: [tool]}\n");
 }
 
 // The physics suite's UR3 cell (payload alternating: compliance testable) with a joint 3
@@ -51,37 +46,39 @@ WorkcellResult FitJoint3Compliance(const std::string& dir, double compliance) {
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
   testing::ConcealJoint3Compliance(&spec, compliance);
   WriteRecording(SimulateWorkcell(spec, nullptr), dir + "/rec", "");
-  const std::string job =
-      "job: workcell\nrecording: " + dir + "/rec\nuse_tool_rotation: true\n"
-      "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3.yaml") +
-      "\n    base: {free: all}\n    tools:\n      tool: {free: all}\n    effects:\n"
-      "      - {type: joint_compliance, joints: [3], link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, "
-      "0.35]}\n" +
-      testing::kTwoCameraNoiseYaml + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
-  testing::WriteText(dir + "/job.yaml", job);
-  return testing::Identify(LoadWorkcellJob(dir + "/job.yaml", testing::Plugins()),
-                           ReadRecording(dir + "/rec"));
+  return FitUr3(dir,
+                "    tools:\n      tool: {free: all}\n    effects:\n"
+                "      - {type: joint_compliance, joints: [3], "
+                "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}\n",
+                "use_tool_rotation: true\n");
 }
 
-bool WarnsBelowZero(const WorkcellResult& result, const std::string& parameter) {
+// A warning naming `parameter` that says `why` ("plausibly": its size; "below zero": its sign).
+bool Warns(const WorkcellResult& result, const std::string& parameter, const std::string& why) {
   return std::any_of(result.warnings.begin(), result.warnings.end(), [&](const std::string& w) {
-    return w.find(parameter) != std::string::npos && w.find("below zero") != std::string::npos;
+    return w.find(parameter) != std::string::npos && w.find(why) != std::string::npos;
   });
+}
+
+TEST(EffectPlausibility, AnEffectFittedBeyondItsPhysicsIsAWarning) {
+  const WorkcellResult result =
+      FitScaledBoard(testing::TempDirForThisTest("implausible_board"), 0.05);
+  EXPECT_TRUE(Warns(result, "target_scale.tool.scale", "plausibly"));
 }
 
 TEST(EffectPlausibility, AComplianceFittedBelowZeroIsAWarning) {
   const WorkcellResult against =
       FitJoint3Compliance(testing::TempDirForThisTest("against_gravity"), -4e-5);
-  EXPECT_TRUE(WarnsBelowZero(against, "j3.compliance"));
+  EXPECT_TRUE(Warns(against, "j3.compliance", "below zero"));
   const WorkcellResult with = FitJoint3Compliance(testing::TempDirForThisTest("with_gravity"), 4e-5);
-  EXPECT_FALSE(WarnsBelowZero(with, "j3.compliance"));
-  EXPECT_FALSE(WarnsAbout(with, "j3.compliance"));
+  EXPECT_FALSE(Warns(with, "j3.compliance", "below zero"));
+  EXPECT_FALSE(Warns(with, "j3.compliance", "plausibly"));
 }
 
 TEST(EffectPlausibility, APlausibleSizeIsNoWarning) {
   const WorkcellResult result =
       FitScaledBoard(testing::TempDirForThisTest("plausible_board"), 0.005);
-  EXPECT_FALSE(WarnsAbout(result, "target_scale"));
+  EXPECT_FALSE(Warns(result, "target_scale", "plausibly"));
 }
 
 }  // namespace
