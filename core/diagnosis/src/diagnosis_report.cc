@@ -157,56 +157,90 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
   return out.str();
 }
 
+namespace {
+
+nlohmann::json SummaryJson(const FitSummary& s) {
+  return nlohmann::json{{"chi2", s.chi2},         {"dof", s.dof},
+                        {"p_value", s.p_value},   {"rms_mm", s.rms_mm},
+                        {"held_out_rms_mm", s.held_out_rms_mm},
+                        {"held_out_sigma", s.held_out_sigma},
+                        {"consistent_with_noise", s.consistent_with_noise()}};
+}
+
+nlohmann::json CandidateJson(const CandidateFinding& f) {
+  nlohmann::json look_alikes = nlohmann::json::array();
+  for (const auto& l : f.look_alikes) {
+    look_alikes.push_back({{"label", l.label}, {"correlation", l.correlation}});
+  }
+  return nlohmann::json{{"name", f.name},
+                        {"label", f.label},
+                        {"testable", f.testable},
+                        {"untestable_because", f.untestable_because},
+                        {"data_needed", f.data_needed},
+                        {"unabsorbed", f.unabsorbed},
+                        {"dof", f.dof},
+                        {"score", f.score},
+                        {"p_holm", f.p_holm},
+                        {"refitted", f.refitted},
+                        {"likelihood_ratio", f.likelihood_ratio},
+                        {"p_lr_holm", f.p_lr_holm},
+                        {"delta_bic", f.delta_bic},
+                        {"cv_rms_mm", f.cv_rms_mm},
+                        {"cv_gain_sigma", f.cv_gain},
+                        {"cv_gain_se_sigma", f.cv_gain_se},
+                        {"bootstrap_share", f.bootstrap_share},
+                        {"look_alikes", look_alikes},
+                        {"bootstrap_rival", f.bootstrap_rival},
+                        {"aliases", f.aliases},
+                        {"alias_names", f.alias_names},
+                        {"implausible", f.implausible},
+                        {"explained_share", f.explained_share},
+                        {"failed", f.failed},
+                        {"accepted", f.accepted}};
+}
+
+nlohmann::json AcceptedJson(const AcceptedEffect& a) {
+  nlohmann::json j{{"name", a.name}, {"label", a.label}, {"site", a.site},
+                   {"description", a.description}, {"peak_mm", a.peak_mm},
+                   {"aliases", a.aliases},
+                   {"held_out_sigma_before", a.held_out_sigma_before},
+                   {"held_out_sigma_after", a.held_out_sigma_after},
+                   {"role", a.role}, {"group_share", a.group_share},
+                   {"headline_correlation", a.headline_correlation},
+                   {"site_correlations", a.site_correlations},
+                   {"parameters", nlohmann::json::array()}};
+  for (const auto& p : a.parameters) {
+    j["parameters"].push_back(
+        {{"name", p.name}, {"unit", p.unit}, {"value", p.value}, {"sigma", p.sigma}});
+  }
+  return j;
+}
+
+// One physical finding, its members by the accepted effects' names.
+nlohmann::json FindingJson(const PhysicalFinding& f, const std::vector<AcceptedEffect>& accepted) {
+  auto names = [&accepted](const std::vector<int>& members) {
+    std::vector<std::string> out;
+    for (int m : members) out.push_back(accepted[m].name);
+    return out;
+  };
+  return {{"site", f.site},
+          {"headline", accepted[f.headline].name},
+          {"separate", names(f.separate)},
+          {"residual_shape", names(f.residual_shape)},
+          {"held_out_excess_removed", f.held_out_excess_removed}};
+}
+
+}  // namespace
+
 nlohmann::json DiagnosisJson(const DiagnosisResult& result) {
   DiagnosisResult storage;
   const DiagnosisResult& r = Grouped(result, &storage);
-  auto summary = [](const FitSummary& s) {
-    return nlohmann::json{{"chi2", s.chi2},         {"dof", s.dof},
-                          {"p_value", s.p_value},   {"rms_mm", s.rms_mm},
-                          {"held_out_rms_mm", s.held_out_rms_mm},
-                          {"held_out_sigma", s.held_out_sigma},
-                          {"consistent_with_noise", s.consistent_with_noise()}};
-  };
-  auto look_alikes = [](const CandidateFinding& f) {
-    nlohmann::json j = nlohmann::json::array();
-    for (const auto& l : f.look_alikes) {
-      j.push_back({{"label", l.label}, {"correlation", l.correlation}});
-    }
-    return j;
-  };
-  auto candidate = [&look_alikes](const CandidateFinding& f) {
-    return nlohmann::json{{"name", f.name},
-                          {"label", f.label},
-                          {"testable", f.testable},
-                          {"untestable_because", f.untestable_because},
-                          {"data_needed", f.data_needed},
-                          {"unabsorbed", f.unabsorbed},
-                          {"dof", f.dof},
-                          {"score", f.score},
-                          {"p_holm", f.p_holm},
-                          {"refitted", f.refitted},
-                          {"likelihood_ratio", f.likelihood_ratio},
-                          {"p_lr_holm", f.p_lr_holm},
-                          {"delta_bic", f.delta_bic},
-                          {"cv_rms_mm", f.cv_rms_mm},
-                          {"cv_gain_sigma", f.cv_gain},
-                          {"cv_gain_se_sigma", f.cv_gain_se},
-                          {"bootstrap_share", f.bootstrap_share},
-                          {"look_alikes", look_alikes(f)},
-                          {"bootstrap_rival", f.bootstrap_rival},
-                          {"aliases", f.aliases},
-                          {"alias_names", f.alias_names},
-                          {"implausible", f.implausible},
-                          {"explained_share", f.explained_share},
-                          {"failed", f.failed},
-                          {"accepted", f.accepted}};
-  };
   nlohmann::json j;
   j["format"] = "cellmetry-diagnosis/1";
   j["noise_source"] = r.noise_source;
   j["floor_rms_mm"] = r.floor_rms_mm;
-  j["geometric"] = summary(r.geometric);
-  j["final"] = summary(r.final);
+  j["geometric"] = SummaryJson(r.geometric);
+  j["final"] = SummaryJson(r.final);
   j["durbin_watson"] = r.durbin_watson;
   j["regressors"] = nlohmann::json::array();
   for (const auto& f : r.regressors) {
@@ -215,47 +249,21 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& result) {
                                {"p_value", f.p_value}});
   }
   j["untestable"] = nlohmann::json::array();
-  for (const auto& f : r.untestable) j["untestable"].push_back(candidate(f));
+  for (const auto& f : r.untestable) j["untestable"].push_back(CandidateJson(f));
   j["rounds"] = nlohmann::json::array();
   for (const auto& round : r.rounds) {
     nlohmann::json jr{{"accepted", round.accepted},
                       {"dispersion", round.dispersion},
                       {"candidates", nlohmann::json::array()}};
-    for (const auto& f : round.candidates) jr["candidates"].push_back(candidate(f));
+    for (const auto& f : round.candidates) jr["candidates"].push_back(CandidateJson(f));
     j["rounds"].push_back(jr);
   }
   j["accepted"] = nlohmann::json::array();
-  for (const auto& a : r.accepted) {
-    nlohmann::json ja{{"name", a.name}, {"label", a.label}, {"site", a.site},
-                      {"description", a.description}, {"peak_mm", a.peak_mm},
-                      {"aliases", a.aliases},
-                      {"held_out_sigma_before", a.held_out_sigma_before},
-                      {"held_out_sigma_after", a.held_out_sigma_after},
-                      {"role", a.role}, {"group_share", a.group_share},
-                      {"headline_correlation", a.headline_correlation},
-                      {"site_correlations", a.site_correlations},
-                      {"parameters", nlohmann::json::array()}};
-    for (const auto& p : a.parameters) {
-      ja["parameters"].push_back(
-          {{"name", p.name}, {"unit", p.unit}, {"value", p.value}, {"sigma", p.sigma}});
-    }
-    j["accepted"].push_back(ja);
-  }
+  for (const auto& a : r.accepted) j["accepted"].push_back(AcceptedJson(a));
   j["min_group_share"] = r.min_group_share;
   j["shape_correlation"] = r.shape_correlation;
   j["findings"] = nlohmann::json::array();
-  for (const auto& f : r.findings) {
-    auto names = [&r](const std::vector<int>& members) {
-      std::vector<std::string> out;
-      for (int m : members) out.push_back(r.accepted[m].name);
-      return out;
-    };
-    j["findings"].push_back({{"site", f.site},
-                             {"headline", r.accepted[f.headline].name},
-                             {"separate", names(f.separate)},
-                             {"residual_shape", names(f.residual_shape)},
-                             {"held_out_excess_removed", f.held_out_excess_removed}});
-  }
+  for (const auto& f : r.findings) j["findings"].push_back(FindingJson(f, r.accepted));
   j["unexplained"] = r.unexplained;
   j["report"] = DiagnosisReport(r);
   return j;
