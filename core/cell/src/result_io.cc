@@ -191,6 +191,76 @@ std::string WorkcellResultYaml(const WorkcellResult& result) {
   return std::string(out.c_str()) + "\n";
 }
 
+namespace {
+
+nlohmann::json FrameJson(const FrameEstimate& f) {
+  nlohmann::json held = nlohmann::json::array();
+  for (int i = 0; i < 6; ++i) {
+    if (f.held[i]) held.push_back(kFrameParameterNames[i]);
+  }
+  return {{"parent", f.parent},
+          {"xyz_mm", Vec(f.pose.t)},
+          {"rvec_rad", Vec(RvecFromRotation(f.pose.R))},
+          {"sigma_xyz_mm", SigmaJson(f.sigma_mm, f.held, 0)},
+          {"sigma_rot_rad", SigmaJson(f.sigma_rad, f.held, 3)},
+          {"sigma_statistical", Vec6(f.sigma_statistical)},
+          {"sigma_systematic", Vec6(f.sigma_systematic)},
+          {"sigma_inputs", Vec6(f.sigma_inputs)},
+          {"held", held}};
+}
+
+nlohmann::json RobotPairJson(const RobotPairEstimate& p) {
+  nlohmann::json covariance = nlohmann::json::array();
+  for (int i = 0; i < 6; ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int k = 0; k < 6; ++k) row.push_back(p.covariance(i, k));
+    covariance.push_back(row);
+  }
+  return {{"parent", p.frame.parent}, {"frame", p.frame.name},
+          {"xyz_mm", Vec(p.frame.pose.t)}, {"rvec_rad", Vec(RvecFromRotation(p.frame.pose.R))},
+          {"sigma_xyz_mm", Vec(p.frame.sigma_mm)}, {"sigma_rot_rad", Vec(p.frame.sigma_rad)},
+          {"covariance", covariance},
+          {"sigma_from", "first-order propagation of both bases' joint covariance (x y z mm, "
+                         "rx ry rz rad about the parent's axes)"}};
+}
+
+// A held parameter's sigma is null: held, not known perfectly.
+nlohmann::json ModelParameterJson(const ScalarEstimate& p) {
+  return {{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal}, {"value", p.value},
+          {"sigma", p.held ? nlohmann::json(nullptr) : nlohmann::json(p.sigma)},
+          {"sigma_statistical", p.sigma_statistical}, {"sigma_systematic", p.sigma_systematic},
+          {"sigma_inputs", p.sigma_inputs}, {"held", p.held}};
+}
+
+nlohmann::json RobotModelJson(const RobotModelRecord& record) {
+  nlohmann::json values = nlohmann::json::array();
+  for (const auto& p : record.parameters) {
+    values.push_back({{"name", p.name}, {"unit", p.unit}, {"value", p.nominal},
+                      {"free", !p.fixed}});
+  }
+  return {{"model_file", record.config_file},
+          {"model_config", record.config_text},
+          {"model_values", values}};
+}
+
+nlohmann::json OutlierJson(const Outlier& o) {
+  return {{"line", o.line}, {"sample", o.sample}, {"camera", o.camera}, {"target", o.target},
+          {"kind", o.kind}, {"score", o.score}, {"threshold", o.threshold}};
+}
+
+// The second pass's stages named as docs/formats.md says.
+nlohmann::json StagesJson(const std::vector<StageTime>& stages) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& stage : stages) {
+    const std::string name = stage.pass > 0 ? "again_without_outliers/" + stage.stage : stage.stage;
+    j.push_back({{"stage", name}, {"seconds", stage.seconds},
+                 {"peak_resident_mb", stage.peak_resident_mb}});
+  }
+  return j;
+}
+
+}  // namespace
+
 nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   nlohmann::json j;
   j["format"] = "cellmetry-result/1";
@@ -198,56 +268,11 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   j["residual"] = ResidualFormName(r.residual_form);
   j["solver"] = SolverJson(r.solver);
   j["start"] = EstimateJson(r.start);
-  for (const auto& f : r.frames) {
-    nlohmann::json held = nlohmann::json::array();
-    for (int i = 0; i < 6; ++i) {
-      if (f.held[i]) held.push_back(kFrameParameterNames[i]);
-    }
-    j["frames"][f.name] = {{"parent", f.parent},
-                           {"xyz_mm", Vec(f.pose.t)},
-                           {"rvec_rad", Vec(RvecFromRotation(f.pose.R))},
-                           {"sigma_xyz_mm", SigmaJson(f.sigma_mm, f.held, 0)},
-                           {"sigma_rot_rad", SigmaJson(f.sigma_rad, f.held, 3)},
-                           {"sigma_statistical", Vec6(f.sigma_statistical)},
-                           {"sigma_systematic", Vec6(f.sigma_systematic)},
-                           {"sigma_inputs", Vec6(f.sigma_inputs)},
-                           {"held", held}};
-  }
-  for (const auto& p : r.robot_to_robot) {
-    nlohmann::json covariance = nlohmann::json::array();
-    for (int i = 0; i < 6; ++i) {
-      nlohmann::json row = nlohmann::json::array();
-      for (int k = 0; k < 6; ++k) row.push_back(p.covariance(i, k));
-      covariance.push_back(row);
-    }
-    j["robot_to_robot"][PairKey(p.frame)] = {
-        {"parent", p.frame.parent}, {"frame", p.frame.name},
-        {"xyz_mm", Vec(p.frame.pose.t)}, {"rvec_rad", Vec(RvecFromRotation(p.frame.pose.R))},
-        {"sigma_xyz_mm", Vec(p.frame.sigma_mm)}, {"sigma_rot_rad", Vec(p.frame.sigma_rad)},
-        {"covariance", covariance},
-        {"sigma_from", "first-order propagation of both bases' joint covariance (x y z mm, "
-                       "rx ry rz rad about the parent's axes)"}};
-  }
+  for (const auto& f : r.frames) j["frames"][f.name] = FrameJson(f);
+  for (const auto& p : r.robot_to_robot) j["robot_to_robot"][PairKey(p.frame)] = RobotPairJson(p);
   j["model_parameters"] = nlohmann::json::array();
-  for (const auto& p : r.model_parameters) {
-    j["model_parameters"].push_back({{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal},
-                                     {"value", p.value},
-                                     {"sigma", p.held ? nlohmann::json(nullptr)
-                                                      : nlohmann::json(p.sigma)},
-                                     {"sigma_statistical", p.sigma_statistical},
-                                     {"sigma_systematic", p.sigma_systematic},
-                                     {"sigma_inputs", p.sigma_inputs}, {"held", p.held}});
-  }
-  for (const auto& record : r.robot_models) {
-    nlohmann::json values = nlohmann::json::array();
-    for (const auto& p : record.parameters) {
-      values.push_back({{"name", p.name}, {"unit", p.unit}, {"value", p.nominal},
-                        {"free", !p.fixed}});
-    }
-    j["robots"][record.robot] = {{"model_file", record.config_file},
-                                 {"model_config", record.config_text},
-                                 {"model_values", values}};
-  }
+  for (const auto& p : r.model_parameters) j["model_parameters"].push_back(ModelParameterJson(p));
+  for (const auto& record : r.robot_models) j["robots"][record.robot] = RobotModelJson(record);
   j["effects"] = nlohmann::json::object();
   for (const auto& record : r.effect_models) {
     j["effects"][record.name] = {{"robot", record.robot}, {"type", record.type},
@@ -257,11 +282,7 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
   j["weakly_identified"] = WeakJson(r.weakly_identified);
   j["outliers"] = nlohmann::json::array();
-  for (const auto& o : r.outliers) {
-    j["outliers"].push_back({{"line", o.line}, {"sample", o.sample}, {"camera", o.camera},
-                             {"target", o.target}, {"kind", o.kind}, {"score", o.score},
-                             {"threshold", o.threshold}});
-  }
+  for (const auto& o : r.outliers) j["outliers"].push_back(OutlierJson(o));
   j["noise_used"] = NoiseJson(r.noise);
   j["repeatability"] = NoiseJson(r.repeatability);
   for (const auto& [key, rms] : r.position_rms)
@@ -275,12 +296,7 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   j["noise_floor_mm"] = std::isnan(floor) ? nlohmann::json(nullptr) : nlohmann::json(floor);
   j["skipped_observations"] = r.skipped;
   j["warnings"] = r.warnings;
-  j["stages"] = nlohmann::json::array();
-  for (const auto& stage : r.stages) {  // the second pass's named as docs/formats.md says
-    const std::string name = stage.pass > 0 ? "again_without_outliers/" + stage.stage : stage.stage;
-    j["stages"].push_back({{"stage", name}, {"seconds", stage.seconds},
-                           {"peak_resident_mb", stage.peak_resident_mb}});
-  }
+  j["stages"] = StagesJson(r.stages);
   return j;
 }
 
