@@ -121,8 +121,8 @@ std::string PairKey(const FrameEstimate& f) {
 std::string PairSummaryLine(const FrameEstimate& f) {
   const Eigen::Vector3d rvec = RvecFromRotation(f.pose.R);
   auto three = [](const Eigen::Vector3d& v, int digits) {
-    return "(" + FixedNumber(v.x(), digits) + ", " + FixedNumber(v.y(), digits) + ", " + FixedNumber(v.z(), digits) +
-           ")";
+    return "(" + FixedNumber(v.x(), digits) + ", " + FixedNumber(v.y(), digits) + ", " +
+           FixedNumber(v.z(), digits) + ")";
   };
   auto sigmas = [](const Eigen::Vector3d& v) {
     return "(" + SigmaText(v.x()) + ", " + SigmaText(v.y()) + ", " + SigmaText(v.z()) + ")";
@@ -340,11 +340,11 @@ std::string WorkcellSummary(const WorkcellResult& r) {
       }
       return "(" + text + ")";
     };
-    out << "  " << f.name << " in " << f.parent << ": xyz = (" << FixedNumber(f.pose.t.x(), 2) << ", "
-        << FixedNumber(f.pose.t.y(), 2) << ", " << FixedNumber(f.pose.t.z(), 2) << ") mm +- "
-        << sigmas(f.sigma_mm, 0) << ", rvec = (" << FixedNumber(rvec.x(), 4) << ", "
-        << FixedNumber(rvec.y(), 4) << ", " << FixedNumber(rvec.z(), 4) << ") rad +- " << sigmas(f.sigma_rad, 3)
-        << "\n";
+    out << "  " << f.name << " in " << f.parent << ": xyz = (" << FixedNumber(f.pose.t.x(), 2)
+        << ", " << FixedNumber(f.pose.t.y(), 2) << ", " << FixedNumber(f.pose.t.z(), 2)
+        << ") mm +- " << sigmas(f.sigma_mm, 0) << ", rvec = (" << FixedNumber(rvec.x(), 4) << ", "
+        << FixedNumber(rvec.y(), 4) << ", " << FixedNumber(rvec.z(), 4) << ") rad +- "
+        << sigmas(f.sigma_rad, 3) << "\n";
     PrintSigmaParts(f, out);
   }
   if (!r.robot_to_robot.empty()) {
@@ -400,10 +400,10 @@ std::string WorkcellSummary(const WorkcellResult& r) {
   }
   if (r.validation) {
     const RecordingScore& v = *r.validation;
-    out << "  on fresh poses (" << v.after.count << " from " << v.recording
-        << "): RMS before " << FixedNumber(v.before.norm, 3) << " mm (closed-form start), after "
-        << FixedNumber(v.after.norm, 4) << " mm; mean " << FixedNumber(v.mean_after_mm, 4) << ", max "
-        << FixedNumber(v.max_after_mm, 4) << " mm\n";
+    out << "  on fresh poses (" << v.after.count << " from " << v.recording << "): RMS before "
+        << FixedNumber(v.before.norm, 3) << " mm (closed-form start), after "
+        << FixedNumber(v.after.norm, 4) << " mm; mean " << FixedNumber(v.mean_after_mm, 4)
+        << ", max " << FixedNumber(v.max_after_mm, 4) << " mm\n";
   }
   for (const auto& w : r.warnings) out << "  warning: " << w << "\n";
   if (!r.stages.empty()) out << "  " << StagesLine(r.stages) << "\n";

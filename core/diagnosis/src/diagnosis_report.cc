@@ -65,12 +65,14 @@ void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstr
   for (int m : f.separate) {
     const AcceptedEffect& a = r.accepted[m];
     out << "  Also at " << f.site << ", separate physics: " << a.description << " (up to "
-        << Mm(a.peak_mm) << "; " << FixedNumber(100 * a.group_share, 1) << " % of what the finding removes";
+        << Mm(a.peak_mm) << "; " << FixedNumber(100 * a.group_share, 1)
+        << " % of what the finding removes";
     if (a.group_share >= r.min_group_share) {
       out << ", at least " << FixedNumber(100 * r.min_group_share, 0) << " %).\n";
     } else {
-      out << ", but unlike the physics above: correlation " << FixedNumber(a.headline_correlation, 2)
-          << " with its signature, under " << FixedNumber(r.shape_correlation, 2) << ").\n";
+      out << ", but unlike the physics above: correlation "
+          << FixedNumber(a.headline_correlation, 2) << " with its signature, under "
+          << FixedNumber(r.shape_correlation, 2) << ").\n";
     }
     Details(a, out);
   }
@@ -115,15 +117,15 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
   for (const auto& f : r.findings) Finding(r, f, out);
   if (!r.accepted.empty()) {
     out << "Held-out RMS " << Mm(r.geometric.held_out_rms_mm) << " -> "
-        << Mm(r.final.held_out_rms_mm) << " (positions), " << FixedNumber(r.geometric.held_out_sigma, 2)
-        << " -> " << FixedNumber(r.final.held_out_sigma, 2)
-        << " sigma (every row fitted); fit RMS " << Mm(r.final.rms_mm) << " against the "
-        << Mm(r.floor_rms_mm) << " floor.\n";
+        << Mm(r.final.held_out_rms_mm) << " (positions), "
+        << FixedNumber(r.geometric.held_out_sigma, 2) << " -> "
+        << FixedNumber(r.final.held_out_sigma, 2) << " sigma (every row fitted); fit RMS "
+        << Mm(r.final.rms_mm) << " against the " << Mm(r.floor_rms_mm) << " floor.\n";
   } else if (!r.geometric.consistent_with_noise()) {
     out << "No effect in the library passed every test";
     if (!r.rounds.empty() && r.rounds.front().dispersion > 1.5) {
-      out << " (each judged against the residuals' own scatter, " << FixedNumber(r.rounds.front().dispersion, 1)
-          << "x the floor's chi-square)";
+      out << " (each judged against the residuals' own scatter, "
+          << FixedNumber(r.rounds.front().dispersion, 1) << "x the floor's chi-square)";
     }
     out << ".\n";
   }
@@ -132,7 +134,8 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
       if (f.failed.empty()) continue;
       out << "Closest candidate: " << f.label << " (held-out RMS " << Mm(r.final.held_out_rms_mm)
           << " -> " << Mm(f.cv_rms_mm) << "), not accepted:";
-      for (size_t i = 0; i < f.failed.size(); ++i) out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
+      for (size_t i = 0; i < f.failed.size(); ++i)
+        out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
       out << ".\n";
       if (!f.look_alikes.empty()) {
         out << "  In these poses it looks like";
