@@ -70,7 +70,8 @@ TEST(EffectPlausibility, AComplianceFittedBelowZeroIsAWarning) {
   const WorkcellResult against =
       FitJoint3Compliance(testing::TempDirForThisTest("against_gravity"), -4e-5);
   EXPECT_TRUE(Warns(against, "j3.compliance", "below zero"));
-  const WorkcellResult with = FitJoint3Compliance(testing::TempDirForThisTest("with_gravity"), 4e-5);
+  const WorkcellResult with =
+      FitJoint3Compliance(testing::TempDirForThisTest("with_gravity"), 4e-5);
   EXPECT_FALSE(Warns(with, "j3.compliance", "below zero"));
   EXPECT_FALSE(Warns(with, "j3.compliance", "plausibly"));
 }

@@ -232,7 +232,9 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
                                         robot.model_parameters.end(),
                                         [](const Parameter& p) { return !p.fixed; });
     if (model_free) {
-      for (const auto& w : robot.model->Warnings()) result->warnings.push_back(robot.name + ": " + w);
+      for (const auto& w : robot.model->Warnings()) {
+        result->warnings.push_back(robot.name + ": " + w);
+      }
     }
   }
   for (const auto& [camera, pose] : e.T_world_cam) {
@@ -362,7 +364,8 @@ void AddWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
   AddImplausibleEffectWarnings(spec, result);
   if (result->uncertainty.reduced_chi2 > 4.0) {
     result->warnings.push_back(
-        "residuals are " + std::to_string(std::sqrt(result->uncertainty.reduced_chi2)).substr(0, 4) +
+        "residuals are " +
+        std::to_string(std::sqrt(result->uncertainty.reduced_chi2)).substr(0, 4) +
         "x the stated noise: the model leaves something out; uncertainties were scaled up");
   }
 }

@@ -284,7 +284,9 @@ WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& r
     std::vector<double> nominal;
     for (const auto& p : robot.model_parameters) nominal.push_back(p.nominal);
     estimate.model[robot.name] = nominal;
-    for (const auto& tool : robot.tools) estimate.T_flange_target[tool.target] = tool.flange_tool.start;
+    for (const auto& tool : robot.tools) {
+      estimate.T_flange_target[tool.target] = tool.flange_tool.start;
+    }
   }
   const auto points = WorldPoints(spec, recording, data, estimate);
   for (size_t r = 0; r < spec.robots.size(); ++r) {

@@ -194,8 +194,9 @@ double PeakMm(const CandidateLinearization& lin, const Recording& recording,
 
 // The accepted effect's prediction on every carried-target position row beside the residual
 // there before (`before`) and after (`after`) it was fitted (SignaturePoint).
-std::vector<SignaturePoint> Signature(const CandidateLinearization& lin, const Eigen::VectorXd& theta,
-                                      const WorkcellResult& before, const WorkcellResult& after) {
+std::vector<SignaturePoint> Signature(const CandidateLinearization& lin,
+                                      const Eigen::VectorXd& theta, const WorkcellResult& before,
+                                      const WorkcellResult& after) {
   std::map<int, Eigen::Vector3d> error_before, error_after;
   for (const auto& row : before.residuals) {
     if (row.kind == "position") error_before[row.observation] = row.error;
