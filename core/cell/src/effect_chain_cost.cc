@@ -4,8 +4,6 @@
 
 #include "cellmetry/basics/so3_jacobians.h"
 #include "cellmetry/model/effect_chain.h"
-#include "workcell_residuals.h"
-#include "effect_stage_linearization.h"
 #include "frame_cache.h"
 
 namespace cellmetry {
@@ -172,23 +170,8 @@ void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effe
   thread_local Eigen::Matrix<double, 3, Eigen::Dynamic> by_direction;
   by_direction.resize(3, directions);
   for (int first = 0; first < directions; first += kJetStride) {
-    Jet s[3], w[3];
-    for (int i = 0; i < 3; ++i) {
-      s[i] = Jet(0.0);
-      w[i] = Jet(0.0);
-      if (i >= first && i < first + kJetStride) s[i].v[i - first] = 1.0;
-      if (i + 3 >= first && i + 3 < first + kJetStride) w[i].v[i + 3 - first] = 1.0;
-    }
     effect_jets.Seed(first);
-    // (P.t + s, Exp(w) P.R) to first order, which is all a Jet carries: Exp(w) = I + [w]x.
-    Transform<Jet> moved;
-    for (int i = 0; i < 3; ++i) moved.t[i] = Jet(P.t[i]) + s[i];
-    for (int col = 0; col < 3; ++col) {
-      const Eigen::Vector3d r = P.R.col(col);
-      moved.R(0, col) = Jet(r[0]) + w[1] * r[2] - w[2] * r[1];
-      moved.R(1, col) = Jet(r[1]) + w[2] * r[0] - w[0] * r[2];
-      moved.R(2, col) = Jet(r[2]) + w[0] * r[1] - w[1] * r[0];
-    }
+    Transform<Jet> moved = FirstOrderMotion(P, first);
     ApplyMeasurement(effects_, effect_jets.pointers(), context_, &moved);
     Jet r[3];
     comparison_.Compare(moved, r);
@@ -202,10 +185,7 @@ void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effe
   // H: the motion's six columns, then one per effect parameter (zero for the other stages').
   H->setZero(3, 6 + (effects_asked ? num_effect_params_ : 0));
   H->leftCols<6>() = by_direction.leftCols<6>();
-  for (int i = 0; effects_asked && i < effect_jets.count(); ++i) {
-    const int direction = effect_jets.direction_of(i);
-    if (direction >= 0) H->col(6 + i) = by_direction.col(direction);
-  }
+  if (effects_asked) effect_jets.ByParameter(by_direction, H->rightCols(num_effect_params_));
 }
 
 void EffectChainCost::StoreFrameJacobians(const Chain& c,

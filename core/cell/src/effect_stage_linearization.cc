@@ -48,6 +48,32 @@ void EffectParameterJets::Seed(int first) {
   }
 }
 
+void EffectParameterJets::ByParameter(const Eigen::Ref<const Eigen::MatrixXd>& by_direction,
+                                      Eigen::Ref<Eigen::MatrixXd> by_parameter) const {
+  for (int i = 0; i < count(); ++i) {
+    if (direction_of_[i] >= 0) by_parameter.col(i) = by_direction.col(direction_of_[i]);
+  }
+}
+
+Transform<Jet> FirstOrderMotion(const Pose& P, int first) {
+  Jet s[3], w[3];
+  for (int i = 0; i < 3; ++i) {
+    s[i] = Jet(0.0);
+    w[i] = Jet(0.0);
+    SeedUnit(i, first, &s[i]);
+    SeedUnit(i + 3, first, &w[i]);
+  }
+  Transform<Jet> moved;
+  for (int i = 0; i < 3; ++i) moved.t[i] = Jet(P.t[i]) + s[i];
+  for (int col = 0; col < 3; ++col) {
+    const Eigen::Vector3d r = P.R.col(col);
+    moved.R(0, col) = Jet(r[0]) + w[1] * r[2] - w[2] * r[1];
+    moved.R(1, col) = Jet(r[1]) + w[2] * r[0] - w[0] * r[2];
+    moved.R(2, col) = Jet(r[2]) + w[0] * r[1] - w[1] * r[0];
+  }
+  return moved;
+}
+
 bool AnyEffectAt(const std::vector<const Effect*>& effects, EffectStage stage) {
   for (const Effect* e : effects) {
     if (e->stage() == stage) return true;
@@ -112,23 +138,9 @@ void LinearizeFlangeStage(const std::vector<const Effect*>& effects,
   FlangeTwists out(6, directions);
   const Pose in = *T_base_flange;
   for (int first = 0; first < directions; first += kJetStride) {
-    // (p + s, Exp(w) R) to first order, which is all a Jet carries: Exp(w) = I + [w]x.
-    Jet s[3], w[3];
-    for (int i = 0; i < 3; ++i) {
-      s[i] = Jet(0.0);
-      w[i] = Jet(0.0);
-      SeedUnit(i, first, &s[i]);
-      SeedUnit(i + 3, first, &w[i]);
-    }
     jets.Seed(first);
     Jet values[12];
-    for (int i = 0; i < 3; ++i) values[i] = Jet(in.t[i]) + s[i];
-    for (int col = 0; col < 3; ++col) {
-      const Eigen::Vector3d r = in.R.col(col);
-      values[3 + 3 * col + 0] = Jet(r[0]) + w[1] * r[2] - w[2] * r[1];
-      values[3 + 3 * col + 1] = Jet(r[1]) + w[2] * r[0] - w[0] * r[2];
-      values[3 + 3 * col + 2] = Jet(r[2]) + w[0] * r[1] - w[1] * r[0];
-    }
+    PackPose(FirstOrderMotion(in, first), values);
     ApplyStage(EffectStage::kFlange, effects, jets.pointers(), context, values);
     for (int i = 0; i < 3; ++i) T_base_flange->t[i] = values[i].a;
     for (int col = 0; col < 3; ++col) {
@@ -145,9 +157,7 @@ void LinearizeFlangeStage(const std::vector<const Effect*>& effects,
   }
   *motion_map = out.leftCols<6>();
   effect_twists->setZero(6, jets.count());
-  for (int i = 0; i < jets.count(); ++i) {
-    if (jets.direction_of(i) >= 0) effect_twists->col(i) = out.col(jets.direction_of(i));
-  }
+  jets.ByParameter(out, *effect_twists);
 }
 
 }  // namespace cellmetry

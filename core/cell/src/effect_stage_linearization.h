@@ -57,9 +57,11 @@ class EffectParameterJets {
   // One past the last direction given to a parameter.
   int end_direction() const { return end_direction_; }
   int count() const { return static_cast<int>(jets_.size()); }
-  // Parameter i's direction (every effect's parameters in effect order), or -1.
-  int direction_of(int i) const { return direction_of_[i]; }
   Jet const* const* pointers() const { return pointers_.data(); }
+  // Copies `by_direction`'s columns to `by_parameter`, one column per effect parameter in effect
+  // order (count() of them); a parameter without a direction keeps the column it had.
+  void ByParameter(const Eigen::Ref<const Eigen::MatrixXd>& by_direction,
+                   Eigen::Ref<Eigen::MatrixXd> by_parameter) const;
 
  private:
   std::vector<Jet> jets_;
@@ -67,6 +69,11 @@ class EffectParameterJets {
   std::vector<int> direction_of_;
   int end_direction_ = 0;
 };
+
+// `P` moved by a shift s and a turn w (P.t + s, Exp(w) P.R) to first order, which is all a Jet
+// carries (Exp(w) = I + [w]x): s and w are directions 0-5, seeded where they fall in the pass
+// beginning at direction `first`. The flange and measurement stages' Jets start from it.
+Transform<Jet> FirstOrderMotion(const Pose& P, int first);
 
 // Whether any effect acts at `stage`.
 bool AnyEffectAt(const std::vector<const Effect*>& effects, EffectStage stage);

@@ -326,18 +326,22 @@ std::string ImplausibleEffectWarning(const Parameter& p, const ScalarEstimate& s
   const char* look_alikes = "the fit uses it for something else with the same signature; "
                             "docs/physics.md lists look-alikes";
   char text[360];
-  if (p.plausible_nonnegative && s.value < -3 * s.sigma) {
-    std::snprintf(text, sizeof text,
-                  "%s = %.3g +- %.2g %s is below zero, which its physics cannot be: %s",
-                  s.name.c_str(), s.value, s.sigma, s.unit.c_str(), look_alikes);
-    return text;
+  switch (PlausibilityOf(p, s.value, 3 * s.sigma)) {
+    case Plausibility::kPlausible:
+      return "";
+    case Plausibility::kBelowZero:
+      std::snprintf(text, sizeof text,
+                    "%s = %.3g +- %.2g %s is below zero, which its physics cannot be: %s",
+                    s.name.c_str(), s.value, s.sigma, s.unit.c_str(), look_alikes);
+      return text;
+    case Plausibility::kTooLarge:
+      std::snprintf(text, sizeof text,
+                    "%s = %.3g +- %.2g %s is beyond the size its physics plausibly has (%.3g): "
+                    "either that physics is larger here than expected, or %s",
+                    s.name.c_str(), s.value, s.sigma, s.unit.c_str(), *p.plausible, look_alikes);
+      return text;
   }
-  if (!p.plausible || std::abs(s.value) <= *p.plausible) return "";
-  std::snprintf(text, sizeof text,
-                "%s = %.3g +- %.2g %s is beyond the size its physics plausibly has (%.3g): "
-                "either that physics is larger here than expected, or %s",
-                s.name.c_str(), s.value, s.sigma, s.unit.c_str(), *p.plausible, look_alikes);
-  return text;
+  return "";
 }
 
 void AddImplausibleEffectWarnings(const WorkcellProblem& spec, WorkcellResult* result) {

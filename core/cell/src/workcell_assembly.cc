@@ -7,8 +7,6 @@
 #include "cellmetry/basics/error.h"
 #include "chain_cost.h"
 #include "effect_chain_cost.h"
-#include "cellmetry/model/effect_chain.h"
-#include "workcell_residuals.h"
 #include "forward_memo.h"
 #include "jet_costs.h"
 #include "joint_space_residual.h"

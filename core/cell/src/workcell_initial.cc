@@ -242,10 +242,6 @@ void CamerasThroughRobots(const WorkcellProblem& spec, const Recording& recordin
   }
 }
 
-}  // namespace
-
-namespace {
-
 // Whether `start` places every robot (base and model), tool and static camera `data` uses.
 bool PlacesEverything(const WorkcellEstimate& start, const WorkcellProblem& spec,
                       const Recording& recording, const WorkcellData& data) {

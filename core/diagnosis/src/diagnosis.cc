@@ -251,15 +251,19 @@ std::string Unusual(const std::vector<Parameter>& parameters, const std::vector<
   for (size_t i = 0; i < parameters.size() && i < values.size(); ++i) {
     const auto& p = parameters[i];
     char text[256];
-    if (p.plausible_nonnegative && values[i] < 0) {
-      std::snprintf(text, sizeof(text), "%s = %.3g %s, below zero, which this physics cannot be",
-                    p.name.c_str(), values[i], p.unit.c_str());
-      return text;
+    switch (PlausibilityOf(p, values[i])) {
+      case Plausibility::kPlausible:
+        continue;
+      case Plausibility::kBelowZero:
+        std::snprintf(text, sizeof(text), "%s = %.3g %s, below zero, which this physics cannot be",
+                      p.name.c_str(), values[i], p.unit.c_str());
+        return text;
+      case Plausibility::kTooLarge:
+        std::snprintf(text, sizeof(text),
+                      "%s = %.3g %s, where this physics is typically below %.3g", p.name.c_str(),
+                      values[i], p.unit.c_str(), *p.plausible);
+        return text;
     }
-    if (!p.plausible || std::abs(values[i]) <= *p.plausible) continue;
-    std::snprintf(text, sizeof(text), "%s = %.3g %s, where this physics is typically below %.3g",
-                  p.name.c_str(), values[i], p.unit.c_str(), *p.plausible);
-    return text;
   }
   return "";
 }

@@ -6,6 +6,7 @@
 // `prior_sigma`) are optional.
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +29,17 @@ struct Parameter {
   // gravity; a play or a clearance): such a finding is flagged as `plausible` flags a size.
   bool plausible_nonnegative = false;
 };
+
+// How a fitted value stands against its physics (`plausible`, `plausible_nonnegative`): below
+// zero by more than `below_zero_margin` (the value's unit) where the physics has a sign, beyond
+// its plausible size, or plausible. The physics finder and `run`'s warnings both judge by it.
+enum class Plausibility { kPlausible, kBelowZero, kTooLarge };
+inline Plausibility PlausibilityOf(const Parameter& p, double value,
+                                   double below_zero_margin = 0.0) {
+  if (p.plausible_nonnegative && value < -below_zero_margin) return Plausibility::kBelowZero;
+  if (p.plausible && std::abs(value) > *p.plausible) return Plausibility::kTooLarge;
+  return Plausibility::kPlausible;
+}
 
 // Index of the parameter called `name` in `params`, or -1.
 int FindParameter(const std::vector<Parameter>& params, const std::string& name);
