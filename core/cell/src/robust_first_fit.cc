@@ -9,6 +9,7 @@
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_initial.h"
+#include "cellmetry/estimation/reweighted_solve.h"
 #include "residual_rows.h"
 
 namespace cellmetry {
@@ -78,14 +79,15 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
     // crawls: 200 iterations on exp_a), then the loss at the scale of that answer, warm.
     IdentifiedSolve plain = SolveHoldingUnidentifiable(
         &problem, spec.identifiability_tolerance, {}, make_solver);
-    std::set<std::string> held;
-    for (const auto& u : plain.unidentifiable) held.insert(u.name);
     fit.summary = plain.summary;
     fit.unidentifiable = std::move(plain.unidentifiable);
     fit.at_answer = std::move(plain.at_answer);
     const BlockStates least_squares = Snapshot(problem);
     SetLossFromScale(ResidualRows(*fit.assembled), options.cauchy_width, &problem);
-    SolveHoldingUnidentifiable(&problem, spec.identifiability_tolerance, held, make_solver, true);
+    const SolverSummary robust = SolveByReweighting(&problem);
+    if (!robust.converged) {
+      throw InputError({}, "the Cauchy fit did not settle: " + robust.stop_reason, "");
+    }
     out.outliers = FindOutliers(ResidualRows(*fit.assembled), recording, options.alpha);
     Restore(least_squares, &problem);
   } catch (const InputError& e) {

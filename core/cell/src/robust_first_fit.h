@@ -16,10 +16,14 @@
 // iterations on exp_a; after least squares it takes about 10.)
 //
 // The fit is always Cartesian (the test is on camera-frame rows whatever the job's residual
-// form) and is used for nothing but the test: its answer and sigma are dropped. It is solved by
-// the job's solver; one that sets a loss of its own (ceres_lm's `loss:`) replaces this one.
-// The least-squares solve before it is kept (fit_once.h, LeastSquaresFit): for a Cartesian job
-// with nothing to leave out it is the plain fit, which then is not solved twice.
+// form) and is used for nothing but the test: its answer and sigma are dropped. The least-squares
+// solve is the job's solver's, and is kept (fit_once.h, LeastSquaresFit): for a Cartesian job
+// with nothing to leave out it is the plain fit, which then is not solved twice. The Cauchy
+// solve from there is the core's reweighted Gauss-Newton (reweighted_solve.h), stopped within
+// 0.014 sigma of its answer: the job's solver would go on to 1e-14 of the cost for digits the
+// verdicts never read (on exp_a, Ceres took 13 iterations and half the identification; the
+// reweighted solve 8 cheap ones, 28 ms), and the parameters the least-squares fit held stay
+// held. The outlier verdicts were unchanged on every test and VSB job.
 #pragma once
 
 #include <vector>

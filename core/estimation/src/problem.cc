@@ -11,19 +11,9 @@
 #include <limits>
 #include <map>
 
+#include "problem_blocks.h"
+
 namespace cellmetry {
-
-struct Problem::Block {
-  std::string name;
-  std::vector<Parameter> params;
-  std::vector<double> values;
-  bool used = false;
-};
-
-struct Problem::Residual {
-  std::unique_ptr<ceres::CostFunction> cost;
-  std::vector<int> blocks;
-};
 
 namespace {
 

@@ -1,0 +1,89 @@
+// SolveByReweighting (reweighted_solve.h): damped Gauss-Newton on reweighted normal equations.
+#include "cellmetry/estimation/reweighted_solve.h"
+
+#include <Eigen/Cholesky>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace cellmetry {
+namespace {
+
+// The damped step (H + lambda diag H) dx = -g; a diagonal entry of zero (a column no weighted
+// row reaches) is damped as the smallest nonzero one would be, so the system stays definite.
+Eigen::VectorXd DampedStep(const NormalEquations& at, double lambda) {
+  const Eigen::VectorXd diagonal = at.hessian.diagonal();
+  const double floor = 1e-12 * std::max(diagonal.maxCoeff(), 1e-300);
+  Eigen::MatrixXd damped = at.hessian;
+  damped.diagonal() += lambda * diagonal.cwiseMax(floor);
+  return damped.ldlt().solve(-at.gradient);
+}
+
+Eigen::VectorXd Clamp(const Eigen::VectorXd& x, const Eigen::VectorXd& lower,
+                      const Eigen::VectorXd& upper) {
+  return x.cwiseMax(lower).cwiseMin(upper);
+}
+
+std::string Reason(const char* format, double value) {
+  char text[160];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+}  // namespace
+
+SolverSummary SolveByReweighting(Problem* problem, const ReweightedSolveOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  SolverSummary summary;
+  summary.solver = "reweighted_gauss_newton";
+  NormalEquations at;
+  ++summary.evaluations;
+  if (!problem->EvaluateNormalEquations(&at) || !std::isfinite(at.cost)) {
+    summary.initial_cost = summary.final_cost = std::numeric_limits<double>::quiet_NaN();
+    summary.stop_reason = "the cost cannot be evaluated at the start";
+    return summary;
+  }
+  summary.initial_cost = at.cost;
+  const Eigen::VectorXd lower = problem->LowerBounds(), upper = problem->UpperBounds();
+  Eigen::VectorXd x = problem->FreeValues();
+  double lambda = options.initial_damping;
+  summary.stop_reason = "iteration limit reached";
+  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    if (problem->num_free() == 0) {
+      summary.converged = true;
+      summary.stop_reason = "nothing to solve: no free parameter";
+      break;
+    }
+    const Eigen::VectorXd step = DampedStep(at, lambda);
+    const double decrement = -0.5 * at.gradient.dot(step);
+    if (std::isfinite(decrement) && decrement < options.decrement_tolerance) {
+      summary.converged = true;
+      summary.stop_reason = Reason("predicted cost decrease %.2g below the tolerance", decrement);
+      break;
+    }
+    const Eigen::VectorXd trial = Clamp(x + step, lower, upper);
+    problem->SetFreeValues(trial);
+    NormalEquations at_trial;
+    ++summary.evaluations;
+    ++summary.iterations;
+    if (problem->EvaluateNormalEquations(&at_trial) && at_trial.cost < at.cost) {
+      x = trial;
+      at = std::move(at_trial);
+      lambda = std::max(lambda / 10.0, 1e-12);
+      continue;
+    }
+    problem->SetFreeValues(x);
+    lambda *= 10.0;
+    if (lambda > 1e8) {
+      summary.stop_reason = "no step lowers the cost (damping 1e8)";
+      break;
+    }
+  }
+  summary.final_cost = at.cost;
+  summary.time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return summary;
+}
+
+}  // namespace cellmetry
