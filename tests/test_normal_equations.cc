@@ -1,6 +1,6 @@
 // The normal equations a Problem sums without storing J, and the reweighted fit built on them:
-// exactly the gradient of the robust cost, J^T W J of the sparse Jacobian, and the Cauchy answer
-// Ceres reaches.
+// exactly the gradient of the robust cost, its Gauss-Newton Hessian from the sparse Jacobian,
+// and the Cauchy answer Ceres reaches.
 #include <gtest/gtest.h>
 
 #include <ceres/ceres.h>
@@ -34,14 +34,23 @@ struct SeenPoint {
 constexpr double kAngle = 0.3;
 const Eigen::Vector3d kOffset(10.0, -5.0, 2.0);
 
+Parameter Named(const std::string& name, const std::string& unit, double nominal) {
+  Parameter p;
+  p.name = name;
+  p.unit = unit;
+  p.nominal = nominal;
+  return p;
+}
+
 // 200 points with 0.1 mm noise, every tenth off by 20 mm; the offset's z held (a prior on x).
 std::unique_ptr<Problem> MakeProblem(double angle, const Eigen::Vector3d& offset) {
   auto problem = std::make_unique<Problem>();
-  Parameter a{"angle", "rad", angle};
+  Parameter a = Named("angle", "rad", angle);
   a.lower = -1.0;
   a.upper = 1.0;
   const int rotation = problem->AddBlock("rotation", {a});
-  Parameter x{"x", "mm", offset.x()}, y{"y", "mm", offset.y()}, z{"z", "mm", offset.z()};
+  Parameter x = Named("x", "mm", offset.x()), y = Named("y", "mm", offset.y());
+  Parameter z = Named("z", "mm", offset.z());
   x.prior_sigma = 50.0;
   z.fixed = true;
   const int shift = problem->AddBlock("offset", {x, y, z});
@@ -67,8 +76,8 @@ void SetCauchy(Problem* problem, double width) {
   problem->Build();
 }
 
-TEST(NormalEquations, AreTheWeightedProductsOfTheSparseJacobian) {
-  auto problem = MakeProblem(0.25, Eigen::Vector3d(9.0, -4.0, 2.0));
+TEST(NormalEquations, AreTheRobustCostsGaussNewtonTermsOfTheSparseJacobian) {
+  auto problem = MakeProblem(0.299, Eigen::Vector3d(10.01, -5.01, 2.0));  // near the answer
   SetCauchy(problem.get(), 3.0);
   NormalEquations at;
   ASSERT_TRUE(problem->EvaluateNormalEquations(&at));
@@ -76,17 +85,32 @@ TEST(NormalEquations, AreTheWeightedProductsOfTheSparseJacobian) {
   SparseJacobian J;
   ASSERT_TRUE(problem->EvaluateSparse(&r, &J));
   const ceres::CauchyLoss cauchy(3.0);
-  Eigen::VectorXd w = Eigen::VectorXd::Ones(r.size());  // per row: its block's rho'
+  // Per block: rho' J^T J + 2 rho'' (J^T r)(J^T r)^T where rho' + 2 rho'' s > 0, else rho' J^T J;
+  // the gradient rho' J^T r. The prior's row has no loss.
+  const Eigen::MatrixXd dense = Eigen::MatrixXd(J);
+  Eigen::MatrixXd expected_h = Eigen::MatrixXd::Zero(3, 3);
+  Eigen::VectorXd expected_g = Eigen::VectorXd::Zero(3);
   double cost = 0.0;
+  int corrected = 0;
   for (int b = 0; b < 200; ++b) {
+    const Eigen::MatrixXd J_b = dense.middleRows(3 * b, 3);
+    const Eigen::Vector3d r_b = r.segment<3>(3 * b);
     double rho[3];
-    cauchy.Evaluate(r.segment<3>(3 * b).squaredNorm(), rho);
-    w.segment<3>(3 * b).setConstant(rho[1]);
+    cauchy.Evaluate(r_b.squaredNorm(), rho);
     cost += 0.5 * rho[0];
+    expected_g += rho[1] * J_b.transpose() * r_b;
+    expected_h += rho[1] * J_b.transpose() * J_b;
+    if (rho[1] + 2 * rho[2] * r_b.squaredNorm() <= 0) continue;
+    ++corrected;
+    expected_h += 2 * rho[2] * (J_b.transpose() * r_b) * (J_b.transpose() * r_b).transpose();
   }
-  cost += 0.5 * r.tail(r.size() - 600).squaredNorm();  // the prior's row: no loss
-  const Eigen::MatrixXd expected_h = Eigen::MatrixXd(J.transpose() * w.asDiagonal() * J);
-  const Eigen::VectorXd expected_g = J.transpose() * w.asDiagonal() * r;
+  EXPECT_GT(corrected, 100);
+  EXPECT_LT(corrected, 200) << "the gross errors' blocks are beyond the Cauchy curvature";
+  const Eigen::MatrixXd J_prior = dense.bottomRows(dense.rows() - 600);
+  const Eigen::VectorXd r_prior = r.tail(r.size() - 600);
+  cost += 0.5 * r_prior.squaredNorm();
+  expected_g += J_prior.transpose() * r_prior;
+  expected_h += J_prior.transpose() * J_prior;
   ASSERT_EQ(at.hessian.rows(), 3);  // angle, x, y: z is held
   EXPECT_NEAR(at.cost, cost, 1e-9 * cost);
   EXPECT_LT((at.hessian - expected_h).norm(), 1e-10 * expected_h.norm());

@@ -41,10 +41,11 @@ void AddInputUncertainty(const WorkcellProblem& spec, const Recording& recording
   const WorkcellProblem augmented = WithInputsFree(spec, &input_sigma);
   const WorkcellData data = PrepareWorkcellData(augmented, recording);
   const auto assembled = AssembleWorkcell(augmented, recording, data, noise, answer);
-  const Linearization at = Linearize(assembled->problem);
+  NormalEquations at;
+  const bool valid = assembled->problem.EvaluateNormalEquations(&at);
   const Eigen::MatrixXd bread = u->covariance / u->scale;
-  const Eigen::MatrixXd cov =
-      ConsiderCovariance(assembled->problem, at, u->names, bread, input_sigma);
+  const Eigen::MatrixXd cov = ConsiderCovariance(assembled->problem, valid ? &at : nullptr,
+                                                 u->names, bread, input_sigma);
   u->sigma_inputs = cov.diagonal().cwiseMax(0.0).cwiseSqrt();
   u->sigma = (u->sigma.cwiseAbs2() + u->sigma_inputs.cwiseAbs2()).cwiseSqrt();
 }

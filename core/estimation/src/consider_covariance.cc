@@ -19,30 +19,14 @@ std::vector<int> Columns(const Problem& problem, const std::vector<std::string>&
   return out;
 }
 
-// J[:, estimated]^T J[:, inputs] (zero rows and columns where a column is -1), accumulated row
-// by row over J's nonzeros: a row touches a few of both, and no selected copy of J is formed.
-Eigen::MatrixXd CrossProduct(const SparseJacobian& J, const std::vector<int>& estimated,
+// J[:, estimated]^T J[:, inputs] read off J^T J (zero rows and columns where a column is -1).
+Eigen::MatrixXd CrossProduct(const Eigen::MatrixXd& hessian, const std::vector<int>& estimated,
                              const std::vector<int>& inputs) {
-  std::vector<int> as_estimated(J.cols(), -1), as_input(J.cols(), -1);
-  for (size_t k = 0; k < estimated.size(); ++k) {
-    if (estimated[k] >= 0) as_estimated[estimated[k]] = static_cast<int>(k);
-  }
-  for (size_t k = 0; k < inputs.size(); ++k) {
-    if (inputs[k] >= 0) as_input[inputs[k]] = static_cast<int>(k);
-  }
   Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(estimated.size()),
                                                 static_cast<Eigen::Index>(inputs.size()));
-  std::vector<std::pair<int, double>> row_estimated, row_inputs;
-  for (Eigen::Index row = 0; row < J.outerSize(); ++row) {
-    row_estimated.clear();
-    row_inputs.clear();
-    for (SparseJacobian::InnerIterator it(J, row); it; ++it) {
-      const int t = as_estimated[it.col()], c = as_input[it.col()];
-      if (t >= 0) row_estimated.emplace_back(t, it.value());
-      if (c >= 0) row_inputs.emplace_back(c, it.value());
-    }
-    for (const auto& [c, v] : row_inputs) {
-      for (const auto& [t, u] : row_estimated) cross(t, c) += u * v;
+  for (size_t t = 0; t < estimated.size(); ++t) {
+    for (size_t c = 0; c < inputs.size(); ++c) {
+      if (estimated[t] >= 0 && inputs[c] >= 0) cross(t, c) = hessian(estimated[t], inputs[c]);
     }
   }
   return cross;
@@ -50,13 +34,13 @@ Eigen::MatrixXd CrossProduct(const SparseJacobian& J, const std::vector<int>& es
 
 }  // namespace
 
-Eigen::MatrixXd ConsiderCovariance(const Problem& augmented, const Linearization& at,
+Eigen::MatrixXd ConsiderCovariance(const Problem& augmented, const NormalEquations* at,
                                    const std::vector<std::string>& estimated,
                                    const Eigen::MatrixXd& bread,
                                    const std::map<std::string, double>& input_sigma,
                                    Eigen::MatrixXd* sensitivity) {
   const Eigen::Index n = static_cast<Eigen::Index>(estimated.size());
-  if (!at.valid) {
+  if (at == nullptr) {
     throw InputError({}, "the model cannot be evaluated at the answer with its uncertain inputs",
                      "Check the uncertain_inputs: section of the job");
   }
@@ -67,7 +51,7 @@ Eigen::MatrixXd ConsiderCovariance(const Problem& augmented, const Linearization
     inputs.push_back(name);
   }
   const Eigen::MatrixXd cross =
-      CrossProduct(at.jacobian, Columns(augmented, estimated), Columns(augmented, inputs));
+      CrossProduct(at->hessian, Columns(augmented, estimated), Columns(augmented, inputs));
   const Eigen::MatrixXd G = -bread * cross;
   if (sensitivity) *sensitivity = G;
   Eigen::MatrixXd cov = G * sigma.cwiseAbs2().asDiagonal() * G.transpose();

@@ -17,7 +17,7 @@
 namespace cellmetry {
 namespace {
 
-// One range's sums, the lower triangle of the Hessian only (mirrored at the end).
+// One range's sums, the upper triangle of the Hessian only (mirrored at the end).
 struct PartialSums {
   double cost = 0.0;
   Eigen::VectorXd gradient;
@@ -31,17 +31,51 @@ struct PartialSums {
   }
 };
 
-// The robust weight w = rho'(s) of a block and its cost term rho(s) (s = |r|^2).
-void Weigh(const ceres::LossFunction* loss, double squared_norm, double* rho, double* weight) {
-  if (loss == nullptr) {
-    *rho = squared_norm;
-    *weight = 1.0;
-    return;
-  }
+// How a block enters the sums: its cost term rho(s) (s = |r|^2), its weight w = rho'(s) and
+// the second-order term c = 2 rho''(s) of the loss, which makes the block's Hessian
+// J^T (w I + c r r^T) J, the robust cost's own Gauss-Newton curvature (Triggs, McLauchlan,
+// Hartley & Fitzgibbon 2000, "Bundle adjustment: a modern synthesis", sec. 4.3). Where that
+// curvature is not positive along r (w + c s <= 0: a block far out on a redescending loss) c is
+// 0 and the block keeps the reweighted w J^T J, so the sum stays positive semi-definite.
+struct BlockWeight {
+  double rho = 0.0, w = 1.0, c = 0.0;
+};
+
+BlockWeight Weigh(const ceres::LossFunction* loss, double squared_norm) {
+  if (loss == nullptr) return {squared_norm, 1.0, 0.0};
   double values[3];
   loss->Evaluate(squared_norm, values);
-  *rho = values[0];
-  *weight = values[1];
+  const double c = 2.0 * values[2];
+  return {values[0], values[1], values[1] + c * squared_norm > 0.0 ? c : 0.0};
+}
+
+// A block's rows (row-major, rows x columns.size()) and residuals added with its weight: plain
+// loops over a few rows and columns, where Eigen's dynamic-size products cost more than the
+// arithmetic. `columns` ascend, so (column j, column i) for j <= i is in the upper triangle.
+// `jr`: room for J^T r over the block's columns.
+void AddWeightedBlock(const double* jacobian, const double* residuals, int num_rows,
+                      const std::vector<int>& columns, const BlockWeight& weight,
+                      std::vector<double>* jr, PartialSums* sums) {
+  const int width = static_cast<int>(columns.size());
+  const Eigen::Index n = sums->hessian.rows();
+  double* hessian = sums->hessian.data();  // column-major: (a, b) at a + b n
+  jr->assign(width, 0.0);
+  for (int row = 0; row < num_rows; ++row) {
+    const double* j_row = jacobian + row * width;
+    for (int i = 0; i < width; ++i) {
+      (*jr)[i] += j_row[i] * residuals[row];
+      const double weighted = weight.w * j_row[i];
+      double* column_i = hessian + columns[i] * n;
+      for (int j = 0; j <= i; ++j) column_i[columns[j]] += weighted * j_row[j];
+    }
+  }
+  for (int i = 0; i < width; ++i) {
+    sums->gradient[columns[i]] += weight.w * (*jr)[i];
+    if (weight.c == 0.0) continue;
+    const double weighted = weight.c * (*jr)[i];
+    double* column_i = hessian + columns[i] * n;
+    for (int j = 0; j <= i; ++j) column_i[columns[j]] += weighted * (*jr)[j];
+  }
 }
 
 }  // namespace
@@ -56,7 +90,9 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
     std::vector<std::vector<double>> block_jacobians;
     std::vector<double*> jacobian_pointers;
     std::vector<double> residuals;
-    Eigen::MatrixXd gathered;  // the block's rows x its free columns
+    std::vector<double> gathered;  // the block's rows x its free columns
+    std::vector<int> columns;      // each one's free column, ascending
+    std::vector<double> jr;
     for (int k = range.begin(); k != range.end() && valid; ++k) {
       const auto& [cost, ids] = evaluation_order_[k];
       const std::vector<int>& block_ids = *ids;
@@ -80,26 +116,20 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
         break;
       }
       const Eigen::Map<const Eigen::VectorXd> r(residuals.data(), num_rows);
-      double rho = 0.0, weight = 0.0;
-      Weigh(evaluation_losses_[k], r.squaredNorm(), &rho, &weight);
-      sums->cost += 0.5 * rho;
-      if (width == 0 || weight == 0.0) continue;
-      gathered.resize(num_rows, width);
+      const BlockWeight weight = Weigh(evaluation_losses_[k], r.squaredNorm());
+      sums->cost += 0.5 * weight.rho;
+      if (width == 0 || (weight.w == 0.0 && weight.c == 0.0)) continue;
+      gathered.resize(static_cast<size_t>(num_rows) * width);  // row-major
+      columns.resize(width);
       for (int j = 0; j < width; ++j) {
         const SparseEntry& e = sparse_entries_[first + j];
         const int block_width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
+        columns[j] = e.column;
         for (int row = 0; row < num_rows; ++row) {
-          gathered(row, j) = block_jacobians[e.slot][row * block_width + e.index];  // row-major
+          gathered[row * width + j] = block_jacobians[e.slot][row * block_width + e.index];
         }
       }
-      for (int i = 0; i < width; ++i) {
-        const int column_i = sparse_entries_[first + i].column;
-        sums->gradient[column_i] += weight * gathered.col(i).dot(r);
-        for (int j = 0; j <= i; ++j) {  // columns ascend: (i, j) is in the lower triangle
-          sums->hessian(column_i, sparse_entries_[first + j].column) +=
-              weight * gathered.col(i).dot(gathered.col(j));
-        }
-      }
+      AddWeightedBlock(gathered.data(), residuals.data(), num_rows, columns, weight, &jr, sums);
     }
   };
   const PartialSums total = tbb::parallel_deterministic_reduce(
@@ -115,7 +145,7 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
   if (!valid) return false;
   out->cost = total.cost;
   out->gradient = total.gradient;
-  out->hessian = total.hessian.selfadjointView<Eigen::Lower>();
+  out->hessian = total.hessian.selfadjointView<Eigen::Upper>();
   return true;
 }
 

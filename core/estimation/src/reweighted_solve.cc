@@ -10,13 +10,14 @@
 namespace cellmetry {
 namespace {
 
-// The damped step (H + lambda diag H) dx = -g; a diagonal entry of zero (a column no weighted
-// row reaches) is damped as the smallest nonzero one would be, so the system stays definite.
+// The damped step (H + lambda diag H) dx = -g. A diagonal entry of zero (a column no weighted
+// row reaches) is damped as a tiny one would be, and every entry by at least 1e-14 of itself,
+// so the system stays definite (lambda 0: the Gauss-Newton step).
 Eigen::VectorXd DampedStep(const NormalEquations& at, double lambda) {
   const Eigen::VectorXd diagonal = at.hessian.diagonal();
   const double floor = 1e-12 * std::max(diagonal.maxCoeff(), 1e-300);
   Eigen::MatrixXd damped = at.hessian;
-  damped.diagonal() += lambda * diagonal.cwiseMax(floor);
+  damped.diagonal() += std::max(lambda, 1e-14) * diagonal.cwiseMax(floor);
   return damped.ldlt().solve(-at.gradient);
 }
 
@@ -55,13 +56,16 @@ SolverSummary SolveByReweighting(Problem* problem, const ReweightedSolveOptions&
       summary.stop_reason = "nothing to solve: no free parameter";
       break;
     }
-    const Eigen::VectorXd step = DampedStep(at, lambda);
-    const double decrement = -0.5 * at.gradient.dot(step);
+    // Converged by the Gauss-Newton step's decrease, not the damped one's: after rejected
+    // steps the damping shrinks the step, and with it the decrease, far from the answer.
+    const Eigen::VectorXd newton_step = DampedStep(at, 0.0);
+    const double decrement = -0.5 * at.gradient.dot(newton_step);
     if (std::isfinite(decrement) && decrement < options.decrement_tolerance) {
       summary.converged = true;
       summary.stop_reason = Reason("predicted cost decrease %.2g below the tolerance", decrement);
       break;
     }
+    const Eigen::VectorXd step = lambda > 0.0 ? DampedStep(at, lambda) : newton_step;
     const Eigen::VectorXd trial = Clamp(x + step, lower, upper);
     problem->SetFreeValues(trial);
     NormalEquations at_trial;

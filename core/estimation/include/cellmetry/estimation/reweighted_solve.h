@@ -1,4 +1,4 @@
-// SolveByReweighting: a Problem's robust cost minimized from a start close to its answer.
+// SolveByReweighting: Levenberg-Marquardt on normal equations, robust where the Problem has losses.
 //
 // Iteratively reweighted least squares (Holland & Welsch 1977, "Robust regression using
 // iteratively reweighted least-squares", Commun. Statist. A6(9)) as damped Gauss-Newton on the
@@ -8,13 +8,19 @@
 // point is where the robust cost's gradient vanishes, the same answer a trust-region solver
 // reaches there.
 //
-// What it is for: a robust fit started at a least-squares answer, whose verdicts (which rows are
-// gross errors) are what is used, never its parameters' last digits (robust_first_fit.h). It
-// stops when the step's predicted decrease of the cost, -1/2 g.dx, is below
+// Without a loss every weight is 1 and this is Levenberg-Marquardt on the normal equations. It
+// stops when the Gauss-Newton step's predicted decrease of the cost, -1/2 g.dx, is below
 // `decrement_tolerance`: in a whitened cost that is every free parameter within
-// sqrt(2 * tolerance) of its sigma of the stationary point (0.014 sigma at the default). A
-// general solver (a job's `solver:`) is the solver plugins' job: this one has no bounds beyond
-// clamping a step into them, and trusts its start.
+// sqrt(2 * tolerance) of its sigma of the stationary point (0.014 sigma at 1e-4).
+//
+// Two users. The robust first fit (robust_first_fit.h) starts it at a least-squares answer and
+// reads only its verdicts (which rows are gross errors): 1e-4 is plenty. The `normal_lm` solver
+// plugin offers it to jobs with a tight tolerance: where a cell has a few dozen free parameters
+// and tens of thousands of residual blocks, an iteration on the summed normal equations costs a
+// fraction of Ceres's, whose evaluator, Jacobian scaling and sparse J^T J work per block
+// (docs/benchmarks.md). Bounds are kept by clamping each step into them (projected steps), which
+// suffices for the bounds cells have (none on frames, a few on effects) but is no active-set
+// method: a problem living on its bounds wants Ceres.
 #pragma once
 
 #include "cellmetry/estimation/problem.h"
@@ -25,7 +31,8 @@ namespace cellmetry {
 struct ReweightedSolveOptions {
   int max_iterations = 50;             // accepted and rejected steps together
   double decrement_tolerance = 1e-4;   // stop when -1/2 g.dx falls below (cost units)
-  double initial_damping = 1e-8;       // lambda, relative to the Hessian's diagonal
+  double initial_damping = 1e-8;       // lambda, relative to the Hessian's diagonal: Gauss-Newton
+                                       // first, more damping only after a rejected step
 };
 
 // Moves the free parameters of `problem` to a minimum of its robust cost (its losses as Build()
