@@ -42,14 +42,15 @@ const Loaded& Load(const std::string& job_file) {
 }
 
 void BM_Identify(benchmark::State& state, const std::string& job_file,
-                 OutlierTest outlier_test = OutlierTest::kRobust) {
+                 OutlierTest outlier_test = OutlierTest::kRobust,
+                 const std::string& solver_type = "ceres_lm") {
   const Loaded& loaded = Load(job_file);
-  const ConfigNode solver = ConfigNode::LoadString("type: ceres_lm", "bench");
+  const ConfigNode solver = ConfigNode::LoadString("type: " + solver_type, "bench");
   WorkcellProblem problem = loaded.job.problem;
   problem.outlier_test = outlier_test;
   for (auto _ : state) {
     const WorkcellResult result = IdentifyWorkcell(problem, loaded.recording, [&] {
-      return Registry::Global().CreateSolver("ceres_lm", solver);
+      return Registry::Global().CreateSolver(solver_type, solver);
     });
     benchmark::DoNotOptimize(result.frames.front().pose.t.x());
   }
@@ -65,6 +66,15 @@ BENCHMARK_CAPTURE(BM_Identify, sim_b_plain_outlier_test,
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Identify, exp_a_plain_outlier_test,
                   std::string("configs/jobs/vsb_exp_a_geometry.yaml"), OutlierTest::kPlain)
+    ->Unit(benchmark::kMillisecond);
+
+// The same with the normal_lm solver (Levenberg-Marquardt on normal equations summed per block).
+BENCHMARK_CAPTURE(BM_Identify, sim_b_normal_lm, std::string("configs/jobs/vsb_sim_b.yaml"),
+                  OutlierTest::kRobust, std::string("normal_lm"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Identify, exp_a_normal_lm,
+                  std::string("configs/jobs/vsb_exp_a_geometry.yaml"), OutlierTest::kRobust,
+                  std::string("normal_lm"))
     ->Unit(benchmark::kMillisecond);
 
 void BM_Solve(benchmark::State& state, const std::string& solver_yaml) {
@@ -87,6 +97,8 @@ void BM_Solve(benchmark::State& state, const std::string& solver_yaml) {
   state.counters["iterations"] = iterations;
 }
 BENCHMARK_CAPTURE(BM_Solve, ceres_lm, std::string("type: ceres_lm"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Solve, normal_lm, std::string("type: normal_lm"))
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Solve, jacobian_pinv, std::string("type: jacobian_pinv"))
     ->Unit(benchmark::kMillisecond);

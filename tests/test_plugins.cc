@@ -19,7 +19,7 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 const std::vector<std::string> kBuiltSolvers = {"ceres_lm", "gradient_descent", "jacobian_pinv",
-                                                "nlopt"};
+                                                "nlopt", "normal_lm"};
 const std::vector<std::string> kBuiltRobotModels = {"delta", "serial_mdh"};
 const std::vector<std::string> kBuiltDetectors = {"apriltag_board", "aruco", "dot", "dot_pattern"};
 

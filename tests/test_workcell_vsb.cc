@@ -182,13 +182,15 @@ std::map<std::string, double> PinnedQuantities(const WorkcellResult& r) {
   return out;
 }
 
-class PinnedAnswers : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+// (job, pinned answers, solver): each solver must reach the same minimum and the same verdicts.
+class PinnedAnswers
+    : public ::testing::TestWithParam<std::tuple<std::string, std::string, std::string>> {};
 
 TEST_P(PinnedAnswers, AreComputedAgainToOnePartInAMillion) {
-  const auto& [job, pinned_file] = GetParam();
-  const auto now = PinnedQuantities(RunJob(job, "type: ceres_lm", 0));
+  const auto& [job, pinned_file, solver] = GetParam();
+  const auto now = PinnedQuantities(RunJob(job, "type: " + solver, 0));
   const std::string path = testing::Source(pinned_file);
-  if (std::getenv("CELLMETRY_PIN_ANSWERS")) {
+  if (std::getenv("CELLMETRY_PIN_ANSWERS") && solver == "ceres_lm") {
     std::ofstream out(path);
     out << "# " << job << ", ceres_lm, no cross-validation: tests/test_workcell_vsb.cc pins it\n";
     char line[64];
@@ -222,10 +224,16 @@ TEST_P(PinnedAnswers, AreComputedAgainToOnePartInAMillion) {
 
 INSTANTIATE_TEST_SUITE_P(
     VsbJobs, PinnedAnswers,
-    ::testing::Values(std::make_pair(std::string("configs/jobs/vsb_sim_b.yaml"),
-                                     std::string("tests/data/vsb/pinned_answers_sim_b.txt")),
-                      std::make_pair(std::string("configs/jobs/vsb_exp_a_geometry.yaml"),
-                                     std::string("tests/data/vsb/pinned_answers_exp_a.txt"))));
+    ::testing::Combine(
+        ::testing::Values(std::string("configs/jobs/vsb_sim_b.yaml")),
+        ::testing::Values(std::string("tests/data/vsb/pinned_answers_sim_b.txt")),
+        ::testing::Values(std::string("ceres_lm"), std::string("normal_lm"))));
+INSTANTIATE_TEST_SUITE_P(
+    VsbExpA, PinnedAnswers,
+    ::testing::Combine(
+        ::testing::Values(std::string("configs/jobs/vsb_exp_a_geometry.yaml")),
+        ::testing::Values(std::string("tests/data/vsb/pinned_answers_exp_a.txt")),
+        ::testing::Values(std::string("ceres_lm"), std::string("normal_lm"))));
 
 }  // namespace
 }  // namespace cellmetry
