@@ -86,35 +86,20 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
   std::atomic<bool> valid{true};
   // The range's blocks added to `sums` (buffers per call: a range is hundreds of blocks).
   auto add_range = [&](const tbb::blocked_range<int>& range, PartialSums* sums) {
-    std::vector<const double*> parameters;
-    std::vector<std::vector<double>> block_jacobians;
-    std::vector<double*> jacobian_pointers;
-    std::vector<double> residuals;
+    BlockEvaluation scratch;
     std::vector<double> gathered;  // the block's rows x its free columns
     std::vector<int> columns;      // each one's free column, ascending
     std::vector<double> jr;
     for (int k = range.begin(); k != range.end() && valid; ++k) {
-      const auto& [cost, ids] = evaluation_order_[k];
-      const std::vector<int>& block_ids = *ids;
-      const int num_rows = cost->num_residuals();
+      const std::vector<int>& block_ids = *evaluation_order_[k].second;
       const int first = sparse_entry_start_[k], width = sparse_entry_start_[k + 1] - first;
-      parameters.clear();
-      block_jacobians.resize(block_ids.size());
-      jacobian_pointers.assign(block_ids.size(), nullptr);  // no free entry: not asked for
-      for (size_t slot = 0; slot < block_ids.size(); ++slot) {
-        parameters.push_back(values(block_ids[slot]));
-      }
-      for (int e = first; e < first + width; ++e) {
-        const int slot = sparse_entries_[e].slot;
-        block_jacobians[slot].resize(static_cast<size_t>(num_rows) *
-                                     blocks_[block_ids[slot]]->params.size());
-        jacobian_pointers[slot] = block_jacobians[slot].data();
-      }
-      residuals.resize(num_rows);
-      if (!cost->Evaluate(parameters.data(), residuals.data(), jacobian_pointers.data())) {
+      AskFreeSlots(k, &scratch);
+      if (!EvaluateBlock(k, true, &scratch)) {
         valid = false;
         break;
       }
+      const int num_rows = static_cast<int>(scratch.residuals.size());
+      const std::vector<double>& residuals = scratch.residuals;
       const Eigen::Map<const Eigen::VectorXd> r(residuals.data(), num_rows);
       const BlockWeight weight = Weigh(evaluation_losses_[k], r.squaredNorm());
       sums->cost += 0.5 * weight.rho;
@@ -126,7 +111,7 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
         const int block_width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
         columns[j] = e.column;
         for (int row = 0; row < num_rows; ++row) {
-          gathered[row * width + j] = block_jacobians[e.slot][row * block_width + e.index];
+          gathered[row * width + j] = scratch.At(e.slot, row, block_width, e.index);
         }
       }
       AddWeightedBlock(gathered.data(), residuals.data(), num_rows, columns, weight, &jr, sums);

@@ -333,6 +333,33 @@ void Problem::BuildSparseLayout() {
   }
 }
 
+bool Problem::EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch) const {
+  const auto& [cost, ids] = evaluation_order_[k];
+  const std::vector<int>& block_ids = *ids;
+  const int num_rows = cost->num_residuals();
+  scratch->parameters.clear();
+  scratch->jacobians.resize(block_ids.size());
+  scratch->pointers.assign(block_ids.size(), nullptr);
+  scratch->asked.resize(block_ids.size(), 0);
+  for (size_t slot = 0; slot < block_ids.size(); ++slot) {
+    scratch->parameters.push_back(values(block_ids[slot]));
+    if (!scratch->asked[slot]) continue;  // not differentiated
+    scratch->jacobians[slot].resize(static_cast<size_t>(num_rows) *
+                                    blocks_[block_ids[slot]]->params.size());
+    scratch->pointers[slot] = scratch->jacobians[slot].data();
+  }
+  scratch->residuals.resize(num_rows);
+  return cost->Evaluate(scratch->parameters.data(), scratch->residuals.data(),
+                        with_jacobians ? scratch->pointers.data() : nullptr);
+}
+
+void Problem::AskFreeSlots(int k, BlockEvaluation* scratch) const {
+  scratch->asked.assign(evaluation_order_[k].second->size(), 0);
+  for (int e = sparse_entry_start_[k]; e < sparse_entry_start_[k + 1]; ++e) {
+    scratch->asked[sparse_entries_[e].slot] = 1;
+  }
+}
+
 bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const {
   const int num_blocks = static_cast<int>(evaluation_order_.size());
   const std::vector<int>& row_start = sparse_row_start_;
@@ -349,32 +376,16 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
   Eigen::VectorXd r(num_residuals_);
   std::atomic<bool> valid{true};
   tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks, 256), [&](const auto& range) {
-    std::vector<const double*> parameters;
-    std::vector<std::vector<double>> block_jacobians;
-    std::vector<double*> jacobian_pointers;
+    BlockEvaluation scratch;
     for (int k = range.begin(); k != range.end() && valid; ++k) {
-      const auto& [cost, ids] = evaluation_order_[k];
-      const std::vector<int>& block_ids = *ids;
-      const int num_rows = cost->num_residuals();
-      parameters.clear();
-      block_jacobians.resize(block_ids.size());
-      jacobian_pointers.resize(block_ids.size());
-      for (size_t slot = 0; slot < block_ids.size(); ++slot) {
-        parameters.push_back(values(block_ids[slot]));
-        block_jacobians[slot].resize(static_cast<size_t>(num_rows) *
-                                     blocks_[block_ids[slot]]->params.size());
-        jacobian_pointers[slot] = nullptr;  // a block without free entries: not asked for
-      }
-      for (int e = sparse_entry_start_[k]; e < sparse_entry_start_[k + 1]; ++e) {
-        const int slot = sparse_entries_[e].slot;
-        jacobian_pointers[slot] = block_jacobians[slot].data();
-      }
-      double* block_residuals = r.data() + rows_[k];
-      if (!cost->Evaluate(parameters.data(), block_residuals,
-                          jacobian ? jacobian_pointers.data() : nullptr)) {
+      const std::vector<int>& block_ids = *evaluation_order_[k].second;
+      AskFreeSlots(k, &scratch);
+      if (!EvaluateBlock(k, jacobian != nullptr, &scratch)) {
         valid = false;
         break;
       }
+      const int num_rows = static_cast<int>(scratch.residuals.size());
+      std::copy(scratch.residuals.begin(), scratch.residuals.end(), r.data() + rows_[k]);
       if (!jacobian) continue;
       for (int row = 0; row < num_rows; ++row) {
         int at = row_start[rows_[k] + row];
@@ -382,7 +393,7 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
           const SparseEntry& e = sparse_entries_[k_e];
           const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
           column_index[at] = e.column;
-          entries[at++] = block_jacobians[e.slot][row * width + e.index];  // row-major
+          entries[at++] = scratch.At(e.slot, row, width, e.index);
         }
       }
     }
@@ -459,36 +470,25 @@ bool Problem::EvaluateSparseColumns(const std::vector<int>& blocks, SparseJacobi
   std::atomic<bool> valid{true};
   const int num_blocks = static_cast<int>(evaluation_order_.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks, 64), [&](const auto& range) {
-    std::vector<const double*> parameters;
-    std::vector<std::vector<double>> block_jacobians;
-    std::vector<double*> jacobian_pointers;
-    std::vector<double> residuals;
+    BlockEvaluation scratch;
     for (int k = range.begin(); k != range.end() && valid; ++k) {
       if (layout.entries_of[k].empty()) continue;  // reads none of the blocks asked for
-      const auto& [cost, ids] = evaluation_order_[k];
-      const std::vector<int>& block_ids = *ids;
-      const int num_rows = cost->num_residuals();
-      parameters.clear();
-      block_jacobians.resize(block_ids.size());
-      jacobian_pointers.assign(block_ids.size(), nullptr);  // not asked for: not differentiated
+      const std::vector<int>& block_ids = *evaluation_order_[k].second;
+      scratch.asked.resize(block_ids.size());
       for (size_t slot = 0; slot < block_ids.size(); ++slot) {
-        parameters.push_back(values(block_ids[slot]));
-        if (!asked[block_ids[slot]]) continue;
-        block_jacobians[slot].resize(static_cast<size_t>(num_rows) *
-                                     blocks_[block_ids[slot]]->params.size());
-        jacobian_pointers[slot] = block_jacobians[slot].data();
+        scratch.asked[slot] = asked[block_ids[slot]];
       }
-      residuals.resize(num_rows);
-      if (!cost->Evaluate(parameters.data(), residuals.data(), jacobian_pointers.data())) {
+      if (!EvaluateBlock(k, true, &scratch)) {
         valid = false;
         break;
       }
+      const int num_rows = static_cast<int>(scratch.residuals.size());
       for (int row = 0; row < num_rows; ++row) {
         int at = layout.row_start[rows_[k] + row];
         for (const ColumnEntry& e : layout.entries_of[k]) {
           const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
           column_index[at] = e.column;
-          entries[at++] = block_jacobians[e.slot][row * width + e.index];  // row-major
+          entries[at++] = scratch.At(e.slot, row, width, e.index);
         }
       }
     }

@@ -22,4 +22,17 @@ struct Problem::Residual {
   std::vector<int> blocks;
 };
 
+// One residual block's evaluation, in buffers each thread reuses from block to block.
+struct Problem::BlockEvaluation {
+  std::vector<char> asked;                     // per slot: its Jacobian wanted (the caller's)
+  std::vector<const double*> parameters;       // per slot
+  std::vector<std::vector<double>> jacobians;  // per slot, row-major: rows x the block's size
+  std::vector<double*> pointers;               // per slot; null where not asked
+  std::vector<double> residuals;
+  // Entry `index` of the slot's Jacobian in `row` (`width`: the slot's block size).
+  double At(int slot, int row, int width, int index) const {
+    return jacobians[slot][static_cast<size_t>(row) * width + index];
+  }
+};
+
 }  // namespace cellmetry

@@ -7,6 +7,7 @@
 #include <chrono>
 
 #include "cellmetry/estimation/problem.h"
+#include "cellmetry/estimation/robust_loss_option.h"
 #include "cellmetry/registry/registry.h"
 
 namespace cellmetry::ceres_lm {
@@ -86,13 +87,9 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
       config.GetDoubleIn("parameter_tolerance", o.parameter_tolerance, 0, 1, tolerance_hint);
   o.threads =
       config.GetIntIn("threads", o.threads, 1, 1024, "Use 1 or more threads; 2 is the default");
-  const std::string loss = config.GetString("loss", "none");
-  if (loss == "huber") o.loss = RobustLossKind::kHuber;
-  else if (loss == "cauchy") o.loss = RobustLossKind::kCauchy;
-  else if (loss != "none")
-    throw config["loss"].Error("unknown loss '" + loss + "'", "Use none, huber or cauchy");
-  o.loss_scale = config.GetDoubleIn("loss_scale", o.loss_scale, 1e-12, 1e9,
-                                    "Give the residual size (mm) where the loss bends, above 0");
+  const RobustLossOption loss = ReadRobustLossOption(config);
+  o.loss = loss.kind;
+  o.loss_scale = loss.scale_mm;
   const std::string linear = config.GetString("linear_solver", "sparse_normal_cholesky");
   if (linear == "dense_normal_cholesky") {
     o.linear_solver = ceres::DENSE_NORMAL_CHOLESKY;

@@ -11,6 +11,7 @@
 // step would lower the whitened cost by less: every parameter within 1.4e-5 of its sigma of the
 // minimum); loss none|huber|cauchy; loss_scale 1 (mm, as ceres_lm's).
 #include "cellmetry/estimation/problem.h"
+#include "cellmetry/estimation/robust_loss_option.h"
 #include "cellmetry/estimation/reweighted_solve.h"
 #include "cellmetry/registry/registry.h"
 
@@ -51,13 +52,9 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
   o.solve.decrement_tolerance =
       config.GetDoubleIn("decrement_tolerance", o.solve.decrement_tolerance, 0, 1e6,
                          "A small non-negative cost decrease, e.g. 1e-10");
-  const std::string loss = config.GetString("loss", "none");
-  if (loss == "huber") o.loss = RobustLossKind::kHuber;
-  else if (loss == "cauchy") o.loss = RobustLossKind::kCauchy;
-  else if (loss != "none")
-    throw config["loss"].Error("unknown loss '" + loss + "'", "Use none, huber or cauchy");
-  o.loss_scale = config.GetDoubleIn("loss_scale", o.loss_scale, 1e-12, 1e9,
-                                    "Give the residual size (mm) where the loss bends, above 0");
+  const RobustLossOption loss = ReadRobustLossOption(config);
+  o.loss = loss.kind;
+  o.loss_scale = loss.scale_mm;
   return std::make_unique<NormalLm>(o);
 }
 

@@ -138,6 +138,12 @@ class Problem {
  private:
   struct Block;
   struct Residual;
+  struct BlockEvaluation;  // problem_blocks.h
+  // Evaluates residual block k (evaluation order) into `scratch`, differentiating the slots
+  // scratch->asked marks (none when `with_jacobians` is false). False if the cost failed.
+  bool EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch) const;
+  // Marks in scratch->asked the slots of residual block k that hold a free entry.
+  void AskFreeSlots(int k, BlockEvaluation* scratch) const;
 
   std::vector<std::unique_ptr<Block>> blocks_;
   std::vector<Residual> residuals_;
