@@ -77,6 +77,43 @@ BENCHMARK_CAPTURE(BM_Identify, exp_a_normal_lm,
                   std::string("normal_lm"))
     ->Unit(benchmark::kMillisecond);
 
+// One evaluation of exp_a's assembled problem at the closed-form start: the normal equations
+// summed per block (what normal_lm and the robust fit iterate on) against the sparse Jacobian
+// (what identifiability and the covariance linearize).
+struct AssembledCase {
+  WorkcellData data;
+  NoiseModel noise;
+  std::unique_ptr<AssembledWorkcell> assembled;
+};
+const AssembledCase& ExpAAssembled() {
+  static AssembledCase c = [] {
+    const Loaded& loaded = Load("configs/jobs/vsb_exp_a_geometry.yaml");
+    AssembledCase out;
+    out.data = PrepareWorkcellData(loaded.job.problem, loaded.recording);
+    out.noise = BuildNoiseModel(loaded.recording, loaded.job.problem.noise);
+    const WorkcellEstimate start = InitialEstimate(loaded.job.problem, loaded.recording, out.data);
+    out.assembled =
+        AssembleWorkcell(loaded.job.problem, loaded.recording, out.data, out.noise, start);
+    return out;
+  }();
+  return c;
+}
+void BM_NormalEquations(benchmark::State& state) {
+  const Problem& problem = ExpAAssembled().assembled->problem;
+  NormalEquations at;
+  for (auto _ : state) benchmark::DoNotOptimize(problem.EvaluateNormalEquations(&at));
+  state.counters["blocks"] = static_cast<double>(problem.residual_infos().size());
+  state.counters["free"] = problem.num_free();
+}
+BENCHMARK(BM_NormalEquations)->Name("BM_NormalEquations/exp_a")->Unit(benchmark::kMillisecond);
+void BM_SparseJacobian(benchmark::State& state) {
+  const Problem& problem = ExpAAssembled().assembled->problem;
+  Eigen::VectorXd r;
+  SparseJacobian J;
+  for (auto _ : state) benchmark::DoNotOptimize(problem.EvaluateSparse(&r, &J));
+}
+BENCHMARK(BM_SparseJacobian)->Name("BM_SparseJacobian/exp_a")->Unit(benchmark::kMillisecond);
+
 void BM_Solve(benchmark::State& state, const std::string& solver_yaml) {
   const Loaded& loaded = Load("configs/jobs/vsb_sim_b.yaml");
   const WorkcellProblem& spec = loaded.job.problem;

@@ -1,8 +1,9 @@
 // Problem::EvaluateNormalEquations (problem.h): J^T W J and J^T W r summed block by block.
 //
 // Each residual block's rows share its free columns (BuildSparseLayout's entries, in column
-// order), so the block's k columns give a k x k outer product added to the n x n sum at those
-// columns: the rows times k^2, never the m x n Jacobian. The blocks are split into fixed ranges
+// order), so the block's k columns give a k x k outer product, summed densely with the other
+// blocks of its column group and added to the n x n sum at those columns once per range: the
+// rows times k^2, never the m x n Jacobian. The blocks are split into fixed ranges
 // summed in a fixed tree (tbb::parallel_deterministic_reduce), so the result's bits do not
 // depend on the threads' timing: a fit reweighted with it answers the same on every run.
 #include <tbb/blocked_range.h>
@@ -49,33 +50,58 @@ BlockWeight Weigh(const ceres::LossFunction* loss, double squared_norm) {
   return {values[0], values[1], values[1] + c * squared_norm > 0.0 ? c : 0.0};
 }
 
-// A block's rows (row-major, rows x columns.size()) and residuals added with its weight: plain
-// loops over a few rows and columns, where Eigen's dynamic-size products cost more than the
-// arithmetic. `columns` ascend, so (column j, column i) for j <= i is in the upper triangle.
-// `jr`: room for J^T r over the block's columns.
-void AddWeightedBlock(const double* jacobian, const double* residuals, int num_rows,
-                      const std::vector<int>& columns, const BlockWeight& weight,
-                      std::vector<double>* jr, PartialSums* sums) {
-  const int width = static_cast<int>(columns.size());
-  const Eigen::Index n = sums->hessian.rows();
-  double* hessian = sums->hessian.data();  // column-major: (a, b) at a + b n
-  jr->assign(width, 0.0);
+// The sums of one column group within a range, dense over the group's k columns: a block's
+// rows are added with contiguous inner loops, and the group is scattered into the n x n sums
+// once per range instead of once per block (on exp_a one evaluation 3.2 -> 2.6 ms, of which
+// 2.0 ms are the cost functions: BM_NormalEquations against BM_SparseJacobian).
+struct GroupSums {
+  std::vector<double> hessian;   // k x k row-major, entries (i, j) with j <= i
+  std::vector<double> gradient;  // k
+  bool touched = false;
+};
+
+// A block's rows (row-major, rows x k) and residuals added to its group with its weight.
+// `jr`: room for J^T r over the k columns.
+void AddWeightedBlock(const double* jacobian, const double* residuals, int num_rows, int k,
+                      const BlockWeight& weight, std::vector<double>* jr, GroupSums* group) {
+  if (!group->touched) {
+    group->hessian.assign(static_cast<size_t>(k) * k, 0.0);
+    group->gradient.assign(k, 0.0);
+    group->touched = true;
+  }
+  double* h = group->hessian.data();
+  jr->assign(k, 0.0);
   for (int row = 0; row < num_rows; ++row) {
-    const double* j_row = jacobian + row * width;
-    for (int i = 0; i < width; ++i) {
+    const double* j_row = jacobian + row * k;
+    for (int i = 0; i < k; ++i) {
       (*jr)[i] += j_row[i] * residuals[row];
       const double weighted = weight.w * j_row[i];
-      double* column_i = hessian + columns[i] * n;
-      for (int j = 0; j <= i; ++j) column_i[columns[j]] += weighted * j_row[j];
+      double* h_row = h + i * k;
+      for (int j = 0; j <= i; ++j) h_row[j] += weighted * j_row[j];
     }
   }
-  for (int i = 0; i < width; ++i) {
-    sums->gradient[columns[i]] += weight.w * (*jr)[i];
+  for (int i = 0; i < k; ++i) {
+    group->gradient[i] += weight.w * (*jr)[i];
     if (weight.c == 0.0) continue;
     const double weighted = weight.c * (*jr)[i];
-    double* column_i = hessian + columns[i] * n;
-    for (int j = 0; j <= i; ++j) column_i[columns[j]] += weighted * (*jr)[j];
+    double* h_row = h + i * k;
+    for (int j = 0; j <= i; ++j) h_row[j] += weighted * (*jr)[j];
   }
+}
+
+// A group's sums added to the n x n ones at its columns (ascending: (column j, column i) for
+// j <= i is in the upper triangle of the column-major n x n), and cleared.
+void ScatterGroup(const std::vector<int>& columns, GroupSums* group, PartialSums* sums) {
+  const int k = static_cast<int>(columns.size());
+  const Eigen::Index n = sums->hessian.rows();
+  double* hessian = sums->hessian.data();
+  for (int i = 0; i < k; ++i) {
+    sums->gradient[columns[i]] += group->gradient[i];
+    double* column_i = hessian + columns[i] * n;
+    const double* h_row = group->hessian.data() + i * k;
+    for (int j = 0; j <= i; ++j) column_i[columns[j]] += h_row[j];
+  }
+  group->touched = false;
 }
 
 }  // namespace
@@ -87,8 +113,8 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
   // The range's blocks added to `sums` (buffers per call: a range is hundreds of blocks).
   auto add_range = [&](const tbb::blocked_range<int>& range, PartialSums* sums) {
     BlockEvaluation scratch;
-    std::vector<double> gathered;  // the block's rows x its free columns
-    std::vector<int> columns;      // each one's free column, ascending
+    std::vector<GroupSums> groups(group_columns_.size());
+    std::vector<double> gathered;  // the block's rows x its free columns, row-major
     std::vector<double> jr;
     for (int k = range.begin(); k != range.end() && valid; ++k) {
       const std::vector<int>& block_ids = *evaluation_order_[k].second;
@@ -104,17 +130,19 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
       const BlockWeight weight = Weigh(evaluation_losses_[k], r.squaredNorm());
       sums->cost += 0.5 * weight.rho;
       if (width == 0 || (weight.w == 0.0 && weight.c == 0.0)) continue;
-      gathered.resize(static_cast<size_t>(num_rows) * width);  // row-major
-      columns.resize(width);
+      gathered.resize(static_cast<size_t>(num_rows) * width);
       for (int j = 0; j < width; ++j) {
         const SparseEntry& e = sparse_entries_[first + j];
         const int block_width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
-        columns[j] = e.column;
         for (int row = 0; row < num_rows; ++row) {
           gathered[row * width + j] = scratch.At(e.slot, row, block_width, e.index);
         }
       }
-      AddWeightedBlock(gathered.data(), residuals.data(), num_rows, columns, weight, &jr, sums);
+      AddWeightedBlock(gathered.data(), residuals.data(), num_rows, width, weight, &jr,
+                       &groups[column_group_[k]]);
+    }
+    for (size_t g = 0; g < groups.size(); ++g) {
+      if (groups[g].touched) ScatterGroup(group_columns_[g], &groups[g], sums);
     }
   };
   const PartialSums total = tbb::parallel_deterministic_reduce(

@@ -331,6 +331,24 @@ void Problem::BuildSparseLayout() {
   for (int row = 0; row < num_residuals_; ++row) {
     sparse_row_start_[row + 1] += sparse_row_start_[row];
   }
+  // Column groups: the same column list, the same group.
+  std::map<std::vector<int>, int> group_of;
+  column_group_.assign(num_blocks, 0);
+  group_columns_.clear();
+  std::vector<int> columns;
+  for (int k = 0; k < num_blocks; ++k) {
+    columns.clear();
+    for (int e = sparse_entry_start_[k]; e < sparse_entry_start_[k + 1]; ++e) {
+      columns.push_back(sparse_entries_[e].column);
+    }
+    if (k > 0 && columns == group_columns_[column_group_[k - 1]]) {  // the common case: cheap
+      column_group_[k] = column_group_[k - 1];
+      continue;
+    }
+    const auto [it, added] = group_of.emplace(columns, static_cast<int>(group_columns_.size()));
+    if (added) group_columns_.push_back(columns);
+    column_group_[k] = it->second;
+  }
 }
 
 bool Problem::EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch) const {

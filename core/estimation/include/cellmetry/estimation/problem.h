@@ -172,6 +172,10 @@ class Problem {
   void BuildSparseLayout();
   std::vector<SparseEntry> sparse_entries_;
   std::vector<int> sparse_entry_start_;  // per residual block, into sparse_entries_; then end
+  // Residual blocks whose free columns are the same list (every observation of one tool by one
+  // camera, say) share a column group: the normal equations sum each group densely.
+  std::vector<int> column_group_;                 // per residual block
+  std::vector<std::vector<int>> group_columns_;   // per group, ascending
   std::vector<int> sparse_row_start_;    // per row, then the end: the CRS row pointers
   int num_residuals_ = 0;
   RobustLossKind loss_kind_ = RobustLossKind::kNone;
