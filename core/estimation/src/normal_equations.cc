@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 
@@ -145,8 +146,11 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
       if (groups[g].touched) ScatterGroup(group_columns_[g], &groups[g], sums);
     }
   };
+  // Ranges of at least 512 blocks and at most about 128 of them: each range holds an n x n sum
+  // (1.7 MB at the 456 columns of bench_scale's largest cell), so their number is bounded.
+  const int grain = std::max(512, num_blocks / 64);
   const PartialSums total = tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<int>(0, num_blocks, 512), PartialSums(n),
+      tbb::blocked_range<int>(0, num_blocks, grain), PartialSums(n),
       [&](const tbb::blocked_range<int>& range, PartialSums sums) {
         add_range(range, &sums);
         return sums;
