@@ -43,7 +43,8 @@ Parameter Named(const std::string& name, const std::string& unit, double nominal
 }
 
 // 200 points with 0.1 mm noise, every tenth off by 20 mm; the offset's z held (a prior on x).
-std::unique_ptr<Problem> MakeProblem(double angle, const Eigen::Vector3d& offset) {
+std::unique_ptr<Problem> MakeProblem(double angle, const Eigen::Vector3d& offset,
+                                     double sigma = 0.1) {
   auto problem = std::make_unique<Problem>();
   Parameter a = Named("angle", "rad", angle);
   a.lower = -1.0;
@@ -64,7 +65,7 @@ std::unique_ptr<Problem> MakeProblem(double angle, const Eigen::Vector3d& offset
                                                                  noise(rng));
     if (i % 10 == 0) measured += Eigen::Vector3d(20.0, -20.0, 0.0);
     auto cost = std::make_unique<ceres::AutoDiffCostFunction<SeenPoint, 3, 1, 3>>(
-        new SeenPoint{p, measured, 0.1});
+        new SeenPoint{p, measured, sigma});
     problem->AddResidual(std::move(cost), {rotation, shift}, ResidualInfo{});
   }
   problem->Build();
@@ -192,6 +193,20 @@ TEST(ReweightedSolve, WithoutALossIsLeastSquares) {
   const Eigen::VectorXd expected = CeresAnswer(theirs.get());
   EXPECT_TRUE(summary.converged) << summary.stop_reason;
   EXPECT_LT((ours->FreeValues() - expected).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+// A cost of about 1e13 (the gross errors over a 1e-5 mm sigma) cannot show a decrease of 1e-10:
+// at its minimum the solve says converged, not "no step lowers the cost".
+TEST(ReweightedSolve, ConvergesWhereTheCostCannotResolveTheTolerance) {
+  auto problem = MakeProblem(0.0, Eigen::Vector3d(0.0, 0.0, 2.0), 1e-5);
+  ReweightedSolveOptions tight;
+  tight.decrement_tolerance = 1e-10;
+  const SolverSummary summary = SolveByReweighting(problem.get(), tight);
+  EXPECT_GT(summary.final_cost, 1e12);
+  EXPECT_TRUE(summary.converged) << summary.stop_reason;
+  auto reference = MakeProblem(0.0, Eigen::Vector3d(0.0, 0.0, 2.0), 1e-5);
+  const Eigen::VectorXd expected = CeresAnswer(reference.get());
+  EXPECT_LT((problem->FreeValues() - expected).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 TEST(ReweightedSolve, SaysWhenTheStartCannotBeEvaluated) {

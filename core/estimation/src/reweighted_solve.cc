@@ -2,6 +2,7 @@
 #include "cellmetry/estimation/reweighted_solve.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -57,10 +58,13 @@ SolverSummary SolveByReweighting(Problem* problem, const ReweightedSolveOptions&
       break;
     }
     // Converged by the Gauss-Newton step's decrease, not the damped one's: after rejected
-    // steps the damping shrinks the step, and with it the decrease, far from the answer.
+    // steps the damping shrinks the step, and with it the decrease, far from the answer. A
+    // decrease below 1e-13 of the cost is below what the cost's sum resolves (tens of thousands
+    // of terms, each rounded): no trial could show it, so that is converged too.
     const Eigen::VectorXd newton_step = DampedStep(at, 0.0);
     const double decrement = -0.5 * at.gradient.dot(newton_step);
-    if (std::isfinite(decrement) && decrement < options.decrement_tolerance) {
+    const double tolerance = std::max(options.decrement_tolerance, 1e-13 * std::abs(at.cost));
+    if (std::isfinite(decrement) && decrement < tolerance) {
       summary.converged = true;
       summary.stop_reason = Reason("predicted cost decrease %.2g below the tolerance", decrement);
       break;

@@ -10,8 +10,9 @@
 //
 // Without a loss every weight is 1 and this is Levenberg-Marquardt on the normal equations. It
 // stops when the Gauss-Newton step's predicted decrease of the cost, -1/2 g.dx, is below
-// `decrement_tolerance`: in a whitened cost that is every free parameter within
-// sqrt(2 * tolerance) of its sigma of the stationary point (0.014 sigma at 1e-4).
+// `decrement_tolerance` (or 1e-13 of the cost, below which the cost's rounded sum cannot show a
+// decrease): in a whitened cost that is every free parameter within sqrt(2 * tolerance) of its
+// sigma of the stationary point (0.014 sigma at 1e-4).
 //
 // Two users. The robust first fit (robust_first_fit.h) starts it at a least-squares answer and
 // reads only its verdicts (which rows are gross errors): 1e-4 is plenty. The `normal_lm` solver
