@@ -79,14 +79,18 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
     // crawls: 200 iterations on exp_a), then the loss at the scale of that answer, warm.
     IdentifiedSolve plain = SolveHoldingUnidentifiable(
         &problem, spec.identifiability_tolerance, {}, make_solver);
+    std::set<std::string> held;
+    for (const auto& u : plain.unidentifiable) held.insert(u.name);
     fit.summary = plain.summary;
     fit.unidentifiable = std::move(plain.unidentifiable);
     fit.at_answer = std::move(plain.at_answer);
     const BlockStates least_squares = Snapshot(problem);
     SetLossFromScale(ResidualRows(*fit.assembled), options.cauchy_width, &problem);
-    const SolverSummary robust = SolveByReweighting(&problem);
-    if (!robust.converged) {
-      throw InputError({}, "the Cauchy fit did not settle: " + robust.stop_reason, "");
+    if (!SolveByReweighting(&problem).converged) {
+      // Far from the robust answer (least squares dragged off by gross errors, or not
+      // converged): the job's solver takes over from where the reweighting stopped.
+      SolveHoldingUnidentifiable(&problem, spec.identifiability_tolerance, held, make_solver,
+                                 /*warm_start=*/true);
     }
     out.outliers = FindOutliers(ResidualRows(*fit.assembled), recording, options.alpha);
     Restore(least_squares, &problem);

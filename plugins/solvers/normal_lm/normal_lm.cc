@@ -7,7 +7,7 @@
 // Ceres's work per block (docs/benchmarks.md); the answer is the same least-squares minimum.
 // For problems that live on their bounds or have thousands of free parameters, use ceres_lm.
 //
-// Options (defaults): max_iterations 100; decrement_tolerance 1e-10 (stop when the Gauss-Newton
+// Options (defaults): max_iterations 200; decrement_tolerance 1e-10 (stop when the Gauss-Newton
 // step would lower the whitened cost by less: every parameter within 1.4e-5 of its sigma of the
 // minimum); loss none|huber|cauchy; loss_scale 1 (mm, as ceres_lm's).
 #include "cellmetry/estimation/problem.h"
@@ -45,10 +45,9 @@ class NormalLm : public Solver {
 std::unique_ptr<Solver> Create(const ConfigNode& config) {
   config.ExpectKeys({"type", "max_iterations", "decrement_tolerance", "loss", "loss_scale"});
   Options o;
-  o.solve.max_iterations = 100;
   o.solve.decrement_tolerance = 1e-10;
   o.solve.max_iterations = config.GetIntIn("max_iterations", o.solve.max_iterations, 1, 1000000,
-                                           "Allow at least one iteration; 100 is the default");
+                                           "Allow at least one iteration; 200 is the default");
   o.solve.decrement_tolerance =
       config.GetDoubleIn("decrement_tolerance", o.solve.decrement_tolerance, 0, 1e6,
                          "A small non-negative cost decrease, e.g. 1e-10");
@@ -67,7 +66,7 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
   info.description =
       "Levenberg-Marquardt on normal equations summed per block (few parameters, many blocks)";
   info.options = {
-      {"max_iterations", "", "100", "iteration limit (accepted and rejected steps)"},
+      {"max_iterations", "", "200", "iteration limit (accepted and rejected steps)"},
       {"decrement_tolerance", "", "1e-10",
        "stop when the Gauss-Newton step would lower the whitened cost by less"},
       {"loss", "", "none", "robust loss: none, huber or cauchy"},
