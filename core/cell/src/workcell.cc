@@ -295,7 +295,11 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
   Progress::Note("refitting with sigma estimated from the residuals");
   std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
   const SolverSummary first_summary = fit.summary;
-  fit = FitOnce(spec, recording, data, *noise, first, {}, Names(held_first), make_solver);
+  // Warm: from the first fit's answer with what it held, so the identifiability check before
+  // the solve is skipped; a near-degeneracy the new row weights make shows in the check at the
+  // answer, which holds it and solves again (SolveHoldingUnidentifiable).
+  fit = FitOnce(spec, recording, data, *noise, first, {}, Names(held_first), make_solver,
+                /*warm_start=*/true);
   // One solve in the report: iterations and time add up; the refit keeps the first's findings.
   fit.summary.iterations += first_summary.iterations;
   fit.summary.evaluations += first_summary.evaluations;
