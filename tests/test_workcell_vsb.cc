@@ -182,12 +182,13 @@ std::map<std::string, double> PinnedQuantities(const WorkcellResult& r) {
   return out;
 }
 
-// (job, pinned answers, solver): each solver must reach the same minimum and the same verdicts.
-class PinnedAnswers
-    : public ::testing::TestWithParam<std::tuple<std::string, std::string, std::string>> {};
+// ((job, pinned answers), solver): each solver must reach the same minimum and verdicts.
+using PinnedJob = std::pair<std::string, std::string>;
+class PinnedAnswers : public ::testing::TestWithParam<std::tuple<PinnedJob, std::string>> {};
 
 TEST_P(PinnedAnswers, AreComputedAgainToOnePartInAMillion) {
-  const auto& [job, pinned_file, solver] = GetParam();
+  const auto& [files, solver] = GetParam();
+  const auto& [job, pinned_file] = files;
   const auto now = PinnedQuantities(RunJob(job, "type: " + solver, 0));
   const std::string path = testing::Source(pinned_file);
   if (std::getenv("CELLMETRY_PIN_ANSWERS") && solver == "ceres_lm") {
@@ -225,14 +226,10 @@ TEST_P(PinnedAnswers, AreComputedAgainToOnePartInAMillion) {
 INSTANTIATE_TEST_SUITE_P(
     VsbJobs, PinnedAnswers,
     ::testing::Combine(
-        ::testing::Values(std::string("configs/jobs/vsb_sim_b.yaml")),
-        ::testing::Values(std::string("tests/data/vsb/pinned_answers_sim_b.txt")),
-        ::testing::Values(std::string("ceres_lm"), std::string("normal_lm"))));
-INSTANTIATE_TEST_SUITE_P(
-    VsbExpA, PinnedAnswers,
-    ::testing::Combine(
-        ::testing::Values(std::string("configs/jobs/vsb_exp_a_geometry.yaml")),
-        ::testing::Values(std::string("tests/data/vsb/pinned_answers_exp_a.txt")),
+        ::testing::Values(PinnedJob("configs/jobs/vsb_sim_b.yaml",
+                                    "tests/data/vsb/pinned_answers_sim_b.txt"),
+                          PinnedJob("configs/jobs/vsb_exp_a_geometry.yaml",
+                                    "tests/data/vsb/pinned_answers_exp_a.txt")),
         ::testing::Values(std::string("ceres_lm"), std::string("normal_lm"))));
 
 }  // namespace

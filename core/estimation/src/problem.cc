@@ -377,7 +377,7 @@ bool Problem::EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch
   scratch->asked.resize(block_ids.size(), 0);
   for (size_t slot = 0; slot < block_ids.size(); ++slot) {
     scratch->parameters.push_back(values(block_ids[slot]));
-    if (!scratch->asked[slot]) continue;  // not differentiated
+    if (!with_jacobians || !scratch->asked[slot]) continue;  // not differentiated
     scratch->jacobians[slot].resize(static_cast<size_t>(num_rows) *
                                     blocks_[block_ids[slot]]->params.size());
     scratch->pointers[slot] = scratch->jacobians[slot].data();

@@ -51,12 +51,12 @@ SolverSummary SolveByReweighting(Problem* problem, const ReweightedSolveOptions&
   Eigen::VectorXd x = problem->FreeValues();
   double lambda = options.initial_damping;
   summary.stop_reason = "iteration limit reached";
-  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
-    if (problem->num_free() == 0) {
-      summary.converged = true;
-      summary.stop_reason = "nothing to solve: no free parameter";
-      break;
-    }
+  if (problem->num_free() == 0) {
+    summary.converged = true;
+    summary.stop_reason = "nothing to solve: no free parameter";
+  }
+  for (int iteration = 0; iteration < options.max_iterations && !summary.converged;
+       ++iteration) {
     // Converged by the Gauss-Newton step's decrease, not the damped one's: after rejected
     // steps the damping shrinks the step, and with it the decrease, far from the answer. A
     // decrease below 1e-13 of the cost is below what the cost's sum resolves (tens of thousands
@@ -69,8 +69,7 @@ SolverSummary SolveByReweighting(Problem* problem, const ReweightedSolveOptions&
       summary.stop_reason = Reason("predicted cost decrease %.2g below the tolerance", decrement);
       break;
     }
-    const Eigen::VectorXd step = lambda > 0.0 ? DampedStep(at, lambda) : newton_step;
-    const Eigen::VectorXd trial = Clamp(x + step, lower, upper);
+    const Eigen::VectorXd trial = Clamp(x + DampedStep(at, lambda), lower, upper);
     problem->SetFreeValues(trial);
     NormalEquations at_trial;
     ++summary.evaluations;

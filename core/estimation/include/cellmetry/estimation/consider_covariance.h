@@ -28,12 +28,13 @@ namespace cellmetry {
 
 // `augmented` holds the estimated parameters and the uncertain inputs, all free, at the answer,
 // without a robust loss; `at` is its normal equations there (J^T J holds J_t^T J_c: summed block
-// by block, no Jacobian is stored), null where they could not be evaluated (an InputError). `estimated` names the estimate's parameters (the order of the
-// result) and `bread` is (J_t^T J_t)^-1 over them (ComputeUncertainty's covariance over its
-// scale; zero rows and columns for what the data cannot determine). `input_sigma` maps each
-// uncertain input's parameter name to its standard uncertainty, in its unit; other free
-// columns of `augmented` are ignored. Returns G (estimated x inputs, in input_sigma's order)
-// in `sensitivity` if not null, and Sigma_inputs.
+// by block, no Jacobian is stored), null where they could not be evaluated (an InputError).
+// `estimated` names the estimate's parameters (the order of the result) and `bread` is
+// (J_t^T J_t)^-1 over them (ComputeUncertainty's covariance over its scale; zero rows and
+// columns for what the data cannot determine). `input_sigma` maps each uncertain input's
+// parameter name to its standard uncertainty, in its unit; other free columns of `augmented`
+// are ignored. Returns G (estimated x inputs, in input_sigma's order) in `sensitivity` if not
+// null, and Sigma_inputs.
 Eigen::MatrixXd ConsiderCovariance(const Problem& augmented, const NormalEquations* at,
                                    const std::vector<std::string>& estimated,
                                    const Eigen::MatrixXd& bread,
