@@ -153,7 +153,7 @@ TEST(SimulatedUr3, ResultListsEveryStageWithItsTimeAndMemory) {
     sum_s += stage.seconds;
   }
   EXPECT_EQ(names, (std::vector<std::string>{"robust_first_fit", "start", "solve", "covariance",
-                                             "input_uncertainty", "residual_statistics",
+                                             "residual_statistics", "input_uncertainty",
                                              "cross_validation"}));
   EXPECT_LE(sum_s, wall_s);
   EXPECT_GT(sum_s, 0.5 * wall_s);  // the stages account for the run, not a sliver of it

@@ -1,6 +1,9 @@
 // The inputs part of a cell's uncertainty (input_uncertainty.h).
 #include "input_uncertainty.h"
 
+#include <map>
+
+#include "cellmetry/basics/error.h"
 #include "cellmetry/cell/workcell_data.h"
 #include "cellmetry/estimation/consider_covariance.h"
 
@@ -34,18 +37,35 @@ WorkcellProblem WithInputsFree(const WorkcellProblem& spec,
 
 }  // namespace
 
-void AddInputUncertainty(const WorkcellProblem& spec, const Recording& recording,
-                         const NoiseModel& noise, const WorkcellEstimate& answer, Uncertainty* u) {
-  if (spec.uncertain_inputs.empty() || u->sigma.size() == 0) return;
+InputLink LinkInputs(const WorkcellProblem& spec, const Recording& recording,
+                     const WorkcellData& data, const NoiseModel& noise,
+                     const WorkcellEstimate& answer, const std::vector<std::string>& estimated) {
+  InputLink link;
+  if (spec.uncertain_inputs.empty() || estimated.empty()) return link;
   std::map<std::string, double> input_sigma;
   const WorkcellProblem augmented = WithInputsFree(spec, &input_sigma);
-  const WorkcellData data = PrepareWorkcellData(augmented, recording);
-  const auto assembled = AssembleWorkcell(augmented, recording, data, noise, answer);
+  // The same pairing (the inputs change no robot, target or camera), with what effects read.
+  WorkcellData with_facts = data;
+  if (with_facts.facts.empty()) with_facts.facts = GatherEffectFacts(augmented, recording);
+  const auto assembled = AssembleWorkcell(augmented, recording, with_facts, noise, answer);
   NormalEquations at;
-  const bool valid = assembled->problem.EvaluateNormalEquations(&at);
+  if (!assembled->problem.EvaluateNormalEquations(&at)) {
+    throw InputError({}, "the model cannot be evaluated at the answer with its uncertain inputs",
+                     "Check the uncertain_inputs: section of the job");
+  }
+  link.sigma.resize(static_cast<Eigen::Index>(input_sigma.size()));
+  for (const auto& [name, sigma] : input_sigma) {
+    link.sigma[static_cast<Eigen::Index>(link.inputs.size())] = sigma;
+    link.inputs.push_back(name);
+  }
+  link.cross = ConsiderCrossProduct(assembled->problem, at, estimated, link.inputs);
+  return link;
+}
+
+void AddInputUncertainty(const InputLink& link, Uncertainty* u) {
+  if (link.inputs.empty() || u->sigma.size() == 0) return;
   const Eigen::MatrixXd bread = u->covariance / u->scale;
-  const Eigen::MatrixXd cov = ConsiderCovariance(assembled->problem, valid ? &at : nullptr,
-                                                 u->names, bread, input_sigma);
+  const Eigen::MatrixXd cov = ConsiderCovariance(link.cross, bread, link.sigma);
   u->sigma_inputs = cov.diagonal().cwiseMax(0.0).cwiseSqrt();
   u->sigma = (u->sigma.cwiseAbs2() + u->sigma_inputs.cwiseAbs2()).cwiseSqrt();
 }

@@ -3,16 +3,37 @@
 // covariance (consider_covariance.h). A nominal kinematic table or a board's printed size is
 // shared by every observation, so no resampling of the data sees its error; the user states
 // how uncertain it is, and sigma carries it.
+//
+// Two steps: LinkInputs, the costly one (the cell assembled again with its inputs free, one
+// pass of normal equations at the answer), needs only the answer, so IdentifyOnce runs it
+// alongside the fit's own covariance; AddInputUncertainty then needs that covariance.
 #pragma once
+
+#include <string>
+#include <vector>
 
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/estimation/estimation_quality.h"
 
 namespace cellmetry {
 
+// How the answer leans on the uncertain inputs: J_t^T J_c over the estimated parameters and
+// the inputs' parameters, and each input's standard uncertainty. Empty: no uncertain inputs.
+struct InputLink {
+  std::vector<std::string> inputs;  // "<effect>.<parameter>", "<robot>.model.<parameter>"
+  Eigen::VectorXd sigma;            // per input, in its unit
+  Eigen::MatrixXd cross;            // estimated x inputs
+};
+
+// At `answer`, for the parameters `estimated` (the fit's free parameters, in its order);
+// `data` is the fit's pairing of `recording`. Throws InputError where the model cannot be
+// evaluated there with the inputs free.
+InputLink LinkInputs(const WorkcellProblem& spec, const Recording& recording,
+                     const WorkcellData& data, const NoiseModel& noise,
+                     const WorkcellEstimate& answer, const std::vector<std::string>& estimated);
+
 // Sets `u`'s inputs part and adds it to the total (u->sigma must hold the statistical and
-// systematic parts already). Nothing when the job names no uncertain inputs.
-void AddInputUncertainty(const WorkcellProblem& spec, const Recording& recording,
-                         const NoiseModel& noise, const WorkcellEstimate& answer, Uncertainty* u);
+// systematic parts already, u->names the `estimated` of `link`). Nothing when `link` is empty.
+void AddInputUncertainty(const InputLink& link, Uncertainty* u);
 
 }  // namespace cellmetry

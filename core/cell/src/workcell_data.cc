@@ -120,8 +120,10 @@ std::optional<ToolMeasurement> PairTool(const WorkcellProblem& spec, const Recor
                    "observations name them");
 }
 
-// Effect facts of every robot's samples, at each robot's nominal model.
-std::vector<SampleFacts> GatherAllFacts(const WorkcellProblem& spec, const Recording& recording) {
+}  // namespace
+
+std::vector<SampleFacts> GatherEffectFacts(const WorkcellProblem& spec,
+                                           const Recording& recording) {
   std::vector<SampleFacts> all(recording.samples.size());
   for (const auto& robot : spec.robots) {
     std::vector<double> nominal;
@@ -134,8 +136,6 @@ std::vector<SampleFacts> GatherAllFacts(const WorkcellProblem& spec, const Recor
   }
   return all;
 }
-
-}  // namespace
 
 WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& recording) {
   WorkcellData data;
@@ -164,7 +164,7 @@ WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& r
     CheckCommand(spec.robots[m.robot], recording.samples[m.sample_index],
                  recording.folder + "/samples.csv");
   }
-  if (!spec.effects.empty()) data.facts = GatherAllFacts(spec, recording);
+  if (!spec.effects.empty()) data.facts = GatherEffectFacts(spec, recording);
   return data;
 }
 

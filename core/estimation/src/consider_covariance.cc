@@ -1,7 +1,7 @@
 // The covariance inherited from uncertain held inputs (consider_covariance.h).
 #include "cellmetry/estimation/consider_covariance.h"
 
-#include "cellmetry/basics/error.h"
+#include <map>
 
 namespace cellmetry {
 namespace {
@@ -19,43 +19,33 @@ std::vector<int> Columns(const Problem& problem, const std::vector<std::string>&
   return out;
 }
 
-// J[:, estimated]^T J[:, inputs] read off J^T J (zero rows and columns where a column is -1).
-Eigen::MatrixXd CrossProduct(const Eigen::MatrixXd& hessian, const std::vector<int>& estimated,
-                             const std::vector<int>& inputs) {
-  Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(estimated.size()),
-                                                static_cast<Eigen::Index>(inputs.size()));
-  for (size_t t = 0; t < estimated.size(); ++t) {
-    for (size_t c = 0; c < inputs.size(); ++c) {
-      if (estimated[t] >= 0 && inputs[c] >= 0) cross(t, c) = hessian(estimated[t], inputs[c]);
+}  // namespace
+
+Eigen::MatrixXd ConsiderCrossProduct(const Problem& augmented, const NormalEquations& at,
+                                     const std::vector<std::string>& estimated,
+                                     const std::vector<std::string>& inputs) {
+  const std::vector<int> rows = Columns(augmented, estimated);
+  const std::vector<int> columns = Columns(augmented, inputs);
+  Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()),
+                                                static_cast<Eigen::Index>(columns.size()));
+  for (size_t t = 0; t < rows.size(); ++t) {
+    for (size_t c = 0; c < columns.size(); ++c) {
+      if (rows[t] >= 0 && columns[c] >= 0) cross(t, c) = at.hessian(rows[t], columns[c]);
     }
   }
   return cross;
 }
 
-}  // namespace
-
-Eigen::MatrixXd ConsiderCovariance(const Problem& augmented, const NormalEquations* at,
-                                   const std::vector<std::string>& estimated,
-                                   const Eigen::MatrixXd& bread,
-                                   const std::map<std::string, double>& input_sigma,
+Eigen::MatrixXd ConsiderCovariance(const Eigen::MatrixXd& cross, const Eigen::MatrixXd& bread,
+                                   const Eigen::VectorXd& input_sigma,
                                    Eigen::MatrixXd* sensitivity) {
-  const Eigen::Index n = static_cast<Eigen::Index>(estimated.size());
-  if (at == nullptr) {
-    throw InputError({}, "the model cannot be evaluated at the answer with its uncertain inputs",
-                     "Check the uncertain_inputs: section of the job");
+  const Eigen::Index n = bread.rows();
+  if (cross.rows() != n || cross.cols() != input_sigma.size()) {
+    return Eigen::MatrixXd::Zero(n, n);  // no inputs, or nothing estimated
   }
-  std::vector<std::string> inputs;
-  Eigen::VectorXd sigma(input_sigma.size());
-  for (const auto& [name, s] : input_sigma) {
-    sigma[static_cast<Eigen::Index>(inputs.size())] = s;
-    inputs.push_back(name);
-  }
-  const Eigen::MatrixXd cross =
-      CrossProduct(at->hessian, Columns(augmented, estimated), Columns(augmented, inputs));
   const Eigen::MatrixXd G = -bread * cross;
   if (sensitivity) *sensitivity = G;
-  Eigen::MatrixXd cov = G * sigma.cwiseAbs2().asDiagonal() * G.transpose();
-  return cov.size() == n * n ? cov : Eigen::MatrixXd::Zero(n, n);
+  return G * input_sigma.cwiseAbs2().asDiagonal() * G.transpose();
 }
 
 }  // namespace cellmetry

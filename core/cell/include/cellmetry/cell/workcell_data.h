@@ -35,4 +35,9 @@ struct WorkcellData {
 // Pairs observations; raises InputError naming observations.csv when nothing is usable.
 WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& recording);
 
+// What effects read of each sample (WorkcellData::facts), at each robot's nominal model: the
+// part of PrepareWorkcellData that depends on the job's effects, for data paired already.
+std::vector<SampleFacts> GatherEffectFacts(const WorkcellProblem& spec,
+                                           const Recording& recording);
+
 }  // namespace cellmetry

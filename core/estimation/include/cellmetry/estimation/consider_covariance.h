@@ -26,19 +26,22 @@
 
 namespace cellmetry {
 
-// `augmented` holds the estimated parameters and the uncertain inputs, all free, at the answer,
-// without a robust loss; `at` is its normal equations there (J^T J holds J_t^T J_c: summed block
-// by block, no Jacobian is stored), null where they could not be evaluated (an InputError).
-// `estimated` names the estimate's parameters (the order of the result) and `bread` is
-// (J_t^T J_t)^-1 over them (ComputeUncertainty's covariance over its scale; zero rows and
-// columns for what the data cannot determine). `input_sigma` maps each uncertain input's
-// parameter name to its standard uncertainty, in its unit; other free columns of `augmented`
-// are ignored. Returns G (estimated x inputs, in input_sigma's order) in `sensitivity` if not
-// null, and Sigma_inputs.
-Eigen::MatrixXd ConsiderCovariance(const Problem& augmented, const NormalEquations* at,
-                                   const std::vector<std::string>& estimated,
-                                   const Eigen::MatrixXd& bread,
-                                   const std::map<std::string, double>& input_sigma,
+// J_t^T J_c read off `at`, the normal equations of `augmented` at the answer (summed block by
+// block: no Jacobian is stored). `augmented` holds the estimated parameters and the uncertain
+// inputs, all free, at the answer, without a robust loss. Rows follow `estimated` (the
+// estimate's parameter names, the order of the result), columns `inputs` (the uncertain inputs'
+// parameter names); zero where a name is not free in `augmented`.
+Eigen::MatrixXd ConsiderCrossProduct(const Problem& augmented, const NormalEquations& at,
+                                     const std::vector<std::string>& estimated,
+                                     const std::vector<std::string>& inputs);
+
+// Sigma_inputs (estimated x estimated) from `cross` = J_t^T J_c (ConsiderCrossProduct), `bread`
+// = (J_t^T J_t)^-1 over the estimated parameters (ComputeUncertainty's covariance over its
+// scale; zero rows and columns for what the data cannot determine) and each input's standard
+// uncertainty `input_sigma`, in its unit (cross's column order). Returns G (estimated x inputs)
+// in `sensitivity` if not null.
+Eigen::MatrixXd ConsiderCovariance(const Eigen::MatrixXd& cross, const Eigen::MatrixXd& bread,
+                                   const Eigen::VectorXd& input_sigma,
                                    Eigen::MatrixXd* sensitivity = nullptr);
 
 }  // namespace cellmetry
