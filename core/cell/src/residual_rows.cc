@@ -2,6 +2,7 @@
 #include "residual_rows.h"
 
 #include <limits>
+#include <utility>
 
 namespace cellmetry {
 
@@ -17,6 +18,7 @@ std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled) {
   }
   std::vector<ResidualRow> rows;
   const auto& infos = problem.residual_infos();
+  rows.reserve(infos.size());
   for (size_t b = 0; b < infos.size(); ++b) {
     const ResidualInfo& info = infos[b];
     if (info.kind == ResidualInfo::Kind::kPrior) continue;
@@ -29,7 +31,7 @@ std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled) {
     row.kind = info.kind == ResidualInfo::Kind::kPosition ? "position" : "rotation";
     row.normalized = r.segment<3>(problem.residual_rows()[b]);
     row.error = row.normalized.cwiseProduct(info.sigma);
-    rows.push_back(row);
+    rows.push_back(std::move(row));
   }
   return rows;
 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
@@ -64,8 +65,16 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
   auto ls = std::make_unique<LeastSquaresFit>();  // at one address: the residuals point into it
   ls->spec = spec;
   ls->spec.residual = ResidualForm::kCartesian;
-  ls->data = PrepareWorkcellData(ls->spec, recording);
-  ls->repeatability = EstimateRepeatability(recording);
+  // The repeat spread needs the recording alone: found on the other core meanwhile.
+  std::future<NoiseModel> repeatability =
+      std::async(std::launch::async, [&] { return EstimateRepeatability(recording); });
+  try {
+    ls->data = PrepareWorkcellData(ls->spec, recording);
+  } catch (...) {
+    repeatability.wait();
+    throw;
+  }
+  ls->repeatability = repeatability.get();
   ls->noise = BuildNoiseModel(recording, ls->spec.noise, ls->repeatability);
   ls->start = InitialEstimate(ls->spec, recording, ls->data);
   Fit& fit = ls->fit;
