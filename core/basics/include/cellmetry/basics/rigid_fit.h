@@ -11,20 +11,16 @@
 
 namespace cellmetry {
 
+// Whether points with this scatter (the sum of their centred outer products) span at least a
+// plane: two non-negligible principal spreads (on one line, the rotation about it is free).
+bool ScatterSpansAPlane(const Eigen::Matrix3d& scatter);
+
+// The proper rotation R maximising trace(R^T cross) for cross = sum (to_i - to_mean)
+// (from_i - from_mean)^T: the rotation of the rigid fit from `from` onto `to` (Umeyama 1991,
+// eq. 39-40, as Eigen::umeyama computes it).
+Eigen::Matrix3d RotationOfCrossCovariance(const Eigen::Matrix3d& cross);
+
 std::optional<Pose> FitRigidTransform(const std::vector<Eigen::Vector3d>& from,
                                       const std::vector<Eigen::Vector3d>& to);
-
-// FitRigidTransform onto the same `to` again and again (the closed-form start's alternation fits
-// its base afresh each round onto the same world points): `to` is copied and checked once, not
-// in every round. The same answers.
-class RigidFitOnto {
- public:
-  explicit RigidFitOnto(const std::vector<Eigen::Vector3d>& to);
-  std::optional<Pose> Fit(const std::vector<Eigen::Vector3d>& from) const;
-
- private:
-  Eigen::Matrix3Xd to_;
-  bool usable_ = false;  // finite and not all on one line
-};
 
 }  // namespace cellmetry
