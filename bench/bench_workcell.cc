@@ -113,6 +113,15 @@ void BM_SparseJacobian(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(problem.EvaluateSparse(&r, &J));
 }
 BENCHMARK(BM_SparseJacobian)->Name("BM_SparseJacobian/exp_a")->Unit(benchmark::kMillisecond);
+// That Jacobian reduced to its R factor (what identifiability and the covariance factor).
+void BM_RFactor(benchmark::State& state) {
+  const Problem& problem = ExpAAssembled().assembled->problem;
+  Eigen::VectorXd r;
+  SparseJacobian J;
+  problem.EvaluateSparse(&r, &J);
+  for (auto _ : state) benchmark::DoNotOptimize(RFactor(J).data());
+}
+BENCHMARK(BM_RFactor)->Name("BM_RFactor/exp_a")->Unit(benchmark::kMillisecond);
 
 void BM_Solve(benchmark::State& state, const std::string& solver_yaml) {
   const Loaded& loaded = Load("configs/jobs/vsb_sim_b.yaml");

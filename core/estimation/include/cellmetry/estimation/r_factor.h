@@ -7,14 +7,15 @@
 //
 // How: rows that touch the same columns (a residual block's, and every block of one robot, tool
 // and camera) are one group; each group's dense block (rows x its few columns) is reduced by a
-// Householder QR to its small triangle, and the stacked triangles are reduced once more — a
+// Householder QR to its small triangle (in pieces of 2,048 rows on every core, their triangles
+// reduced once more on the group's columns), and the stacked triangles are reduced once more — a
 // tall-skinny QR (Demmel, Grigori, Hoemmen, Langou 2012, "Communication-optimal parallel and
 // sequential QR", SIAM J. Sci. Comput. 34(1), section on TSQR) whose tree follows the
 // Jacobian's structure. Orthogonal transformations only: as accurate as a dense Householder QR
 // of J (the normal equations J^T J would square the condition number). The cost is the rows
 // times their own width squared, not m n^2, and the memory O(n^2) beyond J's nonzeros: on the
-// factory cell (240,000 x 138) 0.05 s where SuiteSparseQR's multifrontal QR takes 1.1 s and a
-// dense QR 8 s (bench_scale, docs/benchmarks.md).
+// factory cell (240,000 x 138) 14 ms on two cores where SuiteSparseQR's multifrontal QR takes
+// 0.74 s and a dense QR 3.0 s (BM_RFactor in bench_scale, docs/benchmarks.md).
 #pragma once
 
 #include <Eigen/Core>
