@@ -2,6 +2,7 @@
 // cannot determine, solve. workcell.cc defines it; the uncertainty split refits with it.
 #pragma once
 
+#include <future>
 #include <memory>
 #include <set>
 #include <string>
@@ -9,6 +10,7 @@
 
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/estimation/estimation_quality.h"
+#include "input_uncertainty.h"
 
 namespace cellmetry {
 
@@ -18,6 +20,7 @@ struct Fit {
   std::vector<UnidentifiableParameter> unidentifiable;
   int free_as_asked = 0;  // free parameters before anything was held as unidentifiable
   Linearization at_answer;  // IdentifiedSolve's: valid when the solve's last check held nothing
+  bool sigma_refit = false;  // solved again with sigma from the residuals of a first solve
 };
 
 // The least-squares fit of a whole recording that the robust first fit solves on its way to
@@ -33,6 +36,11 @@ struct LeastSquaresFit {
   NoiseModel noise;
   WorkcellEstimate start;
   Fit fit;
+  // How the answer leans on the job's uncertain inputs (input_uncertainty.h), worked out on
+  // another core from the moment the answer is known, while the robust fit's Cauchy step and
+  // outlier test run (IdentifyWorkcell starts it): IdentifyOnce takes it when it takes this fit
+  // unchanged. Last, so it is waited for before what it reads goes.
+  std::future<InputLink> input_link;
 };
 
 // Assembles on `poses` (empty: all), holds `held` and whatever the data cannot determine, and

@@ -93,6 +93,9 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
     fit.summary = plain.summary;
     fit.unidentifiable = std::move(plain.unidentifiable);
     fit.at_answer = std::move(plain.at_answer);
+    if (spec.residual == ResidualForm::kCartesian && options.at_least_squares_answer) {
+      options.at_least_squares_answer(ls.get());
+    }
     const BlockStates least_squares = Snapshot(problem);
     SetLossFromScale(ResidualRows(*fit.assembled), options.cauchy_width, &problem);
     if (!SolveByReweighting(&problem).converged) {

@@ -28,6 +28,7 @@
 // arm's point 5 m away), the job's solver finishes the Cauchy solve from there, as before.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "cellmetry/cell/workcell.h"
@@ -38,6 +39,10 @@ namespace cellmetry {
 struct RobustFirstFitOptions {
   double cauchy_width = 3.0;  // the loss bends at this many robust sigma of the block's group
   double alpha = 0.01;        // the outlier test's (outliers.h)
+  // Called with the least-squares fit at its answer, before the Cauchy step changes its
+  // problem's loss and values (what it reads of the problem it must read then); not called
+  // where that fit is not kept (RobustFirstFit::least_squares).
+  std::function<void(LeastSquaresFit*)> at_least_squares_answer;
 };
 
 struct RobustFirstFit {

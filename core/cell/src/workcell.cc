@@ -278,6 +278,25 @@ void CheckEnoughData(const Recording& recording, const Fit& fit) {
                    "Record more poses, or free fewer parameters");
 }
 
+// LinkInputs (input_uncertainty.h) on another thread at `fit`'s answer, its estimate and free
+// parameters read now; `spec`, `recording`, `data` and `noise` must outlive the future.
+std::future<InputLink> LinkInputsAlongside(const WorkcellProblem& spec, const Recording& recording,
+                                           const WorkcellData& data, const NoiseModel& noise,
+                                           const Fit& fit) {
+  if (spec.uncertain_inputs.empty()) {
+    return std::async(std::launch::deferred, [] { return InputLink{}; });
+  }
+  std::vector<std::string> estimated;
+  for (const FreeParameter& p : fit.assembled->problem.free_parameters()) {
+    estimated.push_back(p.name);
+  }
+  return std::async(std::launch::async,
+                    [&spec, &recording, &data, &noise, estimated,
+                     answer = ReadEstimate(spec, *fit.assembled)] {
+                      return LinkInputs(spec, recording, data, noise, answer, estimated);
+                    });
+}
+
 // Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
 // (variance component estimation), holding what the first fit found unidentifiable. `solved`:
 // that first fit done already (LeastSquaresFit), taken instead of solving.
@@ -302,6 +321,7 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
   // answer, which holds it and solves again (SolveHoldingUnidentifiable).
   fit = FitOnce(spec, recording, data, *noise, first, {}, Names(held_first), make_solver,
                 /*warm_start=*/true);
+  fit.sigma_refit = true;
   // One solve in the report: iterations and time add up; the refit keeps the first's findings.
   fit.summary.iterations += first_summary.iterations;
   fit.summary.evaluations += first_summary.evaluations;
@@ -426,14 +446,11 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   result.estimate = ReadEstimate(spec, *fit.assembled);
   clock.Lap("solve");
   // How the answer leans on the uncertain inputs needs only the answer: worked out on the other
-  // core while this one finds the fit's own uncertainty and residuals (on exp_a both ~20 ms).
-  std::future<InputLink> input_link = std::async(std::launch::async, [&] {
-    std::vector<std::string> estimated;
-    for (const FreeParameter& p : fit.assembled->problem.free_parameters()) {
-      estimated.push_back(p.name);
-    }
-    return LinkInputs(spec, recording, data, result.noise, result.estimate, estimated);
-  });
+  // core while this one finds the fit's own uncertainty and residuals.
+  std::future<InputLink> input_link =
+      solved && solved->input_link.valid() && !fit.sigma_refit
+          ? std::move(solved->input_link)  // started at this very answer
+          : LinkInputsAlongside(spec, recording, data, result.noise, fit);
   try {
     // The solve's last identifiability check linearized here already (with its R factor).
     const Linearization at_answer =
@@ -475,7 +492,13 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   std::vector<Outlier> outliers;
   std::unique_ptr<LeastSquaresFit> solved;  // the plain fit's first solve, when it is
   if (spec.outlier_test == OutlierTest::kRobust) {
-    RobustFirstFit robust = FindOutliersByRobustFit(spec, recording, make_solver);
+    RobustFirstFitOptions options;
+    // Its least-squares answer is the plain fit's when nothing is left out (the usual case):
+    // the inputs' link at that answer starts now, alongside the Cauchy step and the test.
+    options.at_least_squares_answer = [&recording](LeastSquaresFit* ls) {
+      ls->input_link = LinkInputsAlongside(ls->spec, recording, ls->data, ls->noise, ls->fit);
+    };
+    RobustFirstFit robust = FindOutliersByRobustFit(spec, recording, make_solver, options);
     outliers = std::move(robust.outliers);
     if (outliers.empty()) solved = std::move(robust.least_squares);
     clock.Lap("robust_first_fit");
