@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cmath>
 #include <cstddef>
 
 #include "cellmetry/estimation/problem.h"
@@ -52,75 +51,56 @@ BlockWeight Weigh(const ceres::LossFunction* loss, double squared_norm) {
   return {values[0], values[1], values[1] + c * squared_norm > 0.0 ? c : 0.0};
 }
 
-// The sums of one column group within a range, dense over the group's k columns. A block's
-// rows, each times the square root of its weight, are gathered as columns of a k x 128 buffer,
-// and the buffer is added to the k x k sum as one symmetric rank update (Eigen's blocked
-// product: on exp_a's cell with its uncertain inputs free, k = 41, several times the speed of
-// adding each row's outer product in turn); the group is scattered into the n x n sums once per
-// range instead of once per block.
+// The sums of one column group within a range, dense over the group's k columns: a block's
+// rows are added with contiguous inner loops, and the group is scattered into the n x n sums
+// once per range instead of once per block (on exp_a one evaluation 3.2 -> 2.6 ms, of which
+// 2.0 ms are the cost functions: BM_NormalEquations against BM_SparseJacobian).
 struct GroupSums {
-  static constexpr int kBufferColumns = 128;
-  Eigen::MatrixXd hessian;   // k x k, lower triangle
-  Eigen::VectorXd gradient;  // k
-  Eigen::MatrixXd added;     // k x kBufferColumns: sqrt(weight) x rows, added to the hessian
-  Eigen::MatrixXd taken;     // the same for rows whose weight is negative, taken from it
-  int num_added = 0, num_taken = 0;
+  std::vector<double> hessian;   // k x k row-major, entries (i, j) with j <= i
+  std::vector<double> gradient;  // k
   bool touched = false;
-
-  void Start(int k) {
-    hessian = Eigen::MatrixXd::Zero(k, k);
-    gradient = Eigen::VectorXd::Zero(k);
-    if (added.rows() != k) {
-      added.resize(k, kBufferColumns);
-      taken.resize(k, kBufferColumns);
-    }
-    num_added = num_taken = 0;
-    touched = true;
-  }
-  // Adds weight * row row^T (row: k values, `stride` apart).
-  template <typename Row>
-  void AddOuter(const Row& row, double weight) {
-    if (weight > 0.0) {
-      if (num_added == kBufferColumns) Flush();
-      added.col(num_added++) = std::sqrt(weight) * row;
-    } else if (weight < 0.0) {
-      if (num_taken == kBufferColumns) Flush();
-      taken.col(num_taken++) = std::sqrt(-weight) * row;
-    }
-  }
-  void Flush() {
-    if (num_added > 0) hessian.selfadjointView<Eigen::Lower>().rankUpdate(added.leftCols(num_added));
-    if (num_taken > 0) {
-      hessian.selfadjointView<Eigen::Lower>().rankUpdate(taken.leftCols(num_taken), -1.0);
-    }
-    num_added = num_taken = 0;
-  }
 };
 
 // A block's rows (row-major, rows x k) and residuals added to its group with its weight.
+// `jr`: room for J^T r over the k columns.
 void AddWeightedBlock(const double* jacobian, const double* residuals, int num_rows, int k,
-                      const BlockWeight& weight, GroupSums* group) {
-  if (!group->touched) group->Start(k);
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const Eigen::Map<const RowMajor> J(jacobian, num_rows, k);
-  const Eigen::Map<const Eigen::VectorXd> r(residuals, num_rows);
-  const Eigen::VectorXd jr = J.transpose() * r;
-  group->gradient += weight.w * jr;
-  for (int row = 0; row < num_rows; ++row) group->AddOuter(J.row(row).transpose(), weight.w);
-  if (weight.c != 0.0) group->AddOuter(jr, weight.c);
+                      const BlockWeight& weight, std::vector<double>* jr, GroupSums* group) {
+  if (!group->touched) {
+    group->hessian.assign(static_cast<size_t>(k) * k, 0.0);
+    group->gradient.assign(k, 0.0);
+    group->touched = true;
+  }
+  double* h = group->hessian.data();
+  jr->assign(k, 0.0);
+  for (int row = 0; row < num_rows; ++row) {
+    const double* j_row = jacobian + row * k;
+    for (int i = 0; i < k; ++i) {
+      (*jr)[i] += j_row[i] * residuals[row];
+      const double weighted = weight.w * j_row[i];
+      double* h_row = h + i * k;
+      for (int j = 0; j <= i; ++j) h_row[j] += weighted * j_row[j];
+    }
+  }
+  for (int i = 0; i < k; ++i) {
+    group->gradient[i] += weight.w * (*jr)[i];
+    if (weight.c == 0.0) continue;
+    const double weighted = weight.c * (*jr)[i];
+    double* h_row = h + i * k;
+    for (int j = 0; j <= i; ++j) h_row[j] += weighted * (*jr)[j];
+  }
 }
 
 // A group's sums added to the n x n ones at its columns (ascending: (column j, column i) for
 // j <= i is in the upper triangle of the column-major n x n), and cleared.
 void ScatterGroup(const std::vector<int>& columns, GroupSums* group, PartialSums* sums) {
-  group->Flush();
   const int k = static_cast<int>(columns.size());
   const Eigen::Index n = sums->hessian.rows();
   double* hessian = sums->hessian.data();
   for (int i = 0; i < k; ++i) {
     sums->gradient[columns[i]] += group->gradient[i];
     double* column_i = hessian + columns[i] * n;
-    for (int j = 0; j <= i; ++j) column_i[columns[j]] += group->hessian(i, j);
+    const double* h_row = group->hessian.data() + i * k;
+    for (int j = 0; j <= i; ++j) column_i[columns[j]] += h_row[j];
   }
   group->touched = false;
 }
@@ -136,6 +116,7 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
     BlockEvaluation scratch;
     std::vector<GroupSums> groups(group_columns_.size());
     std::vector<double> gathered;  // the block's rows x its free columns, row-major
+    std::vector<double> jr;
     for (int k = range.begin(); k != range.end() && valid; ++k) {
       const std::vector<int>& block_ids = *evaluation_order_[k].second;
       const int first = sparse_entry_start_[k], width = sparse_entry_start_[k + 1] - first;
@@ -158,7 +139,7 @@ bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
           gathered[row * width + j] = scratch.At(e.slot, row, block_width, e.index);
         }
       }
-      AddWeightedBlock(gathered.data(), residuals.data(), num_rows, width, weight,
+      AddWeightedBlock(gathered.data(), residuals.data(), num_rows, width, weight, &jr,
                        &groups[column_group_[k]]);
     }
     for (size_t g = 0; g < groups.size(); ++g) {
