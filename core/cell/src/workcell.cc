@@ -10,7 +10,6 @@
 #include <future>
 #include <random>
 
-
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"
 #include "cellmetry/cell/workcell_assembly.h"
@@ -462,7 +461,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
     AddResidualStatistics(spec, recording, data, fit, &result);
     clock.Lap("residual_statistics");
   } catch (...) {
-    input_link.wait();  // it reads `fit` and `result`: finished before they go
+    input_link.wait();  // it reads `data` and `result.noise`: finished before they go
     throw;
   }
   AddInputUncertainty(input_link.get(), &result.uncertainty);  // rethrows what it threw
