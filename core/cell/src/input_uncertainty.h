@@ -5,8 +5,9 @@
 // how uncertain it is, and sigma carries it.
 //
 // Two steps: LinkInputs, the costly one (the cell assembled again with its inputs free, one
-// pass of normal equations at the answer), needs only the answer, so IdentifyOnce runs it
-// alongside the fit's own covariance; AddInputUncertainty then needs that covariance.
+// pass of normal equations at the answer), needs only the answer, so it runs on another thread
+// from the moment the answer is known (workcell.cc: from the robust first fit's least-squares
+// answer where that is the plain fit's); AddInputUncertainty then needs the fit's covariance.
 #pragma once
 
 #include <string>

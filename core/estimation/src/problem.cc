@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 
+#include "column_patterns.h"
 #include "problem_blocks.h"
 
 namespace cellmetry {
@@ -332,39 +333,17 @@ void Problem::BuildSparseLayout() {
     sparse_row_start_[row + 1] += sparse_row_start_[row];
   }
   // Column groups: the same column list, the same group.
-  std::map<std::vector<int>, int> group_of;
+  ColumnPatterns patterns;
   column_group_.assign(num_blocks, 0);
-  group_columns_.clear();
-  // Whether block k's free columns are `columns`, read off its entries without a copy.
-  auto has_columns = [&](int k, const std::vector<int>& columns) {
-    const int first = sparse_entry_start_[k], count = sparse_entry_start_[k + 1] - first;
-    if (count != static_cast<int>(columns.size())) return false;
-    for (int j = 0; j < count; ++j) {
-      if (sparse_entries_[first + j].column != columns[j]) return false;
-    }
-    return true;
-  };
-  // Blocks come in repeating patterns (a capture's cameras, position then rotation): the last
-  // few groups seen are tried before the map.
-  std::vector<int> recent;
   std::vector<int> columns;
   for (int k = 0; k < num_blocks; ++k) {
-    const auto seen = std::find_if(recent.begin(), recent.end(),
-                                   [&](int g) { return has_columns(k, group_columns_[g]); });
-    if (seen != recent.end()) {
-      column_group_[k] = *seen;
-      continue;
-    }
     columns.clear();
     for (int e = sparse_entry_start_[k]; e < sparse_entry_start_[k + 1]; ++e) {
       columns.push_back(sparse_entries_[e].column);
     }
-    const auto [it, added] = group_of.emplace(columns, static_cast<int>(group_columns_.size()));
-    if (added) group_columns_.push_back(columns);
-    column_group_[k] = it->second;
-    recent.insert(recent.begin(), it->second);
-    if (recent.size() > 8) recent.pop_back();
+    column_group_[k] = patterns.GroupOf(columns.data(), static_cast<int>(columns.size()));
   }
+  group_columns_ = patterns.groups();
 }
 
 bool Problem::EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch) const {

@@ -5,9 +5,9 @@
 
 #include <Eigen/QR>
 #include <algorithm>
-#include <cstdint>
-#include <unordered_map>
 #include <vector>
+
+#include "column_patterns.h"
 
 namespace cellmetry {
 namespace {
@@ -18,46 +18,16 @@ struct RowGroup {
   std::vector<int> rows;
 };
 
-// FNV-1a over a row's column indices: rows are looked up by their pattern only when it differs
-// from the previous row's (a residual block's rows come together).
-std::uint64_t PatternHash(const int* columns, int count) {
-  std::uint64_t hash = 1469598103934665603ull;
-  for (int k = 0; k < count; ++k) {
-    hash = (hash ^ static_cast<std::uint32_t>(columns[k])) * 1099511628211ull;
-  }
-  return hash;
-}
-
 std::vector<RowGroup> GroupRowsByColumns(const SparseJacobian& J) {
-  std::unordered_map<std::uint64_t, std::vector<int>> by_hash;  // hash -> groups
+  ColumnPatterns patterns;
   std::vector<RowGroup> groups;
   const int* starts = J.outerIndexPtr();
-  const int* columns = J.innerIndexPtr();
-  const int* last = nullptr;
-  int last_count = -1, last_group = -1;
   for (Eigen::Index row = 0; row < J.outerSize(); ++row) {
-    const int* first = columns + starts[row];
     const int count = starts[row + 1] - starts[row];
     if (count == 0) continue;  // a row of zeros adds nothing to J^T J
-    if (count != last_count || !std::equal(first, first + count, last)) {
-      std::vector<int>& candidates = by_hash[PatternHash(first, count)];
-      last_group = -1;
-      for (int g : candidates) {
-        const std::vector<int>& c = groups[static_cast<size_t>(g)].columns;
-        if (static_cast<int>(c.size()) == count && std::equal(first, first + count, c.begin())) {
-          last_group = g;
-          break;
-        }
-      }
-      if (last_group < 0) {
-        last_group = static_cast<int>(groups.size());
-        candidates.push_back(last_group);
-        groups.push_back({std::vector<int>(first, first + count), {}});
-      }
-      last = first;
-      last_count = count;
-    }
-    groups[static_cast<size_t>(last_group)].rows.push_back(static_cast<int>(row));
+    const int g = patterns.GroupOf(J.innerIndexPtr() + starts[row], count);
+    if (g == static_cast<int>(groups.size())) groups.push_back({patterns.groups()[g], {}});
+    groups[static_cast<size_t>(g)].rows.push_back(static_cast<int>(row));
   }
   return groups;
 }
