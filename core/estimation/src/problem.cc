@@ -298,50 +298,66 @@ bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd
 }
 
 void Problem::BuildSparseLayout() {
-  // Each residual block's rows hold the same columns: the free entries of its blocks, in
-  // column order. Their count fixes every row's start before any evaluation.
+  // The layout is a function of the residual blocks (appended only) and the free columns: a
+  // Build that changed neither (a new robust loss, a parameter held and freed again) keeps it.
   const int num_blocks = static_cast<int>(evaluation_order_.size());
+  if (layout_num_blocks_ == num_blocks && layout_free_column_ == free_column_) return;
+  layout_num_blocks_ = num_blocks;
+  layout_free_column_ = free_column_;
+  // Each residual block's rows hold the same columns: the free entries of its blocks, in
+  // column order. Blocks over the same parameter blocks (every observation of one tool by one
+  // camera) have the same entries: worked out once per list of blocks, then copied.
+  struct Pattern {
+    std::vector<SparseEntry> entries;
+    int group = 0;
+  };
+  std::map<std::vector<int>, Pattern> patterns_of_blocks;
+  ColumnPatterns patterns;
+  std::vector<int> columns;
+  auto pattern_of = [&](const std::vector<int>& block_ids) -> const Pattern& {
+    auto [it, inserted] = patterns_of_blocks.try_emplace(block_ids);
+    Pattern& pattern = it->second;
+    if (!inserted) return pattern;
+    for (size_t slot = 0; slot < block_ids.size(); ++slot) {
+      const auto& free_column = free_column_[block_ids[slot]];
+      for (size_t i = 0; i < free_column.size(); ++i) {
+        if (free_column[i] >= 0) {
+          pattern.entries.push_back(
+              {free_column[i], static_cast<int>(slot), static_cast<int>(i)});
+        }
+      }
+    }
+    std::sort(pattern.entries.begin(), pattern.entries.end(),
+              [](const SparseEntry& a, const SparseEntry& b) { return a.column < b.column; });
+    // Column groups: the same column list, the same group.
+    columns.clear();
+    for (const SparseEntry& e : pattern.entries) columns.push_back(e.column);
+    pattern.group = patterns.GroupOf(columns.data(), static_cast<int>(columns.size()));
+    return pattern;
+  };
+  std::vector<const Pattern*> pattern_of_block(num_blocks);
   size_t count = 0;  // every residual block's free entries: reserved once, not grown
-  for (const auto& [cost, block_ids] : evaluation_order_) {
-    for (int b : *block_ids) count += free_column_[b].size();
+  for (int k = 0; k < num_blocks; ++k) {
+    pattern_of_block[k] = &pattern_of(*evaluation_order_[k].second);
+    count += pattern_of_block[k]->entries.size();
   }
   sparse_entries_.clear();
   sparse_entries_.reserve(count);
   sparse_entry_start_.assign(num_blocks + 1, 0);
   sparse_row_start_.assign(num_residuals_ + 1, 0);
+  column_group_.assign(num_blocks, 0);
   for (int k = 0; k < num_blocks; ++k) {
-    const auto& [cost, ids] = evaluation_order_[k];
-    const std::vector<int>& block_ids = *ids;
-    const size_t first = sparse_entries_.size();
-    for (size_t slot = 0; slot < block_ids.size(); ++slot) {
-      const auto& free_column = free_column_[block_ids[slot]];
-      for (size_t i = 0; i < free_column.size(); ++i) {
-        if (free_column[i] >= 0) {
-          sparse_entries_.push_back(
-              {free_column[i], static_cast<int>(slot), static_cast<int>(i)});
-        }
-      }
-    }
-    std::sort(sparse_entries_.begin() + first, sparse_entries_.end(),
-              [](const SparseEntry& a, const SparseEntry& b) { return a.column < b.column; });
+    const Pattern& pattern = *pattern_of_block[k];
+    sparse_entries_.insert(sparse_entries_.end(), pattern.entries.begin(),
+                           pattern.entries.end());
     sparse_entry_start_[k + 1] = static_cast<int>(sparse_entries_.size());
-    for (int row = 0; row < cost->num_residuals(); ++row) {
-      sparse_row_start_[rows_[k] + row + 1] = static_cast<int>(sparse_entries_.size() - first);
-    }
+    column_group_[k] = pattern.group;
+    const int width = static_cast<int>(pattern.entries.size());
+    const int num_rows = evaluation_order_[k].first->num_residuals();
+    for (int row = 0; row < num_rows; ++row) sparse_row_start_[rows_[k] + row + 1] = width;
   }
   for (int row = 0; row < num_residuals_; ++row) {
     sparse_row_start_[row + 1] += sparse_row_start_[row];
-  }
-  // Column groups: the same column list, the same group.
-  ColumnPatterns patterns;
-  column_group_.assign(num_blocks, 0);
-  std::vector<int> columns;
-  for (int k = 0; k < num_blocks; ++k) {
-    columns.clear();
-    for (int e = sparse_entry_start_[k]; e < sparse_entry_start_[k + 1]; ++e) {
-      columns.push_back(sparse_entries_[e].column);
-    }
-    column_group_[k] = patterns.GroupOf(columns.data(), static_cast<int>(columns.size()));
   }
   group_columns_ = patterns.groups();
 }

@@ -177,6 +177,10 @@ class Problem {
   std::vector<int> column_group_;                 // per residual block
   std::vector<std::vector<int>> group_columns_;   // per group, ascending
   std::vector<int> sparse_row_start_;    // per row, then the end: the CRS row pointers
+  // What the layout above was made from: residual blocks and free columns (Build skips it
+  // when neither changed).
+  int layout_num_blocks_ = -1;
+  std::vector<std::vector<int>> layout_free_column_;
   int num_residuals_ = 0;
   RobustLossKind loss_kind_ = RobustLossKind::kNone;
   double loss_scale_ = 1.0;
