@@ -1,7 +1,6 @@
 #include "cellmetry/basics/stage_clock.h"
 
-#include <cstdlib>
-#include <fstream>
+#include <sys/resource.h>
 
 namespace cellmetry {
 
@@ -14,12 +13,11 @@ void StageClock::Lap(const std::string& stage) {
 }
 
 double PeakResidentMb() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;  // kB
-  }
-  return 0.0;
+  // getrusage's peak (kB on Linux) is VmHWM: the same number without opening and parsing
+  // /proc/self/status, which cost 2 % of a small cell's identification at six laps.
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
 }  // namespace cellmetry

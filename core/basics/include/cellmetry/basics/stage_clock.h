@@ -36,7 +36,7 @@ class StageClock {
   std::vector<StageTime> stages_;
 };
 
-// The process's peak resident memory in MB (VmHWM in /proc/self/status); 0 where unknown.
+// The process's peak resident memory in MB (getrusage's ru_maxrss, VmHWM); 0 where unknown.
 double PeakResidentMb();
 
 }  // namespace cellmetry
