@@ -269,7 +269,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
     const Observation& obs = recording.observations[m.observation];
-    ToolContext c{spec, recording, data, start, m};
+    ToolContext c{spec, recording, data, start, m, {}, {}, false, false, nullptr, nullptr};
     c.static_camera = static_cameras;
     c.model_free = ModelFree(*out, m.robot);
     c.memos = &memos;
