@@ -1,13 +1,13 @@
-// One sample's forward kinematics (and flange twists), shared by the residual blocks that read
-// it (internal to the cell layer).
+// One joint reading's forward kinematics (and flange twists), shared by the residual blocks
+// that read it (internal to the cell layer).
 //
 // Every camera's position and rotation blocks of one capture run the same chain at the same
-// joints: on exp_a with its uncertain inputs free (the UR3's table) that is six forward
-// kinematics with twists per capture where one will do, a third of linearizing it. The blocks
-// of a capture hold one memo; it keeps the last result with the parameter values it was made
-// at and makes it again for any other values, so the answer is the same bits as computing it.
-// Blocks of one capture may be evaluated on two threads at once: a mutex guards it (uncontended
-// but at a capture's boundary, and far cheaper than the chain).
+// joints, and so do the repeated captures of one pose: on exp_a with its uncertain inputs free
+// (the UR3's table) that is sixty forward kinematics with twists per pose where one will do.
+// The blocks of a joint reading hold one memo; it keeps the last result with the parameter
+// values it was made at and makes it again for any other values, so the answer is the same bits
+// as computing it. Blocks of one reading may be evaluated on two threads at once: a mutex guards
+// it (uncontended but at a range's boundary, and far cheaper than the chain).
 #pragma once
 
 #include <Eigen/Core>

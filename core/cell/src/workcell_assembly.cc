@@ -104,13 +104,15 @@ ResidualInfo InfoFor(const Recording& recording, int observation, ResidualInfo::
 }
 
 // Each capture's forward kinematics, shared by every block that reads it (forward_memo.h): by
-// robot model and joint values (their address: a capture's, for as long as the data live).
-using ForwardMemos =
-    std::map<std::pair<const RobotModel*, const double*>, std::shared_ptr<ForwardMemo>>;
+// robot model and joint values. By the values, not the capture: the repeated captures of one
+// pose read the same joints (exp_a: 10 per pose), and one chain serves all of them.
+using ForwardMemos = std::map<std::pair<const RobotModel*, std::vector<double>>,
+                              std::shared_ptr<ForwardMemo>>;
 
+// `q`: model->num_joints() values that outlive the memo (a capture's, for as long as the data).
 std::shared_ptr<ForwardMemo> MemoFor(const RobotModel* model, const double* q,
                                      ForwardMemos* memos) {
-  auto& memo = (*memos)[{model, q}];
+  auto& memo = (*memos)[{model, std::vector<double>(q, q + model->num_joints())}];
   if (!memo) memo = std::make_shared<ForwardMemo>(model, q);
   return memo;
 }
