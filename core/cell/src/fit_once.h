@@ -43,15 +43,6 @@ struct LeastSquaresFit {
   std::future<InputLink> input_link;
 };
 
-// A neighbouring fit's answer to start a solve from instead of the closed form: the robust
-// first fit's when it left observations out, the last pass's when the outlier test left more
-// out. The parameters it found unidentifiable are held from the start (warm, the check before
-// the solve is skipped: SolveHoldingUnidentifiable) and reported with its reasons.
-struct WarmStart {
-  WorkcellEstimate answer;
-  std::vector<UnidentifiableParameter> unidentifiable;
-};
-
 // Assembles on `poses` (empty: all), holds `held` and whatever the data cannot determine, and
 // solves from `start` (`warm_start`: a neighbouring fit's answer; SolveHoldingUnidentifiable).
 Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,

@@ -105,9 +105,6 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
                                  /*warm_start=*/true);
     }
     out.outliers = FindOutliers(ResidualRows(*fit.assembled), recording, options.alpha);
-    if (!out.outliers.empty()) {
-      out.robust_answer = WarmStart{ReadEstimate(ls->spec, *fit.assembled), fit.unidentifiable};
-    }
     Restore(least_squares, &problem);
   } catch (const InputError& e) {
     Progress::Note(std::string("the robust first fit failed (") + e.what() +

@@ -29,7 +29,6 @@
 #pragma once
 
 #include <functional>
-#include <optional>
 #include <vector>
 
 #include "cellmetry/cell/workcell.h"
@@ -53,10 +52,6 @@ struct RobustFirstFit {
   // SolveHoldingUnidentifiable left it); null when the job's residual is not Cartesian (the
   // plain fit is another problem then) or nothing was solved.
   std::unique_ptr<LeastSquaresFit> least_squares;
-  // The Cauchy fit's answer, with what its least-squares fit held: where outliers are left
-  // out, the plain fit starts there (nearer its answer than the closed form). Set only where
-  // outliers were found.
-  std::optional<WarmStart> robust_answer;
 };
 
 // The robust first fit of `recording`. No outliers when the data are too few to fit (the plain

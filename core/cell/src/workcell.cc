@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
-#include <optional>
 #include <random>
 
 #include "cellmetry/basics/progress.h"
@@ -297,28 +296,14 @@ std::future<InputLink> LinkInputsAlongside(const WorkcellProblem& spec, const Re
                     });
 }
 
-// The first solve of a plain fit: from `warm`'s answer holding what it held where there is
-// one, else from `start` (the closed form).
-Fit FirstFit(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
-             const NoiseModel& noise, const WorkcellEstimate& start,
-             const SolverMaker& make_solver, const WarmStart* warm) {
-  if (!warm) return FitOnce(spec, recording, data, noise, start, {}, {}, make_solver);
-  Fit fit = FitOnce(spec, recording, data, noise, warm->answer, {}, Names(warm->unidentifiable),
-                    make_solver, /*warm_start=*/true);
-  fit.unidentifiable.insert(fit.unidentifiable.begin(), warm->unidentifiable.begin(),
-                            warm->unidentifiable.end());
-  return fit;
-}
-
 // Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
 // (variance component estimation), holding what the first fit found unidentifiable. `solved`:
-// that first fit done already (LeastSquaresFit), taken instead of solving; `warm`: where the
-// first solve starts (FirstFit).
+// that first fit done already (LeastSquaresFit), taken instead of solving.
 Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
                  const WorkcellEstimate& start, const SolverMaker& make_solver,
-                 NoiseModel* noise, Fit* solved, const WarmStart* warm) {
+                 NoiseModel* noise, Fit* solved) {
   Fit fit = solved ? std::move(*solved)
-                   : FirstFit(spec, recording, data, *noise, start, make_solver, warm);
+                   : FitOnce(spec, recording, data, *noise, start, {}, {}, make_solver);
   CheckEnoughData(recording, fit);
   const bool any_unknown =
       std::any_of(noise->entries.begin(), noise->entries.end(),
@@ -432,12 +417,10 @@ void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording
 
 // One identification on `recording` as it is. `solved`: the robust first fit's least-squares
 // fit of this very recording (a Cartesian job), which is the plain fit's first solve: its data,
-// noise, start and answer are taken, not made again. `warm`: a fit of nearly this recording
-// (before outliers were left out) to solve from; the result's start is the closed form still.
+// noise, start and answer are taken, not made again.
 WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& recording,
                             const SolverMaker& make_solver,
-                            std::unique_ptr<LeastSquaresFit> solved = nullptr,
-                            const WarmStart* warm = nullptr) {
+                            std::unique_ptr<LeastSquaresFit> solved = nullptr) {
   WorkcellResult result;
   result.camera_model = spec.camera_model;
   result.residual_form = spec.residual;
@@ -456,7 +439,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
                  CameraModelName(spec.camera_model) + ", " + ResidualFormName(spec.residual) +
                  " residual)");
   Fit fit = FitWithSigma(spec, recording, data, result.start, make_solver, &result.noise,
-                         solved ? &solved->fit : nullptr, warm);
+                         solved ? &solved->fit : nullptr);
   result.solver = fit.summary;
   result.unidentifiable = fit.unidentifiable;
   result.estimate = ReadEstimate(spec, *fit.assembled);
@@ -507,7 +490,6 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   StageClock clock;
   std::vector<Outlier> outliers;
   std::unique_ptr<LeastSquaresFit> solved;  // the plain fit's first solve, when it is
-  std::optional<WarmStart> warm;  // where the plain fit starts when outliers were left out
   if (spec.outlier_test == OutlierTest::kRobust) {
     RobustFirstFitOptions options;
     // Its least-squares answer is the plain fit's when nothing is left out (the usual case):
@@ -518,7 +500,6 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     RobustFirstFit robust = FindOutliersByRobustFit(spec, recording, make_solver, options);
     outliers = std::move(robust.outliers);
     if (outliers.empty()) solved = std::move(robust.least_squares);
-    warm = std::move(robust.robust_answer);
     clock.Lap("robust_first_fit");
   }
   if (!outliers.empty()) {
@@ -527,8 +508,7 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   }
   Recording kept = outliers.empty() ? Recording{} : WithoutOutliers(recording, outliers);
   const Recording& first = outliers.empty() ? recording : kept;
-  WorkcellResult result =
-      IdentifyOnce(spec, first, make_solver, std::move(solved), warm ? &*warm : nullptr);
+  WorkcellResult result = IdentifyOnce(spec, first, make_solver, std::move(solved));
   result.stages.insert(result.stages.begin(), clock.stages().begin(), clock.stages().end());
   if (outliers.empty()) kept = recording;
   const int passes = spec.outlier_test == OutlierTest::kOff ? 0 : 2;
@@ -540,8 +520,7 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     outliers.insert(outliers.end(), found.begin(), found.end());
     kept = WithoutOutliers(kept, found);
     std::vector<StageTime> stages = std::move(result.stages);
-    const WarmStart last_pass{result.estimate, result.unidentifiable};
-    result = IdentifyOnce(spec, kept, make_solver, nullptr, &last_pass);
+    result = IdentifyOnce(spec, kept, make_solver);
     for (StageTime& stage : result.stages) stage.pass = pass + 1;
     result.stages.insert(result.stages.begin(), stages.begin(), stages.end());
   }
