@@ -338,7 +338,10 @@ void Problem::BuildSparseLayout() {
   std::vector<const Pattern*> pattern_of_block(num_blocks);
   size_t count = 0;  // every residual block's free entries: reserved once, not grown
   for (int k = 0; k < num_blocks; ++k) {
-    pattern_of_block[k] = &pattern_of(*evaluation_order_[k].second);
+    const std::vector<int>& block_ids = *evaluation_order_[k].second;
+    // Blocks come in runs over the same parameter blocks: the previous one's, without a lookup.
+    const bool as_previous = k > 0 && block_ids == *evaluation_order_[k - 1].second;
+    pattern_of_block[k] = as_previous ? pattern_of_block[k - 1] : &pattern_of(block_ids);
     count += pattern_of_block[k]->entries.size();
   }
   sparse_entries_.clear();
