@@ -119,6 +119,55 @@ TEST(NormalEquations, AreTheRobustCostsGaussNewtonTermsOfTheSparseJacobian) {
   EXPECT_LT((at.gradient - expected_g).norm(), 1e-10 * expected_g.norm());
 }
 
+// The offset pulled towards (1, 1, 1) mm: a block over one parameter block.
+struct OffsetOnly {
+  template <typename T>
+  bool operator()(const T* offset, T* r) const {
+    for (int i = 0; i < 3; ++i) r[i] = offset[i] - T(1.0);
+    return true;
+  }
+};
+
+// J^T J and J^T r as Ceres's dense Jacobian gives them (no loss): a reference that does not
+// read the Problem's own sparse layout.
+void ExpectTheDenseJacobiansSums(Problem* problem, const std::string& when) {
+  NormalEquations at;
+  ASSERT_TRUE(problem->EvaluateNormalEquations(&at)) << when;
+  double cost = 0.0;
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  ASSERT_TRUE(problem->Evaluate(&cost, &r, &J)) << when;
+  ASSERT_EQ(at.hessian.rows(), J.cols()) << when;
+  const Eigen::MatrixXd expected = J.transpose() * J;
+  EXPECT_LT((at.hessian - expected).norm(), 1e-10 * expected.norm()) << when;
+  EXPECT_LT((at.gradient - J.transpose() * r).norm(), 1e-10 * (J.transpose() * r).norm())
+      << when;
+}
+
+// Build keeps the sparse layout when neither the residual blocks nor the free columns changed
+// (a loss set and cleared); anything else must lay it out again.
+TEST(NormalEquations, FollowWhatTheLastBuildChanged) {
+  auto problem = MakeProblem(0.299, Eigen::Vector3d(10.01, -5.01, 2.0));
+  ExpectTheDenseJacobiansSums(problem.get(), "as built");
+  const int shift = problem->FindBlock("offset");
+  problem->SetFixed(shift, 2, false);  // z freed: a fourth column
+  problem->Build();
+  ExpectTheDenseJacobiansSums(problem.get(), "z freed");
+  SetCauchy(problem.get(), 3.0);
+  problem->SetWhitenedRobustLoss(RobustLossKind::kNone, {});
+  problem->Build();  // the layout kept
+  ExpectTheDenseJacobiansSums(problem.get(), "a loss set and cleared");
+  problem->SetFixed(problem->FindBlock("rotation"), 0, true);  // the angle held: columns move
+  problem->Build();
+  ExpectTheDenseJacobiansSums(problem.get(), "the angle held");
+  // One more block over the offset alone, after the build: a new column pattern.
+  problem->AddResidual(
+      std::make_unique<ceres::AutoDiffCostFunction<OffsetOnly, 3, 3>>(new OffsetOnly),
+      {shift}, ResidualInfo{});
+  problem->Build();
+  ExpectTheDenseJacobiansSums(problem.get(), "a residual added");
+}
+
 TEST(NormalEquations, GradientIsTheRobustCostsOwnByCentralDifferences) {
   auto problem = MakeProblem(0.25, Eigen::Vector3d(9.0, -4.0, 2.0));
   SetCauchy(problem.get(), 3.0);
