@@ -2,6 +2,7 @@
 #include "input_uncertainty.h"
 
 #include <map>
+#include <stdexcept>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/cell/workcell_data.h"
@@ -58,12 +59,17 @@ InputLink LinkInputs(const WorkcellProblem& spec, const Recording& recording,
     link.sigma[static_cast<Eigen::Index>(link.inputs.size())] = sigma;
     link.inputs.push_back(name);
   }
+  link.estimated = estimated;
   link.cross = ConsiderCrossProduct(assembled->problem, at, estimated, link.inputs);
   return link;
 }
 
 void AddInputUncertainty(const InputLink& link, Uncertainty* u) {
   if (link.inputs.empty() || u->sigma.size() == 0) return;
+  if (link.estimated != u->names) {
+    throw std::logic_error("the uncertain inputs were linked at other free parameters than the "
+                           "fit's");
+  }
   const Eigen::MatrixXd bread = u->covariance / u->scale;
   const Eigen::MatrixXd cov = ConsiderCovariance(link.cross, bread, link.sigma);
   u->sigma_inputs = cov.diagonal().cwiseMax(0.0).cwiseSqrt();

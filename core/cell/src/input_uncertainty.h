@@ -21,6 +21,7 @@ namespace cellmetry {
 // How the answer leans on the uncertain inputs: J_t^T J_c over the estimated parameters and
 // the inputs' parameters, and each input's standard uncertainty. Empty: no uncertain inputs.
 struct InputLink {
+  std::vector<std::string> estimated;  // the fit's free parameters, cross's row order
   std::vector<std::string> inputs;  // "<effect>.<parameter>", "<robot>.model.<parameter>"
   Eigen::VectorXd sigma;            // per input, in its unit
   Eigen::MatrixXd cross;            // estimated x inputs
@@ -34,7 +35,8 @@ InputLink LinkInputs(const WorkcellProblem& spec, const Recording& recording,
                      const WorkcellEstimate& answer, const std::vector<std::string>& estimated);
 
 // Sets `u`'s inputs part and adds it to the total (u->sigma must hold the statistical and
-// systematic parts already, u->names the `estimated` of `link`). Nothing when `link` is empty.
+// systematic parts already, u->names the `estimated` of `link`: a link made at another fit's
+// parameters is a programming error, std::logic_error). Nothing when `link` is empty.
 void AddInputUncertainty(const InputLink& link, Uncertainty* u);
 
 }  // namespace cellmetry

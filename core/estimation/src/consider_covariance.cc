@@ -2,6 +2,7 @@
 #include "cellmetry/estimation/consider_covariance.h"
 
 #include <map>
+#include <stdexcept>
 
 namespace cellmetry {
 namespace {
@@ -40,8 +41,9 @@ Eigen::MatrixXd ConsiderCovariance(const Eigen::MatrixXd& cross, const Eigen::Ma
                                    const Eigen::VectorXd& input_sigma,
                                    Eigen::MatrixXd* sensitivity) {
   const Eigen::Index n = bread.rows();
+  if (n == 0 || input_sigma.size() == 0) return Eigen::MatrixXd::Zero(n, n);
   if (cross.rows() != n || cross.cols() != input_sigma.size()) {
-    return Eigen::MatrixXd::Zero(n, n);  // no inputs, or nothing estimated
+    throw std::invalid_argument("ConsiderCovariance: cross is not estimated x inputs");
   }
   const Eigen::MatrixXd G = -bread * cross;
   if (sensitivity) *sensitivity = G;

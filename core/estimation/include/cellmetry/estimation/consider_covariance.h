@@ -39,7 +39,8 @@ Eigen::MatrixXd ConsiderCrossProduct(const Problem& augmented, const NormalEquat
 // = (J_t^T J_t)^-1 over the estimated parameters (ComputeUncertainty's covariance over its
 // scale; zero rows and columns for what the data cannot determine) and each input's standard
 // uncertainty `input_sigma`, in its unit (cross's column order). Returns G (estimated x inputs)
-// in `sensitivity` if not null.
+// in `sensitivity` if not null; zero where nothing is estimated or there are no inputs, and
+// std::invalid_argument where `cross` is not estimated x inputs.
 Eigen::MatrixXd ConsiderCovariance(const Eigen::MatrixXd& cross, const Eigen::MatrixXd& bread,
                                    const Eigen::VectorXd& input_sigma,
                                    Eigen::MatrixXd* sensitivity = nullptr);
