@@ -7,7 +7,9 @@
 
 #include <random>
 
+#include "cellmetry/basics/so3_jacobians.h"
 #include "cellmetry/estimation/problem.h"
+#include "cellmetry/estimation/shared_prediction_cost.h"
 #include "cellmetry/estimation/reweighted_solve.h"
 
 namespace cellmetry {
@@ -166,6 +168,160 @@ TEST(NormalEquations, FollowWhatTheLastBuildChanged) {
       {shift}, ResidualInfo{});
   problem->Build();
   ExpectTheDenseJacobiansSums(problem.get(), "a residual added");
+}
+
+// A point p turned by `angle` about z and shifted by `offset` (SeenPoint's chain) as a shared
+// prediction: its position, or its frame's rotation Rz(angle) R0, compared with one of many
+// measurements of it. The tangent is the position, or a left rotation of the prediction.
+class SharedSeenPoint : public SharedPredictionCost {
+ public:
+  struct Chain {
+    bool position;
+    Eigen::Vector3d p;
+    Eigen::Matrix3d R0;
+  };
+  SharedSeenPoint(std::shared_ptr<const Chain> chain, const Pose& measured, double sigma)
+      : chain_(std::move(chain)), measured_(measured), sigma_(sigma) {
+    mutable_parameter_block_sizes()->assign({1, 3});
+  }
+  const void* prediction_key() const override { return chain_.get(); }
+  bool Predict(double const* const* parameters, Pose* prediction,
+               double** tangent) const override {
+    const double angle = parameters[0][0];
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()).matrix();
+    const Eigen::Vector3d offset(parameters[1][0], parameters[1][1], parameters[1][2]);
+    prediction->t = R * chain_->p + offset;
+    prediction->R = R * chain_->R0;
+    if (tangent == nullptr) return true;
+    const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d d_angle = chain_->position ? Eigen::Vector3d(z.cross(R * chain_->p)) : z;
+    if (tangent[0]) std::copy(d_angle.data(), d_angle.data() + 3, tangent[0]);
+    if (tangent[1]) {
+      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> d_offset(tangent[1]);
+      d_offset.setZero();
+      if (chain_->position) d_offset.setIdentity();
+    }
+    return true;
+  }
+  void Compare(const Pose& prediction, double* residual,
+               Eigen::Matrix3d* d_residual) const override {
+    Eigen::Map<Eigen::Vector3d> r(residual);
+    if (chain_->position) {
+      r = (prediction.t - measured_.t) / sigma_;
+      if (d_residual) *d_residual = Eigen::Matrix3d::Identity() / sigma_;
+      return;
+    }
+    const Eigen::Vector3d error = RotationError<double>(prediction.R, measured_.R);
+    r = error / sigma_;
+    if (d_residual) *d_residual = InverseLeftJacobian(error) / sigma_;
+  }
+
+ private:
+  std::shared_ptr<const Chain> chain_;
+  Pose measured_;
+  double sigma_;
+};
+
+// 30 points, each measured 6 times (position and rotation), the measurements of a point
+// interleaved with the other points' (a unit's blocks are not consecutive); every seventh
+// measurement off by 20 sigma. Blocks: the angle, the offset (z held).
+std::unique_ptr<Problem> MakeSharedProblem() {
+  auto problem = std::make_unique<Problem>();
+  const int rotation = problem->AddBlock("rotation", {Named("angle", "rad", 0.299)});
+  Parameter z = Named("z", "mm", 2.0);
+  z.fixed = true;
+  const int shift = problem->AddBlock(
+      "offset", {Named("x", "mm", 10.01), Named("y", "mm", -5.01), z});
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::uniform_real_distribution<double> where(-100.0, 100.0);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(kAngle, Eigen::Vector3d::UnitZ()).matrix();
+  std::vector<std::shared_ptr<const SharedSeenPoint::Chain>> chains;
+  for (int i = 0; i < 60; ++i) {
+    const Eigen::Vector3d p(where(rng), where(rng), where(rng));
+    const Eigen::Matrix3d R0 =
+        Eigen::AngleAxisd(where(rng) / 100.0, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+    chains.push_back(std::make_shared<const SharedSeenPoint::Chain>(
+        SharedSeenPoint::Chain{i % 2 == 0, p, R0}));
+  }
+  int count = 0;
+  for (int capture = 0; capture < 6; ++capture) {
+    for (const auto& chain : chains) {
+      const double sigma = chain->position ? 0.1 : 0.002;
+      const double gross = ++count % 7 == 0 ? 20.0 : 0.0;
+      const Eigen::Vector3d e(noise(rng) + gross, noise(rng), noise(rng));
+      Pose measured;
+      measured.t = R * chain->p + kOffset + sigma * e;
+      measured.R = RotationFromRvec<double>(Eigen::Vector3d(sigma * e).data()) * R * chain->R0;
+      problem->AddResidual(std::make_unique<SharedSeenPoint>(chain, measured, sigma),
+                           {rotation, shift}, ResidualInfo{});
+    }
+  }
+  problem->Build();
+  return problem;
+}
+
+// The shared predictions' sums (A^T M A) are the block-by-block ones (J^T (w + c r r^T) J from
+// each block's own Evaluate), with and without a Cauchy loss whose curvature term is on for most
+// blocks and off for the gross errors'.
+TEST(NormalEquations, OfSharedPredictionsAreTheBlockByBlockSums) {
+  auto problem = MakeSharedProblem();
+  ExpectTheDenseJacobiansSums(problem.get(), "no loss");
+  problem->SetWhitenedRobustLoss(RobustLossKind::kCauchy, std::vector<double>(360, 3.0));
+  problem->Build();
+  NormalEquations at;
+  ASSERT_TRUE(problem->EvaluateNormalEquations(&at));
+  Eigen::VectorXd r;
+  SparseJacobian J;
+  ASSERT_TRUE(problem->EvaluateSparse(&r, &J));
+  const Eigen::MatrixXd dense = Eigen::MatrixXd(J);
+  const ceres::CauchyLoss cauchy(3.0);
+  Eigen::MatrixXd expected_h = Eigen::MatrixXd::Zero(3, 3);
+  Eigen::VectorXd expected_g = Eigen::VectorXd::Zero(3);
+  double cost = 0.0;
+  int corrected = 0;
+  for (int b = 0; b < 360; ++b) {
+    const Eigen::MatrixXd J_b = dense.middleRows(3 * b, 3);
+    const Eigen::Vector3d r_b = r.segment<3>(3 * b);
+    double rho[3];
+    cauchy.Evaluate(r_b.squaredNorm(), rho);
+    cost += 0.5 * rho[0];
+    expected_g += rho[1] * J_b.transpose() * r_b;
+    expected_h += rho[1] * J_b.transpose() * J_b;
+    if (rho[1] + 2 * rho[2] * r_b.squaredNorm() <= 0) continue;
+    ++corrected;
+    expected_h += 2 * rho[2] * (J_b.transpose() * r_b) * (J_b.transpose() * r_b).transpose();
+  }
+  EXPECT_GT(corrected, 200);
+  EXPECT_LT(corrected, 360) << "the gross errors' blocks are beyond the Cauchy curvature";
+  EXPECT_NEAR(at.cost, cost, 1e-10 * cost);
+  EXPECT_LT((at.hessian - expected_h).norm(), 1e-10 * expected_h.norm());
+  EXPECT_LT((at.gradient - expected_g).norm(), 1e-10 * expected_g.norm());
+}
+
+// A shared prediction's block on its own (Ceres's view: Predict, Compare, D A) differentiates
+// its residual: against central differences.
+TEST(SharedPredictionCost, JacobianIsTheResidualsByCentralDifferences) {
+  auto problem = MakeSharedProblem();
+  Eigen::VectorXd r;
+  SparseJacobian J;
+  ASSERT_TRUE(problem->EvaluateSparse(&r, &J));
+  const Eigen::MatrixXd dense = Eigen::MatrixXd(J);
+  const Eigen::VectorXd x = problem->FreeValues();
+  for (int c = 0; c < x.size(); ++c) {
+    const double h = 1e-6;
+    Eigen::VectorXd plus = x, minus = x, r_plus, r_minus;
+    plus[c] += h;
+    minus[c] -= h;
+    problem->SetFreeValues(plus);
+    ASSERT_TRUE(problem->EvaluateSparse(&r_plus, nullptr));
+    problem->SetFreeValues(minus);
+    ASSERT_TRUE(problem->EvaluateSparse(&r_minus, nullptr));
+    const Eigen::VectorXd numeric = (r_plus - r_minus) / (2 * h);
+    EXPECT_LT((dense.col(c) - numeric).cwiseAbs().maxCoeff(), 1e-5 * numeric.norm())
+        << problem->free_parameters()[c].name;
+  }
+  problem->SetFreeValues(x);
 }
 
 TEST(NormalEquations, GradientIsTheRobustCostsOwnByCentralDifferences) {

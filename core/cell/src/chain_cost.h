@@ -14,14 +14,19 @@
 //   d p_cam / d t_tool = R_cw R_wf     d p_cam / d t_cam  = -R_cw
 //   d p_cam / d r_cam  =  R_cw [p_w - t_wc]x J_l(r_cam)
 //   d e_rot / d r_x    =  J_l^-1(e_rot) * (rotation of the perturbation into the camera frame)
+// split as SharedPredictionCost asks: Predict's tangent Jacobian is the position's, or the
+// perturbation's rotation into the camera frame; Compare's is 1/sigma, times J_l^-1(e_rot).
 // It replaces Ceres autodiff on the hot path (BM_Identify/exp_a 2.5x faster end to end) and is
 // checked against central differences in tests/test_chain_cost.cc.
+//
+// Blocks that read the same frames at the same joints predict the same pose (every capture of one
+// robot pose by one camera; every world-tag observation of one static camera): they share one
+// ChainPrediction, and the Problem evaluates it once for all of them (shared_prediction_cost.h).
 #pragma once
-
-#include <ceres/cost_function.h>
 
 #include <memory>
 
+#include "cellmetry/estimation/shared_prediction_cost.h"
 #include "workcell_residuals.h"
 
 namespace cellmetry {
@@ -33,30 +38,44 @@ struct ChainBlocks {
   bool camera = true;
 };
 
-class ChainCost : public ceres::CostFunction {
- public:
+// What a chain predicts from its blocks: the factors that are constants, the blocks, and which
+// quantity (a position or a rotation: the tangent of the prediction is that one's).
+struct ChainPrediction {
   // Constants stand in for the factors that are not blocks: T_base_flange always,
   // T_cam_world_fixed when !blocks.camera. Without base and tool blocks the target is the
-  // world frame itself (the world target seen by a static camera).
+  // world frame itself (the world target seen by a static camera). `refs` is shared by every
+  // prediction over the same frame blocks: an evaluation streams through all of a cell's
+  // blocks, and what each one holds is what it reads from memory.
+  ChainPrediction(Compared compared, std::shared_ptr<const FrameRefs> refs, ChainBlocks blocks,
+                  const Pose& T_base_flange, const Pose& T_cam_world_fixed);
+
+  Compared compared;
+  ChainBlocks blocks;
+  Pose T_base_flange;
+  std::shared_ptr<const FrameRefs> refs;
+  // The measured camera where it is not a block (the per-frame model); not held otherwise.
+  std::unique_ptr<const Pose> T_world_cam_fixed;
+};
+
+class ChainCost : public SharedPredictionCost {
+ public:
+  // `prediction` is shared by the blocks that predict the same (its address is the key).
+  ChainCost(TargetComparison comparison, std::shared_ptr<const ChainPrediction> prediction);
+  // A block on its own (tests).
   ChainCost(TargetComparison comparison, FrameRefs refs, ChainBlocks blocks,
             const Pose& T_base_flange, const Pose& T_cam_world_fixed);
-  // The same with `refs` shared by every block that reads the same frame blocks: an
-  // evaluation streams through all of a cell's blocks, and a copy each (424 bytes, more than
-  // half the object) was most of what it read from memory (exp_a: 22,500 blocks, 18 MB).
-  ChainCost(TargetComparison comparison, std::shared_ptr<const FrameRefs> refs,
-            ChainBlocks blocks, const Pose& T_base_flange, const Pose& T_cam_world_fixed);
 
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override;
+  const void* prediction_key() const override { return prediction_.get(); }
+  // The predicted T_cam_target; the tangent is the position's coordinates (mm, camera axes) or
+  // a left rotation of the prediction about the camera axes (rad).
+  bool Predict(double const* const* parameters, Pose* prediction,
+               double** tangent_jacobians) const override;
+  void Compare(const Pose& prediction, double* residual,
+               Eigen::Matrix3d* d_residual) const override;
 
  private:
   TargetComparison comparison_;
-  ChainBlocks blocks_;
-  Pose T_base_flange_;
-  std::shared_ptr<const FrameRefs> refs_;
-  // The measured camera where it is not a block (the per-frame model); not held otherwise: the
-  // objects' size is what an evaluation reads.
-  std::unique_ptr<const Pose> T_world_cam_fixed_;
+  std::shared_ptr<const ChainPrediction> prediction_;
 };
 
 }  // namespace cellmetry

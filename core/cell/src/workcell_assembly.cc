@@ -3,6 +3,8 @@
 #include "cellmetry/cell/workcell_assembly.h"
 
 #include <cstdio>
+#include <map>
+#include <tuple>
 
 #include "cellmetry/basics/error.h"
 #include "chain_cost.h"
@@ -117,6 +119,13 @@ std::shared_ptr<ForwardMemo> MemoFor(const RobotModel* model, const double* q,
   return memo;
 }
 
+// The chain predictions of ChainCost, one per combination of what they predict from (chain_cost.h):
+// by frame refs (which stand for the blocks), forward-kinematics memo (the joints) and compared
+// quantity. Blocks sharing one are evaluated once for all (shared_prediction_cost.h).
+using SharedPredictions =
+    std::map<std::tuple<const FrameRefs*, const ForwardMemo*, Compared>,
+             std::shared_ptr<const ChainPrediction>>;
+
 // Everything one carried-target measurement's residuals need.
 struct ToolContext {
   const WorkcellProblem& spec;
@@ -130,6 +139,7 @@ struct ToolContext {
   bool model_free = false;
   ForwardMemos* memos = nullptr;
   std::shared_ptr<const FrameRefs> shared_refs;  // `refs`, shared by the blocks of its frames
+  SharedPredictions* predictions = nullptr;
 };
 
 // One FrameRefs per combination of frame blocks (ChainCost's shared constructor): by block ids.
@@ -233,16 +243,23 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
                           c.m.T_cam_world, out->problem, *blocks);
   }
   Pose T_base_flange;
-  if (!MemoFor(robot.model.get(), sample.q.data(), c.memos)
-           ->Forward(c.start.model.at(robot.name).data(), &T_base_flange, nullptr)) {
+  const std::shared_ptr<ForwardMemo> memo = MemoFor(robot.model.get(), sample.q.data(), c.memos);
+  if (!memo->Forward(c.start.model.at(robot.name).data(), &T_base_flange, nullptr)) {
     throw InputError({c.recording.folder + "/samples.csv", sample.line, 0},
                      "robot '" + robot.name + "' has no pose for sample " +
                          std::to_string(sample.id),
                      "Check the joint values against the robot model");
   }
   const ChainBlocks chain{/*base=*/true, /*tool=*/true, /*camera=*/c.static_camera};
-  return std::make_unique<ChainCost>(comparison, c.shared_refs, chain, T_base_flange,
-                                     c.m.T_cam_world);
+  auto make = [&] {
+    return std::make_shared<const ChainPrediction>(comparison.compared(), c.shared_refs, chain,
+                                                   T_base_flange, c.m.T_cam_world);
+  };
+  // A moving camera's measured pose is a factor of the prediction: those are not shared.
+  if (!c.static_camera) return std::make_unique<ChainCost>(comparison, make());
+  auto& shared = (*c.predictions)[{c.shared_refs.get(), memo.get(), comparison.compared()}];
+  if (!shared) shared = make();
+  return std::make_unique<ChainCost>(comparison, shared);
 }
 
 bool BlockHeld(const AssembledWorkcell& out, int block) {
@@ -267,14 +284,16 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
   const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
   ForwardMemos memos;
   SharedRefs shared_refs;
+  SharedPredictions predictions;
   for (const ToolMeasurement& m : data.tools) {
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
     const Observation& obs = recording.observations[m.observation];
-    ToolContext c{spec, recording, data, start, m, {}, {}, false, false, nullptr, nullptr};
+    ToolContext c{spec, recording, data, start, m, {}, {}, false, false, nullptr, nullptr, nullptr};
     c.static_camera = static_cameras;
     c.model_free = ModelFree(*out, m.robot);
     c.memos = &memos;
+    c.predictions = &predictions;
     c.blocks = {out->base_block[m.robot], out->tool_block[m.robot][m.tool]};
     c.refs.world_base = out->R_ref.at(c.blocks[0]);
     if (BlockHeld(*out, c.blocks[0])) {
@@ -322,6 +341,7 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
   std::vector<int> effect_blocks;
   ChainEffects(spec, *out, "", &effects, &effect_blocks);
   SharedRefs shared_refs;
+  SharedPredictions predictions;
   for (int index : data.world_observations) {
     const Observation& obs = recording.observations[index];
     const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
@@ -348,8 +368,14 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
         FrameRefs refs;
         refs.world_cam = out->R_ref.at(camera);
         const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
-        cost = std::make_unique<ChainCost>(comparison, Shared({camera}, refs, &shared_refs),
-                                           camera_only, Pose::Identity(), Pose::Identity());
+        const std::shared_ptr<const FrameRefs> camera_refs = Shared({camera}, refs, &shared_refs);
+        // Every world-tag observation of this camera predicts the same: the world in it.
+        auto& shared = predictions[{camera_refs.get(), nullptr, what}];
+        if (!shared) {
+          shared = std::make_shared<const ChainPrediction>(what, camera_refs, camera_only,
+                                                           Pose::Identity(), Pose::Identity());
+        }
+        cost = std::make_unique<ChainCost>(comparison, shared);
       }
       out->problem.AddResidual(
           std::move(cost), blocks,

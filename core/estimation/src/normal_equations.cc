@@ -14,10 +14,12 @@
 #include <cstddef>
 
 #include "cellmetry/estimation/problem.h"
+#include "cellmetry/estimation/shared_prediction_cost.h"
 #include "problem_blocks.h"
 
 namespace cellmetry {
-namespace {
+// Not anonymous: Problem::NormalEquationsRange below holds them.
+namespace normal_equations_sums {
 
 // One range's sums, the upper triangle of the Hessian only (mirrored at the end).
 struct PartialSums {
@@ -90,6 +92,50 @@ void AddWeightedBlock(const double* jacobian, const double* residuals, int num_r
   }
 }
 
+// What the blocks of a unit sharing one prediction add, before the prediction's tangent
+// Jacobian A (3 x k) multiplies it in: with block i's residual r_i, dr_i / d tangent D_i and its
+// weights, J_i = D_i A and the blocks' sums are
+//   sum_i J_i^T (w_i I + c_i r_i r_i^T) J_i = A^T M A,  M = sum_i D_i^T (w_i I + c_i r_i r_i^T) D_i
+//   sum_i w_i J_i^T r_i = A^T v,                        v = sum_i w_i D_i^T r_i
+// the block-by-block sum regrouped (shared_prediction_cost.h): 3 x 3 work per block instead of
+// k x k.
+struct SharedSums {
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  void Add(const Eigen::Vector3d& r, const Eigen::Matrix3d& D, const BlockWeight& weight) {
+    const Eigen::Vector3d Dt_r = D.transpose() * r;
+    M += weight.w * D.transpose() * D;
+    if (weight.c != 0.0) M += weight.c * Dt_r * Dt_r.transpose();
+    v += weight.w * Dt_r;
+  }
+};
+
+// A^T M A and A^T v added to the unit's group (`tangent`: A, row-major, 3 x k).
+void AddSharedUnit(const double* tangent, const SharedSums& sums, int k,
+                   std::vector<double>* ma, GroupSums* group) {
+  if (!group->touched) {
+    group->hessian.assign(static_cast<size_t>(k) * k, 0.0);
+    group->gradient.assign(k, 0.0);
+    group->touched = true;
+  }
+  ma->resize(3 * static_cast<size_t>(k));  // M A, row-major
+  for (int row = 0; row < 3; ++row) {
+    for (int j = 0; j < k; ++j) {
+      (*ma)[row * k + j] = sums.M(row, 0) * tangent[j] + sums.M(row, 1) * tangent[k + j] +
+                           sums.M(row, 2) * tangent[2 * k + j];
+    }
+  }
+  double* h = group->hessian.data();
+  for (int i = 0; i < k; ++i) {
+    const double a0 = tangent[i], a1 = tangent[k + i], a2 = tangent[2 * k + i];
+    group->gradient[i] += a0 * sums.v[0] + a1 * sums.v[1] + a2 * sums.v[2];
+    double* h_row = h + i * k;
+    for (int j = 0; j <= i; ++j) {
+      h_row[j] += a0 * (*ma)[j] + a1 * (*ma)[k + j] + a2 * (*ma)[2 * k + j];
+    }
+  }
+}
+
 // A group's sums added to the n x n ones at its columns (ascending: (column j, column i) for
 // j <= i is in the upper triangle of the column-major n x n), and cleared.
 void ScatterGroup(const std::vector<int>& columns, GroupSums* group, PartialSums* sums) {
@@ -105,52 +151,104 @@ void ScatterGroup(const std::vector<int>& columns, GroupSums* group, PartialSums
   group->touched = false;
 }
 
-}  // namespace
+}  // namespace normal_equations_sums
+
+using namespace normal_equations_sums;  // NOLINT: this file's own helpers
+
+// One range of units summed into `sums`, with buffers reused from block to block.
+struct Problem::NormalEquationsRange {
+  NormalEquationsRange(const Problem& problem, PartialSums* sums)
+      : problem(problem), sums(sums), groups(problem.group_columns_.size()) {}
+  ~NormalEquationsRange() {
+    for (size_t g = 0; g < groups.size(); ++g) {
+      if (groups[g].touched) ScatterGroup(problem.group_columns_[g], &groups[g], sums);
+    }
+  }
+  bool AddUnit(int u) {
+    return problem.shares_prediction_[u] ? AddSharedPrediction(u)
+                                         : AddBlock(problem.unit_blocks_[problem.unit_start_[u]]);
+  }
+
+  // Residual block k evaluated and added with its loss's weights.
+  bool AddBlock(int k) {
+    problem.AskFreeSlots(k, &scratch);
+    if (!problem.EvaluateBlock(k, true, &scratch)) return false;
+    const int num_rows = static_cast<int>(scratch.residuals.size());
+    const Eigen::Map<const Eigen::VectorXd> r(scratch.residuals.data(), num_rows);
+    const BlockWeight weight = Weigh(problem.evaluation_losses_[k], r.squaredNorm());
+    sums->cost += 0.5 * weight.rho;
+    const int width = Gather(k, num_rows);
+    if (width == 0 || (weight.w == 0.0 && weight.c == 0.0)) return true;
+    AddWeightedBlock(gathered.data(), scratch.residuals.data(), num_rows, width, weight, &jr,
+                     &groups[problem.column_group_[k]]);
+    return true;
+  }
+
+  // Unit u's prediction evaluated once, each of its blocks compared with it (SharedSums).
+  bool AddSharedPrediction(int u) {
+    const int first = problem.unit_blocks_[problem.unit_start_[u]];
+    problem.AskFreeSlots(first, &scratch);
+    Pose prediction;
+    if (!problem.PredictBlock(first, &scratch, &prediction)) return false;
+    SharedSums shared;
+    Eigen::Vector3d r;
+    Eigen::Matrix3d D;
+    for (int i = problem.unit_start_[u]; i < problem.unit_start_[u + 1]; ++i) {
+      const int k = problem.unit_blocks_[i];
+      static_cast<const SharedPredictionCost*>(problem.evaluation_order_[k].first)
+          ->Compare(prediction, r.data(), &D);
+      const BlockWeight weight = Weigh(problem.evaluation_losses_[k], r.squaredNorm());
+      sums->cost += 0.5 * weight.rho;
+      if (weight.w != 0.0 || weight.c != 0.0) shared.Add(r, D, weight);
+    }
+    const int width = Gather(first, 3);
+    if (width > 0) {
+      AddSharedUnit(gathered.data(), shared, width, &jr, &groups[problem.column_group_[first]]);
+    }
+    return true;
+  }
+
+  // Block k's Jacobian rows at its free columns (in column order) into `gathered`, row-major;
+  // returns their number.
+  int Gather(int k, int num_rows) {
+    const std::vector<int>& block_ids = *problem.evaluation_order_[k].second;
+    const int first = problem.sparse_entry_start_[k];
+    const int width = problem.sparse_entry_start_[k + 1] - first;
+    gathered.resize(static_cast<size_t>(num_rows) * width);
+    for (int j = 0; j < width; ++j) {
+      const SparseEntry& e = problem.sparse_entries_[first + j];
+      const int block_width =
+          static_cast<int>(problem.blocks_[block_ids[e.slot]]->params.size());
+      for (int row = 0; row < num_rows; ++row) {
+        gathered[row * width + j] = scratch.At(e.slot, row, block_width, e.index);
+      }
+    }
+    return width;
+  }
+
+  const Problem& problem;
+  PartialSums* sums;
+  BlockEvaluation scratch;
+  std::vector<GroupSums> groups;
+  std::vector<double> gathered;  // a block's rows x its free columns, row-major
+  std::vector<double> jr;        // J^T r of a block, or M A of a unit
+};
 
 bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
   const int n = num_free();
-  const int num_blocks = static_cast<int>(evaluation_order_.size());
+  const int num_units = static_cast<int>(unit_start_.size()) - 1;
   std::atomic<bool> valid{true};
-  // The range's blocks added to `sums` (buffers per call: a range is hundreds of blocks).
   auto add_range = [&](const tbb::blocked_range<int>& range, PartialSums* sums) {
-    BlockEvaluation scratch;
-    std::vector<GroupSums> groups(group_columns_.size());
-    std::vector<double> gathered;  // the block's rows x its free columns, row-major
-    std::vector<double> jr;
-    for (int k = range.begin(); k != range.end() && valid; ++k) {
-      const std::vector<int>& block_ids = *evaluation_order_[k].second;
-      const int first = sparse_entry_start_[k], width = sparse_entry_start_[k + 1] - first;
-      AskFreeSlots(k, &scratch);
-      if (!EvaluateBlock(k, true, &scratch)) {
-        valid = false;
-        break;
-      }
-      const int num_rows = static_cast<int>(scratch.residuals.size());
-      const std::vector<double>& residuals = scratch.residuals;
-      const Eigen::Map<const Eigen::VectorXd> r(residuals.data(), num_rows);
-      const BlockWeight weight = Weigh(evaluation_losses_[k], r.squaredNorm());
-      sums->cost += 0.5 * weight.rho;
-      if (width == 0 || (weight.w == 0.0 && weight.c == 0.0)) continue;
-      gathered.resize(static_cast<size_t>(num_rows) * width);
-      for (int j = 0; j < width; ++j) {
-        const SparseEntry& e = sparse_entries_[first + j];
-        const int block_width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
-        for (int row = 0; row < num_rows; ++row) {
-          gathered[row * width + j] = scratch.At(e.slot, row, block_width, e.index);
-        }
-      }
-      AddWeightedBlock(gathered.data(), residuals.data(), num_rows, width, weight, &jr,
-                       &groups[column_group_[k]]);
-    }
-    for (size_t g = 0; g < groups.size(); ++g) {
-      if (groups[g].touched) ScatterGroup(group_columns_[g], &groups[g], sums);
+    NormalEquationsRange pass(*this, sums);  // scattered into `sums` when it goes
+    for (int u = range.begin(); u != range.end() && valid; ++u) {
+      if (!pass.AddUnit(u)) valid = false;
     }
   };
-  // Ranges of at least 512 blocks and at most about 128 of them: each range holds an n x n sum
+  // Ranges of at least 64 units and at most about 128 of them: each range holds an n x n sum
   // (1.7 MB at the 456 columns of bench_scale's largest cell), so their number is bounded.
-  const int grain = std::max(512, num_blocks / 64);
+  const int grain = std::max(64, num_units / 64);
   const PartialSums total = tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<int>(0, num_blocks, grain), PartialSums(n),
+      tbb::blocked_range<int>(0, num_units, grain), PartialSums(n),
       [&](const tbb::blocked_range<int>& range, PartialSums sums) {
         add_range(range, &sums);
         return sums;

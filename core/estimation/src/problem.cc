@@ -363,6 +363,7 @@ void Problem::BuildSparseLayout() {
     sparse_row_start_[row + 1] += sparse_row_start_[row];
   }
   group_columns_ = patterns.groups();
+  BuildPredictionUnits();
 }
 
 bool Problem::EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch) const {

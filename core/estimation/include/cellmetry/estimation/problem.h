@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "cellmetry/basics/parameter.h"
+#include "cellmetry/basics/transform.h"
 #include "cellmetry/estimation/r_factor.h"
 
 namespace cellmetry {
@@ -139,11 +140,15 @@ class Problem {
   struct Block;
   struct Residual;
   struct BlockEvaluation;  // problem_blocks.h
+  struct NormalEquationsRange;  // normal_equations.cc: one range of units summed
   // Evaluates residual block k (evaluation order) into `scratch`, differentiating the slots
   // scratch->asked marks (none when `with_jacobians` is false). False if the cost failed.
   bool EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch) const;
   // Marks in scratch->asked the slots of residual block k that hold a free entry.
   void AskFreeSlots(int k, BlockEvaluation* scratch) const;
+  // The shared prediction of residual block k (a SharedPredictionCost) into `prediction`, its
+  // tangent Jacobians (3 rows) into scratch->jacobians for the slots scratch->asked marks.
+  bool PredictBlock(int k, BlockEvaluation* scratch, Pose* prediction) const;
 
   std::vector<std::unique_ptr<Block>> blocks_;
   std::vector<Residual> residuals_;
@@ -181,6 +186,13 @@ class Problem {
   // when neither changed).
   int layout_num_blocks_ = -1;
   std::vector<std::vector<int>> layout_free_column_;
+  // Residual blocks in units that share one prediction (shared_prediction_cost.h: the same key
+  // over the same parameter blocks), each unit's blocks ascending, units in the order of their
+  // first block; a block that shares nothing is a unit alone. Made with the layout.
+  void BuildPredictionUnits();
+  std::vector<int> unit_blocks_;
+  std::vector<int> unit_start_;  // per unit, into unit_blocks_; then the end
+  std::vector<char> shares_prediction_;  // per unit: evaluated once for its blocks
   int num_residuals_ = 0;
   RobustLossKind loss_kind_ = RobustLossKind::kNone;
   double loss_scale_ = 1.0;

@@ -1,0 +1,48 @@
+// SharedPredictionCost: a residual block that compares one prediction with one measurement,
+// where many blocks predict the same thing (the ten captures of one robot pose seen by one
+// camera; every world-tag observation of one static camera).
+//
+// The residual is split in two:
+//
+//   prediction = Predict(x)       a pose, with A = d(tangent of the prediction) / dx
+//   r = Compare(prediction)       3 whitened rows, with D = dr / d(tangent)   (3 x 3)
+//
+// so the block's Jacobian is D A. Blocks whose costs return the same prediction_key() over the
+// same parameter blocks share Predict: the Problem evaluates it once for all of them and sums
+// their rows as A^T (sum_i D_i^T W_i D_i) A (normal_equations.cc), each with its own robust
+// loss, which is the same sum as block by block in another order. What the "tangent" is belongs
+// to the cost (a position's 3 coordinates; a rotation's small-angle vector), provided Compare's D
+// and Predict's A agree on it. Evaluate() is the plain block for everything else (Ceres).
+#pragma once
+
+#include <ceres/cost_function.h>
+
+#include <Eigen/Core>
+
+#include "cellmetry/basics/transform.h"
+
+namespace cellmetry {
+
+class SharedPredictionCost : public ceres::CostFunction {
+ public:
+  SharedPredictionCost() { set_num_residuals(3); }
+
+  // Costs with the same key (not null) over the same parameter blocks predict the same.
+  virtual const void* prediction_key() const = 0;
+
+  // The prediction at `parameters` and, per parameter block whose pointer is not null (or none
+  // when `tangent_jacobians` is), d tangent / d block: 3 x the block's size, row-major. False if
+  // it cannot be evaluated there.
+  virtual bool Predict(double const* const* parameters, Pose* prediction,
+                       double** tangent_jacobians) const = 0;
+
+  // This block's residual (3) at `prediction` and, when not null, dr / d tangent.
+  virtual void Compare(const Pose& prediction, double* residual,
+                       Eigen::Matrix3d* d_residual) const = 0;
+
+  // Predict, Compare and D A.
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const final;
+};
+
+}  // namespace cellmetry
