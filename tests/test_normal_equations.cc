@@ -271,10 +271,10 @@ TEST(NormalEquations, OfSharedPredictionsAreTheBlockByBlockSums) {
   problem->Build();
   NormalEquations at;
   ASSERT_TRUE(problem->EvaluateNormalEquations(&at));
+  // Each block on its own, as Ceres evaluates it (not the Problem's shared rows).
   Eigen::VectorXd r;
-  SparseJacobian J;
-  ASSERT_TRUE(problem->EvaluateSparse(&r, &J));
-  const Eigen::MatrixXd dense = Eigen::MatrixXd(J);
+  Eigen::MatrixXd dense;
+  ASSERT_TRUE(problem->Evaluate(nullptr, &r, &dense, /*apply_loss=*/false));
   const ceres::CauchyLoss cauchy(3.0);
   Eigen::MatrixXd expected_h = Eigen::MatrixXd::Zero(3, 3);
   Eigen::VectorXd expected_g = Eigen::VectorXd::Zero(3);
@@ -299,14 +299,19 @@ TEST(NormalEquations, OfSharedPredictionsAreTheBlockByBlockSums) {
   EXPECT_LT((at.gradient - expected_g).norm(), 1e-10 * expected_g.norm());
 }
 
-// A shared prediction's block on its own (Ceres's view: Predict, Compare, D A) differentiates
-// its residual: against central differences.
+// The sparse Jacobian's rows of shared predictions (one Predict, each block's D A) are each
+// block's own (Ceres's view: Evaluate), and both differentiate the residuals: against central
+// differences.
 TEST(SharedPredictionCost, JacobianIsTheResidualsByCentralDifferences) {
   auto problem = MakeSharedProblem();
-  Eigen::VectorXd r;
+  Eigen::VectorXd r, r_ceres;
   SparseJacobian J;
   ASSERT_TRUE(problem->EvaluateSparse(&r, &J));
   const Eigen::MatrixXd dense = Eigen::MatrixXd(J);
+  Eigen::MatrixXd ceres_dense;
+  ASSERT_TRUE(problem->Evaluate(nullptr, &r_ceres, &ceres_dense, /*apply_loss=*/false));
+  EXPECT_LT((r - r_ceres).norm(), 1e-12 * r.norm());
+  EXPECT_LT((dense - ceres_dense).norm(), 1e-12 * dense.norm());
   const Eigen::VectorXd x = problem->FreeValues();
   for (int c = 0; c < x.size(); ++c) {
     const double h = 1e-6;

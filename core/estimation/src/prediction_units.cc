@@ -1,5 +1,7 @@
 // Problem's shared predictions (problem.h, shared_prediction_cost.h): which residual blocks
-// predict the same, and one prediction evaluated for them.
+// predict the same, and one prediction evaluated for them (the normal equations' use of it is
+// in normal_equations.cc).
+#include <algorithm>
 #include <map>
 #include <utility>
 
@@ -56,6 +58,45 @@ bool Problem::PredictBlock(int k, BlockEvaluation* scratch, Pose* prediction) co
     scratch->pointers[slot] = scratch->jacobians[slot].data();
   }
   return cost->Predict(scratch->parameters.data(), prediction, scratch->pointers.data());
+}
+
+bool Problem::EvaluateSharedRows(int u, BlockEvaluation* scratch,
+                                 const SparseOutput& out) const {
+  const bool with_jacobian = out.column_index != nullptr;
+  const int first = unit_blocks_[unit_start_[u]];
+  AskFreeSlots(first, scratch);
+  if (!with_jacobian) std::fill(scratch->asked.begin(), scratch->asked.end(), 0);
+  Pose prediction;
+  if (!PredictBlock(first, scratch, &prediction)) return false;
+  // A at the unit's free columns (every block of the unit has the same), column-major 3 x width.
+  const std::vector<int>& block_ids = *evaluation_order_[first].second;
+  const int entry = sparse_entry_start_[first];
+  const int width = with_jacobian ? sparse_entry_start_[first + 1] - entry : 0;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> tangent(3, width);
+  for (int j = 0; j < width; ++j) {
+    const SparseEntry& e = sparse_entries_[entry + j];
+    const int block_width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
+    for (int row = 0; row < 3; ++row) {
+      tangent(row, j) = scratch->At(e.slot, row, block_width, e.index);
+    }
+  }
+  Eigen::Matrix3d d_residual;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> rows(3, width);
+  for (int i = unit_start_[u]; i < unit_start_[u + 1]; ++i) {
+    const int k = unit_blocks_[i];
+    static_cast<const SharedPredictionCost*>(evaluation_order_[k].first)
+        ->Compare(prediction, out.r + rows_[k], with_jacobian ? &d_residual : nullptr);
+    if (!with_jacobian) continue;
+    rows.noalias() = d_residual * tangent;
+    for (int row = 0; row < 3; ++row) {
+      int at = sparse_row_start_[rows_[k] + row];
+      for (int j = 0; j < width; ++j) {
+        out.column_index[at] = sparse_entries_[entry + j].column;
+        out.entries[at++] = rows(row, j);
+      }
+    }
+  }
+  return true;
 }
 
 }  // namespace cellmetry

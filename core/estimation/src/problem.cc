@@ -393,8 +393,27 @@ void Problem::AskFreeSlots(int k, BlockEvaluation* scratch) const {
   }
 }
 
+bool Problem::EvaluateBlockRows(int k, BlockEvaluation* scratch, const SparseOutput& out) const {
+  const bool with_jacobian = out.column_index != nullptr;
+  AskFreeSlots(k, scratch);
+  if (!EvaluateBlock(k, with_jacobian, scratch)) return false;
+  std::copy(scratch->residuals.begin(), scratch->residuals.end(), out.r + rows_[k]);
+  if (!with_jacobian) return true;
+  const std::vector<int>& block_ids = *evaluation_order_[k].second;
+  const int num_rows = static_cast<int>(scratch->residuals.size());
+  for (int row = 0; row < num_rows; ++row) {
+    int at = sparse_row_start_[rows_[k] + row];
+    for (int k_e = sparse_entry_start_[k]; k_e < sparse_entry_start_[k + 1]; ++k_e) {
+      const SparseEntry& e = sparse_entries_[k_e];
+      const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
+      out.column_index[at] = e.column;
+      out.entries[at++] = scratch->At(e.slot, row, width, e.index);
+    }
+  }
+  return true;
+}
+
 bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const {
-  const int num_blocks = static_cast<int>(evaluation_order_.size());
   const std::vector<int>& row_start = sparse_row_start_;
   // Written in place into the compressed row storage (no triplets, no copy of a map).
   int* column_index = nullptr;
@@ -407,28 +426,16 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
     entries = jacobian->valuePtr();
   }
   Eigen::VectorXd r(num_residuals_);
+  const SparseOutput out{r.data(), column_index, entries};
+  const int num_units = static_cast<int>(unit_start_.size()) - 1;
   std::atomic<bool> valid{true};
-  tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks, 256), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_units, 64), [&](const auto& range) {
     BlockEvaluation scratch;
-    for (int k = range.begin(); k != range.end() && valid; ++k) {
-      const std::vector<int>& block_ids = *evaluation_order_[k].second;
-      AskFreeSlots(k, &scratch);
-      if (!EvaluateBlock(k, jacobian != nullptr, &scratch)) {
-        valid = false;
-        break;
-      }
-      const int num_rows = static_cast<int>(scratch.residuals.size());
-      std::copy(scratch.residuals.begin(), scratch.residuals.end(), r.data() + rows_[k]);
-      if (!jacobian) continue;
-      for (int row = 0; row < num_rows; ++row) {
-        int at = row_start[rows_[k] + row];
-        for (int k_e = sparse_entry_start_[k]; k_e < sparse_entry_start_[k + 1]; ++k_e) {
-          const SparseEntry& e = sparse_entries_[k_e];
-          const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
-          column_index[at] = e.column;
-          entries[at++] = scratch.At(e.slot, row, width, e.index);
-        }
-      }
+    for (int u = range.begin(); u != range.end() && valid; ++u) {
+      const bool ok = shares_prediction_[u]
+                          ? EvaluateSharedRows(u, &scratch, out)
+                          : EvaluateBlockRows(unit_blocks_[unit_start_[u]], &scratch, out);
+      if (!ok) valid = false;
     }
   });
   if (!valid) {

@@ -149,6 +149,15 @@ class Problem {
   // The shared prediction of residual block k (a SharedPredictionCost) into `prediction`, its
   // tangent Jacobians (3 rows) into scratch->jacobians for the slots scratch->asked marks.
   bool PredictBlock(int k, BlockEvaluation* scratch, Pose* prediction) const;
+  // EvaluateSparse's work for one residual block, and for a unit sharing a prediction: its
+  // residuals into `r` and, when `entries` is not null, its rows of the compressed row storage.
+  struct SparseOutput {
+    double* r;
+    int* column_index;  // null: no Jacobian
+    double* entries;
+  };
+  bool EvaluateBlockRows(int k, BlockEvaluation* scratch, const SparseOutput& out) const;
+  bool EvaluateSharedRows(int u, BlockEvaluation* scratch, const SparseOutput& out) const;
 
   std::vector<std::unique_ptr<Block>> blocks_;
   std::vector<Residual> residuals_;
