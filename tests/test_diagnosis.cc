@@ -136,7 +136,9 @@ TEST_F(Diagnosis, ImplausibleSizeIsNeverReportedAsThatPhysics) {
   bool ruled_out = false;
   for (const auto& round : d.rounds) {
     for (const auto& f : round.candidates) {
-      if (f.accepted) EXPECT_TRUE(f.implausible.empty()) << f.label << ": " << f.implausible;
+      if (f.accepted) {
+        EXPECT_TRUE(f.implausible.empty()) << f.label << ": " << f.implausible;
+      }
       ruled_out |= f.name.find("transmission_j3") != std::string::npos && !f.implausible.empty();
     }
   }

@@ -299,6 +299,28 @@ TEST(NormalEquations, OfSharedPredictionsAreTheBlockByBlockSums) {
   EXPECT_LT((at.gradient - expected_g).norm(), 1e-10 * expected_g.norm());
 }
 
+// One prediction key over two lists of parameter blocks, alternating as they are added (a
+// cost's key should say what it predicts from; this one does not say which offset): blocks
+// share a prediction only with blocks over the same list, never across.
+TEST(NormalEquations, ShareAPredictionOnlyOverTheSameParameterBlocks) {
+  auto problem = std::make_unique<Problem>();
+  const int rotation = problem->AddBlock("rotation", {Named("angle", "rad", 0.2)});
+  const int first = problem->AddBlock(
+      "first", {Named("x", "mm", 1.0), Named("y", "mm", 2.0), Named("z", "mm", 3.0)});
+  const int second = problem->AddBlock(
+      "second", {Named("x", "mm", -1.0), Named("y", "mm", 4.0), Named("z", "mm", 5.0)});
+  const auto chain = std::make_shared<const SharedSeenPoint::Chain>(SharedSeenPoint::Chain{
+      true, Eigen::Vector3d(30.0, -20.0, 10.0), Eigen::Matrix3d::Identity()});
+  for (int i = 0; i < 8; ++i) {
+    Pose measured;
+    measured.t = Eigen::Vector3d(i, 2.0 * i, -i);
+    problem->AddResidual(std::make_unique<SharedSeenPoint>(chain, measured, 0.5),
+                         {rotation, i % 2 == 0 ? first : second}, ResidualInfo{});
+  }
+  problem->Build();
+  ExpectTheDenseJacobiansSums(problem.get(), "alternating blocks");
+}
+
 // The sparse Jacobian's rows of shared predictions (one Predict, each block's D A) are each
 // block's own (Ceres's view: Evaluate), and both differentiate the residuals: against central
 // differences.

@@ -2,8 +2,8 @@
 // predict the same, and one prediction evaluated for them (the normal equations' use of it is
 // in normal_equations.cc).
 #include <algorithm>
-#include <map>
-#include <utility>
+#include <unordered_map>
+#include <vector>
 
 #include "cellmetry/estimation/problem.h"
 #include "cellmetry/estimation/shared_prediction_cost.h"
@@ -17,18 +17,25 @@ void Problem::BuildPredictionUnits() {
   // and parameter blocks (so units are in the order of their first block).
   std::vector<int> unit_of_block(num_blocks);
   std::vector<int> unit_size;
-  std::map<std::pair<const void*, std::vector<int>>, int> unit_of_key;
+  // Per key, its latest unit and that unit's parameter blocks: a block with the key over other
+  // blocks starts a unit of its own (shared by the blocks after it that match it).
+  std::unordered_map<const void*, int> unit_of_key;
+  std::vector<const std::vector<int>*> blocks_of_unit;
   shares_prediction_.clear();
   for (int k = 0; k < num_blocks; ++k) {
     const auto* shared = dynamic_cast<const SharedPredictionCost*>(evaluation_order_[k].first);
     const void* key = shared ? shared->prediction_key() : nullptr;
+    const std::vector<int>* block_ids = evaluation_order_[k].second;
     int unit = static_cast<int>(unit_size.size());
     if (key != nullptr) {
-      unit = unit_of_key.try_emplace({key, *evaluation_order_[k].second}, unit).first->second;
+      auto [it, inserted] = unit_of_key.try_emplace(key, unit);
+      if (!inserted && *blocks_of_unit[it->second] == *block_ids) unit = it->second;
+      it->second = unit;
     }
     if (unit == static_cast<int>(unit_size.size())) {
       unit_size.push_back(0);
       shares_prediction_.push_back(0);
+      blocks_of_unit.push_back(block_ids);
     }
     ++unit_size[unit];
     unit_of_block[k] = unit;
