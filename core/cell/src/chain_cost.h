@@ -20,8 +20,9 @@
 // checked against central differences in tests/test_chain_cost.cc.
 //
 // Blocks that read the same frames at the same joints predict the same pose (every capture of one
-// robot pose by one camera; every world-tag observation of one static camera): they share one
-// ChainPrediction, and the Problem evaluates it once for all of them (shared_prediction_cost.h).
+// robot pose by one camera; every world-tag observation of one static camera): assembly makes
+// the first such ChainCost, and each later one names it as the cost it predicts the same as; the
+// Problem evaluates the prediction once for all of them (shared_prediction_cost.h).
 #pragma once
 
 #include <memory>
@@ -38,44 +39,44 @@ struct ChainBlocks {
   bool camera = true;
 };
 
-// What a chain predicts from its blocks: the factors that are constants, the blocks, and which
-// quantity (a position or a rotation: the tangent of the prediction is that one's).
-struct ChainPrediction {
+class ChainCost final : public SharedPredictionCost {
+ public:
   // Constants stand in for the factors that are not blocks: T_base_flange always,
   // T_cam_world_fixed when !blocks.camera. Without base and tool blocks the target is the
   // world frame itself (the world target seen by a static camera). `refs` is shared by every
-  // prediction over the same frame blocks: an evaluation streams through all of a cell's
-  // blocks, and what each one holds is what it reads from memory.
-  ChainPrediction(Compared compared, std::shared_ptr<const FrameRefs> refs, ChainBlocks blocks,
-                  const Pose& T_base_flange, const Pose& T_cam_world_fixed);
-
-  Compared compared;
-  ChainBlocks blocks;
-  Pose T_base_flange;
-  std::shared_ptr<const FrameRefs> refs;
-  // The measured camera where it is not a block (the per-frame model); not held otherwise.
-  std::unique_ptr<const Pose> T_world_cam_fixed;
-};
-
-class ChainCost : public SharedPredictionCost {
- public:
-  // `prediction` is shared by the blocks that predict the same (its address is the key).
-  ChainCost(TargetComparison comparison, std::shared_ptr<const ChainPrediction> prediction);
+  // block over the same frame blocks: an evaluation streams through all of a cell's blocks,
+  // and what each one holds is what it reads from memory. `same_as`: an earlier ChainCost
+  // that predicts the same (the same frames, joints and compared quantity), whose key this
+  // one takes; it must outlive this one's use in a Problem (both are the Problem's).
+  ChainCost(TargetComparison comparison, std::shared_ptr<const FrameRefs> refs,
+            ChainBlocks blocks, const Pose& T_base_flange, const Pose& T_cam_world_fixed,
+            const ChainCost* same_as = nullptr);
   // A block on its own (tests).
   ChainCost(TargetComparison comparison, FrameRefs refs, ChainBlocks blocks,
             const Pose& T_base_flange, const Pose& T_cam_world_fixed);
 
-  const void* prediction_key() const override { return prediction_.get(); }
+  const void* prediction_key() const override { return key_; }
   // The predicted T_cam_target; the tangent is the position's coordinates (mm, camera axes) or
   // a left rotation of the prediction about the camera axes (rad).
   bool Predict(double const* const* parameters, Pose* prediction,
                double** tangent_jacobians) const override;
   void Compare(const Pose& prediction, double* residual,
                Eigen::Matrix3d* d_residual) const override;
+  // The same as SharedPredictionCost's, without the virtual calls and with D A on the 3 x 6
+  // blocks at fixed size: Ceres evaluates each block on its own, 160,000 of them per iteration
+  // on bench_scale's factory cell.
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
 
  private:
   TargetComparison comparison_;
-  std::shared_ptr<const ChainPrediction> prediction_;
+  ChainBlocks blocks_;
+  Pose T_base_flange_;
+  std::shared_ptr<const FrameRefs> refs_;
+  // The measured camera where it is not a block (the per-frame model); not held otherwise: the
+  // objects' size is what an evaluation reads.
+  std::unique_ptr<const Pose> T_world_cam_fixed_;
+  const void* key_;  // this cost, or the one it predicts the same as
 };
 
 }  // namespace cellmetry

@@ -4,7 +4,7 @@
 
 #include <cstdio>
 #include <map>
-#include <tuple>
+#include <unordered_map>
 
 #include "cellmetry/basics/error.h"
 #include "chain_cost.h"
@@ -119,12 +119,27 @@ std::shared_ptr<ForwardMemo> MemoFor(const RobotModel* model, const double* q,
   return memo;
 }
 
-// The chain predictions of ChainCost, one per combination of what they predict from (chain_cost.h):
-// by frame refs (which stand for the blocks), forward-kinematics memo (the joints) and compared
-// quantity. Blocks sharing one are evaluated once for all (shared_prediction_cost.h).
-using SharedPredictions =
-    std::map<std::tuple<const FrameRefs*, const ForwardMemo*, Compared>,
-             std::shared_ptr<const ChainPrediction>>;
+// The first ChainCost of each prediction, for the later ones to name (chain_cost.h): by the
+// forward-kinematics memo (the joints; null for the world target), the frame refs (which stand
+// for the blocks) and the compared quantity. Per memo a short list: its pose's cameras and
+// quantities (a map over every block was a third of the factory cell's assembly).
+struct FirstCost {
+  const FrameRefs* refs;
+  Compared compared;
+  const ChainCost* cost;
+};
+using FirstCosts = std::unordered_map<const ForwardMemo*, std::vector<FirstCost>>;
+
+// The first cost of this prediction (null, to be set by the caller, when there is none yet).
+const ChainCost*& FirstOf(const ForwardMemo* memo, const FrameRefs* refs, Compared compared,
+                          FirstCosts* firsts) {
+  std::vector<FirstCost>& costs = (*firsts)[memo];
+  for (FirstCost& first : costs) {
+    if (first.refs == refs && first.compared == compared) return first.cost;
+  }
+  costs.push_back({refs, compared, nullptr});
+  return costs.back().cost;
+}
 
 // Everything one carried-target measurement's residuals need.
 struct ToolContext {
@@ -139,7 +154,7 @@ struct ToolContext {
   bool model_free = false;
   ForwardMemos* memos = nullptr;
   std::shared_ptr<const FrameRefs> shared_refs;  // `refs`, shared by the blocks of its frames
-  SharedPredictions* predictions = nullptr;
+  FirstCosts* first_costs = nullptr;
 };
 
 // One FrameRefs per combination of frame blocks (ChainCost's shared constructor): by block ids.
@@ -251,15 +266,17 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
                      "Check the joint values against the robot model");
   }
   const ChainBlocks chain{/*base=*/true, /*tool=*/true, /*camera=*/c.static_camera};
-  auto make = [&] {
-    return std::make_shared<const ChainPrediction>(comparison.compared(), c.shared_refs, chain,
-                                                   T_base_flange, c.m.T_cam_world);
-  };
   // A moving camera's measured pose is a factor of the prediction: those are not shared.
-  if (!c.static_camera) return std::make_unique<ChainCost>(comparison, make());
-  auto& shared = (*c.predictions)[{c.shared_refs.get(), memo.get(), comparison.compared()}];
-  if (!shared) shared = make();
-  return std::make_unique<ChainCost>(comparison, shared);
+  if (!c.static_camera) {
+    return std::make_unique<ChainCost>(comparison, c.shared_refs, chain, T_base_flange,
+                                       c.m.T_cam_world);
+  }
+  const ChainCost*& first =
+      FirstOf(memo.get(), c.shared_refs.get(), comparison.compared(), c.first_costs);
+  auto cost = std::make_unique<ChainCost>(comparison, c.shared_refs, chain, T_base_flange,
+                                          c.m.T_cam_world, first);
+  if (first == nullptr) first = cost.get();
+  return cost;
 }
 
 bool BlockHeld(const AssembledWorkcell& out, int block) {
@@ -284,7 +301,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
   const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
   ForwardMemos memos;
   SharedRefs shared_refs;
-  SharedPredictions predictions;
+  FirstCosts first_costs;
   for (const ToolMeasurement& m : data.tools) {
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
@@ -293,7 +310,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     c.static_camera = static_cameras;
     c.model_free = ModelFree(*out, m.robot);
     c.memos = &memos;
-    c.predictions = &predictions;
+    c.first_costs = &first_costs;
     c.blocks = {out->base_block[m.robot], out->tool_block[m.robot][m.tool]};
     c.refs.world_base = out->R_ref.at(c.blocks[0]);
     if (BlockHeld(*out, c.blocks[0])) {
@@ -341,7 +358,7 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
   std::vector<int> effect_blocks;
   ChainEffects(spec, *out, "", &effects, &effect_blocks);
   SharedRefs shared_refs;
-  SharedPredictions predictions;
+  FirstCosts first_costs;
   for (int index : data.world_observations) {
     const Observation& obs = recording.observations[index];
     const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
@@ -370,12 +387,11 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
         const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
         const std::shared_ptr<const FrameRefs> camera_refs = Shared({camera}, refs, &shared_refs);
         // Every world-tag observation of this camera predicts the same: the world in it.
-        auto& shared = predictions[{camera_refs.get(), nullptr, what}];
-        if (!shared) {
-          shared = std::make_shared<const ChainPrediction>(what, camera_refs, camera_only,
-                                                           Pose::Identity(), Pose::Identity());
-        }
-        cost = std::make_unique<ChainCost>(comparison, shared);
+        const ChainCost*& first = FirstOf(nullptr, camera_refs.get(), what, &first_costs);
+        auto chain_cost = std::make_unique<ChainCost>(comparison, camera_refs, camera_only,
+                                                      Pose::Identity(), Pose::Identity(), first);
+        if (first == nullptr) first = chain_cost.get();
+        cost = std::move(chain_cost);
       }
       out->problem.AddResidual(
           std::move(cost), blocks,

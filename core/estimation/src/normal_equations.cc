@@ -3,9 +3,10 @@
 // Each residual block's rows share its free columns (BuildSparseLayout's entries, in column
 // order), so the block's k columns give a k x k outer product, summed densely with the other
 // blocks of its column group and added to the n x n sum at those columns once per range: the
-// rows times k^2, never the m x n Jacobian. The blocks are split into fixed ranges
-// summed in a fixed tree (tbb::parallel_deterministic_reduce), so the result's bits do not
-// depend on the threads' timing: a fit reweighted with it answers the same on every run.
+// rows times k^2, never the m x n Jacobian. Blocks that share a prediction are summed through
+// it (SharedSums below). The blocks are split into fixed chunks (Build's) summed in a fixed
+// tree (tbb::parallel_deterministic_reduce), so the result's bits do not depend on the threads'
+// timing: a fit reweighted with it answers the same on every run.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
@@ -236,21 +237,19 @@ struct Problem::NormalEquationsRange {
 
 bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
   const int n = num_free();
-  const int num_units = static_cast<int>(unit_start_.size()) - 1;
   std::atomic<bool> valid{true};
-  auto add_range = [&](const tbb::blocked_range<int>& range, PartialSums* sums) {
+  // Each chunk of units (problem.h) summed on its own, the chunks' sums added in a fixed tree.
+  auto add_chunks = [&](const tbb::blocked_range<int>& chunks, PartialSums* sums) {
     NormalEquationsRange pass(*this, sums);  // scattered into `sums` when it goes
-    for (int u = range.begin(); u != range.end() && valid; ++u) {
+    for (int u = chunk_start_[chunks.begin()]; u != chunk_start_[chunks.end()] && valid; ++u) {
       if (!pass.AddUnit(u)) valid = false;
     }
   };
-  // Ranges of at least 64 units and at most about 128 of them: each range holds an n x n sum
-  // (1.7 MB at the 456 columns of bench_scale's largest cell), so their number is bounded.
-  const int grain = std::max(64, num_units / 64);
+  const int num_chunks = static_cast<int>(chunk_start_.size()) - 1;
   const PartialSums total = tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<int>(0, num_units, grain), PartialSums(n),
-      [&](const tbb::blocked_range<int>& range, PartialSums sums) {
-        add_range(range, &sums);
+      tbb::blocked_range<int>(0, num_chunks, 1), PartialSums(n),
+      [&](const tbb::blocked_range<int>& chunks, PartialSums sums) {
+        add_chunks(chunks, &sums);
         return sums;
       },
       [](PartialSums a, const PartialSums& b) {

@@ -11,6 +11,16 @@
 
 namespace cellmetry {
 
+namespace {
+
+// A unit's blocks are summed by one thread: a static camera's world-tag observations (5,000 on
+// bench_scale's factory cell, all of them after the robots' blocks) in one unit were one
+// thread's serial tail. Beyond this many blocks the prediction is evaluated again for the next
+// ones, once per 256 comparisons.
+constexpr int kMaxUnitBlocks = 256;
+
+}  // namespace
+
 void Problem::BuildPredictionUnits() {
   const int num_blocks = static_cast<int>(evaluation_order_.size());
   // Each block's unit: a new one at a block that shares nothing or at the first of its key
@@ -29,7 +39,10 @@ void Problem::BuildPredictionUnits() {
     int unit = static_cast<int>(unit_size.size());
     if (key != nullptr) {
       auto [it, inserted] = unit_of_key.try_emplace(key, unit);
-      if (!inserted && *blocks_of_unit[it->second] == *block_ids) unit = it->second;
+      if (!inserted && *blocks_of_unit[it->second] == *block_ids &&
+          unit_size[it->second] < kMaxUnitBlocks) {
+        unit = it->second;
+      }
       it->second = unit;
     }
     if (unit == static_cast<int>(unit_size.size())) {
@@ -46,6 +59,17 @@ void Problem::BuildPredictionUnits() {
     unit_start_[u + 1] = unit_start_[u] + unit_size[u];
     // One block alone is evaluated as any other (Evaluate is Predict and Compare).
     shares_prediction_[u] = unit_size[u] > 1;
+  }
+  // Chunks of at least 512 blocks and at most about 64 of them (the normal equations hold an
+  // n x n sum per chunk: 1.7 MB at the 456 columns of bench_scale's largest cell).
+  const int chunk_blocks = std::max(512, num_blocks / 64);
+  chunk_start_.assign(1, 0);
+  for (int u = 0, in_chunk = 0; u < num_units; ++u) {
+    in_chunk += unit_size[u];
+    if (in_chunk >= chunk_blocks || u + 1 == num_units) {
+      chunk_start_.push_back(u + 1);
+      in_chunk = 0;
+    }
   }
   unit_blocks_.resize(num_blocks);
   std::vector<int> next(unit_start_.begin(), unit_start_.end() - 1);
@@ -75,31 +99,31 @@ bool Problem::EvaluateSharedRows(int u, BlockEvaluation* scratch,
   if (!with_jacobian) std::fill(scratch->asked.begin(), scratch->asked.end(), 0);
   Pose prediction;
   if (!PredictBlock(first, scratch, &prediction)) return false;
-  // A at the unit's free columns (every block of the unit has the same), column-major 3 x width.
+  // A at the unit's free columns (every block of the unit has the same), row-major 3 x width.
   const std::vector<int>& block_ids = *evaluation_order_[first].second;
   const int entry = sparse_entry_start_[first];
   const int width = with_jacobian ? sparse_entry_start_[first + 1] - entry : 0;
-  Eigen::Matrix<double, 3, Eigen::Dynamic> tangent(3, width);
+  std::vector<double>& tangent = scratch->residuals;  // free here: the rows go straight to `out`
+  tangent.resize(3 * static_cast<size_t>(width));
   for (int j = 0; j < width; ++j) {
     const SparseEntry& e = sparse_entries_[entry + j];
     const int block_width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
     for (int row = 0; row < 3; ++row) {
-      tangent(row, j) = scratch->At(e.slot, row, block_width, e.index);
+      tangent[row * width + j] = scratch->At(e.slot, row, block_width, e.index);
     }
   }
-  Eigen::Matrix3d d_residual;
-  Eigen::Matrix<double, 3, Eigen::Dynamic> rows(3, width);
+  Eigen::Matrix3d D;
   for (int i = unit_start_[u]; i < unit_start_[u + 1]; ++i) {
     const int k = unit_blocks_[i];
     static_cast<const SharedPredictionCost*>(evaluation_order_[k].first)
-        ->Compare(prediction, out.r + rows_[k], with_jacobian ? &d_residual : nullptr);
+        ->Compare(prediction, out.r + rows_[k], with_jacobian ? &D : nullptr);
     if (!with_jacobian) continue;
-    rows.noalias() = d_residual * tangent;
-    for (int row = 0; row < 3; ++row) {
+    for (int row = 0; row < 3; ++row) {  // row `row` of D A
       int at = sparse_row_start_[rows_[k] + row];
       for (int j = 0; j < width; ++j) {
         out.column_index[at] = sparse_entries_[entry + j].column;
-        out.entries[at++] = rows(row, j);
+        out.entries[at++] = D(row, 0) * tangent[j] + D(row, 1) * tangent[width + j] +
+                            D(row, 2) * tangent[2 * width + j];
       }
     }
   }

@@ -427,11 +427,11 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
   }
   Eigen::VectorXd r(num_residuals_);
   const SparseOutput out{r.data(), column_index, entries};
-  const int num_units = static_cast<int>(unit_start_.size()) - 1;
+  const int num_chunks = static_cast<int>(chunk_start_.size()) - 1;
   std::atomic<bool> valid{true};
-  tbb::parallel_for(tbb::blocked_range<int>(0, num_units, 64), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_chunks, 1), [&](const auto& chunks) {
     BlockEvaluation scratch;
-    for (int u = range.begin(); u != range.end() && valid; ++u) {
+    for (int u = chunk_start_[chunks.begin()]; u != chunk_start_[chunks.end()] && valid; ++u) {
       const bool ok = shares_prediction_[u]
                           ? EvaluateSharedRows(u, &scratch, out)
                           : EvaluateBlockRows(unit_blocks_[unit_start_[u]], &scratch, out);

@@ -6,18 +6,24 @@ namespace cellmetry {
 bool SharedPredictionCost::Evaluate(double const* const* parameters, double* residuals,
                                     double** jacobians) const {
   Pose prediction;
-  // Predict writes A into the Jacobians' own storage (the same 3 x size shape); each becomes
-  // D A in place (Eigen's product goes through a temporary, so the aliasing is safe).
+  // Predict writes A into the Jacobians' own storage (the same 3 x size shape, row-major); each
+  // column becomes D times itself in place (fixed-size: no temporary on the heap per block).
   if (!Predict(parameters, &prediction, jacobians)) return false;
   Eigen::Matrix3d d_residual;
   Compare(prediction, residuals, jacobians ? &d_residual : nullptr);
   if (jacobians == nullptr) return true;
   const std::vector<int32_t>& sizes = parameter_block_sizes();
   for (size_t k = 0; k < sizes.size(); ++k) {
-    if (jacobians[k] == nullptr) continue;
-    Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>> J(jacobians[k], 3,
-                                                                           sizes[k]);
-    J = d_residual * J;
+    double* J = jacobians[k];
+    if (J == nullptr) continue;
+    const int size = sizes[k];
+    for (int j = 0; j < size; ++j) {
+      const Eigen::Vector3d a(J[j], J[size + j], J[2 * size + j]);
+      const Eigen::Vector3d column = d_residual * a;
+      J[j] = column[0];
+      J[size + j] = column[1];
+      J[2 * size + j] = column[2];
+    }
   }
   return true;
 }

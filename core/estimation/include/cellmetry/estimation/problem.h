@@ -202,6 +202,10 @@ class Problem {
   std::vector<int> unit_blocks_;
   std::vector<int> unit_start_;  // per unit, into unit_blocks_; then the end
   std::vector<char> shares_prediction_;  // per unit: evaluated once for its blocks
+  // Consecutive units in chunks of about the same number of blocks, what the evaluations split
+  // among the cores (a range of units would put a static camera's world-tag units, thousands of
+  // blocks, all at the end in one range): per chunk, its first unit; then the end.
+  std::vector<int> chunk_start_;
   int num_residuals_ = 0;
   RobustLossKind loss_kind_ = RobustLossKind::kNone;
   double loss_scale_ = 1.0;

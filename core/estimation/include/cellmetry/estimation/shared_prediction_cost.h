@@ -40,9 +40,9 @@ class SharedPredictionCost : public ceres::CostFunction {
   virtual void Compare(const Pose& prediction, double* residual,
                        Eigen::Matrix3d* d_residual) const = 0;
 
-  // Predict, Compare and D A.
+  // Predict, Compare and D A. A cost may override it with the same in fewer steps.
   bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const final;
+                double** jacobians) const override;
 };
 
 }  // namespace cellmetry
