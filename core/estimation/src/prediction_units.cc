@@ -60,9 +60,9 @@ void Problem::BuildPredictionUnits() {
     // One block alone is evaluated as any other (Evaluate is Predict and Compare).
     shares_prediction_[u] = unit_size[u] > 1;
   }
-  // Chunks of at least 512 blocks and at most about 64 of them (the normal equations hold an
+  // Chunks of at least 256 blocks and at most about 64 of them (the normal equations hold an
   // n x n sum per chunk: 1.7 MB at the 456 columns of bench_scale's largest cell).
-  const int chunk_blocks = std::max(512, num_blocks / 64);
+  const int chunk_blocks = std::max(256, num_blocks / 64);
   chunk_start_.assign(1, 0);
   for (int u = 0, in_chunk = 0; u < num_units; ++u) {
     in_chunk += unit_size[u];
