@@ -43,51 +43,69 @@ ChainCost::ChainCost(TargetComparison comparison, FrameRefs refs, ChainBlocks bl
     : ChainCost(comparison, std::make_shared<const FrameRefs>(std::move(refs)), blocks,
                 T_base_flange, T_cam_world_fixed) {}
 
-bool ChainCost::Predict(double const* const* parameters, Pose* prediction,
-                        double** tangent_jacobians) const {
-  int k = 0;
-  const double* base = blocks_.base ? parameters[k++] : nullptr;
-  const double* tool = blocks_.tool ? parameters[k++] : nullptr;
-  const double* camera = blocks_.camera ? parameters[k++] : nullptr;
-  // The frames every residual shares, each made once per thread for these values (frame_cache.h).
-  const bool with_jacobian = tangent_jacobians != nullptr;
-  CachedFrame base_frame, tool_frame, camera_frame;
-  if (base) base_frame = FrameOfBlock(base, refs_->world_base, with_jacobian);
-  if (tool) tool_frame = FrameOfBlock(tool, refs_->flange_target, with_jacobian);
-  if (camera) camera_frame = FrameOfBlock(camera, refs_->world_cam, with_jacobian);
-  const Pose T_world_base = base ? base_frame.T : Pose::Identity();
-  const Pose T_flange_target = tool ? tool_frame.T : Pose::Identity();
-  const Pose T_world_cam = camera ? camera_frame.T : *T_world_cam_fixed_;
-  const Eigen::Matrix3d R_cw = T_world_cam.R.transpose();
-  const Pose T_world_flange = T_world_base * T_base_flange_;
-  const Eigen::Vector3d p_world = T_world_flange * T_flange_target.t;
-  const bool position = comparison_.compared() == Compared::kPosition;
-  if (position) {
-    prediction->t = R_cw * (p_world - T_world_cam.t);
-  } else {
-    prediction->R = R_cw * T_world_flange.R * T_flange_target.R;
-  }
-  if (!with_jacobian) return true;
+struct ChainCost::State {
+  CachedFrame base, tool, camera;  // of the blocks that are parameters
+  Pose T_world_base, T_flange_target, T_world_cam, T_world_flange;
+  Eigen::Matrix3d R_cw;
+  Eigen::Vector3d p_world;  // the target's origin
+};
 
+void ChainCost::MakeState(double const* const* parameters, bool with_jacobian,
+                          State* state) const {
+  int k = 0;
+  // The frames every residual shares, each made once per thread for these values (frame_cache.h).
+  if (blocks_.base) state->base = FrameOfBlock(parameters[k++], refs_->world_base, with_jacobian);
+  if (blocks_.tool) {
+    state->tool = FrameOfBlock(parameters[k++], refs_->flange_target, with_jacobian);
+  }
+  if (blocks_.camera) {
+    state->camera = FrameOfBlock(parameters[k++], refs_->world_cam, with_jacobian);
+  }
+  state->T_world_base = blocks_.base ? state->base.T : Pose::Identity();
+  state->T_flange_target = blocks_.tool ? state->tool.T : Pose::Identity();
+  state->T_world_cam = blocks_.camera ? state->camera.T : *T_world_cam_fixed_;
+  state->R_cw = state->T_world_cam.R.transpose();
+  state->T_world_flange = state->T_world_base * T_base_flange_;
+  state->p_world = state->T_world_flange * state->T_flange_target.t;
+}
+
+void ChainCost::PredictionOf(const State& c, Pose* prediction) const {
+  if (comparison_.compared() == Compared::kPosition) {
+    prediction->t = c.R_cw * (c.p_world - c.T_world_cam.t);
+  } else {
+    prediction->R = c.R_cw * c.T_world_flange.R * c.T_flange_target.R;
+  }
+}
+
+void ChainCost::StoreJacobians(const State& c, const Eigen::Matrix3d& L,
+                               double** jacobians) const {
   const Eigen::Matrix3d zero = Eigen::Matrix3d::Zero();
-  k = 0;
-  if (position) {
-    if (base) {
-      Store(tangent_jacobians[k++], R_cw,
-            -R_cw * Skew(p_world - T_world_base.t) * base_frame.J_left);
+  const Eigen::Matrix3d L_R_cw = L * c.R_cw;
+  int k = 0;
+  if (comparison_.compared() == Compared::kPosition) {
+    if (blocks_.base) {
+      Store(jacobians[k++], L_R_cw,
+            -L_R_cw * Skew(c.p_world - c.T_world_base.t) * c.base.J_left);
     }
-    if (tool) Store(tangent_jacobians[k++], R_cw * T_world_flange.R, zero);
-    if (camera) {
-      Store(tangent_jacobians[k++], -R_cw,
-            R_cw * Skew(p_world - T_world_cam.t) * camera_frame.J_left);
+    if (blocks_.tool) Store(jacobians[k++], L_R_cw * c.T_world_flange.R, zero);
+    if (blocks_.camera) {
+      Store(jacobians[k++], -L_R_cw, L_R_cw * Skew(c.p_world - c.T_world_cam.t) * c.camera.J_left);
     }
-    return true;
+    return;
   }
   // A left perturbation Exp(d) of a factor rotates the prediction by Exp(R d) in the camera
   // frame, with R the rotation from that factor's left frame to the camera.
-  if (base) Store(tangent_jacobians[k++], zero, R_cw * base_frame.J_left);
-  if (tool) Store(tangent_jacobians[k++], zero, R_cw * T_world_flange.R * tool_frame.J_left);
-  if (camera) Store(tangent_jacobians[k++], zero, -R_cw * camera_frame.J_left);
+  if (blocks_.base) Store(jacobians[k++], zero, L_R_cw * c.base.J_left);
+  if (blocks_.tool) Store(jacobians[k++], zero, L_R_cw * c.T_world_flange.R * c.tool.J_left);
+  if (blocks_.camera) Store(jacobians[k++], zero, -L_R_cw * c.camera.J_left);
+}
+
+bool ChainCost::Predict(double const* const* parameters, Pose* prediction,
+                        double** tangent_jacobians) const {
+  State c;
+  MakeState(parameters, tangent_jacobians != nullptr, &c);
+  PredictionOf(c, prediction);
+  if (tangent_jacobians) StoreJacobians(c, Eigen::Matrix3d::Identity(), tangent_jacobians);
   return true;
 }
 
@@ -107,18 +125,13 @@ void ChainCost::Compare(const Pose& prediction, double* residual,
 
 bool ChainCost::Evaluate(double const* const* parameters, double* residuals,
                          double** jacobians) const {
+  State c;
+  MakeState(parameters, jacobians != nullptr, &c);
   Pose prediction;
-  if (!ChainCost::Predict(parameters, &prediction, jacobians)) return false;
+  PredictionOf(c, &prediction);
   Eigen::Matrix3d D;
   ChainCost::Compare(prediction, residuals, jacobians ? &D : nullptr);
-  if (jacobians == nullptr) return true;
-  const int num_blocks = static_cast<int>(parameter_block_sizes().size());
-  for (int k = 0; k < num_blocks; ++k) {
-    if (jacobians[k] == nullptr) continue;
-    TangentJacobian J(jacobians[k]);
-    const Eigen::Matrix<double, 3, 6> A = J;
-    J.noalias() = D * A;
-  }
+  if (jacobians) StoreJacobians(c, D, jacobians);
   return true;
 }
 

@@ -69,6 +69,15 @@ class ChainCost final : public SharedPredictionCost {
                 double** jacobians) const override;
 
  private:
+  // The chain at the blocks' values: what the prediction and its Jacobian are made of.
+  struct State;
+  void MakeState(double const* const* parameters, bool with_jacobian, State* state) const;
+  // The compared quantity of the predicted T_cam_target (the other is left as it is).
+  void PredictionOf(const State& state, Pose* prediction) const;
+  // Per asked block, L times d tangent / d block (L: the identity for Predict, dr / d tangent
+  // for Evaluate, applied to the few 3 x 3 factors rather than to the 3 x 6 results).
+  void StoreJacobians(const State& state, const Eigen::Matrix3d& L, double** jacobians) const;
+
   TargetComparison comparison_;
   ChainBlocks blocks_;
   Pose T_base_flange_;
