@@ -80,6 +80,35 @@ void SetCauchy(Problem* problem, double width) {
   problem->Build();
 }
 
+// The robust normal equations of the first `num_blocks` 3-row blocks of (J, r) under a Cauchy
+// loss of `width`, block by block: rho' J^T J + 2 rho'' (J^T r)(J^T r)^T where
+// rho' + 2 rho'' s > 0, else rho' J^T J; the gradient rho' J^T r. Three free columns.
+struct CauchySums {
+  double cost = 0.0;
+  Eigen::MatrixXd hessian = Eigen::MatrixXd::Zero(3, 3);
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(3);
+  int corrected = 0;  // blocks whose curvature term is kept
+};
+
+CauchySums SumBlockByBlock(const Eigen::MatrixXd& J, const Eigen::VectorXd& r, int num_blocks,
+                           double width) {
+  const ceres::CauchyLoss cauchy(width);
+  CauchySums sums;
+  for (int b = 0; b < num_blocks; ++b) {
+    const Eigen::MatrixXd J_b = J.middleRows(3 * b, 3);
+    const Eigen::Vector3d r_b = r.segment<3>(3 * b);
+    double rho[3];
+    cauchy.Evaluate(r_b.squaredNorm(), rho);
+    sums.cost += 0.5 * rho[0];
+    sums.gradient += rho[1] * J_b.transpose() * r_b;
+    sums.hessian += rho[1] * J_b.transpose() * J_b;
+    if (rho[1] + 2 * rho[2] * r_b.squaredNorm() <= 0) continue;
+    ++sums.corrected;
+    sums.hessian += 2 * rho[2] * (J_b.transpose() * r_b) * (J_b.transpose() * r_b).transpose();
+  }
+  return sums;
+}
+
 TEST(NormalEquations, AreTheRobustCostsGaussNewtonTermsOfTheSparseJacobian) {
   auto problem = MakeProblem(0.299, Eigen::Vector3d(10.01, -5.01, 2.0));  // near the answer
   SetCauchy(problem.get(), 3.0);
@@ -88,37 +117,20 @@ TEST(NormalEquations, AreTheRobustCostsGaussNewtonTermsOfTheSparseJacobian) {
   Eigen::VectorXd r;
   SparseJacobian J;
   ASSERT_TRUE(problem->EvaluateSparse(&r, &J));
-  const ceres::CauchyLoss cauchy(3.0);
-  // Per block: rho' J^T J + 2 rho'' (J^T r)(J^T r)^T where rho' + 2 rho'' s > 0, else rho' J^T J;
-  // the gradient rho' J^T r. The prior's row has no loss.
   const Eigen::MatrixXd dense = Eigen::MatrixXd(J);
-  Eigen::MatrixXd expected_h = Eigen::MatrixXd::Zero(3, 3);
-  Eigen::VectorXd expected_g = Eigen::VectorXd::Zero(3);
-  double cost = 0.0;
-  int corrected = 0;
-  for (int b = 0; b < 200; ++b) {
-    const Eigen::MatrixXd J_b = dense.middleRows(3 * b, 3);
-    const Eigen::Vector3d r_b = r.segment<3>(3 * b);
-    double rho[3];
-    cauchy.Evaluate(r_b.squaredNorm(), rho);
-    cost += 0.5 * rho[0];
-    expected_g += rho[1] * J_b.transpose() * r_b;
-    expected_h += rho[1] * J_b.transpose() * J_b;
-    if (rho[1] + 2 * rho[2] * r_b.squaredNorm() <= 0) continue;
-    ++corrected;
-    expected_h += 2 * rho[2] * (J_b.transpose() * r_b) * (J_b.transpose() * r_b).transpose();
-  }
-  EXPECT_GT(corrected, 100);
-  EXPECT_LT(corrected, 200) << "the gross errors' blocks are beyond the Cauchy curvature";
+  CauchySums expected = SumBlockByBlock(dense, r, 200, 3.0);
+  EXPECT_GT(expected.corrected, 100);
+  EXPECT_LT(expected.corrected, 200) << "the gross errors' blocks are beyond the Cauchy curvature";
+  // The prior's row has no loss.
   const Eigen::MatrixXd J_prior = dense.bottomRows(dense.rows() - 600);
   const Eigen::VectorXd r_prior = r.tail(r.size() - 600);
-  cost += 0.5 * r_prior.squaredNorm();
-  expected_g += J_prior.transpose() * r_prior;
-  expected_h += J_prior.transpose() * J_prior;
+  expected.cost += 0.5 * r_prior.squaredNorm();
+  expected.gradient += J_prior.transpose() * r_prior;
+  expected.hessian += J_prior.transpose() * J_prior;
   ASSERT_EQ(at.hessian.rows(), 3);  // angle, x, y: z is held
-  EXPECT_NEAR(at.cost, cost, 1e-9 * cost);
-  EXPECT_LT((at.hessian - expected_h).norm(), 1e-10 * expected_h.norm());
-  EXPECT_LT((at.gradient - expected_g).norm(), 1e-10 * expected_g.norm());
+  EXPECT_NEAR(at.cost, expected.cost, 1e-9 * expected.cost);
+  EXPECT_LT((at.hessian - expected.hessian).norm(), 1e-10 * expected.hessian.norm());
+  EXPECT_LT((at.gradient - expected.gradient).norm(), 1e-10 * expected.gradient.norm());
 }
 
 // The offset pulled towards (1, 1, 1) mm: a block over one parameter block.
@@ -275,28 +287,12 @@ TEST(NormalEquations, OfSharedPredictionsAreTheBlockByBlockSums) {
   Eigen::VectorXd r;
   Eigen::MatrixXd dense;
   ASSERT_TRUE(problem->Evaluate(nullptr, &r, &dense, /*apply_loss=*/false));
-  const ceres::CauchyLoss cauchy(3.0);
-  Eigen::MatrixXd expected_h = Eigen::MatrixXd::Zero(3, 3);
-  Eigen::VectorXd expected_g = Eigen::VectorXd::Zero(3);
-  double cost = 0.0;
-  int corrected = 0;
-  for (int b = 0; b < 360; ++b) {
-    const Eigen::MatrixXd J_b = dense.middleRows(3 * b, 3);
-    const Eigen::Vector3d r_b = r.segment<3>(3 * b);
-    double rho[3];
-    cauchy.Evaluate(r_b.squaredNorm(), rho);
-    cost += 0.5 * rho[0];
-    expected_g += rho[1] * J_b.transpose() * r_b;
-    expected_h += rho[1] * J_b.transpose() * J_b;
-    if (rho[1] + 2 * rho[2] * r_b.squaredNorm() <= 0) continue;
-    ++corrected;
-    expected_h += 2 * rho[2] * (J_b.transpose() * r_b) * (J_b.transpose() * r_b).transpose();
-  }
-  EXPECT_GT(corrected, 200);
-  EXPECT_LT(corrected, 360) << "the gross errors' blocks are beyond the Cauchy curvature";
-  EXPECT_NEAR(at.cost, cost, 1e-10 * cost);
-  EXPECT_LT((at.hessian - expected_h).norm(), 1e-10 * expected_h.norm());
-  EXPECT_LT((at.gradient - expected_g).norm(), 1e-10 * expected_g.norm());
+  const CauchySums expected = SumBlockByBlock(dense, r, 360, 3.0);
+  EXPECT_GT(expected.corrected, 200);
+  EXPECT_LT(expected.corrected, 360) << "the gross errors' blocks are beyond the Cauchy curvature";
+  EXPECT_NEAR(at.cost, expected.cost, 1e-10 * expected.cost);
+  EXPECT_LT((at.hessian - expected.hessian).norm(), 1e-10 * expected.hessian.norm());
+  EXPECT_LT((at.gradient - expected.gradient).norm(), 1e-10 * expected.gradient.norm());
 }
 
 // One prediction key over two lists of parameter blocks, alternating as they are added (a
