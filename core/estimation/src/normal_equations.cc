@@ -166,7 +166,7 @@ struct Problem::NormalEquationsRange {
     }
   }
   bool AddUnit(int u) {
-    return problem.shares_prediction_[u] ? AddSharedPrediction(u)
+    return problem.SharesPrediction(u) ? AddSharedPrediction(u)
                                          : AddBlock(problem.unit_blocks_[problem.unit_start_[u]]);
   }
 
@@ -209,22 +209,9 @@ struct Problem::NormalEquationsRange {
     return true;
   }
 
-  // Block k's Jacobian rows at its free columns (in column order) into `gathered`, row-major;
-  // returns their number.
+  // Block k's Jacobian rows at its free columns into `gathered`; returns their number.
   int Gather(int k, int num_rows) {
-    const std::vector<int>& block_ids = *problem.evaluation_order_[k].second;
-    const int first = problem.sparse_entry_start_[k];
-    const int width = problem.sparse_entry_start_[k + 1] - first;
-    gathered.resize(static_cast<size_t>(num_rows) * width);
-    for (int j = 0; j < width; ++j) {
-      const SparseEntry& e = problem.sparse_entries_[first + j];
-      const int block_width =
-          static_cast<int>(problem.blocks_[block_ids[e.slot]]->params.size());
-      for (int row = 0; row < num_rows; ++row) {
-        gathered[row * width + j] = scratch.At(e.slot, row, block_width, e.index);
-      }
-    }
-    return width;
+    return problem.GatherFreeColumns(k, num_rows, scratch, &gathered);
   }
 
   const Problem& problem;

@@ -31,7 +31,6 @@ void Problem::BuildPredictionUnits() {
   // blocks starts a unit of its own (shared by the blocks after it that match it).
   std::unordered_map<const void*, int> unit_of_key;
   std::vector<const std::vector<int>*> blocks_of_unit;
-  shares_prediction_.clear();
   for (int k = 0; k < num_blocks; ++k) {
     const auto* shared = dynamic_cast<const SharedPredictionCost*>(evaluation_order_[k].first);
     const void* key = shared ? shared->prediction_key() : nullptr;
@@ -47,7 +46,6 @@ void Problem::BuildPredictionUnits() {
     }
     if (unit == static_cast<int>(unit_size.size())) {
       unit_size.push_back(0);
-      shares_prediction_.push_back(0);
       blocks_of_unit.push_back(block_ids);
     }
     ++unit_size[unit];
@@ -57,8 +55,6 @@ void Problem::BuildPredictionUnits() {
   unit_start_.assign(num_units + 1, 0);
   for (int u = 0; u < num_units; ++u) {
     unit_start_[u + 1] = unit_start_[u] + unit_size[u];
-    // One block alone is evaluated as any other (Evaluate is Predict and Compare).
-    shares_prediction_[u] = unit_size[u] > 1;
   }
   // Chunks of at least 256 blocks and at most about 64 of them (the normal equations hold an
   // n x n sum per chunk: 1.7 MB at the 456 columns of bench_scale's largest cell).
@@ -78,16 +74,7 @@ void Problem::BuildPredictionUnits() {
 
 bool Problem::PredictBlock(int k, BlockEvaluation* scratch, Pose* prediction) const {
   const auto* cost = static_cast<const SharedPredictionCost*>(evaluation_order_[k].first);
-  const std::vector<int>& block_ids = *evaluation_order_[k].second;
-  scratch->parameters.clear();
-  scratch->jacobians.resize(block_ids.size());
-  scratch->pointers.assign(block_ids.size(), nullptr);
-  for (size_t slot = 0; slot < block_ids.size(); ++slot) {
-    scratch->parameters.push_back(values(block_ids[slot]));
-    if (!scratch->asked[slot]) continue;
-    scratch->jacobians[slot].resize(3 * blocks_[block_ids[slot]]->params.size());
-    scratch->pointers[slot] = scratch->jacobians[slot].data();
-  }
+  PrepareSlots(k, 3, /*with_jacobians=*/true, scratch);  // the tangent's 3 rows, where asked
   return cost->Predict(scratch->parameters.data(), prediction, scratch->pointers.data());
 }
 
@@ -100,18 +87,9 @@ bool Problem::EvaluateSharedRows(int u, BlockEvaluation* scratch,
   Pose prediction;
   if (!PredictBlock(first, scratch, &prediction)) return false;
   // A at the unit's free columns (every block of the unit has the same), row-major 3 x width.
-  const std::vector<int>& block_ids = *evaluation_order_[first].second;
   const int entry = sparse_entry_start_[first];
-  const int width = with_jacobian ? sparse_entry_start_[first + 1] - entry : 0;
   std::vector<double>& tangent = scratch->residuals;  // free here: the rows go straight to `out`
-  tangent.resize(3 * static_cast<size_t>(width));
-  for (int j = 0; j < width; ++j) {
-    const SparseEntry& e = sparse_entries_[entry + j];
-    const int block_width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
-    for (int row = 0; row < 3; ++row) {
-      tangent[row * width + j] = scratch->At(e.slot, row, block_width, e.index);
-    }
-  }
+  const int width = with_jacobian ? GatherFreeColumns(first, 3, *scratch, &tangent) : 0;
   Eigen::Matrix3d D;
   for (int i = unit_start_[u]; i < unit_start_[u + 1]; ++i) {
     const int k = unit_blocks_[i];

@@ -366,10 +366,9 @@ void Problem::BuildSparseLayout() {
   BuildPredictionUnits();
 }
 
-bool Problem::EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch) const {
-  const auto& [cost, ids] = evaluation_order_[k];
-  const std::vector<int>& block_ids = *ids;
-  const int num_rows = cost->num_residuals();
+void Problem::PrepareSlots(int k, int num_rows, bool with_jacobians,
+                           BlockEvaluation* scratch) const {
+  const std::vector<int>& block_ids = *evaluation_order_[k].second;
   scratch->parameters.clear();
   scratch->jacobians.resize(block_ids.size());
   scratch->pointers.assign(block_ids.size(), nullptr);
@@ -381,9 +380,31 @@ bool Problem::EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch
                                     blocks_[block_ids[slot]]->params.size());
     scratch->pointers[slot] = scratch->jacobians[slot].data();
   }
+}
+
+bool Problem::EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch) const {
+  ceres::CostFunction* cost = evaluation_order_[k].first;
+  const int num_rows = cost->num_residuals();
+  PrepareSlots(k, num_rows, with_jacobians, scratch);
   scratch->residuals.resize(num_rows);
   return cost->Evaluate(scratch->parameters.data(), scratch->residuals.data(),
                         with_jacobians ? scratch->pointers.data() : nullptr);
+}
+
+int Problem::GatherFreeColumns(int k, int num_rows, const BlockEvaluation& scratch,
+                               std::vector<double>* rows) const {
+  const std::vector<int>& block_ids = *evaluation_order_[k].second;
+  const int first = sparse_entry_start_[k];
+  const int width = sparse_entry_start_[k + 1] - first;
+  rows->resize(static_cast<size_t>(num_rows) * width);
+  for (int j = 0; j < width; ++j) {
+    const SparseEntry& e = sparse_entries_[first + j];
+    const int block_width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
+    for (int row = 0; row < num_rows; ++row) {
+      (*rows)[row * width + j] = scratch.At(e.slot, row, block_width, e.index);
+    }
+  }
+  return width;
 }
 
 void Problem::AskFreeSlots(int k, BlockEvaluation* scratch) const {
@@ -432,7 +453,7 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
   tbb::parallel_for(tbb::blocked_range<int>(0, num_chunks, 1), [&](const auto& chunks) {
     BlockEvaluation scratch;
     for (int u = chunk_start_[chunks.begin()]; u != chunk_start_[chunks.end()] && valid; ++u) {
-      const bool ok = shares_prediction_[u]
+      const bool ok = SharesPrediction(u)
                           ? EvaluateSharedRows(u, &scratch, out)
                           : EvaluateBlockRows(unit_blocks_[unit_start_[u]], &scratch, out);
       if (!ok) valid = false;

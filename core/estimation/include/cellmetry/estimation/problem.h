@@ -146,6 +146,13 @@ class Problem {
   bool EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch) const;
   // Marks in scratch->asked the slots of residual block k that hold a free entry.
   void AskFreeSlots(int k, BlockEvaluation* scratch) const;
+  // Points scratch's parameters at residual block k's blocks and, with `with_jacobians`, gives
+  // each asked slot room for `num_rows` rows of its Jacobian (EvaluateBlock, PredictBlock).
+  void PrepareSlots(int k, int num_rows, bool with_jacobians, BlockEvaluation* scratch) const;
+  // The first `num_rows` rows of residual block k's Jacobian in `scratch`, at its free columns
+  // (in column order), into `rows`, row-major; returns the number of columns.
+  int GatherFreeColumns(int k, int num_rows, const BlockEvaluation& scratch,
+                        std::vector<double>* rows) const;
   // The shared prediction of residual block k (a SharedPredictionCost) into `prediction`, its
   // tangent Jacobians (3 rows) into scratch->jacobians for the slots scratch->asked marks.
   bool PredictBlock(int k, BlockEvaluation* scratch, Pose* prediction) const;
@@ -201,7 +208,8 @@ class Problem {
   void BuildPredictionUnits();
   std::vector<int> unit_blocks_;
   std::vector<int> unit_start_;  // per unit, into unit_blocks_; then the end
-  std::vector<char> shares_prediction_;  // per unit: evaluated once for its blocks
+  // A unit of more than one block is evaluated once for its blocks; one block alone as any.
+  bool SharesPrediction(int u) const { return unit_start_[u + 1] - unit_start_[u] > 1; }
   // Consecutive units in chunks of about the same number of blocks, what the evaluations split
   // among the cores (a range of units would put a static camera's world-tag units, thousands of
   // blocks, all at the end in one range): per chunk, its first unit; then the end.
