@@ -98,6 +98,19 @@ const AssembledCase& ExpAAssembled() {
   }();
   return c;
 }
+// exp_a's problem assembled (and built) at the closed-form start and let go: what every fit, each
+// cross-validation fold and the uncertain inputs' link pay before they evaluate anything.
+void BM_Assemble(benchmark::State& state) {
+  const AssembledCase& c = ExpAAssembled();
+  const Loaded& loaded = Load("configs/jobs/vsb_exp_a_geometry.yaml");
+  const WorkcellEstimate start = InitialEstimate(loaded.job.problem, loaded.recording, c.data);
+  for (auto _ : state) {
+    const auto assembled =
+        AssembleWorkcell(loaded.job.problem, loaded.recording, c.data, c.noise, start);
+    benchmark::DoNotOptimize(assembled->problem.num_free());
+  }
+}
+BENCHMARK(BM_Assemble)->Name("BM_Assemble/exp_a")->Unit(benchmark::kMillisecond);
 void BM_NormalEquations(benchmark::State& state) {
   const Problem& problem = ExpAAssembled().assembled->problem;
   NormalEquations at;
