@@ -2,6 +2,7 @@
 // parameter blocks, and one residual per measured quantity (workcell_assembly.h).
 #include "cellmetry/cell/workcell_assembly.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <unordered_map>
@@ -108,13 +109,25 @@ ResidualInfo InfoFor(const Recording& recording, int observation, ResidualInfo::
 // Each capture's forward kinematics, shared by every block that reads it (forward_memo.h): by
 // robot model and joint values. By the values, not the capture: the repeated captures of one
 // pose read the same joints (exp_a: 10 per pose), and one chain serves all of them.
-using ForwardMemos = std::map<std::pair<const RobotModel*, std::vector<double>>,
-                              std::shared_ptr<ForwardMemo>>;
+// Looked up by a capture's joints where they are (a copy of them per lookup was one allocation
+// per block); the first capture's values stand for the memo's key, so they outlive the map.
+struct JointsKey {
+  const RobotModel* model;
+  const double* q;  // model->num_joints() values
+};
+struct JointsOrder {
+  bool operator()(const JointsKey& a, const JointsKey& b) const {
+    if (a.model != b.model) return a.model < b.model;
+    return std::lexicographical_compare(a.q, a.q + a.model->num_joints(), b.q,
+                                        b.q + b.model->num_joints());
+  }
+};
+using ForwardMemos = std::map<JointsKey, std::shared_ptr<ForwardMemo>, JointsOrder>;
 
 // `q`: model->num_joints() values that outlive the memo (a capture's, for as long as the data).
 std::shared_ptr<ForwardMemo> MemoFor(const RobotModel* model, const double* q,
                                      ForwardMemos* memos) {
-  auto& memo = (*memos)[{model, std::vector<double>(q, q + model->num_joints())}];
+  auto& memo = (*memos)[JointsKey{model, q}];
   if (!memo) memo = std::make_shared<ForwardMemo>(model, q);
   return memo;
 }
@@ -337,11 +350,12 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     }
     std::vector<Compared> compared = {Compared::kPosition};
     if (spec.use_tool_rotation) compared.push_back(Compared::kRotation);
+    const Pose observed = ObservedPose(obs);
     for (Compared what : compared) {
       const bool position = what == Compared::kPosition;
       const Eigen::Vector3d& s = position ? sigma.position_mm : sigma.rotation_rad;
       std::vector<int> blocks = c.blocks;
-      auto cost = ToolCost(c, out, TargetComparison(what, ObservedPose(obs), s), &blocks);
+      auto cost = ToolCost(c, out, TargetComparison(what, observed, s), &blocks);
       out->problem.AddResidual(
           std::move(cost), blocks,
           InfoFor(recording, m.observation,
@@ -365,10 +379,11 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
     if (!poses.empty() && !poses.count(sample.pose)) continue;
     const int camera = out->camera_block.at(obs.camera);
     const TargetNoise& sigma = noise.at(obs.camera, obs.target);
+    const Pose observed = ObservedPose(obs);
     for (Compared what : {Compared::kPosition, Compared::kRotation}) {
       const bool position = what == Compared::kPosition;
       const Eigen::Vector3d& s = position ? sigma.position_mm : sigma.rotation_rad;
-      const TargetComparison comparison(what, ObservedPose(obs), s);
+      const TargetComparison comparison(what, observed, s);
       std::vector<int> blocks = {camera};
       std::unique_ptr<ceres::CostFunction> cost;
       if (!effects.empty()) {
@@ -411,6 +426,11 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
                                                     const std::set<int>& poses) {
   auto out = std::make_unique<AssembledWorkcell>();
   AddBlocks(spec, start, out.get());
+  // At most this many measurement blocks (fewer for a subset of poses).
+  const size_t per_tool = spec.use_tool_rotation ? 2 : 1;
+  const size_t world = spec.camera_model == CameraModel::kStaticCameras ? 2 : 0;
+  out->problem.ReserveResiduals(
+      static_cast<int>(per_tool * data.tools.size() + world * data.world_observations.size()));
   AddToolResiduals(spec, recording, data, noise, start, poses, out.get());
   if (spec.camera_model == CameraModel::kStaticCameras) {
     AddWorldResiduals(spec, recording, data, noise, poses, out.get());

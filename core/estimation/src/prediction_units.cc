@@ -87,7 +87,7 @@ bool Problem::EvaluateSharedRows(int u, BlockEvaluation* scratch,
   Pose prediction;
   if (!PredictBlock(first, scratch, &prediction)) return false;
   // A at the unit's free columns (every block of the unit has the same), row-major 3 x width.
-  const int entry = sparse_entry_start_[first];
+  const int entry = block_entries_[first].begin;
   std::vector<double>& tangent = scratch->residuals;  // free here: the rows go straight to `out`
   const int width = with_jacobian ? GatherFreeColumns(first, 3, *scratch, &tangent) : 0;
   Eigen::Matrix3d D;

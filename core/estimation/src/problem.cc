@@ -81,6 +81,11 @@ void Problem::SetFixed(int block, int index, bool fixed) {
   blocks_[block]->params[index].fixed = fixed;
 }
 
+void Problem::ReserveResiduals(int num_blocks) {
+  residuals_.reserve(num_blocks);
+  infos_.reserve(num_blocks);
+}
+
 void Problem::AddResidual(std::unique_ptr<ceres::CostFunction> cost, std::vector<int> blocks,
                           ResidualInfo info) {
   for (int b : blocks) blocks_[b]->used = true;
@@ -306,56 +311,55 @@ void Problem::BuildSparseLayout() {
   layout_free_column_ = free_column_;
   // Each residual block's rows hold the same columns: the free entries of its blocks, in
   // column order. Blocks over the same parameter blocks (every observation of one tool by one
-  // camera) have the same entries: worked out once per list of blocks, then copied.
+  // camera) have the same entries: worked out and stored once per list of blocks.
   struct Pattern {
-    std::vector<SparseEntry> entries;
+    EntryRange entries;  // in sparse_entries_
     int group = 0;
   };
   std::map<std::vector<int>, Pattern> patterns_of_blocks;
   ColumnPatterns patterns;
   std::vector<int> columns;
+  sparse_entries_.clear();
   auto pattern_of = [&](const std::vector<int>& block_ids) -> const Pattern& {
     auto [it, inserted] = patterns_of_blocks.try_emplace(block_ids);
     Pattern& pattern = it->second;
     if (!inserted) return pattern;
+    pattern.entries.begin = static_cast<int>(sparse_entries_.size());
     for (size_t slot = 0; slot < block_ids.size(); ++slot) {
       const auto& free_column = free_column_[block_ids[slot]];
       for (size_t i = 0; i < free_column.size(); ++i) {
         if (free_column[i] >= 0) {
-          pattern.entries.push_back(
+          sparse_entries_.push_back(
               {free_column[i], static_cast<int>(slot), static_cast<int>(i)});
         }
       }
     }
-    std::sort(pattern.entries.begin(), pattern.entries.end(),
+    pattern.entries.end = static_cast<int>(sparse_entries_.size());
+    const auto first = sparse_entries_.begin() + pattern.entries.begin;
+    std::sort(first, sparse_entries_.end(),
               [](const SparseEntry& a, const SparseEntry& b) { return a.column < b.column; });
     // Column groups: the same column list, the same group.
     columns.clear();
-    for (const SparseEntry& e : pattern.entries) columns.push_back(e.column);
+    for (auto e = first; e != sparse_entries_.end(); ++e) columns.push_back(e->column);
     pattern.group = patterns.GroupOf(columns.data(), static_cast<int>(columns.size()));
     return pattern;
   };
-  std::vector<const Pattern*> pattern_of_block(num_blocks);
-  size_t count = 0;  // every residual block's free entries: reserved once, not grown
+  block_entries_.resize(num_blocks);
+  sparse_row_start_.assign(num_residuals_ + 1, 0);
+  column_group_.assign(num_blocks, 0);
   for (int k = 0; k < num_blocks; ++k) {
     const std::vector<int>& block_ids = *evaluation_order_[k].second;
     // Blocks come in runs over the same parameter blocks: the previous one's, without a lookup.
     const bool as_previous = k > 0 && block_ids == *evaluation_order_[k - 1].second;
-    pattern_of_block[k] = as_previous ? pattern_of_block[k - 1] : &pattern_of(block_ids);
-    count += pattern_of_block[k]->entries.size();
-  }
-  sparse_entries_.clear();
-  sparse_entries_.reserve(count);
-  sparse_entry_start_.assign(num_blocks + 1, 0);
-  sparse_row_start_.assign(num_residuals_ + 1, 0);
-  column_group_.assign(num_blocks, 0);
-  for (int k = 0; k < num_blocks; ++k) {
-    const Pattern& pattern = *pattern_of_block[k];
-    sparse_entries_.insert(sparse_entries_.end(), pattern.entries.begin(),
-                           pattern.entries.end());
-    sparse_entry_start_[k + 1] = static_cast<int>(sparse_entries_.size());
-    column_group_[k] = pattern.group;
-    const int width = static_cast<int>(pattern.entries.size());
+    if (as_previous) {
+      block_entries_[k] = block_entries_[k - 1];
+      column_group_[k] = column_group_[k - 1];
+    } else {
+      const Pattern& pattern = pattern_of(block_ids);
+      block_entries_[k] = pattern.entries;
+      column_group_[k] = pattern.group;
+    }
+    const int width = block_entries_[k].end - block_entries_[k].begin;
     const int num_rows = evaluation_order_[k].first->num_residuals();
     for (int row = 0; row < num_rows; ++row) sparse_row_start_[rows_[k] + row + 1] = width;
   }
@@ -394,8 +398,8 @@ bool Problem::EvaluateBlock(int k, bool with_jacobians, BlockEvaluation* scratch
 int Problem::GatherFreeColumns(int k, int num_rows, const BlockEvaluation& scratch,
                                std::vector<double>* rows) const {
   const std::vector<int>& block_ids = *evaluation_order_[k].second;
-  const int first = sparse_entry_start_[k];
-  const int width = sparse_entry_start_[k + 1] - first;
+  const int first = block_entries_[k].begin;
+  const int width = block_entries_[k].end - first;
   rows->resize(static_cast<size_t>(num_rows) * width);
   for (int j = 0; j < width; ++j) {
     const SparseEntry& e = sparse_entries_[first + j];
@@ -409,7 +413,7 @@ int Problem::GatherFreeColumns(int k, int num_rows, const BlockEvaluation& scrat
 
 void Problem::AskFreeSlots(int k, BlockEvaluation* scratch) const {
   scratch->asked.assign(evaluation_order_[k].second->size(), 0);
-  for (int e = sparse_entry_start_[k]; e < sparse_entry_start_[k + 1]; ++e) {
+  for (int e = block_entries_[k].begin; e < block_entries_[k].end; ++e) {
     scratch->asked[sparse_entries_[e].slot] = 1;
   }
 }
@@ -424,7 +428,7 @@ bool Problem::EvaluateBlockRows(int k, BlockEvaluation* scratch, const SparseOut
   const int num_rows = static_cast<int>(scratch->residuals.size());
   for (int row = 0; row < num_rows; ++row) {
     int at = sparse_row_start_[rows_[k] + row];
-    for (int k_e = sparse_entry_start_[k]; k_e < sparse_entry_start_[k + 1]; ++k_e) {
+    for (int k_e = block_entries_[k].begin; k_e < block_entries_[k].end; ++k_e) {
       const SparseEntry& e = sparse_entries_[k_e];
       const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
       out.column_index[at] = e.column;

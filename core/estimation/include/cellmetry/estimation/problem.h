@@ -83,6 +83,9 @@ class Problem {
   const double* values(int block) const;
   void SetFixed(int block, int index, bool fixed);
 
+  // Room for `num_blocks` residual blocks in all, so adding them does not grow and copy the
+  // lists (an assembly knows its count: tens of thousands on a real recording).
+  void ReserveResiduals(int num_blocks);
   // Adds a residual block over `blocks` (ids from AddBlock). The Problem owns `cost`.
   void AddResidual(std::unique_ptr<ceres::CostFunction> cost, std::vector<int> blocks,
                    ResidualInfo info);
@@ -191,8 +194,12 @@ class Problem {
     int column, slot, index;
   };
   void BuildSparseLayout();
+  // Each pattern (list of parameter blocks) once; per residual block, its pattern's range.
   std::vector<SparseEntry> sparse_entries_;
-  std::vector<int> sparse_entry_start_;  // per residual block, into sparse_entries_; then end
+  struct EntryRange {
+    int begin = 0, end = 0;
+  };
+  std::vector<EntryRange> block_entries_;  // per residual block, into sparse_entries_
   // Residual blocks whose free columns are the same list (every observation of one tool by one
   // camera, say) share a column group: the normal equations sum each group densely.
   std::vector<int> column_group_;                 // per residual block
