@@ -167,7 +167,7 @@ struct Problem::NormalEquationsRange {
   }
   bool AddUnit(int u) {
     return problem.SharesPrediction(u) ? AddSharedPrediction(u)
-                                         : AddBlock(problem.unit_blocks_[problem.unit_start_[u]]);
+                                       : AddBlock(problem.unit_blocks_[problem.unit_start_[u]]);
   }
 
   // Residual block k evaluated and added with its loss's weights.
