@@ -35,6 +35,24 @@ std::array<double, 3> CentralDifference(const ceres::CostFunction& cost,
   return numeric;
 }
 
+// d tangent / d *value of a shared prediction (shared_prediction_cost.h) by central
+// differences: the position's, or the left rotation Log(R(+) R(-)^T) / 2h for a rotation.
+std::array<double, 3> TangentDifference(const SharedPredictionCost& cost, Compared compared,
+                                        const std::vector<const double*>& params, double* value) {
+  Pose plus, minus;
+  const double saved = *value;
+  *value = saved + kStep;
+  cost.Predict(params.data(), &plus, nullptr);
+  *value = saved - kStep;
+  cost.Predict(params.data(), &minus, nullptr);
+  *value = saved;
+  Eigen::Vector3d d = plus.t - minus.t;
+  if (compared == Compared::kRotation) d = RvecFromRotation(plus.R * minus.R.transpose());
+  std::array<double, 3> numeric;
+  for (int i = 0; i < 3; ++i) numeric[i] = d[i] / (2 * kStep);
+  return numeric;
+}
+
 Eigen::Vector3d RandomVector(std::mt19937& rng, double scale) {
   std::uniform_real_distribution<double> u(-scale, scale);
   return Eigen::Vector3d(u(rng), u(rng), u(rng));
@@ -144,7 +162,9 @@ INSTANTIATE_TEST_SUITE_P(
 // target joint effects (compliance, backlash, gear error) and a flange effect (thermal growth),
 // all off zero; each
 // block's Jacobian against central differences and against the Jets over the whole chain it
-// replaces (EffectChainResidual, WorldEffectResidual), with the residuals themselves.
+// replaces (EffectChainResidual, WorldEffectResidual), with the residuals themselves; and split
+// as a shared prediction (Predict's tangent Jacobian against central differences, Compare's
+// D times it against the block's Jacobian).
 struct EffectChainCase {
   bool robot;          // a carried target (else the world target)
   bool static_camera;  // a camera block (else the measured per-frame camera)
@@ -277,6 +297,41 @@ TEST_P(EffectChainCostTest, JacobianMatchesCentralDifferencesAndTheJets) {
     double r_plain[3];
     ASSERT_TRUE(cost.Evaluate(params.data(), r_plain, nullptr));
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(r_plain[i], r[i], 1e-12 * (1 + std::abs(r[i])));
+
+    // The same split as a shared prediction: Compare at Predict's measured pose gives r, and
+    // D A the Jacobian; A itself against central differences of the measured pose.
+    std::vector<std::vector<double>> tangent(values.size());
+    std::vector<double*> tangent_ptr;
+    for (size_t b = 0; b < values.size(); ++b) {
+      tangent[b].resize(3 * values[b].size());
+      tangent_ptr.push_back(tangent[b].data());
+    }
+    Pose prediction, plain_prediction;
+    ASSERT_TRUE(cost.Predict(params.data(), &prediction, tangent_ptr.data()));
+    ASSERT_TRUE(cost.Predict(params.data(), &plain_prediction, nullptr));
+    EXPECT_LT((prediction.t - plain_prediction.t).norm(), 1e-9);
+    EXPECT_LT((prediction.R - plain_prediction.R).norm(), 1e-12);
+    double r_shared[3];
+    Eigen::Matrix3d D;
+    cost.Compare(prediction, r_shared, &D);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r_shared[i], r[i], 1e-9 * (1 + std::abs(r[i])));
+
+    for (size_t b = 0; b < values.size(); ++b) {
+      const int width = static_cast<int>(values[b].size());
+      for (int j = 0; j < width; ++j) {
+        const std::array<double, 3> tangents =
+            TangentDifference(cost, c.compared, params, &values[b][j]);
+        const Eigen::Vector3d A(tangent[b][j], tangent[b][width + j], tangent[b][2 * width + j]);
+        const Eigen::Vector3d DA = D * A;
+        for (int i = 0; i < 3; ++i) {
+          EXPECT_NEAR(A[i], tangents[i], 1e-6 * std::max(1.0, std::abs(tangents[i])))
+              << "trial " << trial << " block " << b << " parameter " << j << " tangent " << i;
+          const double a = analytic[b][i * width + j];
+          EXPECT_NEAR(DA[i], a, 1e-9 * std::max(1.0, std::abs(a)))
+              << "trial " << trial << " block " << b << " parameter " << j << " row " << i;
+        }
+      }
+    }
 
     for (size_t b = 0; b < values.size(); ++b) {
       const int width = static_cast<int>(values[b].size());

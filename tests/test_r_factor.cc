@@ -125,7 +125,12 @@ TEST(SparsePath, EvaluatesTheSameJacobianAsCeres) {
   SparseJacobian sparse;
   ASSERT_TRUE(problem.Evaluate(nullptr, &r_dense, &dense, false));
   ASSERT_TRUE(problem.EvaluateSparse(&r_sparse, &sparse));
-  EXPECT_EQ((r_sparse - r_dense).cwiseAbs().maxCoeff(), 0.0);
+  // The job's effect costs share their predictions (effect_chain_cost.h): the sparse path
+  // compares each capture with its pose's measured prediction (Compare, D A), Ceres evaluates
+  // each block through its own Jets; the same numbers but for rounding.
+  // The ten captures of a pose share theirs: 22,500 blocks in about 2,250 predictions.
+  EXPECT_LT(problem.num_predictions(), problem.residual_rows().size() / 8);
+  EXPECT_LT((r_sparse - r_dense).cwiseAbs().maxCoeff(), 1e-13 * r_dense.cwiseAbs().maxCoeff());
   EXPECT_LT((Eigen::MatrixXd(sparse) - dense).cwiseAbs().maxCoeff(),
             1e-14 * dense.cwiseAbs().maxCoeff());
 }

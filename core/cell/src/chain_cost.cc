@@ -111,16 +111,7 @@ bool ChainCost::Predict(double const* const* parameters, Pose* prediction,
 
 void ChainCost::Compare(const Pose& prediction, double* residual,
                         Eigen::Matrix3d* d_residual) const {
-  const Eigen::Vector3d& inv_sigma = comparison_.inv_sigma();
-  Eigen::Map<Eigen::Vector3d> r(residual);
-  if (comparison_.compared() == Compared::kPosition) {
-    r = (prediction.t - comparison_.measured().t).cwiseProduct(inv_sigma);
-    if (d_residual) *d_residual = inv_sigma.asDiagonal();
-    return;
-  }
-  const Eigen::Vector3d error = RotationError<double>(prediction.R, comparison_.measured().R);
-  r = error.cwiseProduct(inv_sigma);
-  if (d_residual) *d_residual = inv_sigma.asDiagonal() * InverseLeftJacobian(error);
+  comparison_.CompareLinearized(prediction, residual, d_residual);
 }
 
 bool ChainCost::Evaluate(double const* const* parameters, double* residuals,

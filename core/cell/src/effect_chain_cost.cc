@@ -2,6 +2,8 @@
 // alone, closed-form motions of the prediction for frames and model.
 #include "effect_chain_cost.h"
 
+#include <stdexcept>
+
 #include "cellmetry/basics/so3_jacobians.h"
 #include "cellmetry/model/effect_chain.h"
 #include "frame_cache.h"
@@ -58,11 +60,15 @@ EffectChainCost::EffectChainCost(TargetComparison comparison, FrameRefs refs,
                                  bool static_camera, const Pose& T_cam_world_measured,
                                  std::vector<const Effect*> effects,
                                  const std::vector<int>& effect_sizes,
-                                 std::shared_ptr<ForwardMemo> forward)
+                                 std::shared_ptr<ForwardMemo> forward,
+                                 const EffectChainCost* same_as)
     : comparison_(comparison), refs_(refs), model_(model), context_(std::move(context)),
       static_camera_(static_camera), T_world_cam_fixed_(T_cam_world_measured.inverse()),
-      effects_(std::move(effects)), effect_sizes_(effect_sizes), forward_(std::move(forward)) {
-  set_num_residuals(3);
+      effects_(std::move(effects)), effect_sizes_(effect_sizes), forward_(std::move(forward)),
+      key_(same_as ? same_as->key_ : this) {
+  if (same_as && same_as->comparison_.compared() != comparison_.compared()) {
+    throw std::logic_error("EffectChainCost: a position and a rotation cannot share a prediction");
+  }
   auto* sizes = mutable_parameter_block_sizes();
   if (model_) sizes->insert(sizes->end(), {6, 6});
   if (static_camera_) sizes->push_back(6);
@@ -123,8 +129,8 @@ bool EffectChainCost::FlangeOfModel(const double* model_params, double const* co
   return true;
 }
 
-bool EffectChainCost::Predict(double const* const* parameters, bool with_twists,
-                              bool with_jacobians, bool effect_twists, Chain* c) const {
+bool EffectChainCost::PredictChain(double const* const* parameters, bool with_twists,
+                                   bool with_jacobians, bool effect_twists, Chain* c) const {
   int k = 0;
   c->base = model_ ? parameters[k++] : nullptr;
   c->tool = model_ ? parameters[k++] : nullptr;
@@ -160,8 +166,23 @@ bool EffectChainCost::Predict(double const* const* parameters, bool with_twists,
   return true;
 }
 
+void EffectChainCost::LastStage(const Transform<Jet>& moved, Output output,
+                                const Pose& measured, Jet* out) const {
+  if (output == Output::kResidual) {
+    comparison_.Compare(moved, out);
+  } else if (comparison_.compared() == Compared::kPosition) {
+    for (int i = 0; i < 3; ++i) out[i] = moved.t[i];
+  } else {  // moved.R = Exp(d) measured.R to first order: [d]x = moved.R measured.R^T - I
+    Matrix3<Jet> turn = moved.R * measured.R.transpose().cast<Jet>();
+    out[0] = 0.5 * (turn(2, 1) - turn(1, 2));
+    out[1] = 0.5 * (turn(0, 2) - turn(2, 0));
+    out[2] = 0.5 * (turn(1, 0) - turn(0, 1));
+  }
+}
+
 void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effect_params,
-                                        bool effects_asked, double* residuals,
+                                        bool effects_asked, Output output, double* values,
+                                        Pose* measured,
                                         Eigen::Matrix<double, 3, Eigen::Dynamic>* H) const {
   // Directions: s (3), w (3), then the measurement effects' parameters where asked for.
   thread_local EffectParameterJets effect_jets;  // an evaluation allocates nothing after the first
@@ -169,19 +190,27 @@ void EffectChainCost::MeasureAndCompare(const Pose& P, double const* const* effe
   const int directions = effects_asked ? effect_jets.end_direction() : 6;
   thread_local Eigen::Matrix<double, 3, Eigen::Dynamic> by_direction;
   by_direction.resize(3, directions);
+  Pose at;  // the measured pose (the Jets' values), what the tangent is taken about
   for (int first = 0; first < directions; first += kJetStride) {
     effect_jets.Seed(first);
     Transform<Jet> moved = FirstOrderMotion(P, first);
     ApplyMeasurement(effects_, effect_jets.pointers(), context_, &moved);
+    if (first == 0) {
+      for (int i = 0; i < 3; ++i) {
+        at.t[i] = moved.t[i].a;
+        for (int j = 0; j < 3; ++j) at.R(i, j) = moved.R(i, j).a;
+      }
+    }
     Jet r[3];
-    comparison_.Compare(moved, r);
+    LastStage(moved, output, at, r);
     for (int i = 0; i < 3; ++i) {
-      residuals[i] = r[i].a;
+      values[i] = r[i].a;
       for (int d = 0; d < kJetStride && first + d < directions; ++d) {
         by_direction(i, first + d) = r[i].v[d];
       }
     }
   }
+  if (measured) *measured = at;
   // H: the motion's six columns, then one per effect parameter (zero for the other stages').
   H->setZero(3, 6 + (effects_asked ? num_effect_params_ : 0));
   H->leftCols<6>() = by_direction.leftCols<6>();
@@ -223,6 +252,22 @@ void EffectChainCost::StoreFrameJacobians(const Chain& c,
 
 bool EffectChainCost::Evaluate(double const* const* parameters, double* residuals,
                                double** jacobians) const {
+  return Linearize(parameters, Output::kResidual, residuals, nullptr, jacobians);
+}
+
+bool EffectChainCost::Predict(double const* const* parameters, Pose* prediction,
+                              double** tangent_jacobians) const {
+  double tangent[3];
+  return Linearize(parameters, Output::kTangent, tangent, prediction, tangent_jacobians);
+}
+
+void EffectChainCost::Compare(const Pose& prediction, double* residual,
+                              Eigen::Matrix3d* d_residual) const {
+  comparison_.CompareLinearized(prediction, residual, d_residual);
+}
+
+bool EffectChainCost::Linearize(double const* const* parameters, Output output, double* values,
+                                Pose* measured, double** jacobians) const {
   const int model_slot = first_effect_ - 1;
   const bool model_asked = model_ && jacobians && jacobians[model_slot];
   bool effects_asked = false;
@@ -230,16 +275,19 @@ bool EffectChainCost::Evaluate(double const* const* parameters, double* residual
     effects_asked = effects_asked || jacobians[first_effect_ + e] != nullptr;
   }
   thread_local Chain c;  // its twists' storage is reused
-  if (!Predict(parameters, model_asked, jacobians != nullptr, effects_asked, &c)) return false;
+  if (!PredictChain(parameters, model_asked, jacobians != nullptr, effects_asked, &c)) {
+    return false;
+  }
   double const* const* effect_params = parameters + first_effect_;
   if (jacobians == nullptr) {
-    Transform<double> measured = c.P;
-    ApplyMeasurement(effects_, effect_params, context_, &measured);
-    comparison_.Compare(measured, residuals);
+    Transform<double> moved = c.P;
+    ApplyMeasurement(effects_, effect_params, context_, &moved);
+    if (output == Output::kResidual) comparison_.Compare(moved, values);
+    if (measured) *measured = moved;
     return true;
   }
   thread_local Eigen::Matrix<double, 3, Eigen::Dynamic> H;
-  MeasureAndCompare(c.P, effect_params, effects_asked, residuals, &H);
+  MeasureAndCompare(c.P, effect_params, effects_asked, output, values, measured, &H);
   StoreFrameJacobians(c, H.leftCols<6>(), jacobians);
   if (!effects_asked) return true;
   // The joint and flange effects act through the flange's motion; the measurement effects

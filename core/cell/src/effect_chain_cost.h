@@ -21,13 +21,20 @@
 // input-uncertainty linearization of exp_a spent most of its time there, and the physics
 // finder's refits with a joint effect three quarters of theirs. Checked against central
 // differences and those Jets in tests/test_chain_cost.cc.
+//
+// Blocks that predict the same measured pose (the repeated captures of one robot pose by one
+// static camera; every world-tag observation of one camera) share it as shared_prediction_cost.h
+// says: Predict is the chain and the measurement effects, whose tangent (the measured position,
+// or a left rotation of the measured rotation in the camera) the same Jets carry instead of the
+// comparison; Compare is TargetComparison's. The Problem then evaluates the chain once for all
+// of them (exp_a: once per ten captures). Assembly shares only where the effects read nothing
+// that differs from capture to capture (time, temperature, payload, approach).
 #pragma once
-
-#include <ceres/cost_function.h>
 
 #include <memory>
 #include <vector>
 
+#include "cellmetry/estimation/shared_prediction_cost.h"
 #include "cellmetry/model/effect.h"
 #include "effect_stage_linearization.h"
 #include "forward_memo.h"
@@ -35,29 +42,48 @@
 
 namespace cellmetry {
 
-class EffectChainCost : public ceres::CostFunction {
+class EffectChainCost final : public SharedPredictionCost {
  public:
   // `model` not null: a carried target, blocks base, tool, [camera,] model, one per effect
   // (EffectChainResidual's). `model` null: the world target seen by a static camera, blocks
   // camera, one per effect (WorldEffectResidual's). `effect_sizes`: each effect's parameter
   // count. `context` points into the sample's SampleFacts, which must outlive the cost.
   // `forward`: the capture's forward kinematics shared with its other blocks (forward_memo.h;
-  // null: each evaluation runs the chain itself).
+  // null: each evaluation runs the chain itself). `same_as`: an earlier EffectChainCost that
+  // predicts the same measured pose (the same frames, joints, camera, target, effects and
+  // compared quantity, and a context that differs in nothing the effects read), whose key this
+  // one takes; it must outlive this one's use in a Problem.
   EffectChainCost(TargetComparison comparison, FrameRefs refs, const RobotModel* model,
                   EffectContext context, bool static_camera, const Pose& T_cam_world_measured,
                   std::vector<const Effect*> effects, const std::vector<int>& effect_sizes,
-                  std::shared_ptr<ForwardMemo> forward = nullptr);
+                  std::shared_ptr<ForwardMemo> forward = nullptr,
+                  const EffectChainCost* same_as = nullptr);
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
+  const void* prediction_key() const override { return key_; }
+  // The measured pose (after the measurement effects); its tangent is the position (mm, camera
+  // axes) or a left rotation about the camera axes (rad), as compared.
+  bool Predict(double const* const* parameters, Pose* prediction,
+               double** tangent_jacobians) const override;
+  void Compare(const Pose& prediction, double* residual,
+               Eigen::Matrix3d* d_residual) const override;
+
  private:
+  // What the last Jet stage yields: the residual (Evaluate) or the measured pose's tangent
+  // (Predict).
+  enum class Output { kResidual, kTangent };
+  // Evaluate and Predict: `values` (3) and, per asked block, d values / d block; with kTangent
+  // also the measured pose.
+  bool Linearize(double const* const* parameters, Output output, double* values,
+                 Pose* measured, double** jacobians) const;
   // The prediction P and what its motion (s, w) does per frame, model and effect parameter.
   struct Chain;
   // `with_jacobians`: the frames' left Jacobians too (StoreFrameJacobians); `effect_twists`:
   // the flange's motion per joint and flange effect parameter.
-  bool Predict(double const* const* parameters, bool with_twists, bool with_jacobians,
-               bool effect_twists, Chain* chain) const;
+  bool PredictChain(double const* const* parameters, bool with_twists, bool with_jacobians,
+                    bool effect_twists, Chain* chain) const;
   // T_base_flange through the joint stage, the model and the flange stage; with `with_twists`
   // the model's flange twists after the flange stage, with `effect_twists` the effects'.
   bool FlangeOfModel(const double* model_params, double const* const* effect_params,
@@ -65,8 +91,13 @@ class EffectChainCost : public ceres::CostFunction {
   // d(s, w of P) / d(flange twist in the base frame).
   static Eigen::Matrix<double, 6, 6> FlangeToCamera(const Chain& chain);
   // r and dr/d(s, w, effect parameters) at P; the effects' directions only where asked for.
+  // With kTangent the measured pose's tangent (and the pose) instead of r.
   void MeasureAndCompare(const Pose& P, double const* const* effect_params, bool effects_asked,
-                         double* residuals, Eigen::Matrix<double, 3, Eigen::Dynamic>* H) const;
+                         Output output, double* values, Pose* measured,
+                         Eigen::Matrix<double, 3, Eigen::Dynamic>* H) const;
+  // The last Jet stage: r, or the tangent of `moved` about `measured` (its values).
+  void LastStage(const Transform<Jet>& moved, Output output, const Pose& measured,
+                 Jet* out) const;
   void StoreFrameJacobians(const Chain& chain, const Eigen::Matrix<double, 3, 6>& H_motion,
                            double** jacobians) const;
 
@@ -82,6 +113,7 @@ class EffectChainCost : public ceres::CostFunction {
   int num_effect_params_ = 0;
   bool joint_effects_ = false, flange_effects_ = false;  // a carried target's chain has them
   std::shared_ptr<ForwardMemo> forward_;
+  const void* key_;  // this cost, or the one it predicts the same as
 };
 
 }  // namespace cellmetry

@@ -132,26 +132,43 @@ std::shared_ptr<ForwardMemo> MemoFor(const RobotModel* model, const double* q,
   return memo;
 }
 
-// The first ChainCost of each prediction, for the later ones to name (chain_cost.h): by the
-// forward-kinematics memo (the joints; null for the world target), the frame refs (which stand
-// for the blocks) and the compared quantity. Per memo a short list: its pose's cameras and
-// quantities (a map over every block was a third of the factory cell's assembly).
+// The first cost of each prediction, for the later ones to name (chain_cost.h,
+// effect_chain_cost.h): by the forward-kinematics memo (the joints; null for the world target),
+// the frame refs (which stand for the blocks), the compared quantity and, where measurement
+// effects act, the measured target. Per memo a short list: its pose's cameras and quantities (a
+// map over every block was a third of the factory cell's assembly).
+template <typename Cost>
 struct FirstCost {
   const FrameRefs* refs;
   Compared compared;
-  const ChainCost* cost;
+  std::string target;
+  const Cost* cost;
 };
-using FirstCosts = std::unordered_map<const ForwardMemo*, std::vector<FirstCost>>;
+template <typename Cost>
+using FirstCosts = std::unordered_map<const ForwardMemo*, std::vector<FirstCost<Cost>>>;
 
 // The first cost of this prediction (null, to be set by the caller, when there is none yet).
-const ChainCost*& FirstOf(const ForwardMemo* memo, const FrameRefs* refs, Compared compared,
-                          FirstCosts* firsts) {
-  std::vector<FirstCost>& costs = (*firsts)[memo];
-  for (FirstCost& first : costs) {
-    if (first.refs == refs && first.compared == compared) return first.cost;
+template <typename Cost>
+const Cost*& FirstOf(const ForwardMemo* memo, const FrameRefs* refs, Compared compared,
+                     const std::string& target, FirstCosts<Cost>* firsts) {
+  std::vector<FirstCost<Cost>>& costs = (*firsts)[memo];
+  for (FirstCost<Cost>& first : costs) {
+    if (first.refs == refs && first.compared == compared && first.target == target) {
+      return first.cost;
+    }
   }
-  costs.push_back({refs, compared, nullptr});
+  costs.push_back({refs, compared, target, nullptr});
   return costs.back().cost;
+}
+
+// Whether blocks with these effects predict the same from the same joints, frames, camera and
+// target: none of them reads what differs from capture to capture.
+bool SharedByCaptures(const std::vector<const Effect*>& effects) {
+  for (const Effect* effect : effects) {
+    const EffectNeeds needs = effect->needs();
+    if (needs.time || needs.temperature || needs.payload || needs.approach) return false;
+  }
+  return true;
 }
 
 // Everything one carried-target measurement's residuals need.
@@ -167,7 +184,8 @@ struct ToolContext {
   bool model_free = false;
   ForwardMemos* memos = nullptr;
   std::shared_ptr<const FrameRefs> shared_refs;  // `refs`, shared by the blocks of its frames
-  FirstCosts* first_costs = nullptr;
+  FirstCosts<ChainCost>* first_costs = nullptr;
+  FirstCosts<EffectChainCost>* first_effect_costs = nullptr;
 };
 
 // One FrameRefs per combination of frame blocks (ChainCost's shared constructor): by block ids.
@@ -260,10 +278,18 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
     blocks->push_back(out->model_block[c.m.robot]);
     blocks->insert(blocks->end(), effect_blocks.begin(), effect_blocks.end());
     auto forward = MemoFor(robot.model.get(), context.q, c.memos);
-    return std::make_unique<EffectChainCost>(comparison, c.refs, robot.model.get(), context,
-                                             c.static_camera, c.m.T_cam_world, effects,
-                                             BlockSizes(out->problem, effect_blocks),
-                                             std::move(forward));
+    // A moving camera's measured pose is a factor of the prediction: those are not shared.
+    const EffectChainCost* none = nullptr;
+    const EffectChainCost*& first =
+        c.static_camera && SharedByCaptures(effects)
+            ? FirstOf(forward.get(), c.shared_refs.get(), comparison.compared(), obs.target,
+                      c.first_effect_costs)
+            : none;
+    auto cost = std::make_unique<EffectChainCost>(
+        comparison, c.refs, robot.model.get(), context, c.static_camera, c.m.T_cam_world, effects,
+        BlockSizes(out->problem, effect_blocks), std::move(forward), first);
+    if (first == nullptr) first = cost.get();
+    return cost;
   }
   if (c.model_free) {
     *blocks = JetBlocks(c, *out);
@@ -285,7 +311,7 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
                                        c.m.T_cam_world);
   }
   const ChainCost*& first =
-      FirstOf(memo.get(), c.shared_refs.get(), comparison.compared(), c.first_costs);
+      FirstOf(memo.get(), c.shared_refs.get(), comparison.compared(), "", c.first_costs);
   auto cost = std::make_unique<ChainCost>(comparison, c.shared_refs, chain, T_base_flange,
                                           c.m.T_cam_world, first);
   if (first == nullptr) first = cost.get();
@@ -314,7 +340,8 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
   const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
   ForwardMemos memos;
   SharedRefs shared_refs;
-  FirstCosts first_costs;
+  FirstCosts<ChainCost> first_costs;
+  FirstCosts<EffectChainCost> first_effect_costs;
   for (const ToolMeasurement& m : data.tools) {
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
@@ -324,6 +351,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     c.model_free = ModelFree(*out, m.robot);
     c.memos = &memos;
     c.first_costs = &first_costs;
+    c.first_effect_costs = &first_effect_costs;
     c.blocks = {out->base_block[m.robot], out->tool_block[m.robot][m.tool]};
     c.refs.world_base = out->R_ref.at(c.blocks[0]);
     if (BlockHeld(*out, c.blocks[0])) {
@@ -372,7 +400,9 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
   std::vector<int> effect_blocks;
   ChainEffects(spec, *out, "", &effects, &effect_blocks);
   SharedRefs shared_refs;
-  FirstCosts first_costs;
+  FirstCosts<ChainCost> first_costs;
+  FirstCosts<EffectChainCost> first_effect_costs;
+  const bool effects_shared = SharedByCaptures(effects);
   for (int index : data.world_observations) {
     const Observation& obs = recording.observations[index];
     const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
@@ -393,16 +423,26 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
         blocks.insert(blocks.end(), effect_blocks.begin(), effect_blocks.end());
         FrameRefs refs;
         refs.world_cam = out->R_ref.at(camera);
-        cost = std::make_unique<EffectChainCost>(comparison, refs, /*model=*/nullptr, context,
-                                                 /*static_camera=*/true, Pose::Identity(),
-                                                 effects, BlockSizes(out->problem, effect_blocks));
+        const std::shared_ptr<const FrameRefs> camera_refs = Shared({camera}, refs, &shared_refs);
+        // Every observation of this world tag by this camera predicts the same measured pose.
+        const EffectChainCost* none = nullptr;
+        const EffectChainCost*& first =
+            effects_shared
+                ? FirstOf(nullptr, camera_refs.get(), what, obs.target, &first_effect_costs)
+                : none;
+        auto effect_cost = std::make_unique<EffectChainCost>(
+            comparison, refs, /*model=*/nullptr, context, /*static_camera=*/true,
+            Pose::Identity(), effects, BlockSizes(out->problem, effect_blocks),
+            /*forward=*/nullptr, first);
+        if (first == nullptr) first = effect_cost.get();
+        cost = std::move(effect_cost);
       } else {
         FrameRefs refs;
         refs.world_cam = out->R_ref.at(camera);
         const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
         const std::shared_ptr<const FrameRefs> camera_refs = Shared({camera}, refs, &shared_refs);
         // Every world-tag observation of this camera predicts the same: the world in it.
-        const ChainCost*& first = FirstOf(nullptr, camera_refs.get(), what, &first_costs);
+        const ChainCost*& first = FirstOf(nullptr, camera_refs.get(), what, "", &first_costs);
         auto chain_cost = std::make_unique<ChainCost>(comparison, camera_refs, camera_only,
                                                       Pose::Identity(), Pose::Identity(), first);
         if (first == nullptr) first = chain_cost.get();

@@ -14,6 +14,7 @@
 
 #include <optional>
 
+#include "cellmetry/basics/so3_jacobians.h"
 #include "cellmetry/model/frame_block.h"
 #include "cellmetry/model/robot_model.h"
 
@@ -46,6 +47,22 @@ class TargetComparison {
       error = RotationError<T>(predicted.R, measured_.R.cast<T>());
     }
     for (int i = 0; i < 3; ++i) residual[i] = error[i] * T(inv_sigma_[i]);
+  }
+
+  // The residual at `predicted` and, when not null, its derivative by the prediction's tangent
+  // (shared_prediction_cost.h): the position's coordinates, or a left rotation of the prediction
+  // Exp(d) R about the camera axes, whose rotation error moves by J_l^-1(error) d.
+  void CompareLinearized(const Pose& predicted, double* residual,
+                         Eigen::Matrix3d* d_residual) const {
+    Eigen::Map<Eigen::Vector3d> r(residual);
+    if (compared_ == Compared::kPosition) {
+      r = (predicted.t - measured_.t).cwiseProduct(inv_sigma_);
+      if (d_residual) *d_residual = inv_sigma_.asDiagonal();
+      return;
+    }
+    const Eigen::Vector3d error = RotationError<double>(predicted.R, measured_.R);
+    r = error.cwiseProduct(inv_sigma_);
+    if (d_residual) *d_residual = inv_sigma_.asDiagonal() * InverseLeftJacobian(error);
   }
 
  private:

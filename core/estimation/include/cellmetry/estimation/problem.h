@@ -110,6 +110,9 @@ class Problem {
   const std::vector<ResidualInfo>& residual_infos() const { return infos_; }
   // First row of each residual block in Evaluate()'s output.
   const std::vector<int>& residual_rows() const { return rows_; }
+  // Predictions the normal equations and the sparse Jacobian evaluate after Build(): one per
+  // unit of blocks sharing one (shared_prediction_cost.h), one per other block.
+  int num_predictions() const { return static_cast<int>(unit_start_.size()) - 1; }
 
   Eigen::VectorXd FreeValues() const;
   void SetFreeValues(const Eigen::VectorXd& x);
