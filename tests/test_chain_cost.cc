@@ -85,6 +85,27 @@ TEST(So3Jacobians, LeftJacobianMatchesCentralDifferences) {
   }
 }
 
+// The fused form is the separate ones, at every angle from the series' range to beyond 2.5 rad
+// (where it hands over to them), about random axes and from random reference rotations.
+TEST(So3Jacobians, RotationErrorAndInverseJacobianAreTheSeparateForms) {
+  std::mt19937 rng(5);
+  for (double angle : {0.0, 1e-9, 3e-5, 1e-4, 2e-4, 1e-2, 0.3, 1.5, 2.49, 2.51, 3.1}) {
+    for (int trial = 0; trial < 5; ++trial) {
+      const Eigen::Vector3d phi = angle * RandomVector(rng, 1.0).normalized();
+      const Eigen::Matrix3d R_b = RandomPose(rng).R;
+      const Eigen::Matrix3d R_a = RotationFromRvec(phi.data()) * R_b;
+      Eigen::Vector3d fused;
+      Eigen::Matrix3d fused_inverse;
+      RotationErrorAndInverseJacobian(R_a, R_b, &fused, &fused_inverse);
+      const Eigen::Vector3d separate = RotationError<double>(R_a, R_b);
+      EXPECT_LT((fused - separate).norm(), 1e-13 * std::max(1.0, angle)) << "angle " << angle;
+      EXPECT_LT((fused - phi).norm(), 1e-12 * std::max(1.0, angle)) << "angle " << angle;
+      EXPECT_LT((fused_inverse - InverseLeftJacobian(separate)).norm(), 1e-11)
+          << "angle " << angle;
+    }
+  }
+}
+
 struct ChainCase {
   ChainBlocks blocks;
   Compared compared;

@@ -60,9 +60,15 @@ class TargetComparison {
       if (d_residual) *d_residual = inv_sigma_.asDiagonal();
       return;
     }
-    const Eigen::Vector3d error = RotationError<double>(predicted.R, measured_.R);
+    if (d_residual == nullptr) {
+      r = RotationError<double>(predicted.R, measured_.R).cwiseProduct(inv_sigma_);
+      return;
+    }
+    Eigen::Vector3d error;
+    Eigen::Matrix3d inverse_jacobian;
+    RotationErrorAndInverseJacobian(predicted.R, measured_.R, &error, &inverse_jacobian);
     r = error.cwiseProduct(inv_sigma_);
-    if (d_residual) *d_residual = inv_sigma_.asDiagonal() * InverseLeftJacobian(error);
+    *d_residual = inv_sigma_.asDiagonal() * inverse_jacobian;
   }
 
  private:
