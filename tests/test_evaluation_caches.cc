@@ -128,8 +128,11 @@ TEST(ForwardMemo, EffectChainCostGivesTheSameBitsWithAndWithout) {
   auto memo = std::make_shared<ForwardMemo>(ur3.get(), q.data());
   for (Compared compared : {Compared::kPosition, Compared::kRotation}) {
     const TargetComparison comparison(compared, measured, Eigen::Vector3d(0.5, 0.7, 2.0));
-    const EffectChainCost shared(comparison, refs, ur3.get(), context, true, Pose::Identity(),
-                                 {}, {}, memo);
+    const EffectChainCost shared(comparison, std::make_shared<const FrameRefs>(refs), ur3.get(),
+                                 context, true, Pose::Identity(),
+                                 std::make_shared<const ChainEffectList>(
+                                     std::vector<const Effect*>{}, std::vector<int>{}),
+                                 memo);
     const EffectChainCost alone(comparison, refs, ur3.get(), context, true, Pose::Identity(),
                                 {}, {});
     for (int trial = 0; trial < 6; ++trial) {

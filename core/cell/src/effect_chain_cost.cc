@@ -55,30 +55,47 @@ Eigen::Matrix<double, 6, 6> EffectChainCost::FlangeToCamera(const Chain& c) {
   return to_camera;
 }
 
-EffectChainCost::EffectChainCost(TargetComparison comparison, FrameRefs refs,
-                                 const RobotModel* model, EffectContext context,
-                                 bool static_camera, const Pose& T_cam_world_measured,
-                                 std::vector<const Effect*> effects,
-                                 const std::vector<int>& effect_sizes,
+ChainEffectList::ChainEffectList(std::vector<const Effect*> effects_in, std::vector<int> sizes_in)
+    : effects(std::move(effects_in)), sizes(std::move(sizes_in)) {
+  for (int size : sizes) num_params += size;
+}
+
+EffectChainCost::EffectChainCost(TargetComparison comparison,
+                                 std::shared_ptr<const FrameRefs> refs, const RobotModel* model,
+                                 EffectContext context, bool static_camera,
+                                 const Pose& T_cam_world_measured,
+                                 std::shared_ptr<const ChainEffectList> effects,
                                  std::shared_ptr<ForwardMemo> forward,
                                  const EffectChainCost* same_as)
-    : comparison_(comparison), refs_(refs), model_(model), context_(std::move(context)),
-      static_camera_(static_camera), T_world_cam_fixed_(T_cam_world_measured.inverse()),
-      effects_(std::move(effects)), effect_sizes_(effect_sizes), forward_(std::move(forward)),
+    : comparison_(comparison), refs_(std::move(refs)), model_(model),
+      context_(std::move(context)), static_camera_(static_camera),
+      T_world_cam_fixed_(T_cam_world_measured.inverse()), list_(std::move(effects)),
+      effects_(list_->effects), effect_sizes_(list_->sizes), forward_(std::move(forward)),
       key_(same_as ? same_as->key_ : this) {
   if (same_as && same_as->comparison_.compared() != comparison_.compared()) {
     throw std::logic_error("EffectChainCost: a position and a rotation cannot share a prediction");
   }
+  // Frames and model, then the effects (one allocation per cost).
+  const int num_frames = (model_ ? 2 : 0) + (static_camera_ ? 1 : 0);
+  first_effect_ = num_frames + (model_ ? 1 : 0);
   auto* sizes = mutable_parameter_block_sizes();
-  if (model_) sizes->insert(sizes->end(), {6, 6});
-  if (static_camera_) sizes->push_back(6);
+  sizes->reserve(static_cast<size_t>(first_effect_) + effect_sizes_.size());
+  sizes->assign(static_cast<size_t>(num_frames), 6);
   if (model_) sizes->push_back(static_cast<int>(model_->parameters().size()));
-  first_effect_ = static_cast<int>(sizes->size());
   sizes->insert(sizes->end(), effect_sizes_.begin(), effect_sizes_.end());
-  for (int size : effect_sizes_) num_effect_params_ += size;
+  num_effect_params_ = list_->num_params;
   joint_effects_ = model_ && AnyEffectAt(effects_, EffectStage::kJoint);
   flange_effects_ = model_ && AnyEffectAt(effects_, EffectStage::kFlange);
 }
+
+EffectChainCost::EffectChainCost(TargetComparison comparison, FrameRefs refs,
+                                 const RobotModel* model, EffectContext context,
+                                 bool static_camera, const Pose& T_cam_world_measured,
+                                 std::vector<const Effect*> effects,
+                                 const std::vector<int>& effect_sizes)
+    : EffectChainCost(comparison, std::make_shared<const FrameRefs>(std::move(refs)), model,
+                      std::move(context), static_camera, T_cam_world_measured,
+                      std::make_shared<const ChainEffectList>(std::move(effects), effect_sizes)) {}
 
 bool EffectChainCost::FlangeOfModel(const double* model_params, double const* const* effect_params,
                                     bool with_twists, bool effect_twists, Chain* c) const {
@@ -142,8 +159,8 @@ bool EffectChainCost::PredictChain(double const* const* parameters, bool with_tw
       return false;
     }
     // The frames every block shares, made once per thread for these values (frame_cache.h).
-    const CachedFrame base = FrameOfBlock(c->base, refs_.world_base, with_jacobians);
-    const CachedFrame tool = FrameOfBlock(c->tool, refs_.flange_target, with_jacobians);
+    const CachedFrame base = FrameOfBlock(c->base, refs_->world_base, with_jacobians);
+    const CachedFrame tool = FrameOfBlock(c->tool, refs_->flange_target, with_jacobians);
     c->T_world_base = base.T;
     c->T_flange_target = tool.T;
     c->J_base = base.J_left;
@@ -152,7 +169,7 @@ bool EffectChainCost::PredictChain(double const* const* parameters, bool with_tw
     c->T_world_base = c->T_base_flange = c->T_flange_target = Pose::Identity();
   }
   if (c->camera) {
-    const CachedFrame camera = FrameOfBlock(c->camera, refs_.world_cam, with_jacobians);
+    const CachedFrame camera = FrameOfBlock(c->camera, refs_->world_cam, with_jacobians);
     c->T_world_cam = camera.T;
     c->J_camera = camera.J_left;
   } else {

@@ -42,22 +42,37 @@
 
 namespace cellmetry {
 
+// The effects in one chain (a robot's own and every measurement effect, or the measurement
+// effects alone) and their parameter counts, shared by every cost over them: a copy per cost
+// was most of what assembling exp_a's 22,500 effect costs took.
+struct ChainEffectList {
+  ChainEffectList(std::vector<const Effect*> effects, std::vector<int> sizes);
+  std::vector<const Effect*> effects;
+  std::vector<int> sizes;  // each effect's parameter count (its block's size)
+  int num_params = 0;      // their sum
+};
+
 class EffectChainCost final : public SharedPredictionCost {
  public:
   // `model` not null: a carried target, blocks base, tool, [camera,] model, one per effect
   // (EffectChainResidual's). `model` null: the world target seen by a static camera, blocks
-  // camera, one per effect (WorldEffectResidual's). `effect_sizes`: each effect's parameter
-  // count. `context` points into the sample's SampleFacts, which must outlive the cost.
+  // camera, one per effect (WorldEffectResidual's). `refs` and `effects` are shared by the
+  // costs over the same frame blocks and effects. `context` points into the sample's
+  // SampleFacts, which must outlive the cost.
   // `forward`: the capture's forward kinematics shared with its other blocks (forward_memo.h;
   // null: each evaluation runs the chain itself). `same_as`: an earlier EffectChainCost that
   // predicts the same measured pose (the same frames, joints, camera, target, effects and
   // compared quantity, and a context that differs in nothing the effects read), whose key this
   // one takes; it must outlive this one's use in a Problem.
-  EffectChainCost(TargetComparison comparison, FrameRefs refs, const RobotModel* model,
-                  EffectContext context, bool static_camera, const Pose& T_cam_world_measured,
-                  std::vector<const Effect*> effects, const std::vector<int>& effect_sizes,
+  EffectChainCost(TargetComparison comparison, std::shared_ptr<const FrameRefs> refs,
+                  const RobotModel* model, EffectContext context, bool static_camera,
+                  const Pose& T_cam_world_measured, std::shared_ptr<const ChainEffectList> effects,
                   std::shared_ptr<ForwardMemo> forward = nullptr,
                   const EffectChainCost* same_as = nullptr);
+  // A block on its own (tests).
+  EffectChainCost(TargetComparison comparison, FrameRefs refs, const RobotModel* model,
+                  EffectContext context, bool static_camera, const Pose& T_cam_world_measured,
+                  std::vector<const Effect*> effects, const std::vector<int>& effect_sizes);
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
@@ -102,13 +117,14 @@ class EffectChainCost final : public SharedPredictionCost {
                            double** jacobians) const;
 
   TargetComparison comparison_;
-  FrameRefs refs_;
+  std::shared_ptr<const FrameRefs> refs_;
   const RobotModel* model_;
   EffectContext context_;
   bool static_camera_;
   Pose T_world_cam_fixed_;
-  std::vector<const Effect*> effects_;
-  std::vector<int> effect_sizes_;
+  std::shared_ptr<const ChainEffectList> list_;
+  const std::vector<const Effect*>& effects_;  // list_'s
+  const std::vector<int>& effect_sizes_;       // list_'s
   int first_effect_ = 0;  // block index of the first effect
   int num_effect_params_ = 0;
   bool joint_effects_ = false, flange_effects_ = false;  // a carried target's chain has them

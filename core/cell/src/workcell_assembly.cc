@@ -171,6 +171,24 @@ bool SharedByCaptures(const std::vector<const Effect*>& effects) {
   return true;
 }
 
+// The effects in a robot's chain (`robot` empty: the world target's), once per assembly.
+struct RobotEffects {
+  std::shared_ptr<const ChainEffectList> list;
+  std::vector<int> blocks;  // their parameter blocks
+  bool shared_by_captures = true;
+};
+
+RobotEffects EffectsOf(const WorkcellProblem& spec, const AssembledWorkcell& out,
+                       const std::string& robot) {
+  std::vector<const Effect*> effects;
+  RobotEffects chain;
+  ChainEffects(spec, out, robot, &effects, &chain.blocks);
+  chain.shared_by_captures = SharedByCaptures(effects);
+  chain.list = std::make_shared<const ChainEffectList>(std::move(effects),
+                                                       BlockSizes(out.problem, chain.blocks));
+  return chain;
+}
+
 // Everything one carried-target measurement's residuals need.
 struct ToolContext {
   const WorkcellProblem& spec;
@@ -186,6 +204,7 @@ struct ToolContext {
   std::shared_ptr<const FrameRefs> shared_refs;  // `refs`, shared by the blocks of its frames
   FirstCosts<ChainCost>* first_costs = nullptr;
   FirstCosts<EffectChainCost>* first_effect_costs = nullptr;
+  const std::vector<RobotEffects>* effects = nullptr;  // per robot
 };
 
 // One FrameRefs per combination of frame blocks (ChainCost's shared constructor): by block ids.
@@ -268,26 +287,24 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
   const Observation& obs = c.recording.observations[c.m.observation];
   const WorkcellRobot& robot = c.spec.robots[c.m.robot];
   const Sample& sample = c.recording.samples[c.m.sample_index];
-  std::vector<const Effect*> effects;
-  std::vector<int> effect_blocks;
-  ChainEffects(c.spec, *out, robot.name, &effects, &effect_blocks);
-  if (!effects.empty()) {
+  const RobotEffects& in_chain = c.effects->at(static_cast<size_t>(c.m.robot));
+  if (!in_chain.list->effects.empty()) {
     EffectContext context = ContextOf(c.data.facts.at(c.m.sample_index), c.spec.gravity_base,
                                       obs.camera);
     context.target = obs.target;
     blocks->push_back(out->model_block[c.m.robot]);
-    blocks->insert(blocks->end(), effect_blocks.begin(), effect_blocks.end());
+    blocks->insert(blocks->end(), in_chain.blocks.begin(), in_chain.blocks.end());
     auto forward = MemoFor(robot.model.get(), context.q, c.memos);
     // A moving camera's measured pose is a factor of the prediction: those are not shared.
     const EffectChainCost* none = nullptr;
     const EffectChainCost*& first =
-        c.static_camera && SharedByCaptures(effects)
+        c.static_camera && in_chain.shared_by_captures
             ? FirstOf(forward.get(), c.shared_refs.get(), comparison.compared(), obs.target,
                       c.first_effect_costs)
             : none;
-    auto cost = std::make_unique<EffectChainCost>(
-        comparison, c.refs, robot.model.get(), context, c.static_camera, c.m.T_cam_world, effects,
-        BlockSizes(out->problem, effect_blocks), std::move(forward), first);
+    auto cost = std::make_unique<EffectChainCost>(comparison, c.shared_refs, robot.model.get(),
+                                                  context, c.static_camera, c.m.T_cam_world,
+                                                  in_chain.list, std::move(forward), first);
     if (first == nullptr) first = cost.get();
     return cost;
   }
@@ -342,6 +359,10 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
   SharedRefs shared_refs;
   FirstCosts<ChainCost> first_costs;
   FirstCosts<EffectChainCost> first_effect_costs;
+  std::vector<RobotEffects> effects;
+  for (const WorkcellRobot& robot : spec.robots) {
+    effects.push_back(EffectsOf(spec, *out, robot.name));
+  }
   for (const ToolMeasurement& m : data.tools) {
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
@@ -352,6 +373,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     c.memos = &memos;
     c.first_costs = &first_costs;
     c.first_effect_costs = &first_effect_costs;
+    c.effects = &effects;
     c.blocks = {out->base_block[m.robot], out->tool_block[m.robot][m.tool]};
     c.refs.world_base = out->R_ref.at(c.blocks[0]);
     if (BlockHeld(*out, c.blocks[0])) {
@@ -396,13 +418,10 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
 void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
                        const WorkcellData& data, const NoiseModel& noise,
                        const std::set<int>& poses, AssembledWorkcell* out) {
-  std::vector<const Effect*> effects;
-  std::vector<int> effect_blocks;
-  ChainEffects(spec, *out, "", &effects, &effect_blocks);
+  const RobotEffects in_chain = EffectsOf(spec, *out, "");
   SharedRefs shared_refs;
   FirstCosts<ChainCost> first_costs;
   FirstCosts<EffectChainCost> first_effect_costs;
-  const bool effects_shared = SharedByCaptures(effects);
   for (int index : data.world_observations) {
     const Observation& obs = recording.observations[index];
     const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
@@ -416,24 +435,23 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
       const TargetComparison comparison(what, observed, s);
       std::vector<int> blocks = {camera};
       std::unique_ptr<ceres::CostFunction> cost;
-      if (!effects.empty()) {
+      if (!in_chain.list->effects.empty()) {
         EffectContext context;
         context.camera = obs.camera;
         context.target = obs.target;
-        blocks.insert(blocks.end(), effect_blocks.begin(), effect_blocks.end());
+        blocks.insert(blocks.end(), in_chain.blocks.begin(), in_chain.blocks.end());
         FrameRefs refs;
         refs.world_cam = out->R_ref.at(camera);
         const std::shared_ptr<const FrameRefs> camera_refs = Shared({camera}, refs, &shared_refs);
         // Every observation of this world tag by this camera predicts the same measured pose.
         const EffectChainCost* none = nullptr;
         const EffectChainCost*& first =
-            effects_shared
+            in_chain.shared_by_captures
                 ? FirstOf(nullptr, camera_refs.get(), what, obs.target, &first_effect_costs)
                 : none;
         auto effect_cost = std::make_unique<EffectChainCost>(
-            comparison, refs, /*model=*/nullptr, context, /*static_camera=*/true,
-            Pose::Identity(), effects, BlockSizes(out->problem, effect_blocks),
-            /*forward=*/nullptr, first);
+            comparison, camera_refs, /*model=*/nullptr, context, /*static_camera=*/true,
+            Pose::Identity(), in_chain.list, /*forward=*/nullptr, first);
         if (first == nullptr) first = effect_cost.get();
         cost = std::move(effect_cost);
       } else {
