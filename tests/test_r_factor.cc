@@ -135,6 +135,32 @@ TEST(SparsePath, EvaluatesTheSameJacobianAsCeres) {
             1e-14 * dense.cwiseAbs().maxCoeff());
 }
 
+// The Gram rows (gram_rows.h) have J's Gram matrix, hence its R factor up to row signs and its
+// column norms, on a tenth of its rows where the captures of a pose share a prediction; both
+// the effect costs (vsb_exp_a) and the plain chain (the geometry job) share.
+TEST(SparsePath, GramRowsHaveTheJacobiansGramMatrix) {
+  for (const char* job : {"configs/jobs/vsb_exp_a.yaml", "configs/jobs/vsb_exp_a_geometry.yaml"}) {
+    Solved solved = Solve(job);
+    const Linearization at = Linearize(solved.assembled->problem);
+    ASSERT_TRUE(at.valid);
+    EXPECT_LT(at.gram.rows.rows(), at.jacobian.rows() / 8) << job;
+    const Eigen::MatrixXd G = Eigen::MatrixXd(at.jacobian).transpose() * Eigen::MatrixXd(at.jacobian);
+    const Eigen::MatrixXd gram(at.gram.rows);
+    EXPECT_LT((gram.transpose() * gram - G).norm(), 1e-12 * G.norm()) << job;
+    const Eigen::MatrixXd R = RFactor(at.gram.rows), R_full = RFactor(at.jacobian);
+    EXPECT_LT((R.transpose() * R - R_full.transpose() * R_full).norm(), 1e-12 * G.norm()) << job;
+    EXPECT_LT((ColumnNorms(at.gram.rows) - ColumnNorms(at.jacobian)).norm(),
+              1e-12 * ColumnNorms(at.jacobian).norm())
+        << job;
+    for (size_t b = 0; b < at.gram.row_of_block.size(); ++b) {
+      const int row = at.gram.row_of_block[b];
+      ASSERT_GE(row, 0);
+      EXPECT_EQ(solved.assembled->problem.residual_infos()[b].camera,
+                solved.assembled->problem.residual_infos()[at.gram.block[row]].camera);
+    }
+  }
+}
+
 TEST(SparsePath, SigmaAndVerdictsAreTheDensePathsOnTheBundledJobs) {
   for (const char* job : {"configs/jobs/vsb_sim_b.yaml", "configs/jobs/vsb_exp_a_geometry.yaml",
                           "configs/jobs/vsb_exp_a.yaml"}) {

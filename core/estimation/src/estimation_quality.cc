@@ -70,14 +70,15 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
   if (at == nullptr) at = &local;
   *at = Linearization{};
   if (problem.num_free() == 0) return {};
-  at->valid = problem.EvaluateSparse(at == &local ? nullptr : &at->residuals, &at->jacobian);
+  at->valid = problem.EvaluateSparse(at == &local ? nullptr : &at->residuals, &at->jacobian,
+                                     &at->gram);
   if (!at->valid) return {};
-  const SparseJacobian& J = at->jacobian;
-  at->r_factor = RFactor(J);
+  const SparseJacobian& gram = GramOf(*at);
+  at->r_factor = RFactor(gram);
   const auto& free = problem.free_parameters();
   std::vector<UnidentifiableParameter> found;
   for (const DegenerateColumn& column :
-       FindDegenerateColumns(at->r_factor, ColumnNorms(J), tolerance)) {
+       FindDegenerateColumns(at->r_factor, ColumnNorms(gram), tolerance)) {
     std::string partners;
     std::vector<GaugePartner> moves_with;
     for (size_t k = 0; k < column.partners.size(); ++k) {
@@ -156,7 +157,6 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   }
   Uncertainty u;
   const Eigen::VectorXd& r = at.residuals;
-  const SparseJacobian& J = at.jacobian;
   const int n = problem.num_free();
   for (const auto& p : problem.free_parameters()) u.names.push_back(p.name);
   // chi-square over measurement rows only: priors are not measurements of the noise.
@@ -180,10 +180,11 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   u.correlation = Eigen::MatrixXd::Identity(n, n);
   if (n == 0) return u;
 
-  const Eigen::VectorXd norms = ColumnNorms(J).cwiseMax(1e-300);
+  const SparseJacobian& gram = GramOf(at);
+  const Eigen::VectorXd norms = ColumnNorms(gram).cwiseMax(1e-300);
   std::vector<int> every(n);
   for (int j = 0; j < n; ++j) every[j] = j;
-  const auto svd = ScaledSvd(at.r_factor.size() > 0 ? at.r_factor : RFactor(J), every, norms);
+  const auto svd = ScaledSvd(at.r_factor.size() > 0 ? at.r_factor : RFactor(gram), every, norms);
   const Eigen::VectorXd s = svd.singularValues();
   u.condition_number = s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());

@@ -1,6 +1,8 @@
 // Problem's shared predictions (problem.h, shared_prediction_cost.h): which residual blocks
 // predict the same, and one prediction evaluated for them (the normal equations' use of it is
 // in normal_equations.cc).
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <unordered_map>
 #include <vector>
@@ -91,11 +93,13 @@ bool Problem::EvaluateSharedRows(int u, BlockEvaluation* scratch,
   std::vector<double>& tangent = scratch->residuals;  // free here: the rows go straight to `out`
   const int width = with_jacobian ? GatherFreeColumns(first, 3, *scratch, &tangent) : 0;
   Eigen::Matrix3d D;
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  // sum of D^T D, for the Gram rows
   for (int i = unit_start_[u]; i < unit_start_[u + 1]; ++i) {
     const int k = unit_blocks_[i];
     static_cast<const SharedPredictionCost*>(evaluation_order_[k].first)
         ->Compare(prediction, out.r + rows_[k], with_jacobian ? &D : nullptr);
     if (!with_jacobian) continue;
+    if (out.gram) information.noalias() += D.transpose() * D;
     for (int row = 0; row < 3; ++row) {  // row `row` of D A
       int at = sparse_row_start_[rows_[k] + row];
       for (int j = 0; j < width; ++j) {
@@ -105,7 +109,36 @@ bool Problem::EvaluateSharedRows(int u, BlockEvaluation* scratch,
       }
     }
   }
+  if (out.gram) AddGramRows(u, information, tangent.data(), width, out);
   return true;
+}
+
+void Problem::AddGramRows(int u, const Eigen::Matrix3d& information, const double* tangent,
+                          int width, const SparseOutput& out) const {
+  // L^T with L L^T = information; its symmetric square root where rounding left it not
+  // positive definite (a unit's rows then span fewer than three directions).
+  Eigen::Matrix3d L_t;
+  const Eigen::LLT<Eigen::Matrix3d> llt(information);
+  if (llt.info() == Eigen::Success) {
+    L_t = llt.matrixU();
+  } else {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(information);
+    L_t = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() *
+          eigen.eigenvectors().transpose();
+  }
+  const int first = unit_blocks_[unit_start_[u]];
+  const int entry = block_entries_[first].begin;
+  for (int row = 0; row < 3; ++row) {
+    const int gram_row = out.gram_unit_row[u] + row;
+    int at = out.gram->rows.outerIndexPtr()[gram_row];
+    for (int j = 0; j < width; ++j) {
+      out.gram->rows.innerIndexPtr()[at] = sparse_entries_[entry + j].column;
+      out.gram->rows.valuePtr()[at++] = L_t(row, 0) * tangent[j] +
+                                        L_t(row, 1) * tangent[width + j] +
+                                        L_t(row, 2) * tangent[2 * width + j];
+    }
+    out.gram->block[static_cast<size_t>(gram_row)] = first;
+  }
 }
 
 }  // namespace cellmetry

@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <functional>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -438,7 +439,50 @@ bool Problem::EvaluateBlockRows(int k, BlockEvaluation* scratch, const SparseOut
   return true;
 }
 
-bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const {
+void Problem::CopyGramRows(int u, const SparseOutput& out) const {
+  const int k = unit_blocks_[unit_start_[u]];
+  const int width = block_entries_[k].end - block_entries_[k].begin;
+  const int first = out.gram_unit_row[u];
+  const int num_rows = out.gram_unit_row[u + 1] - first;
+  for (int row = 0; row < num_rows; ++row) {
+    const int from = sparse_row_start_[rows_[k] + row];
+    const int to = out.gram->rows.outerIndexPtr()[first + row];
+    std::copy(out.column_index + from, out.column_index + from + width,
+              out.gram->rows.innerIndexPtr() + to);
+    std::copy(out.entries + from, out.entries + from + width, out.gram->rows.valuePtr() + to);
+    out.gram->block[static_cast<size_t>(first + row)] = k;
+  }
+}
+
+namespace {
+
+// The Gram rows' layout: per unit its first row (then the end); `gram` sized, its row starts set.
+std::vector<int> LayOutGramRows(int num_units, const std::function<int(int)>& rows_of_unit,
+                                const std::function<int(int)>& width_of_unit, int num_free,
+                                GramRows* gram) {
+  std::vector<int> unit_row(static_cast<size_t>(num_units) + 1, 0);
+  int entries = 0;
+  for (int u = 0; u < num_units; ++u) {
+    unit_row[u + 1] = unit_row[u] + rows_of_unit(u);
+    entries += rows_of_unit(u) * width_of_unit(u);
+  }
+  gram->rows.resize(unit_row.back(), num_free);
+  gram->rows.resizeNonZeros(entries);
+  gram->block.assign(static_cast<size_t>(unit_row.back()), -1);
+  int* starts = gram->rows.outerIndexPtr();
+  starts[0] = 0;
+  for (int u = 0; u < num_units; ++u) {
+    for (int row = unit_row[u]; row < unit_row[u + 1]; ++row) {
+      starts[row + 1] = starts[row] + width_of_unit(u);
+    }
+  }
+  return unit_row;
+}
+
+}  // namespace
+
+bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian,
+                             GramRows* gram) const {
   const std::vector<int>& row_start = sparse_row_start_;
   // Written in place into the compressed row storage (no triplets, no copy of a map).
   int* column_index = nullptr;
@@ -450,17 +494,39 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
     column_index = jacobian->innerIndexPtr();
     entries = jacobian->valuePtr();
   }
+  std::vector<int> gram_unit_row;
+  if (gram && jacobian) {
+    const int num_units = static_cast<int>(unit_start_.size()) - 1;
+    auto first_block = [&](int u) { return unit_blocks_[unit_start_[u]]; };
+    gram_unit_row = LayOutGramRows(
+        num_units,
+        [&](int u) {
+          const int k = first_block(u);
+          const int end = k + 1 < static_cast<int>(rows_.size()) ? rows_[k + 1] : num_residuals_;
+          return SharesPrediction(u) ? 3 : end - rows_[k];
+        },
+        [&](int u) { return block_entries_[first_block(u)].end - block_entries_[first_block(u)].begin; },
+        num_free(), gram);
+    gram->row_of_block.assign(evaluation_order_.size(), -1);
+    for (int u = 0; u < num_units; ++u) {
+      for (int i = unit_start_[u]; i < unit_start_[u + 1]; ++i) {
+        gram->row_of_block[static_cast<size_t>(unit_blocks_[i])] = gram_unit_row[u];
+      }
+    }
+  }
   Eigen::VectorXd r(num_residuals_);
-  const SparseOutput out{r.data(), column_index, entries};
+  const SparseOutput out{r.data(), column_index, entries, gram && jacobian ? gram : nullptr,
+                         gram_unit_row.data()};
   const int num_chunks = static_cast<int>(chunk_start_.size()) - 1;
   std::atomic<bool> valid{true};
   tbb::parallel_for(tbb::blocked_range<int>(0, num_chunks, 1), [&](const auto& chunks) {
     BlockEvaluation scratch;
     for (int u = chunk_start_[chunks.begin()]; u != chunk_start_[chunks.end()] && valid; ++u) {
-      const bool ok = SharesPrediction(u)
-                          ? EvaluateSharedRows(u, &scratch, out)
-                          : EvaluateBlockRows(unit_blocks_[unit_start_[u]], &scratch, out);
+      const bool shared = SharesPrediction(u);
+      const bool ok = shared ? EvaluateSharedRows(u, &scratch, out)
+                             : EvaluateBlockRows(unit_blocks_[unit_start_[u]], &scratch, out);
       if (!ok) valid = false;
+      if (ok && !shared && out.gram) CopyGramRows(u, out);
     }
   });
   if (!valid) {
@@ -568,8 +634,12 @@ bool Problem::EvaluateSparseColumns(const std::vector<int>& blocks, SparseJacobi
 
 Linearization Linearize(Problem& problem) {
   Linearization at;
-  at.valid = problem.EvaluateSparse(&at.residuals, &at.jacobian);
+  at.valid = problem.EvaluateSparse(&at.residuals, &at.jacobian, &at.gram);
   return at;
+}
+
+const SparseJacobian& GramOf(const Linearization& at) {
+  return at.gram.rows.rows() > 0 || at.jacobian.rows() == 0 ? at.gram.rows : at.jacobian;
 }
 
 }  // namespace cellmetry

@@ -130,41 +130,64 @@ struct GroupPart {
   Eigen::VectorXd squared_norms;  // per column
 };
 
-// Parts of group 0 .. groups - 1, and last the rows in no group. One pass over J's rows.
+// `rows` of J (or of its Gram rows) as a matrix of their own.
+SparseJacobian SubRows(const SparseJacobian& J, const std::vector<int>& rows) {
+  Eigen::Index nonzeros = 0;
+  for (int row : rows) nonzeros += J.innerVector(row).nonZeros();
+  SparseJacobian out(static_cast<Eigen::Index>(rows.size()), J.cols());
+  out.resizeNonZeros(nonzeros);
+  Eigen::Index at_entry = 0;
+  for (size_t k = 0; k < rows.size(); ++k) {
+    out.outerIndexPtr()[k] = static_cast<int>(at_entry);
+    for (SparseJacobian::InnerIterator it(J, rows[k]); it; ++it, ++at_entry) {
+      out.innerIndexPtr()[at_entry] = static_cast<int>(it.col());
+      out.valuePtr()[at_entry] = it.value();
+    }
+  }
+  out.outerIndexPtr()[rows.size()] = static_cast<int>(at_entry);
+  return out;
+}
+
+// Parts of group 0 .. groups - 1, and last the rows in no group: J^T r and the column norms
+// from J's rows, the R factors from the Gram rows (gram_rows.h) where every block of a unit is
+// in one group (a camera's: a unit is one camera's), else from J's rows.
 std::vector<GroupPart> GroupParts(const Problem& problem, const Linearization& at,
                                   const std::vector<int>& group_of_block, int groups) {
   const auto& rows = problem.residual_rows();
   const int num_rows = static_cast<int>(at.residuals.size());
+  auto group_of = [&](size_t b) {
+    return b < group_of_block.size() && group_of_block[b] >= 0 ? group_of_block[b] : groups;
+  };
+  const Eigen::Index n = at.jacobian.cols();
+  std::vector<GroupPart> parts(static_cast<size_t>(groups) + 1,
+                               GroupPart{{}, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)});
   std::vector<std::vector<int>> members(static_cast<size_t>(groups) + 1);
   for (size_t b = 0; b < rows.size(); ++b) {
-    const int g = b < group_of_block.size() && group_of_block[b] >= 0 ? group_of_block[b] : groups;
+    GroupPart& part = parts[static_cast<size_t>(group_of(b))];
     const int end = b + 1 < rows.size() ? rows[b + 1] : num_rows;
-    for (int row = rows[b]; row < end; ++row) members[static_cast<size_t>(g)].push_back(row);
-  }
-  const Eigen::Index n = at.jacobian.cols();
-  std::vector<GroupPart> parts;
-  for (const auto& group_rows : members) {
-    // The group's rows as a Jacobian of their own, its arrays filled in place.
-    Eigen::Index nonzeros = 0;
-    for (int row : group_rows) nonzeros += at.jacobian.innerVector(row).nonZeros();
-    SparseJacobian J(static_cast<Eigen::Index>(group_rows.size()), n);
-    J.resizeNonZeros(nonzeros);
-    GroupPart part{{}, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
-    Eigen::Index at_entry = 0;
-    for (size_t k = 0; k < group_rows.size(); ++k) {
-      const int row = group_rows[k];
-      J.outerIndexPtr()[k] = static_cast<int>(at_entry);
-      for (SparseJacobian::InnerIterator it(at.jacobian, row); it; ++it, ++at_entry) {
-        J.innerIndexPtr()[at_entry] = static_cast<int>(it.col());
-        J.valuePtr()[at_entry] = it.value();
+    for (int row = rows[b]; row < end; ++row) {
+      members[static_cast<size_t>(group_of(b))].push_back(row);
+      for (SparseJacobian::InnerIterator it(at.jacobian, row); it; ++it) {
         part.gradient[it.col()] += it.value() * at.residuals[row];
         part.squared_norms[it.col()] += it.value() * it.value();
       }
     }
-    J.outerIndexPtr()[group_rows.size()] = static_cast<int>(at_entry);
-    part.R = RFactor(J);
-    parts.push_back(std::move(part));
   }
+  const GramRows& gram = at.gram;
+  bool by_gram = gram.rows.rows() > 0 && gram.row_of_block.size() == rows.size();
+  for (size_t b = 0; by_gram && b < rows.size(); ++b) {
+    const int row = gram.row_of_block[b];
+    by_gram = row >= 0 && group_of(static_cast<size_t>(gram.block[row])) == group_of(b);
+  }
+  if (by_gram) {
+    for (auto& m : members) m.clear();
+    for (size_t row = 0; row < gram.block.size(); ++row) {
+      members[static_cast<size_t>(group_of(static_cast<size_t>(gram.block[row])))].push_back(
+          static_cast<int>(row));
+    }
+  }
+  const SparseJacobian& source = by_gram ? gram.rows : at.jacobian;
+  for (size_t g = 0; g < parts.size(); ++g) parts[g].R = RFactor(SubRows(source, members[g]));
   return parts;
 }
 

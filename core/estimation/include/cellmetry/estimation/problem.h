@@ -24,6 +24,7 @@
 
 #include "cellmetry/basics/parameter.h"
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/estimation/gram_rows.h"
 #include "cellmetry/estimation/r_factor.h"
 
 namespace cellmetry {
@@ -127,7 +128,9 @@ class Problem {
   // dense Jacobian of 240,000 rows x 200 columns is 380 MB; its nonzeros a tenth of that). The
   // cost functions are called directly, on every core (Ceres's Evaluate builds a program of
   // the chosen blocks at every call, which costs more than the evaluation).
-  bool EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian) const;
+  // With `gram` (and `jacobian`) also the rows with J's Gram matrix (gram_rows.h).
+  bool EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian,
+                      GramRows* gram = nullptr) const;
   // The Jacobian's columns of the free entries of `blocks` alone (ids from AddBlock), in
   // FreeValues() order and numbered from 0 (`columns`: each one's index into
   // free_parameters()). Only the residual blocks that read one of `blocks` are evaluated, and
@@ -168,7 +171,15 @@ class Problem {
     double* r;
     int* column_index;  // null: no Jacobian
     double* entries;
+    GramRows* gram = nullptr;  // with its first row per unit, then the end
+    const int* gram_unit_row = nullptr;
   };
+  // The Gram rows of unit u whose Jacobian rows are in `out` (a block alone: its own rows).
+  void CopyGramRows(int u, const SparseOutput& out) const;
+  // The 3 Gram rows L^T A of unit u (L L^T = `information`, A = `tangent`, 3 x width
+  // row-major at the unit's free columns).
+  void AddGramRows(int u, const Eigen::Matrix3d& information, const double* tangent, int width,
+                   const SparseOutput& out) const;
   bool EvaluateBlockRows(int k, BlockEvaluation* scratch, const SparseOutput& out) const;
   bool EvaluateSharedRows(int u, BlockEvaluation* scratch, const SparseOutput& out) const;
 
@@ -238,10 +249,16 @@ struct Linearization {
   Eigen::VectorXd residuals;
   SparseJacobian jacobian;
   bool valid = false;   // false: a cost function failed at these values (no numbers to trust)
+  // Rows with J's Gram matrix (gram_rows.h), what its R factors are computed from; filled with
+  // the Jacobian by Linearize and FindUnidentifiable.
+  GramRows gram;
   // RFactor(jacobian) (r_factor.h) once something computed it (FindUnidentifiable); empty
   // before. Whoever needs it next takes it from here instead of factoring J again.
   Eigen::MatrixXd r_factor;
 };
 Linearization Linearize(Problem& problem);
+// The rows R factors and column norms are computed from: the Gram rows where they were made,
+// else J itself.
+const SparseJacobian& GramOf(const Linearization& at);
 
 }  // namespace cellmetry
