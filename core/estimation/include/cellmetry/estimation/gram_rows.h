@@ -7,9 +7,10 @@
 // Gram matrix is A^T (sum_i D_i^T D_i) A = (L^T A)^T (L^T A), with L L^T = sum_i D_i^T D_i, so
 // the unit's 3 rows L^T A stand for all of its rows; every other block's rows stand for
 // themselves. RFactor of these rows is J's up to the signs of R's rows (r_factor.h), on exp_a
-// from 67,500 rows to about 6,750. Orthogonal but for the 3 x 3 Cholesky of each unit's sum,
+// from 67,500 rows to about 4,500. Orthogonal but for the 3 x 3 Cholesky of each unit's sum,
 // whose D_i are the comparisons' (1 / sigma, times J_l^-1 for a rotation): well conditioned,
-// so the R factor keeps a dense QR's accuracy (test_r_factor).
+// so the R factor keeps a dense QR's accuracy (test_r_factor). Made only where they are at most
+// a quarter of J's rows (Problem::EvaluateSparse); elsewhere J serves as it is.
 #pragma once
 
 #include <vector>

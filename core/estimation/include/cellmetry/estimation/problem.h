@@ -128,7 +128,8 @@ class Problem {
   // dense Jacobian of 240,000 rows x 200 columns is 380 MB; its nonzeros a tenth of that). The
   // cost functions are called directly, on every core (Ceres's Evaluate builds a program of
   // the chosen blocks at every call, which costs more than the evaluation).
-  // With `gram` (and `jacobian`) also the rows with J's Gram matrix (gram_rows.h).
+  // With `gram` (and `jacobian`) also the rows with J's Gram matrix (gram_rows.h), where they
+  // are at most a quarter of J's (else `gram` is left empty and J serves: GramOf).
   bool EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian,
                       GramRows* gram = nullptr) const;
   // The Jacobian's columns of the free entries of `blocks` alone (ids from AddBlock), in
@@ -174,6 +175,9 @@ class Problem {
     GramRows* gram = nullptr;  // with its first row per unit, then the end
     const int* gram_unit_row = nullptr;
   };
+  // Sizes `gram` for EvaluateSparse and returns each unit's first row (then the end); empty,
+  // and `gram` left empty, where they would be more than a quarter of J's rows.
+  std::vector<int> LayOutGramRows(GramRows* gram) const;
   // The Gram rows of unit u whose Jacobian rows are in `out` (a block alone: its own rows).
   void CopyGramRows(int u, const SparseOutput& out) const;
   // The 3 Gram rows L^T A of unit u (L L^T = `information`, A = `tangent`, 3 x width
