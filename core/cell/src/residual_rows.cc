@@ -6,13 +6,15 @@
 
 namespace cellmetry {
 
-std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled) {
+std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled, const Linearization* at) {
   Problem& problem = assembled.problem;
   // The cost functions directly (EvaluateSparse without a Jacobian): the same residuals as
   // Ceres's Evaluate without the loss, without building a ceres::Problem for them (after a
   // Build, the first Evaluate made one: 22,500 residual blocks on exp_a, for one pass).
   Eigen::VectorXd r;
-  if (!problem.EvaluateSparse(&r, nullptr)) {
+  if (at && at->valid && at->residuals.size() == problem.num_residuals()) {
+    r = at->residuals;
+  } else if (!problem.EvaluateSparse(&r, nullptr)) {
     r = Eigen::VectorXd::Constant(problem.num_residuals(),
                                   std::numeric_limits<double>::quiet_NaN());
   }

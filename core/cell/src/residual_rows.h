@@ -12,7 +12,9 @@
 namespace cellmetry {
 
 // The rows at the problem's current values, without the robust loss (NaN where a cost function
-// fails).
-std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled);
+// fails). `at`: a valid linearization made at those values (a solve's last identifiability
+// check), whose residuals are taken instead of evaluated again.
+std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled,
+                                      const Linearization* at = nullptr);
 
 }  // namespace cellmetry

@@ -97,7 +97,8 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
       options.at_least_squares_answer(ls.get());
     }
     const BlockStates least_squares = Snapshot(problem);
-    SetLossFromScale(ResidualRows(*fit.assembled), options.cauchy_width, &problem);
+    SetLossFromScale(ResidualRows(*fit.assembled, &fit.at_answer), options.cauchy_width,
+                     &problem);
     if (!SolveByReweighting(&problem).converged) {
       // Far from the robust answer (least squares dragged off by gross errors, or not
       // converged): the job's solver takes over from where the reweighting stopped.
