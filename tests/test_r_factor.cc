@@ -161,6 +161,25 @@ TEST(SparsePath, GramRowsHaveTheJacobiansGramMatrix) {
   }
 }
 
+// Handing a linearization on moves its Jacobian and Gram rows (Eigen's SparseMatrix alone would
+// copy them): the same storage, the same entries.
+TEST(SparsePath, LinearizationMovesWithoutCopyingItsJacobian) {
+  Solved solved = Solve("configs/jobs/vsb_exp_a_geometry.yaml");
+  Linearization at = Linearize(solved.assembled->problem);
+  ASSERT_GT(at.gram.rows.rows(), 0);
+  const double* entries = at.jacobian.valuePtr();
+  const double* gram_entries = at.gram.rows.valuePtr();
+  const Eigen::MatrixXd J(at.jacobian);
+  Linearization moved = std::move(at);
+  EXPECT_EQ(moved.jacobian.valuePtr(), entries);
+  EXPECT_EQ(moved.gram.rows.valuePtr(), gram_entries);
+  Linearization assigned;
+  assigned = std::move(moved);
+  EXPECT_EQ(assigned.jacobian.valuePtr(), entries);
+  EXPECT_TRUE(assigned.valid);
+  EXPECT_EQ((Eigen::MatrixXd(assigned.jacobian) - J).cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(SparsePath, SigmaAndVerdictsAreTheDensePathsOnTheBundledJobs) {
   for (const char* job : {"configs/jobs/vsb_sim_b.yaml", "configs/jobs/vsb_exp_a_geometry.yaml",
                           "configs/jobs/vsb_exp_a.yaml"}) {

@@ -250,6 +250,23 @@ class Problem {
 // values, without the robust loss: what the covariance and its robust forms are computed from.
 // Evaluate once at the answer and hand it to each (ComputeUncertainty, ClusterRobustCovariance).
 struct Linearization {
+  Linearization() = default;
+  Linearization(const Linearization&) = default;
+  Linearization& operator=(const Linearization&) = default;
+  // Eigen 3.4's SparseMatrix has no move: its "move" copies every entry (exp_a's Jacobian is a
+  // million). These swap, so handing a solve's linearization on to the covariance copies none.
+  Linearization(Linearization&& other) noexcept { *this = std::move(other); }
+  Linearization& operator=(Linearization&& other) noexcept {
+    residuals = std::move(other.residuals);
+    jacobian.swap(other.jacobian);
+    valid = other.valid;
+    gram.rows.swap(other.gram.rows);
+    gram.block = std::move(other.gram.block);
+    gram.row_of_block = std::move(other.gram.row_of_block);
+    r_factor = std::move(other.r_factor);
+    return *this;
+  }
+
   Eigen::VectorXd residuals;
   SparseJacobian jacobian;
   bool valid = false;   // false: a cost function failed at these values (no numbers to trust)
