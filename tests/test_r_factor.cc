@@ -144,7 +144,8 @@ TEST(SparsePath, GramRowsHaveTheJacobiansGramMatrix) {
     const Linearization at = Linearize(solved.assembled->problem);
     ASSERT_TRUE(at.valid);
     EXPECT_LT(at.gram.rows.rows(), at.jacobian.rows() / 8) << job;
-    const Eigen::MatrixXd G = Eigen::MatrixXd(at.jacobian).transpose() * Eigen::MatrixXd(at.jacobian);
+    const Eigen::MatrixXd J(at.jacobian);
+    const Eigen::MatrixXd G = J.transpose() * J;
     const Eigen::MatrixXd gram(at.gram.rows);
     EXPECT_LT((gram.transpose() * gram - G).norm(), 1e-12 * G.norm()) << job;
     const Eigen::MatrixXd R = RFactor(at.gram.rows), R_full = RFactor(at.jacobian);
