@@ -317,9 +317,9 @@ TEST(NormalEquations, ShareAPredictionOnlyOverTheSameParameterBlocks) {
   ExpectTheDenseJacobiansSums(problem.get(), "alternating blocks");
 }
 
-// The sparse Jacobian's rows of shared predictions (one Predict, each block's D A) are each
-// block's own (Ceres's view: Evaluate), and both differentiate the residuals: against central
-// differences.
+// The sparse Jacobian's rows of shared predictions (one Predict, each block's D A) are Ceres's
+// (each unit one block of it, its rows put back in the Problem's order by Evaluate), and both
+// differentiate the residuals: against central differences.
 TEST(SharedPredictionCost, JacobianIsTheResidualsByCentralDifferences) {
   auto problem = MakeSharedProblem();
   Eigen::VectorXd r, r_ceres;
@@ -424,6 +424,31 @@ TEST(ReweightedSolve, WithoutALossIsLeastSquares) {
   const Eigen::VectorXd expected = CeresAnswer(theirs.get());
   EXPECT_TRUE(summary.converged) << summary.stop_reason;
   EXPECT_LT((ours->FreeValues() - expected).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+// Without a loss, Ceres gets each unit of blocks sharing a prediction as one residual block
+// (shared_prediction_group.h) and reaches the least-squares answer; with a loss on every block,
+// each block is its own again (a capture's loss must see its own norm), with the same cost.
+TEST(SharedPredictionGroup, CeresSolvesAUnitAsOneBlockWithoutALoss) {
+  auto grouped = MakeSharedProblem();
+  EXPECT_EQ(grouped->ceres_problem().NumResidualBlocks(), 60) << "60 points, 6 captures each";
+  EXPECT_EQ(grouped->ceres_problem().NumResiduals(), 1080);
+  const Eigen::VectorXd answer = CeresAnswer(grouped.get());
+  auto reweighted = MakeSharedProblem();
+  ReweightedSolveOptions tight;
+  tight.decrement_tolerance = 1e-16;
+  tight.max_iterations = 100;
+  EXPECT_TRUE(SolveByReweighting(reweighted.get(), tight).converged);
+  EXPECT_LT((answer - reweighted->FreeValues()).cwiseAbs().maxCoeff(), 1e-9);
+
+  double grouped_cost = 0.0;
+  ASSERT_TRUE(grouped->Evaluate(&grouped_cost, nullptr, nullptr));
+  grouped->SetWhitenedRobustLoss(RobustLossKind::kCauchy, std::vector<double>(360, 1e12));
+  grouped->Build();
+  EXPECT_EQ(grouped->ceres_problem().NumResidualBlocks(), 360);
+  double block_cost = 0.0;
+  ASSERT_TRUE(grouped->Evaluate(&block_cost, nullptr, nullptr, /*apply_loss=*/false));
+  EXPECT_NEAR(block_cost, grouped_cost, 1e-12 * grouped_cost);
 }
 
 // A cost of about 1e13 (the gross errors over a 1e-5 mm sigma) cannot show a decrease of 1e-10:

@@ -11,8 +11,10 @@
 #include <limits>
 #include <map>
 
+#include "cellmetry/estimation/shared_prediction_cost.h"
 #include "column_patterns.h"
 #include "problem_blocks.h"
+#include "shared_prediction_group.h"
 
 namespace cellmetry {
 
@@ -197,15 +199,42 @@ void Problem::BuildCeres() {
   residual_ids_.clear();
   manifolds_.clear();
   variable_blocks_.clear();
+  groups_.clear();
+  ceres_rows_.clear();
   std::vector<double*> pointers;
-  for (size_t k = 0; k < evaluation_order_.size(); ++k) {
-    const auto& [cost, ids] = evaluation_order_[k];
-    const std::vector<int>& block_ids = *ids;
+  auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss, int k) {
     pointers.clear();
-    for (int b : block_ids) pointers.push_back(values(b));
-    residual_ids_.push_back(
-        ceres_problem_->AddResidualBlock(cost, evaluation_losses_[k], pointers));
+    for (int b : *evaluation_order_[k].second) pointers.push_back(values(b));
+    residual_ids_.push_back(ceres_problem_->AddResidualBlock(cost, loss, pointers));
+  };
+  // A unit of blocks sharing a prediction, none with a robust loss, is one Ceres block
+  // (shared_prediction_group.h); every other block is its own. Ceres's rows then come unit by
+  // unit: ceres_rows_ says where each belongs in Evaluate()'s order.
+  for (int u = 0; u < num_predictions(); ++u) {
+    const int* first = unit_blocks_.data() + unit_start_[u];
+    const int* last = unit_blocks_.data() + unit_start_[u + 1];
+    const bool group = SharesPrediction(u) && std::all_of(first, last, [&](int k) {
+                         return evaluation_losses_[k] == nullptr;
+                       });
+    if (group) {
+      std::vector<const SharedPredictionCost*> members;
+      for (const int* k = first; k != last; ++k) {
+        members.push_back(static_cast<const SharedPredictionCost*>(evaluation_order_[*k].first));
+      }
+      groups_.push_back(std::make_unique<SharedPredictionGroup>(std::move(members)));
+      add(groups_.back().get(), nullptr, *first);
+    }
+    for (const int* k = first; k != last; ++k) {
+      if (!group) add(evaluation_order_[*k].first, evaluation_losses_[*k], *k);
+      const int rows = evaluation_order_[*k].first->num_residuals();
+      for (int row = rows_[*k]; row < rows_[*k] + rows; ++row) ceres_rows_.push_back(row);
+    }
   }
+  bool in_order = true;
+  for (size_t row = 0; row < ceres_rows_.size() && in_order; ++row) {
+    in_order = ceres_rows_[row] == static_cast<int>(row);
+  }
+  if (in_order) ceres_rows_.clear();
   for (size_t b = 0; b < blocks_.size(); ++b) {
     Block& block = *blocks_[b];
     if (!block.used) continue;
@@ -291,11 +320,20 @@ bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd
                      jacobian ? &crs : nullptr)) {
     return false;
   }
+  // Ceres's rows in this Problem's order (BuildCeres: units it evaluates as one block).
+  auto row_of = [&](int ceres_row) {
+    return ceres_rows_.empty() ? ceres_row : ceres_rows_[ceres_row];
+  };
+  if (residuals && !ceres_rows_.empty()) {
+    Eigen::VectorXd in_order(residuals->size());
+    for (int row = 0; row < residuals->size(); ++row) in_order[row_of(row)] = (*residuals)[row];
+    *residuals = std::move(in_order);
+  }
   if (jacobian) {
     jacobian->setZero(crs.num_rows, crs.num_cols);
     for (int row = 0; row < crs.num_rows; ++row) {
       for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) {
-        (*jacobian)(row, crs.cols[k]) = crs.values[k];
+        (*jacobian)(row_of(row), crs.cols[k]) = crs.values[k];
       }
     }
   }

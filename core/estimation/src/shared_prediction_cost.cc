@@ -14,18 +14,20 @@ bool SharedPredictionCost::Evaluate(double const* const* parameters, double* res
   if (jacobians == nullptr) return true;
   const std::vector<int32_t>& sizes = parameter_block_sizes();
   for (size_t k = 0; k < sizes.size(); ++k) {
-    double* J = jacobians[k];
-    if (J == nullptr) continue;
-    const int size = sizes[k];
-    for (int j = 0; j < size; ++j) {
-      const Eigen::Vector3d a(J[j], J[size + j], J[2 * size + j]);
-      const Eigen::Vector3d column = d_residual * a;
-      J[j] = column[0];
-      J[size + j] = column[1];
-      J[2 * size + j] = column[2];
-    }
+    if (jacobians[k] != nullptr) ChainTangent(d_residual, jacobians[k], sizes[k], jacobians[k]);
   }
   return true;
+}
+
+void SharedPredictionCost::ChainTangent(const Eigen::Matrix3d& d_residual, const double* tangent,
+                                        int size, double* rows) {
+  for (int j = 0; j < size; ++j) {
+    const Eigen::Vector3d a(tangent[j], tangent[size + j], tangent[2 * size + j]);
+    const Eigen::Vector3d column = d_residual * a;
+    rows[j] = column[0];
+    rows[size + j] = column[1];
+    rows[2 * size + j] = column[2];
+  }
 }
 
 }  // namespace cellmetry

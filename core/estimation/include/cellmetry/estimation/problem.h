@@ -29,6 +29,8 @@
 
 namespace cellmetry {
 
+class SharedPredictionGroup;
+
 // What one residual block measures, for statistics and the residual CSV.
 struct ResidualInfo {
   enum class Kind { kPosition, kRotation, kPrior };
@@ -195,6 +197,10 @@ class Problem {
   std::vector<std::unique_ptr<ceres::Manifold>> manifolds_;
   std::unique_ptr<ceres::Problem> ceres_problem_;
   std::vector<ceres::ResidualBlockId> residual_ids_;
+  // BuildCeres's one Ceres block per unit of loss-free blocks sharing a prediction, and the row
+  // in Evaluate()'s order of each of Ceres's rows (empty: the same order).
+  std::vector<std::unique_ptr<SharedPredictionGroup>> groups_;
+  std::vector<int> ceres_rows_;
   std::vector<double*> variable_blocks_;
   std::vector<FreeParameter> free_;
   std::vector<int> rows_;

@@ -43,6 +43,11 @@ class SharedPredictionCost : public ceres::CostFunction {
   // Predict, Compare and D A. A cost may override it with the same in fewer steps.
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
+
+  // rows = D A for one parameter block of `size` entries, both 3 x size row-major; `rows` may
+  // be `tangent` itself (each column is read before it is written).
+  static void ChainTangent(const Eigen::Matrix3d& d_residual, const double* tangent, int size,
+                           double* rows);
 };
 
 }  // namespace cellmetry
