@@ -7,6 +7,7 @@
 //  BM_Identify/<case>_plain_outlier_test   the same, outliers tested on the plain fit only
 //                      (`outliers: plain`): the robust first fit's cost is the difference
 //  BM_Solve/<solver>   the same assembled sim_b problem from the closed-form start, each solver
+//  BM_SolveExpA/<solver>   exp_a's assembled problem from the closed-form start
 #include <benchmark/benchmark.h>
 
 #include "cellmetry/cell/job.h"
@@ -157,6 +158,9 @@ void BM_Solve(benchmark::State& state, const std::string& solver_yaml) {
 }
 BENCHMARK_CAPTURE(BM_Solve, ceres_lm, std::string("type: ceres_lm"))
     ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Solve, ceres_lm_dense_normal_cholesky,
+                  std::string("{type: ceres_lm, linear_solver: dense_normal_cholesky}"))
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Solve, normal_lm, std::string("type: normal_lm"))
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Solve, jacobian_pinv, std::string("type: jacobian_pinv"))
@@ -168,6 +172,32 @@ BENCHMARK_CAPTURE(BM_Solve, nlopt_LN_BOBYQA, std::string("{type: nlopt, algorith
 BENCHMARK_CAPTURE(BM_Solve, gradient_descent,
                   std::string("{type: gradient_descent, learning_rate: 0.1, epochs: 5000, "
                               "gradient_tolerance: 1e-8}"))
+    ->Unit(benchmark::kMillisecond);
+
+// The least-squares solve of exp_a's assembled problem (22,500 blocks in 1,506 units sharing a
+// prediction) from the closed-form start: the step of BM_Identify/exp_a that is the job's solver.
+void BM_SolveExpA(benchmark::State& state, const std::string& solver_yaml) {
+  const Loaded& loaded = Load("configs/jobs/vsb_exp_a_geometry.yaml");
+  const AssembledCase& c = ExpAAssembled();
+  const ConfigNode config = ConfigNode::LoadString(solver_yaml, "bench");
+  const WorkcellEstimate start = InitialEstimate(loaded.job.problem, loaded.recording, c.data);
+  int iterations = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto assembled =
+        AssembleWorkcell(loaded.job.problem, loaded.recording, c.data, c.noise, start);
+    auto solver = Registry::Global().CreateSolver(config["type"].AsString(), config);
+    state.ResumeTiming();
+    iterations = solver->Solve(assembled->problem).iterations;
+  }
+  state.counters["iterations"] = iterations;
+}
+BENCHMARK_CAPTURE(BM_SolveExpA, ceres_lm, std::string("type: ceres_lm"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SolveExpA, ceres_lm_dense_normal_cholesky,
+                  std::string("{type: ceres_lm, linear_solver: dense_normal_cholesky}"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SolveExpA, normal_lm, std::string("type: normal_lm"))
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
