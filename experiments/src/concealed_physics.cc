@@ -90,19 +90,49 @@ std::vector<DisturbanceAction> GearHarmonics(const ConcealedPhysics& c, const Re
   return out;
 }
 
+// Brown-Conrady distortion of normalized image coordinates (x, y) by radial k1, k2 and
+// tangential p1, p2 (Brown 1966; OpenCV's calib3d model without k3), and the Jacobian of the map.
+struct Distorted {
+  Eigen::Vector2d xy;
+  Eigen::Matrix2d jacobian;
+};
+Distorted Distort(double x, double y, double k1, double k2, double p1, double p2) {
+  const double r2 = x * x + y * y;
+  const double radial = k1 * r2 + k2 * r2 * r2;
+  const double d_radial_d_r2 = k1 + 2.0 * k2 * r2;
+  Distorted out;
+  out.xy = Eigen::Vector2d(x * (1.0 + radial) + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
+                           y * (1.0 + radial) + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y);
+  const double cross = 2.0 * x * y * d_radial_d_r2 + 2.0 * p1 * x + 2.0 * p2 * y;
+  out.jacobian << 1.0 + radial + 2.0 * x * x * d_radial_d_r2 + 2.0 * p1 * y + 6.0 * p2 * x,
+      cross, cross, 1.0 + radial + 2.0 * y * y * d_radial_d_r2 + 6.0 * p1 * y + 2.0 * p2 * x;
+  return out;
+}
+
 }  // namespace
+
+void ConcealedPhysics::MeasureInCamera(const std::string& cam, Pose* T_cam_target) const {
+  if (kind != "lens_distortion" || cam != camera) return;
+  const double z = T_cam_target->t.z();
+  const Eigen::Vector3d k2_p1_p2 = magnitude * lens_shape;
+  const Distorted seen = Distort(T_cam_target->t.x() / z, T_cam_target->t.y() / z, magnitude,
+                                 k2_p1_p2[0], k2_p1_p2[1], k2_p1_p2[2]);
+  const double depth = z / std::sqrt(seen.jacobian.determinant());
+  T_cam_target->t = Eigen::Vector3d(seen.xy.x() * depth, seen.xy.y() * depth, depth);
+}
 
 ConcealedPhysics ReadConcealedPhysics(const ConfigNode& node) {
   node.ExpectKeys({"kind", "robot", "joint", "camera", "magnitude", "link_masses_kg",
-                   "stiffening", "harmonics", "time_constant_s", "direction"});
+                   "stiffening", "harmonics", "time_constant_s", "direction", "lens_shape"});
   ConcealedPhysics c;
   c.kind = node["kind"].AsString();
   static const std::vector<std::string> kinds = {"distributed_compliance", "dead_zone_backlash",
-                                                 "gear_harmonics", "warmup", "camera_bump"};
+                                                 "gear_harmonics",         "warmup",
+                                                 "camera_bump",            "lens_distortion"};
   if (std::find(kinds.begin(), kinds.end(), c.kind) == kinds.end()) {
     throw node["kind"].Error("unknown concealed physics '" + c.kind + "'",
                              "Use distributed_compliance, dead_zone_backlash, gear_harmonics, "
-                             "warmup or camera_bump");
+                             "warmup, camera_bump or lens_distortion");
   }
   c.robot = node.GetString("robot", "");
   c.joint = node.GetInt("joint", 1) - 1;
@@ -118,6 +148,10 @@ ConcealedPhysics ReadConcealedPhysics(const ConfigNode& node) {
   if (node.Has("direction")) {
     const auto d = node["direction"].AsDoubles(3);
     c.direction = Eigen::Vector3d(d[0], d[1], d[2]);
+  }
+  if (node.Has("lens_shape")) {
+    const auto k = node["lens_shape"].AsDoubles(3);
+    c.lens_shape = Eigen::Vector3d(k[0], k[1], k[2]);
   }
   return c;
 }

@@ -140,6 +140,7 @@ void MeasureRobot(const WorkcellSimulationSpec& spec, const SimulatedRobot& robo
       auto measure = [&](const std::string& target, Pose T_cam_target) {
         context.target = target;
         ApplyMeasurement(effects, values.data(), context, &T_cam_target);
+        for (const auto& physics : spec.concealed) physics->MeasureInCamera(camera, &T_cam_target);
         for (const auto& [physics, actions] : hidden) {
           const auto& shift = actions[i].camera_shift_mm;
           if (shift && physics->camera_name() == camera) T_cam_target.t += *shift;

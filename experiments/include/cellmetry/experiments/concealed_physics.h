@@ -15,6 +15,16 @@
 //   warmup                  the arm grows as 1 - exp(-t / tau) over the run (sample times)
 //   camera_bump             (outside the library) camera `camera` is knocked at the middle of
 //                           the run and sits `magnitude` mm off along `direction` afterwards
+//   lens_distortion         camera `camera`'s lens distorts where its pose estimator's
+//                           calibration says it does not, in the full Brown-Conrady form where
+//                           the library fits k1 alone: k1 = magnitude and (k2, p1, p2) =
+//                           `lens_shape` times magnitude (default -0.4, 0.2, -0.1; normalized
+//                           image coordinates). A board's centre is seen along the distorted
+//                           ray and at the size the distortion's local stretch gives it, so PnP
+//                           puts it at depth Z / sqrt(det J), J the distortion map's Jacobian
+//                           there (with k1 alone, the library's radial form to first order:
+//                           Z (1 - 2 k1 r^2)); its rotation is left as it is (J is symmetric:
+//                           no in-plane turn)
 //
 // `magnitude` is the one scale a test sets (rad, 1, or mm); everything else is shape.
 #pragma once
@@ -39,6 +49,7 @@ struct ConcealedPhysics : Disturbance {
   std::vector<int> harmonics = {1, 3, 7};
   double time_constant_s = 1200.0;
   Eigen::Vector3d direction = Eigen::Vector3d(0.6, 0.0, 0.8);  // camera_bump, camera axes
+  Eigen::Vector3d lens_shape = Eigen::Vector3d(-0.4, 0.2, -0.1);  // lens_distortion: k2, p1, p2
 
   std::string name() const override { return kind; }
   double size() const override { return magnitude; }
@@ -47,6 +58,7 @@ struct ConcealedPhysics : Disturbance {
   std::vector<DisturbanceAction> Actions(const Recording& recording,
                                          const std::vector<SampleFacts>& facts,
                                          const Eigen::Vector3d& gravity_base) const override;
+  void MeasureInCamera(const std::string& camera, Pose* T_cam_target) const override;
 };
 
 // {kind: ..., robot: ur3, joint: 2 (1-based), camera: cam1, magnitude: ..., <shape options>}

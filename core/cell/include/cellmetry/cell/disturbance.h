@@ -4,7 +4,8 @@
 // fits.
 //
 // The simulator (workcell_simulation.h) applies what each disturbance says per sample: joint
-// errors, a growth of the flange distance, a shift of what one camera measures. Which
+// errors, a growth of the flange distance, a shift of what one camera measures; and per
+// observation what a camera's own optics do to its measured pose (MeasureInCamera). Which
 // disturbances exist is not the core's business: the experiments library provides them
 // (experiments/concealed_physics.h) and hands the simulation reader a DisturbanceReader for the
 // spec's `concealed:` entries.
@@ -18,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "cellmetry/basics/transform.h"
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/formats/recording.h"
 #include "cellmetry/model/effect_context.h"
@@ -48,6 +50,15 @@ class Disturbance {
   virtual std::vector<DisturbanceAction> Actions(const Recording& recording,
                                                  const std::vector<SampleFacts>& facts,
                                                  const Eigen::Vector3d& gravity_base) const = 0;
+
+  // What `camera`'s pose estimator makes of a target at `T_cam_target` (its true pose, after
+  // the library's measurement effects) where this disturbance is in the camera itself: a lens
+  // the estimator's calibration describes wrongly, say. Called for every observation of every
+  // robot's samples; by default it changes nothing.
+  virtual void MeasureInCamera(const std::string& camera, Pose* T_cam_target) const {
+    (void)camera;
+    (void)T_cam_target;
+  }
 };
 
 // Builds a disturbance from one `concealed:` entry; raises InputError at the node.
