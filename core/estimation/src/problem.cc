@@ -189,16 +189,10 @@ ceres::Problem& Problem::ceres_problem() {
   return *ceres_problem_;
 }
 
-void Problem::BuildCeres() {
-  ceres::Problem::Options options;
-  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.enable_fast_removal = false;
-  ceres_problem_ = std::make_unique<ceres::Problem>(options);
-  residual_ids_.clear();
-  manifolds_.clear();
-  variable_blocks_.clear();
+// A unit of blocks sharing a prediction, none with a robust loss, is one Ceres block
+// (shared_prediction_group.h); every other block is its own. Ceres's rows then come unit by
+// unit: ceres_rows_ says where each belongs in Evaluate()'s order (empty: where it is).
+void Problem::AddCeresResiduals() {
   groups_.clear();
   ceres_rows_.clear();
   std::vector<double*> pointers;
@@ -207,9 +201,6 @@ void Problem::BuildCeres() {
     for (int b : *evaluation_order_[k].second) pointers.push_back(values(b));
     residual_ids_.push_back(ceres_problem_->AddResidualBlock(cost, loss, pointers));
   };
-  // A unit of blocks sharing a prediction, none with a robust loss, is one Ceres block
-  // (shared_prediction_group.h); every other block is its own. Ceres's rows then come unit by
-  // unit: ceres_rows_ says where each belongs in Evaluate()'s order.
   for (int u = 0; u < num_predictions(); ++u) {
     const int* first = unit_blocks_.data() + unit_start_[u];
     const int* last = unit_blocks_.data() + unit_start_[u + 1];
@@ -230,11 +221,21 @@ void Problem::BuildCeres() {
       for (int row = rows_[*k]; row < rows_[*k] + rows; ++row) ceres_rows_.push_back(row);
     }
   }
-  bool in_order = true;
-  for (size_t row = 0; row < ceres_rows_.size() && in_order; ++row) {
-    in_order = ceres_rows_[row] == static_cast<int>(row);
-  }
-  if (in_order) ceres_rows_.clear();
+  // A permutation of the rows is the identity exactly when it is sorted.
+  if (std::is_sorted(ceres_rows_.begin(), ceres_rows_.end())) ceres_rows_.clear();
+}
+
+void Problem::BuildCeres() {
+  ceres::Problem::Options options;
+  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.enable_fast_removal = false;
+  ceres_problem_ = std::make_unique<ceres::Problem>(options);
+  residual_ids_.clear();
+  manifolds_.clear();
+  variable_blocks_.clear();
+  AddCeresResiduals();
   for (size_t b = 0; b < blocks_.size(); ++b) {
     Block& block = *blocks_[b];
     if (!block.used) continue;

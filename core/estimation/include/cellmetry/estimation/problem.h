@@ -211,6 +211,7 @@ class Problem {
   std::deque<std::vector<int>> prior_blocks_;  // each prior's block, at a stable address
   std::vector<ceres::LossFunction*> evaluation_losses_;  // per residual block; null: none
   void BuildCeres();
+  void AddCeresResiduals();  // BuildCeres's residual blocks, units grouped where they can be
   std::vector<std::vector<int>> free_column_;
   // EvaluateSparse's layout, fixed by Build(): per residual block the free columns its rows
   // hold, in column order, with the slot and entry of the parameter block each comes from.
