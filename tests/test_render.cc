@@ -108,6 +108,23 @@ TEST(Readers, SurviveFuzzedInput) {
               HasSubstr("cannot be decoded"));
 }
 
+// A file that begins like a PGM and carries DICOM's mark at byte 128 (found by fuzz_image): OpenCV
+// offered it to GDCM, whose reader aborts the process. It must be an InputError instead.
+TEST(Readers, RefuseADicomMarkedFileWithoutDecodingIt) {
+  const std::string dir = testing::TempDirForThisTest("render_dicom");
+  std::string bytes = "P5\x08";  // "P5" without the whitespace a netpbm header needs
+  bytes.resize(128, '\0');
+  bytes += "DICM";
+  bytes += std::string(64, 'Z');
+  testing::WriteText(dir + "/frame.pgm", bytes);
+  EXPECT_THAT(testing::CatchInputError([&] { ReadGrayImage(dir + "/frame.pgm"); }).what(),
+              HasSubstr("cannot be decoded"));
+  bytes[2] = ' ';  // a netpbm header now, but the DICOM mark still refuses it
+  testing::WriteText(dir + "/frame.pgm", bytes);
+  EXPECT_THAT(testing::CatchInputError([&] { ReadGrayImage(dir + "/frame.pgm"); }).what(),
+              HasSubstr("cannot be decoded"));
+}
+
 // A marker frame facing the camera (its z axis out of the paper, toward the camera: OpenCV's
 // marker convention), at `t` in the camera frame.
 Pose Facing(const Eigen::Vector3d& t) {

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <iterator>
 
@@ -16,14 +17,27 @@ namespace cellmetry {
 
 namespace {
 
-// True when `bytes` start with the signature of PNG, JPEG, TIFF, BMP or binary PGM/PPM.
+// True when `bytes` start with the full signature of PNG, JPEG, TIFF, BMP or binary PGM/PPM, as
+// the matching OpenCV codec checks it, so that codec (and no other) is the one imdecode picks.
 bool IsCameraImageFormat(const std::vector<unsigned char>& bytes) {
   auto starts = [&](std::initializer_list<unsigned char> magic) {
     return bytes.size() >= magic.size() && std::equal(magic.begin(), magic.end(), bytes.begin());
   };
-  return starts({0x89, 'P', 'N', 'G'}) || starts({0xFF, 0xD8, 0xFF}) ||
+  // A netpbm header is "P5" or "P6" and then whitespace; without it OpenCV's PxM codec declines
+  // the file and imdecode offers it to the next codec.
+  const bool netpbm = (starts({'P', '5'}) || starts({'P', '6'})) && bytes.size() > 2 &&
+                      std::isspace(bytes[2]) != 0;
+  return starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'}) || starts({0xFF, 0xD8, 0xFF}) ||
          starts({'I', 'I', 0x2A, 0x00}) || starts({'M', 'M', 0x00, 0x2A}) || starts({'B', 'M'}) ||
-         starts({'P', '5'}) || starts({'P', '6'});
+         netpbm;
+}
+
+// True when `bytes` carry DICOM's mark ("DICM" after a 128-byte preamble). GDCM's reader, which
+// OpenCV links, aborts the process on malformed DICOM; such a file never reaches imdecode, whatever
+// its first bytes say (found by fuzz_image: "P5" then a non-space, and "DICM" at 128).
+bool HasDicomMark(const std::vector<unsigned char>& bytes) {
+  static constexpr unsigned char kMark[] = {'D', 'I', 'C', 'M'};
+  return bytes.size() >= 132 && std::equal(std::begin(kMark), std::end(kMark), bytes.begin() + 128);
 }
 
 }  // namespace
@@ -41,7 +55,7 @@ GrayImage ReadGrayImage(const std::string& path) {
   // Only the formats a camera writes reach a decoder: OpenCV would otherwise hand any bytes to
   // every codec it links, and one of them (GDCM's DICOM reader) aborts on malformed input
   // (found by fuzz_image).
-  if (!IsCameraImageFormat(bytes)) {
+  if (!IsCameraImageFormat(bytes) || HasDicomMark(bytes)) {
     throw InputError(where,
                      "the image cannot be decoded: not a PNG, JPEG, TIFF, BMP or PGM/PPM file",
                      "Save the frame in one of these formats");
