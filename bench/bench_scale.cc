@@ -27,10 +27,9 @@
 
 #include <malloc.h>
 
-#include <Eigen/QR>
-
 #include "bench_support.h"
 #include "spqr_r_factor.h"
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_assembly.h"

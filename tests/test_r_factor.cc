@@ -6,6 +6,7 @@
 #include <map>
 #include <random>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_initial.h"

@@ -1,9 +1,9 @@
 // Predictions of a carried target and their Cramer-Rao floor (prediction.h).
 #include "cellmetry/cell/prediction.h"
 
-#include <Eigen/SVD>
 #include <set>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/cell/workcell_assembly.h"
 
 namespace cellmetry {

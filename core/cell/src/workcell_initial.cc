@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/rigid_fit.h"
 #include "base_fit_sums.h"

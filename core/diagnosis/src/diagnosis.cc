@@ -11,6 +11,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"

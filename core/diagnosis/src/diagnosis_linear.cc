@@ -5,11 +5,10 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Cholesky>
-#include <Eigen/QR>
-#include <Eigen/SVD>
 #include <map>
 #include <stdexcept>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/basics/statistics.h"
 #include "cellmetry/model/robot_model.h"
 

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_data.h"

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/basics/error.h"
 
 namespace cellmetry {

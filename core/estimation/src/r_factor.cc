@@ -3,10 +3,10 @@
 
 #include <tbb/parallel_for.h>
 
-#include <Eigen/QR>
 #include <algorithm>
 #include <vector>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "column_patterns.h"
 
 namespace cellmetry {

@@ -1,8 +1,6 @@
 // The cluster-robust covariance and the jackknife spread (robust_covariance.h).
 #include "cellmetry/estimation/robust_covariance.h"
 
-#include <Eigen/QR>
-#include <Eigen/SVD>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -10,6 +8,7 @@
 
 #include <Eigen/SparseCore>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/basics/statistics.h"
 
 namespace cellmetry {

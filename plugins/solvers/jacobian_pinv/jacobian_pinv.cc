@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/estimation/problem.h"
 #include "cellmetry/registry/registry.h"
 
