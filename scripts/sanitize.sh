@@ -22,10 +22,30 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0:abort_on_error=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 if [ "$#" -gt 0 ]; then
   cmake --build "$build" -j"$(nproc)" --target cellmetry "$@"
+  # Each suite in as many GoogleTest shards as the machine has cores, side by side; a shard's
+  # output is shown when the suite is done, and any failing shard fails the run.
+  mkdir -p "$build/sanitize-logs"
+  shards=$(nproc)
+  failed=0
   for suite in "$@"; do
-    echo "== $suite (ASan + UBSan)"
-    "$build/bin/$suite"
+    echo "== $suite (ASan + UBSan, $shards shards)"
+    pids=()
+    for ((i = 0; i < shards; ++i)); do
+      GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i "$build/bin/$suite" \
+        >"$build/sanitize-logs/$suite.$i.log" 2>&1 &
+      pids+=($!)
+    done
+    for ((i = 0; i < shards; ++i)); do
+      if ! wait "${pids[$i]}"; then
+        cat "$build/sanitize-logs/$suite.$i.log"
+        echo "sanitize.sh: $suite shard $i failed" >&2
+        failed=1
+      else
+        grep -E '^\[  (PASSED|SKIPPED) ' "$build/sanitize-logs/$suite.$i.log" || true
+      fi
+    done
   done
+  exit "$failed"
 else
   cmake --build "$build" -j"$(nproc)"
   ctest --test-dir "$build" --output-on-failure -j"$(nproc)" -E '^PhysicsSuite\.'
