@@ -118,6 +118,16 @@ TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {
   EXPECT_EQ(site.at("camera.radial_cam1"), "camera cam1");
   EXPECT_EQ(site.at("target.scale_tool"), "target tool");
   EXPECT_EQ(site.at("ur3.thermal"), "");
+  // A camera's five calibration forms are one group; nested variants keep their family alone.
+  std::map<std::string, std::string> group;
+  for (const auto& c : JobCandidates(job, recording, testing::Plugins())) {
+    group[c.effect.name] = c.group_name();
+  }
+  for (const std::string form : {"depth", "depth_tilt", "focal", "principal", "radial"}) {
+    EXPECT_EQ(group.at("camera." + form + "_cam2"), "camera.calibration_cam2") << form;
+  }
+  EXPECT_EQ(group.at("ur3.transmission_j3_h2"), "ur3.transmission_j3");
+  EXPECT_EQ(group.at("target.scale_tool"), "target.scale_tool");
 }
 
 // The physics suite's UR3 cell, with its recording's noise drawn from `seed`.
@@ -213,6 +223,35 @@ TEST(PhysicalFindings, ABacklashBesideAComplianceIsSeparatePhysics) {
   EXPECT_LT(backlash.group_share, 0.1);  // not material by its share alone ...
   EXPECT_LT(backlash.headline_correlation, 0.5);  // ... but unlike the compliance
   EXPECT_THAT(report, HasSubstr("Also at ur3 joint 3, separate physics: joint 3 backlash"));
+}
+
+// A lens off in the full Brown-Conrady form (k1 with k2 and tangential terms; the library fits
+// k1 alone) is found as its camera's calibration: the report names the cause, then the form that
+// describes it best, whichever of the camera's forms won the round.
+TEST(PhysicalFindings, ARicherLensIsNamedAsItsCamerasCalibration) {
+  const std::string dir = testing::TempDirForThisTest("findings_lens");
+  WorkcellSimulationSpec spec = SuiteCell(dir, 1);
+  ConcealedPhysics lens = ReadConcealedPhysics(
+      ConfigNode::LoadString("{kind: lens_distortion, camera: cam2}", "test"));
+  lens.magnitude = 5e-5;  // 2.4 chi-square/dof (physics_suite.yaml's SNR-6 case: 4.4e-6)
+  spec.concealed.push_back(std::make_shared<ConcealedPhysics>(lens));
+  const DiagnosisJob job = testing::Ur3DiagnoseJob(dir);
+  const DiagnosisResult d =
+      testing::Diagnose(job, SimulateWorkcell(spec, nullptr), dir + "/job.yaml");
+  const std::string report = DiagnosisReport(d);
+  ASSERT_FALSE(d.accepted.empty()) << report;
+  const AcceptedEffect& first = d.accepted.front();
+  EXPECT_EQ(first.site, "camera cam2") << report;
+  EXPECT_EQ(first.group, "camera.calibration_cam2") << report;
+  EXPECT_THAT(report, HasSubstr("Left out: cam2 calibration, best described as " +
+                                first.description));
+  // A further form of the same camera's calibration is part of that cause, not separate physics.
+  for (const AcceptedEffect& a : d.accepted) {
+    if (&a == &first || a.group != first.group) continue;
+    EXPECT_THAT(report, HasSubstr("Also part of cam2 calibration: " + a.description)) << report;
+    EXPECT_THAT(report, Not(HasSubstr("separate physics: " + a.description))) << report;
+  }
+  EXPECT_EQ(DiagnosisJson(d)["accepted"][0]["group"], "camera.calibration_cam2");
 }
 
 }  // namespace

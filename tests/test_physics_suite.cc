@@ -92,5 +92,28 @@ TEST(PhysicsSuite, NoRunsPerCaseIsRefusedWithItsLine) {
   EXPECT_THAT(e.message(), HasSubstr("at least 1 run per case"));
 }
 
+// What counts as right: the expected name or a nested variant of it, an exact alias, or (where
+// the case expects one) the group of the named form; silence and other names do not count.
+TEST(PhysicsSuite, ARunIsRightByNameAliasOrExpectedGroup) {
+  SuiteCaseResult lens;
+  lens.spec.expect = "camera.calibration_cam2";
+  SuiteRun tilt{"camera.depth_tilt_cam2", "", 1.0, 0.1, {}, "camera.calibration_cam2"};
+  EXPECT_TRUE(lens.named_right(tilt));
+  tilt.group = "camera.calibration_cam1";  // the other camera's calibration
+  EXPECT_FALSE(lens.named_right(tilt));
+  EXPECT_FALSE(lens.named_right({"none", "bootstrap", 1.0, 0.1, {}, ""}));
+
+  SuiteCaseResult gear;
+  gear.spec.expect = "ur3.transmission_j4";
+  EXPECT_TRUE(gear.named_right({"ur3.transmission_j4_h1", "", 1.0, 0.1, {}, ""}));
+  SuiteCaseResult focal;
+  focal.spec.expect = "camera.focal_cam2";
+  // A form's case wants the form: its group alone is not enough.
+  EXPECT_FALSE(
+      focal.named_right({"camera.radial_cam2", "", 1.0, 0.1, {}, "camera.calibration_cam2"}));
+  EXPECT_TRUE(focal.named_right(
+      {"camera.depth_cam2", "", 1.0, 0.1, {"camera.focal_cam2"}, "camera.calibration_cam2"}));
+}
+
 }  // namespace
 }  // namespace cellmetry

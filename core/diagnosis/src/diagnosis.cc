@@ -275,32 +275,35 @@ std::vector<int> RowPoses(const CandidateLinearization& lin) {
   return poses;
 }
 
-// The share of bootstrap resamples that included a candidate of one of `own` families (the
-// chosen one's and its aliases), and the label of the other family included most often ("" when
-// none was).
-std::pair<double, std::string> FamilyInclusion(
+// The share of bootstrap resamples that included a candidate of one of `own` groups (the chosen
+// one's and its aliases', CandidateEffect::group_name), and the label of the other group included
+// most often ("" when none was).
+std::pair<double, std::string> GroupInclusion(
     const std::vector<std::vector<int>>& inclusions,
     const std::vector<const CandidateEffect*>& candidates, const std::set<std::string>& own) {
   int resamples_own = 0;
   std::map<std::string, int> resamples_including;
   std::map<std::string, std::string> label;
   for (const auto& included : inclusions) {
-    std::set<std::string> families;
+    std::set<std::string> groups;
     for (int c : included) {
-      families.insert(candidates[c]->family_name());
-      label.try_emplace(candidates[c]->family_name(), candidates[c]->label);
+      const CandidateEffect& candidate = *candidates[c];
+      groups.insert(candidate.group_name());
+      label.try_emplace(candidate.group_name(), candidate.group_label.empty()
+                                                    ? candidate.label
+                                                    : candidate.group_label);
     }
     bool any_own = false;
-    for (const auto& f : families) {
-      ++resamples_including[f];
-      any_own |= own.count(f) > 0;
+    for (const auto& g : groups) {
+      ++resamples_including[g];
+      any_own |= own.count(g) > 0;
     }
     resamples_own += any_own;
   }
   std::string rival;
   int rival_count = 0;
-  for (const auto& [family, count] : resamples_including) {
-    if (!own.count(family) && count > rival_count) rival_count = count, rival = label[family];
+  for (const auto& [group, count] : resamples_including) {
+    if (!own.count(group) && count > rival_count) rival_count = count, rival = label[group];
   }
   const double n = std::max<size_t>(1, inclusions.size());
   return {resamples_own / n, rival};
@@ -483,14 +486,14 @@ class Diagnoser {
     // one's at all (a gear ratio and a once-per-turn error over less than a turn). No estimator
     // can pick between them, so the bootstrap asks whether the finding is stable, not which of
     // its names wins, and the report names both.
-    std::set<std::string> own = {s->testable[best]->family_name()};
+    std::set<std::string> own = {s->testable[best]->group_name()};
     // One whose size rules it out names more of what shares its signature.
     const double look_alike = chosen.implausible.empty() ? 0.8 : 0.5;
     for (const auto& [c, correlation] :
          LookAlikes(s->unabsorbed_bases, s->testable, best, look_alike)) {
       chosen.look_alikes.push_back({s->testable[c]->label, correlation});
       if (correlation >= options_.alias_correlation) {
-        own.insert(s->testable[c]->family_name());
+        own.insert(s->testable[c]->group_name());
         chosen.aliases.push_back(s->testable[c]->label);
         chosen.alias_names.push_back(s->testable[c]->effect.name);
       }
@@ -499,7 +502,7 @@ class Diagnoser {
         BootstrapInclusions(s->base.r, s->base.J_model, s->signatures, RowPoses(s->base),
                             options_.bootstrap, std::log(n_poses_), effects_left, seed);
     std::tie(chosen.bootstrap_share, chosen.bootstrap_rival) =
-        FamilyInclusion(inclusions, s->testable, own);
+        GroupInclusion(inclusions, s->testable, own);
     chosen.explained_share = ExplainedShare(current.summary, with_cv.summary);
     if (!chosen.implausible.empty()) chosen.failed.push_back("size");
     if (!(chosen.p_lr_holm < options_.alpha)) chosen.failed.push_back("LR");
@@ -523,6 +526,8 @@ class Diagnoser {
     a.name = c.effect.name;
     a.label = c.label;
     a.site = c.site;
+    a.group = c.group;
+    a.group_label = c.group_label;
     a.held_out_sigma_before = current.summary.held_out_sigma;
     a.held_out_sigma_after = with_cv.summary.held_out_sigma;
     const std::vector<double>& values = with_cv.result.estimate.effects.at(c.effect.name);

@@ -33,14 +33,16 @@ int ParallelLinkCount(const RobotModel& model) {
 
 // What a camera and the targets it measures get wrong: per camera its depth (along the ray, and
 // tilting across the image), its focal length, principal point and radial distortion as a pose
-// estimator passes them on; per target its printed size and the estimator's tilt of it; the
-// world tag's tilt from the frame the placement was measured in (testable only where the bases'
-// rotations are held: a gauge otherwise, which the absorption test finds).
+// estimator passes them on, one group (CandidateEffect::group); per target its printed size and
+// the estimator's tilt of it; the world tag's tilt from the frame the placement was measured in
+// (testable only where the bases' rotations are held: a gauge otherwise, which the absorption
+// test finds).
 void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording,
                          Registry& registry, std::vector<CandidateEffect>* out) {
   const WorkcellRobot& any = spec.robots.front();
   for (const auto& camera : recording.cameras) {
     const std::string on = "cameras: [" + camera + "]";
+    const size_t first = out->size();
     out->push_back(Make("{type: depth_bias, " + on + "}", "camera.depth_" + camera, any,
                         camera + " depth bias", "targets at more varied distances from " + camera,
                         registry));
@@ -58,6 +60,12 @@ void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording
     out->push_back(Make("{type: camera_intrinsics, " + on + ", terms: [radial]}",
                         "camera.radial_" + camera, any, camera + " radial distortion",
                         "targets near the edges of " + camera + "'s image", registry));
+    // The five are first-order pieces of one calibration: over the part of the image the
+    // targets cross, a real lens's error looks like one or another of them (docs/physics.md).
+    for (size_t k = first; k < out->size(); ++k) {
+      (*out)[k].group = "camera.calibration_" + camera;
+      (*out)[k].group_label = camera + " calibration";
+    }
   }
   for (const auto& [target, carrier] : recording.targets) {
     out->push_back(Make("{type: target_scale, targets: [" + target + "]}",

@@ -48,12 +48,38 @@ void Details(const AcceptedEffect& a, std::ostringstream& out) {
   for (const auto& p : a.parameters) out << "  " << Value(p) << "\n";
 }
 
+// A further effect of a finding that passed its test against the group: another form of the
+// headline's cause (a camera's focal length beside its distortion), or separate physics at the
+// same site.
+void SeparateMember(const DiagnosisResult& r, const PhysicalFinding& f,
+                    const AcceptedEffect& head, const AcceptedEffect& a, std::ostringstream& out) {
+  const std::string share = FixedNumber(100 * a.group_share, 1) + " % of what the finding removes";
+  if (!a.group.empty() && a.group == head.group) {
+    out << "  Also part of " << head.group_label << ": " << a.description << " (up to "
+        << Mm(a.peak_mm) << "; " << share << ").\n";
+  } else {
+    out << "  Also at " << f.site << ", separate physics: " << a.description << " (up to "
+        << Mm(a.peak_mm) << "; " << share;
+    if (a.group_share >= r.min_group_share) {
+      out << ", at least " << FixedNumber(100 * r.min_group_share, 0) << " %).\n";
+    } else {
+      out << ", but unlike the physics above: correlation "
+          << FixedNumber(a.headline_correlation, 2) << " with its signature, under "
+          << FixedNumber(r.shape_correlation, 2) << ").\n";
+    }
+  }
+  Details(a, out);
+}
+
 // One physical finding (diagnosis.h, step 7): its headline, then the further effects fitted at
 // the same site, each as separate physics or as the headline physics' residual shape, with the
 // share of the group's held-out excess that decided it.
 void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstream& out) {
   const AcceptedEffect& head = r.accepted[f.headline];
-  out << "Left out: " << head.description << " (up to " << Mm(head.peak_mm) << " at the tool)";
+  out << "Left out: ";
+  // A group's forms are pieces of one cause: the cause first, the form as its best description.
+  if (!head.group_label.empty()) out << head.group_label << ", best described as ";
+  out << head.description << " (up to " << Mm(head.peak_mm) << " at the tool)";
   const size_t members = 1 + f.separate.size() + f.residual_shape.size();
   if (members > 1) {
     out << "; one finding at " << f.site << " with the effects below (this one removes "
@@ -62,20 +88,7 @@ void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstr
   }
   out << ".\n";
   Details(head, out);
-  for (int m : f.separate) {
-    const AcceptedEffect& a = r.accepted[m];
-    out << "  Also at " << f.site << ", separate physics: " << a.description << " (up to "
-        << Mm(a.peak_mm) << "; " << FixedNumber(100 * a.group_share, 1)
-        << " % of what the finding removes";
-    if (a.group_share >= r.min_group_share) {
-      out << ", at least " << FixedNumber(100 * r.min_group_share, 0) << " %).\n";
-    } else {
-      out << ", but unlike the physics above: correlation "
-          << FixedNumber(a.headline_correlation, 2) << " with its signature, under "
-          << FixedNumber(r.shape_correlation, 2) << ").\n";
-    }
-    Details(a, out);
-  }
+  for (int m : f.separate) SeparateMember(r, f, head, r.accepted[m], out);
   for (int m : f.residual_shape) {
     const AcceptedEffect& a = r.accepted[m];
     out << "  Also fitted at " << f.site << ": " << a.label << " (up to " << Mm(a.peak_mm)
@@ -204,6 +217,7 @@ nlohmann::json CandidateJson(const CandidateFinding& f) {
 
 nlohmann::json AcceptedJson(const AcceptedEffect& a) {
   nlohmann::json j{{"name", a.name}, {"label", a.label}, {"site", a.site},
+                   {"group", a.group}, {"group_label", a.group_label},
                    {"description", a.description}, {"peak_mm", a.peak_mm},
                    {"aliases", a.aliases},
                    {"held_out_sigma_before", a.held_out_sigma_before},

@@ -65,6 +65,7 @@ struct SuiteRun {
   double held_out_over_floor = 0.0;
   double seconds = 0.0;
   std::vector<std::string> aliases;  // the named effect's exact aliases (candidate names)
+  std::string group;            // the named effect's group (CandidateEffect::group), or ""
 };
 
 struct SuiteCaseResult {
@@ -73,7 +74,8 @@ struct SuiteCaseResult {
   double magnitude = 0.0;       // the effect size giving the SNR
   std::vector<SuiteRun> runs;
   int right() const;            // runs that named what was expected
-  // Whether `run` named what was expected: the finding's name or one of its exact aliases.
+  // Whether `run` named what was expected: the finding's name, one of its exact aliases or its
+  // group.
   bool named_right(const SuiteRun& run) const;
 };
 

@@ -31,9 +31,10 @@
 //        c'. it removes at least `min_explained_share` of the held-out excess over the floor,
 //           where that excess is beyond chance (a sliver of a large mismatch is not a finding),
 //           and does not make the held-out positions worse (by more than 1 %),
-//        d. its family (nested variants of the same physics) is included in >= `bootstrap_share`
-//           of bootstrap resamples of poses, each running the greedy selection (BIC-gated) on
-//           the resampled, reweighted linearization (Sauerbrei & Schumacher 1992);
+//        d. its group (CandidateEffect::group: nested variants of the same physics, or the
+//           forms of one camera's calibration) is included in >= `bootstrap_share` of bootstrap
+//           resamples of poses, each running the greedy selection (BIC-gated) on the resampled,
+//           reweighted linearization (Sauerbrei & Schumacher 1992);
 //      candidates whose unabsorbed signatures correlate >= `alias_correlation` with the chosen
 //      one are its aliases: one finding with two names, counted together by the bootstrap and
 //      named together in the report;
@@ -113,6 +114,16 @@ struct CandidateEffect {
   // family, since they name the same physics on the same joint. Empty: effect.name.
   std::string family;
   const std::string& family_name() const { return family.empty() ? effect.name : family; }
+  // One physical cause that several library forms describe, none nested in another: a camera's
+  // calibration as its pose estimator and depth use it ("camera.calibration_cam2": its depth
+  // scale and tilt, focal length, principal point, radial distortion; a real lens mixes them).
+  // The bootstrap counts a resample won by any member as won by the group, and the report names
+  // the group with the chosen form as its best single description. Unlike a family, the other
+  // members stay candidates after one is accepted: a camera can be off in two ways. Empty: the
+  // family is the group.
+  std::string group;
+  std::string group_label;  // "cam2 calibration", shown with the chosen form's description
+  const std::string& group_name() const { return group.empty() ? family_name() : group; }
   // Where it acts, in words ("ur3 joint 3", "camera cam2", "target tool"): accepted effects at
   // one site are one physical finding (step 7). Empty: a site of its own (thermal growth).
   std::string site;
@@ -145,8 +156,8 @@ struct CandidateFinding {
   double cv_rms_mm = 0.0;           // held-out RMS with it, mm
   double cv_gain = 0.0;             // held-out normalized RMS without it minus with it (sigmas)
   double cv_gain_se = 0.0;          // standard error of that gain over the folds
-  double bootstrap_share = 0.0;     // resamples whose selection included its family
-  std::string bootstrap_rival;      // the other family included most often ("" if none)
+  double bootstrap_share = 0.0;     // resamples whose selection included its group
+  std::string bootstrap_rival;      // the other group included most often ("" if none)
   std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
   std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
   std::vector<std::string> alias_names;  // the same, by candidate name
@@ -188,6 +199,8 @@ struct AcceptedEffect {
   std::string name;
   std::string label;                         // the candidate's ("joint 3 compliance")
   std::string site;                          // CandidateEffect::site
+  std::string group;                         // CandidateEffect::group ("" when it has none)
+  std::string group_label;                   // CandidateEffect::group_label
   std::string description;                   // Effect::Describe at the estimate
   std::vector<ScalarEstimate> parameters;
   double peak_mm = 0.0;                      // largest tool displacement it predicts
