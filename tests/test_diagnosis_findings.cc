@@ -99,6 +99,28 @@ TEST(PhysicalFindings, AFurtherEffectAtTheSameSiteIsSeparateWithAMaterialShareOr
   EXPECT_EQ(DiagnosisReport(ungrouped), report);
 }
 
+// An accepted name whose signature these poses can hardly tell from another's says so: the
+// suite named joint 2 compliance as joint 2's gear ratio once, a 0.94 look-alike.
+TEST(PhysicalFindings, AnAcceptedEffectNamesItsLookAlikes) {
+  DiagnosisResult r;
+  r.accepted = {Effect("ur3.scale_j2", "ur3 joint 2", 3.0, 1.0)};
+  r.accepted[0].aliases = {"joint 2 transmission error"};
+  r.accepted[0].look_alikes = {{"joint 2 transmission error", 0.995},
+                               {"joint 2 compliance", 0.94},
+                               {"joint 3 gear ratio error", 0.81}};
+  GroupFindings(DiagnosisOptions{}, &r);
+  const std::string report = DiagnosisReport(r);
+  EXPECT_THAT(report, HasSubstr("indistinguishable from joint 2 transmission error;"));
+  EXPECT_THAT(report, HasSubstr("In these poses it looks like joint 2 compliance (0.94), joint 3 "
+                                "gear ratio error (0.81): the tests preferred this name"));
+  EXPECT_THAT(report, Not(HasSubstr("looks like joint 2 transmission error")));
+  const nlohmann::json j = DiagnosisJson(r);
+  ASSERT_EQ(j["accepted"][0]["look_alikes"].size(), 3u);
+  EXPECT_EQ(j["accepted"][0]["look_alikes"][1]["label"], "joint 2 compliance");
+  r.accepted[0].look_alikes.resize(1);  // only the alias: no look-alike sentence
+  EXPECT_THAT(DiagnosisReport(r), Not(HasSubstr("looks like")));
+}
+
 TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {
   const std::string dir = testing::TempDirForThisTest("findings_sites");
   const DiagnosisJob job = testing::Ur3DiagnoseJob(dir);

@@ -534,6 +534,7 @@ class Diagnoser {
     a.description = c.effect.effect->Describe(values);
     a.aliases = chosen.aliases;
     a.alias_names = chosen.alias_names;
+    a.look_alikes = chosen.look_alikes;
     for (const auto& s : with_cv.result.model_parameters) {
       if (s.name.rfind(c.effect.name + ".", 0) == 0) a.parameters.push_back(s);
     }

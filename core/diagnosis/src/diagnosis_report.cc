@@ -1,4 +1,5 @@
 // The physics finder's report (diagnosis.h): ten seconds of words, and the same in JSON.
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -38,12 +39,25 @@ std::string Value(const ScalarEstimate& s) {
   return b;
 }
 
-// One accepted effect's aliases and parameters, indented.
+// One accepted effect's aliases, its other look-alikes (at most three) and parameters, indented.
 void Details(const AcceptedEffect& a, std::ostringstream& out) {
   if (!a.aliases.empty()) {
     out << "  In these poses it is indistinguishable from";
     for (size_t i = 0; i < a.aliases.size(); ++i) out << (i ? "," : "") << " " << a.aliases[i];
     out << "; poses that tell them apart would settle which.\n";
+  }
+  std::vector<LookAlike> others;
+  for (const LookAlike& l : a.look_alikes) {
+    const bool alias = std::find(a.aliases.begin(), a.aliases.end(), l.label) != a.aliases.end();
+    if (!alias && others.size() < 3) others.push_back(l);
+  }
+  if (!others.empty()) {
+    out << "  In these poses it looks like";
+    for (size_t i = 0; i < others.size(); ++i) {
+      out << (i ? "," : "") << " " << others[i].label << " ("
+          << FixedNumber(others[i].correlation, 2) << ")";
+    }
+    out << ": the tests preferred this name, and poses that tell them apart would confirm it.\n";
   }
   for (const auto& p : a.parameters) out << "  " << Value(p) << "\n";
 }
@@ -183,11 +197,15 @@ nlohmann::json SummaryJson(const FitSummary& s) {
                         {"consistent_with_noise", s.consistent_with_noise()}};
 }
 
-nlohmann::json CandidateJson(const CandidateFinding& f) {
-  nlohmann::json look_alikes = nlohmann::json::array();
-  for (const auto& l : f.look_alikes) {
-    look_alikes.push_back({{"label", l.label}, {"correlation", l.correlation}});
+nlohmann::json LookAlikesJson(const std::vector<LookAlike>& look_alikes) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& l : look_alikes) {
+    out.push_back({{"label", l.label}, {"correlation", l.correlation}});
   }
+  return out;
+}
+
+nlohmann::json CandidateJson(const CandidateFinding& f) {
   return nlohmann::json{{"name", f.name},
                         {"label", f.label},
                         {"testable", f.testable},
@@ -205,7 +223,7 @@ nlohmann::json CandidateJson(const CandidateFinding& f) {
                         {"cv_gain_sigma", f.cv_gain},
                         {"cv_gain_se_sigma", f.cv_gain_se},
                         {"bootstrap_share", f.bootstrap_share},
-                        {"look_alikes", look_alikes},
+                        {"look_alikes", LookAlikesJson(f.look_alikes)},
                         {"bootstrap_rival", f.bootstrap_rival},
                         {"aliases", f.aliases},
                         {"alias_names", f.alias_names},
@@ -219,7 +237,7 @@ nlohmann::json AcceptedJson(const AcceptedEffect& a) {
   nlohmann::json j{{"name", a.name}, {"label", a.label}, {"site", a.site},
                    {"group", a.group}, {"group_label", a.group_label},
                    {"description", a.description}, {"peak_mm", a.peak_mm},
-                   {"aliases", a.aliases},
+                   {"aliases", a.aliases}, {"look_alikes", LookAlikesJson(a.look_alikes)},
                    {"held_out_sigma_before", a.held_out_sigma_before},
                    {"held_out_sigma_after", a.held_out_sigma_after},
                    {"role", a.role}, {"group_share", a.group_share},

@@ -206,6 +206,9 @@ struct AcceptedEffect {
   double peak_mm = 0.0;                      // largest tool displacement it predicts
   std::vector<std::string> aliases;          // candidates these poses cannot tell from it
   std::vector<std::string> alias_names;      // the same, by candidate name
+  // Candidates whose unabsorbed signatures correlate >= 0.8 with its own in the round it was
+  // accepted (its aliases among them), strongest first: where the name could be another's.
+  std::vector<LookAlike> look_alikes;
   std::vector<SignaturePoint> signature;     // rows it moves by more than 1e-9 mm
   // The model's held-out RMS in sigmas just before and after it was accepted (same folds).
   double held_out_sigma_before = 0.0, held_out_sigma_after = 0.0;
