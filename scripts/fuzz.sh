@@ -26,6 +26,7 @@ mkdir -p "$build/fuzz/artifacts" "$build/fuzz/logs"
 fuzz_one() {
   local h=$1 corpus="$build/fuzz/corpus/$1" log="$build/fuzz/logs/$1.log"
   mkdir -p "$corpus"
+  rm -f "$log.status"
   set +e
   "$build/bin/$h" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
     -artifact_prefix="$build/fuzz/artifacts/$h-" -print_final_stats=1 \
@@ -44,8 +45,8 @@ for h in "${harnesses[@]}"; do
   log="$build/fuzz/logs/$h.log"
   echo "== $h"
   cat "$log"
-  status=$(cat "$log.status")
-  if [ "$status" -ne 0 ]; then
+  status=$(cat "$log.status" 2>/dev/null || echo "no status")
+  if [ "$status" != 0 ]; then
     echo "fuzz.sh: $h found a problem (exit $status); see $build/fuzz/artifacts/" >&2
     failed=1
   fi
