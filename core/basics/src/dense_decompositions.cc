@@ -1,7 +1,6 @@
-// The one instantiation of the decompositions dense_decompositions.h declares extern.
-#include <Eigen/Core>
-#include <Eigen/QR>
-#include <Eigen/SVD>
+// The one instantiation of the decompositions dense_decompositions.h declares extern (an explicit
+// instantiation definition may follow its extern declaration).
+#include "cellmetry/basics/dense_decompositions.h"
 
 template class Eigen::BDCSVD<Eigen::MatrixXd>;
 template class Eigen::JacobiSVD<Eigen::MatrixXd>;
