@@ -63,7 +63,7 @@ TEST(PhysicsSuiteRecommendations, SayMetMissedOrUndecidedWithWhatWouldDecide) {
     r.cell = "UR3";
     r.spec.name = name;
     r.spec.expect = expect;
-    for (const auto& n : named) r.runs.push_back({n, "", 1.0, 1.0, {}});
+    for (const auto& n : named) r.runs.push_back({n, "", 1.0, 1.0, {}, ""});
     return r;
   };
   const std::vector<SuiteCaseResult> results = {
