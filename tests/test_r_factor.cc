@@ -160,6 +160,14 @@ TEST(SparsePath, GramRowsHaveTheJacobiansGramMatrix) {
       EXPECT_EQ(solved.assembled->problem.residual_infos()[b].camera,
                 solved.assembled->problem.residual_infos()[at.gram.block[row]].camera);
     }
+    // Asked alone (J never stored, as the identifiability check before a solve asks), the
+    // same rows to the bit.
+    ASSERT_TRUE(solved.assembled->problem.HasGramRows()) << job;
+    GramRows alone;
+    ASSERT_TRUE(solved.assembled->problem.EvaluateSparse(nullptr, nullptr, &alone)) << job;
+    EXPECT_EQ((Eigen::MatrixXd(alone.rows) - gram).cwiseAbs().maxCoeff(), 0.0) << job;
+    EXPECT_EQ(alone.block, at.gram.block) << job;
+    EXPECT_EQ(alone.row_of_block, at.gram.row_of_block) << job;
   }
 }
 

@@ -71,8 +71,10 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
   if (at == nullptr) at = &local;
   *at = Linearization{};
   if (problem.num_free() == 0) return {};
-  at->valid = problem.EvaluateSparse(at == &local ? nullptr : &at->residuals, &at->jacobian,
-                                     &at->gram);
+  // The verdict reads J only through J^T J: without a caller for J, its Gram rows alone.
+  const bool gram_only = at == &local && problem.HasGramRows();
+  at->valid = problem.EvaluateSparse(at == &local ? nullptr : &at->residuals,
+                                     gram_only ? nullptr : &at->jacobian, &at->gram);
   if (!at->valid) return {};
   const SparseJacobian& gram = GramOf(*at);
   at->r_factor = RFactor(gram);
@@ -128,17 +130,18 @@ IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
                                            const SolverMaker& make_solver, bool warm_start) {
   IdentifiedSolve out;
   if (!held.empty()) HoldParameters(problem, held);
-  auto hold_unidentifiable = [&] {
-    const auto found = FindUnidentifiable(*problem, tolerance, &out.at_answer);
+  // Before the solve the verdict is all that is kept; at the answer, its linearization too.
+  auto hold_unidentifiable = [&](Linearization* at) {
+    const auto found = FindUnidentifiable(*problem, tolerance, at);
     for (const auto& f : found) held.insert(f.name);
     out.unidentifiable.insert(out.unidentifiable.end(), found.begin(), found.end());
     if (!found.empty()) HoldParameters(problem, held);
     return !found.empty();
   };
-  if (!warm_start) hold_unidentifiable();
+  if (!warm_start) hold_unidentifiable(nullptr);
   out.summary = make_solver()->Solve(*problem);
   CheckSolveEnded(*problem, out.summary);
-  if (hold_unidentifiable()) {
+  if (hold_unidentifiable(&out.at_answer)) {
     out.at_answer = Linearization{};  // made before the parameters it found were held
     out.summary = make_solver()->Solve(*problem);
     CheckSolveEnded(*problem, out.summary);

@@ -82,7 +82,7 @@ bool Problem::PredictBlock(int k, BlockEvaluation* scratch, Pose* prediction) co
 
 bool Problem::EvaluateSharedRows(int u, BlockEvaluation* scratch,
                                  const SparseOutput& out) const {
-  const bool with_jacobian = out.column_index != nullptr;
+  const bool with_jacobian = out.column_index != nullptr || out.gram != nullptr;
   const int first = unit_blocks_[unit_start_[u]];
   AskFreeSlots(first, scratch);
   if (!with_jacobian) std::fill(scratch->asked.begin(), scratch->asked.end(), 0);
@@ -100,6 +100,7 @@ bool Problem::EvaluateSharedRows(int u, BlockEvaluation* scratch,
         ->Compare(prediction, out.r + rows_[k], with_jacobian ? &D : nullptr);
     if (!with_jacobian) continue;
     if (out.gram) information.noalias() += D.transpose() * D;
+    if (out.column_index == nullptr) continue;  // the Gram rows alone
     for (int row = 0; row < 3; ++row) {  // row `row` of D A
       int at = sparse_row_start_[rows_[k] + row];
       for (int j = 0; j < width; ++j) {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <stdexcept>
 
 #include "cellmetry/estimation/shared_prediction_cost.h"
 #include "column_patterns.h"
@@ -457,69 +458,79 @@ void Problem::AskFreeSlots(int k, BlockEvaluation* scratch) const {
   }
 }
 
-bool Problem::EvaluateBlockRows(int k, BlockEvaluation* scratch, const SparseOutput& out) const {
-  const bool with_jacobian = out.column_index != nullptr;
+bool Problem::EvaluateBlockRows(int u, BlockEvaluation* scratch, const SparseOutput& out) const {
+  const int k = unit_blocks_[unit_start_[u]];
+  const bool with_jacobian = out.column_index != nullptr || out.gram != nullptr;
   AskFreeSlots(k, scratch);
   if (!EvaluateBlock(k, with_jacobian, scratch)) return false;
   std::copy(scratch->residuals.begin(), scratch->residuals.end(), out.r + rows_[k]);
-  if (!with_jacobian) return true;
-  const std::vector<int>& block_ids = *evaluation_order_[k].second;
   const int num_rows = static_cast<int>(scratch->residuals.size());
-  for (int row = 0; row < num_rows; ++row) {
-    int at = sparse_row_start_[rows_[k] + row];
-    for (int k_e = block_entries_[k].begin; k_e < block_entries_[k].end; ++k_e) {
-      const SparseEntry& e = sparse_entries_[k_e];
-      const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
-      out.column_index[at] = e.column;
-      out.entries[at++] = scratch->At(e.slot, row, width, e.index);
-    }
+  if (out.column_index) {
+    WriteBlockRows(k, *scratch, &sparse_row_start_[rows_[k]], out.column_index, out.entries);
+  }
+  if (out.gram) {  // a block alone stands for itself
+    const int first = out.gram_unit_row[u];
+    WriteBlockRows(k, *scratch, out.gram->rows.outerIndexPtr() + first,
+                   out.gram->rows.innerIndexPtr(), out.gram->rows.valuePtr());
+    for (int row = 0; row < num_rows; ++row) out.gram->block[static_cast<size_t>(first + row)] = k;
   }
   return true;
 }
 
-void Problem::CopyGramRows(int u, const SparseOutput& out) const {
-  const int k = unit_blocks_[unit_start_[u]];
-  const int width = block_entries_[k].end - block_entries_[k].begin;
-  const int first = out.gram_unit_row[u];
-  const int num_rows = out.gram_unit_row[u + 1] - first;
+void Problem::WriteBlockRows(int k, const BlockEvaluation& scratch, const int* row_start,
+                             int* column_index, double* entries) const {
+  const std::vector<int>& block_ids = *evaluation_order_[k].second;
+  const int num_rows = static_cast<int>(scratch.residuals.size());
   for (int row = 0; row < num_rows; ++row) {
-    const int from = sparse_row_start_[rows_[k] + row];
-    const int to = out.gram->rows.outerIndexPtr()[first + row];
-    std::copy(out.column_index + from, out.column_index + from + width,
-              out.gram->rows.innerIndexPtr() + to);
-    std::copy(out.entries + from, out.entries + from + width, out.gram->rows.valuePtr() + to);
-    out.gram->block[static_cast<size_t>(first + row)] = k;
+    int at = row_start[row];
+    for (int k_e = block_entries_[k].begin; k_e < block_entries_[k].end; ++k_e) {
+      const SparseEntry& e = sparse_entries_[k_e];
+      const int width = static_cast<int>(blocks_[block_ids[e.slot]]->params.size());
+      column_index[at] = e.column;
+      entries[at++] = scratch.At(e.slot, row, width, e.index);
+    }
   }
 }
 
-std::vector<int> Problem::LayOutGramRows(GramRows* gram) const {
+int Problem::NumGramRows(std::vector<int>* unit_row) const {
   const int num_units = static_cast<int>(unit_start_.size()) - 1;
-  std::vector<int> unit_row(static_cast<size_t>(num_units) + 1, 0);
-  std::vector<int> width(static_cast<size_t>(num_units));
-  int entries = 0;
+  if (unit_row) unit_row->assign(static_cast<size_t>(num_units) + 1, 0);
+  int total = 0;
   for (int u = 0; u < num_units; ++u) {
     const int k = unit_blocks_[unit_start_[u]];
     const int end = k + 1 < static_cast<int>(rows_.size()) ? rows_[k + 1] : num_residuals_;
-    const int num_rows = SharesPrediction(u) ? 3 : end - rows_[k];
-    width[u] = block_entries_[k].end - block_entries_[k].begin;
-    unit_row[u + 1] = unit_row[u] + num_rows;
-    entries += num_rows * width[u];
+    total += SharesPrediction(u) ? 3 : end - rows_[k];
+    if (unit_row) (*unit_row)[static_cast<size_t>(u) + 1] = total;
   }
+  return total;
+}
+
+// Where few captures share a prediction the rows are mostly J's own: J itself serves (GramOf).
+// bench_scale's factory cell (one capture per pose, its world tags shared) would have half of
+// J's rows, and its BM_Linearize took 29 ms instead of 16.
+bool Problem::HasGramRows() const { return 4 * NumGramRows(nullptr) <= num_residuals_; }
+
+std::vector<int> Problem::LayOutGramRows(GramRows* gram) const {
   *gram = GramRows{};
-  // Where few captures share a prediction the rows are mostly J's own, copied: J itself
-  // serves (GramOf). bench_scale's factory cell (one capture per pose, its world tags shared)
-  // would have half of J's rows, and its BM_Linearize took 29 ms instead of 16.
-  if (4 * unit_row.back() > num_residuals_) return {};
-  gram->rows.resize(unit_row.back(), num_free());
+  if (!HasGramRows()) return {};
+  const int num_units = static_cast<int>(unit_start_.size()) - 1;
+  std::vector<int> unit_row;
+  const int num_rows = NumGramRows(&unit_row);
+  int entries = 0;
+  for (int u = 0; u < num_units; ++u) {
+    const int k = unit_blocks_[unit_start_[u]];
+    entries += (unit_row[u + 1] - unit_row[u]) * (block_entries_[k].end - block_entries_[k].begin);
+  }
+  gram->rows.resize(num_rows, num_free());
   gram->rows.resizeNonZeros(entries);
-  gram->block.assign(static_cast<size_t>(unit_row.back()), -1);
+  gram->block.assign(static_cast<size_t>(num_rows), -1);
   gram->row_of_block.assign(evaluation_order_.size(), -1);
   int* starts = gram->rows.outerIndexPtr();
   starts[0] = 0;
   for (int u = 0; u < num_units; ++u) {
-    for (int row = unit_row[u]; row < unit_row[u + 1]; ++row) {
-      starts[row + 1] = starts[row] + width[u];
-    }
+    const int k = unit_blocks_[unit_start_[u]];
+    const int width = block_entries_[k].end - block_entries_[k].begin;
+    for (int row = unit_row[u]; row < unit_row[u + 1]; ++row) starts[row + 1] = starts[row] + width;
     for (int i = unit_start_[u]; i < unit_start_[u + 1]; ++i) {
       gram->row_of_block[static_cast<size_t>(unit_blocks_[i])] = unit_row[u];
     }
@@ -541,8 +552,10 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
     entries = jacobian->valuePtr();
   }
   std::vector<int> gram_unit_row;
-  if (gram) *gram = GramRows{};
-  if (gram && jacobian) gram_unit_row = LayOutGramRows(gram);
+  if (gram) gram_unit_row = LayOutGramRows(gram);
+  if (gram && !jacobian && gram_unit_row.empty()) {
+    throw std::logic_error("EvaluateSparse: Gram rows alone asked of a problem without them");
+  }
   Eigen::VectorXd r(num_residuals_);
   const SparseOutput out{r.data(), column_index, entries,
                          gram_unit_row.empty() ? nullptr : gram, gram_unit_row.data()};
@@ -551,11 +564,9 @@ bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobia
   tbb::parallel_for(tbb::blocked_range<int>(0, num_chunks, 1), [&](const auto& chunks) {
     BlockEvaluation scratch;
     for (int u = chunk_start_[chunks.begin()]; u != chunk_start_[chunks.end()] && valid; ++u) {
-      const bool shared = SharesPrediction(u);
-      const bool ok = shared ? EvaluateSharedRows(u, &scratch, out)
-                             : EvaluateBlockRows(unit_blocks_[unit_start_[u]], &scratch, out);
+      const bool ok = SharesPrediction(u) ? EvaluateSharedRows(u, &scratch, out)
+                                          : EvaluateBlockRows(u, &scratch, out);
       if (!ok) valid = false;
-      if (ok && !shared && out.gram) CopyGramRows(u, out);
     }
   });
   if (!valid) {

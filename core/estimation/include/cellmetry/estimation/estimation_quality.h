@@ -39,7 +39,8 @@ struct UnidentifiableParameter {
 };
 
 // Free parameters that the data cannot determine, in the order they should be held. With `at`,
-// also the linearization the verdict was made on (residuals, Jacobian, its R factor).
+// also the linearization the verdict was made on (residuals, Jacobian, its R factor); without,
+// J is not stored where its Gram rows stand for it (Problem::HasGramRows).
 std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance,
                                                         Linearization* at = nullptr);
 

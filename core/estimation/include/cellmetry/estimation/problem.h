@@ -130,10 +130,14 @@ class Problem {
   // dense Jacobian of 240,000 rows x 200 columns is 380 MB; its nonzeros a tenth of that). The
   // cost functions are called directly, on every core (Ceres's Evaluate builds a program of
   // the chosen blocks at every call, which costs more than the evaluation).
-  // With `gram` (and `jacobian`) also the rows with J's Gram matrix (gram_rows.h), where they
-  // are at most a quarter of J's (else `gram` is left empty and J serves: GramOf).
+  // With `gram` also the rows with J's Gram matrix (gram_rows.h), where they are at most a
+  // quarter of J's (else `gram` is left empty and J serves: GramOf). Without `jacobian`, the
+  // Gram rows alone, J never stored: only where HasGramRows() (what needs J^T J alone, as the
+  // identifiability check before a solve, is spared exp_a's million entries).
   bool EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian,
                       GramRows* gram = nullptr) const;
+  // Whether EvaluateSparse makes Gram rows: they are at most a quarter of J's rows.
+  bool HasGramRows() const;
   // The Jacobian's columns of the free entries of `blocks` alone (ids from AddBlock), in
   // FreeValues() order and numbered from 0 (`columns`: each one's index into
   // free_parameters()). Only the residual blocks that read one of `blocks` are evaluated, and
@@ -169,7 +173,8 @@ class Problem {
   // tangent Jacobians (3 rows) into scratch->jacobians for the slots scratch->asked marks.
   bool PredictBlock(int k, BlockEvaluation* scratch, Pose* prediction) const;
   // EvaluateSparse's work for one residual block, and for a unit sharing a prediction: its
-  // residuals into `r` and, when `entries` is not null, its rows of the compressed row storage.
+  // residuals into `r`, its rows of J's compressed row storage when `column_index` is not
+  // null, and its Gram rows when `gram` is not.
   struct SparseOutput {
     double* r;
     int* column_index;  // null: no Jacobian
@@ -180,13 +185,19 @@ class Problem {
   // Sizes `gram` for EvaluateSparse and returns each unit's first row (then the end); empty,
   // and `gram` left empty, where they would be more than a quarter of J's rows.
   std::vector<int> LayOutGramRows(GramRows* gram) const;
-  // The Gram rows of unit u whose Jacobian rows are in `out` (a block alone: its own rows).
-  void CopyGramRows(int u, const SparseOutput& out) const;
+  // The number of Gram rows (3 per unit sharing a prediction, a block's own rows otherwise)
+  // and, with `unit_row`, each unit's first (then the end).
+  int NumGramRows(std::vector<int>* unit_row) const;
+  // Residual block k's Jacobian rows from `scratch` into compressed rows at its free columns:
+  // row i's entries from row_start[i].
+  void WriteBlockRows(int k, const BlockEvaluation& scratch, const int* row_start,
+                      int* column_index, double* entries) const;
   // The 3 Gram rows L^T A of unit u (L L^T = `information`, A = `tangent`, 3 x width
   // row-major at the unit's free columns).
   void AddGramRows(int u, const Eigen::Matrix3d& information, const double* tangent, int width,
                    const SparseOutput& out) const;
-  bool EvaluateBlockRows(int k, BlockEvaluation* scratch, const SparseOutput& out) const;
+  // (EvaluateBlockRows: unit u's one block, whose Gram rows are its own rows.)
+  bool EvaluateBlockRows(int u, BlockEvaluation* scratch, const SparseOutput& out) const;
   bool EvaluateSharedRows(int u, BlockEvaluation* scratch, const SparseOutput& out) const;
 
   std::vector<std::unique_ptr<Block>> blocks_;
