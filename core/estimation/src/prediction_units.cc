@@ -40,7 +40,7 @@ void Problem::BuildPredictionUnits() {
     int unit = static_cast<int>(unit_size.size());
     if (key != nullptr) {
       auto [it, inserted] = unit_of_key.try_emplace(key, unit);
-      if (!inserted && *blocks_of_unit[it->second] == *block_ids &&
+      if (!inserted && blocks_of_unit[it->second] == block_ids &&  // interned lists
           unit_size[it->second] < kMaxUnitBlocks) {
         unit = it->second;
       }

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <unordered_map>
 #include <stdexcept>
 
 #include "cellmetry/estimation/shared_prediction_cost.h"
@@ -92,9 +93,23 @@ void Problem::ReserveResiduals(int num_blocks) {
 void Problem::AddResidual(std::unique_ptr<ceres::CostFunction> cost, std::vector<int> blocks,
                           ResidualInfo info) {
   for (int b : blocks) blocks_[b]->used = true;
-  residuals_.push_back(Residual{std::move(cost), std::move(blocks)});
+  residuals_.push_back(Residual{std::move(cost), InternBlocks(blocks)});
   infos_.push_back(std::move(info));
   num_measurement_residuals_ = static_cast<int>(residuals_.size());
+}
+
+const std::vector<int>* Problem::InternBlocks(const std::vector<int>& blocks) {
+  for (const std::vector<int>* list : recent_lists_) {
+    if (*list == blocks) return list;
+  }
+  const std::vector<int>*& list = list_of_blocks_[blocks];
+  if (list == nullptr) list = &block_lists_.emplace_back(blocks);
+  // Observations come pose by pose, each camera's and target's lists in turn: the last few
+  // lists used answer nearly every call without a search.
+  constexpr size_t kRecent = 8;
+  if (recent_lists_.size() == kRecent) recent_lists_.erase(recent_lists_.begin());
+  recent_lists_.push_back(list);
+  return list;
 }
 
 void Problem::SetRobustLoss(RobustLossKind kind, double scale) {
@@ -111,7 +126,6 @@ void Problem::SetWhitenedRobustLoss(RobustLossKind kind, std::vector<double> whi
 void Problem::Build() {
   losses_.clear();
   prior_costs_.clear();
-  prior_blocks_.clear();
   infos_.resize(num_measurement_residuals_);  // priors are re-derived below
   rows_.clear();
   evaluation_order_.clear();
@@ -152,7 +166,7 @@ void Problem::Build() {
       }
       loss = shared;
     }
-    add(residuals_[i].cost.get(), loss, residuals_[i].blocks);
+    add(residuals_[i].cost.get(), loss, *residuals_[i].blocks);
   }
 
   free_.clear();
@@ -171,8 +185,7 @@ void Problem::Build() {
         prior_costs_.push_back(std::make_unique<PriorCost>(static_cast<int>(block.params.size()),
                                                            static_cast<int>(i), p.nominal,
                                                            *p.prior_sigma));
-        prior_blocks_.push_back({static_cast<int>(b)});
-        add(prior_costs_.back().get(), nullptr, prior_blocks_.back());
+        add(prior_costs_.back().get(), nullptr, *InternBlocks({static_cast<int>(b)}));
         ResidualInfo info;
         info.kind = ResidualInfo::Kind::kPrior;
         info.target = block.name + "." + p.name;
@@ -356,12 +369,12 @@ void Problem::BuildSparseLayout() {
     EntryRange entries;  // in sparse_entries_
     int group = 0;
   };
-  std::map<std::vector<int>, Pattern> patterns_of_blocks;
+  std::unordered_map<const std::vector<int>*, Pattern> patterns_of_blocks;  // interned lists
   ColumnPatterns patterns;
   std::vector<int> columns;
   sparse_entries_.clear();
   auto pattern_of = [&](const std::vector<int>& block_ids) -> const Pattern& {
-    auto [it, inserted] = patterns_of_blocks.try_emplace(block_ids);
+    auto [it, inserted] = patterns_of_blocks.try_emplace(&block_ids);
     Pattern& pattern = it->second;
     if (!inserted) return pattern;
     pattern.entries.begin = static_cast<int>(sparse_entries_.size());
@@ -390,7 +403,7 @@ void Problem::BuildSparseLayout() {
   for (int k = 0; k < num_blocks; ++k) {
     const std::vector<int>& block_ids = *evaluation_order_[k].second;
     // Blocks come in runs over the same parameter blocks: the previous one's, without a lookup.
-    const bool as_previous = k > 0 && block_ids == *evaluation_order_[k - 1].second;
+    const bool as_previous = k > 0 && &block_ids == evaluation_order_[k - 1].second;
     if (as_previous) {
       block_entries_[k] = block_entries_[k - 1];
       column_group_[k] = column_group_[k - 1];

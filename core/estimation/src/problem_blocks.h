@@ -19,7 +19,7 @@ struct Problem::Block {
 
 struct Problem::Residual {
   std::unique_ptr<ceres::CostFunction> cost;
-  std::vector<int> blocks;
+  const std::vector<int>* blocks;  // one of Problem::block_lists_
 };
 
 // One residual block's evaluation, in buffers each thread reuses from block to block.

@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <deque>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -215,11 +216,17 @@ class Problem {
   std::vector<double*> variable_blocks_;
   std::vector<FreeParameter> free_;
   std::vector<int> rows_;
-  // Per residual block (in rows_ order): its cost and parameter blocks (pointing into
-  // residuals_ or prior_blocks_: Build makes them again after any change); per block and
-  // entry, its column among the free parameters (-1: fixed).
+  // Per residual block (in rows_ order): its cost and parameter blocks (one of block_lists_:
+  // Build makes them again after any change); per block and entry, its column among the free
+  // parameters (-1: fixed).
   std::vector<std::pair<ceres::CostFunction*, const std::vector<int>*>> evaluation_order_;
-  std::deque<std::vector<int>> prior_blocks_;  // each prior's block, at a stable address
+  // Each distinct list of parameter blocks a residual reads, once, at a stable address: a
+  // recording's tens of thousands of blocks read a few dozen lists, so two blocks read the same
+  // blocks exactly when they point at the same list (the layout compares pointers, not lists).
+  std::deque<std::vector<int>> block_lists_;
+  std::map<std::vector<int>, const std::vector<int>*> list_of_blocks_;
+  std::vector<const std::vector<int>*> recent_lists_;  // InternBlocks's last few, checked first
+  const std::vector<int>* InternBlocks(const std::vector<int>& blocks);
   std::vector<ceres::LossFunction*> evaluation_losses_;  // per residual block; null: none
   void BuildCeres();
   void AddCeresResiduals();  // BuildCeres's residual blocks, units grouped where they can be
