@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <deque>
 #include <map>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "cellmetry/basics/error.h"
@@ -189,6 +191,39 @@ RobotEffects EffectsOf(const WorkcellProblem& spec, const AssembledWorkcell& out
   return chain;
 }
 
+// What every observation of one target by one camera shares in an assembly: the camera's
+// block and the pair's noise, looked up by name once per pair instead of once per observation
+// (the lookups by name were a fifth of assembling exp_a's 22,500 blocks).
+struct CameraTarget {
+  std::string camera, target;
+  int camera_block = -1;  // -1: the camera has no block (per-frame camera model)
+  const TargetNoise* noise = nullptr;
+};
+
+class CameraTargets {
+ public:
+  CameraTargets(const AssembledWorkcell& out, const NoiseModel& noise) : out_(out), noise_(noise) {}
+
+  // Observations come capture by capture, a few cameras and targets in turn: a short scan.
+  const CameraTarget& Of(const Observation& obs) {
+    for (const CameraTarget& known : known_) {
+      if (known.camera == obs.camera && known.target == obs.target) return known;
+    }
+    CameraTarget& added = known_.emplace_back();
+    added.camera = obs.camera;
+    added.target = obs.target;
+    const auto block = out_.camera_block.find(obs.camera);
+    if (block != out_.camera_block.end()) added.camera_block = block->second;
+    added.noise = &noise_.at(obs.camera, obs.target);
+    return added;
+  }
+
+ private:
+  const AssembledWorkcell& out_;
+  const NoiseModel& noise_;
+  std::deque<CameraTarget> known_;  // at stable addresses
+};
+
 // Everything one carried-target measurement's residuals need.
 struct ToolContext {
   const WorkcellProblem& spec;
@@ -363,6 +398,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
   for (const WorkcellRobot& robot : spec.robots) {
     effects.push_back(EffectsOf(spec, *out, robot.name));
   }
+  CameraTargets camera_targets(*out, noise);
   for (const ToolMeasurement& m : data.tools) {
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
@@ -384,12 +420,13 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
       c.refs.held_flange_target =
           FrameFromBlock(out->problem.values(c.blocks[1]), c.refs.flange_target);
     }
+    const CameraTarget& seen = camera_targets.Of(obs);
     if (static_cameras) {
-      c.blocks.push_back(out->camera_block.at(obs.camera));
+      c.blocks.push_back(seen.camera_block);
       c.refs.world_cam = out->R_ref.at(c.blocks[2]);
     }
     c.shared_refs = Shared(c.blocks, c.refs, &shared_refs);
-    const TargetNoise& sigma = noise.at(obs.camera, obs.target);
+    const TargetNoise& sigma = *seen.noise;
     if (spec.residual == ResidualForm::kJointSpace) {
       std::vector<int> blocks = c.blocks;
       auto cost = JointSpaceCost(c, out, sigma.position_mm, &blocks);
@@ -419,15 +456,25 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
                        const WorkcellData& data, const NoiseModel& noise,
                        const std::set<int>& poses, AssembledWorkcell* out) {
   const RobotEffects in_chain = EffectsOf(spec, *out, "");
-  SharedRefs shared_refs;
   FirstCosts<ChainCost> first_costs;
   FirstCosts<EffectChainCost> first_effect_costs;
+  CameraTargets camera_targets(*out, noise);
+  std::unordered_map<int, std::shared_ptr<const FrameRefs>> refs_of_camera;  // by camera block
   for (int index : data.world_observations) {
     const Observation& obs = recording.observations[index];
-    const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
-    if (!poses.empty() && !poses.count(sample.pose)) continue;
-    const int camera = out->camera_block.at(obs.camera);
-    const TargetNoise& sigma = noise.at(obs.camera, obs.target);
+    if (!poses.empty() && !poses.count(recording.samples[recording.SampleIndex(obs.sample)].pose)) {
+      continue;
+    }
+    const CameraTarget& seen = camera_targets.Of(obs);
+    const int camera = seen.camera_block;
+    if (camera < 0) throw std::logic_error("a world-target observation of a camera without a pose");
+    std::shared_ptr<const FrameRefs>& camera_refs = refs_of_camera[camera];
+    if (!camera_refs) {
+      FrameRefs refs;
+      refs.world_cam = out->R_ref.at(camera);
+      camera_refs = std::make_shared<const FrameRefs>(refs);
+    }
+    const TargetNoise& sigma = *seen.noise;
     const Pose observed = ObservedPose(obs);
     for (Compared what : {Compared::kPosition, Compared::kRotation}) {
       const bool position = what == Compared::kPosition;
@@ -440,9 +487,6 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
         context.camera = obs.camera;
         context.target = obs.target;
         blocks.insert(blocks.end(), in_chain.blocks.begin(), in_chain.blocks.end());
-        FrameRefs refs;
-        refs.world_cam = out->R_ref.at(camera);
-        const std::shared_ptr<const FrameRefs> camera_refs = Shared({camera}, refs, &shared_refs);
         // Every observation of this world tag by this camera predicts the same measured pose.
         const EffectChainCost* none = nullptr;
         const EffectChainCost*& first =
@@ -455,10 +499,7 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
         if (first == nullptr) first = effect_cost.get();
         cost = std::move(effect_cost);
       } else {
-        FrameRefs refs;
-        refs.world_cam = out->R_ref.at(camera);
         const ChainBlocks camera_only{/*base=*/false, /*tool=*/false, /*camera=*/true};
-        const std::shared_ptr<const FrameRefs> camera_refs = Shared({camera}, refs, &shared_refs);
         // Every world-tag observation of this camera predicts the same: the world in it.
         const ChainCost*& first = FirstOf(nullptr, camera_refs.get(), what, "", &first_costs);
         auto chain_cost = std::make_unique<ChainCost>(comparison, camera_refs, camera_only,
