@@ -10,6 +10,9 @@
 //  BM_Solve/exp_a_<solver>   exp_a's assembled problem from the closed-form start
 #include <benchmark/benchmark.h>
 
+#include <map>
+#include <string>
+
 #include "cellmetry/cell/job.h"
 #include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/basics/progress.h"
@@ -49,11 +52,18 @@ void BM_Identify(benchmark::State& state, const std::string& job_file,
   const ConfigNode solver = ConfigNode::LoadString("type: " + solver_type, "bench");
   WorkcellProblem problem = loaded.job.problem;
   problem.outlier_test = outlier_test;
+  // Where the time goes: each stage's wall milliseconds per identification, as counters
+  // (`ms_<stage>`; the stages of workcell.cc's StageClock).
+  std::map<std::string, double> stage_ms;
   for (auto _ : state) {
     const WorkcellResult result = IdentifyWorkcell(problem, loaded.recording, [&] {
       return Registry::Global().CreateSolver(solver_type, solver);
     });
     benchmark::DoNotOptimize(result.frames.front().pose.t.x());
+    for (const StageTime& stage : result.stages) stage_ms[stage.stage] += 1e3 * stage.seconds;
+  }
+  for (const auto& [stage, ms] : stage_ms) {
+    state.counters["ms_" + stage] = benchmark::Counter(ms, benchmark::Counter::kAvgIterations);
   }
 }
 BENCHMARK_CAPTURE(BM_Identify, sim_b, std::string("configs/jobs/vsb_sim_b.yaml"))
