@@ -296,6 +296,13 @@ std::future<InputLink> LinkInputsAlongside(const WorkcellProblem& spec, const Re
                     });
 }
 
+// Whether some camera and target's sigma is neither given nor measured (FitWithSigma estimates
+// it from a first fit's residuals).
+bool HasUnknownSigma(const NoiseModel& noise) {
+  return std::any_of(noise.entries.begin(), noise.entries.end(),
+                     [](const auto& entry) { return entry.second.source == "unknown"; });
+}
+
 // Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
 // (variance component estimation), holding what the first fit found unidentifiable. `solved`:
 // that first fit done already (LeastSquaresFit), taken instead of solving.
@@ -305,10 +312,7 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
   Fit fit = solved ? std::move(*solved)
                    : FitOnce(spec, recording, data, *noise, start, {}, {}, make_solver);
   CheckEnoughData(recording, fit);
-  const bool any_unknown =
-      std::any_of(noise->entries.begin(), noise->entries.end(),
-                  [](const auto& entry) { return entry.second.source == "unknown"; });
-  if (!any_unknown) return fit;  // every sigma is known: nothing to re-estimate
+  if (!HasUnknownSigma(*noise)) return fit;  // every sigma is known: nothing to re-estimate
   const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
   const auto rows = MeasurementRows(spec, recording, data, *noise, first, {}, fit.assembled.get());
   if (!EstimateUnknownSigma(rows, fit.assembled->problem.num_free(), noise)) return fit;
@@ -494,7 +498,11 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     RobustFirstFitOptions options;
     // Its least-squares answer is the plain fit's when nothing is left out (the usual case):
     // the inputs' link at that answer starts now, alongside the Cauchy step and the test.
+    // Not where a sigma is unknown: FitWithSigma then solves again with sigma from this fit's
+    // residuals and links the inputs at that answer, and a link here would only take the
+    // other core from the Cauchy step (sim_b).
     options.at_least_squares_answer = [&recording](LeastSquaresFit* ls) {
+      if (HasUnknownSigma(ls->noise)) return;
       ls->input_link = LinkInputsAlongside(ls->spec, recording, ls->data, ls->noise, ls->fit);
     };
     RobustFirstFit robust = FindOutliersByRobustFit(spec, recording, make_solver, options);
