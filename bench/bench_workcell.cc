@@ -1,13 +1,16 @@
 // Workcell identification speed on the VSB recordings.
 //
 //  BM_Identify/sim_b   closed form + ceres_lm fit(s) + covariance, as `cellmetry run` without
-//                      cross-validation (issue target: < 20 ms)
+//                      cross-validation (issue 15's target: <= 5 ms); counters ms_<stage>
 //  BM_Identify/exp_a   2,500 captures, 3 cameras, 7,500 tool observations, static cameras
-//                      (issue target: < 500 ms)
+//                      (issue 15's target: <= 60 ms)
 //  BM_Identify/<case>_plain_outlier_test   the same, outliers tested on the plain fit only
 //                      (`outliers: plain`): the robust first fit's cost is the difference
 //  BM_Solve/<solver>   the same assembled sim_b problem from the closed-form start, each solver
 //  BM_Solve/exp_a_<solver>   exp_a's assembled problem from the closed-form start
+//  BM_PrepareData/exp_a, BM_ClosedFormStart/exp_a, BM_Assemble/exp_a   an identification's first
+//                      stages alone; BM_NormalEquations, BM_SparseJacobian, BM_RFactor: one
+//                      evaluation of exp_a's problem
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -109,6 +112,25 @@ const AssembledCase& ExpAAssembled() {
   }();
   return c;
 }
+// exp_a's observations paired with its robot and cameras (PrepareWorkcellData), and the closed-
+// form start from them (InitialEstimate): the first two stages of every identification.
+void BM_PrepareData(benchmark::State& state) {
+  const Loaded& loaded = Load("configs/jobs/vsb_exp_a_geometry.yaml");
+  for (auto _ : state) {
+    const WorkcellData data = PrepareWorkcellData(loaded.job.problem, loaded.recording);
+    benchmark::DoNotOptimize(data.tools.size());
+  }
+}
+BENCHMARK(BM_PrepareData)->Name("BM_PrepareData/exp_a")->Unit(benchmark::kMillisecond);
+void BM_ClosedFormStart(benchmark::State& state) {
+  const Loaded& loaded = Load("configs/jobs/vsb_exp_a_geometry.yaml");
+  const WorkcellData data = PrepareWorkcellData(loaded.job.problem, loaded.recording);
+  for (auto _ : state) {
+    const WorkcellEstimate start = InitialEstimate(loaded.job.problem, loaded.recording, data);
+    benchmark::DoNotOptimize(start.T_world_base.size());
+  }
+}
+BENCHMARK(BM_ClosedFormStart)->Name("BM_ClosedFormStart/exp_a")->Unit(benchmark::kMillisecond);
 // exp_a's problem assembled (and built) at the closed-form start and let go: what every fit, each
 // cross-validation fold and the uncertain inputs' link pay before they evaluate anything.
 void BM_Assemble(benchmark::State& state) {
