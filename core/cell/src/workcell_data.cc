@@ -64,8 +64,13 @@ WorldSeen CollectWorld(const WorkcellProblem& spec, const Recording& recording,
   return seen;
 }
 
-// Several captures of the world target in one sample: their mean pose.
+// Several captures of the world target in one sample: their mean pose. One capture is its own
+// mean (the usual case: exp_a pairs 7,500 tool observations so, and projecting one rotation
+// onto the rotations was a third of pairing them).
 Pose MeanPose(const std::vector<const Observation*>& captures) {
+  if (captures.size() == 1) {
+    return Pose{RotationFromRvec(captures.front()->rvec->data()), captures.front()->position_mm};
+  }
   std::vector<Eigen::Matrix3d> rotations;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   for (const auto* w : captures) {
@@ -158,11 +163,18 @@ WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& r
     }
   }
   if (data.tools.empty()) NothingUsable(recording, data);
+  // Each command once; repeated captures of a pose follow each other with the same joints, and
+  // a command is checked by the robot and its joints alone.
   std::set<int> checked;
+  const Sample* last_checked = nullptr;
   for (const ToolMeasurement& m : data.tools) {
     if (!checked.insert(m.sample_index).second) continue;
-    CheckCommand(spec.robots[m.robot], recording.samples[m.sample_index],
-                 recording.folder + "/samples.csv");
+    const Sample& sample = recording.samples[m.sample_index];
+    if (last_checked && last_checked->robot == sample.robot && last_checked->q == sample.q) {
+      continue;
+    }
+    CheckCommand(spec.robots[m.robot], sample, recording.folder + "/samples.csv");
+    last_checked = &sample;
   }
   if (!spec.effects.empty()) data.facts = GatherEffectFacts(spec, recording);
   return data;
