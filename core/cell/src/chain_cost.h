@@ -62,6 +62,9 @@ class ChainCost final : public SharedPredictionCost {
                double** tangent_jacobians) const override;
   void Compare(const Pose& prediction, double* residual,
                Eigen::Matrix3d* d_residual) const override;
+  bool AffineComparison(Eigen::Vector3d* weight, Eigen::Vector3d* measured) const override {
+    return comparison_.Affine(weight, measured);
+  }
   // The same as SharedPredictionCost's, without the virtual calls and with D A on the 3 x 6
   // blocks at fixed size: Ceres evaluates each block on its own, 160,000 of them per iteration
   // on bench_scale's factory cell.

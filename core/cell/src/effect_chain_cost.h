@@ -84,6 +84,9 @@ class EffectChainCost final : public SharedPredictionCost {
                double** tangent_jacobians) const override;
   void Compare(const Pose& prediction, double* residual,
                Eigen::Matrix3d* d_residual) const override;
+  bool AffineComparison(Eigen::Vector3d* weight, Eigen::Vector3d* measured) const override {
+    return comparison_.Affine(weight, measured);
+  }
 
  private:
   // What the last Jet stage yields: the residual (Evaluate) or the measured pose's tangent

@@ -49,6 +49,14 @@ class TargetComparison {
     for (int i = 0; i < 3; ++i) residual[i] = error[i] * T(inv_sigma_[i]);
   }
 
+  // A position's residual is inv_sigma .* (predicted - measured): affine in the prediction
+  // (SharedPredictionCost::AffineComparison). False for a rotation.
+  bool Affine(Eigen::Vector3d* weight, Eigen::Vector3d* measured) const {
+    if (compared_ != Compared::kPosition) return false;
+    *weight = inv_sigma_;
+    *measured = measured_.t;
+    return true;
+  }
   // The residual at `predicted` and, when not null, its derivative by the prediction's tangent
   // (shared_prediction_cost.h): the position's coordinates, or a left rotation of the prediction
   // Exp(d) R about the camera axes, whose rotation error moves by J_l^-1(error) d.

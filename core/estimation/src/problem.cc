@@ -16,7 +16,6 @@
 #include "cellmetry/estimation/shared_prediction_cost.h"
 #include "column_patterns.h"
 #include "problem_blocks.h"
-#include "shared_prediction_group.h"
 
 namespace cellmetry {
 
@@ -124,6 +123,10 @@ void Problem::SetWhitenedRobustLoss(RobustLossKind kind, std::vector<double> whi
 }
 
 void Problem::Build() {
+  // The Ceres views point at the losses and priors made again below: dropped first, made again
+  // when a solver or Evaluate first needs them (problem_ceres.cc).
+  for_evaluation_.Reset();
+  for_solving_.Reset();
   losses_.clear();
   prior_costs_.clear();
   infos_.resize(num_measurement_residuals_);  // priors are re-derived below
@@ -195,85 +198,6 @@ void Problem::Build() {
     }
   }
   BuildSparseLayout();
-  ceres_problem_.reset();  // built when a solver or Evaluate first needs it (BuildCeres)
-}
-
-ceres::Problem& Problem::ceres_problem() {
-  if (!ceres_problem_) BuildCeres();
-  return *ceres_problem_;
-}
-
-// A unit of blocks sharing a prediction, none with a robust loss, is one Ceres block
-// (shared_prediction_group.h); every other block is its own. Ceres's rows then come unit by
-// unit: ceres_rows_ says where each belongs in Evaluate()'s order (empty: where it is).
-void Problem::AddCeresResiduals() {
-  groups_.clear();
-  ceres_rows_.clear();
-  std::vector<double*> pointers;
-  auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss, int k) {
-    pointers.clear();
-    for (int b : *evaluation_order_[k].second) pointers.push_back(values(b));
-    residual_ids_.push_back(ceres_problem_->AddResidualBlock(cost, loss, pointers));
-  };
-  for (int u = 0; u < num_predictions(); ++u) {
-    const int* first = unit_blocks_.data() + unit_start_[u];
-    const int* last = unit_blocks_.data() + unit_start_[u + 1];
-    const bool group = SharesPrediction(u) && std::all_of(first, last, [&](int k) {
-                         return evaluation_losses_[k] == nullptr;
-                       });
-    if (group) {
-      std::vector<const SharedPredictionCost*> members;
-      for (const int* k = first; k != last; ++k) {
-        members.push_back(static_cast<const SharedPredictionCost*>(evaluation_order_[*k].first));
-      }
-      groups_.push_back(std::make_unique<SharedPredictionGroup>(std::move(members)));
-      add(groups_.back().get(), nullptr, *first);
-    }
-    for (const int* k = first; k != last; ++k) {
-      if (!group) add(evaluation_order_[*k].first, evaluation_losses_[*k], *k);
-      const int rows = evaluation_order_[*k].first->num_residuals();
-      for (int row = rows_[*k]; row < rows_[*k] + rows; ++row) ceres_rows_.push_back(row);
-    }
-  }
-  // A permutation of the rows is the identity exactly when it is sorted.
-  if (std::is_sorted(ceres_rows_.begin(), ceres_rows_.end())) ceres_rows_.clear();
-}
-
-void Problem::BuildCeres() {
-  ceres::Problem::Options options;
-  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  options.enable_fast_removal = false;
-  ceres_problem_ = std::make_unique<ceres::Problem>(options);
-  residual_ids_.clear();
-  manifolds_.clear();
-  variable_blocks_.clear();
-  AddCeresResiduals();
-  for (size_t b = 0; b < blocks_.size(); ++b) {
-    Block& block = *blocks_[b];
-    if (!block.used) continue;
-    std::vector<int> fixed;
-    for (size_t i = 0; i < block.params.size(); ++i) {
-      const Parameter& p = block.params[i];
-      if (p.fixed) {
-        fixed.push_back(static_cast<int>(i));
-        continue;
-      }
-      if (p.lower) ceres_problem_->SetParameterLowerBound(block.values.data(), i, *p.lower);
-      if (p.upper) ceres_problem_->SetParameterUpperBound(block.values.data(), i, *p.upper);
-    }
-    if (fixed.size() == block.params.size()) {
-      ceres_problem_->SetParameterBlockConstant(block.values.data());
-    } else {
-      if (!fixed.empty()) {
-        manifolds_.push_back(std::make_unique<ceres::SubsetManifold>(
-            static_cast<int>(block.params.size()), fixed));
-        ceres_problem_->SetManifold(block.values.data(), manifolds_.back().get());
-      }
-      variable_blocks_.push_back(block.values.data());
-    }
-  }
 }
 
 Eigen::VectorXd Problem::FreeValues() const {
@@ -331,15 +255,16 @@ bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd
                        bool apply_loss) {
   ceres::CRSMatrix crs;
   ceres::Problem& ceres = ceres_problem();
-  if (!EvaluateCeres(ceres, variable_blocks_, residual_ids_, apply_loss, cost, residuals,
+  if (!EvaluateCeres(ceres, for_evaluation_.variable_blocks, for_evaluation_.residual_ids,
+                     apply_loss, cost, residuals,
                      jacobian ? &crs : nullptr)) {
     return false;
   }
   // Ceres's rows in this Problem's order (BuildCeres: units it evaluates as one block).
   auto row_of = [&](int ceres_row) {
-    return ceres_rows_.empty() ? ceres_row : ceres_rows_[ceres_row];
+    return for_evaluation_.rows.empty() ? ceres_row : for_evaluation_.rows[ceres_row];
   };
-  if (residuals && !ceres_rows_.empty()) {
+  if (residuals && !for_evaluation_.rows.empty()) {
     Eigen::VectorXd in_order(residuals->size());
     for (int row = 0; row < residuals->size(); ++row) in_order[row_of(row)] = (*residuals)[row];
     *residuals = std::move(in_order);

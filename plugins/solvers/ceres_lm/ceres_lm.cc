@@ -54,7 +54,9 @@ class CeresLm : public Solver {
     o.num_threads = options_.threads;
     o.logging_type = ceres::SILENT;
     ceres::Solver::Summary s;
-    ceres::Solve(o, &problem.ceres_problem(), &s);
+    // The Problem's Ceres view to solve: the same steps and costs over fewer rows (a pose's
+    // captures of one position summed exactly, problem.h).
+    ceres::Solve(o, &problem.ceres_problem_for_solving(), &s);
     summary.iterations = static_cast<int>(s.iterations.size()) - 1;
     summary.evaluations = s.num_residual_evaluations;
     summary.initial_cost = s.initial_cost;

@@ -30,8 +30,6 @@
 
 namespace cellmetry {
 
-class SharedPredictionGroup;
-
 // What one residual block measures, for statistics and the residual CSV.
 struct ResidualInfo {
   enum class Kind { kPosition, kRotation, kPrior };
@@ -106,7 +104,15 @@ class Problem {
   void Build();
   // The ceres::Problem of what Build() set up, built on first use: a problem only linearized
   // (EvaluateSparse: the covariance, the uncertain inputs) never pays for Ceres's own structures.
+  // Its rows are Evaluate()'s (in another order).
   ceres::Problem& ceres_problem();
+  // A ceres::Problem to solve: the same minimum, steps and reported costs as ceres_problem(),
+  // over fewer rows. The blocks of a unit that compare one predicted position with measured
+  // ones (the captures of a pose, a static camera's views of the world tag) are summed into 3
+  // rows exactly, their cost's constant part a block without parameters
+  // (summed_position_group.h). Its residuals are not Evaluate()'s rows: read rows from
+  // Evaluate(). Built on first use, again after Build().
+  ceres::Problem& ceres_problem_for_solving();
 
   const std::vector<FreeParameter>& free_parameters() const { return free_; }
   int num_free() const { return static_cast<int>(free_.size()); }
@@ -206,14 +212,22 @@ class Problem {
   std::vector<ResidualInfo> infos_;
   std::vector<std::unique_ptr<ceres::CostFunction>> prior_costs_;
   std::vector<std::unique_ptr<ceres::LossFunction>> losses_;
-  std::vector<std::unique_ptr<ceres::Manifold>> manifolds_;
-  std::unique_ptr<ceres::Problem> ceres_problem_;
-  std::vector<ceres::ResidualBlockId> residual_ids_;
-  // BuildCeres's one Ceres block per unit of loss-free blocks sharing a prediction, and the row
-  // in Evaluate()'s order of each of Ceres's rows (empty: the same order).
-  std::vector<std::unique_ptr<SharedPredictionGroup>> groups_;
-  std::vector<int> ceres_rows_;
-  std::vector<double*> variable_blocks_;
+  // A ceres::Problem over this Problem's blocks (problem_ceres.cc), one to evaluate rows and
+  // one to solve (ceres_problem(), ceres_problem_for_solving()).
+  struct CeresView {
+    std::vector<ceres::ResidualBlockId> residual_ids;
+    // The Ceres blocks made for units (shared_prediction_group.h, summed_position_group.h) and
+    // the constant's block, which this view owns; the others are the Problem's.
+    std::vector<std::unique_ptr<ceres::CostFunction>> unit_costs;
+    std::vector<std::unique_ptr<ceres::Manifold>> manifolds;
+    std::vector<double*> variable_blocks;
+    // The row in Evaluate()'s order of each of Ceres's rows (empty: the same order); only for
+    // the view to evaluate.
+    std::vector<int> rows;
+    std::unique_ptr<ceres::Problem> problem;  // last: destroyed first, before what it points to
+    void Reset();
+  };
+  CeresView for_evaluation_, for_solving_;
   std::vector<FreeParameter> free_;
   std::vector<int> rows_;
   // Per residual block (in rows_ order): its cost and parameter blocks (one of block_lists_:
@@ -228,8 +242,10 @@ class Problem {
   std::vector<const std::vector<int>*> recent_lists_;  // InternBlocks's last few, checked first
   const std::vector<int>* InternBlocks(const std::vector<int>& blocks);
   std::vector<ceres::LossFunction*> evaluation_losses_;  // per residual block; null: none
-  void BuildCeres();
-  void AddCeresResiduals();  // BuildCeres's residual blocks, units grouped where they can be
+  // `summed`: the view to solve (positions summed); else the view to evaluate.
+  void BuildCeres(bool summed, CeresView* view);
+  // BuildCeres's residual blocks, units grouped (or summed) where they can be.
+  void AddCeresResiduals(bool summed, CeresView* view);
   std::vector<std::vector<int>> free_column_;
   // EvaluateSparse's layout, fixed by Build(): per residual block the free columns its rows
   // hold, in column order, with the slot and entry of the parameter block each comes from.

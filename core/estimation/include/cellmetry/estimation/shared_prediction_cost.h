@@ -40,6 +40,16 @@ class SharedPredictionCost : public ceres::CostFunction {
   virtual void Compare(const Pose& prediction, double* residual,
                        Eigen::Matrix3d* d_residual) const = 0;
 
+  // Whether Compare is affine in the tangent with a constant diagonal D: r = weight .* (tangent -
+  // measured), as a position compared with a measured one is (a rotation's error is not). Then
+  // the blocks of a unit sum into 3 rows with the same cost up to a constant
+  // (summed_position_group.h), and `weight` and `measured` say how. The default: not affine.
+  virtual bool AffineComparison(Eigen::Vector3d* weight, Eigen::Vector3d* measured) const {
+    (void)weight;
+    (void)measured;
+    return false;
+  }
+
   // Predict, Compare and D A. A cost may override it with the same in fewer steps.
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;

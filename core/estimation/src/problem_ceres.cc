@@ -1,0 +1,146 @@
+// Problem's two ceres::Problems (problem.h): one whose rows are Evaluate()'s, one to solve.
+//
+// Both hold the Problem's parameter blocks (the same memory) with the same fixed entries, bounds
+// and constant blocks. They differ in how a unit of blocks sharing a prediction (same key, same
+// parameter blocks, no robust loss) reaches Ceres:
+//   to evaluate: one Ceres block of all its members' rows (shared_prediction_group.h);
+//   to solve:    where every member compares a position affinely, 3 rows summing them exactly
+//                (summed_position_group.h), the constant left over a block without parameters.
+#include <algorithm>
+#include <cmath>
+
+#include "cellmetry/estimation/problem.h"
+#include "cellmetry/estimation/shared_prediction_cost.h"
+#include "problem_blocks.h"
+#include "shared_prediction_group.h"
+#include "summed_position_group.h"
+
+namespace cellmetry {
+
+namespace {
+
+// One row whose square is a constant: the part of the summed units' cost no parameter moves.
+// Ceres removes a block without parameters before it iterates and adds its cost to the costs it
+// reports, so the solve's reported costs are the Problem's.
+class ConstantCost : public ceres::CostFunction {
+ public:
+  explicit ConstantCost(double squared_norm) : residual_(std::sqrt(squared_norm)) {
+    set_num_residuals(1);
+  }
+  bool Evaluate(double const* const*, double* residuals, double**) const override {
+    residuals[0] = residual_;
+    return true;
+  }
+
+ private:
+  double residual_;
+};
+
+}  // namespace
+
+void Problem::CeresView::Reset() {
+  problem.reset();
+  residual_ids.clear();
+  unit_costs.clear();
+  manifolds.clear();
+  variable_blocks.clear();
+  rows.clear();
+}
+
+ceres::Problem& Problem::ceres_problem() {
+  if (!for_evaluation_.problem) BuildCeres(/*summed=*/false, &for_evaluation_);
+  return *for_evaluation_.problem;
+}
+
+ceres::Problem& Problem::ceres_problem_for_solving() {
+  if (!for_solving_.problem) BuildCeres(/*summed=*/true, &for_solving_);
+  return *for_solving_.problem;
+}
+
+void Problem::AddCeresResiduals(bool summed, CeresView* view) {
+  std::vector<double*> pointers;
+  auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss, int k) {
+    pointers.clear();
+    for (int b : *evaluation_order_[k].second) pointers.push_back(values(b));
+    view->residual_ids.push_back(view->problem->AddResidualBlock(cost, loss, pointers));
+  };
+  double constant_squared_norm = 0.0;
+  Eigen::Vector3d weight, measured;
+  for (int u = 0; u < num_predictions(); ++u) {
+    const int* first = unit_blocks_.data() + unit_start_[u];
+    const int* last = unit_blocks_.data() + unit_start_[u + 1];
+    const bool group = SharesPrediction(u) && std::all_of(first, last, [&](int k) {
+                         return evaluation_losses_[k] == nullptr;
+                       });
+    std::vector<const SharedPredictionCost*> members;
+    if (group) {
+      for (const int* k = first; k != last; ++k) {
+        members.push_back(static_cast<const SharedPredictionCost*>(evaluation_order_[*k].first));
+      }
+    }
+    const bool sum = summed && group && std::all_of(members.begin(), members.end(), [&](auto* m) {
+                       return m->AffineComparison(&weight, &measured);
+                     });
+    if (sum) {
+      auto summed_unit = std::make_unique<SummedPositionGroup>(std::move(members));
+      constant_squared_norm += summed_unit->constant_squared_norm();
+      view->unit_costs.push_back(std::move(summed_unit));
+      add(view->unit_costs.back().get(), nullptr, *first);
+      continue;  // its rows are none of Evaluate()'s
+    }
+    if (group) {
+      view->unit_costs.push_back(std::make_unique<SharedPredictionGroup>(std::move(members)));
+      add(view->unit_costs.back().get(), nullptr, *first);
+    }
+    for (const int* k = first; k != last; ++k) {
+      if (!group) add(evaluation_order_[*k].first, evaluation_losses_[*k], *k);
+      if (summed) continue;
+      const int rows = evaluation_order_[*k].first->num_residuals();
+      for (int row = rows_[*k]; row < rows_[*k] + rows; ++row) view->rows.push_back(row);
+    }
+  }
+  if (constant_squared_norm > 0.0) {
+    view->unit_costs.push_back(std::make_unique<ConstantCost>(constant_squared_norm));
+    view->residual_ids.push_back(view->problem->AddResidualBlock(
+        view->unit_costs.back().get(), nullptr, std::vector<double*>{}));
+  }
+  // A permutation of the rows is the identity exactly when it is sorted.
+  if (std::is_sorted(view->rows.begin(), view->rows.end())) view->rows.clear();
+}
+
+void Problem::BuildCeres(bool summed, CeresView* view) {
+  view->Reset();
+  ceres::Problem::Options options;
+  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.enable_fast_removal = false;
+  view->problem = std::make_unique<ceres::Problem>(options);
+  AddCeresResiduals(summed, view);
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    Block& block = *blocks_[b];
+    if (!block.used) continue;
+    std::vector<int> fixed;
+    for (size_t i = 0; i < block.params.size(); ++i) {
+      const Parameter& p = block.params[i];
+      if (p.fixed) {
+        fixed.push_back(static_cast<int>(i));
+        continue;
+      }
+      if (p.lower) view->problem->SetParameterLowerBound(block.values.data(), i, *p.lower);
+      if (p.upper) view->problem->SetParameterUpperBound(block.values.data(), i, *p.upper);
+    }
+    if (fixed.size() == block.params.size()) {
+      view->problem->SetParameterBlockConstant(block.values.data());
+    } else {
+      if (!fixed.empty()) {
+        view->manifolds.push_back(std::make_unique<ceres::SubsetManifold>(
+            static_cast<int>(block.params.size()), fixed));
+        view->problem->SetManifold(block.values.data(), view->manifolds.back().get());
+      }
+      view->variable_blocks.push_back(block.values.data());
+    }
+  }
+}
+
+}  // namespace cellmetry
