@@ -457,6 +457,36 @@ TEST(SharedPredictionGroup, CeresSolvesAUnitAsOneBlockWithoutALoss) {
   EXPECT_NEAR(block_cost, grouped_cost, 1e-12 * grouped_cost);
 }
 
+// A unit of 200 captures (a static camera's views of the world tag) reaches Ceres in pieces of
+// at most 64 members, which its threads share; the rows Evaluate() returns are still each
+// block's own, in the Problem's order.
+TEST(SharedPredictionGroup, ALargeUnitReachesCeresInPieces) {
+  auto problem = std::make_unique<Problem>();
+  const int rotation = problem->AddBlock("rotation", {Named("angle", "rad", 0.1)});
+  const int shift = problem->AddBlock(
+      "offset", {Named("x", "mm", 1.0), Named("y", "mm", 2.0), Named("z", "mm", 3.0)});
+  const auto chain = std::make_shared<const SharedSeenPoint::Chain>(SharedSeenPoint::Chain{
+      false, Eigen::Vector3d(30.0, -20.0, 10.0), Eigen::Matrix3d::Identity()});
+  std::vector<const SharedSeenPoint*> costs;
+  for (int i = 0; i < 200; ++i) {
+    Pose measured;
+    measured.R = Eigen::AngleAxisd(0.001 * i, Eigen::Vector3d::UnitX()).matrix();
+    auto cost = std::make_unique<SharedSeenPoint>(chain, measured, 0.01);
+    costs.push_back(cost.get());
+    problem->AddResidual(std::move(cost), {rotation, shift}, ResidualInfo{});
+  }
+  problem->Build();
+  EXPECT_EQ(problem->ceres_problem().NumResidualBlocks(), 4) << "64 + 64 + 64 + 8";
+  Eigen::VectorXd r;
+  ASSERT_TRUE(problem->Evaluate(nullptr, &r, nullptr));
+  const double* parameters[] = {problem->values(rotation), problem->values(shift)};
+  for (int i = 0; i < 200; ++i) {
+    Eigen::Vector3d own;
+    ASSERT_TRUE(costs[i]->Evaluate(parameters, own.data(), nullptr));
+    EXPECT_LT((r.segment<3>(3 * i) - own).norm(), 1e-12) << i;
+  }
+}
+
 // Cost and gradient of a ceres::Problem over every free block, at the current values.
 double CeresCost(ceres::Problem& problem, std::vector<double>* gradient) {
   double cost = 0.0;

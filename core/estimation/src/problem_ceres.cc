@@ -3,9 +3,11 @@
 // Both hold the Problem's parameter blocks (the same memory) with the same fixed entries, bounds
 // and constant blocks. They differ in how a unit of blocks sharing a prediction (same key, same
 // parameter blocks, no robust loss) reaches Ceres:
-//   to evaluate: one Ceres block of all its members' rows (shared_prediction_group.h);
+//   to evaluate: Ceres blocks of its members' rows, 64 members at most each
+//                (shared_prediction_group.h);
 //   to solve:    where every member compares a position affinely, 3 rows summing them exactly
-//                (summed_position_group.h), the constant left over a block without parameters.
+//                (summed_position_group.h), the constant left over a block without parameters;
+//                other units as to evaluate.
 #include <algorithm>
 #include <cmath>
 
@@ -35,6 +37,8 @@ class ConstantCost : public ceres::CostFunction {
  private:
   double residual_;
 };
+
+constexpr size_t kMaxGroupMembers = 64;
 
 }  // namespace
 
@@ -89,8 +93,15 @@ void Problem::AddCeresResiduals(bool summed, CeresView* view) {
       continue;  // its rows are none of Evaluate()'s
     }
     if (group) {
-      view->unit_costs.push_back(std::make_unique<SharedPredictionGroup>(std::move(members)));
-      add(view->unit_costs.back().get(), nullptr, *first);
+      // In pieces of at most kMaxGroupMembers: Ceres evaluates a block on one thread, and a
+      // static camera's views of the world tag are one unit of thousands.
+      for (size_t begin = 0; begin < members.size(); begin += kMaxGroupMembers) {
+        const size_t end = std::min(members.size(), begin + kMaxGroupMembers);
+        view->unit_costs.push_back(std::make_unique<SharedPredictionGroup>(
+            std::vector<const SharedPredictionCost*>(members.begin() + begin,
+                                                     members.begin() + end)));
+        add(view->unit_costs.back().get(), nullptr, *first);
+      }
     }
     for (const int* k = first; k != last; ++k) {
       if (!group) add(evaluation_order_[*k].first, evaluation_losses_[*k], *k);

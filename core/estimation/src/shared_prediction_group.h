@@ -8,6 +8,10 @@
 // 0.5 |r|^2 are those of the n blocks; only their order in Ceres's Jacobian differs, which
 // Problem::Evaluate undoes.
 //
+// A unit (up to 256 members, prediction_units.cc) is given in pieces of at most 64 members
+// (problem_ceres.cc): Ceres evaluates each block on one thread, and a static camera's world-tag
+// units of 256 views, 768 rows each, left its two threads unevenly loaded.
+//
 // Only where no member carries a robust loss: Ceres applies a loss to a block's whole squared
 // norm, and each capture's loss must see its own (the robust fit's Cauchy loss is per capture).
 #pragma once

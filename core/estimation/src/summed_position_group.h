@@ -12,8 +12,8 @@
 // differs from the members' by a constant: `constant_squared_norm()`, which the Problem gives
 // Ceres as a block without parameters (Ceres adds it to the costs it reports). A Ceres solve then
 // takes the same steps to the same minimum over n times fewer rows: exp_a's ten captures of a
-// pose by a camera are 3 rows instead of 30, and all of a static camera's captures of the world
-// tag 3 instead of 7,500.
+// pose by a camera are 3 rows instead of 30, and a unit of 256 views of the world tag 3 instead
+// of 768.
 //
 // Only for Ceres's solve (Problem::ceres_problem_for_solving): the rows are not the members',
 // so residuals read per row (Problem::Evaluate) come from the other Ceres problem. Only where
