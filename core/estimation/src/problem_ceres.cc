@@ -61,51 +61,51 @@ ceres::Problem& Problem::ceres_problem_for_solving() {
   return *for_solving_.problem;
 }
 
+void Problem::AddCeresResidual(ceres::CostFunction* cost, ceres::LossFunction* loss, int k,
+                               CeresView* view) {
+  std::vector<double*>& pointers = view->scratch_pointers;
+  pointers.clear();
+  for (int b : *evaluation_order_[k].second) pointers.push_back(values(b));
+  view->residual_ids.push_back(view->problem->AddResidualBlock(cost, loss, pointers));
+}
+
 void Problem::AddCeresResiduals(bool summed, CeresView* view) {
-  std::vector<double*> pointers;
-  auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss, int k) {
-    pointers.clear();
-    for (int b : *evaluation_order_[k].second) pointers.push_back(values(b));
-    view->residual_ids.push_back(view->problem->AddResidualBlock(cost, loss, pointers));
-  };
   double constant_squared_norm = 0.0;
-  Eigen::Vector3d weight, measured;
   for (int u = 0; u < num_predictions(); ++u) {
     const int* first = unit_blocks_.data() + unit_start_[u];
     const int* last = unit_blocks_.data() + unit_start_[u + 1];
     const bool group = SharesPrediction(u) && std::all_of(first, last, [&](int k) {
                          return evaluation_losses_[k] == nullptr;
                        });
-    std::vector<const SharedPredictionCost*> members;
-    if (group) {
+    if (!group) {
+      for (const int* k = first; k != last; ++k) {
+        AddCeresResidual(evaluation_order_[*k].first, evaluation_losses_[*k], *k, view);
+      }
+    } else {
+      std::vector<const SharedPredictionCost*> members;
       for (const int* k = first; k != last; ++k) {
         members.push_back(static_cast<const SharedPredictionCost*>(evaluation_order_[*k].first));
       }
-    }
-    const bool sum = summed && group && std::all_of(members.begin(), members.end(), [&](auto* m) {
-                       return m->AffineComparison(&weight, &measured);
-                     });
-    if (sum) {
-      auto summed_unit = std::make_unique<SummedPositionGroup>(std::move(members));
-      constant_squared_norm += summed_unit->constant_squared_norm();
-      view->unit_costs.push_back(std::move(summed_unit));
-      add(view->unit_costs.back().get(), nullptr, *first);
-      continue;  // its rows are none of Evaluate()'s
-    }
-    if (group) {
+      if (summed) {
+        if (auto summed_unit = SummedPositionGroup::Make(members)) {
+          constant_squared_norm += summed_unit->constant_squared_norm();
+          view->unit_costs.push_back(std::move(summed_unit));
+          AddCeresResidual(view->unit_costs.back().get(), nullptr, *first, view);
+          continue;  // its rows are none of Evaluate()'s
+        }
+      }
       // In pieces of at most kMaxGroupMembers: Ceres evaluates a block on one thread, and a
-      // static camera's views of the world tag are one unit of thousands.
+      // static camera's world-tag units are 256 views.
       for (size_t begin = 0; begin < members.size(); begin += kMaxGroupMembers) {
         const size_t end = std::min(members.size(), begin + kMaxGroupMembers);
         view->unit_costs.push_back(std::make_unique<SharedPredictionGroup>(
             std::vector<const SharedPredictionCost*>(members.begin() + begin,
                                                      members.begin() + end)));
-        add(view->unit_costs.back().get(), nullptr, *first);
+        AddCeresResidual(view->unit_costs.back().get(), nullptr, *first, view);
       }
     }
+    if (summed) continue;  // the rows' order matters only to Evaluate()
     for (const int* k = first; k != last; ++k) {
-      if (!group) add(evaluation_order_[*k].first, evaluation_losses_[*k], *k);
-      if (summed) continue;
       const int rows = evaluation_order_[*k].first->num_residuals();
       for (int row = rows_[*k]; row < rows_[*k] + rows; ++row) view->rows.push_back(row);
     }

@@ -1,31 +1,40 @@
 // SummedPositionGroup (summed_position_group.h).
 #include "summed_position_group.h"
 
-#include <stdexcept>
-
 namespace cellmetry {
 
-SummedPositionGroup::SummedPositionGroup(std::vector<const SharedPredictionCost*> members)
-    : first_(members.front()) {
-  set_num_residuals(3);
-  *mutable_parameter_block_sizes() = first_->parameter_block_sizes();
+std::unique_ptr<SummedPositionGroup> SummedPositionGroup::Make(
+    const std::vector<const SharedPredictionCost*>& members) {
   std::vector<Eigen::Vector3d> weights(members.size()), measured(members.size());
   Eigen::Vector3d weight_sum = Eigen::Vector3d::Zero();
   Eigen::Vector3d weighted_measured = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < members.size(); ++i) {
-    if (!members[i]->AffineComparison(&weights[i], &measured[i])) {
-      throw std::logic_error("SummedPositionGroup: a member's comparison is not affine");
-    }
+    if (!members[i]->AffineComparison(&weights[i], &measured[i])) return nullptr;
     const Eigen::Vector3d w2 = weights[i].cwiseAbs2();
     weight_sum += w2;
     weighted_measured += w2.cwiseProduct(measured[i]);
   }
-  mean_ = weighted_measured.cwiseQuotient(weight_sum);
-  sqrt_weight_ = weight_sum.cwiseSqrt();
+  if (members.empty() || !(weight_sum.array() > 0.0).all()) return nullptr;
+  const Eigen::Vector3d mean = weighted_measured.cwiseQuotient(weight_sum);
   // The scatter about the mean, summed directly (not as a difference of large sums).
+  double constant_squared_norm = 0.0;
   for (size_t i = 0; i < members.size(); ++i) {
-    constant_squared_norm_ += (weights[i].cwiseProduct(measured[i] - mean_)).squaredNorm();
+    constant_squared_norm += (weights[i].cwiseProduct(measured[i] - mean)).squaredNorm();
   }
+  return std::unique_ptr<SummedPositionGroup>(
+      new SummedPositionGroup(members.front(), weight_sum, mean, constant_squared_norm));
+}
+
+SummedPositionGroup::SummedPositionGroup(const SharedPredictionCost* first,
+                                         const Eigen::Vector3d& weight_sum,
+                                         const Eigen::Vector3d& mean,
+                                         double constant_squared_norm)
+    : first_(first),
+      sqrt_weight_(weight_sum.cwiseSqrt()),
+      mean_(mean),
+      constant_squared_norm_(constant_squared_norm) {
+  set_num_residuals(3);
+  *mutable_parameter_block_sizes() = first_->parameter_block_sizes();
 }
 
 bool SummedPositionGroup::Evaluate(double const* const* parameters, double* residuals,

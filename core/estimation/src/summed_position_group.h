@@ -23,6 +23,7 @@
 #include <ceres/cost_function.h>
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "cellmetry/estimation/shared_prediction_cost.h"
@@ -31,10 +32,11 @@ namespace cellmetry {
 
 class SummedPositionGroup : public ceres::CostFunction {
  public:
-  // `members` share one prediction (the same key over the same parameter blocks) and each
-  // compares it affinely (SharedPredictionCost::AffineComparison); not owned. Throws
-  // std::logic_error if one does not.
-  explicit SummedPositionGroup(std::vector<const SharedPredictionCost*> members);
+  // `members` share one prediction (the same key over the same parameter blocks); not owned.
+  // Null where they cannot be summed: one compares it other than affinely
+  // (SharedPredictionCost::AffineComparison), or an axis has no weight.
+  static std::unique_ptr<SummedPositionGroup> Make(
+      const std::vector<const SharedPredictionCost*>& members);
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
@@ -43,6 +45,9 @@ class SummedPositionGroup : public ceres::CostFunction {
   double constant_squared_norm() const { return constant_squared_norm_; }
 
  private:
+  SummedPositionGroup(const SharedPredictionCost* first, const Eigen::Vector3d& weight_sum,
+                      const Eigen::Vector3d& mean, double constant_squared_norm);
+
   const SharedPredictionCost* first_;  // predicts for all
   Eigen::Vector3d sqrt_weight_;        // sqrt(W_a)
   Eigen::Vector3d mean_;               // m_a

@@ -224,6 +224,7 @@ class Problem {
     // The row in Evaluate()'s order of each of Ceres's rows (empty: the same order); only for
     // the view to evaluate.
     std::vector<int> rows;
+    std::vector<double*> scratch_pointers;  // AddCeresResidual's, kept to spare an allocation
     std::unique_ptr<ceres::Problem> problem;  // last: destroyed first, before what it points to
     void Reset();
   };
@@ -246,6 +247,9 @@ class Problem {
   void BuildCeres(bool summed, CeresView* view);
   // BuildCeres's residual blocks, units grouped (or summed) where they can be.
   void AddCeresResiduals(bool summed, CeresView* view);
+  // `cost` over residual block k's parameter blocks into `view`.
+  void AddCeresResidual(ceres::CostFunction* cost, ceres::LossFunction* loss, int k,
+                        CeresView* view);
   std::vector<std::vector<int>> free_column_;
   // EvaluateSparse's layout, fixed by Build(): per residual block the free columns its rows
   // hold, in column order, with the slot and entry of the parameter block each comes from.
