@@ -501,7 +501,7 @@ double CeresCost(ceres::Problem& problem, std::vector<double>* gradient) {
 
 // The view Ceres solves sums each unit of positions into 3 rows (summed_position_group.h):
 // at any values its cost and gradient are the rows' own, and Ceres reaches the same answer,
-// reporting the same cost, over 40 % of the rows.
+// reporting the same cost, over 58 % of the rows (631 of 1,080).
 TEST(SummedPositionGroup, SolvesTheSameProblemOverFewerRows) {
   auto problem = MakeSharedProblem();
   ceres::Problem& rows = problem->ceres_problem();

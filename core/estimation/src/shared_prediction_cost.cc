@@ -11,12 +11,16 @@ bool SharedPredictionCost::Evaluate(double const* const* parameters, double* res
   if (!Predict(parameters, &prediction, jacobians)) return false;
   Eigen::Matrix3d d_residual;
   Compare(prediction, residuals, jacobians ? &d_residual : nullptr);
-  if (jacobians == nullptr) return true;
-  const std::vector<int32_t>& sizes = parameter_block_sizes();
+  if (jacobians != nullptr) ChainTangentsInPlace(d_residual, parameter_block_sizes(), jacobians);
+  return true;
+}
+
+void SharedPredictionCost::ChainTangentsInPlace(const Eigen::Matrix3d& d_residual,
+                                                const std::vector<int32_t>& sizes,
+                                                double** jacobians) {
   for (size_t k = 0; k < sizes.size(); ++k) {
     if (jacobians[k] != nullptr) ChainTangent(d_residual, jacobians[k], sizes[k], jacobians[k]);
   }
-  return true;
 }
 
 void SharedPredictionCost::ChainTangent(const Eigen::Matrix3d& d_residual, const double* tangent,

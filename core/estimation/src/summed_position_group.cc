@@ -45,12 +45,9 @@ bool SummedPositionGroup::Evaluate(double const* const* parameters, double* resi
   if (!first_->Predict(parameters, &prediction, jacobians)) return false;
   Eigen::Map<Eigen::Vector3d> r(residuals);
   r = sqrt_weight_.cwiseProduct(prediction.t - mean_);
-  if (jacobians == nullptr) return true;
-  const Eigen::Matrix3d d_residual = sqrt_weight_.asDiagonal();
-  const std::vector<int32_t>& sizes = parameter_block_sizes();
-  for (size_t k = 0; k < sizes.size(); ++k) {
-    if (jacobians[k] == nullptr) continue;
-    SharedPredictionCost::ChainTangent(d_residual, jacobians[k], sizes[k], jacobians[k]);
+  if (jacobians != nullptr) {
+    SharedPredictionCost::ChainTangentsInPlace(sqrt_weight_.asDiagonal().toDenseMatrix(),
+                                               parameter_block_sizes(), jacobians);
   }
   return true;
 }

@@ -18,6 +18,7 @@
 #include <ceres/cost_function.h>
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "cellmetry/basics/transform.h"
 
@@ -58,6 +59,10 @@ class SharedPredictionCost : public ceres::CostFunction {
   // be `tangent` itself (each column is read before it is written).
   static void ChainTangent(const Eigen::Matrix3d& d_residual, const double* tangent, int size,
                            double* rows);
+  // ChainTangent in place for every block whose pointer is not null: each block's tangent
+  // Jacobian in `jacobians` (3 x its size in `sizes`) becomes D A.
+  static void ChainTangentsInPlace(const Eigen::Matrix3d& d_residual,
+                                   const std::vector<int32_t>& sizes, double** jacobians);
 };
 
 }  // namespace cellmetry
