@@ -13,8 +13,10 @@
 #include <tuple>
 
 #include "cellmetry/cell/job.h"
+#include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
+#include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
@@ -204,6 +206,49 @@ TEST_F(Outliers, TenPercentOfWorldBoardRotationsMoveNothingByMoreThanItsCleanSig
     obs.rvec->x() += 0.2;
   }, &bad);
   ExpectFound(clean, Identify(corrupted), bad);
+}
+
+// The robust first fit tests a problem's blocks and residuals without making the result's rows
+// (outliers.h): the same scales and the same outliers as the rows made from them, here at the
+// clean answer with 20 mm on the tool in 10 % of the poses (positions and rotations, priors
+// after the measurements).
+TEST_F(Outliers, AProblemsBlocksAreTestedAsTheRowsMadeFromThem) {
+  std::set<int> bad;
+  const Recording corrupted = Corrupted("tool", 10, Plus20MmInX, &bad);
+  const WorkcellProblem& spec = job_.problem;
+  const WorkcellData data = PrepareWorkcellData(spec, corrupted);
+  const NoiseModel noise = BuildNoiseModel(corrupted, spec.noise);
+  auto assembled =
+      AssembleWorkcell(spec, corrupted, data, noise, Identify(clean_).estimate);
+  Problem& problem = assembled->problem;
+  Eigen::VectorXd whitened;
+  ASSERT_TRUE(problem.EvaluateSparse(&whitened, nullptr));
+  std::vector<ResidualRow> rows;  // made here as residuals.csv's are, from the same blocks
+  for (size_t b = 0; b < problem.residual_infos().size(); ++b) {
+    const ResidualInfo& info = problem.residual_infos()[b];
+    if (info.kind == ResidualInfo::Kind::kPrior) continue;
+    ResidualRow row;
+    row.observation = info.observation;
+    row.sample = info.sample;
+    row.camera = info.camera;
+    row.target = info.target;
+    row.kind = info.kind == ResidualInfo::Kind::kPosition ? "position" : "rotation";
+    row.normalized = whitened.segment<3>(problem.residual_rows()[b]);
+    rows.push_back(row);
+  }
+  ASSERT_GT(rows.size(), 100u);
+  EXPECT_EQ(RobustScales(problem, whitened), RobustScales(rows));
+  const std::vector<Outlier> from_rows = FindOutliers(rows, corrupted);
+  const std::vector<Outlier> from_problem = FindOutliers(problem, whitened, corrupted);
+  ASSERT_FALSE(from_rows.empty());
+  ASSERT_EQ(from_problem.size(), from_rows.size());
+  for (size_t i = 0; i < from_rows.size(); ++i) {
+    EXPECT_EQ(from_problem[i].sample, from_rows[i].sample);
+    EXPECT_EQ(from_problem[i].camera, from_rows[i].camera);
+    EXPECT_EQ(from_problem[i].target, from_rows[i].target);
+    EXPECT_EQ(from_problem[i].kind, from_rows[i].kind);
+    EXPECT_EQ(from_problem[i].score, from_rows[i].score);
+  }
 }
 
 }  // namespace

@@ -6,8 +6,7 @@
 
 namespace cellmetry {
 
-std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled, const Linearization* at) {
-  Problem& problem = assembled.problem;
+Eigen::VectorXd WhitenedResiduals(Problem& problem, const Linearization* at) {
   // The cost functions directly (EvaluateSparse without a Jacobian): the same residuals as
   // Ceres's Evaluate without the loss, without building a ceres::Problem for them (after a
   // Build, the first Evaluate made one: 22,500 residual blocks on exp_a, for one pass).
@@ -18,6 +17,12 @@ std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled, const Linear
     r = Eigen::VectorXd::Constant(problem.num_residuals(),
                                   std::numeric_limits<double>::quiet_NaN());
   }
+  return r;
+}
+
+std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled, const Linearization* at) {
+  Problem& problem = assembled.problem;
+  const Eigen::VectorXd r = WhitenedResiduals(problem, at);
   std::vector<ResidualRow> rows;
   const auto& infos = problem.residual_infos();
   rows.reserve(infos.size());

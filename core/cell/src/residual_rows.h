@@ -11,9 +11,14 @@
 
 namespace cellmetry {
 
+// The whitened residuals of every block (priors too) at the problem's current values, without
+// the robust loss (NaN throughout where a cost function fails). `at`: a valid linearization made
+// at those values (a solve's last identifiability check), whose residuals are taken instead of
+// evaluated again.
+Eigen::VectorXd WhitenedResiduals(Problem& problem, const Linearization* at = nullptr);
+
 // The rows at the problem's current values, without the robust loss (NaN where a cost function
-// fails). `at`: a valid linearization made at those values (a solve's last identifiability
-// check), whose residuals are taken instead of evaluated again.
+// fails); `at` as for WhitenedResiduals.
 std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled,
                                       const Linearization* at = nullptr);
 

@@ -16,13 +16,13 @@
 namespace cellmetry {
 namespace {
 
-// Sets the loss of each measurement block (rows are in block order) at `width` robust sigma of
-// its group.
-void SetLossFromScale(const std::vector<ResidualRow>& rows, double width, Problem* problem) {
-  const std::vector<double> scale = RobustScales(rows);
-  std::vector<double> whitened(scale.size());
-  for (size_t i = 0; i < scale.size(); ++i) whitened[i] = width * std::sqrt(scale[i]);
-  problem->SetWhitenedRobustLoss(RobustLossKind::kCauchy, std::move(whitened));
+// Sets the loss of each measurement block at `width` robust sigma of its group, at the whitened
+// residuals `whitened` of the problem's current values.
+void SetLossFromScale(const Eigen::VectorXd& whitened, double width, Problem* problem) {
+  const std::vector<double> scale = RobustScales(*problem, whitened);
+  std::vector<double> loss_scale(scale.size());
+  for (size_t i = 0; i < scale.size(); ++i) loss_scale[i] = width * std::sqrt(scale[i]);
+  problem->SetWhitenedRobustLoss(RobustLossKind::kCauchy, std::move(loss_scale));
   problem->Build();
 }
 
@@ -74,9 +74,9 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
     repeatability.wait();
     throw;
   }
+  ls->start = InitialEstimate(ls->spec, recording, ls->data);  // while the spread is found
   ls->repeatability = repeatability.get();
   ls->noise = BuildNoiseModel(recording, ls->spec.noise, ls->repeatability);
-  ls->start = InitialEstimate(ls->spec, recording, ls->data);
   Fit& fit = ls->fit;
   fit.assembled = AssembleWorkcell(ls->spec, recording, ls->data, ls->noise, ls->start);
   Problem& problem = fit.assembled->problem;
@@ -97,15 +97,14 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
       options.at_least_squares_answer(ls.get());
     }
     const BlockStates least_squares = Snapshot(problem);
-    SetLossFromScale(ResidualRows(*fit.assembled, &fit.at_answer), options.cauchy_width,
-                     &problem);
+    SetLossFromScale(WhitenedResiduals(problem, &fit.at_answer), options.cauchy_width, &problem);
     if (!SolveByReweighting(&problem).converged) {
       // Far from the robust answer (least squares dragged off by gross errors, or not
       // converged): the job's solver takes over from where the reweighting stopped.
       SolveHoldingUnidentifiable(&problem, spec.identifiability_tolerance, held, make_solver,
                                  /*warm_start=*/true);
     }
-    out.outliers = FindOutliers(ResidualRows(*fit.assembled), recording, options.alpha);
+    out.outliers = FindOutliers(problem, WhitenedResiduals(problem), recording, options.alpha);
     Restore(least_squares, &problem);
   } catch (const InputError& e) {
     Progress::Note(std::string("the robust first fit failed (") + e.what() +
