@@ -22,15 +22,20 @@ Pose RandomPose(std::mt19937& rng, double reach_mm) {
 }
 
 // 60 flange poses, two tools taking turns, world points the flange-side points moved by a base
-// pose plus 0.5 mm of noise (so the fit is a compromise, not an exact match).
-std::vector<RobotPoint> Points(std::mt19937& rng, const std::vector<Eigen::Vector3d>& tool_t) {
+// pose plus 0.5 mm of noise (so the fit is a compromise, not an exact match). With `repeats`,
+// each flange pose is measured that many times in a row, each with its own noise (a pose's
+// repeated captures).
+std::vector<RobotPoint> Points(std::mt19937& rng, const std::vector<Eigen::Vector3d>& tool_t,
+                               int repeats = 1) {
   const Pose T_world_base = RandomPose(rng, 800.0);
   std::normal_distribution<double> noise(0.0, 0.5);
   std::vector<RobotPoint> points;
-  for (int i = 0; i < 60; ++i) {
+  Pose T_base_flange;
+  for (int i = 0; i < 60 * repeats; ++i) {
     RobotPoint p;
-    p.T_base_flange = RandomPose(rng, 400.0);
-    p.tool = i % 2;
+    if (i % repeats == 0) T_base_flange = RandomPose(rng, 400.0);
+    p.T_base_flange = T_base_flange;
+    p.tool = (i / repeats) % 2;
     p.p_world = T_world_base * (p.T_base_flange * tool_t[p.tool]) +
                 Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
     p.R_world_target = Eigen::Matrix3d::Identity();
@@ -59,6 +64,29 @@ TEST(BaseFitSums, IsTheRigidFitForAnyToolTranslation) {
   for (int trial = 0; trial < 10; ++trial) {
     std::vector<Eigen::Vector3d> tool_t = {{t(rng), t(rng), t(rng)}, {t(rng), t(rng), t(rng)}};
     if (trial == 0) tool_t = truth;
+    const std::optional<Pose> expected = ByRigidFit(points, tool_t);
+    const std::optional<Pose> fitted = sums.Fit(tool_t);
+    ASSERT_TRUE(expected.has_value());
+    ASSERT_TRUE(fitted.has_value()) << "trial " << trial;
+    EXPECT_LT((fitted->R - expected->R).norm(), 1e-9) << "trial " << trial;
+    EXPECT_LT((fitted->t - expected->t).norm(), 1e-6) << "trial " << trial << " (mm)";
+  }
+}
+
+// A pose's repeated captures: summed once per run of equal flange poses, the fit is still the
+// rigid fit of every point.
+TEST(BaseFitSums, RepeatedFlangePosesAreSummedAsTheirPoints) {
+  std::mt19937 rng(5);
+  const std::vector<Eigen::Vector3d> truth = {{10, -20, 66}, {-30, 5, 120}};
+  const std::vector<RobotPoint> points = Points(rng, truth, /*repeats=*/3);
+  const std::vector<size_t> starts = FlangeRunStarts(points);
+  ASSERT_EQ(starts.size(), 61u);  // 60 runs of 3, then the end
+  EXPECT_EQ(starts[1], 3u);
+  EXPECT_EQ(starts.back(), points.size());
+  const BaseFitSums sums(points, 2);
+  std::uniform_real_distribution<double> t(-150.0, 150.0);
+  for (int trial = 0; trial < 10; ++trial) {
+    std::vector<Eigen::Vector3d> tool_t = {{t(rng), t(rng), t(rng)}, {t(rng), t(rng), t(rng)}};
     const std::optional<Pose> expected = ByRigidFit(points, tool_t);
     const std::optional<Pose> fitted = sums.Fit(tool_t);
     ASSERT_TRUE(expected.has_value());

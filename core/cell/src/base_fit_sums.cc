@@ -5,6 +5,20 @@
 
 namespace cellmetry {
 
+std::vector<size_t> FlangeRunStarts(const std::vector<RobotPoint>& points) {
+  std::vector<size_t> starts;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const RobotPoint* previous = i > 0 ? &points[i - 1] : nullptr;
+    if (!previous || points[i].tool != previous->tool ||
+        points[i].T_base_flange.R != previous->T_base_flange.R ||
+        points[i].T_base_flange.t != previous->T_base_flange.t) {
+      starts.push_back(i);
+    }
+  }
+  starts.push_back(points.size());
+  return starts;
+}
+
 BaseFitSums::BaseFitSums(const std::vector<RobotPoint>& points, int num_tools) {
   ToolSums zero;
   zero.world_axis.fill(Eigen::Matrix3d::Zero());
@@ -18,19 +32,26 @@ BaseFitSums::BaseFitSums(const std::vector<RobotPoint>& points, int num_tools) {
     world_mean_ += p.p_world / count_;
     offset_mean_ += p.T_base_flange.t / count_;
   }
-  for (const RobotPoint& p : points) {
-    const Eigen::Vector3d w = p.p_world - world_mean_;
+  const std::vector<size_t> starts = FlangeRunStarts(points);
+  for (size_t run = 0; run + 1 < starts.size(); ++run) {
+    Eigen::Vector3d world_sum = Eigen::Vector3d::Zero();  // sum of the run's w~_i
+    for (size_t i = starts[run]; i < starts[run + 1]; ++i) {
+      const Eigen::Vector3d w = points[i].p_world - world_mean_;
+      world_scatter += w * w.transpose();
+      world_sum += w;
+    }
+    const double n = static_cast<double>(starts[run + 1] - starts[run]);
+    const RobotPoint& p = points[starts[run]];
     const Eigen::Vector3d t = p.T_base_flange.t - offset_mean_;
     const Eigen::Matrix3d& R = p.T_base_flange.R;
-    world_scatter += w * w.transpose();
-    world_offset_ += w * t.transpose();
-    offset_offset_ += t * t.transpose();
+    world_offset_ += world_sum * t.transpose();
+    offset_offset_ += n * t * t.transpose();
     ToolSums& sums = tools_[static_cast<size_t>(p.tool)];
-    sums.rotations += R;
+    sums.rotations += n * R;
     for (int k = 0; k < 3; ++k) {
-      sums.world_axis[k] += w * R.col(k).transpose();
-      sums.axis_offset[k] += R.col(k) * t.transpose();
-      for (int l = 0; l < 3; ++l) sums.axis_axis[k][l] += R.col(k) * R.col(l).transpose();
+      sums.world_axis[k] += world_sum * R.col(k).transpose();
+      sums.axis_offset[k] += n * R.col(k) * t.transpose();
+      for (int l = 0; l < 3; ++l) sums.axis_axis[k][l] += n * R.col(k) * R.col(l).transpose();
     }
   }
   usable_ = world_mean_.allFinite() && world_scatter.allFinite() &&

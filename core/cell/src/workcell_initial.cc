@@ -47,9 +47,15 @@ void InitialCameras(const WorkcellProblem& spec, const Recording& recording,
 // changes: the matrix is factored once (QR, then an SVD of its small R with the old 1e-9
 // threshold) and each round only rotates the right-hand side. The SVD of the whole 3N x 6
 // matrix in every one of ~45 rounds was most of exp_a's closed-form start.
+//
+// A run of n points at one flange pose (FlangeRunStarts) has n equal rows: it is one row block
+// sqrt(n) [I | R_base_flange S] against the right-hand side sum_i b_i / sqrt(n), which has the
+// same normal equations (so the same solution and singular values) and leaves exp_a 250 row
+// blocks to factor instead of 7,500.
 class TranslationStep {
  public:
-  TranslationStep(const WorkcellRobot& robot, const std::vector<RobotPoint>& points) {
+  TranslationStep(const WorkcellRobot& robot, const std::vector<RobotPoint>& points,
+                  const std::vector<size_t>& run_starts) {
     for (int a = 0; a < 3; ++a) {
       if (!robot.base_start) columns_.push_back({-1, a});
     }
@@ -58,14 +64,17 @@ class TranslationStep {
         if (robot.tools[t].flange_tool.free[a]) columns_.push_back({static_cast<int>(t), a});
       }
     }
-    A_ = Eigen::MatrixXd::Zero(3 * points.size(), columns_.size());
-    for (size_t i = 0; i < points.size(); ++i) {
+    const size_t runs = run_starts.size() - 1;
+    A_ = Eigen::MatrixXd::Zero(3 * runs, columns_.size());
+    for (size_t run = 0; run < runs; ++run) {
+      const RobotPoint& p = points[run_starts[run]];
+      const double weight = std::sqrt(static_cast<double>(run_starts[run + 1] - run_starts[run]));
       for (size_t c = 0; c < columns_.size(); ++c) {
         const auto [tool, axis] = columns_[c];
         if (tool < 0) {
-          A_(3 * i + axis, c) = 1.0;
-        } else if (tool == points[i].tool) {
-          A_.block<3, 1>(3 * i, c) = points[i].T_base_flange.R.col(axis);
+          A_(3 * run + axis, c) = weight;
+        } else if (tool == p.tool) {
+          A_.block<3, 1>(3 * run, c) = weight * p.T_base_flange.R.col(axis);
         }
       }
     }
@@ -82,8 +91,8 @@ class TranslationStep {
 
   const std::vector<std::pair<int, int>>& columns() const { return columns_; }
 
-  // The minimum-norm solution for each right-hand side, a column of `b` (rows as A's), base
-  // part in the base's rotated frame.
+  // The minimum-norm solution for each right-hand side, a column of `b` (rows as A's: a run's
+  // sum over its points divided by sqrt(n)), base part in the base's rotated frame.
   Eigen::MatrixXd Solve(const Eigen::MatrixXd& b) const {
     if (A_.rows() < A_.cols()) return svd_.solve(b);
     const Eigen::MatrixXd Qt_b = qr_.householderQ().transpose() * b;
@@ -101,25 +110,34 @@ class TranslationStep {
 // R_wb^T p_world once the flange position (and a given base translation, and the held tool
 // translation components) are taken away, linear in the nine entries of R_bw = R_wb^T. Column
 // 3a + c holds the coefficients of R_bw(a, c), column 9 the rest: the rounds then solve
-// once, here, and combine the solutions.
+// once, here, and combine the solutions. Rows per run of points at one flange pose, as the
+// TranslationStep's.
 Eigen::MatrixXd TranslationRhsColumns(const WorkcellRobot& robot,
                                       const std::vector<RobotPoint>& points,
+                                      const std::vector<size_t>& run_starts,
                                       const std::vector<Eigen::Vector3d>& tool_t) {
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3 * points.size(), 10);
-  for (size_t i = 0; i < points.size(); ++i) {
-    const RobotPoint& p = points[i];
-    const Eigen::Vector3d world =
-        robot.base_start ? Eigen::Vector3d(p.p_world - robot.base_start->t) : p.p_world;
-    for (int a = 0; a < 3; ++a) {
-      for (int c = 0; c < 3; ++c) b(3 * i + a, 3 * a + c) = world[c];
+  const size_t runs = run_starts.size() - 1;
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3 * runs, 10);
+  for (size_t run = 0; run < runs; ++run) {
+    const double n = static_cast<double>(run_starts[run + 1] - run_starts[run]);
+    Eigen::Vector3d world = Eigen::Vector3d::Zero();
+    for (size_t i = run_starts[run]; i < run_starts[run + 1]; ++i) {
+      world += robot.base_start ? Eigen::Vector3d(points[i].p_world - robot.base_start->t)
+                                : points[i].p_world;
     }
+    const RobotPoint& p = points[run_starts[run]];
     Eigen::Vector3d rest = -p.T_base_flange.t;
     for (int a = 0; a < 3; ++a) {
       if (!robot.tools[p.tool].flange_tool.free[a]) {
         rest -= p.T_base_flange.R.col(a) * tool_t[p.tool][a];
       }
     }
-    b.block<3, 1>(3 * i, 9) = rest;
+    // sum_i b_i / sqrt(n): the world part summed, the flange part n times.
+    world /= std::sqrt(n);
+    for (int a = 0; a < 3; ++a) {
+      for (int c = 0; c < 3; ++c) b(3 * run + a, 3 * a + c) = world[c];
+    }
+    b.block<3, 1>(3 * run, 9) = std::sqrt(n) * rest;
   }
   return b;
 }
@@ -131,11 +149,13 @@ void InitialBaseAndTools(const WorkcellRobot& robot, const std::vector<RobotPoin
   std::vector<Eigen::Vector3d> tool_t;
   for (const auto& tool : robot.tools) tool_t.push_back(estimate->T_flange_target[tool.target].t);
   Pose T_world_base = robot.base_start ? *robot.base_start : Pose::Identity();
-  const TranslationStep step(robot, points);
+  const std::vector<size_t> run_starts = FlangeRunStarts(points);
+  const TranslationStep step(robot, points, run_starts);
   const BaseFitSums base_fit(points, static_cast<int>(robot.tools.size()));
-  const Eigen::MatrixXd solutions = step.columns().empty()
-                                        ? Eigen::MatrixXd()
-                                        : step.Solve(TranslationRhsColumns(robot, points, tool_t));
+  const Eigen::MatrixXd solutions =
+      step.columns().empty()
+          ? Eigen::MatrixXd()
+          : step.Solve(TranslationRhsColumns(robot, points, run_starts, tool_t));
 
   for (int round = 0; round < 50; ++round) {
     if (!robot.base_start) {
