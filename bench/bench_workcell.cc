@@ -8,8 +8,8 @@
 //                      (`outliers: plain`): the robust first fit's cost is the difference
 //  BM_Solve/<solver>   the same assembled sim_b problem from the closed-form start, each solver
 //  BM_Solve/exp_a_<solver>   exp_a's assembled problem from the closed-form start
-//  BM_PrepareData/exp_a, BM_ClosedFormStart/exp_a, BM_Assemble/exp_a   an identification's first
-//                      stages alone; BM_NormalEquations, BM_SparseJacobian, BM_RFactor: one
+//  BM_PrepareData/exp_a, BM_Repeatability/exp_a, BM_ClosedFormStart/exp_a, BM_Assemble/exp_a
+//                      an identification's first stages alone; BM_NormalEquations, BM_SparseJacobian, BM_RFactor: one
 //                      evaluation of exp_a's problem
 #include <benchmark/benchmark.h>
 
@@ -122,6 +122,16 @@ void BM_PrepareData(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_PrepareData)->Name("BM_PrepareData/exp_a")->Unit(benchmark::kMillisecond);
+// The spread of exp_a's repeated captures (EstimateRepeatability), found beside the pairing on
+// the other core.
+void BM_Repeatability(benchmark::State& state) {
+  const Loaded& loaded = Load("configs/jobs/vsb_exp_a_geometry.yaml");
+  for (auto _ : state) {
+    const NoiseModel spread = EstimateRepeatability(loaded.recording);
+    benchmark::DoNotOptimize(spread.entries.size());
+  }
+}
+BENCHMARK(BM_Repeatability)->Name("BM_Repeatability/exp_a")->Unit(benchmark::kMillisecond);
 void BM_ClosedFormStart(benchmark::State& state) {
   const Loaded& loaded = Load("configs/jobs/vsb_exp_a_geometry.yaml");
   const WorkcellData data = PrepareWorkcellData(loaded.job.problem, loaded.recording);
