@@ -37,10 +37,14 @@ struct LeastSquaresFit {
   WorkcellEstimate start;
   Fit fit;
   // How the answer leans on the job's uncertain inputs (input_uncertainty.h), worked out on
-  // another core from the moment the answer is known, while the robust fit's Cauchy step and
-  // outlier test run (IdentifyWorkcell starts it): IdentifyOnce takes it when it takes this fit
-  // unchanged. Last, so it is waited for before what it reads goes.
+  // another core: assembled from the moment the start is known, beside this fit's own assembly
+  // and solve, and linked at the answer `answer_for_link` brings, while the robust fit's Cauchy
+  // step and outlier test run (IdentifyWorkcell starts it): IdentifyOnce takes it when it takes
+  // this fit unchanged. After what it reads, so it is waited for before that goes.
   std::future<InputLink> input_link;
+  // The answer, given once the least-squares solve is done. Last, so that a fit given up before
+  // its answer breaks the promise (the link then ends) before the link is waited for.
+  std::promise<FitAnswer> answer_for_link;
 };
 
 // Assembles on `poses` (empty: all), holds `held` and whatever the data cannot determine, and

@@ -77,6 +77,8 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
   ls->start = InitialEstimate(ls->spec, recording, ls->data);  // while the spread is found
   ls->repeatability = repeatability.get();
   ls->noise = BuildNoiseModel(recording, ls->spec.noise, ls->repeatability);
+  const bool kept = spec.residual == ResidualForm::kCartesian;  // the plain fit's first solve
+  if (kept && options.at_least_squares_start) options.at_least_squares_start(ls.get());
   Fit& fit = ls->fit;
   fit.assembled = AssembleWorkcell(ls->spec, recording, ls->data, ls->noise, ls->start);
   Problem& problem = fit.assembled->problem;
@@ -93,9 +95,7 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
     fit.summary = plain.summary;
     fit.unidentifiable = std::move(plain.unidentifiable);
     fit.at_answer = std::move(plain.at_answer);
-    if (spec.residual == ResidualForm::kCartesian && options.at_least_squares_answer) {
-      options.at_least_squares_answer(ls.get());
-    }
+    if (kept && options.at_least_squares_answer) options.at_least_squares_answer(ls.get());
     const BlockStates least_squares = Snapshot(problem);
     SetLossFromScale(WhitenedResiduals(problem, &fit.at_answer), options.cauchy_width, &problem);
     if (!SolveByReweighting(&problem).converged) {
@@ -111,7 +111,7 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
                    "): outliers are tested on the plain fit only");
     return {};
   }
-  if (spec.residual == ResidualForm::kCartesian) out.least_squares = std::move(ls);
+  if (kept) out.least_squares = std::move(ls);
   return out;
 }
 

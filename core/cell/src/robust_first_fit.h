@@ -39,9 +39,11 @@ namespace cellmetry {
 struct RobustFirstFitOptions {
   double cauchy_width = 3.0;  // the loss bends at this many robust sigma of the block's group
   double alpha = 0.01;        // the outlier test's (outliers.h)
-  // Called with the least-squares fit at its answer, before the Cauchy step changes its
-  // problem's loss and values (what it reads of the problem it must read then); not called
-  // where that fit is not kept (RobustFirstFit::least_squares).
+  // Called with the least-squares fit once its data, noise and start are known, before it is
+  // assembled, then at its answer, before the Cauchy step changes its problem's loss and values
+  // (what it reads of the problem it must read then); neither where that fit is not kept
+  // (RobustFirstFit::least_squares), the second not where the fit ends before its answer.
+  std::function<void(LeastSquaresFit*)> at_least_squares_start;
   std::function<void(LeastSquaresFit*)> at_least_squares_answer;
 };
 

@@ -277,23 +277,32 @@ void CheckEnoughData(const Recording& recording, const Fit& fit) {
                    "Record more poses, or free fewer parameters");
 }
 
-// LinkInputs (input_uncertainty.h) on another thread at `fit`'s answer, its estimate and free
-// parameters read now; `spec`, `recording`, `data` and `noise` must outlive the future.
-std::future<InputLink> LinkInputsAlongside(const WorkcellProblem& spec, const Recording& recording,
-                                           const WorkcellData& data, const NoiseModel& noise,
-                                           const Fit& fit) {
+// The uncertain inputs' link (input_uncertainty.h) on another thread: assembled at `start`
+// from now, linked at the answer `answer` brings. `spec`, `recording`, `data` and `noise` must
+// outlive the future; a broken promise of an answer ends it (std::future_error, kept in it).
+std::future<InputLink> LinkInputsWhenAnswered(const WorkcellProblem& spec,
+                                              const Recording& recording,
+                                              const WorkcellData& data, const NoiseModel& noise,
+                                              const WorkcellEstimate& start,
+                                              std::future<FitAnswer> answer) {
   if (spec.uncertain_inputs.empty()) {
     return std::async(std::launch::deferred, [] { return InputLink{}; });
   }
-  std::vector<std::string> estimated;
-  for (const FreeParameter& p : fit.assembled->problem.free_parameters()) {
-    estimated.push_back(p.name);
-  }
-  return std::async(std::launch::async,
-                    [&spec, &recording, &data, &noise, estimated,
-                     answer = ReadEstimate(spec, *fit.assembled)] {
-                      return LinkInputs(spec, recording, data, noise, answer, estimated);
-                    });
+  return std::async(std::launch::async, [&spec, &recording, &data, &noise, start,
+                                         answer = std::move(answer)]() mutable {
+    InputLinker linker(spec, recording, data, noise, start);
+    return linker.LinkAt(answer.get());
+  });
+}
+
+// The same at `fit`'s answer, read now: assembled at the start `fit` was.
+std::future<InputLink> LinkInputsAlongside(const WorkcellProblem& spec, const Recording& recording,
+                                           const WorkcellData& data, const NoiseModel& noise,
+                                           const Fit& fit) {
+  std::promise<FitAnswer> answer;
+  answer.set_value(AnswerOf(*fit.assembled));
+  return LinkInputsWhenAnswered(spec, recording, data, noise,
+                                ReferenceEstimate(spec, *fit.assembled), answer.get_future());
 }
 
 // Whether some camera and target's sigma is neither given nor measured (FitWithSigma estimates
@@ -497,13 +506,18 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   if (spec.outlier_test == OutlierTest::kRobust) {
     RobustFirstFitOptions options;
     // Its least-squares answer is the plain fit's when nothing is left out (the usual case):
-    // the inputs' link at that answer starts now, alongside the Cauchy step and the test.
-    // Not where a sigma is unknown: FitWithSigma then solves again with sigma from this fit's
-    // residuals and links the inputs at that answer, and a link here would only take the
-    // other core from the Cauchy step (sim_b).
-    options.at_least_squares_answer = [&recording](LeastSquaresFit* ls) {
+    // the inputs' link is assembled at its start from now, beside the fit's own assembly and
+    // solve, and linked at that answer alongside the Cauchy step and the test. Not where a
+    // sigma is unknown: FitWithSigma then solves again with sigma from this fit's residuals
+    // and links the inputs at that answer, and a link here would only take the other core
+    // from the fit (sim_b).
+    options.at_least_squares_start = [&recording](LeastSquaresFit* ls) {
       if (HasUnknownSigma(ls->noise)) return;
-      ls->input_link = LinkInputsAlongside(ls->spec, recording, ls->data, ls->noise, ls->fit);
+      ls->input_link = LinkInputsWhenAnswered(ls->spec, recording, ls->data, ls->noise,
+                                              ls->start, ls->answer_for_link.get_future());
+    };
+    options.at_least_squares_answer = [](LeastSquaresFit* ls) {
+      if (ls->input_link.valid()) ls->answer_for_link.set_value(AnswerOf(*ls->fit.assembled));
     };
     RobustFirstFit robust = FindOutliersByRobustFit(spec, recording, make_solver, options);
     outliers = std::move(robust.outliers);
