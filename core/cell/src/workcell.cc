@@ -56,8 +56,9 @@ bool IsCarried(const Recording& recording, const std::string& target) {
 std::vector<ResidualRow> MeasurementRows(const WorkcellProblem& spec, const Recording& recording,
                                          const WorkcellData& data, const NoiseModel& noise,
                                          const WorkcellEstimate& estimate,
-                                         const std::set<int>& poses, AssembledWorkcell* fitted) {
-  if (spec.residual == ResidualForm::kCartesian && fitted) return ResidualRows(*fitted);
+                                         const std::set<int>& poses, AssembledWorkcell* fitted,
+                                         const Linearization* at = nullptr) {
+  if (spec.residual == ResidualForm::kCartesian && fitted) return ResidualRows(*fitted, at);
   WorkcellProblem cartesian = spec;
   cartesian.residual = ResidualForm::kCartesian;
   auto assembled = AssembleWorkcell(cartesian, recording, data, noise, estimate, poses);
@@ -344,13 +345,34 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
 }
 
 // Residual rows and their RMS per camera and target, in the measurement's units.
+// `at`: the fit's linearization at its answer, whose residuals are taken (ResidualRows).
 void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recording,
-                           const WorkcellData& data, Fit& fit, WorkcellResult* result) {
+                           const WorkcellData& data, Fit& fit, const Linearization& at,
+                           WorkcellResult* result) {
   result->residuals = MeasurementRows(spec, recording, data, result->noise, result->estimate, {},
-                                      fit.assembled.get());
+                                      fit.assembled.get(), &at);
+  // Each row's table looked up among the few met so far (a camera and target's positions and
+  // rotations): a name made and found in a map per row was half of this on exp_a.
+  struct Group {
+    const ResidualRow* first;
+    ResidualRms* rms;
+  };
+  std::vector<Group> groups;
   for (const auto& row : result->residuals) {
-    auto& table = row.kind == "position" ? result->position_rms : result->rotation_rms;
-    table[row.camera + "/" + row.target].Add(row.error);
+    ResidualRms* rms = nullptr;
+    for (const Group& group : groups) {
+      if (group.first->camera == row.camera && group.first->target == row.target &&
+          group.first->kind == row.kind) {
+        rms = group.rms;
+        break;
+      }
+    }
+    if (rms == nullptr) {
+      auto& table = row.kind == "position" ? result->position_rms : result->rotation_rms;
+      rms = &table[row.camera + "/" + row.target];
+      groups.push_back({&row, rms});
+    }
+    rms->Add(row.error);
   }
   for (auto& [key, rms] : result->position_rms) rms.Finish();
   for (auto& [key, rms] : result->rotation_rms) rms.Finish();
@@ -471,7 +493,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
     result.strong_correlations = StrongCorrelations(result.uncertainty);
     SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result.uncertainty);
     clock.Lap("covariance");
-    AddResidualStatistics(spec, recording, data, fit, &result);
+    AddResidualStatistics(spec, recording, data, fit, at_answer, &result);
     clock.Lap("residual_statistics");
   } catch (...) {
     input_link.wait();  // it reads `data` and `result.noise`: finished before they go
