@@ -485,18 +485,25 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
       solved && solved->input_link.valid() && !fit.sigma_refit
           ? std::move(solved->input_link)  // started at this very answer
           : LinkInputsAlongside(spec, recording, data, result.noise, fit);
+  // The solve's last identifiability check linearized here already (with its R factor).
+  const Linearization at_answer =
+      fit.at_answer.valid ? std::move(fit.at_answer) : Linearize(fit.assembled->problem);
+  // The residual rows read the answer's residuals and nothing else the covariance reads or
+  // writes: made on another core meanwhile (the inputs' link is done by then on exp_a).
+  std::future<void> residual_statistics = std::async(std::launch::async, [&] {
+    AddResidualStatistics(spec, recording, data, fit, at_answer, &result);
+  });
   try {
-    // The solve's last identifiability check linearized here already (with its R factor).
-    const Linearization at_answer =
-        fit.at_answer.valid ? std::move(fit.at_answer) : Linearize(fit.assembled->problem);
     result.uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
     result.strong_correlations = StrongCorrelations(result.uncertainty);
     SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result.uncertainty);
     clock.Lap("covariance");
-    AddResidualStatistics(spec, recording, data, fit, at_answer, &result);
-    clock.Lap("residual_statistics");
+    residual_statistics.get();  // rethrows what it threw
+    clock.Lap("residual_statistics");  // what was left of it after the covariance
   } catch (...) {
-    input_link.wait();  // it reads `data` and `result.noise`: finished before they go
+    // Both read `data`, `fit` and `result.noise`: finished before they go.
+    if (residual_statistics.valid()) residual_statistics.wait();
+    input_link.wait();
     throw;
   }
   AddInputUncertainty(input_link.get(), &result.uncertainty);  // rethrows what it threw
