@@ -17,6 +17,7 @@
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_assembly.h"
+#include "residual_rows.h"
 #include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
@@ -223,19 +224,7 @@ TEST_F(Outliers, AProblemsBlocksAreTestedAsTheRowsMadeFromThem) {
   Problem& problem = assembled->problem;
   Eigen::VectorXd whitened;
   ASSERT_TRUE(problem.EvaluateSparse(&whitened, nullptr));
-  std::vector<ResidualRow> rows;  // made here as residuals.csv's are, from the same blocks
-  for (size_t b = 0; b < problem.residual_infos().size(); ++b) {
-    const ResidualInfo& info = problem.residual_infos()[b];
-    if (info.kind == ResidualInfo::Kind::kPrior) continue;
-    ResidualRow row;
-    row.observation = info.observation;
-    row.sample = info.sample;
-    row.camera = info.camera;
-    row.target = info.target;
-    row.kind = info.kind == ResidualInfo::Kind::kPosition ? "position" : "rotation";
-    row.normalized = whitened.segment<3>(problem.residual_rows()[b]);
-    rows.push_back(row);
-  }
+  const std::vector<ResidualRow> rows = ResidualRows(*assembled, nullptr);  // residuals.csv's
   ASSERT_GT(rows.size(), 100u);
   EXPECT_EQ(RobustScales(problem, whitened), RobustScales(rows));
   const std::vector<Outlier> from_rows = FindOutliers(rows, corrupted);

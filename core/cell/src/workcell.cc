@@ -489,10 +489,12 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   const Linearization at_answer =
       fit.at_answer.valid ? std::move(fit.at_answer) : Linearize(fit.assembled->problem);
   // The residual rows read the answer's residuals and nothing else the covariance reads or
-  // writes: made on another core meanwhile (the inputs' link is done by then on exp_a).
-  std::future<void> residual_statistics = std::async(std::launch::async, [&] {
-    AddResidualStatistics(spec, recording, data, fit, at_answer, &result);
-  });
+  // writes: made on another core meanwhile (the inputs' link is done by then on exp_a). Without
+  // a valid linearization they would evaluate the problem: then after the covariance, which
+  // throws for it anyway.
+  std::future<void> residual_statistics = std::async(
+      at_answer.valid ? std::launch::async : std::launch::deferred,
+      [&] { AddResidualStatistics(spec, recording, data, fit, at_answer, &result); });
   try {
     result.uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
     result.strong_correlations = StrongCorrelations(result.uncertainty);
