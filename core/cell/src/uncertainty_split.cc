@@ -2,6 +2,7 @@
 #include "uncertainty_split.h"
 
 #include <algorithm>
+#include <future>
 #include <set>
 
 #include "cellmetry/estimation/robust_covariance.h"
@@ -21,14 +22,19 @@ std::vector<int> PoseClusters(const Problem& problem) {
 // Static cameras that see a target the job's robots carry: those a jackknife can leave out.
 std::vector<std::string> CamerasSeeingTools(const WorkcellProblem& spec,
                                             const Recording& recording) {
-  std::set<std::string> tools, seen;
+  std::set<std::string> tools;
   for (const auto& robot : spec.robots) {
     for (const auto& tool : robot.tools) tools.insert(tool.target);
   }
+  // A camera already found is not looked up again: a set lookup and insertion per observation
+  // was a tenth of the split on exp_a.
+  std::vector<std::string> seen;
   for (const auto& obs : recording.observations) {
-    if (tools.count(obs.target)) seen.insert(obs.camera);
+    if (std::find(seen.begin(), seen.end(), obs.camera) != seen.end()) continue;
+    if (tools.count(obs.target)) seen.push_back(obs.camera);
   }
-  return {seen.begin(), seen.end()};
+  std::sort(seen.begin(), seen.end());
+  return seen;
 }
 
 // Each residual block's camera among `cameras` (ResidualInfo order); -1: kept in every estimate.
@@ -43,15 +49,13 @@ std::vector<int> CameraGroups(const Problem& problem, const std::vector<std::str
   return groups;
 }
 
-// Leave-one-camera-out deviations from the answer (none with fewer than two cameras).
-std::vector<Eigen::VectorXd> CameraJackknife(const WorkcellProblem& spec,
-                                             const Recording& recording, const Problem& problem,
-                                             const Linearization& at) {
+// The cameras a leave-one-camera-out jackknife leaves out in turn: none with fewer than two.
+std::vector<std::string> JackknifeCameras(const WorkcellProblem& spec,
+                                          const Recording& recording) {
   if (spec.camera_model != CameraModel::kStaticCameras) return {};
-  const std::vector<std::string> cameras = CamerasSeeingTools(spec, recording);
+  std::vector<std::string> cameras = CamerasSeeingTools(spec, recording);
   if (cameras.size() < 2) return {};
-  return LinearizedJackknife(problem, at, CameraGroups(problem, cameras),
-                             spec.identifiability_tolerance);
+  return cameras;
 }
 
 }  // namespace
@@ -59,8 +63,18 @@ std::vector<Eigen::VectorXd> CameraJackknife(const WorkcellProblem& spec,
 void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,
                       const AssembledWorkcell& fitted, const Linearization& at, Uncertainty* u) {
   const Problem& problem = fitted.problem;
+  // Leave-one-camera-out deviations from the answer. The jackknife and the cluster-robust
+  // covariance read the answer's linearization and nothing else: the jackknife on another core
+  // meanwhile, where there is one.
+  const std::vector<std::string> cameras = JackknifeCameras(spec, recording);
+  std::future<std::vector<Eigen::VectorXd>> jackknife = std::async(
+      cameras.empty() ? std::launch::deferred : std::launch::async, [&] {
+        if (cameras.empty()) return std::vector<Eigen::VectorXd>{};
+        return LinearizedJackknife(problem, at, CameraGroups(problem, cameras),
+                                   spec.identifiability_tolerance);
+      });
   const Eigen::MatrixXd cluster = ClusterRobustCovariance(problem, at, PoseClusters(problem), *u);
-  const auto deviations = CameraJackknife(spec, recording, problem, at);
+  const auto deviations = jackknife.get();
   CombineUncertainty(cluster, deviations.size() >= 2 ? JackknifeSpread(deviations) : Jackknife{},
                      u);
 }
