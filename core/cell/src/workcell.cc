@@ -324,7 +324,8 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
   CheckEnoughData(recording, fit);
   if (!HasUnknownSigma(*noise)) return fit;  // every sigma is known: nothing to re-estimate
   const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
-  const auto rows = MeasurementRows(spec, recording, data, *noise, first, {}, fit.assembled.get());
+  const auto rows = MeasurementRows(spec, recording, data, *noise, first, {}, fit.assembled.get(),
+                                    &fit.at_answer);
   if (!EstimateUnknownSigma(rows, fit.assembled->problem.num_free(), noise)) return fit;
   Progress::Note("refitting with sigma estimated from the residuals");
   std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
