@@ -110,9 +110,10 @@ std::vector<Outlier> OutliersOf(size_t num_rows, const RowAt& row_at, const Reco
   return out;
 }
 
-// A problem's measurement blocks with their whitened residuals as TestedRows.
-struct MeasurementRows {
-  MeasurementRows(const Problem& problem, const Eigen::VectorXd& whitened)
+// A problem's measurement blocks with their whitened residuals as TestedRows (not the result's
+// rows: workcell.cc's MeasurementRows makes those).
+struct ProblemRows {
+  ProblemRows(const Problem& problem, const Eigen::VectorXd& whitened)
       : infos(problem.residual_infos()), first_row(problem.residual_rows()), r(whitened) {
     for (const ResidualInfo& info : infos) {
       if (info.kind == ResidualInfo::Kind::kPrior) break;  // priors come last
@@ -137,7 +138,7 @@ std::vector<double> RobustScales(const std::vector<ResidualRow>& rows) {
 }
 
 std::vector<double> RobustScales(const Problem& problem, const Eigen::VectorXd& whitened) {
-  const MeasurementRows rows(problem, whitened);
+  const ProblemRows rows(problem, whitened);
   return ScalesOf(rows.count, rows);
 }
 
@@ -148,7 +149,7 @@ std::vector<Outlier> FindOutliers(const std::vector<ResidualRow>& rows, const Re
 
 std::vector<Outlier> FindOutliers(const Problem& problem, const Eigen::VectorXd& whitened,
                                   const Recording& recording, double alpha) {
-  const MeasurementRows rows(problem, whitened);
+  const ProblemRows rows(problem, whitened);
   return OutliersOf(rows.count, rows, recording, alpha);
 }
 
