@@ -275,23 +275,26 @@ std::vector<int> RowPoses(const CandidateLinearization& lin) {
   return poses;
 }
 
+// What the bootstrap says of the chosen candidate (CandidateFinding::bootstrap_*).
+struct BootstrapVerdict {
+  double share = 0.0;        // resamples that included one of its `own` groups
+  std::string rival;         // the label of the other group included most often ("": none was)
+  std::string rival_effect;  // that group's member included most often, by name
+};
+
 // The share of bootstrap resamples that included a candidate of one of `own` groups (the chosen
-// one's and its aliases', CandidateEffect::group_name), and the label of the other group included
-// most often ("" when none was).
-std::pair<double, std::string> GroupInclusion(
-    const std::vector<std::vector<int>>& inclusions,
-    const std::vector<const CandidateEffect*>& candidates, const std::set<std::string>& own) {
+// one's and its aliases', CandidateEffect::group_name), and the other group included most often.
+BootstrapVerdict GroupInclusion(const std::vector<std::vector<int>>& inclusions,
+                                const std::vector<const CandidateEffect*>& candidates,
+                                const std::set<std::string>& own) {
   int resamples_own = 0;
   std::map<std::string, int> resamples_including;
-  std::map<std::string, std::string> label;
+  std::map<int, int> resamples_including_candidate;
   for (const auto& included : inclusions) {
     std::set<std::string> groups;
     for (int c : included) {
-      const CandidateEffect& candidate = *candidates[c];
-      groups.insert(candidate.group_name());
-      label.try_emplace(candidate.group_name(), candidate.group_label.empty()
-                                                    ? candidate.label
-                                                    : candidate.group_label);
+      groups.insert(candidates[c]->group_name());
+      ++resamples_including_candidate[c];
     }
     bool any_own = false;
     for (const auto& g : groups) {
@@ -300,13 +303,22 @@ std::pair<double, std::string> GroupInclusion(
     }
     resamples_own += any_own;
   }
-  std::string rival;
+  BootstrapVerdict verdict;
+  std::string rival_group;
   int rival_count = 0;
   for (const auto& [group, count] : resamples_including) {
-    if (!own.count(group) && count > rival_count) rival_count = count, rival = label[group];
+    if (!own.count(group) && count > rival_count) rival_count = count, rival_group = group;
   }
-  const double n = std::max<size_t>(1, inclusions.size());
-  return {resamples_own / n, rival};
+  int member_count = 0;
+  for (const auto& [c, count] : resamples_including_candidate) {
+    const CandidateEffect& candidate = *candidates[c];
+    if (candidate.group_name() != rival_group || count <= member_count) continue;
+    member_count = count;
+    verdict.rival = candidate.group_label.empty() ? candidate.label : candidate.group_label;
+    verdict.rival_effect = candidate.effect.name;
+  }
+  verdict.share = resamples_own / double(std::max<size_t>(1, inclusions.size()));
+  return verdict;
 }
 
 // How strongly a chi-square statistic with `dof` degrees of freedom speaks against "no effect",
@@ -501,8 +513,10 @@ class Diagnoser {
     const std::vector<std::vector<int>> inclusions =
         BootstrapInclusions(s->base.r, s->base.J_model, s->signatures, RowPoses(s->base),
                             options_.bootstrap, std::log(n_poses_), effects_left, seed);
-    std::tie(chosen.bootstrap_share, chosen.bootstrap_rival) =
-        GroupInclusion(inclusions, s->testable, own);
+    const BootstrapVerdict bootstrap = GroupInclusion(inclusions, s->testable, own);
+    chosen.bootstrap_share = bootstrap.share;
+    chosen.bootstrap_rival = bootstrap.rival;
+    chosen.bootstrap_rival_effect = bootstrap.rival_effect;
     chosen.explained_share = ExplainedShare(current.summary, with_cv.summary);
     if (!chosen.implausible.empty()) chosen.failed.push_back("size");
     if (!(chosen.p_lr_holm < options_.alpha)) chosen.failed.push_back("LR");
@@ -588,6 +602,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
                                  const std::vector<CandidateEffect>& candidates,
                                  const DiagnosisOptions& options, const std::string& origin) {
   DiagnosisResult out;
+  out.job = origin;
   const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
   CheckInputs(noise, recording, options, origin, &out.noise_source);
   WorkcellProblem all = spec;

@@ -34,7 +34,9 @@
 //        d. its group (CandidateEffect::group: nested variants of the same physics, or the
 //           forms of one camera's calibration) is included in >= `bootstrap_share` of bootstrap
 //           resamples of poses, each running the greedy selection (BIC-gated) on the resampled,
-//           reweighted linearization (Sauerbrei & Schumacher 1992);
+//           reweighted linearization (Sauerbrei & Schumacher 1992); where it is not, the
+//           report names the group the resamples included most often instead and proposes
+//           `cellmetry plan` for the two (pose_plan.h), whose poses tell them apart;
 //      candidates whose unabsorbed signatures correlate >= `alias_correlation` with the chosen
 //      one are its aliases: one finding with two names, counted together by the bootstrap and
 //      named together in the report;
@@ -158,6 +160,8 @@ struct CandidateFinding {
   double cv_gain_se = 0.0;          // standard error of that gain over the folds
   double bootstrap_share = 0.0;     // resamples whose selection included its group
   std::string bootstrap_rival;      // the other group included most often ("" if none)
+  std::string bootstrap_rival_effect;  // its member included most often, by name: what
+                                       // `cellmetry plan --effect` takes to tell the two apart
   std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
   std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
   std::vector<std::string> alias_names;  // the same, by candidate name
@@ -259,6 +263,8 @@ struct DiagnosisResult {
   double shape_correlation = 0.5;
   std::string unexplained;                   // "" or where structure remains, in words
   WorkcellResult final_fit;
+  std::string job;                           // the job diagnosed (`origin`), for the commands
+                                             // the report proposes
 };
 
 // The default candidate list for `spec`'s robots and `recording`'s cameras; compliance uses
