@@ -15,7 +15,8 @@ namespace cellmetry::app {
 
 void AddPlanCommand(CLI::App& app, Context& context) {
   CLI::App* cmd = app.add_subcommand(
-      "plan", "propose joint poses that make untestable effects testable (D-optimal)");
+      "plan", "propose joint poses that make untestable effects testable, or tell two "
+              "candidates apart (D-optimal)");
   static std::string job_path, output;
   static PosePlanOptions options;
   cmd->add_option("job", job_path, "workcell job (YAML), as for diagnose")->required();
@@ -24,8 +25,9 @@ void AddPlanCommand(CLI::App& app, Context& context) {
   cmd->add_option("--draws", options.draws, "random joint poses to choose among")
       ->check(CLI::Range(1, 1000000));
   cmd->add_option("--effect", options.effects,
-                  "a candidate to make testable (e.g. ur3.compliance_j2); default: every one the "
-                  "recorded poses leave untestable");
+                  "a candidate to plan for (e.g. ur3.compliance_j2), repeated for several (the "
+                  "diagnose report names a pair to tell apart); default: every one the recorded "
+                  "poses leave untestable");
   cmd->add_option("-o,--output", output, "plan folder (default: <job output>/plan)");
   cmd->callback([&context] {
     Progress::SetQuiet(context.quiet);

@@ -220,14 +220,6 @@ std::vector<SignaturePoint> Signature(const CandidateLinearization& lin,
   return points;
 }
 
-// Largest canonical correlation of two candidates' unabsorbed signatures: the cosine of the
-// smallest angle between the two subspaces (orthonormal bases).
-double CanonicalCorrelation(const Eigen::MatrixXd& U_a, const Eigen::MatrixXd& U_b) {
-  const Eigen::MatrixXd overlap = U_a.transpose() * U_b;
-  if (overlap.size() == 0) return 0.0;
-  return Eigen::JacobiSVD<Eigen::MatrixXd>(overlap).singularValues()[0];
-}
-
 // The candidates (other families) whose unabsorbed signatures correlate with `chosen`'s by at
 // least `threshold`, strongest first, as indices into `candidates`.
 std::vector<std::pair<size_t, double>> LookAlikes(

@@ -138,6 +138,12 @@ Eigen::MatrixXd ProjectOut(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& X) {
   return X - Q * (Q.transpose() * X);
 }
 
+double CanonicalCorrelation(const Eigen::MatrixXd& U_a, const Eigen::MatrixXd& U_b) {
+  const Eigen::MatrixXd overlap = U_a.transpose() * U_b;
+  if (overlap.size() == 0) return 0.0;
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(overlap).singularValues()[0];
+}
+
 ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,
                 const Eigen::MatrixXd& P) {
   ScoreTest test;

@@ -54,6 +54,11 @@ Eigen::MatrixXd OrthonormalBasis(const Eigen::MatrixXd& columns);
 // X minus its projection onto span(Q) (Q orthonormal).
 Eigen::MatrixXd ProjectOut(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& X);
 
+// Largest canonical correlation of two subspaces given by orthonormal bases (of two candidates'
+// unabsorbed signatures: how alike the poses leave them): the cosine of the smallest angle
+// between them; 0 when either is empty.
+double CanonicalCorrelation(const Eigen::MatrixXd& U_a, const Eigen::MatrixXd& U_b);
+
 struct ScoreTest {
   double unabsorbed = 0.0;  // ||P||_F / ||J_e||_F
   double statistic = 0.0;

@@ -201,6 +201,13 @@ double Unabsorbed(const Jacobian& jac, const std::vector<int>& rows,
   return ProjectOut(Q, Jc).norm() / Jc.norm();
 }
 
+// An orthonormal basis of what the geometry leaves of a candidate's signature over `rows`.
+Eigen::MatrixXd UnabsorbedBasis(const Jacobian& jac, const std::vector<int>& rows,
+                                const std::vector<int>& candidate) {
+  const Eigen::MatrixXd Q = OrthonormalBasis(Rows(jac.J, rows, jac.geometry));
+  return OrthonormalBasis(ProjectOut(Q, Rows(jac.J, rows, candidate)));
+}
+
 // Each of `columns`' parameters' sigma at the floor from `rows`, fitted together (1e150 where
 // undetermined: the pseudo-inverse of a zero singular value).
 Eigen::VectorXd SigmaAtFloor(const Jacobian& jac, const std::vector<int>& rows,
@@ -314,6 +321,36 @@ PlannedEffect PlannedFor(const Jacobian& jac, const CandidateEffect& candidate,
   return e;
 }
 
+// What the plan predicts for two named candidates: how alike the poses leave them, and their
+// parameters' sigma at the floor fitted together with the geometry, before and after.
+PlannedPair PlannedTogether(const Jacobian& jac, const CandidateEffect& a,
+                            const std::vector<int>& a_columns, const CandidateEffect& b,
+                            const std::vector<int>& b_columns,
+                            const std::vector<int>& before_rows,
+                            const std::vector<int>& after_rows) {
+  PlannedPair pair{a.label, b.label,
+                   CanonicalCorrelation(UnabsorbedBasis(jac, before_rows, a_columns),
+                                        UnabsorbedBasis(jac, before_rows, b_columns)),
+                   CanonicalCorrelation(UnabsorbedBasis(jac, after_rows, a_columns),
+                                        UnabsorbedBasis(jac, after_rows, b_columns)),
+                   {}};
+  std::vector<int> columns = jac.geometry;
+  columns.insert(columns.end(), a_columns.begin(), a_columns.end());
+  columns.insert(columns.end(), b_columns.begin(), b_columns.end());
+  const Eigen::VectorXd before = SigmaAtFloor(jac, before_rows, columns);
+  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows, columns);
+  Eigen::Index k = static_cast<Eigen::Index>(jac.geometry.size());
+  for (const CandidateEffect* c : {&a, &b}) {
+    const std::vector<Parameter>& parameters = c->effect.effect->parameters();
+    const size_t n = c == &a ? a_columns.size() : b_columns.size();
+    for (size_t i = 0; i < n && i < parameters.size(); ++i, ++k) {
+      pair.sigma.push_back({c->effect.name + "." + parameters[i].name, parameters[i].unit,
+                            before[k], after[k]});
+    }
+  }
+  return pair;
+}
+
 }  // namespace
 
 PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
@@ -356,6 +393,13 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
     plan.effects.push_back(PlannedFor(jac, candidates[c], jac.candidate[c], recorded_rows,
                                       after_rows));
   }
+  for (size_t i = 0; i < targets.size() && !options.effects.empty(); ++i) {
+    for (size_t k = i + 1; k < targets.size(); ++k) {
+      plan.pairs.push_back(PlannedTogether(jac, candidates[targets[i]], jac.candidate[targets[i]],
+                                           candidates[targets[k]], jac.candidate[targets[k]],
+                                           recorded_rows, after_rows));
+    }
+  }
   const Eigen::VectorXd before = SigmaAtFloor(jac, recorded_rows, jac.geometry);
   const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows, jac.geometry);
   for (size_t i = 0; i < jac.geometry.size(); ++i) {
@@ -377,6 +421,19 @@ std::string PosePlanReport(const PosePlan& plan) {
     for (const auto& p : e.sigma) {
       std::snprintf(line, sizeof(line), "    %s: sigma %.2g -> %.2g %s\n", p.name.c_str(),
                     p.before, p.after, p.unit.c_str());
+      out << line;
+    }
+  }
+  for (const auto& p : plan.pairs) {
+    char line[512];
+    std::snprintf(line, sizeof(line),
+                  "  %s and %s: alike %.2f -> %.2f (canonical correlation of what the geometry "
+                  "leaves of them; the finder calls 0.99 one finding)\n",
+                  p.a.c_str(), p.b.c_str(), p.correlation_before, p.correlation_after);
+    out << line;
+    for (const auto& s : p.sigma) {
+      std::snprintf(line, sizeof(line), "    %s fitted with the other: sigma %.2g -> %.2g %s\n",
+                    s.name.c_str(), s.before, s.after, s.unit.c_str());
       out << line;
     }
   }

@@ -19,6 +19,11 @@
 // share of each candidate's signature outside the geometry's span, each of its parameters' sigma
 // at the floor fitted together with the geometry (what the finder's refit would give, before the
 // dispersion), and each free parameter's sigma at the floor, before and after.
+//
+// Named candidates need not be untestable: two that the finder's bootstrap could not tell apart
+// (its report proposes the pair) are planned for together, the criterion then favouring the poses
+// where their signatures differ; the plan adds how alike the poses leave them and their
+// parameters' sigma fitted together (PlannedPair).
 #pragma once
 
 #include <string>
@@ -56,9 +61,21 @@ struct PlannedEffect {
   std::vector<PlannedSigma> sigma;   // its parameters, fitted with the geometry
 };
 
+// Two named candidates planned for together (PosePlanOptions::effects, the diagnose report's
+// closest candidate and its bootstrap rival): how alike the poses leave them, as the finder
+// measures it (the largest canonical correlation of what the geometry leaves of their
+// signatures; at `alias_correlation`, 0.99, the finder calls them one finding).
+struct PlannedPair {
+  std::string a, b;                  // labels
+  double correlation_before = 0.0, correlation_after = 0.0;
+  std::vector<PlannedSigma> sigma;   // both one's and the other's parameters, fitted together
+                                     // with the geometry: how well the data would separate them
+};
+
 struct PosePlan {
   std::vector<PlannedPose> poses;
   std::vector<PlannedEffect> effects;
+  std::vector<PlannedPair> pairs;    // every two named candidates (none when none are named)
   std::vector<PlannedSigma> sigma;
   int draws_in_view = 0;             // of options.draws, those some camera would see
 };
