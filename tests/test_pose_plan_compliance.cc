@@ -36,14 +36,7 @@ WorkcellSimulationSpec ShoulderHeldCell(const std::string& dir) {
   sim = testing::ReplaceOnce(sim, "payloads_kg: [0, 1.0]", "payloads_kg: [0.5]");
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
-  const ConfigNode compliance = ConfigNode::LoadString(
-      "{type: joint_compliance, joints: [2], link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}",
-      "test");
-  SimulatedEffect e;
-  e.name = "ur3.joint_compliance";
-  e.effect = testing::Plugins().CreateEffect("joint_compliance", compliance, *spec.robots[0].model);
-  e.values = {kCompliance};
-  spec.robots[0].effects.push_back(e);
+  testing::ConcealJointCompliance(&spec, 2, kCompliance);
   return spec;
 }
 

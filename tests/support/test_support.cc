@@ -132,12 +132,17 @@ WorkcellSimulationSpec SimulateScaledToolBoard(const std::string& dir, double sc
 }
 
 void ConcealJoint3Compliance(WorkcellSimulationSpec* spec, double compliance) {
+  ConcealJointCompliance(spec, 3, compliance);
+}
+
+void ConcealJointCompliance(WorkcellSimulationSpec* spec, int joint, double compliance) {
   SimulatedEffect e;
   e.name = "ur3.joint_compliance";
   e.effect = Plugins().CreateEffect(
       "joint_compliance",
-      ConfigNode::LoadString("{type: joint_compliance, joints: [3], "
-                             "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}", "test"),
+      ConfigNode::LoadString("{type: joint_compliance, joints: [" + std::to_string(joint) +
+                                 "], link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}",
+                             "test"),
       *spec->robots[0].model);
   e.values = {compliance};
   spec->robots[0].effects.push_back(e);

@@ -77,6 +77,8 @@ WorkcellSimulationSpec SimulateScaledToolBoard(const std::string& dir, double sc
 // first robot: the library effect the physics-finder tests conceal most. A negative one is a
 // joint that gives against gravity: no physics, a stand-in for a look-alike.
 void ConcealJoint3Compliance(WorkcellSimulationSpec* spec, double compliance = 4e-5);
+// The same at `joint` (1-based), `compliance` rad/Nm.
+void ConcealJointCompliance(WorkcellSimulationSpec* spec, int joint, double compliance);
 DiagnosisResult Diagnose(const DiagnosisJob& job, const Recording& recording,
                          const std::string& origin);
 
