@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <mutex>
 #include <set>
-#include <tuple>
 
 #include <tbb/parallel_for.h>
 
