@@ -15,6 +15,7 @@
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/diagnosis/pose_plan.h"
+#include "cellmetry/report/reports.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -65,6 +66,7 @@ TEST(PosePlanRivals, PosesPlannedForTheClosestCandidateAndItsRivalLetTheFinderNa
   const std::string command = "`cellmetry plan " + dir + "/job.yaml --effect ur3.transmission_j2 "
                               "--effect ur3.compliance_j2` proposes";
   EXPECT_NE(DiagnosisReport(before).find(command), std::string::npos) << DiagnosisReport(before);
+  EXPECT_NE(report::DiagnoseReportHtml(before, recorded, "test").find(command), std::string::npos);
   int in_json = 0;
   const nlohmann::json json = DiagnosisJson(before);
   for (const auto& f : json["rounds"].back()["candidates"]) {

@@ -131,6 +131,8 @@ std::string DiagnoseReportHtml(const DiagnosisResult& r, const Recording& record
   page.Paragraph("Noise floor: " + r.noise_source + ", " + Num(r.floor_rms_mm, 3) + " mm RMS. " +
                  (r.unexplained.empty() ? "What remains is consistent with noise."
                                         : "Unexplained: " + r.unexplained + "."));
+  const std::string advice = PlanAgainstRivalAdvice(r);
+  if (!advice.empty()) page.Paragraph("Next: " + advice);
   FindingsSection(r, &page);
   page.Section("Accepted effects and their signatures", "accepted");
   if (r.accepted.empty()) page.Paragraph("No effect passed every test.");

@@ -286,6 +286,10 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
 
 // The finding in words a robot engineer reads in ten seconds.
 std::string DiagnosisReport(const DiagnosisResult& result);
+// What to record next where the last round's closest candidate failed the bootstrap against a
+// rival: "To tell it from <rival>, record the poses `cellmetry plan <job> --effect <it> --effect
+// <rival>` proposes and diagnose again." ("" otherwise). Part of DiagnosisReport.
+std::string PlanAgainstRivalAdvice(const DiagnosisResult& result);
 nlohmann::json DiagnosisJson(const DiagnosisResult& result);
 
 }  // namespace cellmetry
