@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include "cellmetry/basics/relative_pose.h"
 #include "cellmetry/cell/job.h"

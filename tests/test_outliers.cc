@@ -11,6 +11,7 @@
 #include <functional>
 #include <set>
 #include <tuple>
+#include <nlohmann/json.hpp>
 
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/outliers.h"

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"

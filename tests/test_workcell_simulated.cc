@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include <random>
+#include <nlohmann/json.hpp>
 
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/cell/result_io.h"

@@ -1,6 +1,7 @@
 // `cellmetry diagnose JOB.yaml`: the physics finder (diagnosis.h) on a workcell job.
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/report/reports.h"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <nlohmann/json.hpp>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/cell/truth.h"

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
+#include <nlohmann/json.hpp>
 
 #include "cellmetry/diagnosis/diagnosis.h"
 #include "cellmetry/formats/fixed_number.h"

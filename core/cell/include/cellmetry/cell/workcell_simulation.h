@@ -31,7 +31,6 @@
 #include <optional>
 #include <random>
 #include <set>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
