@@ -74,8 +74,9 @@ Bias MeasureBias(Detector& d, const std::vector<Pose>& poses, int draws, unsigne
     std::map<int, Eigen::Vector2d> truth;
     for (const Keypoint& k : ProjectLayout(camera, pose, d.layout())) truth[k.id] = k.pixel;
     std::map<int, std::vector<Eigen::Vector2d>> errors;
+    const std::vector<float> ideal = RenderIdeal(camera, {{pose, &faces}}, options);
     for (int draw = 0; draw < draws; ++draw) {
-      const GrayImage image = RenderView(camera, {{pose, &faces}}, options, rng);
+      const GrayImage image = SensorImage(ideal, camera.width, camera.height, options, rng);
       const Detection detection = d.Detect(image.view());
       ++bias.renders;
       EXPECT_TRUE(detection.found()) << detection.failure;

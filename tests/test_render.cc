@@ -2,7 +2,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <stdexcept>
 
 #include "cellmetry/model/camera_file.h"
 #include "cellmetry/basics/error.h"
@@ -188,6 +190,28 @@ TEST(Render, CramerRaoGrowsWhenTheTargetShrinks) {
   EXPECT_LT(near.x(), 0.05);  // a 44 px disk with sharp edges: a few hundredths of a pixel
   EXPECT_GT(far.x(), 1.2 * near.x());
   EXPECT_GT(far.y(), 1.2 * near.y());
+}
+
+// Many noisy views of one scene are one RenderIdeal and a SensorImage each (the detectors'
+// bias tests draw 200): the same images RenderView makes from the same generator, noise that is
+// fresh at every draw, and a clear error for an ideal image of the wrong size.
+TEST(Render, SensorImageOfTheIdealIsRenderView) {
+  const PinholeCamera camera = OakDLikeCamera();
+  const auto faces = DiskFace();
+  const std::vector<PlacedTarget> scene{{Facing(Eigen::Vector3d(5.0, 3.0, 420.0)), &faces}};
+  const RenderOptions options;
+  std::mt19937 a(11), b(11);
+  const std::vector<float> ideal = RenderIdeal(camera, scene, options);
+  const GrayImage first = SensorImage(ideal, camera.width, camera.height, options, a);
+  const GrayImage second = SensorImage(ideal, camera.width, camera.height, options, a);
+  const GrayImage rendered_first = RenderView(camera, scene, options, b);
+  const GrayImage rendered_second = RenderView(camera, scene, options, b);
+  const size_t n = static_cast<size_t>(camera.width) * camera.height;
+  EXPECT_TRUE(std::equal(first.data(), first.data() + n, rendered_first.data()));
+  EXPECT_TRUE(std::equal(second.data(), second.data() + n, rendered_second.data()));
+  EXPECT_FALSE(std::equal(first.data(), first.data() + n, second.data()));
+  EXPECT_THROW(SensorImage(ideal, camera.width, camera.height - 1, options, a),
+               std::invalid_argument);
 }
 
 }  // namespace

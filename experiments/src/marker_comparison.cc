@@ -40,18 +40,31 @@ struct Presentation {
   }
 };
 
+// The noise-free images of both stereo cameras of a marker at T_cam_marker (left camera frame).
+// The static captures share one pair and draw only fresh sensor noise.
+struct IdealPair {
+  std::vector<float> left, right;
+};
+
+IdealPair RenderPair(const MarkerComparisonSpec& spec, const std::vector<MarkerFace>& faces,
+                     const Presentation& shown, const Pose& T_cam_marker) {
+  const Pose T_cam_target = shown.Shown(T_cam_marker);
+  return {RenderIdeal(spec.rig.left, {{T_cam_target, &faces}}, spec.render),
+          RenderIdeal(spec.rig.right, {{spec.rig.T_right_left * T_cam_target, &faces}},
+                      spec.render)};
+}
+
 struct StereoShot {
   std::optional<TriangulatedPoint> origin;
   double ms = 0.0;  // left image's detection time
 };
 
-StereoShot Shoot(const MarkerComparisonSpec& spec, Detector& detector,
-                 const std::vector<MarkerFace>& faces, const Presentation& shown,
-                 const Pose& T_cam_marker, std::mt19937& rng) {
-  const Pose T_cam_target = shown.Shown(T_cam_marker);
-  const GrayImage left = RenderView(spec.rig.left, {{T_cam_target, &faces}}, spec.render, rng);
-  const GrayImage right = RenderView(
-      spec.rig.right, {{spec.rig.T_right_left * T_cam_target, &faces}}, spec.render, rng);
+StereoShot Shoot(const MarkerComparisonSpec& spec, Detector& detector, const Presentation& shown,
+                 const IdealPair& ideal, std::mt19937& rng) {
+  const PinholeCamera& lc = spec.rig.left;
+  const PinholeCamera& rc = spec.rig.right;
+  const GrayImage left = SensorImage(ideal.left, lc.width, lc.height, spec.render, rng);
+  const GrayImage right = SensorImage(ideal.right, rc.width, rc.height, spec.render, rng);
   StereoShot shot;
   const auto start = std::chrono::steady_clock::now();
   const Detection l = detector.Detect(left.view());
@@ -65,17 +78,12 @@ StereoShot Shoot(const MarkerComparisonSpec& spec, Detector& detector,
   return shot;
 }
 
-// Cramer-Rao floor of the origin: each view's image-position bound as keypoint covariance,
-// triangulated.
-Eigen::Vector3d Floor(const MarkerComparisonSpec& spec, const std::vector<MarkerFace>& faces,
-                      const Presentation& shown) {
-  const Pose T = shown.Shown(spec.static_pose);
-  const Pose T_right = spec.rig.T_right_left * T;
-  const auto l_ideal = RenderIdeal(spec.rig.left, {{T, &faces}}, spec.render);
-  const auto r_ideal = RenderIdeal(spec.rig.right, {{T_right, &faces}}, spec.render);
-  const Eigen::Vector2d l_crb = ImageShiftCramerRao(l_ideal, spec.rig.left.width,
+// Cramer-Rao floor of the origin at the static pose (whose ideal pair is `ideal`): each view's
+// image-position bound as keypoint covariance, triangulated.
+Eigen::Vector3d Floor(const MarkerComparisonSpec& spec, const IdealPair& ideal) {
+  const Eigen::Vector2d l_crb = ImageShiftCramerRao(ideal.left, spec.rig.left.width,
                                                     spec.rig.left.height, spec.render.noise_sigma);
-  const Eigen::Vector2d r_crb = ImageShiftCramerRao(r_ideal, spec.rig.right.width,
+  const Eigen::Vector2d r_crb = ImageShiftCramerRao(ideal.right, spec.rig.right.width,
                                                     spec.rig.right.height, spec.render.noise_sigma);
   Keypoint l, r;
   l.pixel = spec.rig.left.Project(spec.static_pose.t);
@@ -107,8 +115,9 @@ MarkerRow CompareOne(const MarkerComparisonSpec& spec, const std::string& label,
   std::mt19937 rng(spec.seed);
   std::vector<Eigen::Vector3d> points;
   std::vector<double> ms;
+  const IdealPair static_pair = RenderPair(spec, faces, shown, spec.static_pose);
   for (int i = 0; i < spec.captures; ++i) {
-    const StereoShot shot = Shoot(spec, detector, faces, shown, spec.static_pose, rng);
+    const StereoShot shot = Shoot(spec, detector, shown, static_pair, rng);
     ms.push_back(shot.ms);
     if (shot.origin) points.push_back(shot.origin->p_left_mm);
   }
@@ -122,11 +131,12 @@ MarkerRow CompareOne(const MarkerComparisonSpec& spec, const std::string& label,
     row.repeatability_mm = (var / (points.size() - 1)).cwiseSqrt();
     row.static_bias_mm = (mean - spec.static_pose.t).norm();
   }
-  row.floor_mm = Floor(spec, faces, shown);
+  row.floor_mm = Floor(spec, static_pair);
   double sum2 = 0.0;
   for (int i = 0; i < spec.positions; ++i) {
     const Pose pose = RandomWorkspacePose(spec, rng);
-    const StereoShot shot = Shoot(spec, detector, faces, shown, pose, rng);
+    const StereoShot shot =
+        Shoot(spec, detector, shown, RenderPair(spec, faces, shown, pose), rng);
     ms.push_back(shot.ms);
     if (!shot.origin) continue;
     ++row.positions_found;

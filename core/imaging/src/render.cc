@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace cellmetry {
 namespace {
@@ -127,16 +129,26 @@ std::vector<float> RenderIdeal(const PinholeCamera& camera,
   return std::vector<float>(image.begin<float>(), image.end<float>());
 }
 
-GrayImage RenderView(const PinholeCamera& camera, const std::vector<PlacedTarget>& targets,
-                     const RenderOptions& options, std::mt19937& rng) {
-  const std::vector<float> ideal = RenderIdeal(camera, targets, options);
+GrayImage SensorImage(const std::vector<float>& ideal, int width, int height,
+                      const RenderOptions& options, std::mt19937& rng) {
+  if (ideal.size() != static_cast<size_t>(width) * height) {
+    throw std::invalid_argument("SensorImage: the ideal image has " +
+                                std::to_string(ideal.size()) + " pixels, not " +
+                                std::to_string(width) + " x " + std::to_string(height));
+  }
   std::normal_distribution<double> noise(0.0, options.noise_sigma);
-  GrayImage image(camera.width, camera.height);
+  GrayImage image(width, height);
   for (size_t i = 0; i < ideal.size(); ++i) {
     const double value = ideal[i] + (options.noise_sigma > 0 ? noise(rng) : 0.0);
     image.data()[i] = static_cast<std::uint8_t>(std::clamp(std::lround(value), 0L, 255L));
   }
   return image;
+}
+
+GrayImage RenderView(const PinholeCamera& camera, const std::vector<PlacedTarget>& targets,
+                     const RenderOptions& options, std::mt19937& rng) {
+  return SensorImage(RenderIdeal(camera, targets, options), camera.width, camera.height, options,
+                     rng);
 }
 
 std::vector<Keypoint> ProjectLayout(const PinholeCamera& camera, const Pose& T_cam_target,

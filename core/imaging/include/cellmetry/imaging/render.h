@@ -39,7 +39,13 @@ std::vector<float> RenderIdeal(const PinholeCamera& camera,
                                const std::vector<PlacedTarget>& targets,
                                const RenderOptions& options);
 
-// RenderIdeal plus noise and 8-bit quantisation.
+// The sensor: Gaussian noise (options.noise_sigma) and 8-bit quantisation of an ideal image.
+// Many noisy views of one scene cost one RenderIdeal and one SensorImage each; the draws
+// from `rng` are those RenderView makes.
+GrayImage SensorImage(const std::vector<float>& ideal, int width, int height,
+                      const RenderOptions& options, std::mt19937& rng);
+
+// RenderIdeal plus the sensor (SensorImage).
 GrayImage RenderView(const PinholeCamera& camera, const std::vector<PlacedTarget>& targets,
                      const RenderOptions& options, std::mt19937& rng);
 
