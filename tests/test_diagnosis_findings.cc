@@ -122,6 +122,39 @@ TEST(PhysicalFindings, AnAcceptedEffectNamesItsLookAlikes) {
   EXPECT_THAT(DiagnosisReport(r), Not(HasSubstr("looks like")));
 }
 
+// Each candidate the bootstrap split from a rival gets its own advice, once, with the job's
+// path; a candidate that failed something else gets none.
+TEST(PhysicalFindings, EachCandidateSplitFromARivalGetsItsOwnPlanAdvice) {
+  DiagnosisResult r;
+  r.job = "jobs/cell.yaml";
+  CandidateFinding gear, board, tilt;
+  gear.name = "ur3.scale_j2", gear.label = "joint 2 gear ratio error";
+  gear.failed = {"bootstrap"};
+  gear.bootstrap_rival = "joint 2 compliance", gear.bootstrap_rival_effect = "ur3.compliance_j2";
+  board.name = "target.scale_tool", board.label = "tool board printed at another size";
+  board.failed = {"CV", "bootstrap"};
+  board.bootstrap_rival = "thermal growth", board.bootstrap_rival_effect = "ur3.thermal";
+  tilt.name = "camera.depth_tilt_cam2", tilt.label = "cam2 depth tilt";
+  tilt.failed = {"CV"};
+  r.rounds.push_back({});
+  r.rounds.back().candidates = {gear, board, tilt};
+  const std::string report = DiagnosisReport(r);
+  const std::string gear_advice =
+      "To tell it from joint 2 compliance, record the poses `cellmetry plan jobs/cell.yaml "
+      "--effect ur3.scale_j2 --effect ur3.compliance_j2` proposes";
+  const std::string board_advice =
+      "To tell it from thermal growth, record the poses `cellmetry plan jobs/cell.yaml "
+      "--effect target.scale_tool --effect ur3.thermal` proposes";
+  ASSERT_THAT(report, HasSubstr(gear_advice));
+  ASSERT_THAT(report, HasSubstr(board_advice));
+  EXPECT_EQ(report.find(gear_advice), report.rfind(gear_advice));
+  EXPECT_LT(report.find(gear_advice), report.find("Closest candidate: tool board"));
+  EXPECT_EQ(report.find("To tell it from"), report.find(gear_advice));
+  EXPECT_EQ(report.rfind("To tell it from"), report.find(board_advice));
+  EXPECT_EQ(PlanAgainstRivalAdvice(r, tilt), "");
+  EXPECT_THAT(PlanAgainstRivalAdvice(r), HasSubstr(gear_advice));  // the page's one line
+}
+
 TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {
   const std::string dir = testing::TempDirForThisTest("findings_sites");
   const DiagnosisJob job = testing::Ur3DiagnoseJob(dir);

@@ -165,7 +165,7 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
       for (size_t i = 0; i < f.failed.size(); ++i)
         out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
       out << ".\n";
-      const std::string advice = PlanAgainstRivalAdvice(r);
+      const std::string advice = PlanAgainstRivalAdvice(r, f);
       if (!advice.empty()) out << "  " << advice << "\n";
       if (!f.look_alikes.empty()) {
         out << "  In these poses it looks like";
@@ -196,15 +196,19 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
 // of the 14 runs the finder got wrong or left silent, 30 poses planned this way made it name the
 // hidden effect in 9 and nothing wrong, 30 more random poses in 6 with one wrong name
 // (docs/physics.md).
+std::string PlanAgainstRivalAdvice(const DiagnosisResult& r, const CandidateFinding& f) {
+  const bool split = std::find(f.failed.begin(), f.failed.end(), "bootstrap") != f.failed.end();
+  if (!split || f.bootstrap_rival_effect.empty()) return "";
+  return "To tell it from " + f.bootstrap_rival + ", record the poses `cellmetry plan " +
+         (r.job.empty() ? "JOB.yaml" : r.job) + " --effect " + f.name + " --effect " +
+         f.bootstrap_rival_effect + "` proposes and diagnose again.";
+}
+
 std::string PlanAgainstRivalAdvice(const DiagnosisResult& r) {
   if (r.rounds.empty()) return "";
   for (const auto& f : r.rounds.back().candidates) {
-    const bool split =
-        std::find(f.failed.begin(), f.failed.end(), "bootstrap") != f.failed.end();
-    if (!split || f.bootstrap_rival_effect.empty()) continue;
-    return "To tell it from " + f.bootstrap_rival + ", record the poses `cellmetry plan " +
-           (r.job.empty() ? "JOB.yaml" : r.job) + " --effect " + f.name + " --effect " +
-           f.bootstrap_rival_effect + "` proposes and diagnose again.";
+    const std::string advice = PlanAgainstRivalAdvice(r, f);
+    if (!advice.empty()) return advice;
   }
   return "";
 }

@@ -340,10 +340,11 @@ PlannedPair PlannedTogether(const Jacobian& jac, const CandidateEffect& a,
   const Eigen::VectorXd before = SigmaAtFloor(jac, before_rows, columns);
   const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows, columns);
   Eigen::Index k = static_cast<Eigen::Index>(jac.geometry.size());
-  for (const CandidateEffect* c : {&a, &b}) {
+  const std::pair<const CandidateEffect*, const std::vector<int>*> members[] = {
+      {&a, &a_columns}, {&b, &b_columns}};
+  for (const auto& [c, c_columns] : members) {
     const std::vector<Parameter>& parameters = c->effect.effect->parameters();
-    const size_t n = c == &a ? a_columns.size() : b_columns.size();
-    for (size_t i = 0; i < n && i < parameters.size(); ++i, ++k) {
+    for (size_t i = 0; i < c_columns->size() && i < parameters.size(); ++i, ++k) {
       pair.sigma.push_back({c->effect.name + "." + parameters[i].name, parameters[i].unit,
                             before[k], after[k]});
     }
