@@ -123,7 +123,8 @@ TEST(PhysicalFindings, AnAcceptedEffectNamesItsLookAlikes) {
 }
 
 // Each candidate the bootstrap split from a rival gets its own advice, once, with the job's
-// path; a candidate that failed something else gets none.
+// path; a candidate that failed something else, or that the resamples hardly ever chose (too
+// weak, not split: experiment A's closest candidate), gets none.
 TEST(PhysicalFindings, EachCandidateSplitFromARivalGetsItsOwnPlanAdvice) {
   DiagnosisResult r;
   r.job = "jobs/cell.yaml";
@@ -131,9 +132,11 @@ TEST(PhysicalFindings, EachCandidateSplitFromARivalGetsItsOwnPlanAdvice) {
   gear.name = "ur3.scale_j2", gear.label = "joint 2 gear ratio error";
   gear.failed = {"bootstrap"};
   gear.bootstrap_rival = "joint 2 compliance", gear.bootstrap_rival_effect = "ur3.compliance_j2";
+  gear.bootstrap_share = 0.47;
   board.name = "target.scale_tool", board.label = "tool board printed at another size";
   board.failed = {"CV", "bootstrap"};
   board.bootstrap_rival = "thermal growth", board.bootstrap_rival_effect = "ur3.thermal";
+  board.bootstrap_share = 0.78;
   tilt.name = "camera.depth_tilt_cam2", tilt.label = "cam2 depth tilt";
   tilt.failed = {"CV"};
   r.rounds.push_back({});
@@ -152,6 +155,9 @@ TEST(PhysicalFindings, EachCandidateSplitFromARivalGetsItsOwnPlanAdvice) {
   EXPECT_EQ(report.find("To tell it from"), report.find(gear_advice));
   EXPECT_EQ(report.rfind("To tell it from"), report.find(board_advice));
   EXPECT_EQ(PlanAgainstRivalAdvice(r, tilt), "");
+  CandidateFinding weak = gear;  // failed the bootstrap, chosen in none of the resamples
+  weak.bootstrap_share = 0.0;
+  EXPECT_EQ(PlanAgainstRivalAdvice(r, weak), "");
   EXPECT_THAT(PlanAgainstRivalAdvice(r), HasSubstr(gear_advice));  // the page's one line
 }
 
