@@ -123,7 +123,7 @@ TEST(PhysicalFindings, AnAcceptedEffectNamesItsLookAlikes) {
 }
 
 // Each candidate the bootstrap split from a rival gets its own advice, once, with the job's
-// path; a candidate that failed something else, or that the resamples hardly ever chose (too
+// path; a candidate that failed another test too, or that the resamples hardly ever chose (too
 // weak, not split: experiment A's closest candidate), gets none.
 TEST(PhysicalFindings, EachCandidateSplitFromARivalGetsItsOwnPlanAdvice) {
   DiagnosisResult r;
@@ -134,7 +134,7 @@ TEST(PhysicalFindings, EachCandidateSplitFromARivalGetsItsOwnPlanAdvice) {
   gear.bootstrap_rival = "joint 2 compliance", gear.bootstrap_rival_effect = "ur3.compliance_j2";
   gear.bootstrap_share = 0.47;
   board.name = "target.scale_tool", board.label = "tool board printed at another size";
-  board.failed = {"CV", "bootstrap"};
+  board.failed = {"bootstrap"};
   board.bootstrap_rival = "thermal growth", board.bootstrap_rival_effect = "ur3.thermal";
   board.bootstrap_share = 0.78;
   tilt.name = "camera.depth_tilt_cam2", tilt.label = "cam2 depth tilt";
@@ -158,6 +158,9 @@ TEST(PhysicalFindings, EachCandidateSplitFromARivalGetsItsOwnPlanAdvice) {
   CandidateFinding weak = gear;  // failed the bootstrap, chosen in none of the resamples
   weak.bootstrap_share = 0.0;
   EXPECT_EQ(PlanAgainstRivalAdvice(r, weak), "");
+  CandidateFinding unsupported = gear;  // no evidence beyond the noise to split
+  unsupported.failed = {"LR", "BIC", "CV", "bootstrap"};
+  EXPECT_EQ(PlanAgainstRivalAdvice(r, unsupported), "");
   EXPECT_THAT(PlanAgainstRivalAdvice(r), HasSubstr(gear_advice));  // the page's one line
 }
 

@@ -197,15 +197,15 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
 // hidden effect in 9 and nothing wrong, 30 more random poses in 6 with one wrong name
 // (docs/physics.md).
 std::string PlanAgainstRivalAdvice(const DiagnosisResult& r, const CandidateFinding& f) {
-  // Split: the candidate wins a material share of the resamples and the rival most others. A
-  // candidate the resamples hardly ever choose is not competing with a rival but too weak, and
+  // Split: the candidate passes every other test, wins a material share of the resamples, and
+  // the rival most others. One that fails the likelihood ratio, BIC or held-out test has no
+  // evidence to split; one the resamples hardly ever choose is too weak, not contested, and
   // poses for the pair would not change that: on experiment A joint 2's gear ratio (0 % of the
   // resamples) and cam2's depth tilt are already unlike (canonical correlation 0.07), and the
   // plan for the two predicts 5 % smaller sigmas.
   constexpr double kSplitShare = 0.2;
-  const bool failed_bootstrap =
-      std::find(f.failed.begin(), f.failed.end(), "bootstrap") != f.failed.end();
-  if (!failed_bootstrap || f.bootstrap_share < kSplitShare || f.bootstrap_rival_effect.empty()) {
+  const bool only_bootstrap = f.failed == std::vector<std::string>{"bootstrap"};
+  if (!only_bootstrap || f.bootstrap_share < kSplitShare || f.bootstrap_rival_effect.empty()) {
     return "";
   }
   return "To tell it from " + f.bootstrap_rival + ", record the poses `cellmetry plan " +
