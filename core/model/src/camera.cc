@@ -10,7 +10,7 @@ Eigen::Vector3d PinholeCamera::Ray(const Eigen::Vector2d& pixel) const {
   using Jet2 = ceres::Jet<double, 2>;
   const Eigen::Vector2d distorted((pixel.x() - cx) / fx, (pixel.y() - cy) / fy);
   // Without distortion the Newton loop below stops at its start; skipping it is the same ray
-  // and makes the renderer, which asks for millions, several times faster.
+  // and makes the renderer, which asks for millions, 1.4x faster (bench_render).
   if (distortion == std::array<double, 5>{}) {
     return Eigen::Vector3d(distorted.x(), distorted.y(), 1.0);
   }

@@ -287,9 +287,10 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
 // The finding in words a robot engineer reads in ten seconds.
 std::string DiagnosisReport(const DiagnosisResult& result);
 // What to record next where a candidate of the last round failed only the bootstrap, against a
-// rival, having won at least a fifth of the resamples: "To tell it from <rival>, record the poses `cellmetry plan <job> --effect <it> --effect
-// <rival>` proposes and diagnose again." ("" otherwise). Part of DiagnosisReport, under each
-// such candidate; the first overload gives the first such candidate's.
+// rival, having won at least a fifth of the resamples: "To tell it from <rival>, record the
+// poses `cellmetry plan <job> --effect <it> --effect <rival>` proposes and diagnose again."
+// ("" otherwise). Part of DiagnosisReport, under each such candidate; the first overload gives
+// the first such candidate's (report.html's summary line).
 std::string PlanAgainstRivalAdvice(const DiagnosisResult& result);
 std::string PlanAgainstRivalAdvice(const DiagnosisResult& result,
                                    const CandidateFinding& candidate);
