@@ -56,14 +56,9 @@ TEST_F(PosePlanning, PlannedPosesMakeAnAbsorbedGearRatioTestableAndItIsThenFound
   ASSERT_TRUE(Untestable(before, "ur3.scale_j1")) << DiagnosisReport(before);
   for (const auto& a : before.accepted) EXPECT_NE(a.name, "ur3.scale_j1");
 
-  WorkcellProblem problem = job_.workcell.problem;
-  problem.folds = 0;
-  const WorkcellResult fitted =
-      IdentifyWorkcell(problem, recorded, testing::JobSolver(job_.workcell));
   PosePlanOptions options;
   options.poses = 15;
-  const PosePlan plan = PlanPoses(problem, recorded, fitted,
-                                  JobCandidates(job_, recorded, testing::Plugins()), options);
+  const PosePlan plan = testing::Plan(job_, recorded, options);
   ASSERT_EQ(plan.poses.size(), 15u);
   const auto gear = std::find_if(plan.effects.begin(), plan.effects.end(),
                                  [](const PlannedEffect& e) { return e.name == "ur3.scale_j1"; });

@@ -76,13 +76,9 @@ TEST(PosePlanCompliance, PlannedPosesMakeAnAbsorbedComplianceTestableAndItIsThen
   EXPECT_NE(absorbed->data_needed.find("load joint 2 differently"), std::string::npos);
   for (const auto& a : before.accepted) EXPECT_NE(a.name, "ur3.compliance_j2");
 
-  WorkcellProblem problem = job.workcell.problem;
-  problem.folds = 0;
-  const WorkcellResult fitted = IdentifyWorkcell(problem, recorded, testing::JobSolver(job.workcell));
   PosePlanOptions options;
   options.poses = 15;
-  const PosePlan plan = PlanPoses(problem, recorded, fitted,
-                                  JobCandidates(job, recorded, testing::Plugins()), options);
+  const PosePlan plan = testing::Plan(job, recorded, options);
   ASSERT_EQ(plan.poses.size(), 15u);
   const auto planned = std::find_if(plan.effects.begin(), plan.effects.end(), [](const auto& e) {
     return e.name == "ur3.compliance_j2";

@@ -78,15 +78,10 @@ TEST(PosePlanRivals, PosesPlannedForTheClosestCandidateAndItsRivalLetTheFinderNa
   EXPECT_EQ(in_json, 1);
 
   // The plan for the two, as the command would make it.
-  WorkcellProblem problem = job.workcell.problem;
-  problem.folds = 0;
-  const WorkcellResult fitted =
-      IdentifyWorkcell(problem, recorded, testing::JobSolver(job.workcell));
   PosePlanOptions options;
   options.poses = 30;
   options.effects = {closest->name, closest->bootstrap_rival_effect};
-  const PosePlan plan = PlanPoses(problem, recorded, fitted,
-                                  JobCandidates(job, recorded, testing::Plugins()), options);
+  const PosePlan plan = testing::Plan(job, recorded, options);
   ASSERT_EQ(plan.poses.size(), 30u);
   for (const auto& pose : plan.poses) EXPECT_FALSE(pose.cameras.empty());
   // What it predicts for the two fitted together with the geometry: every parameter better

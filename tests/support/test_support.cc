@@ -164,4 +164,11 @@ DiagnosisResult Diagnose(const DiagnosisJob& job, const Recording& recording,
                           JobCandidates(job, recording, Plugins()), job.options, origin);
 }
 
+PosePlan Plan(const DiagnosisJob& job, const Recording& recording, const PosePlanOptions& options) {
+  WorkcellProblem problem = job.workcell.problem;
+  problem.folds = 0;
+  const WorkcellResult fitted = IdentifyWorkcell(problem, recording, JobSolver(job.workcell));
+  return PlanPoses(problem, recording, fitted, JobCandidates(job, recording, Plugins()), options);
+}
+
 }  // namespace cellmetry::testing

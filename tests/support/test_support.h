@@ -10,6 +10,7 @@
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/diagnosis/pose_plan.h"
 #include "cellmetry/registry/registry.h"
 
 namespace cellmetry::testing {
@@ -81,6 +82,9 @@ void ConcealJoint3Compliance(WorkcellSimulationSpec* spec, double compliance = 4
 void ConcealJointCompliance(WorkcellSimulationSpec* spec, int joint, double compliance);
 DiagnosisResult Diagnose(const DiagnosisJob& job, const Recording& recording,
                          const std::string& origin);
+// The poses `cellmetry plan` proposes for `job` on `recording`: the cell identified without
+// cross-validation, then PlanPoses with the job's candidates.
+PosePlan Plan(const DiagnosisJob& job, const Recording& recording, const PosePlanOptions& options);
 
 // Runs the built `cellmetry` binary with `arguments` (a shell-quoted string).
 CommandResult RunCellmetry(const std::string& arguments);
