@@ -195,6 +195,45 @@ TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {
   EXPECT_EQ(group.at("target.scale_tool"), "target.scale_tool");
 }
 
+// Thermal growth as the recording allows: driven by the recorded temperature, and where times
+// are recorded too, also as a warm-up in time (the recorded temperature need not follow the
+// arm's own warming); both one family, so a finding of either is thermal growth. With times
+// alone, the warm-up is the only form; with neither, the temperature form (untestable there).
+TEST(PhysicalFindings, ThermalGrowthIsOfferedAsEveryRecordedFactAllows) {
+  const std::string dir = testing::TempDirForThisTest("thermal_candidates");
+  const DiagnosisJob job = testing::Ur3DiagnoseJob(dir);
+  std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "random: 150", "random: 20");
+  testing::WriteText(dir + "/sim.yaml", sim);
+  const Recording both =
+      SimulateWorkcell(LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins()), nullptr);
+  // Each thermal candidate: name -> (its configuration, its family).
+  auto thermal = [&](const Recording& recording) {
+    std::map<std::string, std::pair<std::string, std::string>> out;
+    for (const auto& c : JobCandidates(job, recording, testing::Plugins())) {
+      if (c.type == "thermal_drift") out[c.effect.name] = {c.effect.config, c.family_name()};
+    }
+    return out;
+  };
+  const auto with_both = thermal(both);
+  ASSERT_EQ(with_both.size(), 2u);
+  EXPECT_THAT(with_both.at("ur3.thermal").first, ::testing::Not(::testing::HasSubstr("warmup")));
+  EXPECT_THAT(with_both.at("ur3.thermal_warmup").first, ::testing::HasSubstr("warmup"));
+  EXPECT_EQ(with_both.at("ur3.thermal").second, "ur3.thermal");
+  EXPECT_EQ(with_both.at("ur3.thermal_warmup").second, "ur3.thermal");
+
+  Recording times_only = both, neither = both;
+  for (auto& s : times_only.samples) s.temperature_c.reset();
+  for (auto& s : neither.samples) s.temperature_c.reset(), s.time_s.reset();
+  const auto with_times = thermal(times_only);
+  ASSERT_EQ(with_times.size(), 1u);
+  EXPECT_THAT(with_times.at("ur3.thermal").first, ::testing::HasSubstr("warmup"));
+  const auto with_neither = thermal(neither);
+  ASSERT_EQ(with_neither.size(), 1u);
+  EXPECT_THAT(with_neither.at("ur3.thermal").first, ::testing::Not(::testing::HasSubstr("warmup")));
+}
+
 // The physics suite's UR3 cell, with its recording's noise drawn from `seed`.
 WorkcellSimulationSpec SuiteCell(const std::string& dir, unsigned seed) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));

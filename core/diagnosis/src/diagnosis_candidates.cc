@@ -142,14 +142,22 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
       temperatures |= s.temperature_c.has_value();
       times |= s.time_s.has_value();
     }
+    // Thermal growth as the recorded temperature drives it, and as a warm-up from a cold start
+    // in time: a temperature read at the controller or in the room need not follow the arm's
+    // own warming (on the suite's UR3, a warm-up over time against a temperature ramped
+    // linearly was named 1 time in 5 with the temperature form alone). One family: both name
+    // the arm's thermal growth, and the bootstrap counts either as it.
+    const std::string thermal = robot.name + ".thermal";
     if (temperatures || !times) {
-      out.push_back(Make("{type: thermal_drift}", robot.name + ".thermal", robot,
-                         "thermal growth of the arm",
+      out.push_back(Make("{type: thermal_drift}", thermal, robot, "thermal growth of the arm",
                          "temperatures over a range of several degrees", registry));
-    } else {
-      out.push_back(Make("{type: thermal_drift, model: warmup}", robot.name + ".thermal", robot,
+    }
+    if (times) {
+      out.push_back(Make("{type: thermal_drift, model: warmup}",
+                         temperatures ? thermal + "_warmup" : thermal, robot,
                          "thermal growth while warming up",
                          "captures from a cold start over an hour", registry));
+      out.back().family = thermal;
     }
   }
   AddCameraCandidates(spec, recording, registry, &out);
