@@ -164,15 +164,24 @@ TEST(PhysicalFindings, EachCandidateSplitFromARivalGetsItsOwnPlanAdvice) {
   EXPECT_THAT(PlanAgainstRivalAdvice(r), HasSubstr(gear_advice));  // the page's one line
 }
 
+// The physics suite's UR3 cell (written into `dir`), its poses and noise drawn from `seed`;
+// `poses` random poses instead of its 150 (fewer where only the candidates are read).
+WorkcellSimulationSpec SuiteCell(const std::string& dir, unsigned seed, int poses = 150) {
+  std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  if (poses != 150) {
+    sim = testing::ReplaceOnce(sim, "random: 150", "random: " + std::to_string(poses));
+  }
+  testing::WriteText(dir + "/sim.yaml", sim);
+  WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
+  spec.seed = spec.noise_seed = seed;
+  return spec;
+}
+
 TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {
   const std::string dir = testing::TempDirForThisTest("findings_sites");
   const DiagnosisJob job = testing::Ur3DiagnoseJob(dir);
-  std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  sim = testing::ReplaceOnce(sim, "random: 150", "random: 20");
-  testing::WriteText(dir + "/sim.yaml", sim);
-  const Recording recording =
-      SimulateWorkcell(LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins()), nullptr);
+  const Recording recording = SimulateWorkcell(SuiteCell(dir, 7, 20), nullptr);
   std::map<std::string, std::string> site;
   for (const auto& c : JobCandidates(job, recording, testing::Plugins())) site[c.effect.name] = c.site;
   EXPECT_EQ(site.at("ur3.compliance_j3"), "ur3 joint 3");
@@ -202,12 +211,7 @@ TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {
 TEST(PhysicalFindings, ThermalGrowthIsOfferedAsEveryRecordedFactAllows) {
   const std::string dir = testing::TempDirForThisTest("thermal_candidates");
   const DiagnosisJob job = testing::Ur3DiagnoseJob(dir);
-  std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  sim = testing::ReplaceOnce(sim, "random: 150", "random: 20");
-  testing::WriteText(dir + "/sim.yaml", sim);
-  const Recording both =
-      SimulateWorkcell(LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins()), nullptr);
+  const Recording both = SimulateWorkcell(SuiteCell(dir, 7, 20), nullptr);
   // Each thermal candidate: name -> (its configuration, its family).
   auto thermal = [&](const Recording& recording) {
     std::map<std::string, std::pair<std::string, std::string>> out;
@@ -232,16 +236,6 @@ TEST(PhysicalFindings, ThermalGrowthIsOfferedAsEveryRecordedFactAllows) {
   const auto with_neither = thermal(neither);
   ASSERT_EQ(with_neither.size(), 1u);
   EXPECT_THAT(with_neither.at("ur3.thermal").first, ::testing::Not(::testing::HasSubstr("warmup")));
-}
-
-// The physics suite's UR3 cell, with its recording's noise drawn from `seed`.
-WorkcellSimulationSpec SuiteCell(const std::string& dir, unsigned seed) {
-  std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  testing::WriteText(dir + "/sim.yaml", sim);
-  WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
-  spec.seed = spec.noise_seed = seed;
-  return spec;
 }
 
 void Hide(const std::string& yaml, double value, WorkcellSimulationSpec* spec) {
