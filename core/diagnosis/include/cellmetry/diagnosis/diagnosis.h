@@ -112,8 +112,10 @@ struct CandidateEffect {
   std::string label;       // "joint 2 backlash"
   std::string data_hint;   // what data separates it from the geometry ("a wider joint 2 range")
   // The physics it names, shared by nested variants of it ("ur3.transmission_j4" for harmonic 1,
-  // harmonic 2 and both): the bootstrap counts a resample won by any of them as won by the
-  // family, since they name the same physics on the same joint. Empty: effect.name.
+  // harmonic 2 and both) and by its forms ("ur3.thermal" for growth with the recorded
+  // temperature and while warming up in time): the bootstrap counts a resample won by any of
+  // them as won by the family, since they name the same physics at the same site. Empty:
+  // effect.name.
   std::string family;
   const std::string& family_name() const { return family.empty() ? effect.name : family; }
   // One physical cause that several library forms describe, none nested in another: a camera's
