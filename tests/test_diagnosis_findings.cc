@@ -10,6 +10,9 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
+#include <regex>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 
 #include "cellmetry/cell/workcell_simulation.h"
@@ -165,12 +168,17 @@ TEST(PhysicalFindings, EachCandidateSplitFromARivalGetsItsOwnPlanAdvice) {
 }
 
 // The physics suite's UR3 cell (written into `dir`), its poses and noise drawn from `seed`;
-// `poses` random poses instead of its 150 (fewer where only the candidates are read).
-WorkcellSimulationSpec SuiteCell(const std::string& dir, unsigned seed, int poses = 150) {
+// with `poses`, that many random poses instead of the file's own (fewer where only the
+// candidates are read).
+WorkcellSimulationSpec SuiteCell(const std::string& dir, unsigned seed,
+                                 std::optional<int> poses = std::nullopt) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
   sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  if (poses != 150) {
-    sim = testing::ReplaceOnce(sim, "random: 150", "random: " + std::to_string(poses));
+  if (poses) {
+    const std::regex count("random: [0-9]+");
+    if (!std::regex_search(sim, count)) throw std::runtime_error("no random pose count in " + sim);
+    sim = std::regex_replace(sim, count, "random: " + std::to_string(*poses),
+                             std::regex_constants::format_first_only);
   }
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
