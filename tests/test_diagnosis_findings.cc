@@ -176,7 +176,9 @@ WorkcellSimulationSpec SuiteCell(const std::string& dir, unsigned seed,
   sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
   if (poses) {
     const std::regex count("random: [0-9]+");
-    if (!std::regex_search(sim, count)) throw std::runtime_error("no random pose count in " + sim);
+    if (!std::regex_search(sim, count)) {
+      throw std::runtime_error("ur3_physics_base.yaml has no 'random: N' pose count to replace");
+    }
     sim = std::regex_replace(sim, count, "random: " + std::to_string(*poses),
                              std::regex_constants::format_first_only);
   }
