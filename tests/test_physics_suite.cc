@@ -84,6 +84,35 @@ TEST(PhysicsSuite, EachSeedDrawsItsOwnNoise) {
   EXPECT_NE(results[0].runs[0].held_out_over_floor, results[0].runs[1].held_out_over_floor);
 }
 
+// The oracle beside each case: the oracle reads the case's mismatch at the suite's SNR (the
+// same noise-free recording and fit that set its size), names a skewed parallelogram, which no
+// other candidate resembles, nearly always, makes no draws for a clean recording or for a case no
+// candidate names, and the tables carry it.
+TEST(PhysicsSuite, EachEffectCaseCarriesTheOraclesBestGuess) {
+  const std::string dir = testing::TempDirForThisTest("suite_oracle");
+  std::string yaml = SuiteYaml("1");
+  const std::string last_case = "[1]}}\n";
+  yaml.insert(yaml.find(last_case) + last_case.size(),
+              "      - {name: skew named otherwise, expect: delta.no_such_effect, "
+              "effect: {type: platform_tilt, arms: [1]}}\n");
+  testing::WriteText(dir + "/suite.yaml", yaml);
+  const PhysicsSuiteSpec spec = LoadPhysicsSuite(dir + "/suite.yaml");
+  const auto results = RunPhysicsSuite(spec, testing::Plugins());
+  ASSERT_EQ(results.size(), 3u);
+  EXPECT_EQ(results[0].oracle.draws(), 0);  // clean
+  const OracleSelection& skew = results[1].oracle;
+  EXPECT_EQ(skew.draws(), OracleSelectionOptions{}.draws);
+  EXPECT_NEAR(skew.mismatch_norm, spec.snr, 0.05 * spec.snr);
+  EXPECT_GE(skew.right_share(), 0.95);
+  EXPECT_GT(skew.testable, 10);
+  EXPECT_EQ(results[2].oracle.draws(), 0);
+  EXPECT_EQ(results[2].oracle.right_candidates, 0);
+  const std::string table = PhysicsSuiteMarkdown(spec, results);
+  EXPECT_THAT(table, HasSubstr("| the oracle's best guess on each case's poses"));
+  EXPECT_THAT(table, HasSubstr("| delta | arm 1 skew | delta.tilt_arm1 |"));
+  EXPECT_THAT(table, HasSubstr(" % wrong, over 1 cases |"));
+}
+
 TEST(PhysicsSuite, NoRunsPerCaseIsRefusedWithItsLine) {
   const std::string dir = testing::TempDirForThisTest("suite_bad");
   testing::WriteText(dir + "/suite.yaml", SuiteYaml("0"));

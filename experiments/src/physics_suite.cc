@@ -77,6 +77,21 @@ double MagnitudeForSnr(const PhysicsSuiteSpec& suite, const WorkcellSimulationSp
   return kTrialMagnitude * suite.snr / std::sqrt(chi2);
 }
 
+// The oracle's Bayes choice on the case's noise-free recording at its size (seed 1's poses).
+OracleSelection CaseOracle(const WorkcellSimulationSpec& base, const DiagnosisJob& job,
+                           const SuiteCase& c, double magnitude, Registry& registry) {
+  const WorkcellSimulationSpec spec = CaseSimulation(base, c, magnitude, 1, false, registry);
+  const Recording recording = SimulateWorkcell(spec, nullptr);
+  WorkcellProblem problem = job.workcell.problem;
+  for (const auto& [camera, pose] : base.T_world_cam) {  // whiten by the simulation's noise
+    problem.noise.position_sigma_mm[camera] = base.sigma_position_mm;
+    problem.noise.rotation_sigma_rad[camera] = base.sigma_rotation_rad;
+  }
+  return DrawOracleSelections(problem, recording, MakerOf(job.workcell, registry),
+                              JobCandidates(job, recording, registry), c.expect, job.options,
+                              OracleSelectionOptions{});
+}
+
 // The tests the round's chosen candidate failed, for the misses column.
 std::string FailedTests(const CandidateFinding& f) {
   std::string failed = f.name + ":";
@@ -102,6 +117,9 @@ SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
   result.spec = c;
   const bool has_physics = c.effect || c.concealed;
   result.magnitude = has_physics ? MagnitudeForSnr(suite, base, job, c, registry) : 0.0;
+  if (has_physics && c.expect != "unexplained" && result.magnitude > 0) {
+    result.oracle = CaseOracle(base, job, c, result.magnitude, registry);
+  }
   for (int seed = 1; seed <= suite.seeds; ++seed) {
     const auto start = std::chrono::steady_clock::now();
     const WorkcellSimulationSpec spec =
@@ -146,7 +164,13 @@ nlohmann::json ToJson(const SuiteCaseResult& r) {
                     {"failed", run.failed},
                     {"held_out_over_floor", run.held_out_over_floor}, {"seconds", run.seconds}});
   }
-  return {{"magnitude", r.magnitude}, {"runs", runs}};
+  const OracleSelection& o = r.oracle;
+  return {{"magnitude", r.magnitude},
+          {"runs", runs},
+          {"oracle",
+           {{"mismatch_norm", o.mismatch_norm}, {"testable", o.testable},
+            {"right_candidates", o.right_candidates}, {"right_by_posterior", o.right_by_posterior},
+            {"wrong_by_posterior", o.wrong_by_posterior}}}};
 }
 
 SuiteCaseResult FromJson(const nlohmann::json& j, const std::string& cell, const SuiteCase& c) {
@@ -161,6 +185,14 @@ SuiteCaseResult FromJson(const nlohmann::json& j, const std::string& cell, const
     if (run.contains("aliases")) read.aliases = run.at("aliases").get<std::vector<std::string>>();
     if (run.contains("group")) read.group = run.at("group").get<std::string>();
     r.runs.push_back(read);
+  }
+  if (j.contains("oracle")) {
+    const auto& o = j.at("oracle");
+    r.oracle.mismatch_norm = o.at("mismatch_norm").get<double>();
+    r.oracle.testable = o.at("testable").get<int>();
+    r.oracle.right_candidates = o.at("right_candidates").get<int>();
+    r.oracle.right_by_posterior = o.at("right_by_posterior").get<std::vector<int>>();
+    r.oracle.wrong_by_posterior = o.at("wrong_by_posterior").get<std::vector<int>>();
   }
   return r;
 }

@@ -24,12 +24,18 @@
 // The SNR: the case's effect at a trial size is simulated without noise and the geometry fitted
 // to it; what the geometry cannot absorb is left in the whitened residuals, whose norm scales
 // linearly with the effect's size. The size is set so that this norm is `snr`.
+//
+// The oracle beside each effect case: the same noise-free recording at that size gives the
+// Bayes choice among the candidates of an oracle that knows one effect of this size is there and
+// the noise's sigma (oracle_selection.h), drawn 4,000 times: how often the poses let the right
+// effect be the most probable one, and the SNR over every row, which it reports as it sees it.
 #pragma once
 
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "cellmetry/diagnosis/oracle_selection.h"
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/registry/registry.h"
 
@@ -73,6 +79,10 @@ struct SuiteCaseResult {
   SuiteCase spec;
   double magnitude = 0.0;       // the effect size giving the SNR
   std::vector<SuiteRun> runs;
+  // The oracle's Bayes choice on the first seed's poses (oracle_selection.h): how often the poses
+  // let the right physics be the most probable candidate. No draws for clean and outside-library
+  // cases.
+  OracleSelection oracle;
   int right() const;            // runs that named what was expected
   // Whether `run` named what was expected: the finding's name, one of its exact aliases or its
   // group.
