@@ -22,8 +22,9 @@
 // (cases with the same cell, name, seeds and SNR), and the file goes when the suite is done.
 //
 // The SNR: the case's effect at a trial size is simulated without noise and the geometry fitted
-// to it; what the geometry cannot absorb is left in the whitened residuals, whose norm scales
-// linearly with the effect's size. The size is set so that this norm is `snr`.
+// to every observation of it (no outlier test: the mismatch is the signal); what the geometry
+// cannot absorb is left in the whitened residuals, whose norm scales linearly with the effect's
+// size. The size is set so that this norm is `snr`.
 //
 // The oracle beside each effect case: the same noise-free recording at that size gives the
 // Bayes choice among the candidates of an oracle that knows one effect of this size is there and
