@@ -58,22 +58,29 @@ SolverMaker MakerOf(const WorkcellJob& job, Registry& registry) {
   return [&job, &registry] { return registry.CreateSolver(job.solver_type, *job.solver_config); };
 }
 
+// The job's problem whitened by the simulation's own noise: a noise-free recording has no
+// scatter to estimate it from.
+WorkcellProblem WhitenedBySimulation(const DiagnosisJob& job, const WorkcellSimulationSpec& base) {
+  WorkcellProblem problem = job.workcell.problem;
+  for (const auto& [camera, pose] : base.T_world_cam) {
+    problem.noise.position_sigma_mm[camera] = base.sigma_position_mm;
+    problem.noise.rotation_sigma_rad[camera] = base.sigma_rotation_rad;
+  }
+  return problem;
+}
+
 // The effect size at which the part of the case's physics the geometry cannot absorb has
 // whitened norm `snr` (noise-free simulation, geometric fit, linear scaling).
 double MagnitudeForSnr(const PhysicsSuiteSpec& suite, const WorkcellSimulationSpec& base,
                        const DiagnosisJob& job, const SuiteCase& c, Registry& registry) {
   const WorkcellSimulationSpec spec = CaseSimulation(base, c, kTrialMagnitude, 1, false, registry);
   const Recording recording = SimulateWorkcell(spec, nullptr);
-  WorkcellProblem problem = job.workcell.problem;
+  WorkcellProblem problem = WhitenedBySimulation(job, base);
   problem.folds = 0;
   // Every observation counts: the outlier test would leave out the views a lens's distortion
   // moves most (eight of the UR3's at this size), and the norm of the rest is not the signal
   // the finder's candidates are scored on (its linearization has every row).
   problem.outlier_test = OutlierTest::kOff;
-  for (const auto& [camera, pose] : base.T_world_cam) {  // whiten by the simulation's noise
-    problem.noise.position_sigma_mm[camera] = base.sigma_position_mm;
-    problem.noise.rotation_sigma_rad[camera] = base.sigma_rotation_rad;
-  }
   const WorkcellResult fit = IdentifyWorkcell(problem, recording, MakerOf(job.workcell, registry));
   double chi2 = 0.0;
   for (const auto& row : fit.residuals) chi2 += row.normalized.squaredNorm();
@@ -86,12 +93,8 @@ OracleSelection CaseOracle(const WorkcellSimulationSpec& base, const DiagnosisJo
                            const SuiteCase& c, double magnitude, Registry& registry) {
   const WorkcellSimulationSpec spec = CaseSimulation(base, c, magnitude, 1, false, registry);
   const Recording recording = SimulateWorkcell(spec, nullptr);
-  WorkcellProblem problem = job.workcell.problem;
-  for (const auto& [camera, pose] : base.T_world_cam) {  // whiten by the simulation's noise
-    problem.noise.position_sigma_mm[camera] = base.sigma_position_mm;
-    problem.noise.rotation_sigma_rad[camera] = base.sigma_rotation_rad;
-  }
-  return DrawOracleSelections(problem, recording, MakerOf(job.workcell, registry),
+  return DrawOracleSelections(WhitenedBySimulation(job, base), recording,
+                              MakerOf(job.workcell, registry),
                               JobCandidates(job, recording, registry), c.expect, job.options,
                               OracleSelectionOptions{});
 }

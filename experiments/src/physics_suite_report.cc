@@ -243,8 +243,9 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
   out << "| seconds per diagnosis (median) | " << FixedNumber(Median(t.seconds), 1) << " | | |\n\n";
   out << "Decisions:\n\n";
   for (const auto& line : PhysicsSuiteRecommendations(spec, results)) out << "- " << line << "\n";
-  out << "\n| cell | case | expected | effect size | right [95 %] | oracle's best guess right (SNR it sees) | "
-         "held-out / floor (median) | misses: best candidate and the tests it failed |\n"
+  out << "\n| cell | case | expected | effect size | right [95 %] | "
+         "oracle's best guess right (SNR it sees) | held-out / floor (median) | "
+         "misses: best candidate and the tests it failed |\n"
          "|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) out << CaseRow(r);
   for (const auto& cell : spec.cells) out << ConfusionMatrix(cell.name, results);
