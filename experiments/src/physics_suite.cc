@@ -108,6 +108,7 @@ std::string FailedTests(const CandidateFinding& f) {
       failed += " " + FixedNumber(f.bootstrap_share, 2);
       if (!f.bootstrap_rival.empty()) failed += " vs " + f.bootstrap_rival;
     }
+    if (test == "rivals") failed += " " + FixedNumber(f.rival_p, 3) + " vs " + f.rival;
   }
   if (!f.look_alikes.empty()) {
     failed += " (like " + f.look_alikes.front().label + ", " +

@@ -371,6 +371,24 @@ class Diagnoser {
     return f;
   }
 
+  // The rival the chosen candidate beats least clearly: RivalTestP against every testable
+  // candidate outside the chosen one's own groups and aliases (`own`); the largest p and whose.
+  void WorstRival(const ScoredRound& s, int best, const std::set<std::string>& own,
+                  unsigned seed, CandidateFinding* chosen) const {
+    std::vector<double> p(s.testable.size(), 0.0);
+    tbb::parallel_for(size_t(0), s.testable.size(), [&](size_t j) {
+      if (static_cast<int>(j) == best || own.count(s.testable[j]->group_name())) return;
+      p[j] = RivalTestP(s.base.r, s.unabsorbed_bases[best], s.unabsorbed_bases[j],
+                        options_.rival_draws, seed + static_cast<unsigned>(j));
+    });
+    const size_t worst = std::max_element(p.begin(), p.end()) - p.begin();
+    chosen->rival_p = p[worst];
+    if (p[worst] > 0) {
+      chosen->rival = s.testable[worst]->label;
+      chosen->rival_effect = s.testable[worst]->effect.name;
+    }
+  }
+
   // Linearizes the current model once, scores every candidate not `done`; untestable ones go
   // to `untestable` and join `done`.
   ScoredRound Score(const Fitted& current, std::set<std::string>* done,
@@ -519,7 +537,12 @@ class Diagnoser {
     if (with_cv.summary.held_out_rms_mm > 1.01 * current.summary.held_out_rms_mm) {
       chosen.failed.push_back("positions");
     }
-    if (chosen.bootstrap_share < options_.bootstrap_share) chosen.failed.push_back("bootstrap");
+    if (options_.selection_test == "rivals") {
+      WorstRival(*s, best, own, seed, &chosen);
+      if (!(chosen.rival_p < options_.alpha)) chosen.failed.push_back("rivals");
+    } else if (chosen.bootstrap_share < options_.bootstrap_share) {
+      chosen.failed.push_back("bootstrap");
+    }
     chosen.accepted = chosen.failed.empty();
     return with_cv;
   }

@@ -11,7 +11,7 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   const ConfigNode root = ConfigNode::LoadFile(path);
   if (!root.Has("diagnosis")) return job;
   const ConfigNode d = root["diagnosis"];
-  d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "folds", "max_effects", "min_poses",
+  d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "selection_test", "rival_draws", "folds", "max_effects", "min_poses",
                 "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed",
                 "alias_correlation", "min_explained_share", "min_group_share",
                 "shape_correlation"});
@@ -19,6 +19,13 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   o.alpha = d.GetDouble("alpha", o.alpha);
   o.bootstrap = d.GetInt("bootstrap", o.bootstrap);
   o.bootstrap_share = d.GetDouble("bootstrap_share", o.bootstrap_share);
+  o.selection_test = d.GetString("selection_test", o.selection_test);
+  if (o.selection_test != "bootstrap" && o.selection_test != "rivals") {
+    throw d["selection_test"].Error("unknown selection test '" + o.selection_test + "'",
+                                    "Use bootstrap or rivals");
+  }
+  o.rival_draws = d.GetIntIn("rival_draws", o.rival_draws, 100, 1000000,
+                             "Use 100 or more draws; 2000 is the default");
   o.folds = d.GetInt("folds", o.folds);
   o.max_effects = d.GetInt("max_effects", o.max_effects);
   o.min_poses = d.GetInt("min_poses", o.min_poses);

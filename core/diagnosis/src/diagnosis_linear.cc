@@ -5,7 +5,9 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <map>
+#include <random>
 #include <stdexcept>
 
 #include "cellmetry/basics/dense_decompositions.h"
@@ -142,6 +144,38 @@ double CanonicalCorrelation(const Eigen::MatrixXd& U_a, const Eigen::MatrixXd& U
   const Eigen::MatrixXd overlap = U_a.transpose() * U_b;
   if (overlap.size() == 0) return 0.0;
   return Eigen::JacobiSVD<Eigen::MatrixXd>(overlap).singularValues()[0];
+}
+
+double RivalTestP(const Eigen::VectorXd& r, const Eigen::MatrixXd& U_chosen,
+                  const Eigen::MatrixXd& U_rival, int draws, unsigned seed) {
+  const int kc = static_cast<int>(U_chosen.cols()), kr = static_cast<int>(U_rival.cols());
+  if (kc == 0) return 1.0;
+  if (kr == 0) return 0.0;
+  auto strength = [](double statistic, int dof) { return -ChiSquareLogSurvival(statistic, dof); };
+  const Eigen::VectorXd a_rival = U_rival.transpose() * r;
+  const double margin =
+      strength((U_chosen.transpose() * r).squaredNorm(), kc) - strength(a_rival.squaredNorm(), kr);
+  if (!(margin > 0)) return 1.0;
+  const Eigen::MatrixXd C = U_chosen.transpose() * U_rival;
+  Eigen::MatrixXd covariance(kc + kr, kc + kr);
+  covariance << Eigen::MatrixXd::Identity(kc, kc), C, C.transpose(),
+      Eigen::MatrixXd::Identity(kr, kr);
+  Eigen::VectorXd mean(kc + kr);
+  mean << C * a_rival, a_rival;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
+  const Eigen::MatrixXd draw_map =
+      eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd n(kc + kr);
+  int as_large = 0;
+  for (int d = 0; d < draws; ++d) {
+    for (Eigen::Index i = 0; i < n.size(); ++i) n[i] = normal(rng);
+    const Eigen::VectorXd z = mean + draw_map * n;
+    as_large += strength(z.head(kc).squaredNorm(), kc) - strength(z.tail(kr).squaredNorm(), kr) >=
+                margin;
+  }
+  return (as_large + 1.0) / (draws + 1.0);
 }
 
 ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,

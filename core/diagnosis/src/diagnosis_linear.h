@@ -70,6 +70,19 @@ struct ScoreTest {
 ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,
                 const Eigen::MatrixXd& P);
 
+// The chosen candidate against one rival, each as the whole mismatch (non-nested models; Cox
+// 1962, "Further results on tests of separate families of hypotheses", JRSS B 24; by parametric
+// bootstrap, Williams 1970, "Discrimination between regression models to determine the pattern
+// of enzyme synthesis", Biometrics 26). The margin is the chosen one's strength (-ln p of its
+// score statistic) less the rival's. Under the rival as the truth, its signature at the size the
+// data give it (U_rival U_rival^T r) plus whitened noise, the margin is drawn `draws` times in
+// the span of the two bases (z = [U_c U_r]^T r, normal with covariance [[I, C], [C^T, I]],
+// C = U_c^T U_r); the p-value is the share of draws whose margin is at least the data's (with
+// the usual +1 in both counts). A small p: were the rival the cause, the chosen one would
+// rarely win by this much. 1 when the rival is as strong as the chosen one or stronger.
+double RivalTestP(const Eigen::VectorXd& r, const Eigen::MatrixXd& U_chosen,
+                  const Eigen::MatrixXd& U_rival, int draws, unsigned seed);
+
 // Bootstrap inclusion (Sauerbrei & Schumacher 1992) on the linearization: resample poses with
 // replacement, refit the current model's linear part on the resample, and run the greedy
 // selection there: the candidate whose score statistic speaks most strongly (the smallest log

@@ -27,6 +27,11 @@ std::string Why(const CandidateFinding& f, const std::string& test) {
   if (test == "positions") return "it makes the held-out positions worse";
   if (test == "BIC") return "BIC does not fall";
   if (test == "CV") return "its held-out gain is within its standard error";
+  if (test == "rivals") {
+    if (f.rival_p >= 1.0) return f.rival + " explains the data at least as strongly";
+    return "were " + f.rival + " the cause, a margin this large would come " +
+           FixedNumber(100 * f.rival_p, 1) + " % of the time";
+  }
   std::string why = "the bootstrap includes it in " + FixedNumber(100 * f.bootstrap_share, 0) +
                     " % of resamples, not 80 %";
   if (!f.bootstrap_rival.empty()) why += " (" + f.bootstrap_rival + " competes)";
@@ -190,8 +195,8 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
   return out.str();
 }
 
-// Where the bootstrap split the resamples between the closest candidate and a rival, poses
-// planned for both (pose_plan.h: D-optimal for their parameters with the geometry's) are what
+// Where the closest candidate passed every test but could not be told from one rival (the rival
+// test's, or the one the bootstrap split the resamples with), poses planned for both (pose_plan.h: D-optimal for their parameters with the geometry's) are what
 // tells them apart. Measured on five of the physics suite's UR3 cases at SNR 6 (ten seeds each):
 // of the 14 runs the finder got wrong or left silent, 30 poses planned this way made it name the
 // hidden effect in 9 and nothing wrong, 30 more random poses in 6 with one wrong name
@@ -203,14 +208,20 @@ std::string PlanAgainstRivalAdvice(const DiagnosisResult& r, const CandidateFind
   // poses for the pair would not change that: on experiment A joint 2's gear ratio (0 % of the
   // resamples) and cam2's depth tilt are already unlike (canonical correlation 0.07), and the
   // plan for the two predicts 5 % smaller sigmas.
+  // With the rival test, failing it alone is the split where the candidate still scores above
+  // the rival (p < 1); a rival that scores as strongly is no contest poses for the pair settle.
   constexpr double kSplitShare = 0.2;
+  const bool only_rivals = f.failed == std::vector<std::string>{"rivals"} && f.rival_p < 1.0;
   const bool only_bootstrap = f.failed == std::vector<std::string>{"bootstrap"};
-  if (!only_bootstrap || f.bootstrap_share < kSplitShare || f.bootstrap_rival_effect.empty()) {
+  const std::string rival = only_rivals ? f.rival : f.bootstrap_rival;
+  const std::string rival_effect = only_rivals ? f.rival_effect : f.bootstrap_rival_effect;
+  if (!(only_rivals || (only_bootstrap && f.bootstrap_share >= kSplitShare)) ||
+      rival_effect.empty()) {
     return "";
   }
-  return "To tell it from " + f.bootstrap_rival + ", record the poses `cellmetry plan " +
+  return "To tell it from " + rival + ", record the poses `cellmetry plan " +
          (r.job.empty() ? "JOB.yaml" : r.job) + " --effect " + f.name + " --effect " +
-         f.bootstrap_rival_effect + "` proposes and diagnose again.";
+         rival_effect + "` proposes and diagnose again.";
 }
 
 std::string PlanAgainstRivalAdvice(const DiagnosisResult& r) {
@@ -261,6 +272,9 @@ nlohmann::json CandidateJson(const CandidateFinding& f) {
                         {"look_alikes", LookAlikesJson(f.look_alikes)},
                         {"bootstrap_rival", f.bootstrap_rival},
                         {"bootstrap_rival_effect", f.bootstrap_rival_effect},
+                        {"rival_p", f.rival_p},
+                        {"rival", f.rival},
+                        {"rival_effect", f.rival_effect},
                         {"aliases", f.aliases},
                         {"alias_names", f.alias_names},
                         {"implausible", f.implausible},

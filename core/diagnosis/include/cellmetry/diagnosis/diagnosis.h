@@ -31,14 +31,18 @@
 //        c'. it removes at least `min_explained_share` of the held-out excess over the floor,
 //           where that excess is beyond chance (a sliver of a large mismatch is not a finding),
 //           and does not make the held-out positions worse (by more than 1 %),
-//        d. its group (CandidateEffect::group: nested variants of the same physics, or the
-//           forms of one camera's calibration) is included in >= `bootstrap_share` of bootstrap
-//           resamples of poses, each running the greedy selection (BIC-gated) on the resampled,
-//           reweighted linearization (Sauerbrei & Schumacher 1992); where it is not, the
-//           report names the group the resamples included most often instead and proposes
-//           `cellmetry plan` for the two (pose_plan.h), whose poses tell them apart;
+//        d. (`selection_test` "rivals") every candidate outside its group (CandidateEffect::
+//           group: nested variants of the same physics, or the forms of one camera's
+//           calibration) and its aliases is rejected at `alpha` as the cause of what the chosen
+//           one explains (RivalTestP, diagnosis_linear.h: Cox 1962, Williams 1970; all of them
+//           together an intersection-union test, Berger 1982); where one is not, the report
+//           names it and proposes `cellmetry plan` for the two (pose_plan.h), whose poses tell
+//           them apart. ("bootstrap", the gate until 2026-11-28: its group included in >=
+//           `bootstrap_share` of bootstrap resamples of poses, each running the greedy
+//           selection, BIC-gated, on the resampled linearization, Sauerbrei & Schumacher 1992;
+//           the share is reported either way);
 //      candidates whose unabsorbed signatures correlate >= `alias_correlation` with the chosen
-//      one are its aliases: one finding with two names, counted together by the bootstrap and
+//      one are its aliases: one finding with two names, counted with it by either test and
 //      named together in the report;
 //      rounds stop when no candidate passes them all: the residuals are then consistent with the
 //      floor as far as the library can tell (the omnibus chi-square is reported too, but one
@@ -86,6 +90,12 @@ struct DiagnosisOptions {
   int bootstrap = 40;              // resamples of poses
   double alias_correlation = 0.99; // candidates this alike are one finding with two names
   double bootstrap_share = 0.8;    // how often their selection must include the chosen effect
+  // What tells the chosen effect from the other candidates: "rivals" (every other group's
+  // member rejected as the cause at `alpha` by a parametric test of non-nested models, an
+  // intersection-union test: Berger 1982) or "bootstrap" (its group included in at least
+  // `bootstrap_share` of the resamples; the gate until 2026-11-28, docs/physics.md).
+  std::string selection_test = "rivals";
+  int rival_draws = 2000;          // parametric draws per rival for "rivals"
   int folds = 10;                  // blocked cross-validation, by pose (10: the standard error
                                    // of the gain is steadier than with 5)
   int refits = 3;                  // best candidates by score refitted in full each round
@@ -164,6 +174,9 @@ struct CandidateFinding {
   std::string bootstrap_rival;      // the other group included most often ("" if none)
   std::string bootstrap_rival_effect;  // its member included most often, by name: what
                                        // `cellmetry plan --effect` takes to tell the two apart
+  double rival_p = 0.0;             // with selection_test "rivals": the largest p of the rival
+  std::string rival;                // test over the other groups' members, that member's label
+  std::string rival_effect;         // and its name (what `cellmetry plan --effect` takes)
   std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
   std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
   std::vector<std::string> alias_names;  // the same, by candidate name
@@ -171,7 +184,8 @@ struct CandidateFinding {
                                     // words ("" when plausible); never accepted as that physics
   double explained_share = 1.0;     // of the held-out excess over the floor, what it removes
   std::vector<std::string> failed;     // the round's chosen one: tests it failed, of "size",
-                                       // "LR", "BIC", "CV", "share", "positions", "bootstrap"
+                                       // "LR", "BIC", "CV", "share", "positions", "bootstrap",
+                                       // "rivals"
   bool accepted = false;
 };
 
