@@ -43,8 +43,8 @@ SuiteTally Tally(const std::vector<SuiteCaseResult>& results) {
       for (const auto& run : r.runs) {
         const bool claimed = run.named != "none" && run.named != "unexplained";
         t.effect_wrong += claimed && !r.named_right(run);
+        t.held_out_over_floor.push_back(run.held_out_over_floor);
       }
-      for (const auto& run : r.runs) t.held_out_over_floor.push_back(run.held_out_over_floor);
     }
     for (const auto& run : r.runs) t.seconds.push_back(run.seconds);
   }

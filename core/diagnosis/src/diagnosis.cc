@@ -312,10 +312,6 @@ BootstrapVerdict GroupInclusion(const std::vector<std::vector<int>>& inclusions,
   return verdict;
 }
 
-// How strongly a chi-square statistic with `dof` degrees of freedom speaks against "no effect",
-// comparable across dof even where its p-value underflows.
-double Strength(double statistic, int dof) { return -ChiSquareLogSurvival(statistic, dof); }
-
 // One round's candidates, scored on the current model's linearization.
 struct ScoredRound {
   DiagnosisRound round;

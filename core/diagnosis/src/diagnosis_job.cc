@@ -11,10 +11,10 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   const ConfigNode root = ConfigNode::LoadFile(path);
   if (!root.Has("diagnosis")) return job;
   const ConfigNode d = root["diagnosis"];
-  d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "selection_test", "rival_draws", "folds", "max_effects", "min_poses",
-                "link_masses_kg", "gear_harmonics", "candidates", "refits", "min_unabsorbed",
-                "alias_correlation", "min_explained_share", "min_group_share",
-                "shape_correlation"});
+  d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "selection_test", "rival_draws", "folds",
+                "max_effects", "min_poses", "link_masses_kg", "gear_harmonics", "candidates",
+                "refits", "min_unabsorbed", "alias_correlation", "min_explained_share",
+                "min_group_share", "shape_correlation"});
   DiagnosisOptions& o = job.options;
   o.alpha = d.GetDouble("alpha", o.alpha);
   o.bootstrap = d.GetInt("bootstrap", o.bootstrap);

@@ -151,10 +151,9 @@ double RivalTestP(const Eigen::VectorXd& r, const Eigen::MatrixXd& U_chosen,
   const int kc = static_cast<int>(U_chosen.cols()), kr = static_cast<int>(U_rival.cols());
   if (kc == 0) return 1.0;
   if (kr == 0) return 0.0;
-  auto strength = [](double statistic, int dof) { return -ChiSquareLogSurvival(statistic, dof); };
   const Eigen::VectorXd a_rival = U_rival.transpose() * r;
   const double margin =
-      strength((U_chosen.transpose() * r).squaredNorm(), kc) - strength(a_rival.squaredNorm(), kr);
+      Strength((U_chosen.transpose() * r).squaredNorm(), kc) - Strength(a_rival.squaredNorm(), kr);
   if (!(margin > 0)) return 1.0;
   const Eigen::MatrixXd C = U_chosen.transpose() * U_rival;
   Eigen::MatrixXd covariance(kc + kr, kc + kr);
@@ -162,9 +161,7 @@ double RivalTestP(const Eigen::VectorXd& r, const Eigen::MatrixXd& U_chosen,
       Eigen::MatrixXd::Identity(kr, kr);
   Eigen::VectorXd mean(kc + kr);
   mean << C * a_rival, a_rival;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
-  const Eigen::MatrixXd draw_map =
-      eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  const Eigen::MatrixXd draw_map = NormalDrawMap(covariance);
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal;
   Eigen::VectorXd n(kc + kr);
@@ -172,10 +169,27 @@ double RivalTestP(const Eigen::VectorXd& r, const Eigen::MatrixXd& U_chosen,
   for (int d = 0; d < draws; ++d) {
     for (Eigen::Index i = 0; i < n.size(); ++i) n[i] = normal(rng);
     const Eigen::VectorXd z = mean + draw_map * n;
-    as_large += strength(z.head(kc).squaredNorm(), kc) - strength(z.tail(kr).squaredNorm(), kr) >=
+    as_large += Strength(z.head(kc).squaredNorm(), kc) - Strength(z.tail(kr).squaredNorm(), kr) >=
                 margin;
   }
   return (as_large + 1.0) / (draws + 1.0);
+}
+
+Eigen::MatrixXd UnabsorbedBasis(const Eigen::MatrixXd& J, const Eigen::MatrixXd& P) {
+  const double total = J.norm();
+  if (total == 0.0 || P.cols() == 0) return Eigen::MatrixXd(P.rows(), 0);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(P, Eigen::ComputeThinU);
+  const auto& s = svd.singularValues();
+  Eigen::Index k = 0;
+  while (k < s.size() && s[k] > 1e-6 * total) ++k;  // sorted: the rest are smaller
+  return svd.matrixU().leftCols(k);
+}
+
+double Strength(double statistic, int dof) { return -ChiSquareLogSurvival(statistic, dof); }
+
+Eigen::MatrixXd NormalDrawMap(const Eigen::MatrixXd& covariance) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
+  return eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
 }
 
 ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,
@@ -184,15 +198,9 @@ ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,
   const double total = J_candidate.norm();
   if (total == 0.0) return test;
   test.unabsorbed = P.norm() / total;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(P, Eigen::ComputeThinU);
-  const auto& s = svd.singularValues();
-  // Directions of P too small to carry information (1e-6 of the candidate's own scale).
-  for (Eigen::Index i = 0; i < s.size(); ++i) {
-    if (s[i] <= 1e-6 * total) continue;
-    const double projection = svd.matrixU().col(i).dot(r);
-    test.statistic += projection * projection;
-    ++test.dof;
-  }
+  const Eigen::MatrixXd U = UnabsorbedBasis(J_candidate, P);
+  test.statistic = (U.transpose() * r).squaredNorm();
+  test.dof = static_cast<int>(U.cols());
   test.p_value = test.dof > 0 ? ChiSquareSurvival(test.statistic, test.dof) : 1.0;
   return test;
 }
@@ -215,7 +223,7 @@ std::vector<int> GreedyInclusions(const Eigen::VectorXd& r, const Eigen::MatrixX
       if (taken[c]) continue;
       const ScoreTest test = Score(r_refit, candidates[c], ProjectOut(Q, candidates[c]));
       if (test.dof == 0) continue;
-      const double z = -ChiSquareLogSurvival(test.statistic, test.dof);
+      const double z = Strength(test.statistic, test.dof);
       if (z > best_z) {
         best_z = z, best = static_cast<int>(c);
         best_gain = test.statistic - test.dof * penalty_per_dof;

@@ -59,6 +59,20 @@ Eigen::MatrixXd ProjectOut(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& X);
 // between them; 0 when either is empty.
 double CanonicalCorrelation(const Eigen::MatrixXd& U_a, const Eigen::MatrixXd& U_b);
 
+// An orthonormal basis of what the current model leaves of a candidate's columns `J` (`P` =
+// ProjectOut(Q_model, J)): P's left singular vectors above 1e-6 of the candidate's own scale
+// ||J||_F, smaller directions carrying no information. Its columns are the score test's degrees
+// of freedom.
+Eigen::MatrixXd UnabsorbedBasis(const Eigen::MatrixXd& J, const Eigen::MatrixXd& P);
+
+// How strongly a chi-square statistic with `dof` degrees of freedom speaks against "no effect"
+// (-ln of its p-value), comparable across dof even where the p-value underflows.
+double Strength(double statistic, int dof);
+
+// A map of standard normals to draws with `covariance` (positive semi-definite, as a stack of
+// bases' Gram matrix is): from covariance = V L V^T, the map V sqrt(L).
+Eigen::MatrixXd NormalDrawMap(const Eigen::MatrixXd& covariance);
+
 struct ScoreTest {
   double unabsorbed = 0.0;  // ||P||_F / ||J_e||_F
   double statistic = 0.0;

@@ -1,8 +1,6 @@
 // The oracle's Bayes choice among the candidates (oracle_selection.h).
 #include "cellmetry/diagnosis/oracle_selection.h"
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -15,19 +13,6 @@
 
 namespace cellmetry {
 namespace {
-
-// An orthonormal basis of what the geometry leaves of a candidate's columns `J`, `P` = that
-// part: its directions above 1e-6 of the candidate's own scale, as the score test counts them
-// (diagnosis_linear.cc), so the oracle's k_c is the finder's degrees of freedom.
-Eigen::MatrixXd UnabsorbedBasis(const Eigen::MatrixXd& J, const Eigen::MatrixXd& P) {
-  const double total = J.norm();
-  if (total == 0.0 || P.cols() == 0) return Eigen::MatrixXd(P.rows(), 0);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(P, Eigen::ComputeThinU);
-  const auto& s = svd.singularValues();
-  Eigen::Index k = 0;
-  while (k < s.size() && s[k] > 1e-6 * total) ++k;
-  return svd.matrixU().leftCols(k);
-}
 
 bool NamesExpected(const CandidateEffect& c, const std::string& expect) {
   return c.effect.name.rfind(expect, 0) == 0 || (!c.group.empty() && c.group == expect);
@@ -102,8 +87,7 @@ StackedBases Stack(const std::vector<OracleChoice>& choices, const Eigen::Vector
     G.middleCols(out.first[i], choices[i].U.cols()) = choices[i].U;
   }
   out.mean = G.transpose() * d;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(G.transpose() * G);
-  out.draw_map = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  out.draw_map = NormalDrawMap(G.transpose() * G);
   return out;
 }
 
