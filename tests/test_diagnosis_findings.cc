@@ -333,9 +333,9 @@ TEST(PhysicalFindings, ABacklashBesideAComplianceIsSeparatePhysics) {
   EXPECT_THAT(report, HasSubstr("Also at ur3 joint 3, separate physics: joint 3 backlash"));
 }
 
-// A lens off in the full Brown-Conrady form (k1 with k2 and tangential terms; the library fits
-// k1 alone) is found as its camera's calibration: the report names the cause, then the form that
-// describes it best, whichever of the camera's forms won the round.
+// A lens off in Brown-Conrady's terms and a thin prism beyond them (concealed_physics.h; the
+// library fits k1, k2, p1, p2, or k1 alone) is found as its camera's calibration: the report
+// names the cause, then the form that describes it best, whichever of the camera's forms won.
 TEST(PhysicalFindings, ARicherLensIsNamedAsItsCamerasCalibration) {
   const std::string dir = testing::TempDirForThisTest("findings_lens");
   WorkcellSimulationSpec spec = SuiteCell(dir, 1);

@@ -46,6 +46,9 @@ const std::vector<std::string>& EffectConfigs() {
       "{type: camera_intrinsics, cameras: [cam1, cam2]}",
       "{type: camera_intrinsics, cameras: [cam2], terms: [focal]}",
       "{type: camera_intrinsics, cameras: [cam2], terms: [principal, radial]}",
+      "{type: camera_intrinsics, cameras: [cam2], terms: [radial, k2, tangential]}",
+      "{type: camera_intrinsics, cameras: [cam1, cam2], "
+      "terms: [focal, principal, radial, k2, tangential]}",
       "{type: target_tilt, targets: [tool]}",
       "{type: world_frame, target: tool}",
       "{type: world_frame, target: tool, axes: [x, y, z]}",

@@ -90,22 +90,32 @@ std::vector<DisturbanceAction> GearHarmonics(const ConcealedPhysics& c, const Re
   return out;
 }
 
-// Brown-Conrady distortion of normalized image coordinates (x, y) by radial k1, k2 and
-// tangential p1, p2 (Brown 1966; OpenCV's calib3d model without k3), and the Jacobian of the map.
+// A lens's coefficients: Brown-Conrady radial k1, k2, k3 and tangential p1, p2 (Brown 1966),
+// and the thin prism's s1, s3 (s2 = s4 = 0; Weng, Cohen & Herniou 1992, "Camera calibration
+// with distortion models and accuracy evaluation", IEEE PAMI 14): OpenCV's calib3d model.
+struct LensCoefficients {
+  double k1 = 0, k2 = 0, k3 = 0, p1 = 0, p2 = 0, s1 = 0, s3 = 0;
+};
+
+// The distortion of normalized image coordinates (x, y), and the map's Jacobian there.
 struct Distorted {
   Eigen::Vector2d xy;
   Eigen::Matrix2d jacobian;
 };
-Distorted Distort(double x, double y, double k1, double k2, double p1, double p2) {
+Distorted Distort(double x, double y, const LensCoefficients& c) {
   const double r2 = x * x + y * y;
-  const double radial = k1 * r2 + k2 * r2 * r2;
-  const double d_radial_d_r2 = k1 + 2.0 * k2 * r2;
+  const double radial = c.k1 * r2 + c.k2 * r2 * r2 + c.k3 * r2 * r2 * r2;
+  const double d_radial_d_r2 = c.k1 + 2.0 * c.k2 * r2 + 3.0 * c.k3 * r2 * r2;
   Distorted out;
-  out.xy = Eigen::Vector2d(x * (1.0 + radial) + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
-                           y * (1.0 + radial) + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y);
-  const double cross = 2.0 * x * y * d_radial_d_r2 + 2.0 * p1 * x + 2.0 * p2 * y;
-  out.jacobian << 1.0 + radial + 2.0 * x * x * d_radial_d_r2 + 2.0 * p1 * y + 6.0 * p2 * x,
-      cross, cross, 1.0 + radial + 2.0 * y * y * d_radial_d_r2 + 6.0 * p1 * y + 2.0 * p2 * x;
+  out.xy = Eigen::Vector2d(
+      x * (1.0 + radial) + 2.0 * c.p1 * x * y + c.p2 * (r2 + 2.0 * x * x) + c.s1 * r2,
+      y * (1.0 + radial) + c.p1 * (r2 + 2.0 * y * y) + 2.0 * c.p2 * x * y + c.s3 * r2);
+  const double cross = 2.0 * x * y * d_radial_d_r2 + 2.0 * c.p1 * x + 2.0 * c.p2 * y;
+  out.jacobian << 1.0 + radial + 2.0 * x * x * d_radial_d_r2 + 2.0 * c.p1 * y + 6.0 * c.p2 * x +
+                      2.0 * c.s1 * x,
+      cross + 2.0 * c.s1 * y, cross + 2.0 * c.s3 * x,
+      1.0 + radial + 2.0 * y * y * d_radial_d_r2 + 6.0 * c.p1 * y + 2.0 * c.p2 * x +
+          2.0 * c.s3 * y;
   return out;
 }
 
@@ -114,16 +124,21 @@ Distorted Distort(double x, double y, double k1, double k2, double p1, double p2
 void ConcealedPhysics::MeasureInCamera(const std::string& cam, Pose* T_cam_target) const {
   if (kind != "lens_distortion" || cam != camera) return;
   const double z = T_cam_target->t.z();
-  const Eigen::Vector3d k2_p1_p2 = magnitude * lens_shape;
-  const Distorted seen = Distort(T_cam_target->t.x() / z, T_cam_target->t.y() / z, magnitude,
-                                 k2_p1_p2[0], k2_p1_p2[1], k2_p1_p2[2]);
+  const Eigen::Vector3d k2_p1_p2 = magnitude * lens_shape, k3_s1_s3 = magnitude * lens_beyond;
+  const LensCoefficients lens{magnitude,   k2_p1_p2[0], k3_s1_s3[0], k2_p1_p2[1],
+                              k2_p1_p2[2], k3_s1_s3[1], k3_s1_s3[2]};
+  const Distorted seen = Distort(T_cam_target->t.x() / z, T_cam_target->t.y() / z, lens);
   const double depth = z / std::sqrt(seen.jacobian.determinant());
   T_cam_target->t = Eigen::Vector3d(seen.xy.x() * depth, seen.xy.y() * depth, depth);
+  // The image turns locally by the map's antisymmetric part: so does the board PnP fits to it.
+  const double turn = 0.5 * (seen.jacobian(1, 0) - seen.jacobian(0, 1));
+  T_cam_target->R = Eigen::AngleAxisd(turn, T_cam_target->t.normalized()) * T_cam_target->R;
 }
 
 ConcealedPhysics ReadConcealedPhysics(const ConfigNode& node) {
   node.ExpectKeys({"kind", "robot", "joint", "camera", "magnitude", "link_masses_kg",
-                   "stiffening", "harmonics", "time_constant_s", "direction", "lens_shape"});
+                   "stiffening", "harmonics", "time_constant_s", "direction", "lens_shape",
+                   "lens_beyond"});
   ConcealedPhysics c;
   c.kind = node["kind"].AsString();
   static const std::vector<std::string> kinds = {"distributed_compliance", "dead_zone_backlash",
@@ -152,6 +167,10 @@ ConcealedPhysics ReadConcealedPhysics(const ConfigNode& node) {
   if (node.Has("lens_shape")) {
     const auto k = node["lens_shape"].AsDoubles(3);
     c.lens_shape = Eigen::Vector3d(k[0], k[1], k[2]);
+  }
+  if (node.Has("lens_beyond")) {
+    const auto k = node["lens_beyond"].AsDoubles(3);
+    c.lens_beyond = Eigen::Vector3d(k[0], k[1], k[2]);
   }
   return c;
 }

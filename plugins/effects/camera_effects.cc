@@ -19,39 +19,58 @@ std::string TargetScale::Describe(const std::vector<double>& params) const {
   return WithParameters("target printed at another size than stated", parameters_, params);
 }
 
-CameraIntrinsics::CameraIntrinsics(std::vector<std::string> cameras, bool focal, bool principal,
-                                   bool radial)
-    : cameras_(std::move(cameras)), focal_(focal), principal_(principal), radial_(radial),
-      terms_per_camera_(int(focal) + 2 * int(principal) + int(radial)) {
+CameraIntrinsics::CameraIntrinsics(std::vector<std::string> cameras, IntrinsicsTerms terms)
+    : cameras_(std::move(cameras)), terms_(terms),
+      lens_(terms.radial || terms.k2 || terms.tangential),
+      principal_at_(int(terms.focal)),
+      lens_at_(principal_at_ + 2 * int(terms.principal)),
+      terms_per_camera_(lens_at_ + int(terms.radial) + int(terms.k2) + 2 * int(terms.tangential)) {
+  auto add = [&](const std::string& name, const std::string& unit, const std::string& what,
+                 double plausible) {
+    parameters_.push_back({name, unit, 0.0, false, {}, {}, {}, what, {}});
+    parameters_.back().plausible = plausible;
+  };
   for (const auto& camera : cameras_) {
-    if (focal_) {
-      parameters_.push_back({camera + ".focal_scale", "1", 0.0, false, {}, {}, {},
-                             "relative error of the focal length (measured depth alone scales)",
-                             {}});
-      parameters_.back().plausible = 0.03;  // a factory calibration's focal length
+    // The order ApplyT reads them in: [focal] [px py] [k1] [k2] [p1 p2].
+    if (terms_.focal) {  // a factory calibration's focal length
+      add(camera + ".focal_scale", "1",
+          "relative error of the focal length (measured depth alone scales)", 0.03);
     }
-    if (principal_) {
-      for (const char* axis : {"x", "y"}) {
-        parameters_.push_back({camera + ".principal_" + axis, "rad", 0.0, false, {}, {}, {},
-                               std::string("principal point error / focal length along ") + axis,
-                               {}});
-        parameters_.back().plausible = 0.02;  // about 18 px at f = 900 px
+    if (terms_.principal) {
+      for (const char* axis : {"x", "y"}) {  // about 18 px at f = 900 px
+        add(camera + ".principal_" + axis, "rad",
+            std::string("principal point error / focal length along ") + axis, 0.02);
       }
     }
-    if (radial_) {
-      parameters_.push_back({camera + ".radial_k1", "1", 0.0, false, {}, {}, {},
-                             "radial distortion error at unit normalized radius", {}});
-      parameters_.back().plausible = 0.05;
+    // A lens's coefficients against a factory calibration's: k1 and k2 errors of a few hundredths
+    // at the normalized radii a board is seen at (r < 0.6), decentring a thousandth or two.
+    if (terms_.radial) {
+      add(camera + ".radial_k1", "1", "radial distortion error at unit normalized radius", 0.05);
+    }
+    if (terms_.k2) {
+      add(camera + ".radial_k2", "1", "fourth-order radial distortion error (r^4 term)", 0.1);
+    }
+    if (terms_.tangential) {
+      for (const char* p : {"p1", "p2"}) {
+        add(camera + ".tangential_" + p, "1", std::string("tangential (decentring) error ") + p,
+            0.005);
+      }
     }
   }
 }
 
 std::string CameraIntrinsics::Describe(const std::vector<double>& params) const {
-  const int terms = int(focal_) + int(principal_) + int(radial_);
   std::string what = "camera intrinsics off as seen in the measured poses";
-  if (terms == 1 && focal_) what = "camera focal length off (measured depth scales alone)";
-  if (terms == 1 && principal_) what = "camera principal point off (the rays turn)";
-  if (terms == 1 && radial_) what = "camera radial distortion off (errors grow with image radius)";
+  const bool lens_only = !terms_.focal && !terms_.principal;
+  if (terms_.focal && !terms_.principal && !lens_) {
+    what = "camera focal length off (measured depth scales alone)";
+  } else if (terms_.principal && !terms_.focal && !lens_) {
+    what = "camera principal point off (the rays turn)";
+  } else if (lens_only && terms_.radial && !terms_.k2 && !terms_.tangential) {
+    what = "camera radial distortion off (errors grow with image radius)";
+  } else if (lens_only) {
+    what = "camera lens distortion off (errors grow towards the image's edges)";
+  }
   return WithParameters(what, parameters_, params);
 }
 

@@ -13,13 +13,22 @@
 //                                       moves Z by -px X, this does not, a depth error growing
 //                                       across the image (experiment A: 2-4 % of the signature
 //                                       outside the geometry, yet held-out 6.1 -> 3.3 mm);
-//   radial distortion k1 off by k:      a point at radius r is imaged at r (1 + k r^2): the
-//                                       board's direction scales by (1 + k r^2), its apparent
-//                                       size by about (1 + 2 k r^2), so PnP puts it at
-//                                       Z' = Z (1 - 2 k r^2) along x' = x (1 + k r^2)
-//                                       ("<camera>.radial_k1", unitless, normalized radius).
+//   lens distortion off by k1, k2 (radial) and p1, p2 (tangential) (Brown 1966, "Decentering
+//   distortion of lenses", Photogrammetric Engineering 32; OpenCV's calib3d model without k3):
+//                                       the board's centre is imaged at
+//                                         x' = x (1 + k1 r^2 + k2 r^4) + 2 p1 x y + p2 (r^2 + 2 x^2)
+//                                         y' = y (1 + k1 r^2 + k2 r^4) + p1 (r^2 + 2 y^2) + 2 p2 x y
+//                                       and looks as large as the map's local stretch makes it
+//                                       (sqrt det J, J its Jacobian), so PnP puts it at
+//                                       Z' = Z / sqrt(det J) = Z (1 - tr(J - I) / 2) to first
+//                                       order: Z (1 - 2 k1 r^2 - 3 k2 r^4 - 4 (p1 y + p2 x))
+//                                       along (x', y') ("<camera>.radial_k1", "<camera>.radial_k2",
+//                                       "<camera>.tangential_p1/p2", unitless, normalized image
+//                                       coordinates); J is symmetric, so the board is not turned.
 //
-// `cameras: [cam1]` (required), `terms: [focal, principal, radial]` (default all three).
+// `cameras: [cam1]` (required), `terms:` any of focal, principal, radial (k1), k2, tangential
+// (default [focal, principal, radial]: the commonest three; a whole lens is [radial, k2,
+// tangential]).
 #pragma once
 
 #include <string>
@@ -31,9 +40,15 @@
 
 namespace cellmetry::effects {
 
+// Which of a camera's calibration terms an effect fits.
+struct IntrinsicsTerms {
+  bool focal = true, principal = true, radial = true;  // radial: k1
+  bool k2 = false, tangential = false;
+};
+
 class CameraIntrinsics : public EffectFromTemplate<CameraIntrinsics> {
  public:
-  CameraIntrinsics(std::vector<std::string> cameras, bool focal, bool principal, bool radial);
+  CameraIntrinsics(std::vector<std::string> cameras, IntrinsicsTerms terms);
 
   EffectStage stage() const override { return EffectStage::kMeasurement; }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
@@ -43,22 +58,17 @@ class CameraIntrinsics : public EffectFromTemplate<CameraIntrinsics> {
   void ApplyT(const EffectContext& context, const T* params, T* values) const {
     for (size_t c = 0; c < cameras_.size(); ++c) {
       if (cameras_[c] != context.camera) continue;
-      const T* p = params + terms_per_camera_ * c;  // [focal] [px py] [k1]
+      const T* p = params + terms_per_camera_ * c;  // [focal] [px py] [k1] [k2] [p1 p2]
       T x = values[0] / values[2], y = values[1] / values[2], z = values[2];
-      if (radial_) {
-        const T r2 = x * x + y * y;
-        const T kr2 = p[focal_ + 2 * int(principal_)] * r2;
-        x *= T(1.0) + kr2;
-        y *= T(1.0) + kr2;
-        z *= T(1.0) - T(2.0) * kr2;
-      }
-      if (principal_) {
-        const T turn[3] = {p[focal_ + 1], -p[int(focal_)], T(0.0)};  // about y by px, x by -py
-        x -= p[int(focal_)];
-        y -= p[int(focal_) + 1];
+      if (lens_) Distort(p + lens_at_, &x, &y, &z);
+      if (terms_.principal) {
+        const T* principal = p + principal_at_;
+        const T turn[3] = {principal[1], -principal[0], T(0.0)};  // about y by px, x by -py
+        x -= principal[0];
+        y -= principal[1];
         RotateMeasured(turn, values + 3);
       }
-      if (focal_) z *= T(1.0) + p[0];
+      if (terms_.focal) z *= T(1.0) + p[0];
       values[0] = x * z;
       values[1] = y * z;
       values[2] = z;
@@ -66,6 +76,26 @@ class CameraIntrinsics : public EffectFromTemplate<CameraIntrinsics> {
   }
 
  private:
+  // The board's centre (x, y) seen through the lens terms `lens` ([k1] [k2] [p1 p2], those
+  // fitted) and its depth z as its apparent size gives it, to first order (the header's map).
+  template <typename T>
+  void Distort(const T* lens, T* x, T* y, T* z) const {
+    const T r2 = *x * *x + *y * *y;
+    T radial = T(0.0), stretch = T(0.0);  // stretch: tr(J - I) / 2
+    if (terms_.radial) radial += *lens * r2, stretch += T(2.0) * *lens * r2, ++lens;
+    if (terms_.k2) radial += *lens * r2 * r2, stretch += T(3.0) * *lens * r2 * r2, ++lens;
+    T dx = *x * radial, dy = *y * radial;
+    if (terms_.tangential) {
+      const T p1 = lens[0], p2 = lens[1];
+      dx += T(2.0) * p1 * *x * *y + p2 * (r2 + T(2.0) * *x * *x);
+      dy += p1 * (r2 + T(2.0) * *y * *y) + T(2.0) * p2 * *x * *y;
+      stretch += T(4.0) * (p1 * *y + p2 * *x);
+    }
+    *x += dx;
+    *y += dy;
+    *z *= T(1.0) - stretch;
+  }
+
   // R_cam_target (column-major, effect.h) turned by the small rotation `turn` (camera axes).
   template <typename T>
   static void RotateMeasured(const T* turn, T* R) {
@@ -82,7 +112,9 @@ class CameraIntrinsics : public EffectFromTemplate<CameraIntrinsics> {
   }
 
   std::vector<std::string> cameras_;
-  bool focal_, principal_, radial_;
+  IntrinsicsTerms terms_;
+  bool lens_;                  // any of k1, k2, p1, p2
+  int principal_at_, lens_at_;  // where a camera's principal point and lens terms start
   int terms_per_camera_;
   std::vector<Parameter> parameters_;
 };

@@ -134,25 +134,28 @@ std::unique_ptr<Effect> CreateTargetScale(const ConfigNode& config, const RobotM
 
 std::unique_ptr<Effect> CreateIntrinsics(const ConfigNode& config, const RobotModel&) {
   config.ExpectKeys({"type", "cameras", "terms"});
-  bool focal = true, principal = true, radial = true;
+  IntrinsicsTerms terms;
   if (config.Has("terms")) {
-    focal = principal = radial = false;
+    terms = IntrinsicsTerms{false, false, false, false, false};
     for (const auto& node : config["terms"].Elements()) {
       const std::string term = node.AsString();
       if (term == "focal") {
-        focal = true;
+        terms.focal = true;
       } else if (term == "principal") {
-        principal = true;
+        terms.principal = true;
       } else if (term == "radial") {
-        radial = true;
+        terms.radial = true;
+      } else if (term == "k2") {
+        terms.k2 = true;
+      } else if (term == "tangential") {
+        terms.tangential = true;
       } else {
         throw node.Error("unknown intrinsics term '" + term + "'",
-                         "Use focal, principal and/or radial");
+                         "Use focal, principal, radial, k2 and/or tangential");
       }
     }
   }
-  return std::make_unique<CameraIntrinsics>(Names(config, "cameras", "cam1"), focal, principal,
-                                            radial);
+  return std::make_unique<CameraIntrinsics>(Names(config, "cameras", "cam1"), terms);
 }
 
 std::unique_ptr<Effect> CreateTargetTilt(const ConfigNode& config, const RobotModel&) {
@@ -269,10 +272,11 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                            {{"targets", "", "", "targets it acts on"}}),
                       &fx::CreateTargetScale);
   registry->AddEffect(Info("camera_intrinsics",
-                           "a camera's focal length, principal point or radial distortion off, "
+                           "a camera's focal length, principal point or lens distortion off, "
                            "as PnP passes it to the measured pose",
                            {{"cameras", "", "", "cameras it acts on"},
-                            {"terms", "", "[focal, principal, radial]", "which terms"}}),
+                            {"terms", "", "[focal, principal, radial]",
+                             "which terms: focal, principal, radial (k1), k2, tangential"}}),
                       &fx::CreateIntrinsics);
   registry->AddEffect(Info("target_tilt",
                            "a pose estimator's tilt of a target: R' = R exp([t_x, t_y, 0])",

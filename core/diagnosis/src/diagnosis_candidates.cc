@@ -32,11 +32,11 @@ int ParallelLinkCount(const RobotModel& model) {
 }
 
 // What a camera and the targets it measures get wrong: per camera its depth (along the ray, and
-// tilting across the image), its focal length, principal point and radial distortion as a pose
-// estimator passes them on, one group (CandidateEffect::group); per target its printed size and
-// the estimator's tilt of it; the world tag's tilt from the frame the placement was measured in
-// (testable only where the bases' rotations are held: a gauge otherwise, which the absorption
-// test finds).
+// tilting across the image), its focal length, principal point, radial distortion (k1) and
+// whole lens distortion (k1, k2, p1, p2) as a pose estimator passes them on, one group
+// (CandidateEffect::group); per target its printed size and the estimator's tilt of it; the
+// world tag's tilt from the frame the placement was measured in (testable only where the bases'
+// rotations are held: a gauge otherwise, which the absorption test finds).
 void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording,
                          Registry& registry, std::vector<CandidateEffect>* out) {
   const WorkcellRobot& any = spec.robots.front();
@@ -57,10 +57,19 @@ void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording
                         "camera.principal_" + camera, any, camera + " principal point",
                         "targets turned more and spread across " + camera + "'s image",
                         registry));
+    // The lens: k1 alone, and k1 with k2 and the tangential p1, p2 (a real lens's error has all
+    // four), one family since the first is nested in the second (once one is accepted, the other
+    // would repeat its k1).
+    const std::string lens = "camera.lens_" + camera;
     out->push_back(Make("{type: camera_intrinsics, " + on + ", terms: [radial]}",
                         "camera.radial_" + camera, any, camera + " radial distortion",
                         "targets near the edges of " + camera + "'s image", registry));
-    // The five are first-order pieces of one calibration: over the part of the image the
+    out->back().family = lens;
+    out->push_back(Make("{type: camera_intrinsics, " + on + ", terms: [radial, k2, tangential]}",
+                        lens, any, camera + " lens distortion",
+                        "targets near the edges of " + camera + "'s image", registry));
+    out->back().family = lens;
+    // The six are first-order pieces of one calibration: over the part of the image the
     // targets cross, a real lens's error looks like one or another of them (docs/physics.md).
     for (size_t k = first; k < out->size(); ++k) {
       (*out)[k].group = "camera.calibration_" + camera;

@@ -16,15 +16,21 @@
 //   camera_bump             (outside the library) camera `camera` is knocked at the middle of
 //                           the run and sits `magnitude` mm off along `direction` afterwards
 //   lens_distortion         camera `camera`'s lens distorts where its pose estimator's
-//                           calibration says it does not, in the full Brown-Conrady form where
-//                           the library fits k1 alone: k1 = magnitude and (k2, p1, p2) =
-//                           `lens_shape` times magnitude (default -0.4, 0.2, -0.1; normalized
-//                           image coordinates). A board's centre is seen along the distorted
-//                           ray and at the size the distortion's local stretch gives it, so PnP
-//                           puts it at depth Z / sqrt(det J), J the distortion map's Jacobian
-//                           there (with k1 alone, the library's radial form to first order:
-//                           Z (1 - 2 k1 r^2)); its rotation is left as it is (J is symmetric:
-//                           no in-plane turn)
+//                           calibration says it does not, in OpenCV's model with k3 and a thin
+//                           prism (Weng, Cohen & Herniou 1992), beyond the library's k1, k2, p1,
+//                           p2 (camera_intrinsics): k1 = magnitude, (k2, p1, p2) = `lens_shape`
+//                           and (k3, s1, s3) = `lens_beyond` times magnitude (defaults -0.4, 0.2,
+//                           -0.1 and 0, 0.1, -0.1; normalized image coordinates: k3 is 0 because
+//                           the UR3 suite cell's random poses put boards out to a normalized
+//                           radius of 4.6 in cam2, no field of view applied, where r^6 would be
+//                           the whole lens). A board's
+//                           centre is seen along the distorted ray and at the size the
+//                           distortion's local stretch gives it, so PnP puts it at depth
+//                           Z / sqrt(det J), J the distortion map's Jacobian there (with k1
+//                           alone, the library's radial form to first order: Z (1 - 2 k1 r^2)),
+//                           and turned about the ray by the map's local rotation
+//                           (J21 - J12) / 2, which only the prism gives (without it J is
+//                           symmetric and the board is not turned)
 //
 // `magnitude` is the one scale a test sets (rad, 1, or mm); everything else is shape.
 #pragma once
@@ -50,6 +56,7 @@ struct ConcealedPhysics : Disturbance {
   double time_constant_s = 1200.0;
   Eigen::Vector3d direction = Eigen::Vector3d(0.6, 0.0, 0.8);  // camera_bump, camera axes
   Eigen::Vector3d lens_shape = Eigen::Vector3d(-0.4, 0.2, -0.1);  // lens_distortion: k2, p1, p2
+  Eigen::Vector3d lens_beyond = Eigen::Vector3d(0.0, 0.1, -0.1);  // and k3, s1, s3
 
   std::string name() const override { return kind; }
   double size() const override { return magnitude; }

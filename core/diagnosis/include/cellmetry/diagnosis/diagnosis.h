@@ -67,7 +67,7 @@
 // joint_scale, each on that joint alone;
 // thermal_drift (by temperature, or the warm-up model when the recording has only times);
 // per camera depth_bias (scale, tilt) and camera_intrinsics (focal, principal point, radial
-// distortion, each alone); per target target_scale, and target_tilt where its rotation is
+// distortion k1, each alone, and the whole lens: k1, k2, p1, p2); per target target_scale, and target_tilt where its rotation is
 // measured; world_frame where there is a world target.
 #pragma once
 
@@ -128,9 +128,10 @@ struct CandidateEffect {
   // effect.name.
   std::string family;
   const std::string& family_name() const { return family.empty() ? effect.name : family; }
-  // One physical cause that several library forms describe, none nested in another: a camera's
+  // One physical cause that several library forms (or families) describe: a camera's
   // calibration as its pose estimator and depth use it ("camera.calibration_cam2": its depth
-  // scale and tilt, focal length, principal point, radial distortion; a real lens mixes them).
+  // scale and tilt, focal length, principal point, lens distortion, k1 alone or with k2, p1 and
+  // p2 (those two one family); a real calibration error mixes them).
   // The bootstrap counts a resample won by any member as won by the group, and the report names
   // the group with the chosen form as its best single description. Unlike a family, the other
   // members stay candidates after one is accepted: a camera can be off in two ways. Empty: the
