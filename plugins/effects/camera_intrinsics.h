@@ -16,8 +16,8 @@
 //   lens distortion off by k1, k2 (radial) and p1, p2 (tangential) (Brown 1966, "Decentering
 //   distortion of lenses", Photogrammetric Engineering 32; OpenCV's calib3d model without k3):
 //                                       the board's centre is imaged at
-//                                         x' = x (1 + k1 r^2 + k2 r^4) + 2 p1 x y + p2 (r^2 + 2 x^2)
-//                                         y' = y (1 + k1 r^2 + k2 r^4) + p1 (r^2 + 2 y^2) + 2 p2 x y
+//                                       x' = x (1 + k1 r^2 + k2 r^4) + 2 p1 x y + p2 (r^2 + 2 x^2)
+//                                       y' = y (1 + k1 r^2 + k2 r^4) + p1 (r^2 + 2 y^2) + 2 p2 x y
 //                                       and looks as large as the map's local stretch makes it
 //                                       (sqrt det J, J its Jacobian), so PnP puts it at
 //                                       Z' = Z / sqrt(det J) = Z (1 - tr(J - I) / 2) to first

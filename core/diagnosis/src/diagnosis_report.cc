@@ -197,10 +197,10 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
 
 // Where the closest candidate passed every test but could not be told from one rival (the rival
 // test's, or the one the bootstrap split the resamples with), poses planned for both (pose_plan.h:
-// D-optimal for their parameters with the geometry's) are what tells them apart. Measured on five of the physics suite's UR3 cases at SNR 6 (ten seeds each):
-// of the 14 runs the finder got wrong or left silent, 30 poses planned this way made it name the
-// hidden effect in 9 and nothing wrong, 30 more random poses in 6 with one wrong name
-// (docs/physics.md).
+// D-optimal for their parameters with the geometry's) are what tells them apart. Measured on
+// five of the physics suite's UR3 cases at SNR 6 (ten seeds each): of the 14 runs the finder got
+// wrong or left silent, 30 poses planned this way made it name the hidden effect in 9 and
+// nothing wrong, 30 more random poses in 6 with one wrong name (docs/physics.md).
 std::string PlanAgainstRivalAdvice(const DiagnosisResult& r, const CandidateFinding& f) {
   // Split: the candidate passes every other test, wins a material share of the resamples, and
   // the rival most others. One that fails the likelihood ratio, BIC or held-out test has no

@@ -67,8 +67,8 @@
 // joint_scale, each on that joint alone;
 // thermal_drift (by temperature, or the warm-up model when the recording has only times);
 // per camera depth_bias (scale, tilt) and camera_intrinsics (focal, principal point, radial
-// distortion k1, each alone, and the whole lens: k1, k2, p1, p2); per target target_scale, and target_tilt where its rotation is
-// measured; world_frame where there is a world target.
+// distortion k1, each alone, and the whole lens: k1, k2, p1, p2); per target target_scale, and
+// target_tilt where its rotation is measured; world_frame where there is a world target.
 #pragma once
 
 #include <map>
