@@ -202,14 +202,19 @@ TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {
   EXPECT_EQ(site.at("camera.radial_cam1"), "camera cam1");
   EXPECT_EQ(site.at("target.scale_tool"), "target tool");
   EXPECT_EQ(site.at("ur3.thermal"), "");
-  // A camera's five calibration forms are one group; nested variants keep their family alone.
-  std::map<std::string, std::string> group;
+  // A camera's six calibration forms are one group; nested variants keep their family alone.
+  std::map<std::string, std::string> group, family;
   for (const auto& c : JobCandidates(job, recording, testing::Plugins())) {
     group[c.effect.name] = c.group_name();
+    family[c.effect.name] = c.family_name();
   }
-  for (const std::string form : {"depth", "depth_tilt", "focal", "principal", "radial"}) {
+  for (const std::string form : {"depth", "depth_tilt", "focal", "principal", "radial", "lens"}) {
     EXPECT_EQ(group.at("camera." + form + "_cam2"), "camera.calibration_cam2") << form;
   }
+  // k1 alone is nested in the whole lens: one family, so accepting one retires the other.
+  EXPECT_EQ(family.at("camera.radial_cam2"), "camera.lens_cam2");
+  EXPECT_EQ(family.at("camera.lens_cam2"), "camera.lens_cam2");
+  EXPECT_EQ(family.at("camera.focal_cam2"), "camera.focal_cam2");
   EXPECT_EQ(group.at("ur3.transmission_j3_h2"), "ur3.transmission_j3");
   EXPECT_EQ(group.at("target.scale_tool"), "target.scale_tool");
 }
