@@ -2,7 +2,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <fstream>
 
 #include <random>
 #include <nlohmann/json.hpp>
@@ -258,6 +260,72 @@ TEST(SimulatedWorkcell, TwoRobotsTwoCamerasRecoverBothBases) {
     }
   }
   EXPECT_EQ(bases, 12);
+}
+
+// A camera that records only what it sees (`in_view_only`): the boards outside its field of view
+// are missing from the recording, the ones inside are all there, and the world target, which a
+// static camera is placed by, is recorded at every sample.
+std::string CellWithCam2(const std::string& cam2) {
+  return "simulation: workcell\nseed: 3\nrobots:\n  ur3:\n    model: " +
+         testing::Source("configs/robots/ur3.yaml") +
+         "\n    base: {xyz: [431, 555, -460], rvec: [0, 0, 0]}\n"
+         "    tools: {tool: {xyz: [0, 0, 66]}}\n"
+         "    poses: {random: 80, lower: [-3.1, 2.4, -2.2, -3.1, -3.1, -3.1],\n"
+         "            upper: [3.1, 4.2, 2.2, 3.1, 3.1, 3.1]}\n"
+         "cameras:\n  cam1: {xyz: [440, 404, 811], rvec: [1.4836, -2.6529, -0.0716]}\n"
+         "  cam2: " + cam2 + "\n";
+}
+
+Recording SimulateFile(const std::string& yaml, const std::string& name) {
+  const std::string path = testing::TempDir("in_view_only") + "/" + name + ".yaml";
+  std::ofstream(path) << yaml;
+  WorkcellTruth truth;
+  return SimulateWorkcell(LoadWorkcellSimulation(path, testing::Plugins()), &truth);
+}
+
+TEST(SimulatedWorkcell, ACameraInViewOnlyRecordsTheBoardsInsideItsFieldOfView) {
+  const std::string cam2 = "{xyz: [900, 300, 700], rvec: [-2.2936, -1.4001, 0.3616]";
+  const Recording ideal = SimulateFile(CellWithCam2(cam2 + "}"), "ideal");
+  const Recording real = SimulateFile(
+      CellWithCam2(cam2 + ", half_fov_rad: [0.7, 0.27], in_view_only: true}"), "real");
+  auto count = [](const Recording& r, const std::string& camera, const std::string& target) {
+    return std::count_if(r.observations.begin(), r.observations.end(), [&](const Observation& o) {
+      return o.camera == camera && o.target == target;
+    });
+  };
+  ASSERT_EQ(real.samples.size(), 80u);
+  EXPECT_EQ(count(real, "cam2", "world"), 80);  // always: the camera is placed by it
+  EXPECT_EQ(count(real, "cam1", "tool"), count(ideal, "cam1", "tool"));  // an ideal camera
+  int inside = 0;
+  for (const Observation& o : ideal.observations) {
+    if (o.camera != "cam2" || o.target != "tool") continue;
+    // Noise-free: the measured pose is the true one, in cam2's axes.
+    const Eigen::Vector3d p = o.position_mm;
+    const bool in = p.z() > 0 && std::abs(p.x()) < p.z() * std::tan(0.7) &&
+                    std::abs(p.y()) < p.z() * std::tan(0.27);
+    inside += in;
+    const bool recorded =
+        std::any_of(real.observations.begin(), real.observations.end(), [&](const auto& r) {
+          return r.sample == o.sample && r.camera == "cam2" && r.target == "tool";
+        });
+    EXPECT_EQ(recorded, in) << "sample " << o.sample;
+  }
+  EXPECT_EQ(count(real, "cam2", "tool"), inside);
+  EXPECT_GT(inside, 5);
+  EXPECT_LT(inside, 75);  // the narrow view misses some: the test sees both sides
+}
+
+TEST(SimulatedWorkcell, ACameraInViewOnlyMustSeeTheWorldTarget) {
+  try {
+    SimulateFile(CellWithCam2("{xyz: [900, 300, 700], rvec: [2.2, -1.5, 0.3], "
+                              "half_fov_rad: [0.759, 0.506], in_view_only: true}"),
+                 "world_out_of_view");
+    FAIL() << "a camera that cannot see the world target was accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("world_out_of_view.yaml:"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("outside this camera's field of view"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("Aim the camera"));
+  }
 }
 
 }  // namespace

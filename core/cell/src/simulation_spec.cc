@@ -1,6 +1,7 @@
 // Reading a simulation spec (workcell_simulation.h, docs/formats.md): robots and their truth,
 // cameras, noise, effects, concealed physics, the timeline.
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "cellmetry/basics/error.h"
@@ -152,11 +153,29 @@ SimulatedRobot ReadRobot(const std::string& name, const ConfigNode& node, Regist
   return robot;
 }
 
-// `cameras: {<name>: {xyz, rvec, errors: {mm, rad}, half_fov_rad}}` (nominal poses).
+// A camera that records only what it sees must see the world target (at the world's origin)
+// from its nominal pose: without it a static camera cannot be placed in the world.
+void CheckWorldTargetInView(const ConfigNode& node, const SimulatedCamera& camera) {
+  const Eigen::Vector3d p = camera.T_world_cam_nominal.inverse().t;  // the origin, camera axes
+  const double off_x = std::atan2(std::abs(p.x()), p.z());
+  const double off_y = std::atan2(std::abs(p.y()), p.z());
+  if (p.z() > 0 && off_x < camera.half_fov_rad.x() && off_y < camera.half_fov_rad.y()) return;
+  char what[200];
+  std::snprintf(what, sizeof what,
+                "the world target is outside this camera's field of view (%.0f and %.0f deg off "
+                "its axis, %.0f and %.0f deg allowed%s)",
+                off_x * 180 / M_PI, off_y * 180 / M_PI, camera.half_fov_rad.x() * 180 / M_PI,
+                camera.half_fov_rad.y() * 180 / M_PI, p.z() > 0 ? "" : ", and behind it");
+  throw node.Error(what, "Aim the camera at the world's origin, widen half_fov_rad, or leave "
+                         "in_view_only out");
+}
+
+// `cameras: {<name>: {xyz, rvec, errors: {mm, rad}, half_fov_rad, in_view_only}}` (nominal
+// poses).
 void ReadCameras(const ConfigNode& cameras, WorkcellSimulationSpec* spec) {
   for (const auto& name : cameras.Keys()) {
     const ConfigNode node = cameras[name];
-    node.ExpectKeys({"xyz", "rvec", "errors", "half_fov_rad"});
+    node.ExpectKeys({"xyz", "rvec", "errors", "half_fov_rad", "in_view_only"});
     SimulatedCamera camera;
     camera.T_world_cam_nominal = ReadPose(node);
     if (node.Has("errors")) {
@@ -169,6 +188,8 @@ void ReadCameras(const ConfigNode& cameras, WorkcellSimulationSpec* spec) {
       const auto v = node["half_fov_rad"].AsDoubles(2);
       camera.half_fov_rad = Eigen::Vector2d(v[0], v[1]);
     }
+    camera.in_view_only = node.GetBool("in_view_only", false);
+    if (camera.in_view_only && !spec->world_target.empty()) CheckWorldTargetInView(node, camera);
     spec->cameras[name] = camera;
     spec->T_world_cam[name] = camera.T_world_cam_nominal;
   }

@@ -98,7 +98,17 @@ WorkcellSimulationSpec WithPoseSets(const WorkcellSimulationSpec& spec, std::mt1
   return out;
 }
 
-// One robot's samples measured by every camera, with its effects and concealed physics.
+// Whether a camera that records only what it sees has the target's origin in its field of view
+// (SimulatedCamera::in_view_only); an ideal camera sees everything.
+bool Sees(const SimulatedCamera& camera, const Pose& T_cam_target) {
+  if (!camera.in_view_only) return true;
+  const Eigen::Vector3d& p = T_cam_target.t;
+  return p.z() > 0 && std::abs(p.x()) < p.z() * std::tan(camera.half_fov_rad.x()) &&
+         std::abs(p.y()) < p.z() * std::tan(camera.half_fov_rad.y());
+}
+
+// One robot's samples measured by every camera that sees them, with its effects and concealed
+// physics.
 void MeasureRobot(const WorkcellSimulationSpec& spec, const SimulatedRobot& robot,
                   Recording* recording, Noise& noise) {
   const std::vector<SampleFacts> facts =
@@ -150,8 +160,13 @@ void MeasureRobot(const WorkcellSimulationSpec& spec, const SimulatedRobot& robo
       };
       const Pose T_cam_world = T_world_cam.inverse();
       if (!spec.world_target.empty()) measure(spec.world_target, T_cam_world);
+      const auto seen = spec.cameras.find(camera);
       for (const auto& [target, T_flange_target] : robot.T_flange_target) {
-        measure(target, T_cam_world * robot.T_world_base * T_base_flange * T_flange_target);
+        const Pose T_cam_target =
+            T_cam_world * robot.T_world_base * T_base_flange * T_flange_target;
+        if (seen == spec.cameras.end() || Sees(seen->second, T_cam_target)) {
+          measure(target, T_cam_target);
+        }
       }
     }
   }

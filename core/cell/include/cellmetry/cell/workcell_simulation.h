@@ -84,6 +84,12 @@ struct SimulatedCamera {
   // Half angles of the field of view about the camera's x and y axes (rad), for the camera_view
   // pose set; OAK-D-like default (1280 x 800 px, f = 880 px).
   Eigen::Vector2d half_fov_rad = Eigen::Vector2d(0.629, 0.427);
+  // Records a carried target only while its origin lies inside that field of view, as a real
+  // camera does (`in_view_only: true`). Off by default: an ideal camera that sees every board
+  // wherever it is, which makes a lens's error at the edge of sight larger than any real lens
+  // shows. The world target is always recorded (it must be in view of the nominal pose: the
+  // reader checks).
+  bool in_view_only = false;
 };
 
 struct WorkcellSimulationSpec {
