@@ -20,14 +20,15 @@
 namespace cellmetry {
 namespace {
 
-// How a camera has seen the carried targets so far: the depths and the angle off its axis.
+// How a camera has seen the carried targets so far: the depths, and how far across and down
+// the image (|x|/z, |y|/z). A pyramid, as an image is a rectangle: a cone through the farthest
+// corner seen would promise views beyond the image's short side, which a real camera misses.
 struct SeenRange {
-  double min_depth_mm = INFINITY, max_depth_mm = 0.0, max_off_axis_rad = 0.0;
+  double min_depth_mm = INFINITY, max_depth_mm = 0.0, max_tan_x = 0.0, max_tan_y = 0.0;
   bool Contains(const Eigen::Vector3d& p) const {
     if (p.z() <= 0.0) return false;
-    const double off_axis = std::atan2(p.head<2>().norm(), p.z());
     return p.z() >= 0.95 * min_depth_mm && p.z() <= 1.05 * max_depth_mm &&
-           off_axis <= max_off_axis_rad;
+           std::abs(p.x()) <= max_tan_x * p.z() && std::abs(p.y()) <= max_tan_y * p.z();
   }
 };
 
@@ -37,9 +38,11 @@ std::map<std::string, SeenRange> SeenRanges(const Recording& recording) {
     if (recording.targets.at(obs.target) == kWorldCarrier) continue;
     SeenRange& r = seen[obs.camera];
     const Eigen::Vector3d& p = obs.position_mm;
+    if (p.z() <= 0.0) continue;  // behind the camera: not a view
     r.min_depth_mm = std::min(r.min_depth_mm, p.z());
     r.max_depth_mm = std::max(r.max_depth_mm, p.z());
-    r.max_off_axis_rad = std::max(r.max_off_axis_rad, std::atan2(p.head<2>().norm(), p.z()));
+    r.max_tan_x = std::max(r.max_tan_x, std::abs(p.x()) / p.z());
+    r.max_tan_y = std::max(r.max_tan_y, std::abs(p.y()) / p.z());
   }
   return seen;
 }
