@@ -116,6 +116,7 @@ std::vector<Pose> TrueToolPoses(const FittedCell& cell, const std::vector<std::v
   spec.sigma_position_mm.setZero();
   spec.sigma_rotation_rad.setZero();
   spec.repeats = 1;
+  for (auto& [name, camera] : spec.cameras) camera.in_view_only = false;  // read every pose
   SimulatedRobot& robot = spec.robots.front();
   robot.pose_set.reset();
   robot.joint_poses = q;

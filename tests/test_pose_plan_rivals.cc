@@ -2,11 +2,11 @@
 // test but the rival test (another effect explains the data nearly as well), the report
 // proposes `cellmetry plan --effect <it> --effect <the rival>`, and the poses it plans tell them
 // apart. The case: the physics suite's joint 2 compliance at SNR 6 (ur3_physics_base.yaml, its
-// size and one of its noise seeds), where the finder stays silent: joint 2's transmission error
-// is its closest candidate, and joint 2 compliance as the cause would give its margin often. The 30
-// poses planned for the two, recorded with the same hidden compliance, make it name the
-// compliance. (30 more random poses left it silent in that seed; over the suite's first ten
-// seeds, docs/physics.md.)
+// size and one of its noise seeds), where the finder stays silent: the compliance is its closest
+// candidate, but were joint 2's transmission error the cause, its margin would come 3.3 % of
+// the time (alpha 1 %). The 30 poses planned for the two, recorded with the same hidden
+// compliance, make it name the compliance. (Over the suite's first ten seeds the finder names
+// it in 3, docs/physics.md; of the silent seeds tried here, 30 planned poses resolve 4 of 8.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,7 +23,7 @@ namespace cellmetry {
 namespace {
 
 constexpr double kCompliance = 4.96e-6;  // rad/(N m): the suite's size for an unabsorbed SNR of 6
-constexpr unsigned kSeed = 1008;         // the suite's 8th seed of the case
+constexpr unsigned kSeed = 1004;         // the suite's 4th seed of the case
 
 // ur3_physics_base.yaml with joint 2's compliance (the job's link masses) hidden in it, the
 // recording's noise drawn from `kSeed` as the physics suite draws it.
@@ -54,28 +54,28 @@ TEST(PosePlanRivals, PosesPlannedForTheClosestCandidateAndItsRivalLetTheFinderNa
   job.options.bootstrap = 40;  // the suite's
   const Recording recorded = SimulateWorkcell(spec, nullptr);
 
-  // Before: silent. The closest candidate fails the rival test alone, against the compliance
-  // (and the bootstrap, which no longer gates, splits its resamples between the two).
+  // Before: silent. The closest candidate, the compliance, fails the rival test alone, against
+  // joint 2's transmission error (and the bootstrap, which no longer gates, includes it in fewer
+  // than 80 % of its resamples).
   const DiagnosisResult before = testing::Diagnose(job, recorded, dir + "/job.yaml");
   EXPECT_TRUE(before.accepted.empty()) << DiagnosisReport(before);
   const CandidateFinding* closest = Closest(before);
   ASSERT_NE(closest, nullptr) << DiagnosisReport(before);
-  EXPECT_EQ(closest->name, "ur3.transmission_j2");
+  EXPECT_EQ(closest->name, "ur3.compliance_j2");
   EXPECT_EQ(closest->failed, std::vector<std::string>{"rivals"});
   EXPECT_GE(closest->rival_p, job.options.alpha);
-  EXPECT_EQ(closest->rival_effect, "ur3.compliance_j2");
+  EXPECT_EQ(closest->rival_effect, "ur3.transmission_j2");
   EXPECT_LT(closest->bootstrap_share, 0.8);
-  EXPECT_EQ(closest->bootstrap_rival_effect, "ur3.compliance_j2");
   // The report says what to record, as a command.
-  const std::string command = "`cellmetry plan " + dir + "/job.yaml --effect ur3.transmission_j2 "
-                              "--effect ur3.compliance_j2` proposes";
+  const std::string command = "`cellmetry plan " + dir + "/job.yaml --effect ur3.compliance_j2 "
+                              "--effect ur3.transmission_j2` proposes";
   EXPECT_NE(DiagnosisReport(before).find(command), std::string::npos) << DiagnosisReport(before);
   EXPECT_NE(report::DiagnoseReportHtml(before, recorded, "test").find(command), std::string::npos);
   int in_json = 0;
   const nlohmann::json json = DiagnosisJson(before);
   for (const auto& f : json["rounds"].back()["candidates"]) {
     if (f["name"] != closest->name) continue;
-    EXPECT_EQ(f["rival_effect"], "ur3.compliance_j2");
+    EXPECT_EQ(f["rival_effect"], "ur3.transmission_j2");
     ++in_json;
   }
   EXPECT_EQ(in_json, 1);
@@ -88,7 +88,7 @@ TEST(PosePlanRivals, PosesPlannedForTheClosestCandidateAndItsRivalLetTheFinderNa
   ASSERT_EQ(plan.poses.size(), 30u);
   for (const auto& pose : plan.poses) EXPECT_FALSE(pose.cameras.empty());
   // What it predicts for the two fitted together with the geometry: every parameter better
-  // determined, the compliance's sigma 2.5e-6 -> 1.8e-6 rad/(N m) (its size is 4.96e-6), the
+  // determined, the compliance's sigma 2.6e-6 -> 1.8e-6 rad/(N m) (its size is 4.96e-6), the
   // transmission error's first harmonic 13 times better (joint 2's swing). How alike the poses
   // leave their signatures hardly moves (0.94 -> 0.92): a joint 2 gravity torque is nearly a
   // first harmonic of joint 2; the plan separates them by determining that harmonic.
