@@ -186,6 +186,14 @@ void ReadCameras(const ConfigNode& cameras, WorkcellSimulationSpec* spec) {
     }
     if (node.Has("half_fov_rad")) {
       const auto v = node["half_fov_rad"].AsDoubles(2);
+      for (size_t i = 0; i < 2; ++i) {
+        if (!(v[i] > 0.0 && v[i] < M_PI / 2)) {
+          throw node["half_fov_rad"].Elements()[i].Error(
+              "a half angle of a field of view is between 0 and pi/2 rad",
+              "Give half the image's width and height as angles, e.g. [0.759, 0.506] for "
+              "87 x 58 deg");
+        }
+      }
       camera.half_fov_rad = Eigen::Vector2d(v[0], v[1]);
     }
     camera.in_view_only = node.GetBool("in_view_only", false);
