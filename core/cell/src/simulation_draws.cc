@@ -31,9 +31,7 @@ Eigen::Vector3d OnCylinder(const CylinderWorkspace& w, std::mt19937& rng) {
 }
 
 bool InView(const PoseSetGeometry& g, const Eigen::Vector3d& marker_base) {
-  const Eigen::Vector3d p = g.T_base_cam.inverse() * marker_base;
-  return p.z() > 0 && std::abs(p.x()) < p.z() * std::tan(g.half_fov_rad.x()) &&
-         std::abs(p.y()) < p.z() * std::tan(g.half_fov_rad.y());
+  return InFieldOfView(g.half_fov_rad, g.T_base_cam.inverse() * marker_base);
 }
 
 double Uniform(std::mt19937& rng, double half_width) {
@@ -41,6 +39,11 @@ double Uniform(std::mt19937& rng, double half_width) {
 }
 
 }  // namespace
+
+bool InFieldOfView(const Eigen::Vector2d& half_fov_rad, const Eigen::Vector3d& p_cam) {
+  return p_cam.z() > 0 && std::abs(p_cam.x()) < p_cam.z() * std::tan(half_fov_rad.x()) &&
+         std::abs(p_cam.y()) < p_cam.z() * std::tan(half_fov_rad.y());
+}
 
 std::string PoseSetName(PoseSet set) {
   switch (set) {

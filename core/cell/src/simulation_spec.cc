@@ -157,9 +157,9 @@ SimulatedRobot ReadRobot(const std::string& name, const ConfigNode& node, Regist
 // from its nominal pose: without it a static camera cannot be placed in the world.
 void CheckWorldTargetInView(const ConfigNode& node, const SimulatedCamera& camera) {
   const Eigen::Vector3d p = camera.T_world_cam_nominal.inverse().t;  // the origin, camera axes
+  if (InFieldOfView(camera.half_fov_rad, p)) return;
   const double off_x = std::atan2(std::abs(p.x()), p.z());
   const double off_y = std::atan2(std::abs(p.y()), p.z());
-  if (p.z() > 0 && off_x < camera.half_fov_rad.x() && off_y < camera.half_fov_rad.y()) return;
   char what[200];
   std::snprintf(what, sizeof what,
                 "the world target is outside this camera's field of view (%.0f and %.0f deg off "

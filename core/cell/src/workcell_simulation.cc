@@ -101,10 +101,7 @@ WorkcellSimulationSpec WithPoseSets(const WorkcellSimulationSpec& spec, std::mt1
 // Whether a camera that records only what it sees has the target's origin in its field of view
 // (SimulatedCamera::in_view_only); an ideal camera sees everything.
 bool Sees(const SimulatedCamera& camera, const Pose& T_cam_target) {
-  if (!camera.in_view_only) return true;
-  const Eigen::Vector3d& p = T_cam_target.t;
-  return p.z() > 0 && std::abs(p.x()) < p.z() * std::tan(camera.half_fov_rad.x()) &&
-         std::abs(p.y()) < p.z() * std::tan(camera.half_fov_rad.y());
+  return !camera.in_view_only || InFieldOfView(camera.half_fov_rad, T_cam_target.t);
 }
 
 // One robot's samples measured by every camera that sees them, with its effects and concealed

@@ -20,10 +20,9 @@
 //                           prism (Weng, Cohen & Herniou 1992), beyond the library's k1, k2, p1,
 //                           p2 (camera_intrinsics): k1 = magnitude, (k2, p1, p2) = `lens_shape`
 //                           and (k3, s1, s3) = `lens_beyond` times magnitude (defaults -0.4, 0.2,
-//                           -0.1 and 0, 0.1, -0.1; normalized image coordinates: k3 is 0 because
-//                           the UR3 suite cell's random poses put boards out to a normalized
-//                           radius of 4.6 in cam2, no field of view applied, where r^6 would be
-//                           the whole lens). A board's
+//                           -0.1 and 0, 0.1, -0.1; normalized image coordinates: k3 is 0, chosen
+//                           when the UR3 suite cell's cam2 saw boards out to a normalized radius
+//                           of 4.6, where r^6 would have been the whole lens). A board's
 //                           centre is seen along the distorted ray and at the size the
 //                           distortion's local stretch gives it, so PnP puts it at depth
 //                           Z / sqrt(det J), J the distortion map's Jacobian there (with k1

@@ -53,6 +53,10 @@ std::vector<double> DrawModelTruth(const RobotModel& model, const std::vector<do
 // exp(drawn rvec) R, t + drawn shift: the camera's true pose around its nominal one.
 Pose DrawCameraTruth(const Pose& nominal, const CameraErrors& errors, std::mt19937& rng);
 
+// Whether a point in a camera's axes (mm, z along the optical axis) lies inside a field of view
+// of half angles `half_fov_rad` about the camera's x and y axes: the image's rectangle.
+bool InFieldOfView(const Eigen::Vector2d& half_fov_rad, const Eigen::Vector3d& p_cam);
+
 // Where a pose set may put the marker: the workspace of `model`, and for camera_view the cone
 // of a camera with pose T_base_cam (nominal) and half field of view.
 struct PoseSetGeometry {
