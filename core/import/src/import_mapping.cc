@@ -256,6 +256,169 @@ FactSpec ReadFact(const ConfigNode& node, const std::vector<std::string>& units,
   return fact;
 }
 
+// table: the file, and for CSV its separator and decimal mark; JSON lines by format or by
+// the file's extension.
+void ReadTable(const ConfigNode& root, ImportMapping* m) {
+  const ConfigNode table = Required(root, "table", "Name the table to import: table: readings.csv "
+                                                   "(relative to this file)");
+  m->table_where = table.location();
+  std::string format_name;
+  if (table.IsMap()) {
+    table.ExpectKeys({"path", "format", "separator", "decimal"});
+    m->table_path = table.ResolvePath(Required(table, "path", "Name the table's file").AsString());
+    if (table.Has("format")) format_name = OneOf(table["format"], {"csv", "jsonl"}, "table format");
+    if (table.Has("separator")) {
+      const std::string s = OneOf(table["separator"], {",", ";", "tab"}, "separator");
+      m->csv.separator = s == "tab" ? '\t' : s[0];
+    }
+    if (table.Has("decimal")) {
+      m->csv.decimal = OneOf(table["decimal"], {".", ","}, "decimal mark")[0];
+    }
+    if (m->csv.separator && m->csv.separator == m->csv.decimal) {
+      throw table["decimal"].Error("the separator and the decimal mark are both ','",
+                                   "A table with decimal commas separates its fields with ';'");
+    }
+  } else {
+    m->table_path = table.ResolvePath(table.AsString());
+  }
+  if (format_name.empty()) {
+    const std::string& p = m->table_path;
+    const size_t dot = p.find_last_of('.');
+    const std::string extension = dot == std::string::npos ? "" : p.substr(dot + 1);
+    format_name = extension == "jsonl" || extension == "ndjson" || extension == "json" ? "jsonl"
+                                                                                       : "csv";
+  }
+  m->json_lines = format_name == "jsonl";
+  if (m->json_lines && table.IsMap() && (table.Has("separator") || table.Has("decimal"))) {
+    throw table.Error("separator and decimal are for CSV tables",
+                      "JSON lines need neither: remove them");
+  }
+}
+
+// The factors from the table's length and angle units to mm and rad.
+struct TableUnits {
+  double to_mm = 1.0;
+  double to_rad = 1.0;
+};
+
+TableUnits ReadUnits(const ConfigNode& root) {
+  const ConfigNode units = Required(root, "units", "Say the table's units: units: {length: m, "
+                                                   "angle: deg} (mm or m, rad or deg)");
+  units.ExpectMap();
+  units.ExpectKeys({"length", "angle"});
+  TableUnits out;
+  out.to_mm = LengthToMm(Required(units, "length", "Add length: mm or length: m"));
+  out.to_rad = AngleToRad(Required(units, "angle", "Add angle: rad or angle: deg"));
+  return out;
+}
+
+// robot: its name as the job will give it, its joint columns in joint order, and their angle
+// unit where it is not the table's.
+void ReadRobot(const ConfigNode& root, const TableUnits& units, ImportMapping* m) {
+  const ConfigNode robot = Required(root, "robot", "Say which robot the joints are: robot: {name: "
+                                                   "ur3, joints: [q1, q2, q3, q4, q5, q6]}");
+  robot.ExpectMap();
+  robot.ExpectKeys({"name", "joints", "angle"});
+  m->robot =
+      Required(robot, "name", "Name the robot as the job will (robot: {name: ur3})").AsString();
+  if (m->robot == kWorldCarrier || m->robot.find_first_of(",\"\n ") != std::string::npos) {
+    throw robot["name"].Error("'" + m->robot + "' cannot name a robot",
+                              "Choose a plain name without spaces, not 'world'");
+  }
+  const ConfigNode joints = Required(robot, "joints", "List the joint readings' columns in joint "
+                                                      "order: joints: [q1, q2, q3, q4, q5, q6]");
+  if (!joints.IsSequence() || joints.Elements().empty()) {
+    throw joints.Error("expected a list of column names", "joints: [q1, q2, q3, q4, q5, q6]");
+  }
+  for (const auto& j : joints.Elements()) m->joints.push_back(Column(j));
+  m->joint_to_rad = robot.Has("angle") ? AngleToRad(robot["angle"]) : units.to_rad;
+}
+
+// samples: the column that ties one capture's rows together.
+void ReadSamples(const ConfigNode& samples, ImportMapping* m) {
+  samples.ExpectMap();
+  samples.ExpectKeys({"column"});
+  m->sample_column = Column(Required(samples, "column",
+                                     "Name the column that ties a sample's "
+                                     "rows together: samples: {column: capture}"));
+}
+
+// poses: how repeated captures of one pose are found, by a column or by unchanged joints.
+void ReadPoses(const ConfigNode& poses, ImportMapping* m) {
+  poses.ExpectMap();
+  poses.ExpectKeys({"column", "consecutive_joints"});
+  if (poses.Has("column") == poses.Has("consecutive_joints")) {
+    throw poses.Error("give one way to find repeated poses",
+                      "poses: {column: pose} (a column naming the commanded pose) or poses: "
+                      "{consecutive_joints: 0} (consecutive samples with the same joints, "
+                      "within this many rad)");
+  }
+  if (poses.Has("column")) {
+    m->poses = PoseGrouping::kColumn;
+    m->pose_column = Column(poses["column"]);
+  } else {
+    m->poses = PoseGrouping::kConsecutiveJoints;
+    m->pose_joint_tolerance_rad =
+        poses.GetDoubleIn("consecutive_joints", 0.0, 0.0, 0.1,
+                          "The largest joint difference (rad) between captures of one pose");
+  }
+}
+
+// targets: each target's name and what carries it (the robot or the world).
+void ReadTargets(const ConfigNode& root, ImportMapping* m) {
+  const ConfigNode targets = Required(root, "targets", "List the targets and what carries each: "
+                                                       "targets: {tool: {on: " + m->robot +
+                                                       "}, world: {on: world}}");
+  for (const auto& name : targets.Keys()) {
+    const ConfigNode target = targets[name];
+    target.ExpectMap();
+    target.ExpectKeys({"on"});
+    const ConfigNode on = Required(target, "on", "Say what carries it: on: " + m->robot +
+                                                     " or on: world");
+    const std::string carrier = on.AsString();
+    if (carrier != m->robot && carrier != kWorldCarrier) {
+      throw on.Error(
+          "target '" + name + "' is on '" + carrier + "', neither the robot nor the world",
+          "Write on: " + m->robot + " (carried by the robot) or on: world (fixed)");
+    }
+    if (name.find_first_of(",\"\n") != std::string::npos) {
+      throw target.Error("a target name may not hold ',' '\"' or a line break", "Rename it");
+    }
+    m->targets.emplace_back(name, carrier);
+  }
+}
+
+// observations: one entry per (camera, target) pose a row holds.
+void ReadObservations(const ConfigNode& root, const TableUnits& units, ImportMapping* m) {
+  const ConfigNode observations = Required(root, "observations",
+                                           "List what each row observed: observations: [{camera: "
+                                           "cam1, target: tool, position: [x, y, z], rotation: "
+                                           "{...}}]");
+  if (!observations.IsSequence() || observations.Elements().empty()) {
+    throw observations.Error("expected a list of observations",
+                             "One entry per (camera, target) pose a row holds");
+  }
+  for (const auto& entry : observations.Elements()) {
+    m->observations.push_back(ReadObservation(entry, *m, units.to_mm, units.to_rad));
+  }
+}
+
+// facts: the columns of time, temperature and payload, each with its unit.
+void ReadFacts(const ConfigNode& facts, ImportMapping* m) {
+  facts.ExpectMap();
+  facts.ExpectKeys({"time", "temperature", "payload"});
+  if (facts.Has("time")) {
+    m->time_s = ReadFact(facts["time"], {"s", "ms", "min", "h"},
+                         {{1.0, 0.0}, {1e-3, 0.0}, {60.0, 0.0}, {3600.0, 0.0}});
+  }
+  if (facts.Has("temperature")) {
+    m->temperature_c = ReadFact(facts["temperature"], {"C", "K"}, {{1.0, 0.0}, {1.0, -273.15}});
+  }
+  if (facts.Has("payload")) {
+    m->payload_kg = ReadFact(facts["payload"], {"kg", "g"}, {{1.0, 0.0}, {1e-3, 0.0}});
+  }
+}
+
 }  // namespace
 
 std::vector<const ColumnRef*> ImportMapping::AllColumns() const {
@@ -292,143 +455,14 @@ ImportMapping ReadImportMapping(const std::string& path) {
                        std::string("This version reads ") + kImportMappingFormat);
   }
   m.description = root.GetString("description", "");
-
-  const ConfigNode table = Required(root, "table", "Name the table to import: table: readings.csv "
-                                                   "(relative to this file)");
-  m.table_where = table.location();
-  std::string format_name;
-  if (table.IsMap()) {
-    table.ExpectKeys({"path", "format", "separator", "decimal"});
-    m.table_path = table.ResolvePath(Required(table, "path", "Name the table's file").AsString());
-    if (table.Has("format")) format_name = OneOf(table["format"], {"csv", "jsonl"}, "table format");
-    if (table.Has("separator")) {
-      const std::string s = OneOf(table["separator"], {",", ";", "tab"}, "separator");
-      m.csv.separator = s == "tab" ? '\t' : s[0];
-    }
-    if (table.Has("decimal"))
-      m.csv.decimal = OneOf(table["decimal"], {".", ","}, "decimal mark")[0];
-    if (m.csv.separator && m.csv.separator == m.csv.decimal) {
-      throw table["decimal"].Error("the separator and the decimal mark are both ','",
-                                   "A table with decimal commas separates its fields with ';'");
-    }
-  } else {
-    m.table_path = table.ResolvePath(table.AsString());
-  }
-  if (format_name.empty()) {
-    const std::string p = m.table_path;
-    const size_t dot = p.find_last_of('.');
-    const std::string extension = dot == std::string::npos ? "" : p.substr(dot + 1);
-    format_name = extension == "jsonl" || extension == "ndjson" || extension == "json" ? "jsonl"
-                                                                                       : "csv";
-  }
-  m.json_lines = format_name == "jsonl";
-  if (m.json_lines && table.IsMap() && (table.Has("separator") || table.Has("decimal"))) {
-    throw table.Error("separator and decimal are for CSV tables",
-                      "JSON lines need neither: remove them");
-  }
-
-  const ConfigNode units = Required(root, "units", "Say the table's units: units: {length: m, "
-                                                   "angle: deg} (mm or m, rad or deg)");
-  units.ExpectMap();
-  units.ExpectKeys({"length", "angle"});
-  const double to_mm = LengthToMm(Required(units, "length", "Add length: mm or length: m"));
-  const double to_rad = AngleToRad(Required(units, "angle", "Add angle: rad or angle: deg"));
-
-  const ConfigNode robot = Required(root, "robot", "Say which robot the joints are: robot: {name: "
-                                                   "ur3, joints: [q1, q2, q3, q4, q5, q6]}");
-  robot.ExpectMap();
-  robot.ExpectKeys({"name", "joints", "angle"});
-  m.robot =
-      Required(robot, "name", "Name the robot as the job will (robot: {name: ur3})").AsString();
-  if (m.robot == kWorldCarrier || m.robot.find_first_of(",\"\n ") != std::string::npos) {
-    throw robot["name"].Error("'" + m.robot + "' cannot name a robot",
-                              "Choose a plain name without spaces, not 'world'");
-  }
-  const ConfigNode joints = Required(robot, "joints", "List the joint readings' columns in joint "
-                                                      "order: joints: [q1, q2, q3, q4, q5, q6]");
-  if (!joints.IsSequence() || joints.Elements().empty()) {
-    throw joints.Error("expected a list of column names", "joints: [q1, q2, q3, q4, q5, q6]");
-  }
-  for (const auto& j : joints.Elements()) m.joints.push_back(Column(j));
-  m.joint_to_rad = robot.Has("angle") ? AngleToRad(robot["angle"]) : to_rad;
-
-  if (root.Has("samples")) {
-    const ConfigNode samples = root["samples"];
-    samples.ExpectMap();
-    samples.ExpectKeys({"column"});
-    m.sample_column = Column(Required(samples, "column",
-                                      "Name the column that ties a sample's "
-                                      "rows together: samples: {column: capture}"));
-  }
-  if (root.Has("poses")) {
-    const ConfigNode poses = root["poses"];
-    poses.ExpectMap();
-    poses.ExpectKeys({"column", "consecutive_joints"});
-    if (poses.Has("column") == poses.Has("consecutive_joints")) {
-      throw poses.Error("give one way to find repeated poses",
-                        "poses: {column: pose} (a column naming the commanded pose) or poses: "
-                        "{consecutive_joints: 0} (consecutive samples with the same joints, "
-                        "within this many rad)");
-    }
-    if (poses.Has("column")) {
-      m.poses = PoseGrouping::kColumn;
-      m.pose_column = Column(poses["column"]);
-    } else {
-      m.poses = PoseGrouping::kConsecutiveJoints;
-      m.pose_joint_tolerance_rad =
-          poses.GetDoubleIn("consecutive_joints", 0.0, 0.0, 0.1,
-                            "The largest joint difference (rad) between captures of one pose");
-    }
-  }
-
-  const ConfigNode targets = Required(root, "targets", "List the targets and what carries each: "
-                                                       "targets: {tool: {on: " + m.robot +
-                                                       "}, world: {on: world}}");
-  for (const auto& name : targets.Keys()) {
-    const ConfigNode target = targets[name];
-    target.ExpectMap();
-    target.ExpectKeys({"on"});
-    const ConfigNode on = Required(target, "on", "Say what carries it: on: " + m.robot +
-                                                     " or on: world");
-    const std::string carrier = on.AsString();
-    if (carrier != m.robot && carrier != kWorldCarrier) {
-      throw on.Error(
-          "target '" + name + "' is on '" + carrier + "', neither the robot nor the world",
-          "Write on: " + m.robot + " (carried by the robot) or on: world (fixed)");
-    }
-    if (name.find_first_of(",\"\n") != std::string::npos) {
-      throw target.Error("a target name may not hold ',' '\"' or a line break", "Rename it");
-    }
-    m.targets.emplace_back(name, carrier);
-  }
-
-  const ConfigNode observations = Required(root, "observations",
-                                           "List what each row observed: observations: [{camera: "
-                                           "cam1, target: tool, position: [x, y, z], rotation: "
-                                           "{...}}]");
-  if (!observations.IsSequence() || observations.Elements().empty()) {
-    throw observations.Error("expected a list of observations",
-                             "One entry per (camera, target) pose a row holds");
-  }
-  for (const auto& entry : observations.Elements()) {
-    m.observations.push_back(ReadObservation(entry, m, to_mm, to_rad));
-  }
-
-  if (root.Has("facts")) {
-    const ConfigNode facts = root["facts"];
-    facts.ExpectMap();
-    facts.ExpectKeys({"time", "temperature", "payload"});
-    if (facts.Has("time")) {
-      m.time_s = ReadFact(facts["time"], {"s", "ms", "min", "h"},
-                          {{1.0, 0.0}, {1e-3, 0.0}, {60.0, 0.0}, {3600.0, 0.0}});
-    }
-    if (facts.Has("temperature")) {
-      m.temperature_c = ReadFact(facts["temperature"], {"C", "K"}, {{1.0, 0.0}, {1.0, -273.15}});
-    }
-    if (facts.Has("payload")) {
-      m.payload_kg = ReadFact(facts["payload"], {"kg", "g"}, {{1.0, 0.0}, {1e-3, 0.0}});
-    }
-  }
+  ReadTable(root, &m);
+  const TableUnits units = ReadUnits(root);
+  ReadRobot(root, units, &m);
+  if (root.Has("samples")) ReadSamples(root["samples"], &m);
+  if (root.Has("poses")) ReadPoses(root["poses"], &m);
+  ReadTargets(root, &m);
+  ReadObservations(root, units, &m);
+  if (root.Has("facts")) ReadFacts(root["facts"], &m);
   return m;
 }
 
