@@ -324,45 +324,48 @@ void WriteWorkcellResult(const WorkcellResult& result, const std::string& folder
   out.Commit();
 }
 
-std::string WorkcellSummary(const WorkcellResult& r) {
-  std::ostringstream out;
-  out << "Workcell identification (" << CameraModelName(r.camera_model)
-      << (r.residual_form == ResidualForm::kJointSpace ? ", joint-space residual" : "")
-      << ", solver "
-      << r.solver.solver << ": " << r.solver.iterations << " iterations, "
-      << FixedNumber(r.solver.time_s * 1e3, 1) << " ms, " << r.solver.stop_reason << ")\n";
-  for (const auto& f : r.frames) {
-    const Eigen::Vector3d rvec = RvecFromRotation(f.pose.R);
-    auto sigmas = [&f](const Eigen::Vector3d& sigma, int offset) {
-      std::string text;
-      for (int i = 0; i < 3; ++i) {
-        text += (i ? ", " : "") + (f.held[offset + i] ? std::string("held") : SigmaText(sigma[i]));
-      }
-      return "(" + text + ")";
-    };
-    out << "  " << f.name << " in " << f.parent << ": xyz = (" << FixedNumber(f.pose.t.x(), 2)
-        << ", " << FixedNumber(f.pose.t.y(), 2) << ", " << FixedNumber(f.pose.t.z(), 2)
-        << ") mm +- " << sigmas(f.sigma_mm, 0) << ", rvec = (" << FixedNumber(rvec.x(), 4) << ", "
-        << FixedNumber(rvec.y(), 4) << ", " << FixedNumber(rvec.z(), 4) << ") rad +- "
-        << sigmas(f.sigma_rad, 3) << "\n";
-    PrintSigmaParts(f, out);
-  }
-  if (!r.robot_to_robot.empty()) {
-    out << "  robot to robot (sigma from both bases' joint covariance; the reverse ones in "
-           "result.yaml):\n";
-    std::set<std::pair<std::string, std::string>> said;  // each pair once, in the job's order
-    size_t left = 0;
-    for (const auto& p : r.robot_to_robot) {
-      if (said.count({p.frame.name, p.frame.parent})) continue;
-      said.insert({p.frame.parent, p.frame.name});
-      if (said.size() > 10) {  // a large cell: the rest in the files
-        ++left;
-        continue;
-      }
-      out << "  " << PairSummaryLine(p.frame);
+namespace {
+
+// A frame's line: its pose in its parent, with sigma per coordinate ("held" where it was), and
+// the parts of sigma below it.
+void PrintFrame(const FrameEstimate& f, std::ostringstream& out) {
+  const Eigen::Vector3d rvec = RvecFromRotation(f.pose.R);
+  auto sigmas = [&f](const Eigen::Vector3d& sigma, int offset) {
+    std::string text;
+    for (int i = 0; i < 3; ++i) {
+      text += (i ? ", " : "") + (f.held[offset + i] ? std::string("held") : SigmaText(sigma[i]));
     }
-    if (left > 0) out << "    ... and " << left << " more pairs in result.yaml\n";
+    return "(" + text + ")";
+  };
+  out << "  " << f.name << " in " << f.parent << ": xyz = (" << FixedNumber(f.pose.t.x(), 2)
+      << ", " << FixedNumber(f.pose.t.y(), 2) << ", " << FixedNumber(f.pose.t.z(), 2)
+      << ") mm +- " << sigmas(f.sigma_mm, 0) << ", rvec = (" << FixedNumber(rvec.x(), 4) << ", "
+      << FixedNumber(rvec.y(), 4) << ", " << FixedNumber(rvec.z(), 4) << ") rad +- "
+      << sigmas(f.sigma_rad, 3) << "\n";
+  PrintSigmaParts(f, out);
+}
+
+// Each pair of robots once, in the job's order; in a large cell the first ten.
+void PrintRobotToRobot(const WorkcellResult& r, std::ostringstream& out) {
+  if (r.robot_to_robot.empty()) return;
+  out << "  robot to robot (sigma from both bases' joint covariance; the reverse ones in "
+         "result.yaml):\n";
+  std::set<std::pair<std::string, std::string>> said;
+  size_t left = 0;
+  for (const auto& p : r.robot_to_robot) {
+    if (said.count({p.frame.name, p.frame.parent})) continue;
+    said.insert({p.frame.parent, p.frame.name});
+    if (said.size() > 10) {  // the rest in the files
+      ++left;
+      continue;
+    }
+    out << "  " << PairSummaryLine(p.frame);
   }
+  if (left > 0) out << "    ... and " << left << " more pairs in result.yaml\n";
+}
+
+// The model's parameters, the observations left out, what was held and what moves together.
+void PrintParameters(const WorkcellResult& r, std::ostringstream& out) {
   for (const auto& p : r.model_parameters) {
     out << "  " << p.name << " = " << FixedNumber(p.value, 5) << " "
         << (p.held ? "held (not identifiable)" : "+- " + SigmaText(p.sigma)) << " " << p.unit
@@ -381,6 +384,11 @@ std::string WorkcellSummary(const WorkcellResult& r) {
     out << "  strongly correlated: " << c.a << " ~ " << c.b << " (" << FixedNumber(c.correlation, 3)
         << ")\n";
   }
+}
+
+// How well the answer fits: residual RMS per camera and target, held out against the floor,
+// and on fresh poses where the job scored some.
+void PrintFitQuality(const WorkcellResult& r, std::ostringstream& out) {
   for (const auto& [key, rms] : r.position_rms) {
     out << "  residual RMS " << key << ": x " << FixedNumber(rms.axis.x(), 3) << ", y "
         << FixedNumber(rms.axis.y(), 3) << ", depth " << FixedNumber(rms.axis.z(), 3) << " mm (n="
@@ -405,6 +413,20 @@ std::string WorkcellSummary(const WorkcellResult& r) {
         << FixedNumber(v.after.norm, 4) << " mm; mean " << FixedNumber(v.mean_after_mm, 4)
         << ", max " << FixedNumber(v.max_after_mm, 4) << " mm\n";
   }
+}
+
+}  // namespace
+
+std::string WorkcellSummary(const WorkcellResult& r) {
+  std::ostringstream out;
+  out << "Workcell identification (" << CameraModelName(r.camera_model)
+      << (r.residual_form == ResidualForm::kJointSpace ? ", joint-space residual" : "")
+      << ", solver " << r.solver.solver << ": " << r.solver.iterations << " iterations, "
+      << FixedNumber(r.solver.time_s * 1e3, 1) << " ms, " << r.solver.stop_reason << ")\n";
+  for (const auto& f : r.frames) PrintFrame(f, out);
+  PrintRobotToRobot(r, out);
+  PrintParameters(r, out);
+  PrintFitQuality(r, out);
   for (const auto& w : r.warnings) out << "  warning: " << w << "\n";
   if (!r.stages.empty()) out << "  " << StagesLine(r.stages) << "\n";
   return out.str();
