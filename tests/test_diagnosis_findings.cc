@@ -204,7 +204,9 @@ TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {
   const DiagnosisJob job = testing::Ur3DiagnoseJob(dir);
   const Recording recording = SimulateWorkcell(SuiteCell(dir, 7, 20), nullptr);
   std::map<std::string, std::string> site;
-  for (const auto& c : JobCandidates(job, recording, testing::Plugins())) site[c.effect.name] = c.site;
+  for (const auto& c : JobCandidates(job, recording, testing::Plugins())) {
+    site[c.effect.name] = c.site;
+  }
   EXPECT_EQ(site.at("ur3.compliance_j3"), "ur3 joint 3");
   EXPECT_EQ(site.at("ur3.transmission_j3"), "ur3 joint 3");
   EXPECT_EQ(site.at("ur3.transmission_j3_h2"), "ur3 joint 3");

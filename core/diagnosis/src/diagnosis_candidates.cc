@@ -100,7 +100,9 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
                                                const DiagnosisOptions& options,
                                                Registry& registry) {
   std::string masses, harmonics = "1, 2";
-  for (double m : options.link_masses_kg) masses += (masses.empty() ? "" : ", ") + std::to_string(m);
+  for (double m : options.link_masses_kg) {
+    masses += (masses.empty() ? "" : ", ") + std::to_string(m);
+  }
   for (int h : options.gear_harmonics) {
     if (h > 2) harmonics += ", " + std::to_string(h);
   }
@@ -123,8 +125,9 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
       const std::string family = prefix + "transmission_j" + J;
       for (const std::string& h : std::vector<std::string>{"1", "2", harmonics}) {
         const bool all = h == harmonics;
-        out.push_back(Make("{type: transmission_error, joints: [" + J + "], harmonics: [" + h + "]}",
-                           all ? family : family + "_h" + h, robot,
+        const std::string config =
+            "{type: transmission_error, joints: [" + J + "], harmonics: [" + h + "]}";
+        out.push_back(Make(config, all ? family : family + "_h" + h, robot,
                            joint + " transmission error" + (all ? "" : " (harmonic " + h + ")"),
                            "a wider range of " + joint + " (at least half a turn)", registry));
         out.back().family = family;

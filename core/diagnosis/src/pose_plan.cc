@@ -372,7 +372,9 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
   const Recording extended = WithDraws(recording, draws, &pose_of_draw);
   const Jacobian jac = Linearized(spec, extended, fitted, candidates);
   std::map<int, int> draw_of_pose;
-  for (size_t k = 0; k < pose_of_draw.size(); ++k) draw_of_pose[pose_of_draw[k]] = static_cast<int>(k);
+  for (size_t k = 0; k < pose_of_draw.size(); ++k) {
+    draw_of_pose[pose_of_draw[k]] = static_cast<int>(k);
+  }
   std::vector<int> recorded_rows, all_draw_rows;
   std::vector<std::vector<int>> draw_rows(draws.size());
   for (int r = 0; r < static_cast<int>(jac.row_pose.size()); ++r) {
@@ -386,8 +388,11 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
   }
   const std::vector<int> targets = Targets(jac, candidates, recorded_rows, all_draw_rows, options);
   std::vector<int> columns = jac.geometry;
-  for (int c : targets) columns.insert(columns.end(), jac.candidate[c].begin(), jac.candidate[c].end());
-  const std::vector<int> chosen = ChooseDOptimal(jac, recorded_rows, draw_rows, columns, options.poses);
+  for (int c : targets) {
+    columns.insert(columns.end(), jac.candidate[c].begin(), jac.candidate[c].end());
+  }
+  const std::vector<int> chosen =
+      ChooseDOptimal(jac, recorded_rows, draw_rows, columns, options.poses);
   std::vector<int> after_rows = recorded_rows;
   for (int k : chosen) {
     plan.poses.push_back(draws[k].pose);
@@ -418,7 +423,8 @@ std::string PosePlanReport(const PosePlan& plan) {
       << " drawn poses in view).\n";
   for (const auto& e : plan.effects) {
     char line[256];
-    std::snprintf(line, sizeof(line), "  %s: %.0f %% of its signature outside the geometry -> %.0f %%%s\n",
+    std::snprintf(line, sizeof(line),
+                  "  %s: %.0f %% of its signature outside the geometry -> %.0f %%%s\n",
                   e.label.c_str(), 100 * e.unabsorbed_before, 100 * e.unabsorbed_after,
                   e.unabsorbed_after >= 0.05 ? " (testable)" : " (still untestable)");
     out << line;

@@ -49,7 +49,8 @@ Eigen::MatrixXd PieceTriangle(const SparseJacobian& J, const RowGroup& group, si
   const int* starts = J.outerIndexPtr();
   for (size_t k = begin; k < end; ++k) {
     const double* row = values + starts[group.rows[k]];  // the group's columns, in order
-    for (Eigen::Index c = 0; c < width; ++c) block(static_cast<Eigen::Index>(k - begin), c) = row[c];
+    const Eigen::Index r = static_cast<Eigen::Index>(k - begin);
+    for (Eigen::Index c = 0; c < width; ++c) block(r, c) = row[c];
   }
   return Triangle(block);
 }

@@ -17,7 +17,8 @@ std::string Join(const std::vector<std::string>& items) {
   return out;
 }
 
-void FitRow(const std::string& name, const FitSummary& f, std::vector<std::vector<std::string>>* rows) {
+void FitRow(const std::string& name, const FitSummary& f,
+            std::vector<std::vector<std::string>>* rows) {
   rows->push_back({name, Num(f.chi2, 5), Num(f.dof, 5), Num(f.p_value, 3), Num(f.rms_mm, 4),
                    Num(f.held_out_rms_mm, 4), Num(f.held_out_sigma, 4)});
 }
@@ -26,7 +27,8 @@ void FitRow(const std::string& name, const FitSummary& f, std::vector<std::vecto
 void SignatureSection(const AcceptedEffect& a, HtmlPage* page) {
   page->Paragraph(a.name + ": " + a.description + " (largest tool displacement " +
                   Num(a.peak_mm, 3) + " mm" +
-                  (a.aliases.empty() ? "" : "; these poses cannot tell it from " + Join(a.aliases)) +
+                  (a.aliases.empty() ? ""
+                                     : "; these poses cannot tell it from " + Join(a.aliases)) +
                   ")");
   std::map<std::pair<std::string, int>, std::pair<Series, Series>> panels;
   for (const auto& p : a.signature) {
@@ -61,17 +63,22 @@ void CandidatesSection(const DiagnosisResult& r, HtmlPage* page) {
   page->Section("Candidates, round by round", "candidates");
   for (size_t k = 0; k < r.rounds.size(); ++k) {
     const DiagnosisRound& round = r.rounds[k];
-    page->Paragraph("Round " + std::to_string(k + 1) + " (dispersion " + Num(round.dispersion, 3) +
-                    "): " + (round.accepted.empty() ? "nothing accepted" : "accepted " + round.accepted));
+    const std::string accepted =
+        round.accepted.empty() ? "nothing accepted" : "accepted " + round.accepted;
+    page->Paragraph("Round " + std::to_string(k + 1) + " (dispersion " +
+                    Num(round.dispersion, 3) + "): " + accepted);
     std::vector<std::vector<std::string>> rows;
     std::vector<IntervalRow> scores;
     for (const auto& c : round.candidates) {
       rows.push_back({c.label, std::to_string(c.dof), Num(c.score, 4), Num(c.p_holm, 3),
-                      c.refitted ? Num(c.likelihood_ratio, 4) : "", c.refitted ? Num(c.delta_bic, 4) : "",
+                      c.refitted ? Num(c.likelihood_ratio, 4) : "",
+                      c.refitted ? Num(c.delta_bic, 4) : "",
                       c.cv_gain_se > 0 ? Num(c.cv_gain, 3) + " ± " + Num(c.cv_gain_se, 2) : "",
                       c.bootstrap_share > 0 ? Num(c.bootstrap_share, 3) : "",
                       Num(c.unabsorbed, 3), c.accepted ? "accepted" : Join(c.failed)});
-      if (scores.size() < 25) scores.push_back({c.label, c.score, c.score, c.score, c.accepted ? 2 : 0});
+      if (scores.size() < 25) {
+        scores.push_back({c.label, c.score, c.score, c.score, c.accepted ? 2 : 0});
+      }
     }
     page->Raw(IntervalPlot("candidate_scores", scores, "score statistic (chi-square)",
                            "The round's strongest " + std::to_string(scores.size()) +
@@ -82,7 +89,9 @@ void CandidatesSection(const DiagnosisResult& r, HtmlPage* page) {
   }
   if (!r.untestable.empty()) {
     std::vector<std::vector<std::string>> rows;
-    for (const auto& c : r.untestable) rows.push_back({c.label, c.untestable_because, c.data_needed});
+    for (const auto& c : r.untestable) {
+      rows.push_back({c.label, c.untestable_because, c.data_needed});
+    }
     page->Paragraph("Untestable with these poses");
     page->Table({"candidate", "because", "what would make it testable"}, rows, 100);
   }
@@ -111,9 +120,10 @@ void FindingsSection(const DiagnosisResult& r, HtmlPage* page) {
   page->Table({"site", "finding (headline)", "also physics here", "its residual shape",
                "held-out excess removed (σ²)"},
               rows);
-  page->Note("An effect at a finding's site counts as physics of its own when it removes at least " +
-             Num(100 * r.min_group_share, 2) + " % of the group's held-out excess or is shaped " +
-             "unlike the headline (correlation below " + Num(r.shape_correlation, 2) + ").");
+  page->Note("An effect at a finding's site counts as physics of its own when it removes at "
+             "least " + Num(100 * r.min_group_share, 2) +
+             " % of the group's held-out excess or is shaped unlike the headline (correlation "
+             "below " + Num(r.shape_correlation, 2) + ").");
 }
 
 }  // namespace
@@ -139,7 +149,9 @@ std::string DiagnoseReportHtml(const DiagnosisResult& r, const Recording& record
   for (const auto& a : r.accepted) {
     SignatureSection(a, &page);
     std::vector<std::vector<std::string>> rows;
-    for (const auto& p : a.parameters) rows.push_back({p.name, p.unit, Num(p.value, 5), Num(p.sigma, 2)});
+    for (const auto& p : a.parameters) {
+      rows.push_back({p.name, p.unit, Num(p.value, 5), Num(p.sigma, 2)});
+    }
     page.Table({"parameter", "unit", "value", "sigma"}, rows);
   }
   CandidatesSection(r, &page);
@@ -148,8 +160,8 @@ std::string DiagnoseReportHtml(const DiagnosisResult& r, const Recording& record
   std::vector<std::vector<std::string>> rows;
   for (const auto& f : r.regressors) {
     if (bars.size() < 20) {
-      bars.push_back({f.regressor + " (" + f.axis + ")", f.partial_correlation, 0, f.partial_correlation,
-                      f.p_value < 0.01 ? 1 : 0});
+      bars.push_back({f.regressor + " (" + f.axis + ")", f.partial_correlation, 0,
+                      f.partial_correlation, f.p_value < 0.01 ? 1 : 0});
     }
     rows.push_back({f.regressor, f.axis, Num(f.partial_correlation, 3), Num(f.p_value, 3)});
   }

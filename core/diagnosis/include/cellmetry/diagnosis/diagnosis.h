@@ -178,7 +178,8 @@ struct CandidateFinding {
   double rival_p = 0.0;             // with selection_test "rivals": the largest p of the rival
   std::string rival;                // test over the other groups' members, that member's label
   std::string rival_effect;         // and its name (what `cellmetry plan --effect` takes)
-  std::vector<LookAlike> look_alikes;  // the round's chosen one: correlation >= 0.8, strongest first
+  // The round's chosen one's look-alikes: correlation >= 0.8, strongest first.
+  std::vector<LookAlike> look_alikes;
   std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
   std::vector<std::string> alias_names;  // the same, by candidate name
   std::string implausible;          // refitted: a size beyond its physics' plausible range, in
