@@ -93,6 +93,85 @@ void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording
   }
 }
 
+// Per joint of `robot`: its compliance (under `masses`, the job's link masses, "" for the
+// model's own), backlash, transmission error (each harmonic alone, and `harmonics` together)
+// and gear ratio error.
+void AddJointCandidates(const WorkcellRobot& robot, const std::string& masses,
+                        const std::string& harmonics, Registry& registry,
+                        std::vector<CandidateEffect>* out) {
+  const std::string prefix = robot.name + ".";
+  for (int j = 1; j <= robot.model->num_joints(); ++j) {
+    const std::string J = std::to_string(j), joint = "joint " + J;
+    out->push_back(Make("{type: joint_compliance, joints: [" + J + "]" +
+                            (masses.empty() ? "" : ", link_masses_kg: [" + masses + "]") + "}",
+                        prefix + "compliance_j" + J, robot, joint + " compliance",
+                        "poses that load " + joint + " differently (outstretched and folded)",
+                        registry));
+    out->push_back(Make("{type: backlash, joints: [" + J + "]}", prefix + "backlash_j" + J,
+                        robot, joint + " backlash",
+                        "moves into poses from both directions on " + joint, registry));
+    // One candidate per harmonic (two parameters each, so that a single harmonic does not pay
+    // for four) and one with them all (where the error has several, each alone carries only
+    // its share); one family, since all name the same physics.
+    const std::string family = prefix + "transmission_j" + J;
+    for (const std::string& h : std::vector<std::string>{"1", "2", harmonics}) {
+      const bool all = h == harmonics;
+      const std::string config =
+          "{type: transmission_error, joints: [" + J + "], harmonics: [" + h + "]}";
+      out->push_back(Make(config, all ? family : family + "_h" + h, robot,
+                          joint + " transmission error" + (all ? "" : " (harmonic " + h + ")"),
+                          "a wider range of " + joint + " (at least half a turn)", registry));
+      out->back().family = family;
+    }
+    out->push_back(Make("{type: joint_scale, joints: [" + J + "]}", prefix + "scale_j" + J,
+                        robot, joint + " gear ratio error", "a wider range of " + joint,
+                        registry));
+  }
+}
+
+// Per rod pair of a parallel arm (none for a serial one): its parallelogram's skew and its ball
+// joints' clearance.
+void AddParallelLinkCandidates(const WorkcellRobot& robot, Registry& registry,
+                               std::vector<CandidateEffect>* out) {
+  const int links = ParallelLinkCount(*robot.model);
+  for (int i = 1; i <= links; ++i) {
+    const std::string I = std::to_string(i), arm = "arm " + I;
+    out->push_back(Make("{type: platform_tilt, arms: [" + I + "]}", robot.name + ".tilt_arm" + I,
+                        robot, arm + " parallelogram skew",
+                        "poses that turn " + arm + "'s rods further", registry));
+    out->push_back(Make("{type: ball_joint_clearance, arms: [" + I + "]}",
+                        robot.name + ".clearance_arm" + I, robot, arm + " ball-joint clearance",
+                        "poses near the workspace edge, where " + arm + "'s load share changes "
+                        "most", registry));
+  }
+}
+
+// Thermal growth as the recorded temperature drives it, and as a warm-up from a cold start in
+// time: a temperature read at the controller or in the room need not follow the arm's own
+// warming (on the suite's UR3, a warm-up over time against a temperature ramped linearly was
+// named 1 time in 5 with the temperature form alone). One family: both name the arm's thermal
+// growth, and the bootstrap counts either as it.
+void AddThermalCandidates(const WorkcellRobot& robot, const Recording& recording,
+                          Registry& registry, std::vector<CandidateEffect>* out) {
+  bool temperatures = false, times = false;
+  for (const auto& s : recording.samples) {
+    temperatures |= s.temperature_c.has_value();
+    times |= s.time_s.has_value();
+  }
+  const std::string thermal = robot.name + ".thermal";
+  if (temperatures || !times) {
+    out->push_back(Make("{type: thermal_drift}", thermal, robot, "thermal growth of the arm",
+                        "temperatures over a range of several degrees", registry));
+  }
+  if (times) {
+    out->push_back(Make("{type: thermal_drift, model: warmup}",
+                        temperatures ? thermal + "_warmup" : thermal, robot,
+                        "thermal growth while warming up",
+                        "captures from a cold start over an hour", registry));
+    out->back().family = thermal;
+  }
+}
+
 }  // namespace
 
 std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
@@ -108,69 +187,9 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
   }
   std::vector<CandidateEffect> out;
   for (const auto& robot : spec.robots) {
-    for (int j = 1; j <= robot.model->num_joints(); ++j) {
-      const std::string J = std::to_string(j), joint = "joint " + J;
-      const std::string prefix = robot.name + ".";
-      out.push_back(Make("{type: joint_compliance, joints: [" + J + "]" +
-                             (masses.empty() ? "" : ", link_masses_kg: [" + masses + "]") + "}",
-                         prefix + "compliance_j" + J, robot, joint + " compliance", 
-                         "poses that load " + joint + " differently (outstretched and folded)",
-                         registry));
-      out.push_back(Make("{type: backlash, joints: [" + J + "]}", prefix + "backlash_j" + J,
-                         robot, joint + " backlash",
-                         "moves into poses from both directions on " + joint, registry));
-      // One candidate per harmonic (two parameters each, so that a single harmonic does not pay
-      // for four) and one with them all (where the error has several, each alone carries only
-      // its share); one family, since all name the same physics.
-      const std::string family = prefix + "transmission_j" + J;
-      for (const std::string& h : std::vector<std::string>{"1", "2", harmonics}) {
-        const bool all = h == harmonics;
-        const std::string config =
-            "{type: transmission_error, joints: [" + J + "], harmonics: [" + h + "]}";
-        out.push_back(Make(config, all ? family : family + "_h" + h, robot,
-                           joint + " transmission error" + (all ? "" : " (harmonic " + h + ")"),
-                           "a wider range of " + joint + " (at least half a turn)", registry));
-        out.back().family = family;
-      }
-      out.push_back(Make("{type: joint_scale, joints: [" + J + "]}", prefix + "scale_j" + J,
-                         robot, joint + " gear ratio error", "a wider range of " + joint,
-                         registry));
-    }
-    const int links = ParallelLinkCount(*robot.model);
-    for (int i = 1; i <= links; ++i) {
-      {
-        const std::string I = std::to_string(i), arm = "arm " + I;
-        out.push_back(Make("{type: platform_tilt, arms: [" + I + "]}",
-                           robot.name + ".tilt_arm" + I, robot, arm + " parallelogram skew",
-                           "poses that turn " + arm + "'s rods further", registry));
-        out.push_back(Make("{type: ball_joint_clearance, arms: [" + I + "]}",
-                           robot.name + ".clearance_arm" + I, robot, arm + " ball-joint clearance",
-                           "poses near the workspace edge, where " + arm + "'s load share changes "
-                           "most", registry));
-      }
-    }
-    bool temperatures = false, times = false;
-    for (const auto& s : recording.samples) {
-      temperatures |= s.temperature_c.has_value();
-      times |= s.time_s.has_value();
-    }
-    // Thermal growth as the recorded temperature drives it, and as a warm-up from a cold start
-    // in time: a temperature read at the controller or in the room need not follow the arm's
-    // own warming (on the suite's UR3, a warm-up over time against a temperature ramped
-    // linearly was named 1 time in 5 with the temperature form alone). One family: both name
-    // the arm's thermal growth, and the bootstrap counts either as it.
-    const std::string thermal = robot.name + ".thermal";
-    if (temperatures || !times) {
-      out.push_back(Make("{type: thermal_drift}", thermal, robot, "thermal growth of the arm",
-                         "temperatures over a range of several degrees", registry));
-    }
-    if (times) {
-      out.push_back(Make("{type: thermal_drift, model: warmup}",
-                         temperatures ? thermal + "_warmup" : thermal, robot,
-                         "thermal growth while warming up",
-                         "captures from a cold start over an hour", registry));
-      out.back().family = thermal;
-    }
+    AddJointCandidates(robot, masses, harmonics, registry, &out);
+    AddParallelLinkCandidates(robot, registry, &out);
+    AddThermalCandidates(robot, recording, registry, &out);
   }
   AddCameraCandidates(spec, recording, registry, &out);
   return out;
