@@ -47,6 +47,13 @@ struct LeastSquaresFit {
   std::promise<FitAnswer> answer_for_link;
 };
 
+// The solver of a cell's first fit: where a sigma is unknown, that fit's answer is read only for
+// its residuals (FitWithSigma refits with the sigma they give, by the job's solver), so the
+// core's Levenberg-Marquardt on the normal equations solves it, to the same minimum within
+// 1.4e-5 of a sigma (reweighted_solve.h, decrement 1e-10); else the job's solver, whose answer
+// that fit is.
+SolverMaker FirstFitSolver(const NoiseModel& noise, const SolverMaker& job_solver);
+
 // Assembles on `poses` (empty: all), holds `held` and whatever the data cannot determine, and
 // solves from `start` (`warm_start`: a neighbouring fit's answer; SolveHoldingUnidentifiable).
 Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,

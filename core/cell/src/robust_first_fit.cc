@@ -89,7 +89,7 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
     // Plain least squares from the closed form first (a Cauchy loss from a start this far off
     // crawls: 200 iterations on exp_a), then the loss at the scale of that answer, warm.
     IdentifiedSolve plain = SolveHoldingUnidentifiable(
-        &problem, spec.identifiability_tolerance, {}, make_solver);
+        &problem, spec.identifiability_tolerance, {}, FirstFitSolver(ls->noise, make_solver));
     std::set<std::string> held;
     for (const auto& u : plain.unidentifiable) held.insert(u.name);
     fit.summary = plain.summary;

@@ -15,6 +15,7 @@
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/workcell_initial.h"
+#include "cellmetry/estimation/reweighted_solve.h"
 #include "fit_once.h"
 #include "residual_rows.h"
 #include "robust_first_fit.h"
@@ -36,6 +37,13 @@ Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const Workc
   fit.unidentifiable = std::move(solved.unidentifiable);
   fit.at_answer = std::move(solved.at_answer);
   return fit;
+}
+
+SolverMaker FirstFitSolver(const NoiseModel& noise, const SolverMaker& job_solver) {
+  if (!noise.has_unknown()) return job_solver;
+  ReweightedSolveOptions options;
+  options.decrement_tolerance = 1e-10;
+  return ReweightedSolver(options);
 }
 
 namespace {
@@ -306,13 +314,6 @@ std::future<InputLink> LinkInputsAlongside(const WorkcellProblem& spec, const Re
                                 ReferenceEstimate(spec, *fit.assembled), answer.get_future());
 }
 
-// Whether some camera and target's sigma is neither given nor measured (FitWithSigma estimates
-// it from a first fit's residuals).
-bool HasUnknownSigma(const NoiseModel& noise) {
-  return std::any_of(noise.entries.begin(), noise.entries.end(),
-                     [](const auto& entry) { return entry.second.source == "unknown"; });
-}
-
 // Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
 // (variance component estimation), holding what the first fit found unidentifiable. `solved`:
 // that first fit done already (LeastSquaresFit), taken instead of solving.
@@ -320,14 +321,18 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
                  const WorkcellEstimate& start, const SolverMaker& make_solver,
                  NoiseModel* noise, Fit* solved) {
   Fit fit = solved ? std::move(*solved)
-                   : FitOnce(spec, recording, data, *noise, start, {}, {}, make_solver);
+                   : FitOnce(spec, recording, data, *noise, start, {}, {},
+                             FirstFitSolver(*noise, make_solver));
   CheckEnoughData(recording, fit);
-  if (!HasUnknownSigma(*noise)) return fit;  // every sigma is known: nothing to re-estimate
+  if (!noise->has_unknown()) return fit;  // every sigma is known: nothing to re-estimate
   const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
   const auto rows = MeasurementRows(spec, recording, data, *noise, first, {}, fit.assembled.get(),
                                     &fit.at_answer);
-  if (!EstimateUnknownSigma(rows, fit.assembled->problem.num_free(), noise)) return fit;
-  Progress::Note("refitting with sigma estimated from the residuals");
+  // Solved again by the job's solver also where no sigma could be estimated (an unknown one
+  // with no rows): the first fit's answer was the core's (FirstFitSolver).
+  if (EstimateUnknownSigma(rows, fit.assembled->problem.num_free(), noise)) {
+    Progress::Note("refitting with sigma estimated from the residuals");
+  }
   std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
   const SolverSummary first_summary = fit.summary;
   // Warm: from the first fit's answer with what it held, so the identifiability check before
@@ -544,7 +549,7 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     // and links the inputs at that answer, and a link here would only take the other core
     // from the fit (sim_b).
     options.at_least_squares_start = [&recording](LeastSquaresFit* ls) {
-      if (HasUnknownSigma(ls->noise)) return;
+      if (ls->noise.has_unknown()) return;
       ls->input_link = LinkInputsWhenAnswered(ls->spec, recording, ls->data, ls->noise,
                                               ls->start, ls->answer_for_link.get_future());
     };

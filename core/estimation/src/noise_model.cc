@@ -45,6 +45,11 @@ const TargetNoise& NoiseModel::at(const std::string& camera, const std::string& 
   return it == entries.end() ? kUnknown : it->second;
 }
 
+bool NoiseModel::has_unknown() const {
+  return std::any_of(entries.begin(), entries.end(),
+                     [](const auto& entry) { return entry.second.source == "unknown"; });
+}
+
 namespace {
 
 // The captures that should measure the same thing: one camera's views of one target at one

@@ -93,4 +93,18 @@ SolverSummary SolveByReweighting(Problem* problem, const ReweightedSolveOptions&
   return summary;
 }
 
+SolverMaker ReweightedSolver(const ReweightedSolveOptions& options) {
+  class Reweighted : public Solver {
+   public:
+    explicit Reweighted(const ReweightedSolveOptions& options) : options_(options) {}
+    SolverSummary Solve(Problem& problem) override {
+      return SolveByReweighting(&problem, options_);
+    }
+
+   private:
+    ReweightedSolveOptions options_;
+  };
+  return [options] { return std::make_unique<Reweighted>(options); };
+}
+
 }  // namespace cellmetry

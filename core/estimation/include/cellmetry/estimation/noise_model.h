@@ -48,6 +48,9 @@ using NoiseKey = std::pair<std::string, std::string>;  // (camera, target)
 struct NoiseModel {
   std::map<NoiseKey, TargetNoise> entries;
   const TargetNoise& at(const std::string& camera, const std::string& target) const;
+  // Whether some camera and target's sigma is neither given nor measured: a first fit's
+  // residuals are to give it.
+  bool has_unknown() const;
 };
 
 // Repeatability of each (camera, target): pooled sigma over groups of repeated captures.

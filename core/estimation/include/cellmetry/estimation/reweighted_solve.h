@@ -42,4 +42,9 @@ struct ReweightedSolveOptions {
 // evaluation failed at the start.
 SolverSummary SolveByReweighting(Problem* problem, const ReweightedSolveOptions& options = {});
 
+// The same as a Solver, for solves the core makes for itself whose answer is read only for what
+// it implies, never reported (a first fit whose residuals give an unknown sigma): a cell's few
+// dozen columns over many blocks take a fraction of a Ceres iteration on the normal equations.
+SolverMaker ReweightedSolver(const ReweightedSolveOptions& options = {});
+
 }  // namespace cellmetry
