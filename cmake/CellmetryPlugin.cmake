@@ -10,5 +10,9 @@ function(cellmetry_add_plugin name)
     LIBRARY_OUTPUT_DIRECTORY ${CELLMETRY_PLUGIN_OUTPUT_DIRECTORY}
     CXX_VISIBILITY_PRESET hidden
     VISIBILITY_INLINES_HIDDEN ON)
+  # In cellmetry's own tree, the core's precompiled header (CellmetryPrecompiledHeaders.cmake).
+  if(COMMAND cellmetry_precompile_headers AND TARGET cellmetry_basics)
+    cellmetry_precompile_headers(${name} FROM cellmetry_basics)
+  endif()
   install(TARGETS ${name} LIBRARY DESTINATION lib/cellmetry/plugins)
 endfunction()
