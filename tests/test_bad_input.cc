@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +24,46 @@ namespace {
 using ::testing::HasSubstr;
 
 using testing::ReadText;
+
+// configs/jobs/vsb_sim_b.yaml with absolute paths; line numbers matter to the tests.
+std::string SimBJobText(const std::string& recording, const std::string& output,
+                        const std::string& robot) {
+  return "job: workcell\n"                                   // 1
+         "description: UR3 base + tool offset, VSB sim B\n"  // 2
+         "recording: " + recording + "\n"                    // 3
+         "output: " + output + "\n"                          // 4
+         "camera_model: static_cameras\n"                    // 5
+         "robots:\n"                                         // 6
+         "  ur3:\n"                                          // 7
+         "    model: " + robot + "\n"                        // 8
+         "    base: {free: all}\n"                           // 9
+         "    tools:\n"                                      // 10
+         "      tool: {xyz: [0, 0, 0], free: [x, y, z]}\n"   // 11
+         "solver:\n"                                         // 12
+         "  type: ceres_lm\n"                                // 13
+         "validation:\n"                                     // 14
+         "  folds: 5\n";                                     // 15
+}
+
+// The unmodified job's result folder, made once per test process: `export`, `evaluate` and
+// `compensate` only read it, and making it is a whole identification with cross-validation,
+// ~10 s a time under the sanitizers for the 13 tests that need one. Its result.json names the
+// robot config it was made with, which stays in the maker's folder (one per process: ctest runs
+// tests side by side, each in its own process).
+const std::string& SharedSimBResult() {
+  static const std::string result = [] {
+    const std::string dir =
+        testing::TempDir("bad_input/shared_result_" + std::to_string(::getpid()));
+    fs::copy(testing::Source("tests/data/vsb/sim_b"), dir + "/sim_b");
+    fs::copy_file(testing::Source("configs/robots/ur3.yaml"), dir + "/ur3.yaml");
+    testing::WriteText(dir + "/job.yaml",
+                       SimBJobText(dir + "/sim_b", dir + "/result", dir + "/ur3.yaml"));
+    const auto run = testing::RunCellmetry("run " + dir + "/job.yaml");
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    return dir + "/result";
+  }();
+  return result;
+}
 using testing::ReplaceOnce;
 
 // A copy of the sim_b job, recording and UR3 config in a temp folder, to be broken one way.
@@ -37,24 +79,7 @@ class BadInput : public ::testing::Test {
     fs::copy_file(testing::Source("configs/robots/ur3.yaml"), robot_);
   }
 
-  // configs/jobs/vsb_sim_b.yaml with absolute paths; line numbers matter to the tests.
-  std::string JobText() const {
-    return "job: workcell\n"                                   // 1
-           "description: UR3 base + tool offset, VSB sim B\n"  // 2
-           "recording: " + recording_ + "\n"                   // 3
-           "output: " + output_ + "\n"                         // 4
-           "camera_model: static_cameras\n"                    // 5
-           "robots:\n"                                         // 6
-           "  ur3:\n"                                          // 7
-           "    model: " + robot_ + "\n"                       // 8
-           "    base: {free: all}\n"                           // 9
-           "    tools:\n"                                      // 10
-           "      tool: {xyz: [0, 0, 0], free: [x, y, z]}\n"   // 11
-           "solver:\n"                                         // 12
-           "  type: ceres_lm\n"                                // 13
-           "validation:\n"                                     // 14
-           "  folds: 5\n";                                     // 15
-  }
+  std::string JobText() const { return SimBJobText(recording_, output_, robot_); }
 
   void WriteJob(const std::string& text) { testing::WriteText(job_, text); }
   void WriteJob() { WriteJob(JobText()); }
@@ -65,6 +90,12 @@ class BadInput : public ::testing::Test {
   }
 
   testing::CommandResult Run() { return testing::RunCellmetry("run " + job_); }
+
+  // The unmodified job's result where the job would write it (a copy of the shared one).
+  void CopyInTheJobsResult() {
+    ASSERT_TRUE(fs::exists(SharedSimBResult() + "/result.json"));
+    fs::copy(SharedSimBResult(), output_, fs::copy_options::recursive);
+  }
 
   // The contract for every bad input: exit 2, one line "<location> error: ... <hint>", and
   // nothing left behind.
@@ -371,8 +402,8 @@ struct BadCase {
   int line;             // > 0: that line of `file` becomes `to`
   std::string from;     // else `from` becomes `to` ("": `to` appended; "*": the whole file)
   std::string to;
-  std::string command;  // {dir}: the test's folder; {job}: its job.yaml; {result}: the job's
-                        // result, written by `run` before the row's command
+  std::string command;  // {dir}: the test's folder; {job}: its job.yaml; {result}: the
+                        // unmodified job's result (CopyInTheJobsResult)
   int exit_code;
   Said said;
   std::string location;  // kOneLine: what precedes " error: " (file:line:column:, an option)
@@ -397,10 +428,7 @@ class BadCommand : public BadInput, public ::testing::WithParamInterface<BadCase
   // where the row's command reads one), then the row's edit.
   void Prepare(const BadCase& c) {
     WriteJob();
-    if (c.command.find("{result}") != std::string::npos) {
-      const auto run = Run();
-      ASSERT_EQ(run.exit_code, 0) << run.output;
-    }
+    if (c.command.find("{result}") != std::string::npos) CopyInTheJobsResult();
     testing::WriteText(dir_ + "/sim.yaml",
                        ReplaceOnce(ReadText(testing::Source(
                                        "configs/simulations/ur3_physics_base.yaml")),
@@ -1183,7 +1211,7 @@ class BadTargets : public BadInput, public ::testing::WithParamInterface<Targets
 TEST_P(BadTargets, IsRejectedAtItsCell) {
   const TargetsEdit& edit = GetParam();
   WriteJob();
-  ASSERT_EQ(Run().exit_code, 0);
+  CopyInTheJobsResult();
   const std::string targets = dir_ + "/targets.csv", commands = dir_ + "/commands.csv";
   testing::WriteText(targets, edit.text);
   const auto r = testing::RunCellmetry("compensate " + output_ + " " + targets + " -o " + commands);

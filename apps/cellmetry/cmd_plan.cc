@@ -2,6 +2,7 @@
 // finder calls untestable becomes testable and the free parameters are best determined
 // (pose_plan.h). Identifies the cell first; writes <output>/plan/{plan.csv,plan.txt}.
 #include <cstdio>
+#include <vector>
 
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell.h"
@@ -41,13 +42,14 @@ void AddPlanCommand(CLI::App& app, Context& context) {
     const SolverMaker make_solver = [&] {
       return registry.CreateSolver(job.workcell.solver_type, *job.workcell.solver_config);
     };
+    const std::vector<CandidateEffect> candidates = JobCandidates(job, recording, registry);
+    CheckNamedEffects(candidates, options);  // before the identification, not after it
     WorkcellProblem problem = job.workcell.problem;
     problem.folds = 0;  // the plan needs the answer, not its held-out score
     Progress::Note("identifying the cell on the recorded poses");
     const WorkcellResult fitted = IdentifyWorkcell(problem, recording, make_solver);
     Progress::Note("choosing poses");
-    const PosePlan plan = PlanPoses(problem, recording, fitted,
-                                    JobCandidates(job, recording, registry), options);
+    const PosePlan plan = PlanPoses(problem, recording, fitted, candidates, options);
     StagedDirectory out(folder, "plan");
     AtomicWriteFile(out.File("plan.csv"), PosePlanCsv(plan));
     AtomicWriteFile(out.File("plan.txt"), PosePlanReport(plan));

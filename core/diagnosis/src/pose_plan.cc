@@ -273,17 +273,6 @@ std::vector<int> Targets(const Jacobian& jac, const std::vector<CandidateEffect>
   std::vector<int> every_row = recorded_rows;
   every_row.insert(every_row.end(), draw_rows.begin(), draw_rows.end());
   std::vector<int> out;
-  // A name no candidate has planned for nothing and said so nowhere (exit 0).
-  std::string known;
-  for (const auto& c : candidates) known += (known.empty() ? "" : ", ") + c.effect.name;
-  for (const std::string& name : options.effects) {
-    const bool found = std::any_of(candidates.begin(), candidates.end(),
-                                   [&](const CandidateEffect& c) { return c.effect.name == name; });
-    if (!found) {
-      throw InputError({"--effect", 0, 0}, "no candidate effect '" + name + "'",
-                       "Name one of: " + known);
-    }
-  }
   for (size_t c = 0; c < candidates.size(); ++c) {
     const auto& named = options.effects;
     if (!named.empty()) {
@@ -357,9 +346,25 @@ PlannedPair PlannedTogether(const Jacobian& jac, const CandidateEffect& a,
 
 }  // namespace
 
+// A name no candidate has would plan for nothing and say so nowhere (exit 0).
+void CheckNamedEffects(const std::vector<CandidateEffect>& candidates,
+                       const PosePlanOptions& options) {
+  std::string known;
+  for (const auto& c : candidates) known += (known.empty() ? "" : ", ") + c.effect.name;
+  for (const std::string& name : options.effects) {
+    const bool found = std::any_of(candidates.begin(), candidates.end(),
+                                   [&](const CandidateEffect& c) { return c.effect.name == name; });
+    if (!found) {
+      throw InputError({"--effect", 0, 0}, "no candidate effect '" + name + "'",
+                       "Name one of: " + known);
+    }
+  }
+}
+
 PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
                    const WorkcellResult& fitted, const std::vector<CandidateEffect>& candidates,
                    const PosePlanOptions& options) {
+  CheckNamedEffects(candidates, options);
   PosePlan plan;
   std::vector<Draw> draws = DrawInView(spec, recording, fitted.estimate, options);
   plan.draws_in_view = static_cast<int>(draws.size());

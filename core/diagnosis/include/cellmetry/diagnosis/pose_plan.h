@@ -80,9 +80,15 @@ struct PosePlan {
   int draws_in_view = 0;             // of options.draws, those some camera would see
 };
 
+// Raises InputError (at --effect) for a name in options.effects that no candidate has, listing
+// the names there are. PlanPoses checks it too; a caller checks it before the identification
+// PlanPoses needs, so that a misspelt name is refused before that work, not after it.
+void CheckNamedEffects(const std::vector<CandidateEffect>& candidates,
+                       const PosePlanOptions& options);
+
 // `fitted` is the job's identification on `recording` (its estimate and noise model);
 // `candidates` the finder's (DefaultCandidates or the job's). Raises InputError when no drawn
-// pose would be seen by a camera.
+// pose would be seen by a camera, and as CheckNamedEffects.
 PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
                    const WorkcellResult& fitted, const std::vector<CandidateEffect>& candidates,
                    const PosePlanOptions& options);
