@@ -4,5 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
+echo "== installed (+${SECONDS} s)"
 bash scripts/build.sh
+echo "== built (+${SECONDS} s)"
 ctest --test-dir build --output-on-failure -j"$(nproc)"
