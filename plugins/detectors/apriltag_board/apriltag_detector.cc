@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "fiducial_common/edge_lines.h"
 #include "fiducial_common/id_list.h"
@@ -16,9 +18,49 @@ namespace {
 
 using fiducial::IdList;
 
-struct DetectionsDeleter {
-  void operator()(zarray_t* detections) const { apriltag_detections_destroy(detections); }
+// The library's detections of one image, by whether they belong to this board.
+struct SortedDetections {
+  std::vector<const apriltag_detection_t*> ours;  // this board's tags
+  std::map<int, int> seen;                        // this board's ids: how often each was found
+  std::vector<int> foreign;                       // ids of tags not on this board
 };
+
+SortedDetections SortByBoard(zarray_t* detections, const std::vector<bool>& wanted) {
+  SortedDetections sorted;
+  for (int i = 0; i < zarray_size(detections); ++i) {
+    apriltag_detection_t* det = nullptr;
+    zarray_get(detections, i, &det);
+    if (det->id < 0 || det->id >= static_cast<int>(wanted.size()) || !wanted[det->id]) {
+      sorted.foreign.push_back(det->id);
+      continue;
+    }
+    ++sorted.seen[det->id];
+    sorted.ours.push_back(det);
+  }
+  return sorted;
+}
+
+// Why an image gave no usable tag: ids seen twice, only other boards' tags, or quads that did
+// not decode.
+std::string NoTagUsed(const std::string& family, const SortedDetections& sorted, int quads) {
+  const std::string what = "no " + family + " tag of this board";
+  std::vector<int> twice;
+  for (const auto& [id, count] : sorted.seen) {
+    if (count > 1) twice.push_back(id);
+  }
+  if (!twice.empty()) {
+    return what + " could be used: tag ids " + IdList(twice) +
+           " each appear more than once in the image";
+  }
+  if (!sorted.foreign.empty()) {
+    std::vector<int> foreign = sorted.foreign;
+    std::sort(foreign.begin(), foreign.end());
+    return what + " found; the image shows other ids (" + IdList(foreign) +
+           "): check first_id / cube_faces";
+  }
+  return what + " found: " + std::to_string(quads) + " quads, none decoded as a " + family +
+         " tag";
+}
 
 }  // namespace
 
@@ -49,6 +91,22 @@ Detection AprilTagDetector::Detect(const ImageView& image) {
     out.failure = "the image is empty";
     return out;
   }
+  const DetectionsPtr detections = RunLibrary(image);
+  const SortedDetections sorted = SortByBoard(detections.get(), wanted_);
+  const Eigen::Matrix2d covariance =
+      options_.sigma_px * options_.sigma_px * Eigen::Matrix2d::Identity();
+  for (const apriltag_detection_t* det : sorted.ours) {
+    if (sorted.seen.at(det->id) > 1) continue;
+    const fiducial::Quad quad = Corners(*det, image);
+    for (int k = 0; k < 4; ++k) out.keypoints.push_back({det->id * 4 + k, quad[k], covariance});
+  }
+  std::sort(out.keypoints.begin(), out.keypoints.end(),
+            [](const Keypoint& a, const Keypoint& b) { return a.id < b.id; });
+  if (out.keypoints.empty()) out.failure = NoTagUsed(options_.family, sorted, detector_->nquads);
+  return out;
+}
+
+AprilTagDetector::DetectionsPtr AprilTagDetector::RunLibrary(const ImageView& image) {
   std::uint8_t* pixels = const_cast<std::uint8_t*>(image.data);  // the library only reads...
   if (options_.quad_sigma != 0.0f && options_.quad_decimate <= 1.0f) {
     // ...except here: it blurs the image it was given in place.
@@ -57,65 +115,27 @@ Detection AprilTagDetector::Detect(const ImageView& image) {
     pixels = scratch_.data();
   }
   image_u8_t frame{image.width, image.height, image.stride, pixels};
-  const std::unique_ptr<zarray_t, DetectionsDeleter> detections(
-      apriltag_detector_detect(detector_.get(), &frame));
+  return DetectionsPtr(apriltag_detector_detect(detector_.get(), &frame));
+}
 
-  std::vector<const apriltag_detection_t*> ours;
-  std::map<int, int> seen;
-  std::vector<int> foreign;
-  for (int i = 0; i < zarray_size(detections.get()); ++i) {
-    apriltag_detection_t* det = nullptr;
-    zarray_get(detections.get(), i, &det);
-    if (det->id < 0 || det->id >= static_cast<int>(wanted_.size()) || !wanted_[det->id]) {
-      foreign.push_back(det->id);
-      continue;
-    }
-    ++seen[det->id];
-    ours.push_back(det);
+fiducial::Quad AprilTagDetector::Corners(const apriltag_detection_t& det,
+                                         const ImageView& image) {
+  // Library corner i: i = 0 bottom-left, 1 bottom-right, 2 top-right, 3 top-left (apriltag.c
+  // projects (-1, 1), (1, 1), (1, -1), (-1, -1) of the tag, whose y points down the tag).
+  fiducial::Quad quad;
+  for (int k = 0; k < 4; ++k) {
+    quad[k] = Eigen::Vector2d(det.p[3 - k][0] - 0.5, det.p[3 - k][1] - 0.5);
   }
-  const Eigen::Matrix2d covariance =
-      options_.sigma_px * options_.sigma_px * Eigen::Matrix2d::Identity();
-  for (const apriltag_detection_t* det : ours) {
-    if (seen[det->id] > 1) continue;
-    // Library corner i: i = 0 bottom-left, 1 bottom-right, 2 top-right, 3 top-left (apriltag.c
-    // projects (-1, 1), (1, 1), (1, -1), (-1, -1) of the tag, whose y points down the tag).
-    fiducial::Quad quad;
-    for (int k = 0; k < 4; ++k) {
-      quad[k] = Eigen::Vector2d(det->p[3 - k][0] - 0.5, det->p[3 - k][1] - 0.5);
-    }
-    if (options_.edge_refinement) {
-      // One cell of paper (or of the reversed border's black ring) lies outside every tag. A
-      // quad the lines cannot refine keeps the library's corners: found on a decimated image,
-      // those of the library at full resolution on a window around the tag.
-      if (fiducial::RefineByEdgeLines(image, family_->width_at_border, 1.0, &quad) !=
-              fiducial::EdgeRefinement::kRefined &&
-          options_.quad_decimate > 1.0f && options_.redetect_unrefined) {
-        RedetectAtFullResolution(image, det->id, &quad);
-      }
-    }
-    for (int k = 0; k < 4; ++k) out.keypoints.push_back({det->id * 4 + k, quad[k], covariance});
+  if (!options_.edge_refinement) return quad;
+  // One cell of paper (or of the reversed border's black ring) lies outside every tag. A quad
+  // the lines cannot refine keeps the library's corners: found on a decimated image, those of
+  // the library at full resolution on a window around the tag.
+  if (fiducial::RefineByEdgeLines(image, family_->width_at_border, 1.0, &quad) !=
+          fiducial::EdgeRefinement::kRefined &&
+      options_.quad_decimate > 1.0f && options_.redetect_unrefined) {
+    RedetectAtFullResolution(image, det.id, &quad);
   }
-  std::sort(out.keypoints.begin(), out.keypoints.end(),
-            [](const Keypoint& a, const Keypoint& b) { return a.id < b.id; });
-  if (!out.keypoints.empty()) return out;
-
-  const std::string what = "no " + options_.family + " tag of this board";
-  std::vector<int> twice;
-  for (const auto& [id, count] : seen) {
-    if (count > 1) twice.push_back(id);
-  }
-  if (!twice.empty()) {
-    out.failure = what + " could be used: tag ids " + IdList(twice) +
-                  " each appear more than once in the image";
-  } else if (!foreign.empty()) {
-    std::sort(foreign.begin(), foreign.end());
-    out.failure = what + " found; the image shows other ids (" + IdList(foreign) +
-                  "): check first_id / cube_faces";
-  } else {
-    out.failure = what + " found: " + std::to_string(detector_->nquads) +
-                  " quads, none decoded as a " + options_.family + " tag";
-  }
-  return out;
+  return quad;
 }
 
 bool AprilTagDetector::RedetectAtFullResolution(const ImageView& image, int id,

@@ -57,6 +57,15 @@ class AprilTagDetector : public Detector {
   std::vector<MarkerFace> Faces(double texels_per_mm) const override;
 
  private:
+  struct DetectionsDeleter {
+    void operator()(zarray_t* detections) const { apriltag_detections_destroy(detections); }
+  };
+  using DetectionsPtr = std::unique_ptr<zarray_t, DetectionsDeleter>;
+
+  // The library's detections in `image` (wrapped, or copied where the library would blur it).
+  DetectionsPtr RunLibrary(const ImageView& image);
+  // One detection's corners in OpenCV's pixels and order, refined as the options say.
+  fiducial::Quad Corners(const apriltag_detection_t& det, const ImageView& image);
   // The library's corners of tag `id` at full resolution, from a window around `quad` (OpenCV
   // pixels); false, `quad` unchanged, when the window shows no such tag there.
   bool RedetectAtFullResolution(const ImageView& image, int id, fiducial::Quad* quad);
