@@ -123,6 +123,13 @@ void Problem::SetWhitenedRobustLoss(RobustLossKind kind, std::vector<double> whi
 }
 
 void Problem::Build() {
+  ClearBuilt();
+  AddMeasurementRows();
+  AddFreeColumnsAndPriors();
+  BuildSparseLayout();
+}
+
+void Problem::ClearBuilt() {
   // The Ceres views point at the losses and priors made again below: dropped first, made again
   // when a solver or Evaluate first needs them (problem_ceres.cc).
   for_evaluation_.Reset();
@@ -134,18 +141,20 @@ void Problem::Build() {
   evaluation_order_.clear();
   evaluation_losses_.clear();
   num_residuals_ = 0;
-
   evaluation_order_.reserve(residuals_.size());
   evaluation_losses_.reserve(residuals_.size());
   rows_.reserve(residuals_.size());
-  auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss,
-                 const std::vector<int>& block_ids) {
-    evaluation_order_.emplace_back(cost, &block_ids);
-    evaluation_losses_.push_back(loss);
-    rows_.push_back(num_residuals_);
-    num_residuals_ += cost->num_residuals();
-  };
+}
 
+void Problem::AppendRow(ceres::CostFunction* cost, ceres::LossFunction* loss,
+                        const std::vector<int>& block_ids) {
+  evaluation_order_.emplace_back(cost, &block_ids);
+  evaluation_losses_.push_back(loss);
+  rows_.push_back(num_residuals_);
+  num_residuals_ += cost->num_residuals();
+}
+
+void Problem::AddMeasurementRows() {
   // One loss object per scale: the blocks of a group share their scale (RobustScales), and
   // 22,500 of them each allocating its own was a third of a Build.
   std::map<double, ceres::LossFunction*> loss_of_scale;
@@ -169,9 +178,11 @@ void Problem::Build() {
       }
       loss = shared;
     }
-    add(residuals_[i].cost.get(), loss, *residuals_[i].blocks);
+    AppendRow(residuals_[i].cost.get(), loss, *residuals_[i].blocks);
   }
+}
 
+void Problem::AddFreeColumnsAndPriors() {
   free_.clear();
   free_column_.assign(blocks_.size(), {});
   for (size_t b = 0; b < blocks_.size(); ++b) {
@@ -184,20 +195,18 @@ void Problem::Build() {
       free_column_[b][i] = static_cast<int>(free_.size());
       free_.push_back({static_cast<int>(b), static_cast<int>(i), block.name + "." + p.name,
                        p.unit});
-      if (p.prior_sigma) {
-        prior_costs_.push_back(std::make_unique<PriorCost>(static_cast<int>(block.params.size()),
-                                                           static_cast<int>(i), p.nominal,
-                                                           *p.prior_sigma));
-        add(prior_costs_.back().get(), nullptr, *InternBlocks({static_cast<int>(b)}));
-        ResidualInfo info;
-        info.kind = ResidualInfo::Kind::kPrior;
-        info.target = block.name + "." + p.name;
-        info.sigma = Eigen::Vector3d::Constant(*p.prior_sigma);
-        infos_.push_back(info);
-      }
+      if (!p.prior_sigma) continue;
+      prior_costs_.push_back(std::make_unique<PriorCost>(static_cast<int>(block.params.size()),
+                                                         static_cast<int>(i), p.nominal,
+                                                         *p.prior_sigma));
+      AppendRow(prior_costs_.back().get(), nullptr, *InternBlocks({static_cast<int>(b)}));
+      ResidualInfo info;
+      info.kind = ResidualInfo::Kind::kPrior;
+      info.target = block.name + "." + p.name;
+      info.sigma = Eigen::Vector3d::Constant(*p.prior_sigma);
+      infos_.push_back(info);
     }
   }
-  BuildSparseLayout();
 }
 
 Eigen::VectorXd Problem::FreeValues() const {

@@ -251,6 +251,14 @@ class Problem {
   void AddCeresResidual(ceres::CostFunction* cost, ceres::LossFunction* loss, int k,
                         CeresView* view);
   std::vector<std::vector<int>> free_column_;
+  // Build()'s steps: forget what the last Build made; each measurement's row with its robust
+  // loss; the free parameters' columns and their priors' rows. AppendRow puts one residual
+  // block in evaluation order.
+  void ClearBuilt();
+  void AddMeasurementRows();
+  void AddFreeColumnsAndPriors();
+  void AppendRow(ceres::CostFunction* cost, ceres::LossFunction* loss,
+                 const std::vector<int>& block_ids);
   // EvaluateSparse's layout, fixed by Build(): per residual block the free columns its rows
   // hold, in column order, with the slot and entry of the parameter block each comes from.
   struct SparseEntry {
