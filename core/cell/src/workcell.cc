@@ -353,7 +353,7 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
 // Residual rows and their RMS per camera and target, in the measurement's units.
 // `at`: the fit's linearization at its answer, whose residuals are taken (ResidualRows).
 void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recording,
-                           const WorkcellData& data, Fit& fit, const Linearization& at,
+                           const WorkcellData& data, const Fit& fit, const Linearization& at,
                            WorkcellResult* result) {
   result->residuals = MeasurementRows(spec, recording, data, result->noise, result->estimate, {},
                                       fit.assembled.get(), &at);
@@ -454,6 +454,33 @@ void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording
       IdentifyWorkcell(other, recording, make_solver).held_out;
 }
 
+// The fit's covariance (split into its parts) and its residual statistics. The residual rows
+// read the answer's residuals and nothing else the covariance reads or writes: made on another
+// core meanwhile (the inputs' link is done by then on exp_a). Without a valid linearization they
+// would evaluate the problem: then after the covariance, which throws for it anyway.
+void AddCovarianceAndResiduals(const WorkcellProblem& spec, const Recording& recording,
+                               const WorkcellData& data, const Fit& fit,
+                               const Linearization& at_answer,
+                               std::future<InputLink>* input_link, StageClock* clock,
+                               WorkcellResult* result) {
+  std::future<void> residual_statistics = std::async(
+      at_answer.valid ? std::launch::async : std::launch::deferred,
+      [&] { AddResidualStatistics(spec, recording, data, fit, at_answer, result); });
+  try {
+    result->uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
+    result->strong_correlations = StrongCorrelations(result->uncertainty);
+    SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result->uncertainty);
+    clock->Lap("covariance");
+    residual_statistics.get();  // rethrows what it threw
+    clock->Lap("residual_statistics");  // what was left of it after the covariance
+  } catch (...) {
+    // Both read `data`, `fit` and `result->noise`: finished before they go.
+    if (residual_statistics.valid()) residual_statistics.wait();
+    input_link->wait();
+    throw;
+  }
+}
+
 }  // namespace
 
 // One identification on `recording` as it is. `solved`: the robust first fit's least-squares
@@ -494,26 +521,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   // The solve's last identifiability check linearized here already (with its R factor).
   const Linearization at_answer =
       fit.at_answer.valid ? std::move(fit.at_answer) : Linearize(fit.assembled->problem);
-  // The residual rows read the answer's residuals and nothing else the covariance reads or
-  // writes: made on another core meanwhile (the inputs' link is done by then on exp_a). Without
-  // a valid linearization they would evaluate the problem: then after the covariance, which
-  // throws for it anyway.
-  std::future<void> residual_statistics = std::async(
-      at_answer.valid ? std::launch::async : std::launch::deferred,
-      [&] { AddResidualStatistics(spec, recording, data, fit, at_answer, &result); });
-  try {
-    result.uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
-    result.strong_correlations = StrongCorrelations(result.uncertainty);
-    SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result.uncertainty);
-    clock.Lap("covariance");
-    residual_statistics.get();  // rethrows what it threw
-    clock.Lap("residual_statistics");  // what was left of it after the covariance
-  } catch (...) {
-    // Both read `data`, `fit` and `result.noise`: finished before they go.
-    if (residual_statistics.valid()) residual_statistics.wait();
-    input_link.wait();
-    throw;
-  }
+  AddCovarianceAndResiduals(spec, recording, data, fit, at_answer, &input_link, &clock, &result);
   AddInputUncertainty(input_link.get(), &result.uncertainty);  // rethrows what it threw
   const std::set<std::string> held = Names(result.unidentifiable);
   Describe(spec, *fit.assembled, held, &result);
