@@ -10,14 +10,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <iterator>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <string>
 #include <tuple>
+#include <vector>
 
 #include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/basics/error.h"
@@ -294,6 +297,73 @@ void ReadMultipleForm(const ConfigNode& root, Registry& registry, DetectJob* job
   }
 }
 
+// An image of the job's cameras with the targets the log has no entry for yet.
+struct PendingImage {
+  const ImageRef* image;
+  std::vector<std::string> targets;
+};
+
+// The images still to detect (`limit` > 0: at most that many), counting every image of the
+// job's cameras and each image-target pair the log already has.
+std::vector<PendingImage> Pending(const DetectJob& job, const Recording& recording,
+                                  const std::vector<ImageDetection>& log, int limit,
+                                  DetectSummary* summary) {
+  std::set<DoneKey> done;
+  for (const auto& d : log) done.insert({d.sample, d.camera, d.view, d.target});
+  std::vector<PendingImage> pending;
+  for (const auto& ref : recording.images) {
+    const auto camera = job.cameras.find(ref.camera);
+    if (camera == job.cameras.end() || !camera->second.HasView(ref.view)) continue;
+    ++summary->images;
+    PendingImage work{&ref, {}};
+    for (const auto& marker : job.targets) {
+      if (done.count({ref.sample, ref.camera, ref.view, marker.target})) {
+        ++summary->already_done;
+      } else {
+        work.targets.push_back(marker.target);
+      }
+    }
+    if (!work.targets.empty() && (limit <= 0 || static_cast<int>(pending.size()) < limit)) {
+      pending.push_back(work);
+    }
+  }
+  return pending;
+}
+
+struct FileCloser {
+  void operator()(std::FILE* file) const { std::fclose(file); }
+};
+
+// Detects the pending images on every core (or job.threads), each image's lines appended to the
+// log file as soon as they are found, so that finished work survives an interruption.
+void DetectAndLog(const DetectJob& job, Registry& registry,
+                  const std::vector<PendingImage>& pending, const std::string& log_path,
+                  std::vector<ImageDetection>* log, DetectSummary* summary) {
+  const std::unique_ptr<std::FILE, FileCloser> out(std::fopen(log_path.c_str(), "a"));
+  if (!out) {
+    throw InputError({log_path, 0, 0}, "cannot append to the detection log", "Check permissions");
+  }
+  std::mutex mutex;
+  Progress progress("detecting images", static_cast<int>(pending.size()));
+  tbb::enumerable_thread_specific<Detectors> detectors(
+      [&] { return MakeDetectors(job, registry); });
+  tbb::task_arena arena(job.threads > 0 ? job.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(size_t(0), pending.size(), [&](size_t i) {
+      const std::vector<ImageDetection> found =
+          DetectOne(job, *pending[i].image, pending[i].targets, detectors.local());
+      std::string lines;
+      for (const auto& d : found) lines += ToJson(d).dump() + "\n";
+      std::lock_guard<std::mutex> lock(mutex);
+      std::fwrite(lines.data(), 1, lines.size(), out.get());
+      std::fflush(out.get());
+      log->insert(log->end(), found.begin(), found.end());
+      summary->processed += static_cast<int>(found.size());
+      progress.Advance();
+    });
+  });
+}
+
 }  // namespace
 
 DetectJob LoadDetectJob(const std::string& path, Registry& registry) {
@@ -338,53 +408,9 @@ DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit) 
   }
   const std::string log_path = job.recording + "/" + kLog;
   std::vector<ImageDetection> log = ReadDetectionLog(log_path);
-  std::set<DoneKey> done;
-  for (const auto& d : log) done.insert({d.sample, d.camera, d.view, d.target});
   DetectSummary summary;
-  struct Work {
-    const ImageRef* image;
-    std::vector<std::string> targets;  // not yet in the log
-  };
-  std::vector<Work> pending;
-  for (const auto& ref : recording.images) {
-    const auto camera = job.cameras.find(ref.camera);
-    if (camera == job.cameras.end() || !camera->second.HasView(ref.view)) continue;
-    ++summary.images;
-    Work work{&ref, {}};
-    for (const auto& marker : job.targets) {
-      if (done.count({ref.sample, ref.camera, ref.view, marker.target})) {
-        ++summary.already_done;
-      } else {
-        work.targets.push_back(marker.target);
-      }
-    }
-    if (!work.targets.empty() && (limit <= 0 || static_cast<int>(pending.size()) < limit)) {
-      pending.push_back(work);
-    }
-  }
-  std::FILE* out = std::fopen(log_path.c_str(), "a");
-  if (!out)
-    throw InputError({log_path, 0, 0}, "cannot append to the detection log", "Check permissions");
-  std::mutex mutex;
-  Progress progress("detecting images", static_cast<int>(pending.size()));
-  tbb::enumerable_thread_specific<Detectors> detectors(
-      [&] { return MakeDetectors(job, registry); });
-  tbb::task_arena arena(job.threads > 0 ? job.threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(size_t(0), pending.size(), [&](size_t i) {
-      const std::vector<ImageDetection> found =
-          DetectOne(job, *pending[i].image, pending[i].targets, detectors.local());
-      std::string lines;
-      for (const auto& d : found) lines += ToJson(d).dump() + "\n";
-      std::lock_guard<std::mutex> lock(mutex);
-      std::fwrite(lines.data(), 1, lines.size(), out);
-      std::fflush(out);  // finished work survives an interruption
-      log.insert(log.end(), found.begin(), found.end());
-      summary.processed += static_cast<int>(found.size());
-      progress.Advance();
-    });
-  });
-  std::fclose(out);
+  const std::vector<PendingImage> pending = Pending(job, recording, log, limit, &summary);
+  DetectAndLog(job, registry, pending, log_path, &log, &summary);
   const Detectors layouts = MakeDetectors(job, registry);
   for (const auto& d : log) {
     if (!job.cameras.count(d.camera) || !layouts.count(d.target)) continue;
