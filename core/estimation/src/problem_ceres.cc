@@ -1,4 +1,5 @@
-// Problem's two ceres::Problems (problem.h): one whose rows are Evaluate()'s, one to solve.
+// Problem's two ceres::Problems (problem.h): one whose rows are Evaluate()'s, one to solve;
+// and Evaluate() itself, Ceres's dense evaluation put back in this Problem's row order.
 //
 // Both hold the Problem's parameter blocks (the same memory) with the same fixed entries, bounds
 // and constant blocks. They differ in how a unit of blocks sharing a prediction (same key, same
@@ -10,6 +11,7 @@
 //                other units as to evaluate.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "cellmetry/estimation/problem.h"
 #include "cellmetry/estimation/shared_prediction_cost.h"
@@ -152,6 +154,58 @@ void Problem::BuildCeres(bool summed, CeresView* view) {
       view->variable_blocks.push_back(block.values.data());
     }
   }
+}
+
+namespace {
+
+// Ceres's evaluation of `problem` over `blocks` (every free block, every residual block).
+bool EvaluateCeres(ceres::Problem& problem, const std::vector<double*>& parameter_blocks,
+                   const std::vector<ceres::ResidualBlockId>& residual_blocks, bool apply_loss,
+                   double* cost, Eigen::VectorXd* residuals, ceres::CRSMatrix* crs) {
+  ceres::Problem::EvaluateOptions options;
+  options.parameter_blocks = parameter_blocks;
+  options.residual_blocks = residual_blocks;
+  options.apply_loss_function = apply_loss;
+  options.num_threads = 2;
+  double local_cost = 0.0;
+  std::vector<double> r;
+  if (!problem.Evaluate(options, &local_cost, residuals ? &r : nullptr, nullptr, crs)) {
+    return false;
+  }
+  if (cost) *cost = local_cost;
+  if (residuals) *residuals = Eigen::Map<Eigen::VectorXd>(r.data(), r.size());
+  return true;
+}
+
+}  // namespace
+
+bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd* jacobian,
+                       bool apply_loss) {
+  ceres::CRSMatrix crs;
+  ceres::Problem& ceres = ceres_problem();
+  if (!EvaluateCeres(ceres, for_evaluation_.variable_blocks, for_evaluation_.residual_ids,
+                     apply_loss, cost, residuals,
+                     jacobian ? &crs : nullptr)) {
+    return false;
+  }
+  // Ceres's rows in this Problem's order (BuildCeres: units it evaluates as one block).
+  auto row_of = [&](int ceres_row) {
+    return for_evaluation_.rows.empty() ? ceres_row : for_evaluation_.rows[ceres_row];
+  };
+  if (residuals && !for_evaluation_.rows.empty()) {
+    Eigen::VectorXd in_order(residuals->size());
+    for (int row = 0; row < residuals->size(); ++row) in_order[row_of(row)] = (*residuals)[row];
+    *residuals = std::move(in_order);
+  }
+  if (jacobian) {
+    jacobian->setZero(crs.num_rows, crs.num_cols);
+    for (int row = 0; row < crs.num_rows; ++row) {
+      for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) {
+        (*jacobian)(row_of(row), crs.cols[k]) = crs.values[k];
+      }
+    }
+  }
+  return true;
 }
 
 }  // namespace cellmetry
