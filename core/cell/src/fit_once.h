@@ -20,7 +20,6 @@ struct Fit {
   std::vector<UnidentifiableParameter> unidentifiable;
   int free_as_asked = 0;  // free parameters before anything was held as unidentifiable
   Linearization at_answer;  // IdentifiedSolve's: valid when the solve's last check held nothing
-  bool sigma_refit = false;  // solved again with sigma from the residuals of a first solve
 };
 
 // The least-squares fit of a whole recording that the robust first fit solves on its way to

@@ -316,10 +316,13 @@ std::future<InputLink> LinkInputsAlongside(const WorkcellProblem& spec, const Re
 
 // Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
 // (variance component estimation), holding what the first fit found unidentifiable. `solved`:
-// that first fit done already (LeastSquaresFit), taken instead of solving.
+// that first fit done already (LeastSquaresFit), taken instead of solving. Where it solves
+// again, the uncertain inputs' link (input_uncertainty.h) is assembled at that refit's start on
+// the other core while the refit solves, and linked at its answer: `input_link` gets it (left
+// as it is otherwise). `spec`, `recording`, `data` and `noise` must outlive that future.
 Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
                  const WorkcellEstimate& start, const SolverMaker& make_solver,
-                 NoiseModel* noise, Fit* solved) {
+                 NoiseModel* noise, Fit* solved, std::future<InputLink>* input_link) {
   Fit fit = solved ? std::move(*solved)
                    : FitOnce(spec, recording, data, *noise, start, {}, {},
                              FirstFitSolver(*noise, make_solver));
@@ -335,12 +338,16 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
   }
   std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
   const SolverSummary first_summary = fit.summary;
+  // A refit given up before its answer breaks this promise, which ends the link.
+  std::promise<FitAnswer> refit_answer;
+  *input_link = LinkInputsWhenAnswered(spec, recording, data, *noise, first,
+                                       refit_answer.get_future());
   // Warm: from the first fit's answer with what it held, so the identifiability check before
   // the solve is skipped; a near-degeneracy the new row weights make shows in the check at the
   // answer, which holds it and solves again (SolveHoldingUnidentifiable).
   fit = FitOnce(spec, recording, data, *noise, first, {}, Names(held_first), make_solver,
                 /*warm_start=*/true);
-  fit.sigma_refit = true;
+  refit_answer.set_value(AnswerOf(*fit.assembled));
   // One solve in the report: iterations and time add up; the refit keeps the first's findings.
   fit.summary.iterations += first_summary.iterations;
   fit.summary.evaluations += first_summary.evaluations;
@@ -506,18 +513,21 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   Progress::Note("fitting " + std::to_string(data.tools.size()) + " target observations (" +
                  CameraModelName(spec.camera_model) + ", " + ResidualFormName(spec.residual) +
                  " residual)");
+  // How the answer leans on the uncertain inputs needs only the answer: worked out on the other
+  // core while this one finds the fit's own uncertainty and residuals; where sigma is refitted,
+  // assembled during that refit already (FitWithSigma).
+  std::future<InputLink> input_link;
   Fit fit = FitWithSigma(spec, recording, data, result.start, make_solver, &result.noise,
-                         solved ? &solved->fit : nullptr);
+                         solved ? &solved->fit : nullptr, &input_link);
   result.solver = fit.summary;
   result.unidentifiable = fit.unidentifiable;
   result.estimate = ReadEstimate(spec, *fit.assembled);
   clock.Lap("solve");
-  // How the answer leans on the uncertain inputs needs only the answer: worked out on the other
-  // core while this one finds the fit's own uncertainty and residuals.
-  std::future<InputLink> input_link =
-      solved && solved->input_link.valid() && !fit.sigma_refit
-          ? std::move(solved->input_link)  // started at this very answer
-          : LinkInputsAlongside(spec, recording, data, result.noise, fit);
+  if (!input_link.valid()) {
+    input_link = solved && solved->input_link.valid()
+                     ? std::move(solved->input_link)  // started at this very answer
+                     : LinkInputsAlongside(spec, recording, data, result.noise, fit);
+  }
   // The solve's last identifiability check linearized here already (with its R factor).
   const Linearization at_answer =
       fit.at_answer.valid ? std::move(fit.at_answer) : Linearize(fit.assembled->problem);
