@@ -78,7 +78,8 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
   ls->repeatability = repeatability.get();
   ls->noise = BuildNoiseModel(recording, ls->spec.noise, ls->repeatability);
   const bool kept = spec.residual == ResidualForm::kCartesian;  // the plain fit's first solve
-  if (kept && options.at_least_squares_start) options.at_least_squares_start(ls.get());
+  const bool work_beside = kept && options.at_least_squares_start &&
+                           options.at_least_squares_start(ls.get());
   Fit& fit = ls->fit;
   fit.assembled = AssembleWorkcell(ls->spec, recording, ls->data, ls->noise, ls->start);
   Problem& problem = fit.assembled->problem;
@@ -88,8 +89,10 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
   try {
     // Plain least squares from the closed form first (a Cauchy loss from a start this far off
     // crawls: 200 iterations on exp_a), then the loss at the scale of that answer, warm.
+    const SolverMaker first_solver = FirstFitSolver(ls->noise, make_solver);
     IdentifiedSolve plain = SolveHoldingUnidentifiable(
-        &problem, spec.identifiability_tolerance, {}, FirstFitSolver(ls->noise, make_solver));
+        &problem, spec.identifiability_tolerance, {},
+        work_beside ? LeavingOneCore(first_solver) : first_solver);
     std::set<std::string> held;
     for (const auto& u : plain.unidentifiable) held.insert(u.name);
     fit.summary = plain.summary;

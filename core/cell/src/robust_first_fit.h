@@ -43,7 +43,9 @@ struct RobustFirstFitOptions {
   // assembled, then at its answer, before the Cauchy step changes its problem's loss and values
   // (what it reads of the problem it must read then); neither where that fit is not kept
   // (RobustFirstFit::least_squares), the second not where the fit ends before its answer.
-  std::function<void(LeastSquaresFit*)> at_least_squares_start;
+  // The first returns whether it started work on another thread that runs beside the solve:
+  // the solve then leaves a core to it (LeavingOneCore).
+  std::function<bool(LeastSquaresFit*)> at_least_squares_start;
   std::function<void(LeastSquaresFit*)> at_least_squares_answer;
 };
 

@@ -286,6 +286,9 @@ void CheckEnoughData(const Recording& recording, const Fit& fit) {
                    "Record more poses, or free fewer parameters");
 }
 
+// Whether a link of `spec`'s inputs has anything to do: one on another thread, taking a core.
+bool LinksOnAnotherThread(const WorkcellProblem& spec) { return !spec.uncertain_inputs.empty(); }
+
 // The uncertain inputs' link (input_uncertainty.h) on another thread: assembled at `start`
 // from now, linked at the answer `answer` brings. `spec`, `recording`, `data` and `noise` must
 // outlive the future; a broken promise of an answer ends it (std::future_error, kept in it).
@@ -294,7 +297,7 @@ std::future<InputLink> LinkInputsWhenAnswered(const WorkcellProblem& spec,
                                               const WorkcellData& data, const NoiseModel& noise,
                                               const WorkcellEstimate& start,
                                               std::future<FitAnswer> answer) {
-  if (spec.uncertain_inputs.empty()) {
+  if (!LinksOnAnotherThread(spec)) {
     return std::async(std::launch::deferred, [] { return InputLink{}; });
   }
   return std::async(std::launch::async, [&spec, &recording, &data, &noise, start,
@@ -345,7 +348,8 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
   // Warm: from the first fit's answer with what it held, so the identifiability check before
   // the solve is skipped; a near-degeneracy the new row weights make shows in the check at the
   // answer, which holds it and solves again (SolveHoldingUnidentifiable).
-  fit = FitOnce(spec, recording, data, *noise, first, {}, Names(held_first), make_solver,
+  fit = FitOnce(spec, recording, data, *noise, first, {}, Names(held_first),
+                LinksOnAnotherThread(spec) ? LeavingOneCore(make_solver) : make_solver,
                 /*warm_start=*/true);
   refit_answer.set_value(AnswerOf(*fit.assembled));
   // One solve in the report: iterations and time add up; the refit keeps the first's findings.
@@ -567,9 +571,10 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     // and links the inputs at that answer, and a link here would only take the other core
     // from the fit (sim_b).
     options.at_least_squares_start = [&recording](LeastSquaresFit* ls) {
-      if (ls->noise.has_unknown()) return;
+      if (ls->noise.has_unknown()) return false;
       ls->input_link = LinkInputsWhenAnswered(ls->spec, recording, ls->data, ls->noise,
                                               ls->start, ls->answer_for_link.get_future());
+      return LinksOnAnotherThread(ls->spec);
     };
     options.at_least_squares_answer = [](LeastSquaresFit* ls) {
       if (ls->input_link.valid()) ls->answer_for_link.set_value(AnswerOf(*ls->fit.assembled));

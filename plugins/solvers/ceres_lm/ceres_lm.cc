@@ -3,7 +3,8 @@
 // Options (defaults): max_iterations 200; function_tolerance 1e-14; gradient_tolerance 1e-14;
 // parameter_tolerance 1e-12; loss none|huber|cauchy; loss_scale 1 (in the measurement's unit,
 // mm for positions: residuals beyond it are down-weighted); threads 2;
-// linear_solver sparse_normal_cholesky|dense_normal_cholesky|dense_qr.
+// linear_solver sparse_normal_cholesky|dense_normal_cholesky|dense_qr. Fewer threads than
+// `threads` where the caller limits them (Solver::LimitThreads: it runs other work meanwhile).
 #include <chrono>
 
 #include "cellmetry/estimation/problem.h"
@@ -51,7 +52,7 @@ class CeresLm : public Solver {
     o.function_tolerance = options_.function_tolerance;
     o.gradient_tolerance = options_.gradient_tolerance;
     o.parameter_tolerance = options_.parameter_tolerance;
-    o.num_threads = options_.threads;
+    o.num_threads = ThreadsWithinLimit(options_.threads);
     o.logging_type = ceres::SILENT;
     ceres::Solver::Summary s;
     // The Problem's Ceres view to solve: the same steps and costs over fewer rows (a pose's

@@ -29,9 +29,29 @@ class Solver {
  public:
   virtual ~Solver() = default;
   virtual SolverSummary Solve(Problem& problem) = 0;
+
+  // At most `threads` threads in the solves to come (0: as many as the solver's own options
+  // say): the caller runs other work on the machine's other cores meanwhile (LeavingOneCore).
+  // A solver that does not choose its thread count (one thread, or TBB's) may ignore it.
+  void LimitThreads(int threads) { thread_limit_ = threads; }
+
+ protected:
+  // `wanted` threads (the solver's option), within the caller's limit.
+  int ThreadsWithinLimit(int wanted) const {
+    return thread_limit_ > 0 && thread_limit_ < wanted ? thread_limit_ : wanted;
+  }
+
+ private:
+  int thread_limit_ = 0;
 };
 
 // Makes a fresh solver (the job's); calibrations solve several problems with one job.
 using SolverMaker = std::function<std::unique_ptr<Solver>()>;
+
+// `make`'s solvers, each limited to the machine's cores but one (at least one thread): for a
+// solve the caller runs while its own work on another thread takes a core. On a 2-core
+// machine a small cell's Ceres solve is quicker on one thread then than on two that contend
+// with that work (docs/benchmarks.md, session 32), while a solve alone keeps both.
+SolverMaker LeavingOneCore(SolverMaker make);
 
 }  // namespace cellmetry
