@@ -129,6 +129,40 @@ TEST(SimulatedUr3, AWarmStartThatPlacesEverythingIsTheStart) {
             1e-9);
 }
 
+// A tool rotation the job frees but does not fit (use_tool_rotation: false) is held, and the
+// result says why and what to change, rather than only that no measurement depends on it; with
+// use_tool_rotation the same recording identifies it and nothing is said.
+TEST(SimulatedUr3, AFreedToolRotationTheJobDoesNotFitIsHeldWithAWarningSayingWhy) {
+  const WorkcellSimulationSpec sim = TwoCameraSpec(13);
+  const Recording recording = SimulateWorkcell(sim, nullptr);
+  WorkcellProblem problem;
+  problem.robots.push_back(JobRobot(sim.robots[0]));
+  problem.robots[0].tools[0].flange_tool.free.fill(true);
+  problem.noise.position_sigma_mm = {{"cam1", {0.1, 0.1, 0.3}}, {"cam2", {0.1, 0.1, 0.3}}};
+  problem.noise.rotation_sigma_rad = {{"cam1", {1e-3, 1e-3, 1e-3}}, {"cam2", {1e-3, 1e-3, 1e-3}}};
+  problem.folds = 0;
+  const auto solver = [] {
+    return testing::Plugins().CreateSolver("ceres_lm", ConfigNode::LoadString("{}", "solver"));
+  };
+  const auto held_names = [](const WorkcellResult& r) {
+    std::vector<std::string> names;
+    for (const auto& u : r.unidentifiable) names.push_back(u.name);
+    return names;
+  };
+  const WorkcellResult positions_only = IdentifyWorkcell(problem, recording, solver);
+  for (const char* name : {"tool.rx", "tool.ry", "tool.rz"}) {
+    EXPECT_THAT(held_names(positions_only), ::testing::Contains(name));
+  }
+  EXPECT_THAT(positions_only.warnings,
+              ::testing::Contains(::testing::HasSubstr(
+                  "frees the rotation of tool, but fits the carried targets' positions only")));
+  problem.use_tool_rotation = true;
+  const WorkcellResult with_rotations = IdentifyWorkcell(problem, recording, solver);
+  EXPECT_THAT(held_names(with_rotations), ::testing::Not(::testing::Contains("tool.rx")));
+  EXPECT_THAT(with_rotations.warnings,
+              ::testing::Not(::testing::Contains(::testing::HasSubstr("frees the rotation"))));
+}
+
 // The result says where the time went: every stage of the pipeline, in the order it ran, with
 // a wall time and the memory it had reached (the summary's "time:" line and result.json).
 TEST(SimulatedUr3, ResultListsEveryStageWithItsTimeAndMemory) {

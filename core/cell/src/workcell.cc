@@ -433,7 +433,27 @@ void AddImplausibleEffectWarnings(const WorkcellProblem& spec, WorkcellResult* r
   }
 }
 
+// A carried target whose rotation the job frees but does not fit (use_tool_rotation: false):
+// held as unidentifiable, which the estimation can explain only as "no measurement depends on
+// it", while the recording may well measure it.
+void AddUnfittedToolRotationWarning(const WorkcellProblem& spec, WorkcellResult* result) {
+  if (spec.use_tool_rotation) return;
+  std::string targets;
+  for (const WorkcellRobot& robot : spec.robots) {
+    for (const WorkcellTool& tool : robot.tools) {
+      const std::array<bool, 6>& free = tool.flange_tool.free;
+      if (free[3] || free[4] || free[5]) targets += (targets.empty() ? "" : ", ") + tool.target;
+    }
+  }
+  if (targets.empty()) return;
+  result->warnings.push_back(
+      "the job frees the rotation of " + targets + ", but fits the carried targets' positions "
+      "only (use_tool_rotation: false), so the rotation was held at its nominal value: set "
+      "use_tool_rotation: true to fit the rotations the recording measures, or free [x, y, z]");
+}
+
 void AddWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
+  AddUnfittedToolRotationWarning(spec, result);
   result->weakly_identified = WeaklyIdentified(result->uncertainty, spec.weak_vif);
   if (!result->weakly_identified.empty()) {
     std::string names;
