@@ -14,6 +14,19 @@
 
 namespace cellmetry {
 
+// What a fit of a recording starts from: its observations paired with the job's robots and
+// cameras, the spread of its repeated captures, the noise model of both, the closed-form start.
+struct FitInputs {
+  WorkcellData data;
+  NoiseModel repeatability;  // EstimateRepeatability of the recording
+  NoiseModel noise;
+  WorkcellEstimate start;
+};
+
+// `recording`'s FitInputs for `spec`. The repeat spread needs the recording alone: it is found
+// on another thread while this one pairs the data and finds the start.
+FitInputs PrepareFitInputs(const WorkcellProblem& spec, const Recording& recording);
+
 struct Fit {
   std::unique_ptr<AssembledWorkcell> assembled;
   SolverSummary summary;

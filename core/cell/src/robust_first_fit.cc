@@ -3,13 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <future>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/workcell_assembly.h"
-#include "cellmetry/cell/workcell_initial.h"
 #include "cellmetry/estimation/reweighted_solve.h"
 #include "residual_rows.h"
 
@@ -65,18 +63,11 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
   auto ls = std::make_unique<LeastSquaresFit>();  // at one address: the residuals point into it
   ls->spec = spec;
   ls->spec.residual = ResidualForm::kCartesian;
-  // The repeat spread needs the recording alone: found on the other core meanwhile.
-  std::future<NoiseModel> repeatability =
-      std::async(std::launch::async, [&] { return EstimateRepeatability(recording); });
-  try {
-    ls->data = PrepareWorkcellData(ls->spec, recording);
-  } catch (...) {
-    repeatability.wait();
-    throw;
-  }
-  ls->start = InitialEstimate(ls->spec, recording, ls->data);  // while the spread is found
-  ls->repeatability = repeatability.get();
-  ls->noise = BuildNoiseModel(recording, ls->spec.noise, ls->repeatability);
+  FitInputs inputs = PrepareFitInputs(ls->spec, recording);  // before the residuals point in
+  ls->data = std::move(inputs.data);
+  ls->repeatability = std::move(inputs.repeatability);
+  ls->noise = std::move(inputs.noise);
+  ls->start = std::move(inputs.start);
   const bool kept = spec.residual == ResidualForm::kCartesian;  // the plain fit's first solve
   const bool work_beside = kept && options.at_least_squares_start &&
                            options.at_least_squares_start(ls.get());

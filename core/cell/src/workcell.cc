@@ -14,7 +14,6 @@
 #include "cellmetry/basics/stage_clock.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/outliers.h"
-#include "cellmetry/cell/workcell_initial.h"
 #include "cellmetry/estimation/reweighted_solve.h"
 #include "fit_once.h"
 #include "residual_rows.h"
@@ -524,14 +523,13 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   result.camera_model = spec.camera_model;
   result.residual_form = spec.residual;
   StageClock clock;
-  WorkcellData prepared;  // `solved`'s residuals point into its own: that one is used then
-  if (!solved) prepared = PrepareWorkcellData(spec, recording);
-  const WorkcellData& data = solved ? solved->data : prepared;
+  FitInputs prepared;  // `solved`'s residuals point into its own data: that one is used then
+  if (!solved) prepared = PrepareFitInputs(spec, recording);
+  const WorkcellData& data = solved ? solved->data : prepared.data;
   result.skipped = data.skipped;
-  result.repeatability = solved ? solved->repeatability : EstimateRepeatability(recording);
-  result.noise =
-      solved ? solved->noise : BuildNoiseModel(recording, spec.noise, result.repeatability);
-  result.start = solved ? solved->start : InitialEstimate(spec, recording, data);
+  result.repeatability = solved ? solved->repeatability : std::move(prepared.repeatability);
+  result.noise = solved ? solved->noise : std::move(prepared.noise);
+  result.start = solved ? solved->start : std::move(prepared.start);
   clock.Lap("start");
 
   Progress::Note("fitting " + std::to_string(data.tools.size()) + " target observations (" +
