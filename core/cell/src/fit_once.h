@@ -40,13 +40,10 @@ struct Fit {
 // fit's first solve exactly (the same problem from the same start by the same solver), so when
 // the robust fit leaves nothing out IdentifyOnce takes it instead of solving again: on exp_a
 // that solve and its assembly were a third of the identification. The residuals keep pointers
-// into `spec` and `data` (AssembleWorkcell): they live together, at one address.
+// into `spec` and `inputs.data` (AssembleWorkcell): they live together, at one address.
 struct LeastSquaresFit {
   WorkcellProblem spec;
-  WorkcellData data;
-  NoiseModel repeatability;  // EstimateRepeatability of the recording
-  NoiseModel noise;
-  WorkcellEstimate start;
+  FitInputs inputs;
   Fit fit;
   // How the answer leans on the job's uncertain inputs (input_uncertainty.h), worked out on
   // another core: assembled from the moment the start is known, beside this fit's own assembly

@@ -63,16 +63,13 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
   auto ls = std::make_unique<LeastSquaresFit>();  // at one address: the residuals point into it
   ls->spec = spec;
   ls->spec.residual = ResidualForm::kCartesian;
-  FitInputs inputs = PrepareFitInputs(ls->spec, recording);  // before the residuals point in
-  ls->data = std::move(inputs.data);
-  ls->repeatability = std::move(inputs.repeatability);
-  ls->noise = std::move(inputs.noise);
-  ls->start = std::move(inputs.start);
+  ls->inputs = PrepareFitInputs(ls->spec, recording);
   const bool kept = spec.residual == ResidualForm::kCartesian;  // the plain fit's first solve
   const bool work_beside = kept && options.at_least_squares_start &&
                            options.at_least_squares_start(ls.get());
   Fit& fit = ls->fit;
-  fit.assembled = AssembleWorkcell(ls->spec, recording, ls->data, ls->noise, ls->start);
+  fit.assembled = AssembleWorkcell(ls->spec, recording, ls->inputs.data, ls->inputs.noise,
+                                    ls->inputs.start);
   Problem& problem = fit.assembled->problem;
   fit.free_as_asked = problem.num_free();
   if (problem.num_residuals() < problem.num_free()) return {};  // the plain fit says why
@@ -80,7 +77,7 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
   try {
     // Plain least squares from the closed form first (a Cauchy loss from a start this far off
     // crawls: 200 iterations on exp_a), then the loss at the scale of that answer, warm.
-    const SolverMaker first_solver = FirstFitSolver(ls->noise, make_solver);
+    const SolverMaker first_solver = FirstFitSolver(ls->inputs.noise, make_solver);
     IdentifiedSolve plain = SolveHoldingUnidentifiable(
         &problem, spec.identifiability_tolerance, {},
         work_beside ? LeavingOneCore(first_solver) : first_solver);

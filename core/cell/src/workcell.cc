@@ -525,11 +525,12 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   StageClock clock;
   FitInputs prepared;  // `solved`'s residuals point into its own data: that one is used then
   if (!solved) prepared = PrepareFitInputs(spec, recording);
-  const WorkcellData& data = solved ? solved->data : prepared.data;
+  const FitInputs& inputs = solved ? solved->inputs : prepared;
+  const WorkcellData& data = inputs.data;
   result.skipped = data.skipped;
-  result.repeatability = solved ? solved->repeatability : std::move(prepared.repeatability);
-  result.noise = solved ? solved->noise : std::move(prepared.noise);
-  result.start = solved ? solved->start : std::move(prepared.start);
+  result.repeatability = inputs.repeatability;
+  result.noise = inputs.noise;
+  result.start = inputs.start;
   clock.Lap("start");
 
   Progress::Note("fitting " + std::to_string(data.tools.size()) + " target observations (" +
@@ -589,9 +590,10 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     // and links the inputs at that answer, and a link here would only take the other core
     // from the fit (sim_b).
     options.at_least_squares_start = [&recording](LeastSquaresFit* ls) {
-      if (ls->noise.has_unknown()) return false;
-      ls->input_link = LinkInputsWhenAnswered(ls->spec, recording, ls->data, ls->noise,
-                                              ls->start, ls->answer_for_link.get_future());
+      if (ls->inputs.noise.has_unknown()) return false;
+      ls->input_link =
+          LinkInputsWhenAnswered(ls->spec, recording, ls->inputs.data, ls->inputs.noise,
+                                 ls->inputs.start, ls->answer_for_link.get_future());
       return LinksOnAnotherThread(ls->spec);
     };
     options.at_least_squares_answer = [](LeastSquaresFit* ls) {
