@@ -123,6 +123,26 @@ TEST(PhysicalFindings, AnAcceptedEffectNamesItsLookAlikes) {
   EXPECT_EQ(j["accepted"][0]["look_alikes"][1]["label"], "joint 2 compliance");
   r.accepted[0].look_alikes.resize(1);  // only the alias: no look-alike sentence
   EXPECT_THAT(DiagnosisReport(r), Not(HasSubstr("looks like")));
+  EXPECT_THAT(DiagnosisReport(r), Not(HasSubstr("stronger fit")));
+}
+
+// Where a refit of the same round explained more but at a size its physics cannot have
+// (experiment A: joint 3's transmission error at 17 mrad beside joint 2's gear ratio), the
+// accepted name says so: the mismatch may be larger than it explains.
+TEST(PhysicalFindings, AnAcceptedEffectSaysWhatStrongerFitItsSizeRuledOut) {
+  DiagnosisResult r;
+  r.accepted = {Effect("ur3.scale_j2", "ur3 joint 2", 3.0, 1.0)};
+  r.accepted[0].stronger_implausible = {
+      "joint 3 transmission error: j3.h1.sin = -0.0172 rad, where this physics is typically "
+      "below 0.002",
+      "joint 2 transmission error: j2.h1.sin = -0.165 rad, where this physics is typically "
+      "below 0.002"};
+  GroupFindings(DiagnosisOptions{}, &r);
+  const std::string report = DiagnosisReport(r);
+  EXPECT_THAT(report, HasSubstr("A stronger fit of this mismatch needs a size its physics cannot "
+                                "have (joint 3 transmission error: j3.h1.sin = -0.0172 rad"));
+  EXPECT_THAT(report, Not(HasSubstr("j2.h1.sin")));  // the strongest one is enough to read
+  EXPECT_EQ(DiagnosisJson(r)["accepted"][0]["stronger_implausible"].size(), 2u);
 }
 
 // Each candidate the bootstrap split from a rival gets its own advice, once, with the job's

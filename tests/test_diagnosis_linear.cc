@@ -191,5 +191,30 @@ TEST(RivalTest, AStrongerRivalIsNeverRejectedAnUnlikeOneIsAtOnce) {
   EXPECT_LT(RivalTestP(r, chosen, rival, 200, 1), 0.01);
 }
 
+// A candidate's size as the whole cause: the residual's coordinates in its unabsorbed columns,
+// in its own units (a column scaled by 1000 gives a size 1000 times smaller), whatever of the
+// residual lies outside them; a direction the columns cannot see stays at zero.
+TEST(UnabsorbedSize, IsTheLinearizedRefitInTheCandidatesUnits) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd P(40, 2);
+  for (Eigen::Index i = 0; i < P.size(); ++i) P.data()[i] = normal(rng);
+  P.col(1) *= 1000.0;  // a parameter in metres beside one in millimetres
+  Eigen::VectorXd outside(40);
+  for (Eigen::Index i = 0; i < outside.size(); ++i) outside[i] = normal(rng);
+  outside -= P * P.colPivHouseholderQr().solve(outside);  // orthogonal to both columns
+  const Eigen::Vector2d theta(-0.7, 2.5e-3);
+  const Eigen::VectorXd size = UnabsorbedSize(P, P * theta + outside);
+  ASSERT_EQ(size.size(), 2);
+  EXPECT_NEAR(size[0], -0.7, 1e-12);
+  EXPECT_NEAR(size[1], 2.5e-3, 1e-15);
+
+  Eigen::MatrixXd blind = P;
+  blind.col(1).setZero();  // what the geometry absorbs entirely
+  const Eigen::VectorXd seen = UnabsorbedSize(blind, P * theta);
+  EXPECT_EQ(seen[1], 0.0);
+  EXPECT_EQ(UnabsorbedSize(Eigen::MatrixXd(40, 0), outside).size(), 0);
+}
+
 }  // namespace
 }  // namespace cellmetry

@@ -319,7 +319,27 @@ struct ScoredRound {
   std::vector<const CandidateEffect*> testable;  // parallel to round.candidates
   std::vector<Eigen::MatrixXd> signatures;       // their Jacobian columns
   std::vector<Eigen::MatrixXd> unabsorbed_bases;  // orthonormal, outside the model's span
+  std::vector<Eigen::MatrixXd> unabsorbed;        // the signatures outside it, by parameter
 };
+
+// The round's refits stronger than `chosen` whose size rules them out (AcceptedEffect::
+// stronger_implausible), strongest first.
+std::vector<std::string> StrongerImplausible(const DiagnosisRound& round,
+                                             const CandidateFinding& chosen) {
+  std::vector<const CandidateFinding*> stronger;
+  const double strength = Strength(chosen.likelihood_ratio, chosen.dof);
+  for (const auto& f : round.candidates) {
+    if (f.refitted && !f.implausible.empty() && Strength(f.likelihood_ratio, f.dof) > strength) {
+      stronger.push_back(&f);
+    }
+  }
+  std::sort(stronger.begin(), stronger.end(), [](const auto* a, const auto* b) {
+    return Strength(a->likelihood_ratio, a->dof) > Strength(b->likelihood_ratio, b->dof);
+  });
+  std::vector<std::string> out;
+  for (const auto* f : stronger) out.push_back(f->label + ": " + f->implausible);
+  return out;
+}
 
 // The canonical correlation of the round's chosen candidate's unabsorbed signature with that of
 // every other testable candidate at its site (AcceptedEffect::site_correlations).
@@ -368,12 +388,14 @@ class Diagnoser {
   }
 
   // The rival the chosen candidate beats least clearly: RivalTestP against every testable
-  // candidate outside the chosen one's own groups and aliases (`own`); the largest p and whose.
+  // candidate outside the chosen one's own groups and aliases (`own`) that could be the cause;
+  // the largest p and whose.
   void WorstRival(const ScoredRound& s, int best, const std::set<std::string>& own,
                   unsigned seed, CandidateFinding* chosen) const {
     std::vector<double> p(s.testable.size(), 0.0);
     tbb::parallel_for(size_t(0), s.testable.size(), [&](size_t j) {
       if (static_cast<int>(j) == best || own.count(s.testable[j]->group_name())) return;
+      if (!CredibleCause(s, j)) return;
       p[j] = RivalTestP(s.base.r, s.unabsorbed_bases[best], s.unabsorbed_bases[j],
                         options_.rival_draws, seed + static_cast<unsigned>(j));
     });
@@ -383,6 +405,23 @@ class Diagnoser {
       chosen->rival = s.testable[worst]->label;
       chosen->rival_effect = s.testable[worst]->effect.name;
     }
+  }
+
+  // Whether testable candidate `j`, alone the cause of the round's mismatch, would have a sign
+  // its physics can have (its linearized refit, UnabsorbedSize). A negative clearance, play or
+  // compliance is no physics at all (Parameter::plausible_nonnegative), so no rival the chosen
+  // one has to beat. A size beyond the plausible one is not enough to set a rival aside: that
+  // bound says "typically", and something of the rival's shape may still be the cause (the
+  // report names what shares it). The residuals are over sqrt(dispersion); the size is not.
+  bool CredibleCause(const ScoredRound& s, size_t j) const {
+    const Eigen::VectorXd size =
+        std::sqrt(s.round.dispersion) * UnabsorbedSize(s.unabsorbed[j], s.base.r);
+    const std::vector<Parameter>& parameters = s.testable[j]->effect.effect->parameters();
+    for (Eigen::Index i = 0; i < size.size() && i < static_cast<Eigen::Index>(parameters.size());
+         ++i) {
+      if (PlausibilityOf(parameters[i], size[i]) == Plausibility::kBelowZero) return false;
+    }
+    return true;
   }
 
   // Linearizes the current model once, scores every candidate not `done`; untestable ones go
@@ -412,11 +451,11 @@ class Diagnoser {
                          current.result.estimate, s.base.r.size());
     const Eigen::MatrixXd Q = OrthonormalBasis(s.base.J_model);
     std::vector<ScoreTest> tests(open.size());
-    std::vector<Eigen::MatrixXd> bases(open.size());
+    std::vector<Eigen::MatrixXd> bases(open.size()), unabsorbed(open.size());
     tbb::parallel_for(size_t(0), open.size(), [&](size_t i) {
-      const Eigen::MatrixXd unabsorbed = ProjectOut(Q, signatures[i]);
-      tests[i] = cellmetry::Score(s.base.r, signatures[i], unabsorbed);
-      bases[i] = OrthonormalBasis(unabsorbed);
+      unabsorbed[i] = ProjectOut(Q, signatures[i]);
+      tests[i] = cellmetry::Score(s.base.r, signatures[i], unabsorbed[i]);
+      bases[i] = OrthonormalBasis(unabsorbed[i]);
     });
     for (size_t i = 0; i < open.size(); ++i) {
       CandidateFinding f = Finding(*open[i], tests[i], signatures[i].norm() == 0.0);
@@ -429,6 +468,7 @@ class Diagnoser {
       s.testable.push_back(open[i]);
       s.signatures.push_back(std::move(signatures[i]));
       s.unabsorbed_bases.push_back(std::move(bases[i]));
+      s.unabsorbed.push_back(std::move(unabsorbed[i]));
     }
     // Holm over the round's candidates, on the score tests.
     std::vector<double> p;
@@ -654,6 +694,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
       scored.round.accepted = chosen.name;
       out.accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
       out.accepted.back().site_correlations = SiteCorrelations(scored, best);
+      out.accepted.back().stronger_implausible = StrongerImplausible(scored.round, chosen);
       for (const auto& other : candidates) {  // its nested variants would repeat its parameters
         if (other.family_name() == c.family_name()) done.insert(other.effect.name);
       }

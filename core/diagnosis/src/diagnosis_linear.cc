@@ -146,6 +146,11 @@ double CanonicalCorrelation(const Eigen::MatrixXd& U_a, const Eigen::MatrixXd& U
   return Eigen::JacobiSVD<Eigen::MatrixXd>(overlap).singularValues()[0];
 }
 
+Eigen::VectorXd UnabsorbedSize(const Eigen::MatrixXd& P, const Eigen::VectorXd& r) {
+  if (P.cols() == 0) return Eigen::VectorXd(0);
+  return P.completeOrthogonalDecomposition().solve(r);
+}
+
 double RivalTestP(const Eigen::VectorXd& r, const Eigen::MatrixXd& U_chosen,
                   const Eigen::MatrixXd& U_rival, int draws, unsigned seed) {
   const int kc = static_cast<int>(U_chosen.cols()), kr = static_cast<int>(U_rival.cols());

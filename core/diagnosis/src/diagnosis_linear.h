@@ -80,6 +80,13 @@ struct ScoreTest {
   double p_value = 1.0;
 };
 
+// The size a candidate has were it alone the cause of the residuals `r` (whitened, at the
+// current model's answer, so orthogonal to the model's span): the least-squares solution of
+// P theta = r, `P` = ProjectOut(Q_model, J_candidate), in the candidate's parameter units;
+// directions P cannot see (rank-deficient) at zero. The linearized refit: what RivalTestP takes
+// as the rival's size, in numbers a plausibility range can judge.
+Eigen::VectorXd UnabsorbedSize(const Eigen::MatrixXd& P, const Eigen::VectorXd& r);
+
 // `P` = ProjectOut(Q_model, J_candidate); `r` the residuals.
 ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,
                 const Eigen::MatrixXd& P);

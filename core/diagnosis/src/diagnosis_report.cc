@@ -65,6 +65,11 @@ void Details(const AcceptedEffect& a, std::ostringstream& out) {
     }
     out << ": the tests preferred this name, and poses that tell them apart would confirm it.\n";
   }
+  if (!a.stronger_implausible.empty()) {
+    out << "  A stronger fit of this mismatch needs a size its physics cannot have ("
+        << a.stronger_implausible.front()
+        << "): what causes it may be larger than this name explains.\n";
+  }
   for (const auto& p : a.parameters) out << "  " << Value(p) << "\n";
 }
 
@@ -293,6 +298,7 @@ nlohmann::json AcceptedJson(const AcceptedEffect& a) {
                    {"role", a.role}, {"group_share", a.group_share},
                    {"headline_correlation", a.headline_correlation},
                    {"site_correlations", a.site_correlations},
+                   {"stronger_implausible", a.stronger_implausible},
                    {"parameters", nlohmann::json::array()}};
   for (const auto& p : a.parameters) {
     j["parameters"].push_back(

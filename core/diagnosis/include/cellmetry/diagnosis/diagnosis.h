@@ -35,9 +35,11 @@
 //           group: nested variants of the same physics, or the forms of one camera's
 //           calibration) and its aliases is rejected at `alpha` as the cause of what the chosen
 //           one explains (RivalTestP, diagnosis_linear.h: Cox 1962, Williams 1970; all of them
-//           together an intersection-union test, Berger 1982); where one is not, the report
-//           names it and proposes `cellmetry plan` for the two (pose_plan.h), whose poses tell
-//           them apart. ("bootstrap", the gate until 2026-11-28: its group included in >=
+//           together an intersection-union test, Berger 1982), but for those that as that
+//           cause would have a sign their physics cannot have (a negative clearance is no
+//           rival; since 2026-11-29); where one is not rejected, the report names it and proposes
+//           `cellmetry plan` for the two (pose_plan.h), whose poses tell them apart.
+//           ("bootstrap", the gate until 2026-11-28: its group included in >=
 //           `bootstrap_share` of bootstrap resamples of poses, each running the greedy
 //           selection, BIC-gated, on the resampled linearization, Sauerbrei & Schumacher 1992;
 //           the share is reported either way);
@@ -243,6 +245,10 @@ struct AcceptedEffect {
   // and the effects accepted before) leaves of its signature with what it leaves of every other
   // testable candidate at its site, by candidate name.
   std::map<std::string, double> site_correlations;
+  // In its round, the refits that explained more than it but at a size their physics cannot
+  // have (CandidateFinding::implausible), strongest first: "label: why". Set aside as names and
+  // as rivals, they say the mismatch along this signature may be larger than its name explains.
+  std::vector<std::string> stronger_implausible;
 };
 
 // Accepted effects at one site, as one physical finding (step 7); indices into
