@@ -191,6 +191,35 @@ TEST(RivalTest, AStrongerRivalIsNeverRejectedAnUnlikeOneIsAtOnce) {
   EXPECT_LT(RivalTestP(r, chosen, rival, 200, 1), 0.01);
 }
 
+// Near the level the draws do not decide: for a recording whose p is about 1 %, RivalTestP's
+// 2,000 draws scatter by 0.0022 about it, enough to put it on either side of alpha by chance
+// (the suite's one wrong name, 2026-11-29: p 0.009 of 2,000 draws, 0.012 of 40,000). With
+// RivalTestPAt every seed's p lies within 0.0015 of the exact one; far from the level it is
+// RivalTestP's own.
+TEST(RivalTest, NearTheLevelTheDrawsDoNotDecide) {
+  std::mt19937 rng(5);
+  const RivalPair pair(rng);
+  auto recording = [&](double chosen_share) {
+    return Eigen::VectorXd(3.0 * pair.rival + chosen_share * pair.chosen);
+  };
+  double low = 0.0, high = 6.0;  // the chosen one's share at which p is 1 %, by bisection
+  for (int step = 0; step < 16; ++step) {
+    const double mid = 0.5 * (low + high);
+    const double p = RivalTestP(recording(mid), pair.chosen, pair.rival, 40000, 3);
+    (p > 0.01 ? low : high) = mid;
+  }
+  const Eigen::VectorXd r = recording(0.5 * (low + high));
+  const double exact = RivalTestP(r, pair.chosen, pair.rival, 400000, 4);
+  ASSERT_NEAR(exact, 0.01, 0.001);
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    EXPECT_NEAR(RivalTestPAt(0.01, r, pair.chosen, pair.rival, 2000, seed), exact, 0.0015)
+        << "seed " << seed;
+  }
+  const Eigen::VectorXd far = recording(0.5 * low);
+  EXPECT_EQ(RivalTestPAt(0.01, far, pair.chosen, pair.rival, 2000, 7),
+            RivalTestP(far, pair.chosen, pair.rival, 2000, 7));
+}
+
 // A candidate's size as the whole cause: the residual's coordinates in its unabsorbed columns,
 // in its own units (a column scaled by 1000 gives a size 1000 times smaller), whatever of the
 // residual lies outside them; a direction the columns cannot see stays at zero.

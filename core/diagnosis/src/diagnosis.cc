@@ -396,8 +396,9 @@ class Diagnoser {
     tbb::parallel_for(size_t(0), s.testable.size(), [&](size_t j) {
       if (static_cast<int>(j) == best || own.count(s.testable[j]->group_name())) return;
       if (!CredibleCause(s, j)) return;
-      p[j] = RivalTestP(s.base.r, s.unabsorbed_bases[best], s.unabsorbed_bases[j],
-                        options_.rival_draws, seed + static_cast<unsigned>(j));
+      p[j] = RivalTestPAt(options_.alpha, s.base.r, s.unabsorbed_bases[best],
+                          s.unabsorbed_bases[j], options_.rival_draws,
+                          seed + static_cast<unsigned>(j));
     });
     const size_t worst = std::max_element(p.begin(), p.end()) - p.begin();
     chosen->rival_p = p[worst];

@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <cmath>
 #include <map>
 #include <random>
 #include <stdexcept>
@@ -178,6 +179,15 @@ double RivalTestP(const Eigen::VectorXd& r, const Eigen::MatrixXd& U_chosen,
                 margin;
   }
   return (as_large + 1.0) / (draws + 1.0);
+}
+
+double RivalTestPAt(double alpha, const Eigen::VectorXd& r, const Eigen::MatrixXd& U_chosen,
+                    const Eigen::MatrixXd& U_rival, int draws, unsigned seed) {
+  const double p = RivalTestP(r, U_chosen, U_rival, draws, seed);
+  const double standard_error = std::sqrt(alpha * (1.0 - alpha) / draws);
+  if (std::abs(p - alpha) >= 3.0 * standard_error) return p;
+  constexpr int kMoreDraws = 20;
+  return RivalTestP(r, U_chosen, U_rival, kMoreDraws * draws, seed ^ 0x9e3779b9u);
 }
 
 Eigen::MatrixXd UnabsorbedBasis(const Eigen::MatrixXd& J, const Eigen::MatrixXd& P) {

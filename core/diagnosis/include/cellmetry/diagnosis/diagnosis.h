@@ -34,7 +34,8 @@
 //        d. (`selection_test` "rivals") every candidate outside its group (CandidateEffect::
 //           group: nested variants of the same physics, or the forms of one camera's
 //           calibration) and its aliases is rejected at `alpha` as the cause of what the chosen
-//           one explains (RivalTestP, diagnosis_linear.h: Cox 1962, Williams 1970; all of them
+//           one explains (RivalTestPAt, diagnosis_linear.h, `rival_draws` draws and 20 times
+//           as many where p is near alpha: Cox 1962, Williams 1970; all of them
 //           together an intersection-union test, Berger 1982), but for those that as that
 //           cause would have a sign their physics cannot have (a negative clearance is no
 //           rival; since 2026-11-29); where one is not rejected, the report names it and proposes
@@ -97,7 +98,7 @@ struct DiagnosisOptions {
   // intersection-union test: Berger 1982) or "bootstrap" (its group included in at least
   // `bootstrap_share` of the resamples; the gate until 2026-11-28, docs/physics.md).
   std::string selection_test = "rivals";
-  int rival_draws = 2000;          // parametric draws per rival for "rivals"
+  int rival_draws = 2000;          // parametric draws per rival for "rivals" (20x near alpha)
   int folds = 10;                  // blocked cross-validation, by pose (10: the standard error
                                    // of the gain is steadier than with 5)
   int refits = 3;                  // best candidates by score refitted in full each round
