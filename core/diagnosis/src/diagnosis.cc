@@ -387,7 +387,7 @@ class Diagnoser {
     return f;
   }
 
-  // The rival the chosen candidate beats least clearly: RivalTestP against every testable
+  // The rival the chosen candidate beats least clearly: RivalTestPAt against every testable
   // candidate outside the chosen one's own groups and aliases (`own`) that could be the cause;
   // the largest p and whose.
   void WorstRival(const ScoredRound& s, int best, const std::set<std::string>& own,
