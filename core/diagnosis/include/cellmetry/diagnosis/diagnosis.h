@@ -36,10 +36,10 @@
 //           calibration) and its aliases is rejected at `alpha` as the cause of what the chosen
 //           one explains (RivalTestPAt, diagnosis_linear.h, `rival_draws` draws and 20 times
 //           as many where p is near alpha: Cox 1962, Williams 1970; all of them
-//           together an intersection-union test, Berger 1982), but for those that as that
-//           cause would have a sign their physics cannot have (a negative clearance is no
-//           rival; since 2026-11-29); where one is not rejected, the report names it and proposes
-//           `cellmetry plan` for the two (pose_plan.h), whose poses tell them apart.
+//           together an intersection-union test, Berger 1982), leaving out any rival that,
+//           as the cause, would need a sign its physics cannot have (a negative clearance is
+//           no rival; since 2026-11-29); where one is not rejected, the report names it and
+//           proposes `cellmetry plan` for the two (pose_plan.h), whose poses tell them apart.
 //           ("bootstrap", the gate until 2026-11-28: its group included in >=
 //           `bootstrap_share` of bootstrap resamples of poses, each running the greedy
 //           selection, BIC-gated, on the resampled linearization, Sauerbrei & Schumacher 1992;
