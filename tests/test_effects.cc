@@ -43,6 +43,7 @@ const std::vector<std::string>& EffectConfigs() {
       "{type: detection_bias, cameras: [cam2], targets: [world, tool], frame: target}",
       "{type: detection_bias, cameras: [cam1, cam2], targets: [tool]}",
       "{type: target_scale, targets: [world, tool]}",
+      "{type: target_scale, targets: [world, tool], shared: true}",
       "{type: camera_intrinsics, cameras: [cam1, cam2]}",
       "{type: camera_intrinsics, cameras: [cam2], terms: [focal]}",
       "{type: camera_intrinsics, cameras: [cam2], terms: [principal, radial]}",

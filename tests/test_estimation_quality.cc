@@ -87,3 +87,102 @@ TEST(RobustCovariance, JackknifeClaimsASystematicPartOnlyBeyondChance) {
 
 }  // namespace
 }  // namespace cellmetry
+
+namespace cellmetry {
+namespace {
+
+// (value[0] - y) / sigma: one measurement of a block's first entry.
+struct Measured {
+  double y, sigma;
+  template <typename T>
+  bool operator()(const T* value, T* residual) const {
+    residual[0] = (value[0] - T(y)) / T(sigma);
+    return true;
+  }
+};
+
+// A problem measuring one block {m, b} through `ys` (each its own pose, in capture order), b
+// measured by nothing.
+void AddMeasurements(Problem* problem, const std::vector<double>& ys, double sigma) {
+  Parameter m{"m", "mm", 0.0};
+  Parameter b{"b", "mm", 0.0};
+  const int block = problem->AddBlock("x", {m, b});
+  for (size_t k = 0; k < ys.size(); ++k) {
+    ResidualInfo info;
+    info.pose = static_cast<int>(k);
+    info.sample = static_cast<int>(k);
+    info.sigma = Eigen::Vector3d::Constant(sigma);
+    problem->AddResidual(
+        std::make_unique<ceres::AutoDiffCostFunction<Measured, 1, 2>>(new Measured{ys[k], sigma}),
+        {block}, info);
+  }
+}
+
+std::vector<double> Ar1(int n, double rho, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> e(0.0, 1.0);
+  std::vector<double> y(static_cast<size_t>(n));
+  double last = e(rng) / std::sqrt(1.0 - rho * rho);
+  for (double& v : y) v = last = rho * last + e(rng);
+  return y;
+}
+
+// The mean of an AR(1) series with rho = 0.6: its variance is (1 + rho) / (1 - rho) = 4 times
+// what independent errors of the same spread give, so sigma twice the model's; with rho = 0,
+// the model's. The bandwidth follows (Andrews 1991: about 10 for rho = 0.6 at T = 250).
+TEST(SerialClusterRobust, NeighbouringErrorsWidenSigmaByTheirLongRunVariance) {
+  for (const double rho : {0.0, 0.6}) {
+    Problem problem;
+    AddMeasurements(&problem, Ar1(4000, rho, 3), 1.0);
+    problem.SetFixed(0, 1, true);
+    problem.Build();
+    const auto solver = testing::Plugins().CreateSolver(
+        "ceres_lm", ConfigNode::LoadString("type: ceres_lm", "solver"));
+    solver->Solve(problem);
+    const Linearization at = Linearize(problem);
+    const Uncertainty model = ComputeUncertainty(problem, at);
+    std::vector<int> clusters;
+    for (const auto& info : problem.residual_infos()) clusters.push_back(info.pose);
+    const ClusterRobust serial = SerialClusterRobustCovariance(problem, at, clusters, model);
+    const double ratio = std::sqrt(serial.covariance(0, 0)) / model.sigma[0];
+    if (rho == 0.0) {
+      EXPECT_NEAR(ratio, 1.0, 0.15);
+      EXPECT_LE(serial.lag, 3);
+    } else {
+      EXPECT_NEAR(ratio, 2.0, 0.35);
+      EXPECT_GE(serial.lag, 10);
+    }
+  }
+  std::vector<Eigen::VectorXd> series;
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    const auto y = Ar1(250, 0.6, seed);
+    series.push_back(Eigen::Map<const Eigen::VectorXd>(y.data(), 250));
+  }
+  EXPECT_NEAR(BartlettBandwidth(series), 10, 4);
+}
+
+// A prior is a stated input: where the measurements are noisier than stated (chi-square 9 times
+// their count), sigma of what they determine is scaled by 3, and a parameter only its prior
+// determines keeps the prior's sigma.
+TEST(ComputeUncertainty, APriorKeepsItsSigmaWhenTheDataAreNoisierThanStated) {
+  Problem problem;
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, 3.0);
+  std::vector<double> ys(400);
+  for (double& y : ys) y = 5.0 + noise(rng);
+  AddMeasurements(&problem, ys, 1.0);
+  problem.SetPrior(0, 1, 0.0, 0.5);
+  problem.Build();
+  const auto solver = testing::Plugins().CreateSolver(
+      "ceres_lm", ConfigNode::LoadString("type: ceres_lm", "solver"));
+  solver->Solve(problem);
+  const Uncertainty u = ComputeUncertainty(problem);
+  EXPECT_NEAR(u.scale, 9.0, 1.5);
+  EXPECT_NEAR(u.sigma[0], std::sqrt(u.scale / 400.0), 1e-9);
+  EXPECT_NEAR(u.sigma[1], 0.5, 1e-9);
+  // The bread of every sandwich is the unscaled inverse information, the prior's included.
+  EXPECT_NEAR(u.inverse_information(1, 1), 0.25, 1e-12);
+}
+
+}  // namespace
+}  // namespace cellmetry

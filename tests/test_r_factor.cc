@@ -81,21 +81,35 @@ TEST(RFactor, KeepsATinySingularValueTiny) {
 }
 
 // The dense computation the sparse path replaced: SVD of the column-scaled dense Jacobian.
+// Where the problem has priors, the measurements' information alone is divided by the scale:
+// (J^T J - P) / scale + P, P the priors' 1 / sigma^2, so a prior keeps its stated sigma.
 Eigen::VectorXd DenseSigma(Problem& problem, double scale) {
   Eigen::MatrixXd J;
   EXPECT_TRUE(problem.Evaluate(nullptr, nullptr, &J, false));
+  Eigen::VectorXd prior = Eigen::VectorXd::Zero(J.cols());
+  const auto& free = problem.free_parameters();
+  for (size_t i = 0; i < free.size(); ++i) {
+    const Parameter& p = problem.block_parameters(free[i].block)[free[i].index];
+    if (!p.prior_sigma) continue;
+    prior[static_cast<Eigen::Index>(i)] = 1.0 / (*p.prior_sigma * *p.prior_sigma);
+  }
   Eigen::VectorXd norms(J.cols());
   for (Eigen::Index j = 0; j < J.cols(); ++j) norms[j] = J.col(j).norm();
   const Eigen::MatrixXd scaled = J * norms.cwiseInverse().asDiagonal();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinV);
+  Eigen::MatrixXd information = scaled.transpose() * scaled;
+  const Eigen::VectorXd scaled_prior = prior.cwiseProduct(norms.cwiseInverse().cwiseAbs2());
+  information.diagonal() -= scaled_prior;
+  information /= scale;
+  information.diagonal() += scaled_prior;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(information, Eigen::ComputeThinV);
   const Eigen::VectorXd s = svd.singularValues();
-  Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
+  Eigen::VectorXd inv_s = Eigen::VectorXd::Zero(s.size());
   for (Eigen::Index i = 0; i < s.size(); ++i) {
-    if (s[i] > 1e-14 * s[0]) inv_s2[i] = 1.0 / (s[i] * s[i]);
+    if (s[i] > 1e-28 * s[0]) inv_s[i] = 1.0 / s[i];
   }
   const Eigen::MatrixXd V = svd.matrixV();
-  const Eigen::VectorXd scaled_variance = (V * inv_s2.asDiagonal() * V.transpose()).diagonal();
-  return (scaled_variance * scale).cwiseSqrt().cwiseQuotient(norms);
+  const Eigen::VectorXd scaled_variance = (V * inv_s.asDiagonal() * V.transpose()).diagonal();
+  return scaled_variance.cwiseSqrt().cwiseQuotient(norms);
 }
 
 // A job's problem assembled at its closed-form start and solved.
@@ -230,7 +244,7 @@ TEST(SparsePath, ClusterRobustCovarianceIsTheDenseSandwich) {
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(J.cols(), J.cols());
   for (const auto& [g, s] : score) meat += s * s.transpose();
   const double G = static_cast<double>(score.size());
-  const Eigen::MatrixXd bread = model.covariance / model.scale;
+  const Eigen::MatrixXd& bread = model.inverse_information;
   const Eigen::MatrixXd dense = bread * meat * bread * (G / (G - 1));
   EXPECT_LT((sandwich - dense).norm(), 1e-10 * dense.norm());
 }

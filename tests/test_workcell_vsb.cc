@@ -21,12 +21,17 @@
 namespace cellmetry {
 namespace {
 
+// `job_file` run with `solver_yaml`, `folds`-fold cross-validation, without each camera in turn
+// only where `leave_cameras_out`, and without the cameras in `unused` at all.
 WorkcellResult RunJob(const std::string& job_file, const std::string& solver_yaml, int folds,
-                      bool compare = false) {
+                      bool compare = false, bool leave_cameras_out = false,
+                      const std::set<std::string>& unused = {}) {
   Registry& registry = testing::Plugins();
   WorkcellJob job = LoadWorkcellJob(testing::Source(job_file), registry);
   job.problem.folds = folds;
   job.problem.compare_camera_models = compare;
+  job.problem.leave_one_camera_out = leave_cameras_out;
+  for (const std::string& camera : unused) job.problem.cameras[camera].use = false;
   const ConfigNode solver = ConfigNode::LoadString(solver_yaml, "solver");
   const Recording recording = ReadRecording(job.recording);
   return IdentifyWorkcell(job.problem, recording, [&] {
@@ -126,10 +131,53 @@ TEST(RealRecordings, SigmaCoversTheMeasuredPlacement) {
     const WorkcellResult r = RunJob(job, "type: ceres_lm", 0);
     ExpectCovers(r, job);
     if (std::string(job) != "configs/jobs/vsb_exp_a.yaml") continue;
-    // That job holds the base's tilt (the UR3 stands level): held reads as held, never as 0.
+    // The UR3 stands level within 3 mrad (a stated input): the data cannot tell its tilt from
+    // the world tag's, so the prior decides both, and sigma is the prior's.
     const FrameEstimate& base = Frame(r, "ur3.base");
-    EXPECT_EQ(base.held, (std::array<bool, 6>{false, false, false, true, true, false}));
-    EXPECT_THAT(WorkcellSummary(r), ::testing::HasSubstr("rad +- (held, held, 0.0"));
+    EXPECT_NEAR(base.sigma_rad[0], 0.003, 1e-5);
+    EXPECT_NEAR(base.sigma_rad[1], 0.003, 1e-5);
+  }
+}
+
+// The best model on every camera subset of experiment A: each single camera and each pair.
+// Every base coordinate and the tool's z within 3 sigma of the measured placement. One camera
+// alone cannot tell the world board's printed size from its own distance to the board: held at
+// nominal, that gauge put the base 12-32 mm off at up to 10 sigma; given the size's plausible
+// 2 % as a 2-sigma prior, sigma carries it.
+TEST(RealRecordings, EveryCameraSubsetCoversThePlacement) {
+  const std::vector<std::set<std::string>> left_out = {
+      {"cam2", "cam3"}, {"cam1", "cam3"}, {"cam1", "cam2"}, {"cam1"}, {"cam2"}, {"cam3"}};
+  for (const std::set<std::string>& unused : left_out) {
+    const std::string job = "configs/jobs/vsb_exp_a.yaml without " + *unused.begin() +
+                            (unused.size() > 1 ? " and " + *unused.rbegin() : "");
+    const WorkcellResult r =
+        RunJob("configs/jobs/vsb_exp_a.yaml", "type: ceres_lm", 0, false, false, unused);
+    EXPECT_EQ(r.unused_cameras.size(), unused.size()) << job;
+    const FrameEstimate& base = Frame(r, "ur3.base");
+    const FrameEstimate& tool = Frame(r, "tool");
+    const Eigen::Vector3d placement(431.0, 555.0, -460.0);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_FALSE(base.undetermined[i]) << job;
+      EXPECT_LT(std::abs(base.pose.t[i] - placement[i]), 3 * base.sigma_mm[i])
+          << job << ": base " << "xyz"[i] << " = " << base.pose.t[i] << " +- "
+          << base.sigma_mm[i];
+    }
+    EXPECT_LT(std::abs(tool.pose.t.z() - 66.0), 3 * tool.sigma_mm.z())
+        << job << ": tool z = " << tool.pose.t.z() << " +- " << tool.sigma_mm.z();
+  }
+}
+
+// Each camera of experiment A left out in turn, the best model: the cameras agree within the
+// sigma of the difference (no camera flagged), and every base and tool coordinate is compared.
+TEST(RealRecordings, EachCameraLeftOutAgreesWithTheOthersOnExperimentA) {
+  const WorkcellResult r =
+      RunJob("configs/jobs/vsb_exp_a.yaml", "type: ceres_lm", 0, false, /*leave_cameras_out=*/true);
+  ASSERT_EQ(r.cameras_left_out.size(), 3u);
+  for (const CameraLeftOut& c : r.cameras_left_out) {
+    EXPECT_TRUE(c.error.empty()) << c.camera << ": " << c.error;
+    EXPECT_LT(c.worst_sigmas, kCameraLeftOutFlagSigmas) << c.camera << ": " << c.worst;
+    ASSERT_EQ(c.frames.size(), 2u);  // the base, the tool
+    for (int i = 0; i < 3; ++i) EXPECT_TRUE(c.frames[0].compared[i]) << c.camera;
   }
 }
 

@@ -45,7 +45,8 @@ void AddPlanCommand(CLI::App& app, Context& context) {
     const std::vector<CandidateEffect> candidates = JobCandidates(job, recording, registry);
     CheckNamedEffects(candidates, options);  // before the identification, not after it
     WorkcellProblem problem = job.workcell.problem;
-    problem.folds = 0;  // the plan needs the answer, not its held-out score
+    problem.folds = 0;  // the plan needs the answer, not its held-out score, nor each camera's
+  problem.leave_one_camera_out = false;
     Progress::Note("identifying the cell on the recorded poses");
     const WorkcellResult fitted = IdentifyWorkcell(problem, recording, make_solver);
     Progress::Note("choosing poses");

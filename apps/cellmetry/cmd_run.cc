@@ -1,6 +1,8 @@
 // `cellmetry run JOB.yaml`: identify the cell the job describes — a multi-robot workcell or a
 // delta arm's kinematic calibration, one pipeline (workcell.h) — and write the result folder.
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
@@ -15,9 +17,11 @@
 namespace cellmetry::app {
 namespace {
 
-void RunJob(const std::string& job_path, const std::string& output) {
+void RunJob(const std::string& job_path, const std::string& output,
+            const std::vector<std::string>& without) {
   Registry& registry = Registry::Global();
-  const WorkcellJob job = LoadWorkcellJob(job_path, registry);
+  WorkcellJob job = LoadWorkcellJob(job_path, registry);
+  for (const std::string& camera : without) job.problem.cameras[camera].use = false;
   if (job.kind == "homing") {
     throw InputError({job_path, 0, 0}, "a homing job runs with 'cellmetry home'",
                      "Run: cellmetry home " + job_path);
@@ -25,6 +29,12 @@ void RunJob(const std::string& job_path, const std::string& output) {
   const std::string folder = output.empty() ? job.output : output;
   CheckReplaceable(folder, "result");  // before the fit, not after it
   const Recording recording = ReadRecording(job.recording);
+  for (const std::string& camera : without) {
+    if (recording.HasCamera(camera)) continue;
+    throw InputError({job_path, 0, 0},
+                     "--without " + camera + ": no such camera in " + recording.folder,
+                     "Name a camera as recording.yaml does");
+  }
   ValidateJobAgainstRecording(job, recording);
   const SolverMaker make_solver = [&] {
     return registry.CreateSolver(job.solver_type, *job.solver_config);
@@ -51,12 +61,16 @@ void AddRunCommand(CLI::App& app, Context& context) {
                                             "whatever robot geometry the job frees");
   static std::string job_path;
   static std::string output;
+  static std::vector<std::string> without;
   cmd->add_option("job", job_path, "job file (YAML)")->required();
   cmd->add_option("-o,--output", output, "result folder (default: the job's `output`)");
+  cmd->add_option("--without", without,
+                  "a camera to leave out whole, as `cameras: {<camera>: {use: false}}` does "
+                  "(repeat for more)");
   cmd->callback([&context] {
     Progress::SetQuiet(context.quiet);
     LoadPlugins(context);
-    RunJob(job_path, output);
+    RunJob(job_path, output, without);
   });
 }
 

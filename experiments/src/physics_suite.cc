@@ -77,6 +77,7 @@ double MagnitudeForSnr(const PhysicsSuiteSpec& suite, const WorkcellSimulationSp
   const Recording recording = SimulateWorkcell(spec, nullptr);
   WorkcellProblem problem = WhitenedBySimulation(job, base);
   problem.folds = 0;
+  problem.leave_one_camera_out = false;
   // Every observation counts: the outlier test would leave out the views a lens's distortion
   // moves most (eight of the UR3's at this size), and the norm of the rest is not the signal
   // the finder's candidates are scored on (its linearization has every row).

@@ -226,6 +226,7 @@ std::vector<SolverCompareRow> RunSolverCompare(const SolverCompareSpec& spec, Re
   for (int seed = 0; seed < spec.seeds; ++seed) {
     WorkcellProblem problem = spec.job.problem;
     Recording recording;
+    problem.leave_one_camera_out = false;  // solvers are compared, not cameras
     if (HasTruth(spec)) {
       WorkcellSimulationSpec sim = *spec.simulation;
       sim.noise_seed = spec.simulation->noise_seed + 1000u * static_cast<unsigned>(seed + 1);

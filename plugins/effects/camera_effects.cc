@@ -7,10 +7,15 @@
 
 namespace cellmetry::effects {
 
-TargetScale::TargetScale(std::vector<std::string> targets) : targets_(std::move(targets)) {
+TargetScale::TargetScale(std::vector<std::string> targets, bool shared)
+    : targets_(std::move(targets)), shared_(shared) {
   for (const auto& target : targets_) {
-    parameters_.push_back({target + ".scale", "1", 0.0, false, {}, {}, {},
-                           "relative error of the target's printed size", {}});
+    if (shared_ && !parameters_.empty()) break;
+    parameters_.push_back({shared_ ? std::string("scale") : target + ".scale", "1", 0.0, false,
+                           {}, {}, {},
+                           shared_ ? "relative error of the targets' printed size (one printer)"
+                                   : "relative error of the target's printed size",
+                           {}});
     parameters_.back().plausible = 0.02;  // a printer's scaling, a board's stated square size
   }
 }

@@ -128,8 +128,9 @@ std::vector<std::string> Names(const ConfigNode& config, const std::string& key,
 }
 
 std::unique_ptr<Effect> CreateTargetScale(const ConfigNode& config, const RobotModel&) {
-  config.ExpectKeys({"type", "targets"});
-  return std::make_unique<TargetScale>(Names(config, "targets", "tool"));
+  config.ExpectKeys({"type", "targets", "shared"});
+  return std::make_unique<TargetScale>(Names(config, "targets", "tool"),
+                                       config.GetBool("shared", false));
 }
 
 std::unique_ptr<Effect> CreateIntrinsics(const ConfigNode& config, const RobotModel&) {
@@ -269,7 +270,9 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
       &fx::CreateDetectionBias);
   registry->AddEffect(Info("target_scale",
                            "a target printed at another size: p' = p (1 + s) in every camera",
-                           {{"targets", "", "", "targets it acts on"}}),
+                           {{"targets", "", "", "targets it acts on"},
+                            {"shared", "", "false",
+                             "true: one scale for all of them (boards from one printer)"}}),
                       &fx::CreateTargetScale);
   registry->AddEffect(Info("camera_intrinsics",
                            "a camera's focal length, principal point or lens distortion off, "

@@ -7,7 +7,8 @@
 // A printer's 1 % is 1 % of the distance: 10 mm at a metre. It differs from a camera's depth
 // error (depth_bias) by following the target, not the camera.
 //
-// `targets: [tool, world]` names the targets (required).
+// `targets: [tool, world]` names the targets (required). `shared: true`: one scale for all of
+// them, "scale" (boards printed on one printer at one setting: what scales one scales all).
 #pragma once
 
 #include <string>
@@ -19,7 +20,7 @@ namespace cellmetry::effects {
 
 class TargetScale : public EffectFromTemplate<TargetScale> {
  public:
-  explicit TargetScale(std::vector<std::string> targets);
+  TargetScale(std::vector<std::string> targets, bool shared);
 
   EffectStage stage() const override { return EffectStage::kMeasurement; }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
@@ -29,12 +30,14 @@ class TargetScale : public EffectFromTemplate<TargetScale> {
   void ApplyT(const EffectContext& context, const T* params, T* p_cam) const {
     for (size_t t = 0; t < targets_.size(); ++t) {
       if (targets_[t] != context.target) continue;
-      for (int i = 0; i < 3; ++i) p_cam[i] *= T(1.0) + params[t];
+      const T& scale = params[shared_ ? 0 : t];
+      for (int i = 0; i < 3; ++i) p_cam[i] *= T(1.0) + scale;
     }
   }
 
  private:
   std::vector<std::string> targets_;
+  bool shared_ = false;
   std::vector<Parameter> parameters_;
 };
 

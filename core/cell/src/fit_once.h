@@ -67,7 +67,7 @@ SolverMaker FirstFitSolver(const NoiseModel& noise, const SolverMaker& job_solve
 // solves from `start` (`warm_start`: a neighbouring fit's answer; SolveHoldingUnidentifiable).
 Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
             const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
-            std::set<std::string> held, const SolverMaker& make_solver,
+            HeldParameters held, const SolverMaker& make_solver,
             bool warm_start = false);
 
 }  // namespace cellmetry

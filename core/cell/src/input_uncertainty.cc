@@ -142,8 +142,11 @@ void AddInputUncertainty(const InputLink& link, Uncertainty* u) {
     throw std::logic_error("the uncertain inputs were linked at other free parameters than the "
                            "fit's");
   }
-  const Eigen::MatrixXd bread = u->covariance / u->scale;
-  const Eigen::MatrixXd cov = ConsiderCovariance(link.cross, bread, link.sigma);
+  Eigen::MatrixXd sensitivity;
+  const Eigen::MatrixXd cov =
+      ConsiderCovariance(link.cross, u->inverse_information, link.sigma, &sensitivity);
+  u->input_effect = sensitivity * link.sigma.asDiagonal();
+  u->input_names = link.inputs;
   u->sigma_inputs = cov.diagonal().cwiseMax(0.0).cwiseSqrt();
   u->sigma = (u->sigma.cwiseAbs2() + u->sigma_inputs.cwiseAbs2()).cwiseSqrt();
 }

@@ -70,9 +70,25 @@ void ReadBase(const ConfigNode& node, bool world_is_base, WorkcellRobot* robot) 
     return;
   }
   const ConfigNode base = node["base"];
-  base.ExpectKeys({"free", "start"});
+  base.ExpectKeys({"free", "start", "level"});
   robot->base.free = ReadFreeFlags(base, robot->base.free);
   if (base.Has("start")) robot->base_start = ReadPose(base["start"]);
+  if (base.Has("level")) {
+    const ConfigNode level = base["level"];
+    level.ExpectKeys({"sigma_rad"});
+    if (!level.Has("sigma_rad")) {
+      throw level.Error("level: needs sigma_rad", "Say how far from level the base may stand, "
+                                                  "e.g. level: {sigma_rad: 0.003}");
+    }
+    robot->level_sigma_rad = level.GetDoubleIn(
+        "sigma_rad", 0.0, 1e-9, 0.5,
+        "How far from level the base may stand, 1 sigma in rad: 0.003 is a table levelled "
+        "by eye");
+    if (!robot->base.free[3] || !robot->base.free[4]) {
+      throw level.Error("a level prior needs the base's rotation about x and y free",
+                        "Free them (free: all), or drop level: to hold the rotation instead");
+    }
+  }
   if (world_is_base && std::find(robot->base.free.begin(), robot->base.free.end(), true) !=
                            robot->base.free.end()) {
     throw base["free"].Error("without a world target the robot's base is the world frame",
@@ -104,15 +120,17 @@ WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, bool wo
   return robot;
 }
 
-// `cameras: {<name>: {xyz, rvec, free}}`: a start (none: closed form) and the free entries.
+// `cameras: {<name>: {xyz, rvec, free, use}}`: a start (none: closed form), the free entries,
+// and whether its observations are used at all.
 std::map<std::string, WorkcellCamera> ReadCameras(const ConfigNode& cameras) {
   std::map<std::string, WorkcellCamera> out;
   for (const auto& name : cameras.Keys()) {
     WorkcellCamera camera;
     if (const auto node = cameras.Optional(name)) {
-      node->ExpectKeys({"xyz", "rvec", "free"});
+      node->ExpectKeys({"xyz", "rvec", "free", "use"});
       if (node->Has("xyz") || node->Has("rvec")) camera.start = ReadPose(*node);
       camera.free = ReadFreeFlags(*node, camera.free);
+      camera.use = node->GetBool("use", true);
     }
     out[name] = camera;
   }
@@ -344,9 +362,12 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
     problem->gravity_base = Eigen::Vector3d(g[0], g[1], g[2]);
   }
   if (root.Has("noise")) problem->noise = ReadNoise(root["noise"]);
-  if (!root.Has("validation")) return;
+  if (!root.Has("validation")) {
+    problem->leave_one_camera_out = true;
+    return;
+  }
   const ConfigNode v = root["validation"];
-  v.ExpectKeys({"folds", "seed", "compare_camera_models"});
+  v.ExpectKeys({"folds", "seed", "compare_camera_models", "leave_one_camera_out"});
   problem->folds = v.GetIntIn("folds", problem->folds, 0, 1000,
                               "0 turns cross-validation off; 5 is usual");
   if (problem->folds == 1) {
@@ -356,6 +377,7 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   problem->seed = static_cast<unsigned>(
       v.GetIntIn("seed", 1, 0, 2147483647, "A seed is a whole number, 0 or more"));
   problem->compare_camera_models = v.GetBool("compare_camera_models", false);
+  problem->leave_one_camera_out = v.GetBool("leave_one_camera_out", true);
 }
 
 // Where the recording is and where the result goes.

@@ -39,7 +39,7 @@ Recording PredictionRecording(const PredictedTarget& what, int joints,
 // remain once `held` are held.
 Eigen::MatrixXd DesignJacobian(const WorkcellProblem& problem, const Recording& recording,
                                const NoiseSpec& noise, const WorkcellEstimate& truth,
-                               const std::set<std::string>& held) {
+                               const HeldParameters& held) {
   WorkcellProblem cartesian = problem;
   cartesian.residual = ResidualForm::kCartesian;
   cartesian.noise = noise;
@@ -94,8 +94,7 @@ double PredictionErrorFloorMm(const WorkcellProblem& problem, const Recording& d
                               const std::vector<std::vector<double>>& validation,
                               const WorkcellEstimate& truth,
                               const std::vector<UnidentifiableParameter>& held) {
-  std::set<std::string> names;
-  for (const auto& h : held) names.insert(h.name);
+  const HeldParameters names = HeldOf(held);
   const Eigen::MatrixXd J = DesignJacobian(problem, design, problem.noise, truth, names);
   const int joints = validation.empty() ? 0 : static_cast<int>(validation.front().size());
   NoiseSpec unit;

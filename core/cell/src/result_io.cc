@@ -195,8 +195,10 @@ namespace {
 
 nlohmann::json FrameJson(const FrameEstimate& f) {
   nlohmann::json held = nlohmann::json::array();
+  nlohmann::json undetermined = nlohmann::json::array();
   for (int i = 0; i < 6; ++i) {
     if (f.held[i]) held.push_back(kFrameParameterNames[i]);
+    if (f.undetermined[i]) undetermined.push_back(kFrameParameterNames[i]);
   }
   return {{"parent", f.parent},
           {"xyz_mm", Vec(f.pose.t)},
@@ -206,7 +208,31 @@ nlohmann::json FrameJson(const FrameEstimate& f) {
           {"sigma_statistical", Vec6(f.sigma_statistical)},
           {"sigma_systematic", Vec6(f.sigma_systematic)},
           {"sigma_inputs", Vec6(f.sigma_inputs)},
-          {"held", held}};
+          {"held", held},
+          {"undetermined", undetermined}};
+}
+
+// Each camera left out against the cell with all (camera_left_out.h).
+nlohmann::json CamerasLeftOutJson(const std::vector<CameraLeftOut>& cameras) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const CameraLeftOut& c : cameras) {
+    nlohmann::json frames = nlohmann::json::object();
+    for (const FrameDifference& d : c.frames) {
+      nlohmann::json difference = nlohmann::json::array(), sigma = nlohmann::json::array();
+      for (int i = 0; i < 6; ++i) {
+        difference.push_back(d.compared[i] ? nlohmann::json(d.difference[i]) : nullptr);
+        sigma.push_back(d.compared[i] ? nlohmann::json(d.sigma[i]) : nullptr);
+      }
+      frames[d.frame] = {{"difference", difference}, {"sigma", sigma}};
+    }
+    out.push_back({{"camera", c.camera},
+                   {"frames", frames},
+                   {"worst_sigmas", c.worst_sigmas},
+                   {"worst", c.worst},
+                   {"flagged", c.error.empty() && c.worst_sigmas > kCameraLeftOutFlagSigmas},
+                   {"error", c.error}});
+  }
+  return out;
 }
 
 nlohmann::json RobotPairJson(const RobotPairEstimate& p) {
@@ -229,7 +255,7 @@ nlohmann::json ModelParameterJson(const ScalarEstimate& p) {
   return {{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal}, {"value", p.value},
           {"sigma", p.held ? nlohmann::json(nullptr) : nlohmann::json(p.sigma)},
           {"sigma_statistical", p.sigma_statistical}, {"sigma_systematic", p.sigma_systematic},
-          {"sigma_inputs", p.sigma_inputs}, {"held", p.held}};
+          {"sigma_inputs", p.sigma_inputs}, {"held", p.held}, {"undetermined", p.undetermined}};
 }
 
 nlohmann::json RobotModelJson(const RobotModelRecord& record) {
@@ -291,6 +317,17 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
     j["residual_rms"]["rotation_rad"][key] = RmsJson(rms);
   j["held_out"] = HeldOutJson(r.held_out);
   for (const auto& [model, h] : r.other_models) j["other_models"][model] = HeldOutJson(h);
+  j["cameras_left_out"] = CamerasLeftOutJson(r.cameras_left_out);
+  j["unused_cameras"] = r.unused_cameras;
+  j["undetermined"] = nlohmann::json::array();
+  for (const auto& f : r.frames) {
+    for (int i = 0; i < 6; ++i) {
+      if (f.undetermined[i]) j["undetermined"].push_back(f.name + "." + kFrameParameterNames[i]);
+    }
+  }
+  for (const auto& p : r.model_parameters) {
+    if (p.undetermined) j["undetermined"].push_back(p.name);
+  }
   if (r.validation) j["validation"] = ScoreJson(*r.validation);
   const double floor = NoiseFloorMm(r);
   j["noise_floor_mm"] = std::isnan(floor) ? nlohmann::json(nullptr) : nlohmann::json(floor);
@@ -333,7 +370,9 @@ void PrintFrame(const FrameEstimate& f, std::ostringstream& out) {
   auto sigmas = [&f](const Eigen::Vector3d& sigma, int offset) {
     std::string text;
     for (int i = 0; i < 3; ++i) {
-      text += (i ? ", " : "") + (f.held[offset + i] ? std::string("held") : SigmaText(sigma[i]));
+      text += (i ? ", " : "") + (f.held[offset + i]           ? std::string("held")
+                                 : f.undetermined[offset + i] ? std::string("undetermined")
+                                                              : SigmaText(sigma[i]));
     }
     return "(" + text + ")";
   };
@@ -364,12 +403,56 @@ void PrintRobotToRobot(const WorkcellResult& r, std::ostringstream& out) {
   if (left > 0) out << "    ... and " << left << " more pairs in result.yaml\n";
 }
 
+// What the data could not determine, and what decided it instead.
+std::string UnidentifiableLine(const UnidentifiableParameter& u) {
+  std::string partners;
+  for (const auto& p : u.moves_with) partners += (partners.empty() ? "" : ", ") + p.name;
+  if (u.prior_sigma > 0.0) {
+    return "not determined by this data: " + u.name + ", taken as 0 +- " +
+           SigmaText(u.prior_sigma) + " (its plausible size as a 2-sigma prior); " +
+           (partners.empty() ? std::string("it moves nothing else")
+                             : "it moves " + partners + ", whose sigma carries it");
+  }
+  if (u.moves_with.empty()) {
+    return "not identifiable, held at nominal: " + u.name + " (" + u.reason + ")";
+  }
+  return "not identifiable, held at nominal: " + u.name + " (" + u.reason + "): " + partners +
+         " are not determined by this data either (marked undetermined; their sigma leaves the "
+         "hold out): measure one of them and hold it there, or record what separates them";
+}
+
+// The cell without each camera against the cell with all (camera_left_out.h).
+void PrintCamerasLeftOut(const WorkcellResult& r, std::ostringstream& out) {
+  if (r.cameras_left_out.empty()) return;
+  out << "  each camera left out (without it - with all, +- the difference's sigma):\n";
+  for (const CameraLeftOut& c : r.cameras_left_out) {
+    if (!c.error.empty()) {
+      out << "    without " << c.camera << ": not identifiable (" << c.error << ")\n";
+      continue;
+    }
+    out << "    without " << c.camera << ": largest " << FixedNumber(c.worst_sigmas, 1)
+        << " sigma (" << (c.worst.empty() ? std::string("none") : c.worst) << ")"
+        << (c.worst_sigmas > kCameraLeftOutFlagSigmas ? " FLAGGED" : "") << "\n";
+    for (const FrameDifference& d : c.frames) {
+      std::string text;
+      for (int i = 0; i < 3; ++i) {
+        text += (i ? ", " : "") + (d.compared[i] ? FixedNumber(d.difference[i], 2) + " +- " +
+                                                        SigmaText(d.sigma[i])
+                                                  : std::string("held"));
+      }
+      out << "      " << d.frame << " xyz (" << text << ") mm\n";
+    }
+  }
+}
+
 // The model's parameters, the observations left out, what was held and what moves together.
 void PrintParameters(const WorkcellResult& r, std::ostringstream& out) {
   for (const auto& p : r.model_parameters) {
     out << "  " << p.name << " = " << FixedNumber(p.value, 5) << " "
-        << (p.held ? "held (not identifiable)" : "+- " + SigmaText(p.sigma)) << " " << p.unit
-        << "\n";
+        << (p.held           ? "held (not identifiable)"
+            : p.undetermined ? std::string("undetermined")
+                             : "+- " + SigmaText(p.sigma))
+        << " " << p.unit << "\n";
   }
   if (!r.outliers.empty()) {
     std::set<std::tuple<int, int, std::string, std::string>> observations;
@@ -377,9 +460,7 @@ void PrintParameters(const WorkcellResult& r, std::ostringstream& out) {
     out << "  outliers: " << observations.size()
         << " observations failed the outlier test and were left out (outliers.csv)\n";
   }
-  for (const auto& u : r.unidentifiable) {
-    out << "  not identifiable, held at nominal: " << u.name << " (" << u.reason << ")\n";
-  }
+  for (const auto& u : r.unidentifiable) out << "  " << UnidentifiableLine(u) << "\n";
   for (const auto& c : r.strong_correlations) {
     out << "  strongly correlated: " << c.a << " ~ " << c.b << " (" << FixedNumber(c.correlation, 3)
         << ")\n";
@@ -427,6 +508,7 @@ std::string WorkcellSummary(const WorkcellResult& r) {
   PrintRobotToRobot(r, out);
   PrintParameters(r, out);
   PrintFitQuality(r, out);
+  PrintCamerasLeftOut(r, out);
   for (const auto& w : r.warnings) out << "  warning: " << w << "\n";
   if (!r.stages.empty()) out << "  " << StagesLine(r.stages) << "\n";
   return out.str();

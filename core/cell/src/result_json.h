@@ -46,12 +46,17 @@ inline void AddUncertaintyJson(const Uncertainty& u,
       moves_with.push_back({{"name", partner.name}, {"ratio", partner.ratio}});
     }
     (*j)["unidentifiable"].push_back(
-        {{"name", p.name}, {"reason", p.reason}, {"moves_with", moves_with}});
+        {{"name", p.name},
+         {"reason", p.reason},
+         {"moves_with", moves_with},
+         {"determined_by", p.prior_sigma > 0.0 ? "prior" : "hold"},
+         {"prior_sigma", p.prior_sigma > 0.0 ? nlohmann::json(p.prior_sigma) : nullptr}});
   }
   (*j)["fit"] = {{"chi2", u.chi2},
                  {"dof", u.dof},
                  {"reduced_chi2", u.reduced_chi2},
                  {"covariance_scale", u.scale},
+                 {"correlated_poses", u.correlated_poses},
                  {"condition_number", u.condition_number}};
   (*j)["free_parameters"] = u.names;
   (*j)["sigma"] = std::vector<double>(u.sigma.data(), u.sigma.data() + u.sigma.size());

@@ -81,8 +81,7 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
     IdentifiedSolve plain = SolveHoldingUnidentifiable(
         &problem, spec.identifiability_tolerance, {},
         work_beside ? LeavingOneCore(first_solver) : first_solver);
-    std::set<std::string> held;
-    for (const auto& u : plain.unidentifiable) held.insert(u.name);
+    const HeldParameters held = HeldOf(plain.unidentifiable);
     fit.summary = plain.summary;
     fit.unidentifiable = std::move(plain.unidentifiable);
     fit.at_answer = std::move(plain.at_answer);

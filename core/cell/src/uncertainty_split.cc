@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <future>
+#include <map>
 #include <set>
 
 #include "cellmetry/estimation/robust_covariance.h"
@@ -10,14 +11,28 @@
 namespace cellmetry {
 namespace {
 
-// The pose of each residual block (ResidualInfo order); priors are clusters of their own.
-std::vector<int> PoseClusters(const Problem& problem) {
+}  // namespace
+
+std::vector<int> PoseClustersInCaptureOrder(const Problem& problem) {
+  std::map<int, int> first_sample;  // pose -> the first sample that shows it
+  for (const auto& info : problem.residual_infos()) {
+    if (info.kind == ResidualInfo::Kind::kPrior) continue;
+    const auto [it, added] = first_sample.emplace(info.pose, info.sample);
+    if (!added) it->second = std::min(it->second, info.sample);
+  }
+  std::vector<std::pair<int, int>> order;  // (first sample, pose)
+  for (const auto& [pose, sample] : first_sample) order.push_back({sample, pose});
+  std::sort(order.begin(), order.end());
+  std::map<int, int> rank;
+  for (size_t i = 0; i < order.size(); ++i) rank[order[i].second] = static_cast<int>(i);
   std::vector<int> clusters;
   for (const auto& info : problem.residual_infos()) {
-    clusters.push_back(info.kind == ResidualInfo::Kind::kPrior ? -1 : info.pose);
+    clusters.push_back(info.kind == ResidualInfo::Kind::kPrior ? -1 : rank.at(info.pose));
   }
   return clusters;
 }
+
+namespace {
 
 // Static cameras that see a target the job's robots carry: those a jackknife can leave out.
 std::vector<std::string> CamerasSeeingTools(const WorkcellProblem& spec,
@@ -37,7 +52,8 @@ std::vector<std::string> CamerasSeeingTools(const WorkcellProblem& spec,
   return seen;
 }
 
-// Each residual block's camera among `cameras` (ResidualInfo order); -1: kept in every estimate.
+}  // namespace
+
 std::vector<int> CameraGroups(const Problem& problem, const std::vector<std::string>& cameras) {
   std::vector<int> groups;
   for (const auto& info : problem.residual_infos()) {
@@ -48,6 +64,8 @@ std::vector<int> CameraGroups(const Problem& problem, const std::vector<std::str
   }
   return groups;
 }
+
+namespace {
 
 // The cameras a leave-one-camera-out jackknife leaves out in turn: none with fewer than two.
 std::vector<std::string> JackknifeCameras(const WorkcellProblem& spec,
@@ -73,10 +91,12 @@ void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,
         return LinearizedJackknife(problem, at, CameraGroups(problem, cameras),
                                    spec.identifiability_tolerance);
       });
-  const Eigen::MatrixXd cluster = ClusterRobustCovariance(problem, at, PoseClusters(problem), *u);
+  const ClusterRobust cluster =
+      SerialClusterRobustCovariance(problem, at, PoseClustersInCaptureOrder(problem), *u);
   const auto deviations = jackknife.get();
-  CombineUncertainty(cluster, deviations.size() >= 2 ? JackknifeSpread(deviations) : Jackknife{},
-                     u);
+  CombineUncertainty(cluster.covariance,
+                     deviations.size() >= 2 ? JackknifeSpread(deviations) : Jackknife{}, u);
+  u->correlated_poses = cluster.lag;
 }
 
 }  // namespace cellmetry

@@ -15,6 +15,7 @@
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/estimation/reweighted_solve.h"
+#include "camera_left_out_fit.h"
 #include "fit_once.h"
 #include "residual_rows.h"
 #include "robust_first_fit.h"
@@ -25,7 +26,7 @@ namespace cellmetry {
 
 Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
             const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
-            std::set<std::string> held, const SolverMaker& make_solver, bool warm_start) {
+            HeldParameters held, const SolverMaker& make_solver, bool warm_start) {
   Fit fit;
   fit.assembled = AssembleWorkcell(spec, recording, data, noise, start, poses);
   fit.free_as_asked = fit.assembled->problem.num_free();
@@ -46,12 +47,6 @@ SolverMaker FirstFitSolver(const NoiseModel& noise, const SolverMaker& job_solve
 }
 
 namespace {
-
-std::set<std::string> Names(const std::vector<UnidentifiableParameter>& list) {
-  std::set<std::string> names;
-  for (const auto& u : list) names.insert(u.name);
-  return names;
-}
 
 bool IsCarried(const Recording& recording, const std::string& target) {
   return recording.targets.at(target) != kWorldCarrier;
@@ -105,7 +100,7 @@ bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, No
 
 HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
                       const WorkcellData& data, const NoiseModel& noise,
-                      const WorkcellEstimate& answer, const std::set<std::string>& held,
+                      const WorkcellEstimate& answer, const HeldParameters& held,
                       const SolverMaker& make_solver) {
   HeldOut out;
   std::vector<int> poses;
@@ -171,8 +166,20 @@ SigmaOf Sigma(const Uncertainty& u, const std::string& name) {
   return s;
 }
 
+// The parameters whose values a hold decides: each held parameter with partners (no gauge prior
+// on it), and those partners.
+std::set<std::string> Undetermined(const std::vector<UnidentifiableParameter>& unidentifiable) {
+  std::set<std::string> names;
+  for (const auto& u : unidentifiable) {
+    if (u.prior_sigma > 0.0 || u.moves_with.empty()) continue;
+    names.insert(u.name);
+    for (const auto& partner : u.moves_with) names.insert(partner.name);
+  }
+  return names;
+}
+
 FrameEstimate MakeFrame(const std::string& name, const std::string& parent, const Pose& pose,
-                        const Uncertainty& u, const std::set<std::string>& held) {
+                        const Uncertainty& u, const std::set<std::string>& undetermined) {
   FrameEstimate frame;
   frame.name = name;
   frame.parent = parent;
@@ -184,6 +191,7 @@ FrameEstimate MakeFrame(const std::string& name, const std::string& parent, cons
     frame.sigma_systematic[i] = sigma.systematic;
     frame.sigma_inputs[i] = sigma.inputs;
     frame.held[i] = !sigma.free;
+    frame.undetermined[i] = undetermined.count(name + "." + kFrameParameterNames[i]) > 0;
   }
   return frame;
 }
@@ -199,7 +207,8 @@ const char* StageName(const Effect& effect) {
 
 // A model or effect parameter's estimate.
 ScalarEstimate MakeScalar(const std::string& name, const std::string& unit, double nominal,
-                          double value, const Uncertainty& u, const std::set<std::string>& held) {
+                          double value, const Uncertainty& u, const std::set<std::string>& held,
+                          const std::set<std::string>& undetermined) {
   ScalarEstimate s;
   s.name = name;
   s.unit = unit;
@@ -211,27 +220,30 @@ ScalarEstimate MakeScalar(const std::string& name, const std::string& unit, doub
   s.sigma_statistical = sigma.statistical;
   s.sigma_systematic = sigma.systematic;
   s.sigma_inputs = sigma.inputs;
+  s.undetermined = undetermined.count(name) > 0;
   return s;
 }
 
 void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
               const std::set<std::string>& held, WorkcellResult* result) {
   const Uncertainty& u = result->uncertainty;
+  const std::set<std::string> undetermined = Undetermined(result->unidentifiable);
   const WorkcellEstimate& e = result->estimate;
   for (size_t r = 0; r < spec.robots.size(); ++r) {
     const auto& robot = spec.robots[r];
     result->frames.push_back(MakeFrame(robot.name + ".base", "world",
-                                       e.T_world_base.at(robot.name), u, held));
+                                       e.T_world_base.at(robot.name), u, undetermined));
     for (const auto& tool : robot.tools) {
       result->frames.push_back(MakeFrame(tool.target, robot.name + ".flange",
-                                         e.T_flange_target.at(tool.target), u, held));
+                                         e.T_flange_target.at(tool.target), u, undetermined));
     }
     const auto& values = e.model.at(robot.name);
     for (size_t i = 0; i < robot.model_parameters.size(); ++i) {
       const Parameter& p = robot.model_parameters[i];
       if (p.fixed) continue;
       result->model_parameters.push_back(
-          MakeScalar(robot.name + ".model." + p.name, p.unit, p.nominal, values[i], u, held));
+          MakeScalar(robot.name + ".model." + p.name, p.unit, p.nominal, values[i], u, held,
+                     undetermined));
     }
     RobotModelRecord record{robot.name, robot.model_file, robot.model_config,
                             robot.model_parameters};
@@ -247,7 +259,7 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
     }
   }
   for (const auto& [camera, pose] : e.T_world_cam) {
-    result->frames.push_back(MakeFrame(camera, "world", pose, u, held));
+    result->frames.push_back(MakeFrame(camera, "world", pose, u, undetermined));
   }
   result->gravity_base = spec.gravity_base;
   for (const WorkcellEffect& effect : spec.effects) {
@@ -261,7 +273,8 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
     const auto& values = e.effects.at(effect.name);
     for (size_t i = 0; i < params.size(); ++i) {
       result->model_parameters.push_back(MakeScalar(effect.name + "." + params[i].name,
-                                                    params[i].unit, 0.0, values[i], u, held));
+                                                    params[i].unit, 0.0, values[i], u, held,
+                                                    undetermined));
     }
   }
 }
@@ -347,7 +360,7 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
   // Warm: from the first fit's answer with what it held, so the identifiability check before
   // the solve is skipped; a near-degeneracy the new row weights make shows in the check at the
   // answer, which holds it and solves again (SolveHoldingUnidentifiable).
-  fit = FitOnce(spec, recording, data, *noise, first, {}, Names(held_first),
+  fit = FitOnce(spec, recording, data, *noise, first, {}, HeldOf(held_first),
                 LinksOnAnotherThread(spec) ? LeavingOneCore(make_solver) : make_solver,
                 /*warm_start=*/true);
   refit_answer.set_value(AnswerOf(*fit.assembled));
@@ -556,8 +569,8 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
       fit.at_answer.valid ? std::move(fit.at_answer) : Linearize(fit.assembled->problem);
   AddCovarianceAndResiduals(spec, recording, data, fit, at_answer, &input_link, &clock, &result);
   AddInputUncertainty(input_link.get(), &result.uncertainty);  // rethrows what it threw
-  const std::set<std::string> held = Names(result.unidentifiable);
-  Describe(spec, *fit.assembled, held, &result);
+  const HeldParameters held = HeldOf(result.unidentifiable);
+  Describe(spec, *fit.assembled, held.held, &result);
   result.robot_to_robot = RobotToRobot(result);
   clock.Lap("input_uncertainty");
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,
@@ -572,8 +585,62 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   return result;
 }
 
+namespace {
+
+// The cameras the job does not use (`use: false`).
+std::set<std::string> UnusedCameras(const WorkcellProblem& spec) {
+  std::set<std::string> unused;
+  for (const auto& [camera, settings] : spec.cameras) {
+    if (!settings.use) unused.insert(camera);
+  }
+  return unused;
+}
+
+// `spec` without the cameras it does not use (what IdentifyWorkcell then fits).
+WorkcellProblem WithoutUnusedCameras(const WorkcellProblem& spec) {
+  WorkcellProblem out = spec;
+  for (auto it = out.cameras.begin(); it != out.cameras.end();) {
+    it = it->second.use ? std::next(it) : out.cameras.erase(it);
+  }
+  return out;
+}
+
+// The cell without each camera in turn, against `result` (fitted on `recording`), and a warning
+// for each camera whose absence moves a base or a tool beyond its sigma.
+void AddCamerasLeftOut(const WorkcellProblem& spec, const Recording& recording,
+                       const SolverMaker& make_solver, WorkcellResult* result) {
+  if (!spec.leave_one_camera_out) return;
+  StageClock clock;
+  result->cameras_left_out = LeaveEachCameraOut(spec, recording, *result, make_solver);
+  for (const CameraLeftOut& c : result->cameras_left_out) {
+    if (!c.error.empty()) {
+      result->warnings.push_back("without " + c.camera + " the cell cannot be identified (" +
+                                 c.error + "): nothing checks what it alone determines");
+    } else if (c.worst_sigmas > kCameraLeftOutFlagSigmas) {
+      char sigmas[32];
+      std::snprintf(sigmas, sizeof sigmas, "%.1f", c.worst_sigmas);
+      result->warnings.push_back(
+          "without " + c.camera + " " + c.worst + " moves by " + sigmas + " sigma of the "
+          "difference: " + c.camera + " disagrees with the other cameras beyond the "
+          "uncertainty (its intrinsics, its mount or the model's camera-side physics)");
+    }
+  }
+  clock.Lap("cameras_left_out");
+  result->stages.insert(result->stages.end(), clock.stages().begin(), clock.stages().end());
+}
+
+}  // namespace
+
 WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                 const SolverMaker& make_solver) {
+  const std::set<std::string> unused = UnusedCameras(spec);
+  if (!unused.empty()) {
+    const Recording used = WithoutCameras(recording, unused);
+    WorkcellResult result = IdentifyWorkcell(WithoutUnusedCameras(spec), used, make_solver);
+    NumberByOriginal(recording, used, &result.residuals);
+    result.unused_cameras.assign(unused.begin(), unused.end());
+    return result;
+  }
   // Gross outliers (outliers.h): those a robust first fit finds are left out before the plain
   // fit; then what the plain fit's own residuals show, left out and the cell identified again,
   // twice at most (what the first ones masked shows in the second pass). Clean data: the plain
@@ -626,8 +693,9 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     for (StageTime& stage : result.stages) stage.pass = pass + 1;
     result.stages.insert(result.stages.begin(), stages.begin(), stages.end());
   }
-  if (!outliers.empty()) NumberByOriginal(recording, kept, &result.residuals);
   result.outliers = outliers;
+  AddCamerasLeftOut(spec, kept, make_solver, &result);
+  if (!outliers.empty()) NumberByOriginal(recording, kept, &result.residuals);
   return result;
 }
 

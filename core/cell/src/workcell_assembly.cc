@@ -3,6 +3,7 @@
 #include "cellmetry/cell/workcell_assembly.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <deque>
 #include <map>
@@ -34,6 +35,21 @@ int AddFrameBlock(AssembledWorkcell* out, const std::string& name, FrameBlockSpe
   return id;
 }
 
+// A base standing level: priors on its rotation about the world's x and y (frame_block.h: R =
+// exp(w) R_ref) at the w that turns R_ref's z axis onto the world's (or onto its opposite, for a
+// base hung from a ceiling) by the shortest way. For a
+// small tilt w's x and y are the tilt of the base's z axis about those axes, to first order.
+void AddLevelPrior(AssembledWorkcell* out, int base_block, double sigma_rad) {
+  const Eigen::Vector3d z_ref = out->R_ref.at(base_block).col(2);
+  // Hung from a ceiling, a level base's z axis points down.
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ() * (z_ref.z() < 0.0 ? -1.0 : 1.0);
+  const Eigen::Vector3d axis = z_ref.cross(up);
+  const double angle = std::atan2(axis.norm(), z_ref.dot(up));
+  const Eigen::Vector3d w_level =
+      axis.norm() > 1e-15 ? Eigen::Vector3d(axis.normalized() * angle) : Eigen::Vector3d::Zero();
+  for (int i = 0; i < 2; ++i) out->problem.SetPrior(base_block, 3 + i, w_level[i], sigma_rad);
+}
+
 }  // namespace
 
 namespace {
@@ -43,6 +59,9 @@ void AddBlocks(const WorkcellProblem& spec, const WorkcellEstimate& start, Assem
   for (const auto& robot : spec.robots) {
     out->base_block.push_back(AddFrameBlock(out, robot.name + ".base", robot.base,
                                             start.T_world_base.at(robot.name)));
+    if (robot.level_sigma_rad) {
+      AddLevelPrior(out, out->base_block.back(), *robot.level_sigma_rad);
+    }
     std::vector<Parameter> model_params = robot.model_parameters;
     const auto& values = start.model.at(robot.name);
     for (size_t i = 0; i < model_params.size(); ++i) model_params[i].nominal = values[i];

@@ -48,6 +48,7 @@ Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
   f.spec = spec;
   f.spec.folds = folds;
   f.spec.compare_camera_models = false;
+  f.spec.leave_one_camera_out = false;
   f.result = IdentifyWorkcell(f.spec, recording, make_solver);
   ResidualRms tool;
   int rows = 0;  // scalar residuals
@@ -73,8 +74,7 @@ Fitted WithHeldOut(const Fitted& refit, const Recording& recording,
   if (!refit.result.outliers.empty()) return Fit(refit.spec, recording, make_solver, folds);
   Fitted f = refit;
   f.spec.folds = folds;
-  std::set<std::string> held;
-  for (const auto& u : f.result.unidentifiable) held.insert(u.name);
+  const HeldParameters held = HeldOf(f.result.unidentifiable);
   StageClock clock;
   f.result.held_out = CrossValidate(f.spec, recording, PrepareWorkcellData(f.spec, recording),
                                     f.result.noise, f.result.estimate, held, make_solver);

@@ -58,12 +58,87 @@ std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
       if (k == worst || std::abs(v[k]) <= 0.1) continue;
       column.partners.push_back(active[k]);
       column.partner_ratios.push_back(v[k] / norms[active[k]] / worst_move);
+      column.partner_shares.push_back(std::abs(v[k]));
     }
     found.push_back(column);
     active.erase(active.begin() + worst);
   }
   return found;
 }
+
+double GaugePriorSigma(const Parameter& p) { return p.plausible ? *p.plausible / 2.0 : 0.0; }
+
+HeldParameters HeldOf(const std::vector<UnidentifiableParameter>& found) {
+  HeldParameters held;
+  for (const auto& u : found) {
+    if (u.prior_sigma > 0.0) {
+      held.prior_sigma[u.name] = u.prior_sigma;
+    } else {
+      held.held.insert(u.name);
+    }
+  }
+  return held;
+}
+
+namespace {
+
+// The free parameter `column` of `problem` (FreeParameter order) as a Parameter.
+const Parameter& FreeParameterOf(const Problem& problem, int column) {
+  const FreeParameter& f = problem.free_parameters()[static_cast<size_t>(column)];
+  return problem.block_parameters(f.block)[static_cast<size_t>(f.index)];
+}
+
+// The column of `degenerate` (its own or a partner's) to give a gauge prior: the one with a
+// plausible size and the largest share of the direction; -1 where none has one, or where no
+// measurement depends on the column at all.
+int GaugePriorColumn(const Problem& problem, const DegenerateColumn& degenerate) {
+  if (degenerate.no_data) return -1;  // it moves nothing: held, it decides nothing either
+  if (GaugePriorSigma(FreeParameterOf(problem, degenerate.column)) > 0.0) {
+    return degenerate.column;
+  }
+  int best = -1;
+  double best_share = 0.0;
+  for (size_t k = 0; k < degenerate.partners.size(); ++k) {
+    const int c = degenerate.partners[k];
+    if (GaugePriorSigma(FreeParameterOf(problem, c)) <= 0.0) continue;
+    if (degenerate.partner_shares[k] > best_share) {
+      best = c;
+      best_share = degenerate.partner_shares[k];
+    }
+  }
+  return best;
+}
+
+UnidentifiableParameter Describe(const Problem& problem, const DegenerateColumn& degenerate,
+                                 int named) {
+  const auto& free = problem.free_parameters();
+  std::vector<int> members = {degenerate.column};
+  std::vector<double> ratios = {1.0};
+  members.insert(members.end(), degenerate.partners.begin(), degenerate.partners.end());
+  ratios.insert(ratios.end(), degenerate.partner_ratios.begin(),
+                degenerate.partner_ratios.end());
+  double named_ratio = 1.0;
+  for (size_t k = 0; k < members.size(); ++k) {
+    if (members[k] == named) named_ratio = ratios[k];
+  }
+  std::string partners;
+  std::vector<GaugePartner> moves_with;
+  for (size_t k = 0; k < members.size(); ++k) {
+    if (members[k] == named) continue;
+    const std::string& name = free[static_cast<size_t>(members[k])].name;
+    partners += (partners.empty() ? "" : ", ") + name;
+    moves_with.push_back({name, ratios[k] / named_ratio});
+  }
+  UnidentifiableParameter u;
+  u.name = free[static_cast<size_t>(named)].name;
+  u.reason = degenerate.no_data ? "no measurement depends on it"
+             : partners.empty() ? "the data cannot separate it"
+                                : "moves together with " + partners;
+  u.moves_with = std::move(moves_with);
+  return u;
+}
+
+}  // namespace
 
 std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double tolerance,
                                                         Linearization* at) {
@@ -78,32 +153,32 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
   if (!at->valid) return {};
   const SparseJacobian& gram = GramOf(*at);
   at->r_factor = RFactor(gram);
-  const auto& free = problem.free_parameters();
   std::vector<UnidentifiableParameter> found;
   for (const DegenerateColumn& column :
        FindDegenerateColumns(at->r_factor, ColumnNorms(gram), tolerance)) {
-    std::string partners;
-    std::vector<GaugePartner> moves_with;
-    for (size_t k = 0; k < column.partners.size(); ++k) {
-      const std::string& name = free[column.partners[k]].name;
-      partners += (partners.empty() ? "" : ", ") + name;
-      moves_with.push_back({name, column.partner_ratios[k]});
+    // The directions after the first were found with the first's column taken out (held):
+    // one that gets a prior instead ends the list, and the caller looks again.
+    const int prior_column = GaugePriorColumn(problem, column);
+    if (prior_column >= 0) {
+      UnidentifiableParameter u = Describe(problem, column, prior_column);
+      u.prior_sigma = GaugePriorSigma(FreeParameterOf(problem, prior_column));
+      found.push_back(u);
+      break;
     }
-    found.push_back({free[column.column].name,
-                     column.no_data        ? "no measurement depends on it"
-                     : partners.empty()    ? "the data cannot separate it"
-                                           : "moves together with " + partners,
-                     moves_with});
+    found.push_back(Describe(problem, column, column.column));
   }
   return found;
 }
 
-void HoldParameters(Problem* problem, const std::set<std::string>& names) {
+void HoldParameters(Problem* problem, const HeldParameters& held) {
   for (int b = 0; b < problem->num_blocks(); ++b) {
     const auto& params = problem->block_parameters(b);
     for (size_t i = 0; i < params.size(); ++i) {
-      if (names.count(problem->block_name(b) + "." + params[i].name)) {
-        problem->SetFixed(b, static_cast<int>(i), true);
+      const std::string name = problem->block_name(b) + "." + params[i].name;
+      if (held.held.count(name)) problem->SetFixed(b, static_cast<int>(i), true);
+      const auto prior = held.prior_sigma.find(name);
+      if (prior != held.prior_sigma.end()) {
+        problem->SetPrior(b, static_cast<int>(i), 0.0, prior->second);
       }
     }
   }
@@ -126,17 +201,30 @@ void CheckSolveEnded(const Problem& problem, const SolverSummary& summary) {
 }
 
 IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
-                                           std::set<std::string> held,
-                                           const SolverMaker& make_solver, bool warm_start) {
+                                           HeldParameters held, const SolverMaker& make_solver,
+                                           bool warm_start) {
   IdentifiedSolve out;
-  if (!held.empty()) HoldParameters(problem, held);
-  // Before the solve the verdict is all that is kept; at the answer, its linearization too.
+  if (!held.held.empty() || !held.prior_sigma.empty()) HoldParameters(problem, held);
+  // Before the solve the verdict is all that is kept; at the answer, its linearization too. A
+  // gauge prior changes the problem, so the directions are looked for again after one (a
+  // direction has at most as many members as there are free parameters).
   auto hold_unidentifiable = [&](Linearization* at) {
-    const auto found = FindUnidentifiable(*problem, tolerance, at);
-    for (const auto& f : found) held.insert(f.name);
-    out.unidentifiable.insert(out.unidentifiable.end(), found.begin(), found.end());
-    if (!found.empty()) HoldParameters(problem, held);
-    return !found.empty();
+    bool changed = false;
+    for (int round = 0; round <= problem->num_free(); ++round) {
+      const auto found = FindUnidentifiable(*problem, tolerance, at);
+      if (found.empty()) break;
+      for (const auto& f : found) {
+        if (f.prior_sigma > 0.0) {
+          held.prior_sigma[f.name] = f.prior_sigma;
+        } else {
+          held.held.insert(f.name);
+        }
+      }
+      out.unidentifiable.insert(out.unidentifiable.end(), found.begin(), found.end());
+      HoldParameters(problem, held);
+      changed = true;
+    }
+    return changed;
   };
   if (!warm_start) hold_unidentifiable(nullptr);
   out.summary = make_solver()->Solve(*problem);
@@ -148,6 +236,24 @@ IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
   }
   return out;
 }
+
+namespace {
+
+// The information each free parameter's prior adds to J^T J (1 / sigma^2 on its diagonal, in
+// FreeParameter order; zero where it has none). A prior row touches its one column only.
+Eigen::VectorXd PriorInformation(const Problem& problem) {
+  Eigen::VectorXd information = Eigen::VectorXd::Zero(problem.num_free());
+  const auto& free = problem.free_parameters();
+  for (size_t i = 0; i < free.size(); ++i) {
+    const Parameter& p = problem.block_parameters(free[i].block)[free[i].index];
+    if (p.prior_sigma && *p.prior_sigma > 0.0) {
+      information[static_cast<Eigen::Index>(i)] = 1.0 / (*p.prior_sigma * *p.prior_sigma);
+    }
+  }
+  return information;
+}
+
+}  // namespace
 
 Uncertainty ComputeUncertainty(Problem& problem) {
   return ComputeUncertainty(problem, Linearize(problem));
@@ -179,6 +285,7 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   u.reduced_chi2 = u.dof > 0 ? u.chi2 / u.dof : 0.0;
   u.scale = std::max(1.0, u.reduced_chi2);
   u.covariance = Eigen::MatrixXd::Zero(n, n);
+  u.inverse_information = u.covariance;
   u.sigma = Eigen::VectorXd::Zero(n);
   u.variance_inflation = Eigen::VectorXd::Ones(n);
   u.correlation = Eigen::MatrixXd::Identity(n, n);
@@ -199,7 +306,27 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   const Eigen::MatrixXd scaled_cov = V * inv_s2.asDiagonal() * V.transpose();
   u.variance_inflation = scaled_cov.diagonal();  // columns have unit norm
   const Eigen::VectorXd inv_norms = norms.cwiseInverse();
-  u.covariance = inv_norms.asDiagonal() * scaled_cov * inv_norms.asDiagonal() * u.scale;
+  u.inverse_information = inv_norms.asDiagonal() * scaled_cov * inv_norms.asDiagonal();
+  u.covariance = u.inverse_information * u.scale;
+  const Eigen::VectorXd prior_information = PriorInformation(problem);
+  if (u.scale > 1.0 && prior_information.any()) {
+    // The chi-square scale says the measurements' noise is larger than stated; a prior is a
+    // stated input, not a measurement, and keeps its sigma: the information is the data's
+    // divided by the scale plus the priors' (a gauge the data cannot see keeps its prior).
+    const Eigen::MatrixXd R = at.r_factor.size() > 0 ? at.r_factor : RFactor(gram);
+    const Eigen::MatrixXd scaled_R = R * inv_norms.asDiagonal();
+    const Eigen::VectorXd scaled_prior = prior_information.cwiseProduct(inv_norms.cwiseAbs2());
+    Eigen::MatrixXd information = scaled_R.transpose() * scaled_R;
+    information.diagonal() -= scaled_prior;
+    information /= u.scale;
+    information.diagonal() += scaled_prior;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(information);
+    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+      const Eigen::MatrixXd scaled_inverse =
+          ldlt.solve(Eigen::MatrixXd::Identity(information.rows(), information.cols()));
+      u.covariance = inv_norms.asDiagonal() * scaled_inverse * inv_norms.asDiagonal();
+    }
+  }
   u.sigma = u.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {

@@ -79,6 +79,12 @@ void Problem::SetFixed(int block, int index, bool fixed) {
   blocks_[block]->params[index].fixed = fixed;
 }
 
+void Problem::SetPrior(int block, int index, double mean, double sigma) {
+  Parameter& p = blocks_[block]->params[index];
+  p.nominal = mean;
+  p.prior_sigma = sigma;
+}
+
 void Problem::ReserveResiduals(int num_blocks) {
   residuals_.reserve(num_blocks);
   infos_.reserve(num_blocks);

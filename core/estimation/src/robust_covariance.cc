@@ -1,6 +1,7 @@
 // The cluster-robust covariance and the jackknife spread (robust_covariance.h).
 #include "cellmetry/estimation/robust_covariance.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -13,37 +14,46 @@
 
 namespace cellmetry {
 
-Eigen::MatrixXd ClusterRobustCovariance(const Problem& problem, const Linearization& at,
-                                        const std::vector<int>& cluster_of_block,
-                                        const Uncertainty& model) {
+namespace {
+
+// One cluster's score J_g^T r_g on the columns it touches.
+struct ClusterScore {
+  std::vector<int> columns;
+  std::vector<double> values;
+};
+
+// The scores of the clusters of `cluster_of_block`, ordered by cluster id (blocks with a
+// negative id, priors, each a cluster of their own, after the others). `ordered`: how many lead
+// the list (the clusters with an id, in its order).
+std::vector<ClusterScore> ClusterScores(const Problem& problem, const Linearization& at,
+                                        const std::vector<int>& cluster_of_block, int* ordered) {
   const int n = problem.num_free();
-  if (n == 0 || !at.valid) return Eigen::MatrixXd::Zero(0, 0);
   const Eigen::VectorXd& r = at.residuals;
   const SparseJacobian& J = at.jacobian;
   const auto& rows = problem.residual_rows();
-  // The blocks of each cluster, in block order (blocks with a negative cluster, priors, are
-  // clusters of their own).
-  std::map<int, int> cluster_index;
-  std::vector<std::vector<int>> members;
-  int own = -1;
+  std::map<int, std::vector<int>> by_id;  // the blocks of each cluster with an id, in id order
+  std::vector<int> own;                   // blocks that are clusters of their own
   for (size_t b = 0; b < rows.size(); ++b) {
-    const int g = b < cluster_of_block.size() && cluster_of_block[b] >= 0 ? cluster_of_block[b]
-                                                                          : own--;
-    const auto [it, added] = cluster_index.emplace(g, static_cast<int>(members.size()));
-    if (added) members.emplace_back();
-    members[static_cast<size_t>(it->second)].push_back(static_cast<int>(b));
+    if (b < cluster_of_block.size() && cluster_of_block[b] >= 0) {
+      by_id[cluster_of_block[b]].push_back(static_cast<int>(b));
+    } else {
+      own.push_back(static_cast<int>(b));
+    }
   }
-  // Each cluster's score J_g^T r_g summed densely over the columns it touches, its outer
-  // product added on those columns only: a pose touches one robot's and a few cameras'
-  // columns, so the meat costs the sum of each score's nonzeros squared, where dense scores
-  // would cost clusters x parameters^2 (and as much memory: 300 MB for a 2.5 million
-  // observation cell).
-  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(n, n);
+  std::vector<std::vector<int>> members;
+  for (auto& [id, blocks] : by_id) members.push_back(std::move(blocks));
+  *ordered = static_cast<int>(members.size());
+  for (int b : own) members.push_back({b});
+  // Each score summed densely over the columns it touches and kept on those only: a pose
+  // touches one robot's and a few cameras' columns, so the meat costs the sum of each score's
+  // nonzeros squared, where dense scores would cost clusters x parameters^2 (and as much
+  // memory: 300 MB for a 2.5 million observation cell).
+  std::vector<ClusterScore> scores;
+  scores.reserve(members.size());
   Eigen::VectorXd score = Eigen::VectorXd::Zero(n);
   std::vector<char> touched(static_cast<size_t>(n), 0);
-  std::vector<int> columns;
   for (const std::vector<int>& blocks : members) {
-    columns.clear();
+    ClusterScore out;
     for (int b : blocks) {
       const int end = b + 1 < static_cast<int>(rows.size()) ? rows[b + 1]
                                                             : static_cast<int>(r.size());
@@ -52,23 +62,109 @@ Eigen::MatrixXd ClusterRobustCovariance(const Problem& problem, const Linearizat
           const int c = static_cast<int>(e.col());
           if (!touched[c]) {
             touched[c] = 1;
-            columns.push_back(c);
+            out.columns.push_back(c);
           }
           score[c] += e.value() * r[row];
         }
       }
     }
-    for (int a : columns) {
-      for (int c : columns) meat(a, c) += score[a] * score[c];
-    }
-    for (int c : columns) {
+    for (int c : out.columns) {
+      out.values.push_back(score[c]);
       score[c] = 0.0;
       touched[c] = 0;
     }
+    scores.push_back(std::move(out));
   }
-  const double G = static_cast<double>(members.size());
-  const Eigen::MatrixXd bread = model.covariance / model.scale;  // (J^T J)^-1
-  return bread * meat * bread * (G > 1 ? G / (G - 1) : 1.0);
+  return scores;
+}
+
+// meat += weight * (a b^T + b a^T), or weight * a a^T where `a` and `b` are the same score.
+void AddOuter(const ClusterScore& a, const ClusterScore& b, double weight, Eigen::MatrixXd* meat) {
+  const bool same = &a == &b;
+  for (size_t i = 0; i < a.columns.size(); ++i) {
+    for (size_t k = 0; k < b.columns.size(); ++k) {
+      const double v = weight * a.values[i] * b.values[k];
+      (*meat)(a.columns[i], b.columns[k]) += v;
+      if (!same) (*meat)(b.columns[k], a.columns[i]) += v;
+    }
+  }
+}
+
+// One column of the ordered scores as a series, zero where a cluster does not touch it.
+Eigen::VectorXd ScoreSeries(const std::vector<ClusterScore>& scores, int ordered, int column) {
+  Eigen::VectorXd series = Eigen::VectorXd::Zero(ordered);
+  for (int g = 0; g < ordered; ++g) {
+    const auto& s = scores[static_cast<size_t>(g)];
+    for (size_t i = 0; i < s.columns.size(); ++i) {
+      if (s.columns[i] == column) series[g] = s.values[i];
+    }
+  }
+  return series;
+}
+
+}  // namespace
+
+int BartlettBandwidth(const std::vector<Eigen::VectorXd>& series) {
+  double numerator = 0.0, denominator = 0.0;
+  Eigen::Index T = 0;
+  for (const Eigen::VectorXd& x : series) {
+    T = std::max(T, x.size());
+    if (x.size() < 3) continue;
+    const Eigen::VectorXd lead = x.tail(x.size() - 1), lag = x.head(x.size() - 1);
+    const double ss = lag.squaredNorm();
+    if (ss <= 0.0) continue;
+    // An AR(1) fitted by least squares; rho is kept below 0.97, as Andrews advises, so that one
+    // near-unit-root series does not decide the bandwidth alone.
+    const double rho = std::clamp(lead.dot(lag) / ss, -0.97, 0.97);
+    const double innovation = (lead - rho * lag).squaredNorm() / static_cast<double>(lag.size());
+    const double s4 = innovation * innovation;
+    numerator += 4.0 * rho * rho * s4 / (std::pow(1.0 - rho, 6) * std::pow(1.0 + rho, 2));
+    denominator += s4 / std::pow(1.0 - rho, 4);
+  }
+  if (denominator <= 0.0 || T < 3) return 0;
+  const double alpha = numerator / denominator;
+  const double bandwidth = 1.1447 * std::cbrt(alpha * static_cast<double>(T));
+  return std::min(static_cast<int>(bandwidth), static_cast<int>(T) / 4);
+}
+
+Eigen::MatrixXd ClusterRobustCovariance(const Problem& problem, const Linearization& at,
+                                        const std::vector<int>& cluster_of_block,
+                                        const Uncertainty& model) {
+  return SerialClusterRobustCovariance(problem, at, cluster_of_block, model, /*serial=*/false)
+      .covariance;
+}
+
+ClusterRobust SerialClusterRobustCovariance(const Problem& problem, const Linearization& at,
+                                            const std::vector<int>& cluster_of_block,
+                                            const Uncertainty& model, bool serial) {
+  ClusterRobust out;
+  const int n = problem.num_free();
+  if (n == 0 || !at.valid) return out;
+  int ordered = 0;
+  const std::vector<ClusterScore> scores = ClusterScores(problem, at, cluster_of_block, &ordered);
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(n, n);
+  for (const ClusterScore& s : scores) AddOuter(s, s, 1.0, &meat);
+  if (serial && ordered >= 3) {
+    // Each column's series standardized, so that mm and rad weigh alike in the bandwidth.
+    std::vector<Eigen::VectorXd> series;
+    for (int c = 0; c < n; ++c) {
+      Eigen::VectorXd x = ScoreSeries(scores, ordered, c);
+      const double norm = x.norm();
+      if (norm > 0.0) series.push_back(x / norm);
+    }
+    out.lag = BartlettBandwidth(series);
+    for (int lag = 1; lag <= out.lag; ++lag) {
+      const double weight = 1.0 - lag / (out.lag + 1.0);
+      for (int g = 0; g + lag < ordered; ++g) {
+        AddOuter(scores[static_cast<size_t>(g)], scores[static_cast<size_t>(g + lag)], weight,
+                 &meat);
+      }
+    }
+  }
+  const double G = static_cast<double>(scores.size());
+  const Eigen::MatrixXd& bread = model.inverse_information;  // (J^T J)^-1
+  out.covariance = bread * meat * bread * (G > 1 ? G / (G - 1) : 1.0);
+  return out;
 }
 
 void CombineUncertainty(const Eigen::MatrixXd& cluster, const Jackknife& jackknife,

@@ -92,4 +92,34 @@ void HeldOutSection(const WorkcellResult& r, const Recording& recording, HtmlPag
                          {{SeriesColor(0), "fitted"}, {SeriesColor(1), "held out"}}));
 }
 
+void CamerasLeftOutSection(const WorkcellResult& r, HtmlPage* page) {
+  if (r.cameras_left_out.empty()) return;
+  page->Section("Each camera left out", "cameras-left-out");
+  page->Note("The cell identified again without each camera, against the answer with all of "
+             "them: the difference and its sigma (the data's part from both fits' shared rows, "
+             "and the uncertain inputs both share). Beyond " +
+             Num(kCameraLeftOutFlagSigmas, 2) +
+             " sigma the camera disagrees with the others more than the model allows: its "
+             "intrinsics, its mount, or camera-side physics the job leaves out.");
+  std::vector<std::vector<std::string>> rows;
+  for (const CameraLeftOut& c : r.cameras_left_out) {
+    if (!c.error.empty()) {
+      rows.push_back({c.camera, "", "", "", "", "not identifiable without it: " + c.error});
+      continue;
+    }
+    for (const FrameDifference& d : c.frames) {
+      for (int i = 0; i < 6; ++i) {
+        if (!d.compared[i]) continue;
+        const double sigmas = std::abs(d.difference[i]) / d.sigma[i];
+        rows.push_back({c.camera, d.frame + "." + kFrameParameterNames[i],
+                        Num(d.difference[i], 4), Num(d.sigma[i], 3), Num(sigmas, 2),
+                        sigmas > kCameraLeftOutFlagSigmas ? "flagged" : ""});
+      }
+    }
+  }
+  page->Table({"without", "coordinate", "difference (mm | rad)", "sigma", "|difference| / sigma",
+               ""},
+              rows, 200);
+}
+
 }  // namespace cellmetry::report

@@ -23,9 +23,15 @@ void SummarySection(const WorkcellResult& r, HtmlPage* page) {
        {"held-out RMS (mm)",
         Num(r.held_out.total.norm, 4) + " over " + std::to_string(r.held_out.folds) + " folds"},
        {"outliers left out", std::to_string(r.outliers.size())},
-       {"unidentifiable (held)", std::to_string(r.unidentifiable.size())}});
+       {"not determined by the data (held or by a prior)",
+        std::to_string(r.unidentifiable.size())}});
   for (const auto& w : r.warnings) page->Paragraph("Warning: " + w);
-  for (const auto& p : r.unidentifiable) page->Note("held: " + p.name + " (" + p.reason + ")");
+  for (const auto& p : r.unidentifiable) {
+    page->Note((p.prior_sigma > 0 ? "by its plausible size as a prior (0 +- " +
+                                        Num(p.prior_sigma, 3) + "): "
+                                  : std::string("held: ")) +
+               p.name + " (" + p.reason + ")");
+  }
 }
 
 }  // namespace
@@ -43,6 +49,7 @@ std::string RunReportHtml(const WorkcellResult& result, const Recording& recordi
   WhitenedSection(result, &page);
   ResidualImageSection(result, recording, &page);
   HeldOutSection(result, recording, &page);
+  CamerasLeftOutSection(result, &page);
   OutlierSection(result, recording, &page);
   return page.Html();
 }

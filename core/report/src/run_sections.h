@@ -15,5 +15,6 @@ void CorrelationSection(const WorkcellResult& r, HtmlPage* page);
 void OutlierSection(const WorkcellResult& r, const Recording& recording, HtmlPage* page);
 void HeldOutSection(const WorkcellResult& r, const Recording& recording, HtmlPage* page);
 void FramesSection(const WorkcellResult& r, HtmlPage* page);
+void CamerasLeftOutSection(const WorkcellResult& r, HtmlPage* page);
 
 }  // namespace cellmetry::report

@@ -29,7 +29,7 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
 // held, and predicts the carried targets of the poses it left out. Fewer than two folds: none.
 HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
                       const WorkcellData& data, const NoiseModel& noise,
-                      const WorkcellEstimate& answer, const std::set<std::string>& held,
+                      const WorkcellEstimate& answer, const HeldParameters& held,
                       const SolverMaker& make_solver);
 
 // A result scored on a fresh recording of the same cell (a job's `validation_recording:`):

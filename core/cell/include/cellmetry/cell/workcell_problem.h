@@ -61,6 +61,10 @@ struct WorkcellRobot {
   std::vector<Parameter> model_parameters;        // nominal values and fixed flags for this job
   FrameBlockSpec base;                            // `free` flags; start is found in closed form
   std::optional<Pose> base_start;                 // a user-given start (skips the closed form)
+  // A robot standing level (`base: {level: {sigma_rad}}`): a prior that its base's z axis is
+  // the world's, within this standard uncertainty per axis (rad), on its rotation about the
+  // world's x and y. None: the base's tilt is what the data and the free flags make it.
+  std::optional<double> level_sigma_rad;
   std::vector<WorkcellTool> tools;
 };
 
@@ -87,10 +91,12 @@ struct UncertainInputs {
 };
 
 // A static camera's start and which of its pose entries are free (a job's `cameras:`); a camera
-// the job does not name starts in closed form with every entry free.
+// the job does not name starts in closed form with every entry free. `use: false` leaves every
+// observation of the camera out (what the cell says without it).
 struct WorkcellCamera {
   std::optional<Pose> start;                      // T_world_cam; none: closed form
   std::array<bool, 6> free = {true, true, true, true, true, true};
+  bool use = true;
 };
 
 // Where everything is, at the start or at the answer of an identification.
@@ -118,6 +124,10 @@ struct WorkcellProblem {
   // positions at one height give ~2e5 for the rod lengths, homing offsets and camera z.
   double weak_vif = 1e5;
   int folds = 5;                         // k-fold cross-validation by pose (0 = off)
+  // With two or more static cameras seeing the robots' targets, identify the cell again
+  // without each of them and compare (camera_left_out.h). A job's default is on
+  // (`validation: {leave_one_camera_out}`); a problem built in memory's is off.
+  bool leave_one_camera_out = false;
   unsigned seed = 1;                     // fold assignment
   bool compare_camera_models = false;    // also report the other observation model's held-out RMS
   OutlierTest outlier_test = OutlierTest::kRobust;

@@ -15,6 +15,7 @@
 #include "cellmetry/estimation/estimation_quality.h"
 #include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/estimation/solver.h"
+#include "cellmetry/cell/camera_left_out.h"
 #include "cellmetry/cell/workcell_problem.h"
 
 namespace cellmetry {
@@ -33,6 +34,9 @@ struct FrameEstimate {
   Eigen::Matrix<double, 6, 1> sigma_systematic = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 1> sigma_inputs = Eigen::Matrix<double, 6, 1>::Zero();
   std::array<bool, 6> held{};
+  // Moves with a parameter held because the data cannot determine it (no gauge prior could be
+  // had): its value is the hold's, not the data's, and sigma does not cover that.
+  std::array<bool, 6> undetermined{};
 };
 
 struct ScalarEstimate {
@@ -45,6 +49,7 @@ struct ScalarEstimate {
   double sigma_systematic = 0.0;
   double sigma_inputs = 0.0;
   bool held = false;
+  bool undetermined = false;  // as FrameEstimate::undetermined
 };
 
 // RMS of residuals along the camera's x, y and depth axes, and of their 3D length.
@@ -163,6 +168,8 @@ struct WorkcellResult {
   std::vector<Outlier> outliers;                  // left out by the outlier test (outliers.h)
   HeldOut held_out;
   std::map<std::string, HeldOut> other_models;    // compare_camera_models: name -> held-out
+  std::vector<CameraLeftOut> cameras_left_out;     // each camera left out in turn (two or more)
+  std::vector<std::string> unused_cameras;        // the job's `use: false` cameras
   std::map<std::string, int> skipped;             // observation skip reasons
   std::vector<std::string> warnings;
   WorkcellEstimate start;                         // the closed-form start, or the warm one

@@ -10,8 +10,8 @@
 // Jacobian with respect to that vector. Fixed entries of a block are held by a SubsetManifold,
 // fully fixed blocks are constant, and blocks no residual uses are left out.
 //
-// Build() must be called after adding blocks and residuals, and again after SetFixed() or
-// SetRobustLoss(); it is cheap (no cost function is recreated).
+// Build() must be called after adding blocks and residuals, and again after SetFixed(),
+// SetPrior() or SetRobustLoss(); it is cheap (no cost function is recreated).
 #pragma once
 
 #include <ceres/ceres.h>
@@ -84,6 +84,10 @@ class Problem {
   double* values(int block);
   const double* values(int block) const;
   void SetFixed(int block, int index, bool fixed);
+  // A Gaussian prior on one entry: (value - mean) / sigma, a row of kind kPrior from the next
+  // Build() on. The entry's nominal becomes `mean` (after AddBlock a nominal is read only as the
+  // prior's mean).
+  void SetPrior(int block, int index, double mean, double sigma);
 
   // Room for `num_blocks` residual blocks in all, so adding them does not grow and copy the
   // lists (an assembly knows its count: tens of thousands on a real recording).

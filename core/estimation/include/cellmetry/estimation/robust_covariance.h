@@ -37,6 +37,27 @@ Eigen::MatrixXd ClusterRobustCovariance(const Problem& problem, const Linearizat
                                         const std::vector<int>& cluster_of_block,
                                         const Uncertainty& model);
 
+// The same with the clusters in a sequence (their ids in capture order: a pose each) whose
+// errors may be shared by neighbours: a camera sweeping over a board sees it at nearly the same
+// angle at the next pose, and its pose estimator errs nearly the same way there. `serial`: the
+// meat also sums the neighbours' cross products, weighted by the Bartlett kernel
+// 1 - l / (L + 1) up to lag L (Newey & West 1987), L chosen from the data by Andrews' AR(1)
+// plug-in (Andrews 1991, eq. 6.2; BartlettBandwidth). Independent clusters give L near 0 and
+// the plain sandwich. Without `serial`, the plain sandwich.
+struct ClusterRobust {
+  Eigen::MatrixXd covariance;  // over the free parameters, in their units (empty: no answer)
+  int lag = 0;                 // L: how many neighbours' errors were taken as shared
+};
+ClusterRobust SerialClusterRobustCovariance(const Problem& problem, const Linearization& at,
+                                            const std::vector<int>& cluster_of_block,
+                                            const Uncertainty& model, bool serial = true);
+
+// Andrews' (1991) automatic bandwidth of the Bartlett kernel from AR(1) fits to each series:
+// L = 1.1447 (alpha(1) T)^(1/3), alpha(1) = sum 4 rho^2 s^4 / ((1 - rho)^6 (1 + rho)^2) /
+// sum s^4 / (1 - rho)^4, with each AR(1)'s rho (kept within +-0.97) and innovation variance
+// s^2, T the series' length; at most T / 4. Series shorter than 3 are passed over.
+int BartlettBandwidth(const std::vector<Eigen::VectorXd>& series);
+
 // The jackknife variance of each entry over the leave-one-out estimates (one vector per left-out
 // group; NaN where that estimate has no value for the entry, which then counts only the groups
 // that have one), and how many groups each counted.
