@@ -252,6 +252,32 @@ TEST(PhysicalFindings, DefaultCandidatesNameTheirSite) {
   EXPECT_EQ(group.at("target.scale_tool"), "target.scale_tool");
 }
 
+// With group_candidates, each camera form on every camera at once and every target's size (each
+// its own and from one printer): one group for the cameras, and each overlaps the single-site
+// candidates it contains (never their rival; accepting one retires the other), not the rest.
+TEST(PhysicalFindings, GroupCandidatesOverlapWhatTheyContainAndNothingElse) {
+  const std::string dir = testing::TempDirForThisTest("findings_groups");
+  DiagnosisJob job = testing::Ur3DiagnoseJob(dir);
+  const Recording recording = SimulateWorkcell(SuiteCell(dir, 7, 20), nullptr);
+  const size_t singles = JobCandidates(job, recording, testing::Plugins()).size();
+  job.options.group_candidates = true;
+  std::map<std::string, CandidateEffect> by_name;
+  for (const auto& c : JobCandidates(job, recording, testing::Plugins())) by_name[c.effect.name] = c;
+  EXPECT_EQ(by_name.size(), singles + 5);  // three camera forms, two target forms
+  const CandidateEffect& every = by_name.at("camera.principal_every_camera");
+  EXPECT_EQ(every.group_name(), "camera.calibration_every_camera");
+  EXPECT_EQ(every.site, "");
+  EXPECT_TRUE(Overlap(every, by_name.at("camera.principal_cam1")));
+  EXPECT_TRUE(Overlap(every, by_name.at("camera.principal_cam2")));
+  EXPECT_FALSE(Overlap(every, by_name.at("camera.focal_cam2")));
+  EXPECT_FALSE(Overlap(every, by_name.at("camera.focal_every_camera")));
+  const CandidateEffect& printer = by_name.at("target.scale_one_printer");
+  EXPECT_TRUE(Overlap(printer, by_name.at("target.scale_tool")));
+  EXPECT_TRUE(Overlap(printer, by_name.at("target.scale_every_target")));
+  EXPECT_FALSE(Overlap(printer, by_name.at("camera.focal_cam1")));
+  EXPECT_FALSE(Overlap(by_name.at("camera.radial_cam1"), by_name.at("camera.radial_cam2")));
+}
+
 // Thermal growth as the recording allows: driven by the recorded temperature, and where times
 // are recorded too, also as a warm-up in time (the recorded temperature need not follow the
 // arm's own warming); both one family, so a finding of either is thermal growth. With times

@@ -245,5 +245,23 @@ TEST(UnabsorbedSize, IsTheLinearizedRefitInTheCandidatesUnits) {
   EXPECT_EQ(UnabsorbedSize(Eigen::MatrixXd(40, 0), outside).size(), 0);
 }
 
+// What the data could tell of a candidate at its plausible size: sigma_max(P D)^2, whatever share
+// of its signature the geometry absorbed. A column of whitened norm 100 per unit with a plausible
+// size of 0.02 adds 100^2 * 0.02^2 = 4; two columns, the better of the directions they span; a
+// parameter without a plausible size leaves the rule to the share (NaN).
+TEST(PlausibleNoncentrality, IsTheScoreStatisticAtThePlausibleSize) {
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(50, 2);
+  P(0, 0) = 100.0;
+  P(1, 1) = 30.0;
+  Parameter a{"a", "rad", 0.0};
+  a.plausible = 0.02;
+  Parameter b{"b", "rad", 0.0};
+  b.plausible = 0.1;
+  EXPECT_NEAR(PlausibleNoncentrality(P.leftCols(1), {a}), 4.0, 1e-12);
+  EXPECT_NEAR(PlausibleNoncentrality(P, {a, b}), 9.0, 1e-12);  // 30 * 0.1 beats 100 * 0.02
+  b.plausible.reset();
+  EXPECT_TRUE(std::isnan(PlausibleNoncentrality(P, {a, b})));
+}
+
 }  // namespace
 }  // namespace cellmetry

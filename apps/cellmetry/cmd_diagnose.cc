@@ -1,12 +1,16 @@
 // `cellmetry diagnose JOB.yaml`: the physics finder (diagnosis.h) on a workcell job.
 #include <cstdio>
 #include <filesystem>
+#include <string>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/report/reports.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/camera_left_out.h"
 #include "cellmetry/cell/result_io.h"
 #include "commands.h"
 
@@ -16,18 +20,32 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
   CLI::App* cmd = app.add_subcommand(
       "diagnose", "find the physics a workcell's geometric model leaves out (effects)");
   static std::string job_path, output;
+  static std::vector<std::string> without;
   cmd->add_option("job", job_path, "workcell job (YAML), with an optional diagnosis: section")
       ->required();
   cmd->add_option("-o,--output", output, "folder (default: <job output>/diagnosis)");
+  cmd->add_option("--without", without,
+                  "a camera to leave out whole, as `cameras: {<camera>: {use: false}}` does "
+                  "(repeat for more)");
   cmd->callback([&context] {
     Progress::SetQuiet(context.quiet);
     LoadPlugins(context);
     Registry& registry = Registry::Global();
-    const DiagnosisJob job = LoadDiagnosisJob(job_path, registry);
+    DiagnosisJob job = LoadDiagnosisJob(job_path, registry);
     const std::string folder = output.empty() ? job.workcell.output + "/diagnosis" : output;
     CheckReplaceable(folder, "diagnosis");  // before the work, not after it
-    const Recording recording = ReadRecording(job.workcell.recording);
-    ValidateJobAgainstRecording(job.workcell, recording);
+    const Recording read = ReadRecording(job.workcell.recording);
+    for (const std::string& camera : without) {
+      if (!read.HasCamera(camera)) {
+        throw InputError({job_path, 0, 0},
+                         "--without " + camera + ": no such camera in " + read.folder,
+                         "Name a camera as recording.yaml does");
+      }
+      job.workcell.problem.cameras[camera].use = false;
+    }
+    ValidateJobAgainstRecording(job.workcell, read);
+    // The finder's candidates and linearizations are made from the cameras the job uses.
+    const Recording recording = WithoutCameras(read, UnusedCameras(job.workcell.problem));
     const SolverMaker make_solver = [&] {
       return registry.CreateSolver(job.workcell.solver_type, *job.workcell.solver_config);
     };

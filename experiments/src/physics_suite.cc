@@ -134,8 +134,10 @@ SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
     const WorkcellSimulationSpec spec =
         CaseSimulation(base, c, result.magnitude, 1000u + seed, true, registry);
     const Recording recording = SimulateWorkcell(spec, nullptr);
+    WorkcellProblem problem = job.workcell.problem;
+    problem.leave_one_camera_out = false;  // the suite scores names, not each camera
     const DiagnosisResult d =
-        DiagnoseWorkcell(job.workcell.problem, recording, MakerOf(job.workcell, registry),
+        DiagnoseWorkcell(problem, recording, MakerOf(job.workcell, registry),
                          JobCandidates(job, recording, registry), job.options, cell.job);
     SuiteRun run;
     run.named = !d.accepted.empty()      ? d.accepted.front().name

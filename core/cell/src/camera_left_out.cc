@@ -29,6 +29,14 @@ Recording WithoutCameras(const Recording& recording, const std::set<std::string>
   return out;
 }
 
+std::set<std::string> UnusedCameras(const WorkcellProblem& spec) {
+  std::set<std::string> unused;
+  for (const auto& [camera, settings] : spec.cameras) {
+    if (!settings.use) unused.insert(camera);
+  }
+  return unused;
+}
+
 std::vector<std::string> CamerasToLeaveOut(const WorkcellProblem& spec,
                                            const Recording& recording) {
   if (spec.camera_model != CameraModel::kStaticCameras) return {};

@@ -587,15 +587,6 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
 
 namespace {
 
-// The cameras the job does not use (`use: false`).
-std::set<std::string> UnusedCameras(const WorkcellProblem& spec) {
-  std::set<std::string> unused;
-  for (const auto& [camera, settings] : spec.cameras) {
-    if (!settings.use) unused.insert(camera);
-  }
-  return unused;
-}
-
 // `spec` without the cameras it does not use (what IdentifyWorkcell then fits).
 WorkcellProblem WithoutUnusedCameras(const WorkcellProblem& spec) {
   WorkcellProblem out = spec;

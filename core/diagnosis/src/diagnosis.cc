@@ -226,7 +226,7 @@ std::vector<std::pair<size_t, double>> LookAlikes(
     const std::vector<const CandidateEffect*>& candidates, size_t chosen, double threshold) {
   std::vector<std::pair<size_t, double>> out;
   for (size_t c = 0; c < candidates.size(); ++c) {
-    if (candidates[c]->family_name() == candidates[chosen]->family_name()) continue;
+    if (Overlap(*candidates[c], *candidates[chosen])) continue;
     const double correlation =
         CanonicalCorrelation(unabsorbed_bases[chosen], unabsorbed_bases[c]);
     if (correlation >= threshold) out.push_back({c, correlation});
@@ -365,23 +365,39 @@ class Diagnoser {
         options_(options), noise_(noise), data_(data), n_poses_(CountPoses(recording)) {}
 
   // A candidate's finding from its score test; untestable (and why) where the recording lacks
-  // its facts, it does not act (`silent`: its columns are zero) or the geometry absorbs it.
-  CandidateFinding Finding(const CandidateEffect& c, const ScoreTest& test, bool silent) const {
+  // its facts, it does not act (`silent`: its columns are zero), or the data could not tell it
+  // at its plausible size (`detectable`, over the round's dispersion: below what a score test
+  // at alpha needs) however little of it the geometry absorbs.
+  CandidateFinding Finding(const CandidateEffect& c, const ScoreTest& test, bool silent,
+                           double detectable) const {
     CandidateFinding f;
     f.name = c.effect.name;
     f.label = c.label;
     f.unabsorbed = test.unabsorbed;
+    f.detectable = detectable;
     f.dof = test.dof;
     f.score = test.statistic;
     f.p_holm = test.p_value;
     const std::string missing = MissingFacts(c.effect.effect->needs(), data_.facts);
-    if (!missing.empty() || test.unabsorbed < options_.min_unabsorbed || test.dof == 0) {
+    const double needed = ChiSquareQuantile(1.0 - options_.alpha, 1.0);
+    const bool too_weak = std::isnan(detectable)
+                              ? test.unabsorbed < options_.min_unabsorbed_share
+                              : test.unabsorbed < options_.min_unabsorbed || detectable < needed;
+    if (!missing.empty() || silent || too_weak || test.dof == 0) {
       f.testable = false;
-      f.untestable_because =
-          !missing.empty() ? std::string("not in this recording or robot model")
-          : silent ? "it does not act on these poses"
-                   : std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
-                         " % of its signature is absorbed by the geometry";
+      const std::string absorbed =
+          std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
+          " % of its signature is absorbed by the geometry";
+      char weak[160];
+      std::snprintf(weak, sizeof weak,
+                    "at its plausible size it would add %.2g to the score statistic, below the "
+                    "%.3g a test at %g needs (%s)",
+                    detectable, needed, options_.alpha, absorbed.c_str());
+      f.untestable_because = !missing.empty() ? std::string("not in this recording or robot model")
+                             : silent         ? "it does not act on these poses"
+                             : std::isnan(detectable) || test.unabsorbed < options_.min_unabsorbed
+                                 ? absorbed
+                                 : std::string(weak);
       f.data_needed = !missing.empty() ? missing : c.data_hint;
     }
     return f;
@@ -395,6 +411,7 @@ class Diagnoser {
     std::vector<double> p(s.testable.size(), 0.0);
     tbb::parallel_for(size_t(0), s.testable.size(), [&](size_t j) {
       if (static_cast<int>(j) == best || own.count(s.testable[j]->group_name())) return;
+      if (Overlap(*s.testable[j], *s.testable[best])) return;  // nested: one contains the other
       if (!CredibleCause(s, j)) return;
       p[j] = RivalTestPAt(options_.alpha, s.base.r, s.unabsorbed_bases[best],
                           s.unabsorbed_bases[j], options_.rival_draws,
@@ -437,6 +454,15 @@ class Diagnoser {
     // floor; a real recording whose mismatch is 10x the floor's chi-square otherwise passes
     // every candidate that takes a sliver of it. At the floor the dispersion is 1.
     s.round.dispersion = std::max(1.0, current.summary.chi2 / std::max(1.0, current.summary.dof));
+    // A prior (a robot standing level, a gauge's plausible size) is a stated input, not a
+    // measurement: the dispersion does not widen it. Its rows are weighted up by what the
+    // measurements' rows are weighted down, so that the division below leaves them as stated.
+    const double up = std::sqrt(s.round.dispersion);
+    for (size_t i = 0; i < s.base.rows.size(); ++i) {
+      if (s.base.rows[i].kind != ResidualInfo::Kind::kPrior) continue;
+      s.base.J_model.row(static_cast<Eigen::Index>(i)) *= up;
+      s.base.r[static_cast<Eigen::Index>(i)] *= up;
+    }
     s.base.r /= std::sqrt(s.round.dispersion);
     std::vector<const CandidateEffect*> open;
     std::vector<WorkcellEffect> effects;
@@ -459,7 +485,10 @@ class Diagnoser {
       bases[i] = OrthonormalBasis(unabsorbed[i]);
     });
     for (size_t i = 0; i < open.size(); ++i) {
-      CandidateFinding f = Finding(*open[i], tests[i], signatures[i].norm() == 0.0);
+      const double detectable =
+          PlausibleNoncentrality(unabsorbed[i], open[i]->effect.effect->parameters()) /
+          s.round.dispersion;
+      CandidateFinding f = Finding(*open[i], tests[i], signatures[i].norm() == 0.0, detectable);
       if (!f.testable) {
         untestable->push_back(f);
         done->insert(open[i]->effect.name);
@@ -648,6 +677,14 @@ class Diagnoser {
 
 }  // namespace
 
+bool Overlap(const CandidateEffect& a, const CandidateEffect& b) {
+  if (a.family_name() == b.family_name()) return true;
+  for (const std::string& atom : a.atoms) {
+    if (std::find(b.atoms.begin(), b.atoms.end(), atom) != b.atoms.end()) return true;
+  }
+  return false;
+}
+
 DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                  const SolverMaker& make_solver,
                                  const std::vector<CandidateEffect>& candidates,
@@ -697,7 +734,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
       out.accepted.back().site_correlations = SiteCorrelations(scored, best);
       out.accepted.back().stronger_implausible = StrongerImplausible(scored.round, chosen);
       for (const auto& other : candidates) {  // its nested variants would repeat its parameters
-        if (other.family_name() == c.family_name()) done.insert(other.effect.name);
+        if (Overlap(other, c)) done.insert(other.effect.name);
       }
       current = std::move(with_cv);
     }
@@ -706,6 +743,13 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   }
   out.final = current.summary;
   out.final_fit = current.result;
+  if (spec.leave_one_camera_out) {
+    // The final fit as `cellmetry run` reports it: each camera left out in turn too.
+    Progress::Note("identifying the final model without each camera in turn");
+    WorkcellProblem final_spec = current.spec;
+    final_spec.leave_one_camera_out = true;
+    out.final_fit = IdentifyWorkcell(final_spec, recording, make_solver);
+  }
   GroupFindings(options, &out);
   // Without an accepted effect the model is the geometry, whose findings are already known.
   out.unexplained = diagnoser.Unexplained(

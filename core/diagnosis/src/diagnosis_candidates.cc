@@ -1,6 +1,7 @@
 // The physics finder's default candidates (diagnosis.h): the effect library, each effect on one
 // joint or camera at a time, so that a finding names the joint or camera.
 #include <string>
+#include <vector>
 
 #include "cellmetry/diagnosis/diagnosis.h"
 
@@ -31,13 +32,73 @@ int ParallelLinkCount(const RobotModel& model) {
   return model.ParallelLinks(q.data(), nominal.data(), &links) ? static_cast<int>(links.size()) : 0;
 }
 
+// A camera's calibration in one of the forms a pose estimator passes on, which every camera of a
+// cell may have at once (the same calibration procedure, the same mistake).
+struct CameraForm {
+  std::string name;   // the candidate's name before "_<camera>" ("camera.principal")
+  std::string atom;   // CandidateEffect::atoms, before "/<camera>"
+  std::string label;  // after the camera's name, or "every camera's " + label
+  std::string yaml;   // the effect's block less its cameras
+  std::string before, after;  // the data that makes it testable: before + camera + after
+  std::string config(const std::string& on) const { return "{" + yaml + ", " + on + "}"; }
+  std::string hint(const std::string& camera) const { return before + camera + after; }
+};
+
+const std::vector<CameraForm> kCameraForms = {
+    {"camera.depth_tilt", "depth_tilt", "depth error tilting across the image",
+     "type: depth_bias, terms: [tilt]", "targets spread across ", "'s image"},
+    {"camera.focal", "focal", "focal length", "type: camera_intrinsics, terms: [focal]",
+     "targets at more varied distances from ", ""},
+    {"camera.principal", "principal", "principal point",
+     "type: camera_intrinsics, terms: [principal]", "targets turned more and spread across ",
+     "'s image"},
+};
+
+// With two or more cameras, each form of kCameraForms on every camera at once: one candidate
+// whose atoms are each camera's, so that a cause shared by the cameras is tested as one.
+void AddEveryCameraCandidates(const Recording& recording, const WorkcellRobot& any,
+                              Registry& registry, std::vector<CandidateEffect>* out) {
+  if (recording.cameras.size() < 2) return;
+  std::string list;
+  for (const auto& camera : recording.cameras) list += (list.empty() ? "" : ", ") + camera;
+  for (const CameraForm& form : kCameraForms) {
+    out->push_back(Make(form.config("cameras: [" + list + "]"), form.name + "_every_camera", any,
+                        "every camera's " + form.label, form.hint("every camera"), registry));
+    for (const auto& camera : recording.cameras) out->back().atoms.push_back(form.atom + "/" + camera);
+    // Like one camera's forms, pieces of one calibration procedure's error: one group.
+    out->back().group = "camera.calibration_every_camera";
+    out->back().group_label = "every camera's calibration";
+  }
+}
+
+// With two or more targets, every target's printed size at once, and all of them printed on one
+// printer (one shared scale): a cause shared by the boards tested as one.
+void AddEveryTargetCandidates(const Recording& recording, const WorkcellRobot& any,
+                              Registry& registry, std::vector<CandidateEffect>* out) {
+  if (recording.targets.size() < 2) return;
+  std::string list;
+  std::vector<std::string> atoms;
+  for (const auto& [target, carrier] : recording.targets) {
+    list += (list.empty() ? "" : ", ") + target;
+    atoms.push_back("scale/" + target);
+  }
+  out->push_back(Make("{type: target_scale, targets: [" + list + "]}", "target.scale_every_target",
+                      any, "every target's printed size", "targets at more varied distances",
+                      registry));
+  out->back().atoms = atoms;
+  out->push_back(Make("{type: target_scale, targets: [" + list + "], shared: true}",
+                      "target.scale_one_printer", any, "every target printed at one wrong size",
+                      "targets at more varied distances", registry));
+  out->back().atoms = atoms;
+}
+
 // What a camera and the targets it measures get wrong: per camera its depth (along the ray, and
 // tilting across the image), its focal length, principal point, radial distortion (k1) and
 // whole lens distortion (k1, k2, p1, p2) as a pose estimator passes them on, one group
 // (CandidateEffect::group); per target its printed size and the estimator's tilt of it; the
 // world tag's tilt from the frame the placement was measured in (testable only where the bases'
 // rotations are held: a gauge otherwise, which the absorption test finds).
-void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording,
+void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording, bool groups,
                          Registry& registry, std::vector<CandidateEffect>* out) {
   const WorkcellRobot& any = spec.robots.front();
   for (const auto& camera : recording.cameras) {
@@ -46,17 +107,12 @@ void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording
     out->push_back(Make("{type: depth_bias, " + on + "}", "camera.depth_" + camera, any,
                         camera + " depth bias", "targets at more varied distances from " + camera,
                         registry));
-    out->push_back(Make("{type: depth_bias, " + on + ", terms: [tilt]}",
-                        "camera.depth_tilt_" + camera, any,
-                        camera + " depth error tilting across the image",
-                        "targets spread across " + camera + "'s image", registry));
-    out->push_back(Make("{type: camera_intrinsics, " + on + ", terms: [focal]}",
-                        "camera.focal_" + camera, any, camera + " focal length",
-                        "targets at more varied distances from " + camera, registry));
-    out->push_back(Make("{type: camera_intrinsics, " + on + ", terms: [principal]}",
-                        "camera.principal_" + camera, any, camera + " principal point",
-                        "targets turned more and spread across " + camera + "'s image",
-                        registry));
+    out->back().atoms = {"depth/" + camera};
+    for (const CameraForm& form : kCameraForms) {
+      out->push_back(Make(form.config(on), form.name + "_" + camera, any,
+                          camera + " " + form.label, form.hint(camera), registry));
+      out->back().atoms = {form.atom + "/" + camera};
+    }
     // The lens: k1 alone, and k1 with k2 and the tangential p1, p2 (a real lens's error has all
     // four), one family since the first is nested in the second (once one is accepted, the other
     // would repeat its k1).
@@ -65,10 +121,12 @@ void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording
                         "camera.radial_" + camera, any, camera + " radial distortion",
                         "targets near the edges of " + camera + "'s image", registry));
     out->back().family = lens;
+    out->back().atoms = {"radial/" + camera};
     out->push_back(Make("{type: camera_intrinsics, " + on + ", terms: [radial, k2, tangential]}",
                         lens, any, camera + " lens distortion",
                         "targets near the edges of " + camera + "'s image", registry));
     out->back().family = lens;
+    out->back().atoms = {"radial/" + camera, "lens/" + camera};
     // The six are first-order pieces of one calibration: over the part of the image the
     // targets cross, a real lens's error looks like one or another of them (docs/physics.md).
     for (size_t k = first; k < out->size(); ++k) {
@@ -80,6 +138,7 @@ void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording
     out->push_back(Make("{type: target_scale, targets: [" + target + "]}",
                         "target.scale_" + target, any, target + " printed size",
                         "targets at more varied distances", registry));
+    out->back().atoms = {"scale/" + target};
     // The tilt acts on measured rotations: the world tag's always, a carried target's if used.
     if (target != spec.world_target && !spec.use_tool_rotation) continue;
     out->push_back(Make("{type: target_tilt, targets: [" + target + "]}",
@@ -89,8 +148,12 @@ void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording
   if (!spec.world_target.empty() && recording.targets.count(spec.world_target)) {
     out->push_back(Make("{type: world_frame, target: " + spec.world_target + "}", "world_frame",
                         any, "world tag tilted from the placement's frame",
-                        "a base rotation measured independently (held in the job)", registry));
+                        "a robot standing level stated in the job (base: {level: {sigma_rad}}), "
+                        "or its base's rotation measured and held", registry));
   }
+  if (!groups) return;
+  AddEveryCameraCandidates(recording, any, registry, out);
+  AddEveryTargetCandidates(recording, any, registry, out);
 }
 
 // Per joint of `robot`: its compliance (under `masses`, the job's link masses, "" for the
@@ -191,7 +254,7 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
     AddParallelLinkCandidates(robot, registry, &out);
     AddThermalCandidates(robot, recording, registry, &out);
   }
-  AddCameraCandidates(spec, recording, registry, &out);
+  AddCameraCandidates(spec, recording, options.group_candidates, registry, &out);
   return out;
 }
 

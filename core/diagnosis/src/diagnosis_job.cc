@@ -14,7 +14,7 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "selection_test", "rival_draws", "folds",
                 "max_effects", "min_poses", "link_masses_kg", "gear_harmonics", "candidates",
                 "refits", "min_unabsorbed", "alias_correlation", "min_explained_share",
-                "min_group_share", "shape_correlation"});
+                "min_group_share", "shape_correlation", "group_candidates"});
   DiagnosisOptions& o = job.options;
   o.alpha = d.GetDouble("alpha", o.alpha);
   o.bootstrap = d.GetInt("bootstrap", o.bootstrap);
@@ -31,6 +31,7 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   o.min_poses = d.GetInt("min_poses", o.min_poses);
   o.refits = d.GetInt("refits", o.refits);
   o.min_unabsorbed = d.GetDouble("min_unabsorbed", o.min_unabsorbed);
+  o.group_candidates = d.GetBool("group_candidates", o.group_candidates);
   o.alias_correlation = d.GetDouble("alias_correlation", o.alias_correlation);
   if (!(o.alias_correlation > 0 && o.alias_correlation <= 1)) {
     throw d["alias_correlation"].Error("must be in (0, 1]", "1 keeps every candidate apart");

@@ -207,6 +207,18 @@ Eigen::MatrixXd NormalDrawMap(const Eigen::MatrixXd& covariance) {
   return eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
 }
 
+double PlausibleNoncentrality(const Eigen::MatrixXd& P, const std::vector<Parameter>& parameters) {
+  if (P.cols() == 0 || P.cols() != static_cast<Eigen::Index>(parameters.size())) return NAN;
+  Eigen::VectorXd size(P.cols());
+  for (Eigen::Index k = 0; k < P.cols(); ++k) {
+    if (!parameters[static_cast<size_t>(k)].plausible) return NAN;
+    size[k] = *parameters[static_cast<size_t>(k)].plausible;
+  }
+  const Eigen::MatrixXd scaled = P * size.asDiagonal();
+  const Eigen::VectorXd s = Eigen::BDCSVD<Eigen::MatrixXd>(scaled).singularValues();
+  return s.size() > 0 ? s[0] * s[0] : 0.0;
+}
+
 ScoreTest Score(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_candidate,
                 const Eigen::MatrixXd& P) {
   ScoreTest test;

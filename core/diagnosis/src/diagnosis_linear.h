@@ -73,6 +73,12 @@ double Strength(double statistic, int dof);
 // bases' Gram matrix is): from covariance = V L V^T, the map V sqrt(L).
 Eigen::MatrixXd NormalDrawMap(const Eigen::MatrixXd& covariance);
 
+// The score statistic a candidate would add at its plausible size: the largest |P D u|^2 over
+// unit u, D = diag(each parameter's Parameter::plausible), `P` its unabsorbed columns
+// (whitened): sigma_max(P D)^2, the noncentrality of its score test in the direction these
+// poses show best. NaN where a parameter has no plausible size.
+double PlausibleNoncentrality(const Eigen::MatrixXd& P, const std::vector<Parameter>& parameters);
+
 struct ScoreTest {
   double unabsorbed = 0.0;  // ||P||_F / ||J_e||_F
   double statistic = 0.0;

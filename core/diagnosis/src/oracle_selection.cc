@@ -58,7 +58,7 @@ std::vector<OracleChoice> TestableChoices(const WorkcellProblem& spec, const Rec
     if (!MissingFacts(c.effect.effect->needs(), data.facts).empty()) continue;
     const Eigen::MatrixXd P = ProjectOut(Q, columns[i]);
     const double total = columns[i].norm();
-    if (total == 0.0 || P.norm() / total < options.min_unabsorbed) continue;
+    if (total == 0.0 || P.norm() / total < options.min_unabsorbed_share) continue;
     OracleChoice choice{UnabsorbedBasis(columns[i], P), NamesExpected(c, expect)};
     if (choice.U.cols() > 0) choices.push_back(std::move(choice));
   }

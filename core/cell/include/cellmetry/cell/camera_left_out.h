@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 
+#include "cellmetry/cell/workcell_problem.h"
 #include "cellmetry/formats/recording.h"
 
 namespace cellmetry {
@@ -52,5 +53,8 @@ inline constexpr double kCameraLeftOutFlagSigmas = 3.0;
 
 // `recording` without the observations of `cameras` and without them in its camera list.
 Recording WithoutCameras(const Recording& recording, const std::set<std::string>& cameras);
+
+// The cameras `spec` does not use (`cameras: {<camera>: {use: false}}`).
+std::set<std::string> UnusedCameras(const WorkcellProblem& spec);
 
 }  // namespace cellmetry

@@ -102,8 +102,12 @@ struct DiagnosisOptions {
   int folds = 10;                  // blocked cross-validation, by pose (10: the standard error
                                    // of the gain is steadier than with 5)
   int refits = 3;                  // best candidates by score refitted in full each round
-  double min_unabsorbed = 0.05;    // below this share of its signature outside the geometry's
-                                   // span, an effect is untestable with these poses
+  // Testable: a candidate at its plausible size would pass the score test at `alpha` alone
+  // (CandidateFinding::detectable above the chi-square(1) quantile), however much of its
+  // signature the geometry absorbs; with fewer than this share of it outside the geometry's
+  // span (or, without a plausible size, below min_unabsorbed_share), it is untestable.
+  double min_unabsorbed = 1e-4;    // numerical floor: less is rounding, not signature
+  double min_unabsorbed_share = 0.05;  // the rule for a candidate without a plausible size
   double min_explained_share = 0.1;  // of the held-out excess over the floor an accepted effect
                                     // must remove, where the excess is beyond chance; less is
                                     // a sliver of something else, reported as unexplained
@@ -112,6 +116,11 @@ struct DiagnosisOptions {
                                    // as separate physics (step 7)
   double shape_correlation = 0.5;  // ... unless unlike the headline: below this correlation
                                    // with its signature, a smaller effect is separate too
+  // Also the candidates that act on every camera at once (each form of a camera's calibration)
+  // and on every target (their printed sizes, separately and from one printer): a cause the
+  // cameras or boards share, tested as one. Off by default: more candidates are more rivals,
+  // and on the physics suite they cost single-site names (docs/physics.md).
+  bool group_candidates = false;
   int max_effects = 4;
   int min_poses = 20;              // fewer: too few samples for the tests
   std::vector<double> link_masses_kg;  // gravity-torque regressor (default 1 kg per link)
@@ -145,7 +154,15 @@ struct CandidateEffect {
   // Where it acts, in words ("ur3 joint 3", "camera cam2", "target tool"): accepted effects at
   // one site are one physical finding (step 7). Empty: a site of its own (thermal growth).
   std::string site;
+  // What it fits, as physics at a site ("principal point/cam2"): a candidate that acts on
+  // several cameras or targets together ("every camera's principal point") has one atom each.
+  // Two candidates with an atom in common fit the same thing: once one is accepted the other
+  // leaves the rounds, and neither is the other's rival (one contains the other).
+  std::vector<std::string> atoms;
 };
+
+// Whether `a` and `b` would fit the same thing: one family, or an atom in common.
+bool Overlap(const CandidateEffect& a, const CandidateEffect& b);
 
 // The site (CandidateEffect::site) of an effect configured by `config` on `robot`: its one joint,
 // arm, camera or target; "" where it names none or several.
@@ -164,6 +181,10 @@ struct CandidateFinding {
   std::string untestable_because;   // "98 % absorbed by the geometry", "no temperatures", ...
   std::string data_needed;          // what would make it testable
   double unabsorbed = 0.0;          // share of the signature's norm outside the geometry's span
+  // The score statistic the candidate would add at its plausible size (each parameter at its
+  // Parameter::plausible, the direction the poses show best), over the dispersion: what the
+  // data could tell of it. NaN where a parameter has no plausible size.
+  double detectable = 0.0;
   int dof = 0;                      // its free parameters
   double score = 0.0;               // score statistic (chi-square, dof)
   double p_holm = 1.0;
