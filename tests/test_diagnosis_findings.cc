@@ -145,6 +145,33 @@ TEST(PhysicalFindings, AnAcceptedEffectSaysWhatStrongerFitItsSizeRuledOut) {
   EXPECT_EQ(DiagnosisJson(r)["accepted"][0]["stronger_implausible"].size(), 2u);
 }
 
+// The report leads with what fits best where its size rules it out: which physics, the size it
+// would need and its plausible bound, before the weaker name that was accepted or tried.
+TEST(PhysicalFindings, TheReportLeadsWithTheStrongestFitRuledOutByItsSize) {
+  DiagnosisResult r;
+  DiagnosisRound round;
+  CandidateFinding thermal;
+  thermal.label = "thermal growth of the arm";
+  thermal.refitted = true;
+  thermal.likelihood_ratio = 900.0;
+  thermal.implausible = "expansion = 0.00018 1/degC, where this physics is typically below 5e-05";
+  CandidateFinding tilt;
+  tilt.label = "cam1 depth error tilting across the image";
+  tilt.refitted = true;
+  tilt.likelihood_ratio = 400.0;
+  tilt.failed = {"rivals"};
+  tilt.rival = "thermal growth of the arm";
+  tilt.rival_p = 1.0;
+  round.candidates = {tilt, thermal};
+  r.rounds = {round};
+  const std::string report = DiagnosisReport(r);
+  const std::string lead = "Strongest fit: thermal growth of the arm (likelihood ratio 900), "
+                           "ruled out by its size: expansion = 0.00018 1/degC, where this "
+                           "physics is typically below 5e-05.";
+  ASSERT_THAT(report, HasSubstr(lead));
+  EXPECT_LT(report.find(lead), report.find("Closest candidate: cam1 depth error"));
+}
+
 // Each candidate the bootstrap split from a rival gets its own advice, once, with the job's
 // path; a candidate that failed another test too, or that the resamples hardly ever chose (too
 // weak, not split: experiment A's closest candidate), gets none.

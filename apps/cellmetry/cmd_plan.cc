@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/camera_left_out.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/diagnosis/pose_plan.h"
@@ -37,8 +38,10 @@ void AddPlanCommand(CLI::App& app, Context& context) {
     const DiagnosisJob job = LoadDiagnosisJob(job_path, registry);
     const std::string folder = output.empty() ? job.workcell.output + "/plan" : output;
     CheckReplaceable(folder, "plan");  // before the work, not after it
-    const Recording recording = ReadRecording(job.workcell.recording);
-    ValidateJobAgainstRecording(job.workcell, recording);
+    const Recording read = ReadRecording(job.workcell.recording);
+    ValidateJobAgainstRecording(job.workcell, read);
+    // The candidates and the poses' views are the cameras the job uses.
+    const Recording recording = WithoutCameras(read, UnusedCameras(job.workcell.problem));
     const SolverMaker make_solver = [&] {
       return registry.CreateSolver(job.workcell.solver_type, *job.workcell.solver_config);
     };

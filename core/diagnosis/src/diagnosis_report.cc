@@ -137,6 +137,23 @@ const DiagnosisResult& Grouped(const DiagnosisResult& r, DiagnosisResult* storag
   return *storage;
 }
 
+// Each round whose strongest refit (the largest likelihood ratio) was ruled out by its size: what
+// fits best, how large it would have to be and its plausible bound, before any name is read.
+void StrongestRuledOut(const DiagnosisResult& r, std::ostringstream& out) {
+  for (size_t k = 0; k < r.rounds.size(); ++k) {
+    const CandidateFinding* strongest = nullptr;
+    for (const auto& f : r.rounds[k].candidates) {
+      if (!f.refitted) continue;
+      if (!strongest || f.likelihood_ratio > strongest->likelihood_ratio) strongest = &f;
+    }
+    if (!strongest || strongest->implausible.empty()) continue;
+    out << "Strongest fit" << (r.rounds.size() > 1 ? " of round " + std::to_string(k + 1) : "")
+        << ": " << strongest->label << " (likelihood ratio "
+        << FixedNumber(strongest->likelihood_ratio, 0) << "), ruled out by its size: "
+        << strongest->implausible << ".\n";
+  }
+}
+
 }  // namespace
 
 std::string DiagnosisReport(const DiagnosisResult& result) {
@@ -152,6 +169,7 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
     out << "It follows " << f.regressor << " (" << f.axis << " residuals, partial correlation "
         << std::to_string(f.partial_correlation).substr(0, 5) << ").\n";
   }
+  StrongestRuledOut(r, out);
   for (const auto& f : r.findings) Finding(r, f, out);
   if (!r.accepted.empty()) {
     out << "Held-out RMS " << Mm(r.geometric.held_out_rms_mm) << " -> "
