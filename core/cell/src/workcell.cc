@@ -603,6 +603,7 @@ void AddCamerasLeftOut(const WorkcellProblem& spec, const Recording& recording,
   if (!spec.leave_one_camera_out) return;
   StageClock clock;
   result->cameras_left_out = LeaveEachCameraOut(spec, recording, *result, make_solver);
+  if (result->cameras_left_out.empty()) return;  // fewer than two cameras: nothing was left out
   for (const CameraLeftOut& c : result->cameras_left_out) {
     if (!c.error.empty()) {
       result->warnings.push_back("without " + c.camera + " the cell cannot be identified (" +

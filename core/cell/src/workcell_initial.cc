@@ -276,6 +276,40 @@ void CamerasThroughRobots(const WorkcellProblem& spec, const Recording& recordin
   }
 }
 
+// A cell whose cameras see no world target and whose robots stand where the job puts them (the
+// eye-to-hand cell: one static camera, a board on the tool): the cameras were placed through the
+// robots with the tools at their nominal offsets. The tools' offsets and the cameras' poses are
+// then solved in turn, each in closed form given the other (the tools by InitialBaseAndTools
+// with the base held, the cameras by a rigid fit), until the tools move by less than a micron.
+void ToolsAndCamerasInTurn(const WorkcellProblem& spec, const Recording& recording,
+                           const WorkcellData& data, const std::vector<size_t>& robots,
+                           WorkcellEstimate* estimate) {
+  std::set<std::string> placed_through_robots;
+  for (const auto& [camera, pose] : estimate->T_world_cam) {
+    const auto given = spec.cameras.find(camera);
+    if (given == spec.cameras.end() || !given->second.start) placed_through_robots.insert(camera);
+  }
+  for (int round = 0; round < 100; ++round) {
+    const auto points = WorldPoints(spec, recording, data, *estimate);
+    double moved = 0.0;
+    for (size_t r : robots) {
+      const WorkcellRobot& robot = spec.robots[r];
+      if (points[r].size() < 3) continue;
+      std::vector<Eigen::Vector3d> before;
+      for (const auto& tool : robot.tools) before.push_back(estimate->T_flange_target[tool.target].t);
+      InitialBaseAndTools(robot, points[r], estimate);
+      if (spec.use_tool_rotation) InitialToolRotations(robot, points[r], estimate);
+      for (size_t t = 0; t < robot.tools.size(); ++t) {
+        moved = std::max(moved, (estimate->T_flange_target[robot.tools[t].target].t - before[t])
+                                    .norm());
+      }
+    }
+    for (const auto& camera : placed_through_robots) estimate->T_world_cam.erase(camera);
+    CamerasThroughRobots(spec, recording, data, estimate);
+    if (moved < 1e-3) break;
+  }
+}
+
 // Whether `start` places every robot (base and model), tool and static camera `data` uses.
 bool PlacesEverything(const WorkcellEstimate& start, const WorkcellProblem& spec,
                       const Recording& recording, const WorkcellData& data) {
@@ -319,6 +353,7 @@ WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& r
     }
   }
   const auto points = WorldPoints(spec, recording, data, estimate);
+  std::vector<size_t> through_cameras;  // robots placed where they stand, seen by no placed camera
   for (size_t r = 0; r < spec.robots.size(); ++r) {
     const WorkcellRobot& robot = spec.robots[r];
     if (points[r].size() < 3 && !robot.base_start) {
@@ -328,10 +363,18 @@ WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& r
                        "Record more poses where a camera sees both the world target and the "
                        "robot's target");
     }
+    if (points[r].size() < 3) {
+      estimate.T_world_base[robot.name] = *robot.base_start;
+      through_cameras.push_back(r);
+      continue;
+    }
     InitialBaseAndTools(robot, points[r], &estimate);
     if (spec.use_tool_rotation) InitialToolRotations(robot, points[r], &estimate);
   }
   if (static_cameras) CamerasThroughRobots(spec, recording, data, &estimate);
+  if (static_cameras && !through_cameras.empty()) {
+    ToolsAndCamerasInTurn(spec, recording, data, through_cameras, &estimate);
+  }
   return estimate;
 }
 
