@@ -13,14 +13,15 @@ void Require(bool ok, const std::string& file, const std::string& what, const st
 HomingOptions ReadOptions(const ConfigNode& h) {
   HomingOptions options;
   h.ExpectKeys({"n_sigma", "target_width_increments", "min_positions", "max_reruns"});
-  options.n_sigma = h.GetDouble("n_sigma", options.n_sigma);
+  options.n_sigma = h.GetDoubleIn("n_sigma", options.n_sigma, 1e-3, 100.0,
+                                  "How many sigma an interval spans: 3 is usual");
   options.target_width_increments =
-      h.GetDouble("target_width_increments", options.target_width_increments);
-  options.min_positions = h.GetInt("min_positions", options.min_positions);
-  options.max_reruns = h.GetInt("max_reruns", options.max_reruns);
-  if (options.min_positions < 2) {
-    throw h["min_positions"].Error("must be at least 2", "An interval needs company");
-  }
+      h.GetDoubleIn("target_width_increments", options.target_width_increments, 1e-6, 1e6,
+                    "A width in encoder increments, more than 0");
+  options.min_positions = h.GetIntIn("min_positions", options.min_positions, 2, 1000000,
+                                     "An interval needs company: 2 or more");
+  options.max_reruns = h.GetIntIn("max_reruns", options.max_reruns, 0, 1000,
+                                   "0 runs once; each rerun records the poses again");
   return options;
 }
 

@@ -17,8 +17,12 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
                 "min_group_share", "shape_correlation", "group_candidates"});
   DiagnosisOptions& o = job.options;
   o.alpha = d.GetDouble("alpha", o.alpha);
-  o.bootstrap = d.GetInt("bootstrap", o.bootstrap);
-  o.bootstrap_share = d.GetDouble("bootstrap_share", o.bootstrap_share);
+  // Each resample is a selection of its own: beyond 10,000 the run is hours and the share's
+  // Monte Carlo error 0.5 % already.
+  o.bootstrap = d.GetIntIn("bootstrap", o.bootstrap, 0, 10000,
+                           "40 resamples is the default; 10,000 the most");
+  o.bootstrap_share = d.GetDoubleIn("bootstrap_share", o.bootstrap_share, 0.0, 1.0,
+                                    "A share of resamples: 0.8 is the default");
   o.selection_test = d.GetString("selection_test", o.selection_test);
   if (o.selection_test != "bootstrap" && o.selection_test != "rivals") {
     throw d["selection_test"].Error("unknown selection test '" + o.selection_test + "'",
@@ -26,11 +30,14 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   }
   o.rival_draws = d.GetIntIn("rival_draws", o.rival_draws, 100, 1000000,
                              "Use 100 or more draws; 2000 is the default");
-  o.folds = d.GetInt("folds", o.folds);
-  o.max_effects = d.GetInt("max_effects", o.max_effects);
-  o.min_poses = d.GetInt("min_poses", o.min_poses);
-  o.refits = d.GetInt("refits", o.refits);
-  o.min_unabsorbed = d.GetDouble("min_unabsorbed", o.min_unabsorbed);
+  o.folds = d.GetIntIn("folds", o.folds, 2, 1000, "10 is the default; 2 the fewest");
+  o.max_effects = d.GetIntIn("max_effects", o.max_effects, 1, 100,
+                             "4 is the default: each round names one effect");
+  o.min_poses = d.GetIntIn("min_poses", o.min_poses, 1, 1000000,
+                           "20 is the default: fewer poses are too few for the tests");
+  o.refits = d.GetIntIn("refits", o.refits, 1, 1000, "3 is the default");
+  o.min_unabsorbed = d.GetDoubleIn("min_unabsorbed", o.min_unabsorbed, 0.0, 0.999,
+                                   "A share of a signature: 1e-4 is the default");
   o.group_candidates = d.GetBool("group_candidates", o.group_candidates);
   o.alias_correlation = d.GetDouble("alias_correlation", o.alias_correlation);
   if (!(o.alias_correlation > 0 && o.alias_correlation <= 1)) {
