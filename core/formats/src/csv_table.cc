@@ -2,7 +2,9 @@
 // or non-finite cell is an InputError naming its file, line and column.
 #include "cellmetry/formats/csv_table.h"
 
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -11,6 +13,24 @@
 
 namespace cellmetry {
 namespace {
+
+// A cell as an error message quotes it: at most 80 characters, and what no terminal shows (a NUL,
+// a control character) as \xNN.
+std::string Quoted(const std::string& cell) {
+  std::string out;
+  size_t i = 0;
+  for (; i < cell.size() && out.size() < 80; ++i) {
+    const unsigned char c = static_cast<unsigned char>(cell[i]);
+    if (c < 0x20 || c == 0x7f) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", c);
+      out += escaped;
+    } else {
+      out += cell[i];
+    }
+  }
+  return i < cell.size() ? out + "..." : out;
+}
 
 std::string Trim(const std::string& s) {
   const size_t begin = s.find_first_not_of(" \t\r");
@@ -139,13 +159,23 @@ std::string CsvTable::Text(size_t row, const std::string& column) const {
 double CsvTable::Number(size_t row, const std::string& column) const {
   const std::string& cell = Cell(row, column);
   if (cell.empty()) throw Error(row, column, "empty cell", "Fill in a number");
-  char* end = nullptr;
-  const double value = std::strtod(cell.c_str(), &end);
-  if (end == cell.c_str() || *end != '\0') {
-    throw Error(row, column, "'" + cell + "' is not a number", "Write a plain decimal number");
+  // The whole cell as a decimal number, or nothing: std::from_chars reads no hexadecimal and no
+  // locale, and a cell with a NUL byte or anything after the number is refused whole (strtod
+  // read "2\0 42.29" as 2 and "0x1p8" as 256).
+  const char* first = cell.data() + (cell[0] == '+' ? 1 : 0);
+  const char* last = cell.data() + cell.size();
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(first, last, value);
+  if (error == std::errc::result_out_of_range) {
+    throw Error(row, column, "'" + Quoted(cell) + "' is beyond the range of a number",
+                "Write the value in the file's units");
+  }
+  if (error != std::errc() || end != last || first == last) {
+    throw Error(row, column, "'" + Quoted(cell) + "' is not a number",
+                "Write a plain decimal number");
   }
   if (!std::isfinite(value)) {
-    throw Error(row, column, "'" + cell + "' is not a finite number",
+    throw Error(row, column, "'" + Quoted(cell) + "' is not a finite number",
                 "Remove the row or replace the value with a measurement");
   }
   return value;
