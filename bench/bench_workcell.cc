@@ -4,6 +4,9 @@
 //                      cross-validation (issue 15's target: <= 5 ms); counters ms_<stage>
 //  BM_Identify/exp_a   2,500 captures, 3 cameras, 7,500 tool observations, static cameras
 //                      (issue 15's target: <= 60 ms)
+//  BM_Identify/exp_a_cameras_left_out   exp_a's best model (vsb_exp_a.yaml) as `cellmetry run`
+//                      runs it, each camera left out (its stage: ms_cameras_left_out), against
+//                      BM_Identify/exp_a_best, the same without
 //  BM_Identify/<case>_plain_outlier_test   the same, outliers tested on the plain fit only
 //                      (`outliers: plain`): the robust first fit's cost is the difference
 //  BM_Solve/<solver>   the same assembled sim_b problem from the closed-form start, each solver
@@ -50,11 +53,12 @@ const Loaded& Load(const std::string& job_file) {
 
 void BM_Identify(benchmark::State& state, const std::string& job_file,
                  OutlierTest outlier_test = OutlierTest::kRobust,
-                 const std::string& solver_type = "ceres_lm") {
+                 const std::string& solver_type = "ceres_lm", bool cameras_left_out = false) {
   const Loaded& loaded = Load(job_file);
   const ConfigNode solver = ConfigNode::LoadString("type: " + solver_type, "bench");
   WorkcellProblem problem = loaded.job.problem;
   problem.outlier_test = outlier_test;
+  problem.leave_one_camera_out = cameras_left_out;
   // Where the time goes: each stage's wall milliseconds per identification, as counters
   // (`ms_<stage>`; the stages of workcell.cc's StageClock).
   std::map<std::string, double> stage_ms;
@@ -73,6 +77,13 @@ BENCHMARK_CAPTURE(BM_Identify, sim_b, std::string("configs/jobs/vsb_sim_b.yaml")
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Identify, exp_a, std::string("configs/jobs/vsb_exp_a_geometry.yaml"))
     ->Unit(benchmark::kMillisecond);
+// The best model as `cellmetry run` runs it: each of the three cameras left out and refitted.
+BENCHMARK_CAPTURE(BM_Identify, exp_a_best, std::string("configs/jobs/vsb_exp_a.yaml"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Identify, exp_a_cameras_left_out, std::string("configs/jobs/vsb_exp_a.yaml"),
+                  OutlierTest::kRobust, std::string("ceres_lm"), true)
+    ->Unit(benchmark::kMillisecond);
+
 // The same with the outlier test on the plain fit only (outliers: plain): what the robust first
 // fit costs (outliers.h).
 BENCHMARK_CAPTURE(BM_Identify, sim_b_plain_outlier_test,

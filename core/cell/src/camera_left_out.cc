@@ -9,6 +9,7 @@
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/basics/statistics.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/estimation/left_out_difference.h"
@@ -27,6 +28,12 @@ Recording WithoutCameras(const Recording& recording, const std::set<std::string>
     if (!cameras.count(camera)) out.cameras.push_back(camera);
   }
   return out;
+}
+
+double CameraLeftOutFlagSigmas(int compared) {
+  const double three_sigma = 2.0 * NormalSurvival(3.0);  // two-sided
+  if (compared <= 1) return 3.0;
+  return std::max(3.0, std::sqrt(ChiSquareQuantile(1.0 - three_sigma / compared, 1.0)));
 }
 
 std::set<std::string> UnusedCameras(const WorkcellProblem& spec) {
@@ -230,12 +237,18 @@ std::vector<CameraLeftOut> LeaveEachCameraOut(const WorkcellProblem& spec,
   const std::vector<Eigen::VectorXd> variances =
       DataVariances(spec, recording, all, cameras, refits);
   std::vector<CameraLeftOut> out;
+  int compared = 0;
   for (size_t c = 0; c < refits.size(); ++c) {
     if (refits[c].out.error.empty() && c < variances.size()) {
       Compare(spec, all, variances[c], &refits[c]);
     }
+    for (const FrameDifference& d : refits[c].out.frames) {
+      compared += static_cast<int>(std::count(d.compared.begin(), d.compared.end(), true));
+    }
     out.push_back(std::move(refits[c].out));
   }
+  const double flag = CameraLeftOutFlagSigmas(compared);
+  for (CameraLeftOut& c : out) c.flag_sigmas = flag;
   return out;
 }
 

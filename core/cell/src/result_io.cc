@@ -229,7 +229,8 @@ nlohmann::json CamerasLeftOutJson(const std::vector<CameraLeftOut>& cameras) {
                    {"frames", frames},
                    {"worst_sigmas", c.worst_sigmas},
                    {"worst", c.worst},
-                   {"flagged", c.error.empty() && c.worst_sigmas > kCameraLeftOutFlagSigmas},
+                   {"flag_sigmas", c.flag_sigmas},
+                   {"flagged", c.flagged()},
                    {"error", c.error}});
   }
   return out;
@@ -432,7 +433,8 @@ void PrintCamerasLeftOut(const WorkcellResult& r, std::ostringstream& out) {
     }
     out << "    without " << c.camera << ": largest " << FixedNumber(c.worst_sigmas, 1)
         << " sigma (" << (c.worst.empty() ? std::string("none") : c.worst) << ")"
-        << (c.worst_sigmas > kCameraLeftOutFlagSigmas ? " FLAGGED" : "") << "\n";
+        << (c.flagged() ? " FLAGGED (beyond " + FixedNumber(c.flag_sigmas, 1) + ")" : "")
+        << "\n";
     for (const FrameDifference& d : c.frames) {
       std::string text;
       for (int i = 0; i < 3; ++i) {

@@ -608,7 +608,7 @@ void AddCamerasLeftOut(const WorkcellProblem& spec, const Recording& recording,
     if (!c.error.empty()) {
       result->warnings.push_back("without " + c.camera + " the cell cannot be identified (" +
                                  c.error + "): nothing checks what it alone determines");
-    } else if (c.worst_sigmas > kCameraLeftOutFlagSigmas) {
+    } else if (c.flagged()) {
       char sigmas[32];
       std::snprintf(sigmas, sizeof sigmas, "%.1f", c.worst_sigmas);
       result->warnings.push_back(

@@ -98,8 +98,9 @@ void CamerasLeftOutSection(const WorkcellResult& r, HtmlPage* page) {
   page->Note("The cell identified again without each camera, against the answer with all of "
              "them: the difference and its sigma (the data's part from both fits' shared rows, "
              "and the uncertain inputs both share). Beyond " +
-             Num(kCameraLeftOutFlagSigmas, 2) +
-             " sigma the camera disagrees with the others more than the model allows: its "
+             Num(r.cameras_left_out.front().flag_sigmas, 2) +
+             " sigma (3 sigma's 0.27 % shared over every coordinate compared) the camera "
+             "disagrees with the others more than the model allows: its "
              "intrinsics, its mount, or camera-side physics the job leaves out.");
   std::vector<std::vector<std::string>> rows;
   for (const CameraLeftOut& c : r.cameras_left_out) {
@@ -113,7 +114,7 @@ void CamerasLeftOutSection(const WorkcellResult& r, HtmlPage* page) {
         const double sigmas = std::abs(d.difference[i]) / d.sigma[i];
         rows.push_back({c.camera, d.frame + "." + kFrameParameterNames[i],
                         Num(d.difference[i], 4), Num(d.sigma[i], 3), Num(sigmas, 2),
-                        sigmas > kCameraLeftOutFlagSigmas ? "flagged" : ""});
+                        sigmas > c.flag_sigmas ? "flagged" : ""});
       }
     }
   }
