@@ -12,8 +12,9 @@
 
 namespace cellmetry {
 
-// The static cameras that see a target the job's robots carry: what a camera-left-out check
-// leaves out in turn (none where fewer than two, or where cameras are not estimated).
+// The static cameras that see a target the job's robots carry, sorted: what a camera-left-out
+// refit and the camera jackknife (uncertainty_split.h) leave out in turn (none where fewer
+// than two, or where cameras are not estimated).
 std::vector<std::string> CamerasToLeaveOut(const WorkcellProblem& spec,
                                            const Recording& recording);
 

@@ -4,14 +4,11 @@
 #include <algorithm>
 #include <future>
 #include <map>
-#include <set>
 
+#include "camera_left_out_fit.h"
 #include "cellmetry/estimation/robust_covariance.h"
 
 namespace cellmetry {
-namespace {
-
-}  // namespace
 
 std::vector<int> PoseClustersInCaptureOrder(const Problem& problem) {
   std::map<int, int> first_sample;  // pose -> the first sample that shows it
@@ -32,28 +29,6 @@ std::vector<int> PoseClustersInCaptureOrder(const Problem& problem) {
   return clusters;
 }
 
-namespace {
-
-// Static cameras that see a target the job's robots carry: those a jackknife can leave out.
-std::vector<std::string> CamerasSeeingTools(const WorkcellProblem& spec,
-                                            const Recording& recording) {
-  std::set<std::string> tools;
-  for (const auto& robot : spec.robots) {
-    for (const auto& tool : robot.tools) tools.insert(tool.target);
-  }
-  // A camera already found is not looked up again: a set lookup and insertion per observation
-  // was a tenth of the split on exp_a.
-  std::vector<std::string> seen;
-  for (const auto& obs : recording.observations) {
-    if (std::find(seen.begin(), seen.end(), obs.camera) != seen.end()) continue;
-    if (tools.count(obs.target)) seen.push_back(obs.camera);
-  }
-  std::sort(seen.begin(), seen.end());
-  return seen;
-}
-
-}  // namespace
-
 std::vector<int> CameraGroups(const Problem& problem, const std::vector<std::string>& cameras) {
   std::vector<int> groups;
   for (const auto& info : problem.residual_infos()) {
@@ -65,26 +40,13 @@ std::vector<int> CameraGroups(const Problem& problem, const std::vector<std::str
   return groups;
 }
 
-namespace {
-
-// The cameras a leave-one-camera-out jackknife leaves out in turn: none with fewer than two.
-std::vector<std::string> JackknifeCameras(const WorkcellProblem& spec,
-                                          const Recording& recording) {
-  if (spec.camera_model != CameraModel::kStaticCameras) return {};
-  std::vector<std::string> cameras = CamerasSeeingTools(spec, recording);
-  if (cameras.size() < 2) return {};
-  return cameras;
-}
-
-}  // namespace
-
 void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,
                       const AssembledWorkcell& fitted, const Linearization& at, Uncertainty* u) {
   const Problem& problem = fitted.problem;
   // Leave-one-camera-out deviations from the answer. The jackknife and the cluster-robust
   // covariance read the answer's linearization and nothing else: the jackknife on another core
   // meanwhile, where there is one.
-  const std::vector<std::string> cameras = JackknifeCameras(spec, recording);
+  const std::vector<std::string> cameras = CamerasToLeaveOut(spec, recording);
   std::future<std::vector<Eigen::VectorXd>> jackknife = std::async(
       cameras.empty() ? std::launch::deferred : std::launch::async, [&] {
         if (cameras.empty()) return std::vector<Eigen::VectorXd>{};

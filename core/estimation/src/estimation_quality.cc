@@ -295,7 +295,9 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   const Eigen::VectorXd norms = ColumnNorms(gram).cwiseMax(1e-300);
   std::vector<int> every(n);
   for (int j = 0; j < n; ++j) every[j] = j;
-  const auto svd = ScaledSvd(at.r_factor.size() > 0 ? at.r_factor : RFactor(gram), every, norms);
+  Eigen::MatrixXd factored;  // J's R factor where `at` has none yet
+  const Eigen::MatrixXd& R = at.r_factor.size() > 0 ? at.r_factor : (factored = RFactor(gram));
+  const auto svd = ScaledSvd(R, every, norms);
   const Eigen::VectorXd s = svd.singularValues();
   u.condition_number = s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
@@ -313,7 +315,6 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
     // The chi-square scale says the measurements' noise is larger than stated; a prior is a
     // stated input, not a measurement, and keeps its sigma: the information is the data's
     // divided by the scale plus the priors' (a gauge the data cannot see keeps its prior).
-    const Eigen::MatrixXd R = at.r_factor.size() > 0 ? at.r_factor : RFactor(gram);
     const Eigen::MatrixXd scaled_R = R * inv_norms.asDiagonal();
     const Eigen::VectorXd scaled_prior = prior_information.cwiseProduct(inv_norms.cwiseAbs2());
     Eigen::MatrixXd information = scaled_R.transpose() * scaled_R;
