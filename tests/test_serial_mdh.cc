@@ -117,16 +117,77 @@ TEST(SerialMdh, FlangeTwistsMatchCentralDifferences) {
   }
 }
 
-TEST(SerialMdh, HayatiBetaIsHeldAtZeroAndParallelAxesAreWarned) {
+TEST(SerialMdh, HayatiBetaIsZeroAndADFreedBetweenParallelAxesIsWarned) {
   const auto model = Ur3();
   for (const auto& p : model->parameters()) {
     if (p.name.find(".beta") != std::string::npos) {
       EXPECT_EQ(p.nominal, 0.0) << p.name;
     }
   }
-  const auto warnings = model->Warnings();
-  ASSERT_EQ(warnings.size(), 2u);  // joints 2-3 and 3-4 are parallel on a UR3
+  // d freed between parallel axes without the tilt: warned (joints 2-3 and 3-4 on a UR3).
+  std::vector<Parameter> job = model->parameters();
+  for (Parameter& p : job) p.fixed = p.name.find(".d") == std::string::npos;
+  const auto warnings = model->Warnings(job);
+  ASSERT_EQ(warnings.size(), 2u);
   EXPECT_NE(warnings[0].find("j3.beta"), std::string::npos);
+  // Every entry free: beta carries the tilt, d is held by convention; nothing to warn of.
+  for (Parameter& p : job) p.fixed = false;
+  EXPECT_TRUE(model->Warnings(job).empty());
+}
+
+// The TX90L table against the vendor's URDF chain (ROS-Industrial staubli_experimental,
+// tx2-90l_macro.xacro), written out here as its joint origins and axes: a user's check of a
+// table converted from a URDF. Base frame: the URDF's `base` (478 mm above base_link).
+Pose UrdfTx90lFlange(const std::vector<double>& q) {
+  auto turn = [](const Eigen::Vector3d& axis, double angle) {
+    return Pose{Eigen::AngleAxisd(angle, axis).toRotationMatrix(), Eigen::Vector3d::Zero()};
+  };
+  auto shift = [](double x, double y, double z) {
+    return Pose{Eigen::Matrix3d::Identity(), Eigen::Vector3d(x, y, z)};
+  };
+  const Eigen::Vector3d y = Eigen::Vector3d::UnitY(), z = Eigen::Vector3d::UnitZ();
+  return turn(z, q[0]) * shift(50, 0, 0) * turn(y, q[1]) * shift(0, 50, 500) * turn(y, q[2]) *
+         turn(z, q[3]) * shift(0, 0, 550) * turn(y, q[4]) * shift(0, 0, 100) * turn(z, q[5]);
+}
+
+TEST(SerialMdh, StaubliTx90lTableReproducesTheVendorsUrdfChain) {
+  const ConfigNode config =
+      ConfigNode::LoadFile(testing::Source("configs/robots/staubli_tx90l.yaml"));
+  const auto model = testing::Plugins().CreateRobotModel("serial_mdh", config);
+  const std::vector<double> nominal = Nominal(*model);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<double> q(6);
+    for (double& v : q) v = angle(rng);
+    Pose T;
+    ASSERT_TRUE(model->Forward(q.data(), nominal.data(), &T));
+    const Pose urdf = UrdfTx90lFlange(q);
+    EXPECT_LT((T.t - urdf.t).norm(), 1e-9);
+    EXPECT_LT((T.R - urdf.R).norm(), 1e-12);
+  }
+  // All zero: straight up, the elbow's 50 mm sideways.
+  const std::vector<double> zero(6, 0.0);
+  Pose T;
+  ASSERT_TRUE(model->Forward(zero.data(), nominal.data(), &T));
+  EXPECT_LT((T.t - Eigen::Vector3d(50, 50, 1150)).norm(), 1e-9);
+}
+
+// What holding each entry at nominal means where the data cannot determine it: joint 1's
+// entries put the base frame, the last joint's d and offset the flange frame, Hayati's tilt is
+// zero between axes that are not parallel, and d is a convention between parallel ones.
+TEST(SerialMdh, ConventionsAreTheParametrisationsOwnRedundancies) {
+  const ConfigNode config =
+      ConfigNode::LoadFile(testing::Source("configs/robots/staubli_tx90l.yaml"));
+  const auto model = testing::Plugins().CreateRobotModel("serial_mdh", config);
+  std::vector<std::string> conventions;
+  for (const Parameter& p : model->parameters()) {
+    if (!p.convention.empty()) conventions.push_back(p.name);
+  }
+  const std::vector<std::string> expected = {
+      "j1.alpha", "j1.a",    "j1.beta", "j1.d",      "j1.offset", "j2.beta", "j3.d",
+      "j4.beta",  "j5.beta", "j6.beta", "j6.d",      "j6.offset"};
+  EXPECT_EQ(conventions, expected);
 }
 
 TEST(SerialMdh, DegreesAndMetresAreConverted) {

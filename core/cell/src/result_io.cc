@@ -80,6 +80,30 @@ nlohmann::json ScoreJson(const RecordingScore& v) {
           {"max_after_mm", v.max_after_mm}};
 }
 
+nlohmann::json HeldOutSetupJson(const HeldOutSetupScore& v) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const HeldOutPoint& p : v.points) {
+    points.push_back({{"sample", p.sample},
+                      {"camera", p.camera},
+                      {"target", p.target},
+                      {"error_mm", {p.error_mm.x(), p.error_mm.y(), p.error_mm.z()}},
+                      {"sigma_mm", std::sqrt(p.covariance_mm2.trace())},
+                      {"normalized_squared", p.normalized_squared}});
+  }
+  return {{"recording", v.recording},
+          {"registration_poses", v.registration_poses},
+          {"scored_poses", v.scored_poses},
+          {"rms_mm", v.rms_mm},
+          {"mean_mm", v.mean_mm},
+          {"max_mm", v.max_mm},
+          {"registration_rms_mm", v.registration_rms_mm},
+          {"nominal_rms_mm", v.nominal_rms_mm},
+          {"within_95_ellipsoid", v.within_95},
+          {"mean_normalized_squared", v.mean_normalized},
+          {"median_sigma_mm", v.median_sigma_mm},
+          {"points", points}};
+}
+
 nlohmann::json WeakJson(const std::vector<WeakParameter>& weak) {
   nlohmann::json j = nlohmann::json::array();
   for (const auto& w : weak) {
@@ -256,7 +280,9 @@ nlohmann::json ModelParameterJson(const ScalarEstimate& p) {
   return {{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal}, {"value", p.value},
           {"sigma", p.held ? nlohmann::json(nullptr) : nlohmann::json(p.sigma)},
           {"sigma_statistical", p.sigma_statistical}, {"sigma_systematic", p.sigma_systematic},
-          {"sigma_inputs", p.sigma_inputs}, {"held", p.held}, {"undetermined", p.undetermined}};
+          {"sigma_inputs", p.sigma_inputs}, {"held", p.held}, {"undetermined", p.undetermined},
+          {"convention", p.convention.empty() ? nlohmann::json(nullptr)
+                                              : nlohmann::json(p.convention)}};
 }
 
 nlohmann::json RobotModelJson(const RobotModelRecord& record) {
@@ -330,6 +356,7 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
     if (p.undetermined) j["undetermined"].push_back(p.name);
   }
   if (r.validation) j["validation"] = ScoreJson(*r.validation);
+  if (r.held_out_setup) j["validation"]["held_out_setup"] = HeldOutSetupJson(*r.held_out_setup);
   const double floor = NoiseFloorMm(r);
   j["noise_floor_mm"] = std::isnan(floor) ? nlohmann::json(nullptr) : nlohmann::json(floor);
   j["skipped_observations"] = r.skipped;
@@ -414,6 +441,11 @@ std::string UnidentifiableLine(const UnidentifiableParameter& u) {
            (partners.empty() ? std::string("it moves nothing else")
                              : "it moves " + partners + ", whose sigma carries it");
   }
+  if (!u.convention.empty()) {
+    return "held at nominal by convention: " + u.name + " (" + u.convention + ")" +
+           (partners.empty() ? std::string()
+                             : "; " + partners + " are given relative to it");
+  }
   if (u.moves_with.empty()) {
     return "not identifiable, held at nominal: " + u.name + " (" + u.reason + ")";
   }
@@ -451,8 +483,9 @@ void PrintCamerasLeftOut(const WorkcellResult& r, std::ostringstream& out) {
 void PrintParameters(const WorkcellResult& r, std::ostringstream& out) {
   for (const auto& p : r.model_parameters) {
     out << "  " << p.name << " = " << FixedNumber(p.value, 5) << " "
-        << (p.held           ? "held (not identifiable)"
-            : p.undetermined ? std::string("undetermined")
+        << (p.held && !p.convention.empty() ? "held (convention)"
+            : p.held                        ? "held (not identifiable)"
+            : p.undetermined                ? std::string("undetermined")
                              : "+- " + SigmaText(p.sigma))
         << " " << p.unit << "\n";
   }
@@ -495,6 +528,16 @@ void PrintFitQuality(const WorkcellResult& r, std::ostringstream& out) {
         << FixedNumber(v.before.norm, 3) << " mm (closed-form start), after "
         << FixedNumber(v.after.norm, 4) << " mm; mean " << FixedNumber(v.mean_after_mm, 4)
         << ", max " << FixedNumber(v.max_after_mm, 4) << " mm\n";
+  }
+  if (r.held_out_setup) {
+    const HeldOutSetupScore& v = *r.held_out_setup;
+    out << "  held-out setup (" << v.recording << "): frames registered again on "
+        << v.registration_poses.size() << " poses (RMS " << FixedNumber(v.registration_rms_mm, 4)
+        << " mm), " << v.scored_poses << " scored: RMS " << FixedNumber(v.rms_mm, 4)
+        << " mm (nominal model " << FixedNumber(v.nominal_rms_mm, 4) << " mm), mean "
+        << FixedNumber(v.mean_mm, 4) << ", max " << FixedNumber(v.max_mm, 4)
+        << " mm; predicted sigma " << FixedNumber(v.median_sigma_mm, 4) << " mm (median), "
+        << FixedNumber(100.0 * v.within_95, 1) << " % within their 95 % ellipsoid\n";
   }
 }
 

@@ -49,7 +49,11 @@ inline void AddUncertaintyJson(const Uncertainty& u,
         {{"name", p.name},
          {"reason", p.reason},
          {"moves_with", moves_with},
-         {"determined_by", p.prior_sigma > 0.0 ? "prior" : "hold"},
+         {"determined_by", p.prior_sigma > 0.0        ? "prior"
+                           : !p.convention.empty() ? "convention"
+                                                   : "hold"},
+         {"convention", p.convention.empty() ? nlohmann::json(nullptr)
+                                             : nlohmann::json(p.convention)},
          {"prior_sigma", p.prior_sigma > 0.0 ? nlohmann::json(p.prior_sigma) : nullptr}});
   }
   (*j)["fit"] = {{"chi2", u.chi2},

@@ -171,7 +171,7 @@ SigmaOf Sigma(const Uncertainty& u, const std::string& name) {
 std::set<std::string> Undetermined(const std::vector<UnidentifiableParameter>& unidentifiable) {
   std::set<std::string> names;
   for (const auto& u : unidentifiable) {
-    if (u.prior_sigma > 0.0 || u.moves_with.empty()) continue;
+    if (u.prior_sigma > 0.0 || u.moves_with.empty() || !u.convention.empty()) continue;
     names.insert(u.name);
     for (const auto& partner : u.moves_with) names.insert(partner.name);
   }
@@ -208,7 +208,8 @@ const char* StageName(const Effect& effect) {
 // A model or effect parameter's estimate.
 ScalarEstimate MakeScalar(const std::string& name, const std::string& unit, double nominal,
                           double value, const Uncertainty& u, const std::set<std::string>& held,
-                          const std::set<std::string>& undetermined) {
+                          const std::set<std::string>& undetermined,
+                          const std::vector<UnidentifiableParameter>& unidentifiable = {}) {
   ScalarEstimate s;
   s.name = name;
   s.unit = unit;
@@ -221,6 +222,9 @@ ScalarEstimate MakeScalar(const std::string& name, const std::string& unit, doub
   s.sigma_systematic = sigma.systematic;
   s.sigma_inputs = sigma.inputs;
   s.undetermined = undetermined.count(name) > 0;
+  for (const UnidentifiableParameter& p : unidentifiable) {
+    if (p.name == name) s.convention = p.convention;
+  }
   return s;
 }
 
@@ -243,7 +247,7 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
       if (p.fixed) continue;
       result->model_parameters.push_back(
           MakeScalar(robot.name + ".model." + p.name, p.unit, p.nominal, values[i], u, held,
-                     undetermined));
+                     undetermined, result->unidentifiable));
     }
     RobotModelRecord record{robot.name, robot.model_file, robot.model_config,
                             robot.model_parameters};
@@ -253,7 +257,7 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
                                         robot.model_parameters.end(),
                                         [](const Parameter& p) { return !p.fixed; });
     if (model_free) {
-      for (const auto& w : robot.model->Warnings()) {
+      for (const auto& w : robot.model->Warnings(robot.model_parameters)) {
         result->warnings.push_back(robot.name + ": " + w);
       }
     }

@@ -30,15 +30,45 @@ Eigen::BDCSVD<Eigen::MatrixXd> ScaledSvd(const Eigen::MatrixXd& R,
 
 }  // namespace
 
+namespace {
+
+// Of the degenerate directions (the right singular vectors of `svd` whose singular value is below
+// `tolerance` times the largest), the convention column with the largest share of their space
+// (at least `kShare`), and the unit direction of that space that moves it most; -1 where none.
+int ConventionColumn(const Eigen::BDCSVD<Eigen::MatrixXd>& svd, double tolerance,
+                     const std::vector<int>& active, const std::vector<bool>& convention,
+                     Eigen::VectorXd* direction) {
+  constexpr double kShare = 0.1;  // as a partner: held, it leaves the others determined
+  const Eigen::VectorXd s = svd.singularValues();
+  Eigen::Index dimension = 0;
+  while (dimension < s.size() && s[s.size() - 1 - dimension] < tolerance * s[0]) ++dimension;
+  const Eigen::MatrixXd null = svd.matrixV().rightCols(dimension);
+  int best = -1;
+  double best_share = kShare;
+  for (size_t k = 0; k < active.size(); ++k) {
+    if (!convention[static_cast<size_t>(active[k])]) continue;
+    const double share = null.row(static_cast<Eigen::Index>(k)).norm();
+    if (share >= best_share) {
+      best = static_cast<int>(k);
+      best_share = share;
+    }
+  }
+  if (best >= 0) *direction = null * null.row(best).transpose() / best_share;
+  return best;
+}
+
+}  // namespace
+
 std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
                                                     const Eigen::VectorXd& norms,
-                                                    double tolerance) {
+                                                    double tolerance,
+                                                    const std::vector<bool>& convention) {
   std::vector<DegenerateColumn> found;
   std::vector<int> active;
   const double largest = norms.size() > 0 ? norms.maxCoeff() : 0.0;
   for (int j = 0; j < norms.size(); ++j) {
     if (norms[j] <= 1e-12 * largest) {
-      found.push_back({j, /*no_data=*/true, {}, {}});
+      found.push_back({j, /*no_data=*/true, {}, {}, {}});
     } else {
       active.push_back(j);
     }
@@ -48,10 +78,16 @@ std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
     const Eigen::VectorXd s = svd.singularValues();
     const Eigen::Index last = s.size() - 1;
     if (s[last] >= tolerance * s[0]) break;
-    const Eigen::VectorXd v = svd.matrixV().col(last);
+    Eigen::VectorXd v = svd.matrixV().col(last);
     Eigen::Index worst = 0;
-    v.cwiseAbs().maxCoeff(&worst);
-    DegenerateColumn column{active[worst], /*no_data=*/false, {}, {}};
+    const int by_convention =
+        convention.empty() ? -1 : ConventionColumn(svd, tolerance, active, convention, &v);
+    if (by_convention >= 0) {
+      worst = by_convention;
+    } else {
+      v.cwiseAbs().maxCoeff(&worst);
+    }
+    DegenerateColumn column{active[worst], /*no_data=*/false, {}, {}, {}};
     // v is in scaled columns (J D^-1, D the column norms): a parameter moves v_k / norm_k.
     const double worst_move = v[worst] / norms[active[worst]];
     for (Eigen::Index k = 0; k < v.size(); ++k) {
@@ -153,12 +189,21 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
   if (!at->valid) return {};
   const SparseJacobian& gram = GramOf(*at);
   at->r_factor = RFactor(gram);
+  std::vector<bool> convention;
+  for (int c = 0; c < problem.num_free(); ++c) {
+    convention.push_back(!FreeParameterOf(problem, c).convention.empty());
+  }
+  if (std::none_of(convention.begin(), convention.end(), [](bool b) { return b; })) {
+    convention.clear();
+  }
   std::vector<UnidentifiableParameter> found;
   for (const DegenerateColumn& column :
-       FindDegenerateColumns(at->r_factor, ColumnNorms(gram), tolerance)) {
+       FindDegenerateColumns(at->r_factor, ColumnNorms(gram), tolerance, convention)) {
     // The directions after the first were found with the first's column taken out (held):
     // one that gets a prior instead ends the list, and the caller looks again.
-    const int prior_column = GaugePriorColumn(problem, column);
+    // A convention decides its direction itself: no prior on a partner instead.
+    const bool by_convention = !FreeParameterOf(problem, column.column).convention.empty();
+    const int prior_column = by_convention ? -1 : GaugePriorColumn(problem, column);
     if (prior_column >= 0) {
       UnidentifiableParameter u = Describe(problem, column, prior_column);
       u.prior_sigma = GaugePriorSigma(FreeParameterOf(problem, prior_column));
@@ -166,6 +211,7 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
       break;
     }
     found.push_back(Describe(problem, column, column.column));
+    found.back().convention = FreeParameterOf(problem, column.column).convention;
   }
   return found;
 }

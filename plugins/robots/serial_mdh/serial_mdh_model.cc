@@ -9,10 +9,39 @@
 
 namespace cellmetry::serial_mdh {
 
+namespace {
+
+// Where the data cannot determine a parameter, what holding it at nominal puts where
+// (Parameter::convention): joint 1's entries put the base frame and the last joint's d and
+// offset the flange frame (a free base, camera or tool absorbs them); a Hayati tilt between
+// axes that are not parallel, and where the common normal meets two parallel axes, are the
+// parametrisation's own redundancies (Hayati & Mirmirani 1985).
+std::string Convention(size_t joint, size_t joints, int entry, bool parallel_to_previous) {
+  const std::string axis = "joint " + std::to_string(joint + 1);
+  if (joint == 0) return "with joint 1's axis it puts the base frame";
+  if (joint + 1 == joints && (entry == kD || entry == kOffset)) {
+    return "with " + axis + "'s axis it puts the flange frame";
+  }
+  if (entry == kBeta && !parallel_to_previous) {
+    return "zero in modified DH where the axes of joints " + std::to_string(joint) + " and " +
+           std::to_string(joint + 1) + " are not parallel";
+  }
+  if (entry == kD && parallel_to_previous) {
+    return "where the axes of joints " + std::to_string(joint) + " and " +
+           std::to_string(joint + 1) + " are parallel, where the common normal stands on them";
+  }
+  return "";
+}
+
+bool ParallelToPrevious(const Joint& joint) { return std::abs(std::sin(joint.alpha)) < 1e-3; }
+
+}  // namespace
+
 SerialMdhModel::SerialMdhModel(std::vector<Joint> joints) : joints_(std::move(joints)) {
   for (size_t i = 0; i < joints_.size(); ++i) {
     const std::string j = "j" + std::to_string(i + 1) + ".";
     const Joint& joint = joints_[i];
+    const bool parallel = i > 0 && ParallelToPrevious(joint);
     parameters_.push_back({j + "alpha", "rad", joint.alpha, true, {}, {}, {},
                            "twist about x_{i-1} (Craig alpha_{i-1})", {}});
     parameters_.push_back({j + "a", "mm", joint.a, true, {}, {}, {},
@@ -22,19 +51,27 @@ SerialMdhModel::SerialMdhModel(std::vector<Joint> joints) : joints_(std::move(jo
     parameters_.push_back({j + "d", "mm", joint.d, true, {}, {}, {}, "offset along z_i", {}});
     parameters_.push_back({j + "offset", "rad", joint.offset, true, {}, {}, {},
                            "joint zero offset added to the reading", {}});
+    for (int entry = 0; entry < kParamsPerJoint; ++entry) {
+      parameters_[kParamsPerJoint * i + entry].convention =
+          Convention(i, joints_.size(), entry, parallel);
+    }
   }
 }
 
-std::vector<std::string> SerialMdhModel::Warnings() const {
+std::vector<std::string> SerialMdhModel::Warnings(
+    const std::vector<Parameter>& job_parameters) const {
   std::vector<std::string> warnings;
+  auto is_free = [&](size_t joint, int entry) {
+    const size_t k = kParamsPerJoint * joint + static_cast<size_t>(entry);
+    return k < job_parameters.size() && !job_parameters[k].fixed;
+  };
   for (size_t i = 1; i < joints_.size(); ++i) {
-    const double s = std::sin(joints_[i].alpha);
-    if (std::abs(s) < 1e-3) {
+    if (ParallelToPrevious(joints_[i]) && is_free(i, kD) && !is_free(i, kBeta)) {
       warnings.push_back("axes of joints " + std::to_string(i) + " and " +
                          std::to_string(i + 1) +
                          " are parallel: modified DH is ill-conditioned there; identify j" +
                          std::to_string(i + 1) + ".beta (Hayati) rather than j" +
-                         std::to_string(i + 1) + ".d if you free that link");
+                         std::to_string(i + 1) + ".d");
     }
   }
   return warnings;

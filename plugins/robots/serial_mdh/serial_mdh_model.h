@@ -43,7 +43,7 @@ class SerialMdhModel : public RobotModelFromTemplate<SerialMdhModel> {
 
   int num_joints() const override { return static_cast<int>(joints_.size()); }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
-  std::vector<std::string> Warnings() const override;
+  std::vector<std::string> Warnings(const std::vector<Parameter>& job_parameters) const override;
   bool AsSerialChain(const double* params, SerialChain* chain) const override;
   // The `serial_mdh` config with `params` as its table (mm, rad), name and description kept.
   std::string CalibratedConfig(const ConfigNode& config, const double* params) const override;

@@ -28,6 +28,12 @@ struct Parameter {
   // True where a value below zero has no physics (a compliance: a joint that gives against
   // gravity; a play or a clearance): such a finding is flagged as `plausible` flags a size.
   bool plausible_nonnegative = false;
+  // Non-empty where holding the parameter at its nominal value is a convention rather than an
+  // answer: what the value puts where (a robot's first-joint parameters put its base frame, the
+  // last joint's put its flange frame, a redundant Hayati tilt is zero by definition). Where the
+  // data cannot determine a direction, such a parameter is held before any other of it, and the
+  // frames and parameters that move with it are reported relative to it, not as undetermined.
+  std::string convention = "";
 };
 
 // How a fitted value stands against its physics (`plausible`, `plausible_nonnegative`): below

@@ -50,6 +50,7 @@ struct ScalarEstimate {
   double sigma_inputs = 0.0;
   bool held = false;
   bool undetermined = false;  // as FrameEstimate::undetermined
+  std::string convention;     // held by convention: what it puts where (Parameter::convention)
 };
 
 // RMS of residuals along the camera's x, y and depth axes, and of their 3D length.
@@ -116,6 +117,32 @@ struct RecordingScore {
   double max_after_mm = 0.0;
 };
 
+// One scored point: prediction - measurement and its predicted covariance, camera axes.
+struct HeldOutPoint {
+  int sample = 0;
+  std::string camera;
+  std::string target;
+  Eigen::Vector3d error_mm = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance_mm2 = Eigen::Matrix3d::Zero();
+  double normalized_squared = 0.0;  // e^T C^-1 e: chi-square with 3 dof when honest
+};
+
+// The same robot in another setup, its frames registered again (held_out_setup.h).
+struct HeldOutSetupScore {
+  std::string recording;
+  std::vector<int> registration_poses;   // pose ids, in capture order
+  int scored_poses = 0;
+  double rms_mm = 0.0;                    // of |error| over the scored points
+  double mean_mm = 0.0;
+  double max_mm = 0.0;
+  double registration_rms_mm = 0.0;       // the registration fit's own points
+  double nominal_rms_mm = 0.0;            // the nominal model registered on the same poses
+  double within_95 = 0.0;                 // share of points inside their 95 % ellipsoid
+  double mean_normalized = 0.0;           // mean of e^T C^-1 e / 3 (1 when the sigma are right)
+  double median_sigma_mm = 0.0;           // median of sqrt(trace C_p): a point's 3D sigma
+  std::vector<HeldOutPoint> points;
+};
+
 // What a result records of each robot's model so that it can be rebuilt without the job
 // (`cellmetry export`, core/exports): the robot config it was built from, as text (the file may
 // change or go later), and every model parameter's value at the answer, fitted or held.
@@ -175,6 +202,7 @@ struct WorkcellResult {
   WorkcellEstimate start;                         // the closed-form start, or the warm one
   WorkcellEstimate estimate;                      // the answer
   std::optional<RecordingScore> validation;       // set by the caller (ScoreOnRecording)
+  std::optional<HeldOutSetupScore> held_out_setup;  // set by the caller (ScoreHeldOutSetup)
   std::vector<StageTime> stages;                  // where the time went (stage_clock.h)
 };
 

@@ -48,6 +48,9 @@ struct UnidentifiableParameter {
   // > 0: not held. The direction is determined by a prior on this parameter (GaugePriorSigma,
   // in its unit), which the covariance carries into every partner's sigma.
   double prior_sigma = 0.0;
+  // Non-empty: held by convention (Parameter::convention, what it puts where): its partners are
+  // given relative to it, not undetermined.
+  std::string convention;
 };
 
 // What a solve holds at its starting values (`held`) and which parameters it gives a gauge
@@ -70,6 +73,9 @@ std::vector<UnidentifiableParameter> FindUnidentifiable(Problem& problem, double
 // the columns no row depends on (norm <= 1e-12 of the largest), then one at a time the column
 // with the largest share of the smallest scaled singular direction while that singular value is
 // below `tolerance` times the largest, with the columns sharing that direction (|v| > 0.1).
+// `convention` (empty, or one flag per column: Parameter::convention) puts a convention column
+// first: where one has a share of at least 0.1 in the space of every degenerate direction, it is
+// held (the one with the largest share), along the direction of that space it moves most.
 struct DegenerateColumn {
   int column = 0;
   bool no_data = false;
@@ -79,7 +85,8 @@ struct DegenerateColumn {
 };
 std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
                                                     const Eigen::VectorXd& norms,
-                                                    double tolerance);
+                                                    double tolerance,
+                                                    const std::vector<bool>& convention = {});
 
 // Fixes the free parameters called "<block>.<parameter>" in `held.held`, gives those in
 // `held.prior_sigma` their gauge prior, and rebuilds the problem.

@@ -110,8 +110,13 @@ class RobotModel {
     return false;
   }
 
-  // Warnings about the model's conditioning (e.g. near-parallel axes), for the report.
-  virtual std::vector<std::string> Warnings() const { return {}; }
+  // Warnings about the model's conditioning for what a job frees (`job_parameters`: this model's
+  // parameters with the job's fixed flags), e.g. a length along near-parallel axes freed
+  // without the tilt that keeps it well conditioned; for the report.
+  virtual std::vector<std::string> Warnings(const std::vector<Parameter>& job_parameters) const {
+    (void)job_parameters;
+    return {};
+  }
   virtual const RobotLimits& limits() const {
     static const RobotLimits none;
     return none;
