@@ -6,6 +6,7 @@
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/held_out_setup.h"
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
@@ -44,6 +45,17 @@ void RunJob(const std::string& job_path, const std::string& output,
     const Recording fresh = ReadRecording(*job.validation_recording);
     ValidateJobAgainstRecording(job, fresh);
     result.validation = ScoreOnRecording(job.problem, result, fresh);
+  }
+  if (job.held_out_setup) {
+    const Recording other_setup = ReadRecording(job.held_out_setup->recording);
+    ValidateJobAgainstRecording(job, other_setup);
+    Progress::Note("held-out setup: registering the frames again and scoring " +
+                   other_setup.folder);
+    result.held_out_setup = ScoreHeldOutSetup(
+        job.problem, result, other_setup,
+        SelectRegistrationPoses(other_setup, job.held_out_setup->register_on,
+                                job.held_out_setup_where),
+        make_solver);
   }
   WriteWorkcellResult(result, folder, [&](const std::string& staging) {
     AtomicWriteFile(staging + "/" + report::kReportFile,

@@ -367,7 +367,8 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
     return;
   }
   const ConfigNode v = root["validation"];
-  v.ExpectKeys({"folds", "seed", "compare_camera_models", "leave_one_camera_out"});
+  v.ExpectKeys({"folds", "seed", "compare_camera_models", "leave_one_camera_out",
+                "held_out_setup"});
   problem->folds = v.GetIntIn("folds", problem->folds, 0, 1000,
                               "0 turns cross-validation off; 5 is usual");
   if (problem->folds == 1) {
@@ -380,6 +381,29 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   problem->leave_one_camera_out = v.GetBool("leave_one_camera_out", true);
 }
 
+// `validation: {held_out_setup: {recording, register_on}}` (held_out_setup.h).
+HeldOutSetupSpec ReadHeldOutSetup(const ConfigNode& node, bool recording_must_exist) {
+  node.ExpectKeys({"recording", "register_on"});
+  HeldOutSetupSpec spec;
+  spec.recording = recording_must_exist
+                       ? ReadRecordingPath(node["recording"])
+                       : node["recording"].ResolvePath(node["recording"].AsString());
+  const ConfigNode on = node["register_on"];
+  on.ExpectKeys({"first", "every", "poses"});
+  const std::string hint =
+      "Say which poses register the new setup: {first: N}, {every: K} or {poses: [ids]}";
+  if (on.Keys().size() != 1) throw on.Error("register_on takes one of first, every, poses", hint);
+  if (on.Has("first")) spec.register_on.first = on.GetIntIn("first", 0, 1, 1000000, hint);
+  if (on.Has("every")) spec.register_on.every = on.GetIntIn("every", 0, 2, 1000000, hint);
+  if (on.Has("poses")) {
+    for (const ConfigNode& pose : on["poses"].Elements()) {
+      spec.register_on.poses.push_back(pose.AsInt());
+    }
+    if (spec.register_on.poses.empty()) throw on["poses"].Error("no pose named", hint);
+  }
+  return spec;
+}
+
 // Where the recording is and where the result goes.
 void ReadPaths(const ConfigNode& root, const std::string& path, bool recording_must_exist,
                WorkcellJob* job) {
@@ -388,6 +412,11 @@ void ReadPaths(const ConfigNode& root, const std::string& path, bool recording_m
                        : root["recording"].ResolvePath(root["recording"].AsString());
   if (root.Has("validation_recording")) {
     job->validation_recording = ReadRecordingPath(root["validation_recording"]);
+  }
+  if (root.Has("validation") && root["validation"].Has("held_out_setup")) {
+    const ConfigNode node = root["validation"]["held_out_setup"];
+    job->held_out_setup = ReadHeldOutSetup(node, recording_must_exist);
+    job->held_out_setup_where = node.location();
   }
   const std::string stem = std::filesystem::path(path).stem().string();
   job->output = root.Has("output") ? root.ResolvePath(root["output"].AsString())

@@ -88,6 +88,10 @@ void AddBlocks(const WorkcellProblem& spec, const WorkcellEstimate& start, Assem
     const auto values = start.effects.find(e.name);
     for (size_t i = 0; i < params.size(); ++i) {
       params[i].nominal = values != start.effects.end() ? values->second.at(i) : 0.0;
+      if (!e.held_values.empty()) {
+        params[i].nominal = e.held_values.at(i);
+        params[i].fixed = true;
+      }
     }
     out->effect_block.push_back(out->problem.AddBlock(e.name, params));
   }

@@ -49,6 +49,7 @@ std::string RunReportHtml(const WorkcellResult& result, const Recording& recordi
   WhitenedSection(result, &page);
   ResidualImageSection(result, recording, &page);
   HeldOutSection(result, recording, &page);
+  HeldOutSetupSection(result, &page);
   CamerasLeftOutSection(result, &page);
   OutlierSection(result, recording, &page);
   return page.Html();

@@ -16,5 +16,6 @@ void OutlierSection(const WorkcellResult& r, const Recording& recording, HtmlPag
 void HeldOutSection(const WorkcellResult& r, const Recording& recording, HtmlPage* page);
 void FramesSection(const WorkcellResult& r, HtmlPage* page);
 void CamerasLeftOutSection(const WorkcellResult& r, HtmlPage* page);
+void HeldOutSetupSection(const WorkcellResult& r, HtmlPage* page);
 
 }  // namespace cellmetry::report

@@ -16,6 +16,7 @@
 #include "cellmetry/model/frame_block.h"
 #include "cellmetry/formats/recording.h"
 #include "cellmetry/registry/registry.h"
+#include "cellmetry/cell/held_out_setup.h"
 #include "cellmetry/cell/workcell_problem.h"
 
 namespace cellmetry {
@@ -25,6 +26,9 @@ struct WorkcellJob {
   std::string kind;            // "workcell" or "homing" (homing.h reads `homing:`)
   std::string recording;       // folder, absolute or relative to the working directory
   std::optional<std::string> validation_recording;  // fresh poses to score the result on
+  // The same robot in another setup: frames registered again, the rest scored (held_out_setup.h).
+  std::optional<HeldOutSetupSpec> held_out_setup;
+  SourceLocation held_out_setup_where;
   std::string output;          // result folder
   WorkcellProblem problem;
   std::string solver_type;

@@ -78,6 +78,9 @@ struct WorkcellEffect {
   // The effect block that built it, one line of YAML ("{type: backlash, joints: [2]}"), so that
   // a result can rebuild it (`cellmetry compensate`); "" when it was built in memory.
   std::string config;
+  // Not empty: held at these values (an effect calibrated on another recording, carried to
+  // this one), one per parameter; empty: free, from zero or the start.
+  std::vector<double> held_values;
 };
 
 // An input the job holds at a stated value that is itself uncertain (consider_covariance.h):
