@@ -2,7 +2,8 @@
 // (recording.h, mm and rad) out — what `cellmetry import MAPPING.yaml -o FOLDER` writes.
 //
 // Contract:
-//  - Every column the mapping names must be in the table; one that is not is an InputError at
+//  - The tables' rows are joined into one row each (table_join.h), the importer's rows.
+//  - Every column the mapping names must be in a table; one that is not is an InputError at
 //    the mapping's line and column, with the nearest column name (or the header).
 //  - Rows become samples: each row is one sample, or (samples: {column}) the rows sharing a value
 //    are one, and must then agree on the joints and facts. Samples are numbered 0, 1, ... in
@@ -24,16 +25,18 @@
 #include "cellmetry/formats/recording.h"
 #include "cellmetry/import/data_table.h"
 #include "cellmetry/import/import_mapping.h"
+#include "cellmetry/import/table_join.h"
 
 namespace cellmetry {
 
-// The mapping's table, read as CSV or JSON lines as the mapping says.
-DataTable ReadMappedTable(const ImportMapping& mapping);
+// The mapping's tables, each read as CSV or JSON lines as the mapping says, their rows joined
+// as it says (table_join.h).
+JoinedTable ReadMappedTables(const ImportMapping& mapping);
 
-// The recording the table holds under the mapping.
-Recording ImportTable(const ImportMapping& mapping, const DataTable& table);
+// The recording the joined rows hold under the mapping.
+Recording ImportTable(const ImportMapping& mapping, const JoinedTable& table);
 
-// ReadImportMapping, ReadMappedTable, ImportTable.
+// ReadImportMapping, ReadMappedTables, ImportTable.
 Recording ImportRecording(const std::string& mapping_path);
 
 }  // namespace cellmetry
