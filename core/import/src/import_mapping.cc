@@ -19,6 +19,7 @@ using import_keys::Columns;
 using import_keys::LengthToMm;
 using import_keys::OneOf;
 using import_keys::ReadFact;
+using import_keys::ReadUncertainties;
 using import_keys::Required;
 
 // PREFIX11 .. PREFIX<rows><cols>, row-major, each placed at the prefix's key.
@@ -131,7 +132,7 @@ RotationSpec ReadRotation(const ConfigNode& node) {
 ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& mapping,
                                 double to_mm, double to_rad) {
   node.ExpectKeys({"camera", "target", "pose_of", "position", "rotation", "transform", "length",
-                   "angle"});
+                   "angle", "position_uncertainty", "rotation_sigma"});
   ObservationSpec spec;
   spec.where = node.location();
   spec.camera = ReadName(Required(node, "camera", "Name the camera (camera: cam1) or the column "
@@ -182,6 +183,7 @@ ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& map
       const size_t n = list.IsSequence() ? list.Elements().size() : 0;
       spec.transform = Columns(list, MatrixNames(n == 12 ? 3 : 4, 4));
     }
+    ReadUncertainties(node, &spec);
     return spec;
   }
   spec.position = Columns(Required(node, "position",
@@ -189,6 +191,7 @@ ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& map
                                    "give transform: for a 4x4 matrix)"),
                           {"x", "y", "z"});
   if (node.Has("rotation")) spec.rotation = ReadRotation(node["rotation"]);
+  ReadUncertainties(node, &spec);
   return spec;
 }
 
@@ -331,6 +334,9 @@ std::vector<const ColumnRef*> ImportMapping::AllColumns() const {
       for (const auto& c : o.rotation->columns) all.push_back(&c);
     }
     for (const auto& c : o.transform) all.push_back(&c);
+    if (o.position_uncertainty) {
+      for (const auto& c : o.position_uncertainty->columns) all.push_back(&c);
+    }
   }
   for (const auto& t : join.time_s) all.push_back(&t.column);
   for (const auto* fact : {&time_s, &temperature_c, &payload_kg}) {

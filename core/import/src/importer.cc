@@ -2,6 +2,7 @@
 // recording, every cell converted to mm and rad and checked where it stands.
 #include "cellmetry/import/importer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -38,7 +39,7 @@ std::vector<Column> Bind(const std::vector<ColumnRef>& refs, const JoinedTable& 
 struct BoundObservation {
   const ObservationSpec* spec = nullptr;
   std::optional<Column> camera, target;
-  std::vector<Column> position, rotation, transform;
+  std::vector<Column> position, rotation, transform, uncertainty;
   std::vector<Column> cells;  // every numeric cell of the entry, in reading order
 };
 
@@ -64,7 +65,8 @@ BoundObservation BindObservation(const ObservationSpec& spec, const JoinedTable&
                      "camera's pose into the target's",
                      "Give rotation: too, or drop pose_of: for a target's position in the camera");
   }
-  for (const auto* list : {&b.position, &b.rotation, &b.transform}) {
+  if (spec.position_uncertainty) b.uncertainty = Bind(spec.position_uncertainty->columns, table);
+  for (const auto* list : {&b.position, &b.rotation, &b.transform, &b.uncertainty}) {
     b.cells.insert(b.cells.end(), list->begin(), list->end());
   }
   return b;
@@ -308,8 +310,44 @@ class Importer {
     o.position_mm = T.t;
     if (has_rotation) o.rvec = RvecFromRotation(T.R);
     if (rotation_vector && !spec.camera_in_target) o.rvec = rvec;  // the table's own numbers
+    if (spec.position_uncertainty) o.covariance_mm2 = PositionCovariance(b, row, length_hint);
+    if (spec.rotation_sigma_rad) {
+      const auto& sigma = *spec.rotation_sigma_rad;
+      o.rotation_covariance_rad2 =
+          Eigen::Vector3d(sigma[0] * sigma[0], sigma[1] * sigma[1], sigma[2] * sigma[2])
+              .asDiagonal();
+    }
     AddCamera(o.camera, r);
     r->observations.push_back(std::move(o));
+  }
+
+  // The position's covariance from the row's uncertainty cells, in mm^2: diagonal, each axis'
+  // standard uncertainty u = U / k squared (U at least the stated minimum). An expanded
+  // uncertainty U at a level of confidence is k standard uncertainties, k the coverage factor
+  // of a normal distribution (1.96 at 95 %; GUM, JCGM 100:2008, 6.2.1 and G.1.3, Table G.1);
+  // PositionUncertaintySpec carries k.
+  Eigen::Matrix3d PositionCovariance(const BoundObservation& b, size_t row,
+                                     const std::string& length_hint) const {
+    const ObservationSpec& spec = *b.spec;
+    Eigen::Vector3d variance_mm2;
+    const PositionUncertaintySpec& uncertainty = *spec.position_uncertainty;
+    for (int i = 0; i < 3; ++i) {
+      const Column cell = b.uncertainty[i];
+      const double stated_mm = Limited(row, cell, spec.to_mm, kMaxPositionMm, length_hint);
+      if (stated_mm < 0.0 || (stated_mm == 0.0 && uncertainty.minimum == 0.0)) {
+        throw table_.Error(
+            row, cell, "an uncertainty of " + table_.Cell(row, cell) + " is not positive",
+            stated_mm < 0.0
+                ? "Check the cell: an uncertainty is a size"
+                : "A zero says 'known perfectly' and would weigh the observation without bound; "
+                  "if the instrument rounds its uncertainties, state the least one a cell stands "
+                  "for: position_uncertainty: {..., minimum: 0.0005}");
+      }
+      const double u_mm =
+          std::max(stated_mm, uncertainty.minimum * spec.to_mm) / uncertainty.coverage_factor;
+      variance_mm2[i] = u_mm * u_mm;
+    }
+    return variance_mm2.asDiagonal();
   }
 
   Eigen::Matrix3d Rotation(size_t row, Column column, const RotationConvention& c,

@@ -1,7 +1,7 @@
 // The small readers ReadImportMapping is made of, shared by the files that read its parts:
-// import_mapping.cc (robot, targets, observations, facts) and mapping_tables.cc (the tables and
-// their join). Each refuses what it does not understand at the mapping's line and column, with
-// what to write instead.
+// import_mapping.cc (robot, targets, observations, facts), mapping_tables.cc (the tables and
+// their join) and mapping_uncertainty.cc (an observation's uncertainties). Each refuses what it
+// does not understand at the mapping's line and column, with what to write instead.
 #pragma once
 
 #include <string>
@@ -39,6 +39,10 @@ std::vector<ColumnRef> Columns(const ConfigNode& node, const std::vector<std::st
 // unit one of `units`, converted by the matching (scale, offset) of `factors`.
 FactSpec ReadFact(const ConfigNode& node, const std::vector<std::string>& units,
                   const std::vector<std::pair<double, double>>& factors);
+
+// An observation entry's position_uncertainty: and rotation_sigma:, once its pose columns are
+// read (mapping_uncertainty.cc).
+void ReadUncertainties(const ConfigNode& node, ObservationSpec* spec);
 
 // table: or tables: (with join:), into m->tables and m->join (mapping_tables.cc).
 void ReadTables(const ConfigNode& root, ImportMapping* m);

@@ -16,6 +16,9 @@
 //       target: tool                     # or {column: target}
 //       position: [x, y, z]
 //       rotation: {convention: euler, order: XYZ, axes: extrinsic, columns: [a, b, c]}
+//       position_uncertainty: {columns: [ux, uy, uz], level: 0.95}   # or level: sigma;
+//                                        # minimum: 0.0005 reads a rounded 0 as that
+//       rotation_sigma: 0.01             # the instrument's stated orientation sigma
 //   facts: {time: {column: t, unit: s}}
 //
 // Two or more tables instead of `table:` (a robot log and an instrument log), their rows joined
@@ -35,6 +38,7 @@
 // Every scale factor here turns the table's unit into cellmetry's (mm, rad, s, degC, kg).
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,6 +71,17 @@ struct RotationSpec {
   SourceLocation where;
 };
 
+// The per-row uncertainty of an observed position: one column per axis (x, y, z of the camera),
+// each an expanded uncertainty U = k * sigma at a stated coverage (or sigma itself, k = 1), in
+// the entry's length unit. An instrument that rounds its uncertainties writes 0 for one below
+// its last digit: `minimum` (> 0 when stated) is read for every cell below it.
+struct PositionUncertaintySpec {
+  std::vector<ColumnRef> columns;
+  double coverage_factor = 1.0;  // k: sigma = U / k
+  double minimum = 0.0;          // in the cells' unit and level; 0: none, a 0 cell is refused
+  SourceLocation where;
+};
+
 // One (camera, target) pose in each row (rows leaving all its cells empty did not see it).
 struct ObservationSpec {
   NameSource camera;
@@ -80,6 +95,8 @@ struct ObservationSpec {
   double transform_tolerance = 1e-3;
   double to_mm = 1.0;              // the table's length unit -> mm
   double to_rad = 1.0;             // the table's angle unit -> rad
+  std::optional<PositionUncertaintySpec> position_uncertainty;
+  std::optional<std::array<double, 3>> rotation_sigma_rad;  // about the camera's x, y, z
   SourceLocation where;
 };
 

@@ -13,11 +13,15 @@
 //    the target's pose in the camera (T_camera_target) when the table holds the camera's pose
 //    in the target. A row that leaves all of an entry's cells empty did not see that target;
 //    one that fills some of them is an error.
+//  - An entry's position uncertainty columns give the observation's covariance: diagonal, each
+//    (U / k)^2 in mm^2 (U the cell, k the entry's coverage factor); its rotation sigma the
+//    rotation's, diagonal, sigma^2 in rad^2.
 //  - Every cell is checked where it is (file:line:column, with its data row): not a number,
 //    not finite, beyond any measurement (a position beyond 100 m, a joint beyond 100 rad, an
 //    Euler, roll-pitch-yaw or rotation-vector angle beyond a full turn), a
 //    rotation matrix not orthonormal, a quaternion not unit within its tolerance, a name with a
-//    comma, a target not under `targets:`, rows of one sample that disagree.
+//    comma, a target not under `targets:`, rows of one sample that disagree, an uncertainty
+//    that is not positive.
 #pragma once
 
 #include <string>
