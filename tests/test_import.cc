@@ -405,7 +405,9 @@ TEST_F(TwoTables, AnUncertaintyThatIsNotAPositiveNumberIsRefusedAtItsCell) {
     const auto e = testing::CatchInputError([&] { ImportRecording(mapping); });
     EXPECT_EQ(FormatLocation(e.where()), dir_ + "/tracker.csv:3:6: ");
     EXPECT_EQ(e.message(), message);
-    if (cell == "0") EXPECT_THAT(e.hint(), HasSubstr("minimum: 0.0005"));
+    if (cell == "0") {
+      EXPECT_THAT(e.hint(), HasSubstr("minimum: 0.0005"));
+    }
   }
   // An instrument that rounds its uncertainties: a stated minimum is read for a 0 (and for
   // anything below it); a negative cell is still refused.

@@ -131,8 +131,8 @@ void ExpectUtf8(const std::string& path, const std::vector<Record>& records) {
                            (before.empty() ? "" : " (after '" + before + "')") +
                            " is not UTF-8: the table is in an 8-bit encoding",
                        "Say which in the mapping: encoding: latin1 beside the table's path "
-                       "(table: {path: ..., encoding: latin1}; windows-1252 and cp1252 read the "
-                       "same), or save the table as UTF-8");
+                       "(table: {path: ..., encoding: latin1}, or so under tables:; "
+                       "windows-1252 and cp1252 read the same), or save the table as UTF-8");
     }
   }
 }
