@@ -21,6 +21,7 @@
 #include "cellmetry/import/data_table.h"
 #include "cellmetry/import/importer.h"
 #include "cellmetry/import/rotation_conventions.h"
+#include "cellmetry/import/text_encoding.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -29,6 +30,7 @@ namespace cellmetry {
 namespace {
 
 using ::testing::HasSubstr;
+using testing::ReplaceOnce;
 
 const char* const kEulerOrders[] = {"XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX",
                                     "XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ"};
@@ -218,6 +220,236 @@ TEST(DataTable, ParseDecimalIsStrict) {
   EXPECT_FALSE(ParseDecimal("1.234,5", ',', &problem));
   EXPECT_THAT(problem, HasSubstr("decimal mark is ','"));
   EXPECT_EQ(ParseDecimal("1234,5", ',', &problem), 1234.5);
+}
+
+// ---------------------------------------------------------------- two tables, 8-bit, uncertainty
+
+// A robot log and a tracker log as separate files, and a mapping that joins them. Both tables
+// have a column `time`; the tracker's positions are in mm with per-axis U(95).
+class TwoTables : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = testing::TempDirForThisTest("import"); }
+
+  void WriteRobot(const std::string& time_column_and_rows) {
+    testing::WriteText(dir_ + "/robot.csv", "time,q1,q2\n" + time_column_and_rows);
+  }
+  void WriteTracker(const std::string& rows) {
+    testing::WriteText(dir_ + "/tracker.csv", "time,x,y,z,ux,uy,uz\n" + rows);
+  }
+  // The mapping with `join` (and `extra` keys at its end).
+  std::string WriteMapping(const std::string& join, const std::string& extra = "") {
+    const std::string path = dir_ + "/map.yaml";
+    testing::WriteText(path,
+                       "mapping: cellmetry-import/1\n"
+                       "tables: {robot: robot.csv, tracker: tracker.csv}\n"
+                       "join: " + join + "\n"
+                       "units: {length: mm, angle: rad}\n"
+                       "robot: {name: arm, joints: [q1, q2]}\n"
+                       "targets: {probe: {on: arm}}\n"
+                       "observations:\n"
+                       "  - camera: tracker\n"
+                       "    target: probe\n"
+                       "    position: [x, y, z]\n" + extra);
+    return path;
+  }
+
+  std::string dir_;
+};
+
+TEST_F(TwoTables, JoinedByRowReadRowIOfEachAndNameACollidingColumnByItsTable) {
+  WriteRobot("10,0.1,0.2\n11,0.3,0.4\n12,0.5,0.6\n");
+  WriteTracker("1000,1,2,3,0.1,0.1,0.1\n1001,4,5,6,0.1,0.1,0.1\n1002,7,8,9,0.1,0.1,0.1\n");
+  const Recording r = ImportRecording(
+      WriteMapping("{by: row}", "facts: {time: {table: tracker, column: time, unit: ms}}\n"));
+  ASSERT_EQ(r.samples.size(), 3u);
+  ASSERT_EQ(r.observations.size(), 3u);
+  EXPECT_EQ(r.samples[2].q, (std::vector<double>{0.5, 0.6}));
+  EXPECT_EQ(r.observations[2].position_mm, Eigen::Vector3d(7, 8, 9));
+  EXPECT_DOUBLE_EQ(*r.samples[1].time_s, 1.001);  // the tracker's time, not the robot's
+  EXPECT_THAT(r.description, HasSubstr("robot.csv + tracker.csv"));
+  // `tracker.time` names the same column; `time` alone could be either, and is refused.
+  const Recording prefixed =
+      ImportRecording(WriteMapping("{by: row}", "facts: {time: tracker.time}\n"));
+  EXPECT_DOUBLE_EQ(*prefixed.samples[0].time_s, 1000.0);
+  const auto e = testing::CatchInputError(
+      [&] { ImportRecording(WriteMapping("{by: row}", "facts: {time: time}\n")); });
+  EXPECT_EQ(FormatLocation(e.where()), dir_ + "/map.yaml:11:15: ");
+  EXPECT_THAT(e.message(), HasSubstr("could be 'time' of robot.csv or 'time' of tracker.csv"));
+  EXPECT_THAT(e.hint(), HasSubstr("Say which: robot.time or {table: robot, column: ...}"));
+}
+
+TEST_F(TwoTables, JoinedByRowTablesOfDifferentLengthsAreRefusedAtTheFirstRowWithoutPartner) {
+  WriteRobot("10,0.1,0.2\n11,0.3,0.4\n");
+  WriteTracker("1000,1,2,3,0.1,0.1,0.1\n1001,4,5,6,0.1,0.1,0.1\n1002,7,8,9,0.1,0.1,0.1\n");
+  const auto e = testing::CatchInputError([&] { ImportRecording(WriteMapping("{by: row}")); });
+  EXPECT_EQ(FormatLocation(e.where()), dir_ + "/tracker.csv:4:1: ");
+  EXPECT_EQ(e.message(), "tracker.csv has 3 data rows but " + dir_ +
+                             "/robot.csv has 2: this row has no partner");
+  EXPECT_THAT(e.hint(), HasSubstr("join them by time"));
+}
+
+TEST_F(TwoTables, JoinedByTimeEachRowTakesTheNearestWithinTheTolerance) {
+  WriteRobot("0,0.1,0.2\n1,0.3,0.4\n2,0.5,0.6\n");
+  // Out of order, in ms, each a few ms off the robot's clock.
+  WriteTracker("1996,7,8,9,0.1,0.1,0.1\n4,1,2,3,0.1,0.1,0.1\n1003,4,5,6,0.1,0.1,0.1\n");
+  const Recording r = ImportRecording(WriteMapping(
+      "{by: time, columns: {robot: time, tracker: {column: time, unit: ms}}, tolerance_s: 0.005}",
+      "facts: {time: robot.time}\n"));
+  ASSERT_EQ(r.observations.size(), 3u);
+  EXPECT_EQ(r.observations[0].position_mm, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(r.observations[1].position_mm, Eigen::Vector3d(4, 5, 6));
+  EXPECT_EQ(r.observations[2].position_mm, Eigen::Vector3d(7, 8, 9));
+  EXPECT_EQ(*r.samples[2].time_s, 2.0);
+}
+
+TEST_F(TwoTables, JoinedByTimeARowWithoutPartnerIsRefusedAtItsTimeCell) {
+  WriteRobot("0,0.1,0.2\n1,0.3,0.4\n2,0.5,0.6\n");
+  WriteTracker("0,1,2,3,0.1,0.1,0.1\n1500,4,5,6,0.1,0.1,0.1\n2000,7,8,9,0.1,0.1,0.1\n");
+  const std::string join =
+      "{by: time, columns: {robot: time, tracker: {column: time, unit: ms}}, tolerance_s: 0.01}";
+  auto e = testing::CatchInputError([&] { ImportRecording(WriteMapping(join)); });
+  EXPECT_EQ(FormatLocation(e.where()), dir_ + "/robot.csv:3:1: ");
+  EXPECT_THAT(e.message(), HasSubstr("column 'time' of data row 2: no row of " + dir_ +
+                                     "/tracker.csv within 0.01 s of 1 s (the nearest, data row "
+                                     "2 (line 3), is 0.5 s away)"));
+  // A tracker row no robot row takes: refused at the tracker's cell.
+  WriteRobot("0,0.1,0.2\n2,0.5,0.6\n");
+  e = testing::CatchInputError([&] { ImportRecording(WriteMapping(join)); });
+  EXPECT_EQ(FormatLocation(e.where()), dir_ + "/tracker.csv:3:1: ");
+  EXPECT_THAT(e.message(), HasSubstr("took this row as its partner"));
+}
+
+TEST(EightBitText, Latin1IsReadAsUtf8AndAColumnIsNamedWithItsDegreeSign) {
+  const std::string dir = testing::TempDirForThisTest("import");
+  // Windows-1252: 0xB0 the degree sign, 0xB5 micro, 0x80 the euro sign.
+  testing::WriteText(dir + "/log.csv", "Temperature  [\xB0" "C],Image RMS  [\xB5" "m],note\r\n"
+                                       "22.8,0.22,\x80" "5\r\n");
+  CsvDialect latin1;
+  latin1.encoding = TextEncoding::kWindows1252;
+  const DataTable t = ReadCsvTable(dir + "/log.csv", latin1);
+  EXPECT_EQ(t.columns(), (std::vector<std::string>{"Temperature  [°C]", "Image RMS  [µm]",
+                                                   "note"}));
+  EXPECT_EQ(t.Cell(0, 2), "€5");
+  // Without the encoding: refused at the field, naming the byte and what to add.
+  const auto e = testing::CatchInputError([&] { ReadCsvTable(dir + "/log.csv", {}); });
+  EXPECT_EQ(FormatLocation(e.where()), dir + "/log.csv:1:1: ");
+  EXPECT_EQ(e.message(), "the byte 0xB0 in field 1 (after 'Temperature  [') is not UTF-8: the "
+                         "table is in an 8-bit encoding");
+  EXPECT_THAT(e.hint(), HasSubstr("encoding: latin1"));
+  // A lone continuation byte, an overlong form and a surrogate are not UTF-8 either.
+  EXPECT_EQ(FirstInvalidUtf8Byte("ok \x80"), 3u);
+  EXPECT_EQ(FirstInvalidUtf8Byte("\xC0\xAF"), 0u);
+  EXPECT_EQ(FirstInvalidUtf8Byte("a\xED\xA0\x80"), 1u);
+  EXPECT_FALSE(FirstInvalidUtf8Byte("°µ€ 😀"));
+}
+
+TEST_F(TwoTables, ATemperatureInDegreesIsReadFromTheSecondTableInLatin1) {
+  WriteRobot("10,0.1,0.2\n11,0.3,0.4\n");
+  testing::WriteText(dir_ + "/tracker.csv", "X  [mm],Y  [mm],Z  [mm],Temperature  [\xB0" "C]\r\n"
+                                            "1,2,3,22.8\r\n4,5,6,23.1\r\n");
+  std::string mapping = testing::ReadText(WriteMapping(
+      "{by: row}", "facts: {temperature: {column: \"Temperature  [°C]\", unit: C}}\n"));
+  mapping = ReplaceOnce(mapping, "tracker: tracker.csv",
+                        "tracker: {path: tracker.csv, encoding: windows-1252}");
+  // Exactly as the header has it, and (a unique match) with its spaces collapsed.
+  mapping = ReplaceOnce(mapping, "[x, y, z]", "[\"X  [mm]\", \"tracker.Y  [mm]\", \"Z [mm]\"]");
+  testing::WriteText(dir_ + "/map.yaml", mapping);
+  const Recording r = ImportRecording(dir_ + "/map.yaml");
+  EXPECT_EQ(*r.samples[1].temperature_c, 23.1);
+  EXPECT_EQ(r.observations[1].position_mm, Eigen::Vector3d(4, 5, 6));
+  // Without the encoding the import stops at the header's byte.
+  testing::WriteText(dir_ + "/map.yaml",
+                     ReplaceOnce(mapping, ", encoding: windows-1252", ""));
+  const auto e = testing::CatchInputError([&] { ImportRecording(dir_ + "/map.yaml"); });
+  EXPECT_EQ(FormatLocation(e.where()), dir_ + "/tracker.csv:1:4: ");
+  EXPECT_THAT(e.message(), HasSubstr("the byte 0xB0 in field 4"));
+}
+
+TEST_F(TwoTables, UncertaintyColumnsGiveADiagonalCovarianceOfSigmaSquared) {
+  WriteRobot("10,0.1,0.2\n11,0.3,0.4\n");
+  WriteTracker("1000,1,2,3,0.003,0.001,0.0196\n1001,4,5,6,0.01,0.02,0.03\n");
+  const std::string dir = dir_;
+  const Recording r = ImportRecording(WriteMapping(
+      "{by: row}", "    position_uncertainty: {columns: [ux, uy, uz], level: 0.95}\n"
+                   "    rotation: {convention: rotation_vector, columns: [q1, q2, q1]}\n"
+                   "    rotation_sigma: [0.01, 0.02, 0.03]\n"));
+  ASSERT_TRUE(r.observations[0].covariance_mm2);
+  // U(95) = 1.96 sigma (GUM G.1.3): sigma = U / 1.96.
+  const Eigen::Vector3d u(0.003, 0.001, 0.0196);
+  const Eigen::Matrix3d expected = (u / 1.96).cwiseAbs2().asDiagonal();
+  EXPECT_TRUE(r.observations[0].covariance_mm2->isApprox(expected, 1e-12))
+      << *r.observations[0].covariance_mm2;
+  EXPECT_EQ((*r.observations[0].covariance_mm2)(0, 1), 0.0);
+  EXPECT_TRUE(r.observations[1].rotation_covariance_rad2->isApprox(
+      Eigen::Vector3d(1e-4, 4e-4, 9e-4).asDiagonal().toDenseMatrix(), 1e-12));
+  // level: sigma takes the cells as standard deviations; they reach the recording's columns.
+  const Recording sigma = ImportRecording(WriteMapping(
+      "{by: row}", "    position_uncertainty: {columns: [ux, uy, uz], level: sigma}\n"));
+  EXPECT_NEAR((*sigma.observations[1].covariance_mm2)(2, 2), 0.03 * 0.03, 1e-15);
+  WriteRecording(sigma, dir + "/recording");
+  EXPECT_THAT(testing::ReadText(dir + "/recording/observations.csv"), HasSubstr(",cov_xx,"));
+  EXPECT_NEAR((*ReadRecording(dir + "/recording").observations[1].covariance_mm2)(1, 1),
+              0.02 * 0.02, 1e-15);
+}
+
+TEST_F(TwoTables, AnUncertaintyThatIsNotAPositiveNumberIsRefusedAtItsCell) {
+  const std::string mapping = WriteMapping(
+      "{by: row}", "    position_uncertainty: {columns: [ux, uy, uz], level: 0.95}\n");
+  WriteRobot("10,0.1,0.2\n11,0.3,0.4\n");
+  for (const auto& [cell, message] : std::vector<std::pair<std::string, std::string>>{
+           {"abc", "column 'uy' of data row 2: 'abc' is not a number"},
+           {"-0.01", "column 'uy' of data row 2: an uncertainty of -0.01 is not positive"},
+           {"0", "column 'uy' of data row 2: an uncertainty of 0 is not positive"}}) {
+    SCOPED_TRACE(cell);
+    WriteTracker("1000,1,2,3,0.1,0.1,0.1\n1001,4,5,6,0.1," + cell + ",0.1\n");
+    const auto e = testing::CatchInputError([&] { ImportRecording(mapping); });
+    EXPECT_EQ(FormatLocation(e.where()), dir_ + "/tracker.csv:3:6: ");
+    EXPECT_EQ(e.message(), message);
+    if (cell == "0") {
+      EXPECT_THAT(e.hint(), HasSubstr("minimum: 0.0005"));
+    }
+  }
+  // An instrument that rounds its uncertainties: a stated minimum is read for a 0 (and for
+  // anything below it); a negative cell is still refused.
+  const Recording r = ImportRecording(WriteMapping(
+      "{by: row}",
+      "    position_uncertainty: {columns: [ux, uy, uz], level: 0.95, minimum: 0.0005}\n"));
+  EXPECT_DOUBLE_EQ((*r.observations[1].covariance_mm2)(1, 1), std::pow(0.0005 / 1.96, 2));
+  EXPECT_DOUBLE_EQ((*r.observations[1].covariance_mm2)(0, 0), std::pow(0.1 / 1.96, 2));
+}
+
+// The ASTL dataset as published (configs/import/astl_calibration.yaml): two files joined by
+// row, the tracker's header in Windows-1252, U(95) per axis, the temperature in °C.
+TEST(BundledExample, AstlCalibrationImportsAsPublished) {
+  const std::string mapping = testing::Source("configs/import/astl_calibration.yaml");
+  if (!fs::exists(fs::path(testing::Source("configs/import")) /
+                  "../../../shared/data/astl/calibration/leica.csv")) {
+    GTEST_SKIP() << "the ASTL dataset is not beside the repository (../shared/data/astl)";
+  }
+  const Recording r = ImportRecording(mapping);
+  ASSERT_EQ(r.samples.size(), 40u);
+  ASSERT_EQ(r.observations.size(), 40u);
+  EXPECT_EQ(r.cameras, std::vector<std::string>{"tracker"});
+  EXPECT_EQ(r.targets.at("tmac"), "tx90l");
+  EXPECT_EQ(r.samples[39].pose, 39);  // each sample its own pose
+  // Row 1: joints -10, 0, 90, 20, -20, -50 deg; X, Y, Z 754, -3193.366, 303.745 mm; U(95) X, Y,
+  // Z 0.003, 0.001, 0.003 mm; Q0..Q3 0.227782, -0.114534, 0.572354, 0.779364; 22.8 °C.
+  const double deg = M_PI / 180;
+  EXPECT_EQ(r.samples[0].q, (std::vector<double>{-10 * deg, 0 * deg, 90 * deg, 20 * deg,
+                                                 -20 * deg, -50 * deg}));
+  const Observation& o = r.observations[0];
+  EXPECT_EQ(o.camera, "tracker");
+  EXPECT_EQ(o.target, "tmac");
+  EXPECT_EQ(o.position_mm, Eigen::Vector3d(754, -3193.366, 303.745));
+  const Eigen::Quaterniond q =
+      Eigen::Quaterniond(0.227782, -0.114534, 0.572354, 0.779364).normalized();
+  EXPECT_LT(AngleBetween(RotationFromRvec(o.rvec->data()), q.toRotationMatrix()), 1e-12);
+  ASSERT_TRUE(o.covariance_mm2);
+  const Eigen::Matrix3d cov =
+      (Eigen::Vector3d(0.003, 0.001, 0.003) / 1.96).cwiseAbs2().asDiagonal();
+  EXPECT_TRUE(o.covariance_mm2->isApprox(cov, 1e-12)) << *o.covariance_mm2;
+  EXPECT_FALSE(o.rotation_covariance_rad2);
+  EXPECT_EQ(*r.samples[0].temperature_c, 22.8);
 }
 
 // ---------------------------------------------------------------- one truth, every convention

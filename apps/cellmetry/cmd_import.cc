@@ -1,5 +1,6 @@
-// `cellmetry import MAPPING.yaml -o FOLDER`: a user's table (CSV or JSON lines) and a mapping
-// file that says what its columns are (import_mapping.h) become a cellmetry recording, written
+// `cellmetry import MAPPING.yaml -o FOLDER`: a user's table (CSV or JSON lines), or several
+// joined row by row or by time, and a mapping file that says what their columns are
+// (import_mapping.h) become a cellmetry recording, written
 // whole or not at all, into a folder cellmetry may write (atomic_file.h).
 #include <cstdio>
 #include <filesystem>
@@ -29,7 +30,7 @@ std::string Count(size_t n, const std::string& noun) {
 void Import(const std::string& mapping_path, const std::string& output) {
   CheckReplaceable(output, "recording");  // before the work, not after it
   const ImportMapping mapping = ReadImportMapping(mapping_path);
-  const DataTable table = ReadMappedTable(mapping);
+  const JoinedTable table = ReadMappedTables(mapping);
   const Recording recording = ImportTable(mapping, table);
   // The mapping goes with the recording, for whoever wonders where the numbers came from.
   const std::string provenance =
@@ -42,8 +43,7 @@ void Import(const std::string& mapping_path, const std::string& output) {
   std::set<int> poses;
   for (const auto& s : recording.samples) poses.insert(s.pose);
   std::printf("imported %s of %s: %s at %s, %s of %s by %s -> %s\n",
-              Count(table.num_rows(), "row").c_str(),
-              std::filesystem::path(table.path()).filename().c_str(),
+              Count(table.num_rows(), "row").c_str(), table.FileNames().c_str(),
               Count(recording.samples.size(), "sample").c_str(),
               Count(poses.size(), "pose").c_str(),
               Count(recording.observations.size(), "observation").c_str(),

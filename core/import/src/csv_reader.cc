@@ -1,6 +1,8 @@
 // ReadCsvTable (data_table.h): a spreadsheet's CSV export as it comes — a byte-order mark or
 // none, ',' ';' or tab between fields, quoted fields with separators, doubled quotes and line
-// breaks inside, a decimal comma.
+// breaks inside, a decimal comma, an 8-bit encoding the mapping names.
+#include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -112,6 +114,29 @@ std::vector<Record> SplitRecords(const std::string& path, const std::string& tex
   return records;
 }
 
+// Refuses the first field holding bytes that are not UTF-8 (a file in an 8-bit encoding the
+// mapping did not name), naming the byte and what comes before it in the field.
+void ExpectUtf8(const std::string& path, const std::vector<Record>& records) {
+  for (const auto& record : records) {
+    for (const auto& field : record.fields) {
+      const std::optional<size_t> bad = FirstInvalidUtf8Byte(field.text);
+      if (!bad) continue;
+      char byte[8];
+      std::snprintf(byte, sizeof(byte), "0x%02X", static_cast<unsigned char>(field.text[*bad]));
+      const size_t shown = std::min<size_t>(*bad, 24);  // of the field's text before the byte
+      const std::string before = field.text.substr(*bad - shown, shown);
+      throw InputError({path, record.line, field.position},
+                       std::string("the byte ") + byte + " in field " +
+                           std::to_string(field.position) +
+                           (before.empty() ? "" : " (after '" + before + "')") +
+                           " is not UTF-8: the table is in an 8-bit encoding",
+                       "Say which in the mapping: encoding: latin1 beside the table's path "
+                       "(table: {path: ..., encoding: latin1}, or so under tables:; "
+                       "windows-1252 and cp1252 read the same), or save the table as UTF-8");
+    }
+  }
+}
+
 }  // namespace
 
 DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
@@ -128,6 +153,8 @@ DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
                      "Save it as CSV UTF-8 (in a spreadsheet: 'CSV UTF-8 (comma delimited)')");
   }
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // UTF-8 byte-order mark
+  // One byte is one character in an 8-bit encoding: lines and fields stay where they were.
+  if (dialect.encoding == TextEncoding::kWindows1252) text = Windows1252ToUtf8(text);
   if (dialect.decimal != '.' && dialect.decimal != ',') {
     throw InputError({path, 0, 0}, "decimal mark must be '.' or ','");
   }
@@ -139,6 +166,7 @@ DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
                      "A table with decimal commas separates its fields with ';' or tabs");
   }
   const std::vector<Record> records = SplitRecords(path, text, separator);
+  if (dialect.encoding == TextEncoding::kUtf8) ExpectUtf8(path, records);
   if (records.empty()) {
     throw InputError({path, 1, 0}, "the table is empty",
                      "The first line must be the header: the name of every column");

@@ -7,62 +7,20 @@
 
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/formats/recording.h"
+#include "mapping_keys.h"
 
 namespace cellmetry {
 namespace {
 
-std::string Join(const std::vector<std::string>& words) {
-  std::string text;
-  for (const auto& w : words) text += (text.empty() ? "" : ", ") + w;
-  return text;
-}
-
-// A word from a fixed list, refused with the nearest one and the whole list.
-std::string OneOf(const ConfigNode& node, const std::vector<std::string>& words,
-                  const std::string& what) {
-  const std::string value = node.AsString();
-  for (const auto& w : words) {
-    if (w == value) return value;
-  }
-  const std::string nearest = NearestWord(value, words);
-  throw node.Error("unknown " + what + " '" + value + "'",
-                   (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") + "Known: " +
-                       Join(words));
-}
-
-// A required key, refused with what it is for.
-ConfigNode Required(const ConfigNode& node, const std::string& key, const std::string& hint) {
-  if (!node.Has(key)) throw node.Error("missing key '" + key + "'", hint);
-  return node[key];
-}
-
-double LengthToMm(const ConfigNode& node) {
-  return OneOf(node, {"mm", "m"}, "length unit") == "m" ? 1000.0 : 1.0;
-}
-
-double AngleToRad(const ConfigNode& node) {
-  return OneOf(node, {"rad", "deg"}, "angle unit") == "deg" ? M_PI / 180.0 : 1.0;
-}
-
-ColumnRef Column(const ConfigNode& node) {
-  if (!node.IsScalar() || node.AsString().empty()) {
-    throw node.Error("expected a column name",
-                     "Write the column's name as the table's header has it");
-  }
-  return {node.AsString(), node.location()};
-}
-
-// A list of exactly `names.size()` column names (`names` say what each one is, for the message).
-std::vector<ColumnRef> Columns(const ConfigNode& node, const std::vector<std::string>& names) {
-  if (!node.IsSequence() || node.Elements().size() != names.size()) {
-    throw node.Error("expected " + std::to_string(names.size()) + " column names",
-                     "List the columns of " + Join(names) + ", in this order: [" + Join(names) +
-                         "]");
-  }
-  std::vector<ColumnRef> columns;
-  for (const auto& element : node.Elements()) columns.push_back(Column(element));
-  return columns;
-}
+using import_keys::AngleToRad;
+using import_keys::Column;
+using import_keys::ColumnOfMap;
+using import_keys::Columns;
+using import_keys::LengthToMm;
+using import_keys::OneOf;
+using import_keys::ReadFact;
+using import_keys::ReadUncertainties;
+using import_keys::Required;
 
 // PREFIX11 .. PREFIX<rows><cols>, row-major, each placed at the prefix's key.
 std::vector<ColumnRef> PrefixedColumns(const ConfigNode& prefix, int rows, int cols) {
@@ -70,7 +28,7 @@ std::vector<ColumnRef> PrefixedColumns(const ConfigNode& prefix, int rows, int c
   const std::string p = prefix.AsString();
   for (int r = 1; r <= rows; ++r) {
     for (int c = 1; c <= cols; ++c) {
-      columns.push_back({p + std::to_string(r) + std::to_string(c), prefix.location()});
+      columns.push_back({p + std::to_string(r) + std::to_string(c), prefix.location(), ""});
     }
   }
   return columns;
@@ -79,10 +37,9 @@ std::vector<ColumnRef> PrefixedColumns(const ConfigNode& prefix, int rows, int c
 NameSource ReadName(const ConfigNode& node, const std::string& what) {
   NameSource source;
   if (node.IsMap()) {
-    node.ExpectKeys({"column"});
-    source.column = Column(
-        Required(node, "column",
-                 "Write {column: NAME}: the column that names the " + what + " in each row"));
+    node.ExpectKeys({"table", "column"});
+    source.column = ColumnOfMap(
+        node, "Write {column: NAME}: the column that names the " + what + " in each row");
   } else {
     source.fixed = node.AsString();
     if (source.fixed.find_first_of(",\"\n") != std::string::npos || source.fixed.empty()) {
@@ -175,7 +132,7 @@ RotationSpec ReadRotation(const ConfigNode& node) {
 ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& mapping,
                                 double to_mm, double to_rad) {
   node.ExpectKeys({"camera", "target", "pose_of", "position", "rotation", "transform", "length",
-                   "angle"});
+                   "angle", "position_uncertainty", "rotation_sigma"});
   ObservationSpec spec;
   spec.where = node.location();
   spec.camera = ReadName(Required(node, "camera", "Name the camera (camera: cam1) or the column "
@@ -226,6 +183,7 @@ ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& map
       const size_t n = list.IsSequence() ? list.Elements().size() : 0;
       spec.transform = Columns(list, MatrixNames(n == 12 ? 3 : 4, 4));
     }
+    ReadUncertainties(node, &spec);
     return spec;
   }
   spec.position = Columns(Required(node, "position",
@@ -233,66 +191,8 @@ ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& map
                                    "give transform: for a 4x4 matrix)"),
                           {"x", "y", "z"});
   if (node.Has("rotation")) spec.rotation = ReadRotation(node["rotation"]);
+  ReadUncertainties(node, &spec);
   return spec;
-}
-
-// A fact column with its unit: `time: stamp` (already s) or `time: {column: stamp, unit: ms}`.
-FactSpec ReadFact(const ConfigNode& node, const std::vector<std::string>& units,
-                  const std::vector<std::pair<double, double>>& factors) {
-  FactSpec fact;
-  if (!node.IsMap()) {
-    fact.column = Column(node);
-    return fact;
-  }
-  node.ExpectKeys({"column", "unit"});
-  fact.column = Column(Required(node, "column", "Name the column: {column: NAME, unit: " +
-                                                    units.front() + "}"));
-  if (node.Has("unit")) {
-    const std::string unit = OneOf(node["unit"], units, "unit");
-    for (size_t i = 0; i < units.size(); ++i) {
-      if (units[i] == unit) std::tie(fact.scale, fact.offset) = factors[i];
-    }
-  }
-  return fact;
-}
-
-// table: the file, and for CSV its separator and decimal mark; JSON lines by format or by
-// the file's extension.
-void ReadTable(const ConfigNode& root, ImportMapping* m) {
-  const ConfigNode table = Required(root, "table", "Name the table to import: table: readings.csv "
-                                                   "(relative to this file)");
-  m->table_where = table.location();
-  std::string format_name;
-  if (table.IsMap()) {
-    table.ExpectKeys({"path", "format", "separator", "decimal"});
-    m->table_path = table.ResolvePath(Required(table, "path", "Name the table's file").AsString());
-    if (table.Has("format")) format_name = OneOf(table["format"], {"csv", "jsonl"}, "table format");
-    if (table.Has("separator")) {
-      const std::string s = OneOf(table["separator"], {",", ";", "tab"}, "separator");
-      m->csv.separator = s == "tab" ? '\t' : s[0];
-    }
-    if (table.Has("decimal")) {
-      m->csv.decimal = OneOf(table["decimal"], {".", ","}, "decimal mark")[0];
-    }
-    if (m->csv.separator && m->csv.separator == m->csv.decimal) {
-      throw table["decimal"].Error("the separator and the decimal mark are both ','",
-                                   "A table with decimal commas separates its fields with ';'");
-    }
-  } else {
-    m->table_path = table.ResolvePath(table.AsString());
-  }
-  if (format_name.empty()) {
-    const std::string& p = m->table_path;
-    const size_t dot = p.find_last_of('.');
-    const std::string extension = dot == std::string::npos ? "" : p.substr(dot + 1);
-    format_name = extension == "jsonl" || extension == "ndjson" || extension == "json" ? "jsonl"
-                                                                                       : "csv";
-  }
-  m->json_lines = format_name == "jsonl";
-  if (m->json_lines && table.IsMap() && (table.Has("separator") || table.Has("decimal"))) {
-    throw table.Error("separator and decimal are for CSV tables",
-                      "JSON lines need neither: remove them");
-  }
 }
 
 // The factors from the table's length and angle units to mm and rad.
@@ -434,7 +334,11 @@ std::vector<const ColumnRef*> ImportMapping::AllColumns() const {
       for (const auto& c : o.rotation->columns) all.push_back(&c);
     }
     for (const auto& c : o.transform) all.push_back(&c);
+    if (o.position_uncertainty) {
+      for (const auto& c : o.position_uncertainty->columns) all.push_back(&c);
+    }
   }
+  for (const auto& t : join.time_s) all.push_back(&t.column);
   for (const auto* fact : {&time_s, &temperature_c, &payload_kg}) {
     if (*fact) all.push_back(&(*fact)->column);
   }
@@ -444,8 +348,8 @@ std::vector<const ColumnRef*> ImportMapping::AllColumns() const {
 ImportMapping ReadImportMapping(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectMap();
-  root.ExpectKeys({"mapping", "description", "table", "units", "robot", "samples", "poses",
-                   "targets", "observations", "facts"});
+  root.ExpectKeys({"mapping", "description", "table", "tables", "join", "units", "robot",
+                   "samples", "poses", "targets", "observations", "facts"});
   ImportMapping m;
   m.file = path;
   const ConfigNode format = Required(
@@ -455,7 +359,7 @@ ImportMapping ReadImportMapping(const std::string& path) {
                        std::string("This version reads ") + kImportMappingFormat);
   }
   m.description = root.GetString("description", "");
-  ReadTable(root, &m);
+  import_keys::ReadTables(root, &m);
   const TableUnits units = ReadUnits(root);
   ReadRobot(root, units, &m);
   if (root.Has("samples")) ReadSamples(root["samples"], &m);

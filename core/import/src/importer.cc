@@ -2,6 +2,7 @@
 // recording, every cell converted to mm and rad and checked where it stands.
 #include "cellmetry/import/importer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -26,39 +27,27 @@ std::string Text(double value) {
   return text;
 }
 
-// The table's column `ref` names; refused at the mapping with the nearest column's name.
-size_t Bind(const ColumnRef& ref, const DataTable& table) {
-  if (const auto index = table.ColumnIndex(ref.name)) return *index;
-  const std::string nearest = NearestWord(ref.name, table.columns());
-  std::string header;
-  for (size_t i = 0; i < table.columns().size() && i < 40; ++i) {
-    header += (i ? ", " : "") + table.columns()[i];
-  }
-  if (table.columns().size() > 40) header += ", ...";
-  throw InputError(ref.where, "column '" + ref.name + "' is not in the table " + table.path(),
-                   nearest.empty() ? "The table's columns are: " + header
-                                   : "Did you mean '" + nearest + "'?");
-}
+using Column = JoinedTable::Column;
 
-std::vector<size_t> Bind(const std::vector<ColumnRef>& refs, const DataTable& table) {
-  std::vector<size_t> columns;
-  for (const auto& ref : refs) columns.push_back(Bind(ref, table));
+std::vector<Column> Bind(const std::vector<ColumnRef>& refs, const JoinedTable& table) {
+  std::vector<Column> columns;
+  for (const auto& ref : refs) columns.push_back(table.Bind(ref));
   return columns;
 }
 
 // An observation entry with its columns found in the table.
 struct BoundObservation {
   const ObservationSpec* spec = nullptr;
-  std::optional<size_t> camera, target;
-  std::vector<size_t> position, rotation, transform;
-  std::vector<size_t> cells;  // every numeric cell of the entry, in reading order
+  std::optional<Column> camera, target;
+  std::vector<Column> position, rotation, transform, uncertainty;
+  std::vector<Column> cells;  // every numeric cell of the entry, in reading order
 };
 
-BoundObservation BindObservation(const ObservationSpec& spec, const DataTable& table) {
+BoundObservation BindObservation(const ObservationSpec& spec, const JoinedTable& table) {
   BoundObservation b;
   b.spec = &spec;
-  if (spec.camera.column) b.camera = Bind(*spec.camera.column, table);
-  if (spec.target.column) b.target = Bind(*spec.target.column, table);
+  if (spec.camera.column) b.camera = table.Bind(*spec.camera.column);
+  if (spec.target.column) b.target = table.Bind(*spec.target.column);
   b.position = Bind(spec.position, table);
   if (spec.rotation) b.rotation = Bind(spec.rotation->columns, table);
   if (!spec.transform.empty()) {
@@ -66,7 +55,7 @@ BoundObservation BindObservation(const ObservationSpec& spec, const DataTable& t
     // A prefix names the bottom row too; tables usually leave 0 0 0 1 out.
     if (spec.transform_bottom_optional) {
       bool any_bottom = false;
-      for (size_t i = 12; i < 16; ++i) any_bottom |= table.ColumnIndex(refs[i].name).has_value();
+      for (size_t i = 12; i < 16; ++i) any_bottom |= table.Find(refs[i]).has_value();
       if (!any_bottom) refs.resize(12);
     }
     b.transform = Bind(refs, table);
@@ -76,14 +65,16 @@ BoundObservation BindObservation(const ObservationSpec& spec, const DataTable& t
                      "camera's pose into the target's",
                      "Give rotation: too, or drop pose_of: for a target's position in the camera");
   }
-  for (const auto* list : {&b.position, &b.rotation, &b.transform}) {
+  if (spec.position_uncertainty) b.uncertainty = Bind(spec.position_uncertainty->columns, table);
+  for (const auto* list : {&b.position, &b.rotation, &b.transform, &b.uncertainty}) {
     b.cells.insert(b.cells.end(), list->begin(), list->end());
   }
   return b;
 }
 
 // A camera or target name from its cell: not empty, nothing that breaks a CSV line.
-std::string NameCell(const DataTable& table, size_t row, size_t column, const std::string& what) {
+std::string NameCell(const JoinedTable& table, size_t row, Column column,
+                     const std::string& what) {
   const std::string& name = table.Cell(row, column);
   if (name.empty()) throw table.Error(row, column, "empty cell", "Name the " + what + " here");
   if (name.find_first_of(",\"\n") != std::string::npos) {
@@ -105,16 +96,16 @@ bool Agree(double a, double b) {
 
 class Importer {
  public:
-  Importer(const ImportMapping& mapping, const DataTable& table)
+  Importer(const ImportMapping& mapping, const JoinedTable& table)
       : m_(mapping), table_(table) {
     joints_ = Bind(m_.joints, table_);
-    if (m_.sample_column) sample_column_ = Bind(*m_.sample_column, table_);
-    if (m_.pose_column) pose_column_ = Bind(*m_.pose_column, table_);
+    if (m_.sample_column) sample_column_ = table_.Bind(*m_.sample_column);
+    if (m_.pose_column) pose_column_ = table_.Bind(*m_.pose_column);
     for (const auto& spec : m_.observations) bound_.push_back(BindObservation(spec, table_));
-    const std::pair<const std::optional<FactSpec>*, std::optional<size_t>*> facts[] = {
+    const std::pair<const std::optional<FactSpec>*, std::optional<Column>*> facts[] = {
         {&m_.time_s, &time_}, {&m_.temperature_c, &temperature_}, {&m_.payload_kg, &payload_}};
     for (const auto& [spec, column] : facts) {
-      if (*spec) *column = Bind((*spec)->column, table_);
+      if (*spec) *column = table_.Bind((*spec)->column);
     }
     for (const auto& [name, carrier] : m_.targets) targets_[name] = carrier;
   }
@@ -122,8 +113,8 @@ class Importer {
   Recording Run() {
     Recording r;
     r.description = m_.description.empty() ? "" : m_.description + " ";
-    r.description += "(imported from " + std::filesystem::path(table_.path()).filename().string() +
-                     " by " + std::filesystem::path(m_.file).filename().string() + ")";
+    r.description += "(imported from " + table_.FileNames() + " by " +
+                     std::filesystem::path(m_.file).filename().string() + ")";
     r.robots[m_.robot] = static_cast<int>(m_.joints.size());
     r.targets = targets_;
     for (const auto& b : bound_) {
@@ -134,7 +125,7 @@ class Importer {
       for (const auto& b : bound_) ReadObservation(b, row, sample, &r);
     }
     if (r.observations.empty()) {
-      throw InputError(m_.table_where, "no observation in " + table_.path() +
+      throw InputError(m_.tables.front().where, "no observation in " + table_.FileNames() +
                        ": every observation cell is empty",
                        "Point observations: at the columns that hold the measured poses");
     }
@@ -147,7 +138,7 @@ class Importer {
     if (!r->HasCamera(name)) r->cameras.push_back(name);
   }
 
-  double Limited(size_t row, size_t column, double scale, double max_abs,
+  double Limited(size_t row, Column column, double scale, double max_abs,
                  const std::string& unit_hint) const {
     const double value = table_.Number(row, column) * scale;
     if (std::abs(value) > max_abs) {
@@ -206,7 +197,7 @@ class Importer {
     const std::pair<const std::optional<double>*, const std::optional<double>*> pairs[] = {
         {&first.time_s, &sample.time_s}, {&first.temperature_c, &sample.temperature_c},
         {&first.payload_kg, &sample.payload_kg}};
-    const std::optional<size_t> columns[] = {time_, temperature_, payload_};
+    const std::optional<Column> columns[] = {time_, temperature_, payload_};
     for (int f = 0; f < 3; ++f) {
       const auto& [a, b] = pairs[f];
       if (*a && *b && !Agree(**a, **b)) {
@@ -221,7 +212,7 @@ class Importer {
     return found->second;
   }
 
-  std::optional<double> Fact(size_t row, size_t column, const FactSpec& spec) const {
+  std::optional<double> Fact(size_t row, Column column, const FactSpec& spec) const {
     if (table_.IsEmpty(row, column)) return std::nullopt;
     return table_.Number(row, column) * spec.scale + spec.offset;
   }
@@ -229,8 +220,8 @@ class Importer {
   void ReadObservation(const BoundObservation& b, size_t row, int sample, Recording* r) {
     const ObservationSpec& spec = *b.spec;
     size_t filled = 0;
-    std::optional<size_t> first_empty;
-    for (size_t c : b.cells) {
+    std::optional<Column> first_empty;
+    for (const Column& c : b.cells) {
       if (!table_.IsEmpty(row, c)) {
         ++filled;
       } else if (!first_empty) {
@@ -319,11 +310,47 @@ class Importer {
     o.position_mm = T.t;
     if (has_rotation) o.rvec = RvecFromRotation(T.R);
     if (rotation_vector && !spec.camera_in_target) o.rvec = rvec;  // the table's own numbers
+    if (spec.position_uncertainty) o.covariance_mm2 = PositionCovariance(b, row, length_hint);
+    if (spec.rotation_sigma_rad) {
+      const auto& sigma = *spec.rotation_sigma_rad;
+      o.rotation_covariance_rad2 =
+          Eigen::Vector3d(sigma[0] * sigma[0], sigma[1] * sigma[1], sigma[2] * sigma[2])
+              .asDiagonal();
+    }
     AddCamera(o.camera, r);
     r->observations.push_back(std::move(o));
   }
 
-  Eigen::Matrix3d Rotation(size_t row, size_t column, const RotationConvention& c,
+  // The position's covariance from the row's uncertainty cells, in mm^2: diagonal, each axis'
+  // standard uncertainty u = U / k squared (U at least the stated minimum). An expanded
+  // uncertainty U at a level of confidence is k standard uncertainties, k the coverage factor
+  // of a normal distribution (1.96 at 95 %; GUM, JCGM 100:2008, 6.2.1 and G.1.3, Table G.1);
+  // PositionUncertaintySpec carries k.
+  Eigen::Matrix3d PositionCovariance(const BoundObservation& b, size_t row,
+                                     const std::string& length_hint) const {
+    const ObservationSpec& spec = *b.spec;
+    Eigen::Vector3d variance_mm2;
+    const PositionUncertaintySpec& uncertainty = *spec.position_uncertainty;
+    for (int i = 0; i < 3; ++i) {
+      const Column cell = b.uncertainty[i];
+      const double stated_mm = Limited(row, cell, spec.to_mm, kMaxPositionMm, length_hint);
+      if (stated_mm < 0.0 || (stated_mm == 0.0 && uncertainty.minimum == 0.0)) {
+        throw table_.Error(
+            row, cell, "an uncertainty of " + table_.Cell(row, cell) + " is not positive",
+            stated_mm < 0.0
+                ? "Check the cell: an uncertainty is a size"
+                : "A zero says 'known perfectly' and would weigh the observation without bound; "
+                  "if the instrument rounds its uncertainties, state the least one a cell stands "
+                  "for: position_uncertainty: {..., minimum: 0.0005}");
+      }
+      const double u_mm =
+          std::max(stated_mm, uncertainty.minimum * spec.to_mm) / uncertainty.coverage_factor;
+      variance_mm2[i] = u_mm * u_mm;
+    }
+    return variance_mm2.asDiagonal();
+  }
+
+  Eigen::Matrix3d Rotation(size_t row, Column column, const RotationConvention& c,
                            const double* values) const {
     std::string problem;
     const Eigen::Matrix3d R = ToRotation(c, values, &problem);
@@ -364,9 +391,9 @@ class Importer {
   }
 
   const ImportMapping& m_;
-  const DataTable& table_;
-  std::vector<size_t> joints_;
-  std::optional<size_t> sample_column_, pose_column_, time_, temperature_, payload_;
+  const JoinedTable& table_;
+  std::vector<Column> joints_;
+  std::optional<Column> sample_column_, pose_column_, time_, temperature_, payload_;
   std::vector<BoundObservation> bound_;
   std::map<std::string, std::string> targets_;
   std::map<std::string, int> sample_of_key_;
@@ -375,22 +402,26 @@ class Importer {
 
 }  // namespace
 
-DataTable ReadMappedTable(const ImportMapping& mapping) {
-  if (!std::filesystem::is_regular_file(mapping.table_path)) {
-    throw InputError(mapping.table_where, "no table at '" + mapping.table_path + "'",
-                     "Give the table's path relative to the mapping file");
+JoinedTable ReadMappedTables(const ImportMapping& mapping) {
+  std::vector<DataTable> tables;
+  for (const TableSpec& spec : mapping.tables) {
+    if (!std::filesystem::is_regular_file(spec.path)) {
+      throw InputError(spec.where, "no table at '" + spec.path + "'",
+                       "Give the table's path relative to the mapping file");
+    }
+    tables.push_back(spec.json_lines ? ReadJsonLinesTable(spec.path)
+                                     : ReadCsvTable(spec.path, spec.csv));
   }
-  return mapping.json_lines ? ReadJsonLinesTable(mapping.table_path)
-                            : ReadCsvTable(mapping.table_path, mapping.csv);
+  return JoinedTable::Join(mapping, std::move(tables));
 }
 
-Recording ImportTable(const ImportMapping& mapping, const DataTable& table) {
+Recording ImportTable(const ImportMapping& mapping, const JoinedTable& table) {
   return Importer(mapping, table).Run();
 }
 
 Recording ImportRecording(const std::string& mapping_path) {
   const ImportMapping mapping = ReadImportMapping(mapping_path);
-  return ImportTable(mapping, ReadMappedTable(mapping));
+  return ImportTable(mapping, ReadMappedTables(mapping));
 }
 
 }  // namespace cellmetry

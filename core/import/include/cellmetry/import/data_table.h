@@ -12,10 +12,12 @@
 //    JSON lines.
 //
 // CSV (ReadCsvTable): UTF-8 with or without a byte-order mark (UTF-16 is refused with what to
-// do); fields separated by ',' ';' or tab (`separator`, or detected from the header: the one of
-// them it holds most of, outside quotes); "quoted" fields may hold the separator, line breaks
-// and doubled quotes (""); decimal mark '.' or ',' (a ',' decimal needs another separator).
-// Blank lines are skipped; a row shorter than the header leaves its last cells empty.
+// do; bytes that are not UTF-8 are refused at their field, with the encoding to state), or an
+// 8-bit encoding the dialect names, converted to UTF-8 before anything else; fields separated
+// by ',' ';' or tab (`separator`, or detected from the header: the one of them it holds most
+// of, outside quotes); "quoted" fields may hold the separator, line breaks and doubled quotes
+// (""); decimal mark '.' or ',' (a ',' decimal needs another separator). Blank lines are
+// skipped; a row shorter than the header leaves its last cells empty.
 //
 // JSON lines (ReadJsonLinesTable): one JSON object per line. Nested objects and arrays are
 // flattened: {"pose": {"t": [1, 2, 3]}} gives the columns pose.t[0], pose.t[1], pose.t[2].
@@ -27,12 +29,14 @@
 #include <vector>
 
 #include "cellmetry/basics/error.h"
+#include "cellmetry/import/text_encoding.h"
 
 namespace cellmetry {
 
 struct CsvDialect {
   char separator = 0;  // ',', ';' or '\t'; 0: detect from the header line
   char decimal = '.';  // '.' or ','
+  TextEncoding encoding = TextEncoding::kUtf8;  // the file's; cells and names become UTF-8
 };
 
 class DataTable {
@@ -77,8 +81,9 @@ class DataTable {
 // spaces and a leading '+' allowed). None, with the reason in `problem`, otherwise.
 std::optional<double> ParseDecimal(const std::string& text, char decimal, std::string* problem);
 
-// Reads a CSV file (see above). InputError when it cannot be read, is empty, is UTF-16, has an
-// unclosed quote, a duplicate column name or a row longer than its header.
+// Reads a CSV file (see above). InputError when it cannot be read, is empty, is UTF-16, is not
+// UTF-8 and the dialect names no other encoding, has an unclosed quote, a duplicate column name
+// or a row longer than its header.
 DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect);
 
 // Reads a JSON-lines file (see above). InputError at the line and character of a syntax error,
