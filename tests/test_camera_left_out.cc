@@ -182,7 +182,10 @@ TEST(GaugePrior, OneCameraTakesTheWorldBoardsSizeFromItsPlausibleSize) {
 TEST(GaugePrior, WithoutAPlausibleSizeTheHoldIsSaidAndItsPartnersAreUndetermined) {
   const std::string dir = testing::TempDirForThisTest("gauge_held");
   const Simulated sim = Simulate(dir, ThreeCameraSimulation(6));
-  const WorkcellJob job = Job(dir, "{free: all}\n    free_model: [j1.d]");
+  // j1.d with the base free: by convention it puts the base frame (next test); stripped of that
+  // convention here, it is a parameter the data cannot determine and nothing else decides.
+  WorkcellJob job = Job(dir, "{free: all}\n    free_model: [j1.d]");
+  for (Parameter& p : job.problem.robots[0].model_parameters) p.convention.clear();
   const WorkcellResult r = testing::Identify(job, sim.recording);
   ASSERT_FALSE(r.unidentifiable.empty());
   const UnidentifiableParameter& held = r.unidentifiable.front();
@@ -201,6 +204,25 @@ TEST(GaugePrior, WithoutAPlausibleSizeTheHoldIsSaidAndItsPartnersAreUndetermined
   EXPECT_THAT(summary, ::testing::HasSubstr("undetermined"));
   EXPECT_THAT(summary, ::testing::HasSubstr("are not determined by this data either"));
   EXPECT_FALSE(WorkcellResultJson(r)["undetermined"].empty());
+}
+
+// The same hold where the parameter's nominal value is a convention (joint 1's d puts the base
+// frame): held first, said as a convention, and its partner (the base's z) given relative to it
+// with its sigma, not undetermined.
+TEST(GaugePrior, AConventionIsHeldAndSaidAndItsPartnersKeepTheirSigma) {
+  const std::string dir = testing::TempDirForThisTest("gauge_convention");
+  const Simulated sim = Simulate(dir, ThreeCameraSimulation(6));
+  const WorkcellJob job = Job(dir, "{free: all}\n    free_model: [j1.d]");
+  const WorkcellResult r = testing::Identify(job, sim.recording);
+  ASSERT_EQ(r.unidentifiable.size(), 1u);
+  EXPECT_EQ(r.unidentifiable.front().name, "ur3.model.j1.d");
+  EXPECT_FALSE(r.unidentifiable.front().convention.empty());
+  for (const auto& f : r.frames) {
+    for (int i = 0; i < 6; ++i) EXPECT_FALSE(f.undetermined[i]) << f.name;
+  }
+  EXPECT_GT(testing::Frame(r, "ur3.base").sigma_mm.z(), 0.0);
+  EXPECT_THAT(WorkcellSummary(r), ::testing::HasSubstr("held at nominal by convention"));
+  EXPECT_TRUE(WorkcellResultJson(r)["undetermined"].empty());
 }
 
 // The world tag glued 5 mrad off level, the UR3 standing level: with the level prior (3 mrad)
