@@ -174,7 +174,7 @@ Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& symmetric) {
 
 // The joint covariance S of (theta, phi) over the problem's free columns (held_out_setup.h),
 // from the registration rows' whitened Jacobian and residuals.
-Eigen::MatrixXd JointCovariance(const Eigen::MatrixXd& J, const Eigen::VectorXd& r,
+Eigen::MatrixXd JointCovariance(const Eigen::MatrixXd& J, double dispersion,
                                 const std::vector<bool>& is_theta, const Eigen::MatrixXd& S_tt) {
   std::vector<Eigen::Index> theta, phi;
   for (size_t c = 0; c < is_theta.size(); ++c) {
@@ -183,10 +183,7 @@ Eigen::MatrixXd JointCovariance(const Eigen::MatrixXd& J, const Eigen::VectorXd&
   const Eigen::MatrixXd J_theta = J(Eigen::all, theta), J_phi = J(Eigen::all, phi);
   const Eigen::MatrixXd info_phi_inverse = PseudoInverse(J_phi.transpose() * J_phi);
   const Eigen::MatrixXd A = -info_phi_inverse * J_phi.transpose() * J_theta;
-  const double dof = static_cast<double>(J.rows()) - static_cast<double>(phi.size());
-  const double reduced_chi2 = dof > 0 ? r.squaredNorm() / dof : 1.0;
-  const Eigen::MatrixXd S_phi = A * S_tt * A.transpose() +
-                                info_phi_inverse * std::max(reduced_chi2, 1.0);
+  const Eigen::MatrixXd S_phi = A * S_tt * A.transpose() + info_phi_inverse * dispersion;
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(J.cols(), J.cols());
   S(theta, theta) = S_tt;
   S(theta, phi) = S_tt * A.transpose();
@@ -198,7 +195,8 @@ Eigen::MatrixXd JointCovariance(const Eigen::MatrixXd& J, const Eigen::VectorXd&
 // Each scored point's predicted covariance (held_out_setup.h) and its normalized square. The
 // rows are weighted by the registration's noise model: where sigma was estimated from residuals,
 // the new setup's own scatter about the calibrated model (N), measured on its registration
-// poses, which the scored points never enter.
+// poses, which the scored points never enter; where the job states sigma, that sigma widened by
+// the registration rows' reduced chi-square where it exceeds 1.
 void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& result,
                         const Recording& held_out, const WorkcellResult& registered,
                         const std::set<int>& registration, const std::set<int>& scored,
@@ -240,13 +238,18 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
     is_theta.push_back(theta_blocks.count(f.block) > 0);
     if (is_theta.back()) theta_names.push_back(f.name);
   }
-  const Eigen::MatrixXd S = JointCovariance(J, r_registration, is_theta,
+  // The registration rows' reduced chi-square about the calibrated model, where above 1: the
+  // stated sigma too optimistic for this setup widens the frames' part and every point's own.
+  const double dof = static_cast<double>(J.rows()) - static_cast<double>(
+                                                          J.cols() - theta_names.size());
+  const double dispersion = dof > 0 ? std::max(r_registration.squaredNorm() / dof, 1.0) : 1.0;
+  const Eigen::MatrixXd S = JointCovariance(J, dispersion, is_theta,
                                             CalibratedCovariance(result.uncertainty, theta_names));
   for (const PositionRow& row : CarriedPositionRows(on_scored->problem, r_scored, held_out)) {
     const Eigen::MatrixXd G_p = row.sigma_mm.asDiagonal() * G.middleRows(row.row, 3);
     HeldOutPoint point{row.sample, row.camera, row.target, row.error_mm, {}, 0.0};
     point.covariance_mm2 = G_p * S * G_p.transpose();
-    point.covariance_mm2.diagonal() += row.sigma_mm.cwiseAbs2();
+    point.covariance_mm2.diagonal() += dispersion * row.sigma_mm.cwiseAbs2();
     point.normalized_squared =
         row.error_mm.dot(point.covariance_mm2.ldlt().solve(row.error_mm));
     score->points.push_back(point);

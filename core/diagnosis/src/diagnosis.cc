@@ -743,6 +743,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   }
   out.final = current.summary;
   out.final_fit = current.result;
+  out.final_spec = current.spec;
   if (spec.leave_one_camera_out) {
     // The final fit as `cellmetry run` reports it: each camera left out in turn too.
     Progress::Note("identifying the final model without each camera in turn");

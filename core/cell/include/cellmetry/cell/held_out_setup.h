@@ -14,7 +14,8 @@
 // G_p the prediction's Jacobian over the calibrated entries theta and the registered frames phi;
 // N the registration's per-axis noise variance (where the job gives no sigma, the new setup's
 // scatter about the calibrated model, estimated from the registration poses' residuals: what the
-// model leaves out of each point); S the joint covariance of (theta, phi). theta's is the calibration's
+// model leaves out of each point; a stated sigma is widened by the registration rows' reduced
+// chi-square where it exceeds 1, as S_phi|theta below); S the joint covariance of (theta, phi). theta's is the calibration's
 // (its correlations, each scaled to its total sigma); the registration carries theta's error
 // into phi through phi(theta): A = d phi / d theta = -(J_phi^T J_phi)^-1 J_phi^T J_theta (its
 // whitened Jacobians), so
@@ -22,7 +23,7 @@
 //   S = [ S_tt      S_tt A^T                ]
 //       [ A S_tt    A S_tt A^T + S_phi|theta ],   S_phi|theta = (J_phi^T J_phi)^-1 scaled
 //
-// by the registration's reduced chi-square where above 1. A point is within its 95 % ellipsoid
+// by the registration rows' reduced chi-square where above 1. A point is within its 95 % ellipsoid
 // where e^T C_p^-1 e <= 7.815 (chi-square, 3 degrees of freedom): about 95 % of the points
 // when the sigma are honest.
 #pragma once

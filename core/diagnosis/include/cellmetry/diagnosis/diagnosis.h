@@ -309,6 +309,8 @@ struct DiagnosisResult {
   double shape_correlation = 0.5;
   std::string unexplained;                   // "" or where structure remains, in words
   WorkcellResult final_fit;
+  WorkcellProblem final_spec;                // what final_fit identified: the job's cell and
+                                             // every accepted effect
   std::string job;                           // the job diagnosed (`origin`), for the commands
                                              // the report proposes
 };
