@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <random>
 #include <string>
 
 #include "cellmetry/cell/held_out_setup.h"
@@ -75,6 +76,43 @@ TEST(HeldOutSetup, SimulatedTrackerSetupScoresAtTheNoiseWithHonestSigma) {
   EXPECT_GT(score.within_95, 0.88);
   EXPECT_LT(score.within_95, 0.995);
   EXPECT_NEAR(score.mean_normalized, 1.0, 0.3);
+}
+
+// An instrument that reports each reading's uncertainty (noise: {cameras: {c: {per_row: true}}}):
+// every second calibration reading is 30 times noisier and says so. Weighed by its own
+// covariance, each row counts for what it is worth, and the geometry holds out on the other
+// setup far better than with one sigma for every row.
+TEST(HeldOutSetup, RowsWeighedByTheirOwnUncertaintyHoldOutBetter) {
+  Recording calibration = Simulate(
+      TrackerSimulation(21, 80, "{xyz: [4000, -40, 300], rvec: [0, 0, -1.78]}",
+                        "{xyz: [-32, -18, 99], rvec: [0, 0, 1.59]}"),
+      "calibration");
+  const Recording other_setup = Simulate(
+      TrackerSimulation(22, 200, "{xyz: [3200, 900, 150], rvec: [0.01, -0.02, -2.3]}",
+                        "{xyz: [-30, -21, 101], rvec: [0.002, 0, 1.2]}"),
+      "other_setup");
+  std::mt19937 rng(5);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  for (size_t i = 0; i < calibration.observations.size(); ++i) {
+    Observation& o = calibration.observations[i];
+    const double sigma_mm = i % 2 == 0 ? 0.01 : 0.3;
+    if (i % 2 == 1) o.position_mm += sigma_mm * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+    o.covariance_mm2 = Eigen::Matrix3d::Identity() * sigma_mm * sigma_mm;
+  }
+  auto held_out_rms = [&](bool per_row) {
+    WorkcellJob job = StaubliJob();
+    job.problem.folds = 0;
+    job.problem.noise.per_row_cameras.clear();  // the job weighs per row; here, both ways
+    if (per_row) job.problem.noise.per_row_cameras.insert("tracker");
+    const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
+    return ScoreHeldOutSetup(job.problem, result, other_setup,
+                             SelectRegistrationPoses(other_setup, RegistrationPoses{0, 10, {}}, {}),
+                             CeresLm())
+        .rms_mm;
+  };
+  const double one_sigma = held_out_rms(false), per_row = held_out_rms(true);
+  EXPECT_LT(per_row, 0.7 * one_sigma) << per_row << " mm against " << one_sigma << " mm";
+  EXPECT_LT(per_row, 0.03);
 }
 
 TEST(HeldOutSetup, RegistrationPosesAreChosenAsTheJobSays) {

@@ -148,7 +148,8 @@ NoiseSpec ReadNoise(const ConfigNode& node) {
     const ConfigNode cameras = node["cameras"];
     for (const auto& camera : cameras.Keys()) {
       const ConfigNode c = cameras[camera];
-      c.ExpectKeys({"position_mm", "rotation_rad"});
+      c.ExpectKeys({"position_mm", "rotation_rad", "per_row"});
+      if (c.GetBool("per_row", false)) noise.per_row_cameras.insert(camera);
       if (c.Has("position_mm")) {
         const auto v = c["position_mm"].AsPositiveDoubles(3);
         noise.position_sigma_mm[camera] = Eigen::Vector3d(v[0], v[1], v[2]);

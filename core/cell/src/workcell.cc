@@ -85,12 +85,17 @@ bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, No
     position.Finish();
     rotation.Finish();
     if (position.count > 0) {
-      target_noise.position_mm = (position.axis * dof_correction).cwiseMax(1e-6);
+      // Rows that carry their own covariance: sigma is what is left beside it.
+      const Eigen::Vector3d scatter_mm2 = (position.axis * dof_correction).cwiseAbs2();
+      target_noise.position_mm =
+          (scatter_mm2 - target_noise.mean_row_variance_mm2).cwiseMax(1e-12).cwiseSqrt();
     }
     if (rotation.count > 0) {
       target_noise.rotation_rad = (rotation.axis * dof_correction).cwiseMax(1e-9);
     }
-    target_noise.source = "residuals of a first fit";
+    target_noise.source = target_noise.per_row
+                              ? "residuals of a first fit, beside each row's own uncertainty"
+                              : "residuals of a first fit";
     changed = true;
   }
   return changed;

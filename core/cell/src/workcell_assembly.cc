@@ -452,7 +452,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     const TargetNoise& sigma = *seen.noise;
     if (spec.residual == ResidualForm::kJointSpace) {
       std::vector<int> blocks = c.blocks;
-      auto cost = JointSpaceCost(c, out, sigma.position_mm, &blocks);
+      auto cost = JointSpaceCost(c, out, RowPositionSigma(sigma, obs), &blocks);
       out->problem.AddResidual(std::move(cost), blocks,
                                InfoFor(recording, m.observation, ResidualInfo::Kind::kPosition,
                                        Eigen::Vector3d::Ones()));  // rows: whitened joint errors
@@ -463,7 +463,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     const Pose observed = ObservedPose(obs);
     for (Compared what : compared) {
       const bool position = what == Compared::kPosition;
-      const Eigen::Vector3d& s = position ? sigma.position_mm : sigma.rotation_rad;
+      const Eigen::Vector3d s = position ? RowPositionSigma(sigma, obs) : sigma.rotation_rad;
       std::vector<int> blocks = c.blocks;
       auto cost = ToolCost(c, out, TargetComparison(what, observed, s), &blocks);
       out->problem.AddResidual(
@@ -501,7 +501,7 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
     const Pose observed = ObservedPose(obs);
     for (Compared what : {Compared::kPosition, Compared::kRotation}) {
       const bool position = what == Compared::kPosition;
-      const Eigen::Vector3d& s = position ? sigma.position_mm : sigma.rotation_rad;
+      const Eigen::Vector3d s = position ? RowPositionSigma(sigma, obs) : sigma.rotation_rad;
       const TargetComparison comparison(what, observed, s);
       std::vector<int> blocks = {camera};
       std::unique_ptr<ceres::CostFunction> cost;

@@ -175,6 +175,36 @@ NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec) {
   return BuildNoiseModel(recording, spec, EstimateRepeatability(recording));
 }
 
+Eigen::Vector3d RowPositionSigma(const TargetNoise& noise, const Observation& observation) {
+  if (!noise.per_row || !observation.covariance_mm2) return noise.position_mm;
+  return (noise.position_mm.cwiseAbs2() + observation.covariance_mm2->diagonal().cwiseMax(0.0))
+      .cwiseSqrt();
+}
+
+namespace {
+
+// `noise` for a camera whose rows carry their own covariance: sigma is what the model leaves
+// out of every row alike, the job's where it gives one, else unknown (from the residuals, less
+// the rows' mean variance); a spread of repeats or detections already holds the rows' own part.
+void MakePerRow(const Recording& recording, const std::string& camera,
+                const std::string& target, TargetNoise* noise) {
+  noise->per_row = true;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (const Observation& o : recording.observations) {
+    if (o.camera != camera || o.target != target || !o.covariance_mm2) continue;
+    sum += o.covariance_mm2->diagonal().cwiseMax(0.0);
+    ++count;
+  }
+  if (count > 0) noise->mean_row_variance_mm2 = sum / count;
+  if (noise->source != "job") {
+    *noise = TargetNoise{Eigen::Vector3d::Ones(), noise->rotation_rad, "unknown", 0, true,
+                         noise->mean_row_variance_mm2};
+  }
+}
+
+}  // namespace
+
 NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec,
                            const NoiseModel& repeats) {
   const NoiseModel detections = DetectionAccuracy(recording);
@@ -201,6 +231,7 @@ NoiseModel BuildNoiseModel(const Recording& recording, const NoiseSpec& spec,
       }
       const auto job_rotation = spec.rotation_sigma_rad.find(camera);
       if (job_rotation != spec.rotation_sigma_rad.end()) noise.rotation_rad = job_rotation->second;
+      if (spec.per_row_cameras.count(camera)) MakePerRow(recording, camera, target, &noise);
       noise.position_mm = noise.position_mm.cwiseMax(spec.floor_mm);
       noise.rotation_rad = noise.rotation_rad.cwiseMax(spec.floor_rad);
       model.entries[{camera, target}] = noise;

@@ -13,9 +13,14 @@
 //     deviation over groups is used;
 //   - else sigma is left unknown and the workcell identification estimates it from the
 //     residuals of a first fit (variance component estimation).
+// A camera the job names in `per_row` (an instrument reporting each reading's own uncertainty:
+// a laser tracker's U(95) per row) weighs every row by its own position covariance plus what the
+// model leaves out of every row alike, sigma_row^2 = sigma^2 + diag(C_row): sigma is the job's, or
+// estimated from the residuals less the rows' mean variance.
 #pragma once
 
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 
@@ -31,6 +36,7 @@ struct NoiseSpec {
   std::map<std::string, Eigen::Vector3d> rotation_sigma_rad;  // camera -> sigma (given by job)
   double floor_mm = 1e-3;     // no sigma is taken smaller than this (exact simulated targets)
   double floor_rad = 1e-6;
+  std::set<std::string> per_row_cameras;  // each row adds its own position covariance (above)
 };
 
 struct TargetNoise {
@@ -41,7 +47,15 @@ struct TargetNoise {
   // first fit", "unknown".
   std::string source = "unknown";
   int repeat_groups = 0;           // groups with >= 2 captures that the estimate pooled
+  // Each row adds its own position covariance to position_mm^2 (NoiseSpec::per_row_cameras);
+  // the mean of the rows' variances per axis (mm^2), which a sigma from residuals leaves out.
+  bool per_row = false;
+  Eigen::Vector3d mean_row_variance_mm2 = Eigen::Vector3d::Zero();
 };
+
+// The position sigma of one observation's row: `noise`'s, with the observation's own covariance
+// added where `noise.per_row` and the observation carries one.
+Eigen::Vector3d RowPositionSigma(const TargetNoise& noise, const Observation& observation);
 
 using NoiseKey = std::pair<std::string, std::string>;  // (camera, target)
 
