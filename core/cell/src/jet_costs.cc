@@ -4,18 +4,6 @@
 #include "joint_space_residual.h"
 
 namespace cellmetry {
-std::unique_ptr<ceres::CostFunction> ModelChainCost(const TargetComparison& comparison,
-                                                   const FrameRefs& refs, const RobotModel* model,
-                                                   const std::vector<double>& q,
-                                                   bool static_camera,
-                                                   const Pose& T_cam_world_measured,
-                                                   const Problem& problem,
-                                                   const std::vector<int>& blocks) {
-  return OnJets(new ModelChainResidual(comparison, refs, model, q, static_camera,
-                                       T_cam_world_measured),
-                problem, blocks);
-}
-
 std::unique_ptr<ceres::CostFunction> JointSpaceCostFunction(const FrameRefs& refs,
                                                            const RobotModel* model,
                                                            const std::vector<double>& q,

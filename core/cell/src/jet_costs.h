@@ -24,15 +24,6 @@ std::unique_ptr<ceres::CostFunction> OnJets(Functor* functor, const Problem& pro
   return std::unique_ptr<ceres::CostFunction>(cost);
 }
 
-// ModelChainResidual (workcell_residuals.h) over `blocks` of `problem`.
-std::unique_ptr<ceres::CostFunction> ModelChainCost(const TargetComparison& comparison,
-                                                   const FrameRefs& refs, const RobotModel* model,
-                                                   const std::vector<double>& q,
-                                                   bool static_camera,
-                                                   const Pose& T_cam_world_measured,
-                                                   const Problem& problem,
-                                                   const std::vector<int>& blocks);
-
 // JointSpaceResidual (joint_space_residual.h) over `blocks` of `problem`.
 std::unique_ptr<ceres::CostFunction> JointSpaceCostFunction(const FrameRefs& refs,
                                                            const RobotModel* model,

@@ -338,6 +338,24 @@ std::unique_ptr<ceres::CostFunction> JointSpaceCost(const ToolContext& c, Assemb
                                 JointWhitening(J, sigma_mm), out->problem, *blocks);
 }
 
+// What an EffectChainCost of `c` reads of its sample: the sample's facts where the cell has
+// effects (PrepareWorkcellData gathers them only then), else its joints, all a chain without
+// effects reads.
+EffectContext ChainContext(const ToolContext& c) {
+  const Observation& obs = c.recording.observations[c.m.observation];
+  EffectContext context;
+  if (!c.data.facts.empty()) {
+    context = ContextOf(c.data.facts.at(c.m.sample_index), c.spec.gravity_base, obs.camera);
+  } else {
+    const Sample& sample = c.recording.samples[c.m.sample_index];
+    context.num_joints = static_cast<int>(sample.q.size());
+    context.q = sample.q.data();
+    context.camera = obs.camera;
+  }
+  context.target = obs.target;
+  return context;
+}
+
 // The cost of comparing one carried target's `compared` quantity, and the blocks it reads.
 std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWorkcell* out,
                                               const TargetComparison& comparison,
@@ -346,10 +364,11 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
   const WorkcellRobot& robot = c.spec.robots[c.m.robot];
   const Sample& sample = c.recording.samples[c.m.sample_index];
   const RobotEffects& in_chain = c.effects->at(static_cast<size_t>(c.m.robot));
-  if (!in_chain.list->effects.empty()) {
-    EffectContext context = ContextOf(c.data.facts.at(c.m.sample_index), c.spec.gravity_base,
-                                      obs.camera);
-    context.target = obs.target;
+  // A free model takes the effect chain's closed-form model twists even without effects: Jets
+  // over the whole chain (ModelChainCost) ran a UR3's forward kinematics six times per residual
+  // for its 24 parameters and the frames, most of a diagnosis with every MDH entry free.
+  if (!in_chain.list->effects.empty() || c.model_free) {
+    EffectContext context = ChainContext(c);
     blocks->push_back(out->model_block[c.m.robot]);
     blocks->insert(blocks->end(), in_chain.blocks.begin(), in_chain.blocks.end());
     auto forward = MemoFor(robot.model.get(), context.q, c.memos);
@@ -365,11 +384,6 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
                                                   in_chain.list, std::move(forward), first);
     if (first == nullptr) first = cost.get();
     return cost;
-  }
-  if (c.model_free) {
-    *blocks = JetBlocks(c, *out);
-    return ModelChainCost(comparison, c.refs, robot.model.get(), sample.q, c.static_camera,
-                          c.m.T_cam_world, out->problem, *blocks);
   }
   Pose T_base_flange;
   const std::shared_ptr<ForwardMemo> memo = MemoFor(robot.model.get(), sample.q.data(), c.memos);

@@ -6,8 +6,8 @@
 //
 // either its position (mm, camera x/y/depth) or its rotation (rad, about the camera axes), each
 // row divided by its sigma. When the robot model is held, chain_cost.h evaluates this with
-// analytic derivatives (the hot path); ModelChainResidual below serves the case where robot model
-// parameters are free and T_base_flange(q) must be differentiated too (Jets).
+// analytic derivatives (the hot path); where its parameters are free or effects act,
+// effect_chain_cost.h does, with the model's flange twists.
 #pragma once
 
 #include <ceres/ceres.h>
@@ -154,54 +154,5 @@ template <typename T>
 Transform<T> CameraFromWorld(const T* world_cam_block, const Eigen::Matrix3d& R_ref) {
   return FrameFromBlock(world_cam_block, R_ref).inverse();
 }
-
-// Blocks as JetChainLayout says ([base,] [tool,] [camera,] robot model). Evaluated with
-// ceres::DynamicAutoDiffCostFunction.
-class ModelChainResidual {
- public:
-  ModelChainResidual(TargetComparison comparison, FrameRefs refs, const RobotModel* model,
-                     std::vector<double> q, bool static_camera, Pose T_cam_world_measured)
-      : comparison_(comparison), refs_(refs), model_(model), q_(std::move(q)),
-        static_camera_(static_camera), T_cam_world_measured_(T_cam_world_measured),
-        layout_(JetChainLayout::Of(refs_, static_camera)) {}
-
-  template <typename T>
-  bool operator()(T const* const* blocks, T* residual) const {
-    const T* model_params = blocks[layout_.model];
-    Transform<T> T_base_flange;
-    if (!model_->Forward(q_.data(), model_params, &T_base_flange)) return false;
-    if (comparison_.compared() == Compared::kPosition) {
-      comparison_.ComparePosition(PositionInCamera(blocks, T_base_flange), residual);
-      return true;
-    }
-    const Transform<T> T_cam_world = static_camera_
-                                         ? CameraFromWorld(blocks[layout_.camera], refs_.world_cam)
-                                         : T_cam_world_measured_.cast<T>();
-    const Transform<T> predicted = T_cam_world * layout_.Base(blocks, refs_) * T_base_flange *
-                                   layout_.Tool(blocks, refs_);
-    comparison_.Compare(predicted, residual);
-    return true;
-  }
-
- private:
-  // The target's origin in the camera: no rotation products (the tool's rotation does not move
-  // its origin), and held frames as plain numbers.
-  template <typename T>
-  Vector3<T> PositionInCamera(T const* const* blocks, const Transform<T>& T_base_flange) const {
-    const Vector3<T> tool = layout_.ToolOrigin(blocks, refs_);
-    const Vector3<T> p_base = T_base_flange.t + T_base_flange.R * tool;
-    const Vector3<T> p_world = layout_.WorldFromBase(blocks, refs_, p_base);
-    if (!static_camera_) return T_cam_world_measured_.R * p_world + T_cam_world_measured_.t;
-    return FrameBlockInverseMap(blocks[layout_.camera], refs_.world_cam, p_world);
-  }
-
-  TargetComparison comparison_;
-  FrameRefs refs_;
-  const RobotModel* model_;
-  std::vector<double> q_;
-  bool static_camera_;
-  Pose T_cam_world_measured_;
-  JetChainLayout layout_;
-};
 
 }  // namespace cellmetry

@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -55,17 +56,28 @@ CandidateLinearization LinearizeWithCandidate(const WorkcellProblem& spec,
 
 namespace {
 
-// Candidates evaluated together: as many as fill one pass of the cell's Jet costs (an
-// automatic-differentiation cost evaluates its chain once per kJetStride parameters asked for,
-// so a group costs what its members would together, and its Jacobian stays small).
-constexpr int kColumnsPerGroup = kJetStride;
+// Candidates evaluated together: as many as a pass's sparse Jacobian holds within
+// kEntriesPerPass entries (12 bytes each: 200 MB), at least one pass of Jets. A cell's effect
+// costs (EffectChainCost) carry Jets over every effect of their chain whichever are asked for,
+// so each pass costs what the whole chain costs: on experiment A's 64 candidates one pass per
+// eight columns spent 8 s in passes that each redid all of them. An automatic-differentiation
+// cost evaluates its chain once per kJetStride parameters asked for, in any grouping. Either
+// way a column's entries are the same numbers in any pass.
+constexpr Eigen::Index kEntriesPerPass = Eigen::Index(1) << 24;
 
-// Groups of consecutive candidates (indices) whose free parameters fit one pass.
-std::vector<std::vector<size_t>> PassGroups(const std::vector<int>& free_per_candidate) {
+int ColumnsPerPass(Eigen::Index rows) {
+  const Eigen::Index fit = kEntriesPerPass / std::max<Eigen::Index>(rows, 1);
+  return static_cast<int>(std::max<Eigen::Index>(kJetStride, fit));
+}
+
+// Groups of consecutive candidates (indices) whose free parameters fit one pass of
+// `columns_per_pass`.
+std::vector<std::vector<size_t>> PassGroups(const std::vector<int>& free_per_candidate,
+                                            int columns_per_pass) {
   std::vector<std::vector<size_t>> groups;
-  int filled = kColumnsPerGroup;
+  int filled = columns_per_pass;
   for (size_t k = 0; k < free_per_candidate.size(); ++k) {
-    if (groups.empty() || filled + free_per_candidate[k] > kColumnsPerGroup) {
+    if (groups.empty() || filled + free_per_candidate[k] > columns_per_pass) {
       groups.emplace_back();
       filled = 0;
     }
@@ -104,7 +116,8 @@ std::vector<Eigen::MatrixXd> CandidateColumns(const WorkcellProblem& spec,
   for (size_t k = 0; k < candidates.size(); ++k) {
     out[k] = Eigen::MatrixXd::Zero(rows, free_per_candidate[k]);
   }
-  for (const auto& group : PassGroups(free_per_candidate)) {
+  for (const auto& group :
+       PassGroups(free_per_candidate, ColumnsPerPass(problem.num_residuals()))) {
     std::vector<int> blocks;
     for (size_t k : group) blocks.push_back(assembled->effect_block[first + k]);
     SparseJacobian J;
