@@ -365,8 +365,8 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
   const Sample& sample = c.recording.samples[c.m.sample_index];
   const RobotEffects& in_chain = c.effects->at(static_cast<size_t>(c.m.robot));
   // A free model takes the effect chain's closed-form model twists even without effects: Jets
-  // over the whole chain (ModelChainCost) ran a UR3's forward kinematics six times per residual
-  // for its 24 parameters and the frames, most of a diagnosis with every MDH entry free.
+  // over the whole chain would run a UR3's forward kinematics six times per residual for its 24
+  // parameters and the frames, most of a diagnosis with every MDH entry free.
   if (!in_chain.list->effects.empty() || c.model_free) {
     EffectContext context = ChainContext(c);
     blocks->push_back(out->model_block[c.m.robot]);
