@@ -24,7 +24,11 @@ std::string ReadTextFile(const std::string& path) {
 
 // `free_model: [names] | all`: which of the model's parameters the job identifies.
 void ReadFreeModel(const ConfigNode& free, const std::string& type, WorkcellRobot* robot) {
+  std::set<std::string> seen;
   for (const auto& entry : free.AsStrings()) {
+    if (!seen.insert(entry).second) {
+      throw free.Error("'" + entry + "' appears twice in free_model", "Name each entry once");
+    }
     if (entry == "all") {
       for (auto& p : robot->model_parameters) p.fixed = false;
       continue;

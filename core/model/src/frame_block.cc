@@ -2,6 +2,9 @@
 // `free:` list that frees them.
 #include "cellmetry/model/frame_block.h"
 
+#include <algorithm>
+#include <set>
+
 namespace cellmetry {
 
 std::vector<Parameter> FrameParameters(const FrameBlockSpec& spec) {
@@ -21,7 +24,11 @@ std::array<bool, 6> ReadFreeFlags(const ConfigNode& node, std::array<bool, 6> fa
   const ConfigNode free = node["free"];
   std::array<bool, 6> flags{};
   const std::vector<std::string> names = free.AsStrings();
+  std::set<std::string> seen;
   for (const auto& name : names) {
+    if (!seen.insert(name).second) {
+      throw free.Error("'" + name + "' appears twice in free", "Name each entry once");
+    }
     if (name == "all") {
       flags.fill(true);
       continue;
