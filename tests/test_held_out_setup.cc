@@ -39,6 +39,23 @@ Recording Simulate(const std::string& yaml, const std::string& name) {
   return SimulateWorkcell(LoadWorkcellSimulation(path, testing::Plugins()), nullptr);
 }
 
+// Two setups of one simulated TX90L: `calibration_poses` poses drawn with `seed`, then 200
+// with `seed + 1`, the tracker moved and the probe remounted in between.
+struct TwoSetups {
+  Recording calibration;
+  Recording other_setup;
+};
+TwoSetups SimulateTwoSetups(int seed, int calibration_poses) {
+  return {Simulate(TrackerSimulation(seed, calibration_poses,
+                                     "{xyz: [4000, -40, 300], rvec: [0, 0, -1.78]}",
+                                     "{xyz: [-32, -18, 99], rvec: [0, 0, 1.59]}"),
+                   "calibration"),
+          Simulate(TrackerSimulation(seed + 1, 200,
+                                     "{xyz: [3200, 900, 150], rvec: [0.01, -0.02, -2.3]}",
+                                     "{xyz: [-30, -21, 101], rvec: [0.002, 0, 1.2]}"),
+                   "other_setup")};
+}
+
 // The job's problem with its recording's checks skipped (the recordings are made here).
 WorkcellJob StaubliJob() {
   return LoadWorkcellJob(testing::Source("configs/jobs/staubli_tx90l.yaml"), testing::Plugins(),
@@ -55,14 +72,9 @@ SolverMaker CeresLm() {
 // (tracker moved, probe remounted): the held-out error falls to the noise (3D sigma 0.017 mm)
 // from the nominal model's, and the predicted sigma covers it as a 95 % ellipsoid should.
 TEST(HeldOutSetup, SimulatedTrackerSetupScoresAtTheNoiseWithHonestSigma) {
-  const Recording calibration = Simulate(
-      TrackerSimulation(11, 60, "{xyz: [4000, -40, 300], rvec: [0, 0, -1.78]}",
-                        "{xyz: [-32, -18, 99], rvec: [0, 0, 1.59]}"),
-      "calibration");
-  const Recording other_setup = Simulate(
-      TrackerSimulation(12, 200, "{xyz: [3200, 900, 150], rvec: [0.01, -0.02, -2.3]}",
-                        "{xyz: [-30, -21, 101], rvec: [0.002, 0, 1.2]}"),
-      "other_setup");
+  const TwoSetups setups = SimulateTwoSetups(11, 60);
+  const Recording& calibration = setups.calibration;
+  const Recording& other_setup = setups.other_setup;
   WorkcellJob job = StaubliJob();
   job.problem.folds = 0;
   const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
@@ -83,14 +95,9 @@ TEST(HeldOutSetup, SimulatedTrackerSetupScoresAtTheNoiseWithHonestSigma) {
 // covariance, each row counts for what it is worth, and the geometry holds out on the other
 // setup far better than with one sigma for every row.
 TEST(HeldOutSetup, RowsWeighedByTheirOwnUncertaintyHoldOutBetter) {
-  Recording calibration = Simulate(
-      TrackerSimulation(21, 80, "{xyz: [4000, -40, 300], rvec: [0, 0, -1.78]}",
-                        "{xyz: [-32, -18, 99], rvec: [0, 0, 1.59]}"),
-      "calibration");
-  const Recording other_setup = Simulate(
-      TrackerSimulation(22, 200, "{xyz: [3200, 900, 150], rvec: [0.01, -0.02, -2.3]}",
-                        "{xyz: [-30, -21, 101], rvec: [0.002, 0, 1.2]}"),
-      "other_setup");
+  TwoSetups setups = SimulateTwoSetups(21, 80);
+  Recording& calibration = setups.calibration;
+  const Recording& other_setup = setups.other_setup;
   std::mt19937 rng(5);
   std::normal_distribution<double> unit(0.0, 1.0);
   for (size_t i = 0; i < calibration.observations.size(); ++i) {
