@@ -640,10 +640,6 @@ const std::vector<BadCase> kBadCases = {
      "base: {free: all}\n    free_model: [j2.d, j2.d]", "run {job}", 2, Said::kOneLine,
      "job.yaml:10:17:", "robots.ur3.free_model: 'j2.d' appears twice in free_model",
      "Name each entry once"},
-    {"SecondYamlDocument", "job.yaml", 0, "", "---\nsolver: {type: ceres_lm}\n", "run {job}", 2,
-     Said::kOneLine, "job.yaml:17:1:", "a second YAML document in one file ('---' starts it)",
-     "cellmetry reads one document per file: remove the '---' and what follows, or put it in a "
-     "file of its own"},
     {"BaseFreeAWord", "job.yaml", 0, "base: {free: all}", "base: {free: some}", "run {job}", 2,
      Said::kOneLine, "job.yaml:9:18:", "robots.ur3.base.free: unknown frame parameter 'some'",
      "Use x, y, z, rx, ry, rz, all or none"},

@@ -112,22 +112,13 @@ void RefuseDuplicateKeys(const YAML::Node& node, const std::string& origin) {
 }  // namespace
 
 ConfigNode ConfigNode::LoadString(const std::string& text, const std::string& origin) {
-  std::vector<YAML::Node> documents;
+  YAML::Node root;
   try {
-    documents = YAML::LoadAll(text);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw InputError({origin, e.mark.line + 1, e.mark.column + 1}, "YAML syntax: " + e.msg,
                      "Fix the YAML syntax (indentation, colons, brackets)");
   }
-  // A second document ('---' between two) would be read by nothing: refused, not ignored.
-  if (documents.size() > 1) {
-    const YAML::Mark mark = documents[1].Mark();
-    throw InputError({origin, mark.is_null() ? 0 : mark.line + 1, mark.is_null() ? 0 : mark.column + 1},
-                     "a second YAML document in one file ('---' starts it)",
-                     "cellmetry reads one document per file: remove the '---' and what follows, "
-                     "or put it in a file of its own");
-  }
-  const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
   RefuseDuplicateKeys(root, origin);
   return ConfigNode(root, origin, "");
 }
