@@ -9,6 +9,7 @@
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/diagnosis/pose_plan.h"
+#include "cellmetry/import/importer.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -82,6 +83,37 @@ TEST_F(PosePlanning, PlannedPosesMakeAnAbsorbedGearRatioTestableAndItIsThenFound
   EXPECT_FALSE(Untestable(after, "ur3.scale_j1"));
   ASSERT_FALSE(after.accepted.empty()) << DiagnosisReport(after);
   EXPECT_EQ(after.accepted.front().name, "ur3.scale_j1") << DiagnosisReport(after);
+}
+
+// The real TX90L (tests/data/astl), every MDH entry free: the plan holds what the identification
+// held (joint 1's entries, the flange's, ...), so the sigma it predicts are the data's, not the
+// parametrisation's null directions (before, 1e9 and more). Joint 5's compliance against its
+// transmission error, the finder's next candidate there: the planned poses tell them further
+// apart and halve the compliance's sigma.
+TEST(PosePlanOnRealData, TrackerCellWithEveryMdhEntryFreeGetsFiniteSigma) {
+  const DiagnosisJob job =
+      LoadDiagnosisJob(testing::Source("configs/jobs/staubli_tx90l_diagnose.yaml"),
+                       testing::Plugins(), /*recording_must_exist=*/false);
+  const Recording calibration =
+      ImportRecording(testing::Source("configs/import/astl_calibration.yaml"));
+  PosePlanOptions options;
+  options.poses = 20;
+  options.draws = 500;
+  options.effects = {"tx90l.compliance_j5", "tx90l.transmission_j5"};
+  const PosePlan plan = testing::Plan(job, calibration, options);
+  ASSERT_EQ(plan.poses.size(), 20u);
+  for (const PlannedSigma& s : plan.sigma) {
+    EXPECT_LT(s.before, 1.0) << s.name << "\n" << PosePlanReport(plan);
+    EXPECT_LE(s.after, s.before * 1.0001) << s.name;
+  }
+  ASSERT_EQ(plan.effects.size(), 2u);
+  const PlannedEffect& compliance = plan.effects[0].name == "tx90l.compliance_j5"
+                                        ? plan.effects[0] : plan.effects[1];
+  ASSERT_EQ(compliance.sigma.size(), 1u);
+  EXPECT_LT(compliance.sigma[0].before, 1e-4) << PosePlanReport(plan);  // rad/(N m)
+  EXPECT_LT(compliance.sigma[0].after, 0.7 * compliance.sigma[0].before) << PosePlanReport(plan);
+  ASSERT_EQ(plan.pairs.size(), 1u);
+  EXPECT_LT(plan.pairs[0].correlation_after, plan.pairs[0].correlation_before);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_data.h"
+#include "cellmetry/estimation/estimation_quality.h"
 #include "diagnosis_linear.h"
 
 namespace cellmetry {
@@ -151,6 +152,9 @@ Jacobian Linearized(const WorkcellProblem& spec, const Recording& recording,
   for (const auto& c : candidates) all.effects.push_back(c.effect);
   const WorkcellData data = PrepareWorkcellData(all, recording);
   const auto assembled = AssembleWorkcell(all, recording, data, fitted.noise, fitted.estimate);
+  // What the identification held (a parametrisation's conventions, what the recorded poses
+  // cannot see) stays held: free, its null direction would put every sigma at infinity.
+  HoldParameters(&assembled->problem, HeldOf(fitted.unidentifiable));
   const Linearization at = Linearize(assembled->problem);
   if (!at.valid) {
     throw InputError({}, "the model cannot be evaluated at some planned poses",
