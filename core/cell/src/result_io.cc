@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -118,6 +119,16 @@ std::string SigmaText(double sigma) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.2g", sigma);
   return text;
+}
+
+// A value to the decimals its sigma has two significant digits at (at least 5: mm and rad read
+// as before), so that a compliance of 7.3e-6 +- 4.2e-7 rad/(N m) does not print as 0.00001.
+std::string ValueText(double value, double sigma) {
+  int decimals = 5;
+  if (std::isfinite(sigma) && sigma > 0.0) {
+    decimals = std::clamp(1 - static_cast<int>(std::floor(std::log10(sigma))), 5, 12);
+  }
+  return FixedNumber(value, decimals);
 }
 
 // "sigma parts: statistical (..) mm, systematic between cameras (..) mm, from uncertain inputs
@@ -482,7 +493,7 @@ void PrintCamerasLeftOut(const WorkcellResult& r, std::ostringstream& out) {
 // The model's parameters, the observations left out, what was held and what moves together.
 void PrintParameters(const WorkcellResult& r, std::ostringstream& out) {
   for (const auto& p : r.model_parameters) {
-    out << "  " << p.name << " = " << FixedNumber(p.value, 5) << " "
+    out << "  " << p.name << " = " << ValueText(p.value, p.sigma) << " "
         << (p.held && !p.convention.empty() ? "held (convention)"
             : p.held                        ? "held (not identifiable)"
             : p.undetermined                ? std::string("undetermined")
