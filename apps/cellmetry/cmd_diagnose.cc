@@ -1,6 +1,7 @@
 // `cellmetry diagnose JOB.yaml`: the physics finder (diagnosis.h) on a workcell job.
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 #include <nlohmann/json.hpp>
@@ -12,6 +13,7 @@
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/camera_left_out.h"
 #include "cellmetry/cell/held_out_setup.h"
+#include "cellmetry/cell/held_out_targets.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/result_io.h"
 #include "commands.h"
@@ -23,9 +25,8 @@ namespace {
 // the accepted effects, every value from the diagnosed recording: the final fit's result carries
 // the latter; the line says both.
 std::string ScoreHeldOutSetups(const WorkcellJob& job, const Recording& recording,
-                               const SolverMaker& make_solver, DiagnosisResult* result) {
-  if (!job.held_out_setup) return "";
-  const Recording other_setup = ReadRecording(job.held_out_setup->recording);
+                               const SolverMaker& make_solver, const Recording& other_setup,
+                               DiagnosisResult* result) {
   ValidateJobAgainstRecording(job, other_setup);
   const std::vector<int> poses = SelectRegistrationPoses(
       other_setup, job.held_out_setup->register_on, job.held_out_setup_where);
@@ -87,8 +88,13 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
     DiagnosisResult result =
         DiagnoseWorkcell(job.workcell.problem, recording, make_solver,
                          JobCandidates(job, recording, registry), job.options, job_path);
-    const std::string held_out_line =
-        ScoreHeldOutSetups(job.workcell, recording, make_solver, &result);
+    std::optional<Recording> other_setup;
+    std::string held_out_line;
+    if (job.workcell.held_out_setup) {
+      other_setup = ReadRecording(job.workcell.held_out_setup->recording);
+      held_out_line =
+          ScoreHeldOutSetups(job.workcell, recording, make_solver, *other_setup, &result);
+    }
     StagedDirectory out(folder, "diagnosis");
     AtomicWriteFile(out.File("diagnosis.json"), DiagnosisJson(result).dump(2) + "\n");
     AtomicWriteFile(out.File("report.txt"), DiagnosisReport(result));
@@ -99,6 +105,10 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
       AtomicWriteFile(staging + "/" + report::kReportFile,
                       report::RunReportHtml(result.final_fit, recording,
                                             "cellmetry diagnose, final fit: " + job_path));
+      if (other_setup) {
+        WriteHeldOutSetupFolder(*result.final_fit.held_out_setup, *other_setup,
+                                staging + "/held_out_setup");
+      }
     });
     out.Commit();
     std::printf("%s%s", DiagnosisReport(result).c_str(), held_out_line.c_str());

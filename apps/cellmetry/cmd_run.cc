@@ -1,12 +1,14 @@
 // `cellmetry run JOB.yaml`: identify the cell the job describes — a multi-robot workcell or a
 // delta arm's kinematic calibration, one pipeline (workcell.h) — and write the result folder.
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/held_out_setup.h"
+#include "cellmetry/cell/held_out_targets.h"
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
@@ -46,8 +48,10 @@ void RunJob(const std::string& job_path, const std::string& output,
     ValidateJobAgainstRecording(job, fresh);
     result.validation = ScoreOnRecording(job.problem, result, fresh);
   }
+  std::optional<Recording> held_out;
   if (job.held_out_setup) {
-    const Recording other_setup = ReadRecording(job.held_out_setup->recording);
+    held_out = ReadRecording(job.held_out_setup->recording);
+    const Recording& other_setup = *held_out;
     ValidateJobAgainstRecording(job, other_setup);
     Progress::Note("held-out setup: registering the frames again and scoring " +
                    other_setup.folder);
@@ -60,6 +64,7 @@ void RunJob(const std::string& job_path, const std::string& output,
   WriteWorkcellResult(result, folder, [&](const std::string& staging) {
     AtomicWriteFile(staging + "/" + report::kReportFile,
                     report::RunReportHtml(result, recording, "cellmetry run: " + job_path));
+    if (held_out) WriteHeldOutSetupFolder(*result.held_out_setup, *held_out, staging + "/held_out_setup");
   });
   std::printf("%s", WorkcellSummary(result).c_str());
   std::printf("  written: %s/{result.yaml,result.json,residuals.csv,report.html}\n",

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <set>
 
 #include "cellmetry/basics/error.h"
@@ -192,6 +193,25 @@ Eigen::MatrixXd JointCovariance(const Eigen::MatrixXd& J, double dispersion,
   return S;
 }
 
+// The registered result's uncertainty with S, the joint covariance of the calibrated entries and
+// the registered frames, in place of the registration's own (which holds the entries exact):
+// what a command compensated in the new setup is uncertain by.
+Uncertainty JointUncertainty(const Uncertainty& registration,
+                             const std::vector<FreeParameter>& columns, const Eigen::MatrixXd& S) {
+  Uncertainty joint;
+  for (const FreeParameter& f : columns) joint.names.push_back(f.name);
+  joint.covariance = S;
+  joint.sigma = S.diagonal().cwiseMax(0.0).cwiseSqrt();
+  const Eigen::VectorXd inverse = joint.sigma.cwiseMax(1e-300).cwiseInverse();
+  joint.correlation = inverse.asDiagonal() * S * inverse.asDiagonal();
+  joint.chi2 = registration.chi2;
+  joint.dof = registration.dof;
+  joint.reduced_chi2 = registration.reduced_chi2;
+  joint.scale = registration.scale;
+  joint.condition_number = registration.condition_number;
+  return joint;
+}
+
 // Each scored point's predicted covariance (held_out_setup.h) and its normalized square. The
 // rows are weighted by the registration's noise model: where sigma was estimated from residuals,
 // the new setup's own scatter about the calibrated model (N), measured on its registration
@@ -200,7 +220,7 @@ Eigen::MatrixXd JointCovariance(const Eigen::MatrixXd& J, double dispersion,
 void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& result,
                         const Recording& held_out, const WorkcellResult& registered,
                         const std::set<int>& registration, const std::set<int>& scored,
-                        HeldOutSetupScore* score) {
+                        HeldOutSetupScore* score, Uncertainty* joint) {
   // The calibration's free entries, free again (at their calibrated values) beside the frames.
   WorkcellProblem free = spec;
   free.residual = ResidualForm::kCartesian;
@@ -245,6 +265,7 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
   const double dispersion = dof > 0 ? std::max(r_registration.squaredNorm() / dof, 1.0) : 1.0;
   const Eigen::MatrixXd S = JointCovariance(J, dispersion, is_theta,
                                             CalibratedCovariance(result.uncertainty, theta_names));
+  *joint = JointUncertainty(registered.uncertainty, free_columns, S);
   for (const PositionRow& row : CarriedPositionRows(on_scored->problem, r_scored, held_out)) {
     const Eigen::MatrixXd G_p = row.sigma_mm.asDiagonal() * G.middleRows(row.row, 3);
     HeldOutPoint point{row.sample, row.camera, row.target, row.error_mm, {}, 0.0};
@@ -342,8 +363,19 @@ HeldOutSetupScore ScoreHeldOutSetup(const WorkcellProblem& spec, const WorkcellR
   score.registration_rms_mm = RmsOf(ScoredRows(calibrated, held_out, result.noise,
                                                registered.estimate, registration));
 
-  PredictCovariances(spec, result, held_out, registered, registration, scored, &score);
+  auto for_compensation = std::make_shared<WorkcellResult>(registered);
+  PredictCovariances(spec, result, held_out, registered, registration, scored, &score,
+                     &for_compensation->uncertainty);
   Summarize(&score);
+  // The calibrated entries read as the calibration has them: its values, with their sigma in S.
+  const Uncertainty& joint = for_compensation->uncertainty;
+  for (ScalarEstimate& p : for_compensation->model_parameters) {
+    const auto it = std::find(joint.names.begin(), joint.names.end(), p.name);
+    if (it == joint.names.end()) continue;
+    p.held = false;
+    p.sigma = p.sigma_statistical = joint.sigma[it - joint.names.begin()];
+  }
+  score.registered = for_compensation;
   return score;
 }
 

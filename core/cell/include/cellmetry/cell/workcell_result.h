@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -127,6 +128,8 @@ struct HeldOutPoint {
   double normalized_squared = 0.0;  // e^T C^-1 e: chi-square with 3 dof when honest
 };
 
+struct WorkcellResult;
+
 // The same robot in another setup, its frames registered again (held_out_setup.h).
 struct HeldOutSetupScore {
   std::string recording;
@@ -141,6 +144,11 @@ struct HeldOutSetupScore {
   double mean_normalized = 0.0;           // mean of e^T C^-1 e / 3 (1 when the sigma are right)
   double median_sigma_mm = 0.0;           // median of sqrt(trace C_p): a point's 3D sigma
   std::vector<HeldOutPoint> points;
+  // The calibrated geometry and effects, held, with the new setup's frames registered: the
+  // result a user compensates with in that setup (`cellmetry compensate`). Its uncertainty is S
+  // (held_out_setup.h), the joint covariance of the calibrated entries and the registered
+  // frames, so that a compensated command's sigma holds both.
+  std::shared_ptr<const WorkcellResult> registered;
 };
 
 // What a result records of each robot's model so that it can be rebuilt without the job
