@@ -6,6 +6,7 @@
 
 #include <algorithm>
 
+#include "cellmetry/basics/plausibility.h"
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
@@ -80,6 +81,42 @@ TEST(EffectPlausibility, APlausibleSizeIsNoWarning) {
   const WorkcellResult result =
       FitScaledBoard(testing::TempDirForThisTest("plausible_board"), 0.005);
   EXPECT_FALSE(Warns(result, "target_scale", "plausibly"));
+}
+
+// Several cameras' principal points are judged as what they share (within 0.05 rad: a cause
+// common to cameras calibrated alike) and each one's own part (within 0.02 rad): experiment A's
+// (1, -13), (14, -30), (-18, -14) mrad share -19 mrad in y and depart by at most 17 mrad, so
+// nothing is unusual, though cam2's y alone would be. One camera alone is judged by its own
+// bound; a shift shared beyond 0.05 rad is named as the shared part.
+TEST(GroupedPlausibility, CamerasPrincipalPointsJudgedAsTheirSharedShiftAndEachOnesOwn) {
+  const auto ur3 = testing::Plugins().CreateRobotModel(
+      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
+  const ConfigNode three = ConfigNode::LoadString(
+      "{type: camera_intrinsics, cameras: [cam1, cam2, cam3], terms: [principal]}", "test");
+  const auto effect = testing::Plugins().CreateEffect("camera_intrinsics", three, *ur3);
+  const std::vector<Parameter>& parameters = effect->parameters();
+  ASSERT_EQ(parameters.size(), 6u);
+  EXPECT_TRUE(JudgePlausibility(parameters, {0.0012, -0.0127, 0.0144, -0.0301, -0.0175, -0.0141})
+                  .empty());
+  const auto shared = JudgePlausibility(parameters, {0.0, -0.07, 0.0, -0.06, 0.0, -0.065});
+  ASSERT_EQ(shared.size(), 1u);
+  EXPECT_EQ(shared[0].part, PlausibilityFinding::Part::kCommon);
+  EXPECT_NEAR(shared[0].mean, -0.065, 1e-12);
+  const auto own = JudgePlausibility(parameters, {0.0, 0.0, 0.03, 0.0, -0.01, 0.0});
+  ASSERT_EQ(own.size(), 1u);
+  EXPECT_EQ(own[0].part, PlausibilityFinding::Part::kDeparture);
+  EXPECT_EQ(parameters[own[0].index].name, "cam2.principal_x");
+  EXPECT_NE(PlausibilityText(parameters, {0.0, 0.0, 0.03, 0.0, -0.01, 0.0}, own[0])
+                .find("cam2.principal_x = 0.03 rad, 0.0233 off the 0.00667"),
+            std::string::npos);
+
+  const ConfigNode one = ConfigNode::LoadString(
+      "{type: camera_intrinsics, cameras: [cam2], terms: [principal]}", "test");
+  const auto alone = testing::Plugins().CreateEffect("camera_intrinsics", one, *ur3);
+  const auto found = JudgePlausibility(alone->parameters(), {0.0144, -0.0301});
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].part, PlausibilityFinding::Part::kValue);
+  EXPECT_EQ(alone->parameters()[found[0].index].name, "cam2.principal_y");
 }
 
 }  // namespace

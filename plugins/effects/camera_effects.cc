@@ -45,6 +45,12 @@ CameraIntrinsics::CameraIntrinsics(std::vector<std::string> cameras, IntrinsicsT
       for (const char* axis : {"x", "y"}) {  // about 18 px at f = 900 px
         add(camera + ".principal_" + axis, "rad",
             std::string("principal point error / focal length along ") + axis, 0.02);
+        // Several cameras' shifts are judged as what they share and what is each one's own
+        // (plausibility.h): a cause common to cameras calibrated alike -- the intrinsics of
+        // another image format or crop, one procedure's bias -- shifts every principal point by
+        // the same pixels, up to about 45 px at f = 900 px.
+        parameters_.back().plausible_group = std::string("principal point ") + axis;
+        parameters_.back().plausible_common = 0.05;
       }
     }
     // A lens's coefficients against a factory calibration's: k1 and k2 errors of a few hundredths

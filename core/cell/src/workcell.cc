@@ -2,6 +2,7 @@
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/robot_pairs.h"
 
+#include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/error.h"
 
 #include <algorithm>
@@ -416,40 +417,35 @@ void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recordi
   for (auto& [key, rms] : result->rotation_rms) rms.Finish();
 }
 
-// A job's effect fitted beyond the size its physics plausibly has (Parameter::plausible), or
-// below zero by more than three sigma where its physics cannot be negative
-// (plausible_nonnegative; within three sigma it is zero and noise): the fit may be using it for
-// something else with its signature, so the user is told before a robot controller is.
-std::string ImplausibleEffectWarning(const Parameter& p, const ScalarEstimate& s) {
+// A job's effect fitted beyond the size its physics plausibly has (JudgePlausibility), or below
+// zero by more than three sigma where its physics cannot be negative (plausible_nonnegative;
+// within three sigma it is zero and noise): the fit may be using it for something else with its
+// signature, so the user is told before a robot controller is.
+void AddImplausibleEffectWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
   const char* look_alikes = "the fit uses it for something else with the same signature; "
                             "docs/physics.md lists look-alikes";
-  char text[360];
-  switch (PlausibilityOf(p, s.value, 3 * s.sigma)) {
-    case Plausibility::kPlausible:
-      return "";
-    case Plausibility::kBelowZero:
-      std::snprintf(text, sizeof text,
-                    "%s = %.3g +- %.2g %s is below zero, which its physics cannot be: %s",
-                    s.name.c_str(), s.value, s.sigma, s.unit.c_str(), look_alikes);
-      return text;
-    case Plausibility::kTooLarge:
-      std::snprintf(text, sizeof text,
-                    "%s = %.3g +- %.2g %s is beyond the size its physics plausibly has (%.3g): "
-                    "either that physics is larger here than expected, or %s",
-                    s.name.c_str(), s.value, s.sigma, s.unit.c_str(), *p.plausible, look_alikes);
-      return text;
-  }
-  return "";
-}
-
-void AddImplausibleEffectWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
   for (const WorkcellEffect& effect : spec.effects) {
+    std::vector<Parameter> fitted;
+    std::vector<double> values, sigmas;
     for (const Parameter& p : effect.effect->parameters()) {
       for (const ScalarEstimate& s : result->model_parameters) {
         if (s.name != effect.name + "." + p.name || s.held) continue;
-        const std::string warning = ImplausibleEffectWarning(p, s);
-        if (!warning.empty()) result->warnings.push_back(warning);
+        fitted.push_back(p);
+        values.push_back(s.value);
+        sigmas.push_back(s.sigma);
       }
+    }
+    std::vector<double> margins;
+    for (double sigma : sigmas) margins.push_back(3 * sigma);
+    for (const PlausibilityFinding& f : JudgePlausibility(fitted, values, margins)) {
+      const std::string what = PlausibilityText(fitted, values, f, effect.name + ".");
+      char sigma[64];
+      std::snprintf(sigma, sizeof sigma, " (+- %.2g)", sigmas[f.index]);
+      result->warnings.push_back(
+          f.kind == Plausibility::kBelowZero
+              ? what + sigma + ": " + look_alikes
+              : "beyond the size its physics plausibly has: " + what + sigma +
+                    "; either that physics is larger here than expected, or " + look_alikes);
     }
   }
 }

@@ -10,6 +10,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
@@ -236,28 +237,12 @@ std::vector<std::pair<size_t, double>> LookAlikes(
   return out;
 }
 
-// The first parameter whose value is unusual for its physics (Parameter::plausible, and
-// plausible_nonnegative: a refit worth accepting is well away from zero, so its sign is its
-// own), in words; "" when all are ordinary.
+// The first value unusual for its physics (JudgePlausibility; below zero without a margin: a
+// refit worth accepting is well away from zero, so its sign is its own), in words; "" when all
+// are ordinary.
 std::string Unusual(const std::vector<Parameter>& parameters, const std::vector<double>& values) {
-  for (size_t i = 0; i < parameters.size() && i < values.size(); ++i) {
-    const auto& p = parameters[i];
-    char text[256];
-    switch (PlausibilityOf(p, values[i])) {
-      case Plausibility::kPlausible:
-        continue;
-      case Plausibility::kBelowZero:
-        std::snprintf(text, sizeof(text), "%s = %.3g %s, below zero, which this physics cannot be",
-                      p.name.c_str(), values[i], p.unit.c_str());
-        return text;
-      case Plausibility::kTooLarge:
-        std::snprintf(text, sizeof(text),
-                      "%s = %.3g %s, where this physics is typically below %.3g", p.name.c_str(),
-                      values[i], p.unit.c_str(), *p.plausible);
-        return text;
-    }
-  }
-  return "";
+  const std::vector<PlausibilityFinding> found = JudgePlausibility(parameters, values);
+  return found.empty() ? "" : PlausibilityText(parameters, values, found.front());
 }
 
 std::vector<int> RowPoses(const CandidateLinearization& lin) {

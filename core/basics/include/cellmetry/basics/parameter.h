@@ -28,6 +28,13 @@ struct Parameter {
   // True where a value below zero has no physics (a compliance: a joint that gives against
   // gravity; a play or a clearance): such a finding is flagged as `plausible` flags a size.
   bool plausible_nonnegative = false;
+  // Where parameters of one effect share a `plausible_group` (each camera's principal point x in
+  // an effect over several cameras), a cause they share can plausibly be larger than one of
+  // them alone: their mean is judged against `plausible_common` and each one's departure from
+  // the mean against `plausible` (JudgePlausibility, plausibility.h). Alone in its group, a
+  // parameter is judged as any other.
+  std::string plausible_group = "";
+  std::optional<double> plausible_common = std::nullopt;
   // Non-empty where holding the parameter at its nominal value is a convention rather than an
   // answer: what the value puts where (a robot's first-joint parameters put its base frame, the
   // last joint's put its flange frame, a redundant Hayati tilt is zero by definition). Where the
