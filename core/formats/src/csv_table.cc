@@ -6,10 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 #include "cellmetry/formats/config_node.h"
+#include "cellmetry/formats/input_file.h"
 
 namespace cellmetry {
 namespace {
@@ -64,11 +64,7 @@ std::vector<std::string> SplitCsvLine(const std::string& line) {
 }  // namespace
 
 CsvTable CsvTable::Read(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError({path, 0, 0}, "cannot open file", "Check that the file exists");
-  std::ostringstream text;
-  text << in.rdbuf();
-  CsvTable table = Parse(text.str(), path);
+  CsvTable table = Parse(ReadRegularFile(path, kMaxTableBytes, "Check that the file exists"), path);
   if (table.header_.empty()) {
     throw InputError({path, 1, 0}, "file is empty", "The first line must be the column header");
   }
@@ -184,7 +180,7 @@ double CsvTable::Number(size_t row, const std::string& column) const {
 int CsvTable::Integer(size_t row, const std::string& column) const {
   const double value = Number(row, column);
   if (value != std::floor(value) || std::fabs(value) > 2e9) {
-    throw Error(row, column, "'" + Cell(row, column) + "' is not a whole number",
+    throw Error(row, column, "'" + Quoted(Cell(row, column)) + "' is not a whole number",
                 "Write a whole number");
   }
   return static_cast<int>(value);
