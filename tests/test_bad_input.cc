@@ -248,6 +248,15 @@ INSTANTIATE_TEST_SUITE_P(
                      "x,4.095294476,5.03745842,0.69",
                  "samples.csv:5:6:", "Write a plain decimal number",
                  "column 'q3': '0." + std::string(78, '7') + "...' is not a number"},
+        LineEdit{"JointValueWithAUnit", "samples.csv", 5,
+                 "3,ur3,3,4.700736523,3.39327383,42.29deg,4.095294476,5.03745842,0.69",
+                 "samples.csv:5:6:", "Write a plain decimal number",
+                 "column 'q3': '42.29deg' is not a number"},
+        LineEdit{"OverlongCameraNameIsQuotedShort", "observations.csv", 4,
+                 "1," + std::string(5000, 'c') +
+                     ",tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53",
+                 "observations.csv:4:2:", "List it under 'cameras' in recording.yaml",
+                 "unknown camera '" + std::string(80, 'c') + "...'"},
         LineEdit{"NanJointValue", "samples.csv", 5,
                  "3,ur3,3,4.700736523,nan,0.7314307094,4.095294476,5.03745842,0.69",
                  "samples.csv:5:5:", "replace the value with a measurement",
@@ -1144,6 +1153,9 @@ const std::vector<BadCase> kBadCases = {
      Said::kOneLine, "notes.txt:1:1:", "expected a map of keys, got 'mine'",
      "Write 'key: value' lines here"},
     // Read as written or refused, and bounded: the second pass's rows.
+    {"OverlongSolverTypeIsQuotedShort", "job.yaml", 0, "type: ceres_lm",
+     "type: " + std::string(5000, 'x'), "run {job}", 2, Said::kOneLine, "job.yaml:13:9:",
+     "unknown solver type '" + std::string(80, 'x') + "...'", "Known solver types"},
     {"SecondYamlDocument", "job.yaml", 0, "", "---\nsolver: {type: ceres_lm}\n", "run {job}", 2,
      Said::kOneLine, "job.yaml:16:1:", "a second YAML document in one file ('---' starts it)",
      "cellmetry reads one document per file: remove the '---' and what follows, or put it in a "

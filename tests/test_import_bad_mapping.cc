@@ -442,6 +442,16 @@ INSTANTIATE_TEST_SUITE_P(
                  "Keep one of them"}),
     [](const ::testing::TestParamInfo<JsonLine>& info) { return info.param.name; });
 
+// An error line quotes at most 80 characters of a cell: a 10 MB cell was echoed whole.
+TEST_F(BadMapping, AnOverlongCellIsQuotedShort) {
+  testing::WriteText(mapping_, MappingText());
+  EditCell(3, 11, "0." + std::string(1000000, '7') + "x");
+  const auto r = Import();
+  ExpectRejected(r, "t.csv:3:11:", "Write a plain decimal number");
+  EXPECT_THAT(r.output, HasSubstr("'0." + std::string(78, '7') + "...' is not a number"));
+  EXPECT_LT(r.output.size(), 1000u);
+}
+
 TEST_F(BadMapping, ATableThatIsAFifoIsRefusedAtOnce) {
   ASSERT_EQ(::mkfifo((dir_ + "/t.jsonl").c_str(), 0600), 0);
   testing::WriteText(mapping_, ReplaceOnce(MappingText(), "table: t.csv", "table: t.jsonl"));

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "cellmetry/formats/input_file.h"
+#include "cellmetry/formats/quoted_text.h"
 
 namespace cellmetry {
 namespace {
@@ -218,7 +219,10 @@ SourceLocation ConfigNode::KeyLocation(const std::string& key) const {
 }
 
 InputError ConfigNode::Error(const std::string& what, const std::string& hint) const {
-  return InputError(location(), (key_path_.empty() ? "" : key_path_ + ": ") + what, hint);
+  // Readers quote a value whole ("unknown solver type '...'"): a long one stays 80 characters.
+  const std::string said = node_ && node_.IsScalar() ? WithTextShortened(what, node_.Scalar())
+                                                     : what;
+  return InputError(location(), (key_path_.empty() ? "" : key_path_ + ": ") + said, hint);
 }
 
 bool ConfigNode::Has(const std::string& key) const {
