@@ -1187,6 +1187,15 @@ const std::vector<BadCase> kBadCases = {
      "diagnose {job} -o {dir}/d", 2, Said::kOneLine, "job.yaml:16:26:",
      "diagnosis.rival_draws: must be between 100 and 1000000",
      "Use 100 or more draws; 2000 is the default"},
+    {"HomeZeroSigma", "job.yaml", 0, "*",
+     "job: homing\nrecording: {dir}/sim_b\noutput: {dir}/h\nworld_target: none\nrobots:\n"
+     "  delta:\n    model: {src}/robots/delta.yaml\n    tools:\n      marker:\n"
+     "cameras:\n  stereo: {xyz: [0, 250, -150], rvec: [3.0, 0, 0]}\n"
+     "noise: {cameras: {stereo: {position_mm: [0.013, 0.012, 0.058]}}}\n"
+     "homing: {n_sigma: 0}\n",
+     "home {job}", 2, Said::kOneLine, "job.yaml:13:19:",
+     "homing.n_sigma: must be between 0.001 and 100",
+     "How many sigma an interval spans: 3 is usual"},
     {"CompensateNegativeTolerance", "", 0, "", "",
      "compensate {dir}/result {dir}/targets.csv --tolerance-mm -1", 2, Said::kUsage, "",
      "--tolerance-mm: Value -1 not in range", "Run with --help for more information."},
