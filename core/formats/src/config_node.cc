@@ -219,9 +219,12 @@ SourceLocation ConfigNode::KeyLocation(const std::string& key) const {
 }
 
 InputError ConfigNode::Error(const std::string& what, const std::string& hint) const {
-  // Readers quote a value whole ("unknown solver type '...'"): a long one stays 80 characters.
-  const std::string said = node_ && node_.IsScalar() ? WithTextShortened(what, node_.Scalar())
-                                                     : what;
+  // Readers quote a value whole ("unknown solver type '...'"). A path is quoted whole, as the
+  // user must find it; a value longer than any path (PATH_MAX) is cut to 80 characters.
+  constexpr size_t kLongestPath = 4096;
+  const std::string said = node_ && node_.IsScalar()
+                               ? WithTextShortened(what, node_.Scalar(), kLongestPath)
+                               : what;
   return InputError(location(), (key_path_.empty() ? "" : key_path_ + ": ") + said, hint);
 }
 

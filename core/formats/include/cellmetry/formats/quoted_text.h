@@ -25,10 +25,11 @@ inline std::string QuotedShort(const std::string& text) {
   return i < text.size() ? out + "..." : out;
 }
 
-// `what` with each occurrence of a long `text` (the cell or value it is about, quoted whole by
-// the reader that raised it) cut to QuotedShort.
-inline std::string WithTextShortened(std::string what, const std::string& text) {
-  if (text.size() <= 80) return what;
+// `what` with each occurrence of `text` (the cell or value it is about, quoted whole by the
+// reader that raised it) cut to QuotedShort when it is longer than `longest`.
+inline std::string WithTextShortened(std::string what, const std::string& text,
+                                     size_t longest = 80) {
+  if (text.size() <= longest) return what;
   const std::string short_text = QuotedShort(text);
   for (size_t at = what.find(text); at != std::string::npos; at = what.find(text, at)) {
     what.replace(at, text.size(), short_text);
