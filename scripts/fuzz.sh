@@ -13,7 +13,8 @@ seconds=${1:?usage: scripts/fuzz.sh SECONDS [HARNESS...]}
 shift
 harnesses=("$@")
 if [ ${#harnesses[@]} -eq 0 ]; then
-  harnesses=(fuzz_recording fuzz_job fuzz_robot_config fuzz_detections fuzz_image)
+  harnesses=(fuzz_recording fuzz_job fuzz_robot_config fuzz_detections fuzz_image fuzz_json_lines
+             fuzz_yaml)
 fi
 build=${CELLMETRY_ASAN_BUILD:-build-asan}
 bash scripts/sanitize.sh --configure

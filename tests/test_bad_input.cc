@@ -3,8 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -246,6 +248,15 @@ INSTANTIATE_TEST_SUITE_P(
                      "x,4.095294476,5.03745842,0.69",
                  "samples.csv:5:6:", "Write a plain decimal number",
                  "column 'q3': '0." + std::string(78, '7') + "...' is not a number"},
+        LineEdit{"JointValueWithAUnit", "samples.csv", 5,
+                 "3,ur3,3,4.700736523,3.39327383,42.29deg,4.095294476,5.03745842,0.69",
+                 "samples.csv:5:6:", "Write a plain decimal number",
+                 "column 'q3': '42.29deg' is not a number"},
+        LineEdit{"OverlongCameraNameIsQuotedShort", "observations.csv", 4,
+                 "1," + std::string(5000, 'c') +
+                     ",tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53",
+                 "observations.csv:4:2:", "List it under 'cameras' in recording.yaml",
+                 "unknown camera '" + std::string(80, 'c') + "...'"},
         LineEdit{"NanJointValue", "samples.csv", 5,
                  "3,ur3,3,4.700736523,nan,0.7314307094,4.095294476,5.03745842,0.69",
                  "samples.csv:5:5:", "replace the value with a measurement",
@@ -410,6 +421,20 @@ std::string FirstDifference(const std::map<std::string, std::string>& before,
   return "";
 }
 
+// A billion-laughs YAML: 9 levels of 9 aliases name one list 9^9 (387 million) times in 10
+// lines. Appended to a file as top-level keys it is read before any key is checked.
+const char kAliasBomb[] =
+    "a0: &a0 [x, x, x, x, x, x, x, x, x]\n"
+    "a1: &a1 [*a0, *a0, *a0, *a0, *a0, *a0, *a0, *a0, *a0]\n"
+    "a2: &a2 [*a1, *a1, *a1, *a1, *a1, *a1, *a1, *a1, *a1]\n"
+    "a3: &a3 [*a2, *a2, *a2, *a2, *a2, *a2, *a2, *a2, *a2]\n"
+    "a4: &a4 [*a3, *a3, *a3, *a3, *a3, *a3, *a3, *a3, *a3]\n"
+    "a5: &a5 [*a4, *a4, *a4, *a4, *a4, *a4, *a4, *a4, *a4]\n"
+    "a6: &a6 [*a5, *a5, *a5, *a5, *a5, *a5, *a5, *a5, *a5]\n"
+    "a7: &a7 [*a6, *a6, *a6, *a6, *a6, *a6, *a6, *a6, *a6]\n"
+    "a8: &a8 [*a7, *a7, *a7, *a7, *a7, *a7, *a7, *a7, *a7]\n"
+    "a9: &a9 [*a8, *a8, *a8, *a8, *a8, *a8, *a8, *a8, *a8]\n";
+
 // How the refusal reads: "<location> error: <message>. <hint>" on one line (InputError), or
 // CLI11's usage error (the option and its rule, then "Run with --help for more information.").
 enum class Said { kOneLine, kUsage };
@@ -421,7 +446,7 @@ struct BadCase {
   std::string from;     // else `from` becomes `to` ("": `to` appended; "*": the whole file)
   std::string to;
   std::string command;  // {dir}: the test's folder; {job}: its job.yaml; {result}: the
-                        // unmodified job's result (CopyInTheJobsResult)
+                        // unmodified job's result (CopyInTheJobsResult); {src}: configs/
   int exit_code;
   Said said;
   std::string location;  // kOneLine: what precedes " error: " (file:line:column:, an option)
@@ -432,8 +457,9 @@ struct BadCase {
 class BadCommand : public BadInput, public ::testing::WithParamInterface<BadCase> {
  protected:
   std::string Expand(std::string text) const {
-    for (const auto& [key, value] : {std::pair<std::string, std::string>{"{job}", job_},
-                                     {"{result}", output_}, {"{dir}", dir_}}) {
+    for (const auto& [key, value] :
+         {std::pair<std::string, std::string>{"{job}", job_}, {"{result}", output_},
+          {"{dir}", dir_}, {"{src}", testing::Source("configs")}}) {
       for (size_t at = text.find(key); at != std::string::npos; at = text.find(key, at)) {
         text.replace(at, key.size(), value);
         at += value.size();
@@ -1126,11 +1152,136 @@ const std::vector<BadCase> kBadCases = {
     {"EvaluateNotesAsTruth", "", 0, "", "", "evaluate {result} {dir}/notes.txt", 2,
      Said::kOneLine, "notes.txt:1:1:", "expected a map of keys, got 'mine'",
      "Write 'key: value' lines here"},
+    // Read as written or refused, and bounded: the second pass's rows.
+    {"OverlongSolverTypeIsQuotedShort", "job.yaml", 0, "type: ceres_lm",
+     "type: " + std::string(5000, 'x'), "run {job}", 2, Said::kOneLine, "job.yaml:13:9:",
+     "unknown solver type '" + std::string(80, 'x') + "...'", "Known solver types"},
+    {"SecondYamlDocument", "job.yaml", 0, "", "---\nsolver: {type: ceres_lm}\n", "run {job}", 2,
+     Said::kOneLine, "job.yaml:16:1:", "a second YAML document in one file ('---' starts it)",
+     "cellmetry reads one document per file: remove the '---' and what follows, or put it in a "
+     "file of its own"},
+    {"ContentAfterTheDocumentEnd", "job.yaml", 0, "", "...\nsolver: {type: nlopt}\n",
+     "run {job}", 2, Said::kOneLine, "job.yaml:17:1:",
+     "a second YAML document in one file ('---' starts it)",
+     "remove the '---' and what follows"},
+    {"YamlAliasBombInTheJob", "job.yaml", 0, "", kAliasBomb, "run {job}", 2, Said::kOneLine,
+     "job.yaml:16:34:", "more than 100000 values once anchors (&) and aliases (*) are expanded",
+     "Write the values out, or use fewer aliases"},
+    {"YamlAliasBombInRecordingYaml", "sim_b/recording.yaml", 0, "", kAliasBomb, "run {job}", 2,
+     Said::kOneLine, "recording.yaml:10:28:",
+     "more than 100000 values once anchors (&) and aliases (*) are expanded",
+     "Write the values out, or use fewer aliases"},
+    {"YamlAliasBombInTheRobotConfig", "ur3.yaml", 0, "", kAliasBomb, "run {job}", 2,
+     Said::kOneLine, "ur3.yaml:14:28:",
+     "more than 100000 values once anchors (&) and aliases (*) are expanded",
+     "Write the values out, or use fewer aliases"},
+    {"YamlAliasBombInAMapping", "map.yaml", 0, "", kAliasBomb,
+     "import {dir}/map.yaml -o {dir}/out", 2, Said::kOneLine, "map.yaml:2:10:",
+     "more than 100000 values once anchors (&) and aliases (*) are expanded",
+     "Write the values out, or use fewer aliases"},
+    {"BootstrapBeyondItsLimit", "job.yaml", 0, "", "diagnosis: {bootstrap: 1000000000}\n",
+     "diagnose {job} -o {dir}/d", 2, Said::kOneLine, "job.yaml:16:24:",
+     "diagnosis.bootstrap: must be between 0 and 10000",
+     "40 resamples is the default; 10,000 the most"},
+    {"RivalDrawsBeyondTheirLimit", "job.yaml", 0, "", "diagnosis: {rival_draws: 1000000000}\n",
+     "diagnose {job} -o {dir}/d", 2, Said::kOneLine, "job.yaml:16:26:",
+     "diagnosis.rival_draws: must be between 100 and 1000000",
+     "Use 100 or more draws; 2000 is the default"},
+    {"HomeZeroSigma", "job.yaml", 0, "*",
+     "job: homing\nrecording: {dir}/sim_b\noutput: {dir}/h\nworld_target: none\nrobots:\n"
+     "  delta:\n    model: {src}/robots/delta.yaml\n    tools:\n      marker:\n"
+     "cameras:\n  stereo: {xyz: [0, 250, -150], rvec: [3.0, 0, 0]}\n"
+     "noise: {cameras: {stereo: {position_mm: [0.013, 0.012, 0.058]}}}\n"
+     "homing: {n_sigma: 0}\n",
+     "home {job}", 2, Said::kOneLine, "job.yaml:13:19:",
+     "homing.n_sigma: must be between 0.001 and 100",
+     "How many sigma an interval spans: 3 is usual"},
+    {"CompensateNegativeTolerance", "", 0, "", "",
+     "compensate {dir}/result {dir}/targets.csv --tolerance-mm -1", 2, Said::kUsage, "",
+     "--tolerance-mm: Value -1 not in range", "Run with --help for more information."},
+    {"CompensateToleranceNan", "", 0, "", "",
+     "compensate {dir}/result {dir}/targets.csv --tolerance-mm nan", 2, Said::kUsage, "",
+     "--tolerance-mm: Value nan is not a finite number", "Run with --help for more information."},
+    {"CompensateZeroRotationTolerance", "", 0, "", "",
+     "compensate {dir}/result {dir}/targets.csv --tolerance-rad 0", 2, Said::kUsage, "",
+     "--tolerance-rad: Value 0 not in range", "Run with --help for more information."},
+    {"CompensateZeroIterations", "", 0, "", "",
+     "compensate {dir}/result {dir}/targets.csv --max-iterations 0", 2, Said::kUsage, "",
+     "--max-iterations: Value 0 not in range 1 to 100000",
+     "Run with --help for more information."},
+    {"CompensateNegativeJointLimitMargin", "", 0, "", "",
+     "compensate {dir}/result {dir}/targets.csv --joint-limit-margin-rad -0.1", 2, Said::kUsage,
+     "", "--joint-limit-margin-rad: Value -0.1 not in range",
+     "Run with --help for more information."},
+    {"CompareKinematicWithoutPoseSets", "cmp.yaml", 0, "*",
+     "compare: kinematic\nsimulation: {src}/compare/delta_table7_simulation.yaml\npose_sets: []\n"
+     "sizes: [24]\nformulations: [forward]\nsolvers: {lm: {type: ceres_lm}}\n",
+     "compare {dir}/cmp.yaml -o {dir}/cmp", 2, Said::kOneLine, "cmp.yaml:3:12:",
+     "pose_sets: lists nothing: the table would have no rows", "Give at least one entry"},
+    {"CompareKinematicWithoutSolvers", "cmp.yaml", 0, "*",
+     "compare: kinematic\nsimulation: {src}/compare/delta_table7_simulation.yaml\n"
+     "pose_sets: [camera_view]\nsizes: [24]\nformulations: [forward]\nsolvers: {}\n",
+     "compare {dir}/cmp.yaml -o {dir}/cmp", 2, Said::kOneLine, "cmp.yaml:6:10:",
+     "solvers: lists nothing: the table would have no rows", "Give at least one entry"},
+    {"CompareSolversWithoutSolvers", "cmp.yaml", 0, "*",
+     "compare: solvers\njob: job.yaml\nsolvers: {}\n", "compare {dir}/cmp.yaml -o {dir}/cmp",
+     2, Said::kOneLine, "cmp.yaml:3:10:", "solvers: lists no solver: the table would have no rows",
+     "Give at least one, e.g. lm: {type: ceres_lm}"},
+    {"CompareSolversWithoutCameraModels", "cmp.yaml", 0, "*",
+     "compare: solvers\njob: job.yaml\nsolvers: {lm: {type: ceres_lm}}\ncamera_models: []\n",
+     "compare {dir}/cmp.yaml -o {dir}/cmp", 2, Said::kOneLine, "cmp.yaml:4:16:",
+     "camera_models: lists no camera model: the table would have no rows",
+     "Give static_cameras, per_frame or both"},
+    {"CompareMarkersWithoutDetectors", "cmp.yaml", 0, "*", "compare: markers\ndetectors: {}\n",
+     "compare {dir}/cmp.yaml -o {dir}/cmp", 2, Said::kOneLine, "cmp.yaml:2:12:",
+     "detectors: lists no detector: the tables would have no rows", "Give at least one"},
+    {"CompareMarkersOneCapture", "cmp.yaml", 0, "*",
+     "compare: markers\ndetectors: {dot: {type: dot, diameter_mm: 10}}\ncaptures: 1\n",
+     "compare {dir}/cmp.yaml -o {dir}/cmp", 2, Said::kOneLine, "cmp.yaml:3:11:",
+     "captures: must be between 2 and 100000", "at least 2 for a sigma"},
+    {"ComparePhysicsCellWithoutCases", "cmp.yaml", 0, "*",
+     "compare: physics\ncells:\n  - {name: a, simulation: sim.yaml, job: job.yaml, cases: []}\n",
+     "compare {dir}/cmp.yaml -o {dir}/cmp", 2, Said::kOneLine, "cmp.yaml:3:59:",
+     "lists no case: the cell would add nothing to the table", "Give at least one case"},
 };
 
 INSTANTIATE_TEST_SUITE_P(
     Issue14, BadCommand, ::testing::ValuesIn(kBadCases),
     [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+
+// A recording file that is not a regular file: a FIFO blocked the read forever, a link to
+// /dev/zero was read until memory ran out. Both are refused before they are opened.
+TEST_F(BadInput, ARecordingFileThatIsAFifoOrADeviceIsRefusedAtOnce) {
+  WriteJob();
+  fs::remove(recording_ + "/observations.csv");
+  ASSERT_EQ(::mkfifo((recording_ + "/observations.csv").c_str(), 0600), 0);
+  const auto fifo = Run();
+  ExpectRejected(fifo, "observations.csv:", "Put a regular file there");
+  EXPECT_THAT(fifo.output, HasSubstr("is a FIFO (named pipe), not a regular file"));
+  fs::remove(recording_ + "/observations.csv");
+  fs::copy_file(testing::Source("tests/data/vsb/sim_b/observations.csv"),
+                recording_ + "/observations.csv");
+  fs::remove(recording_ + "/samples.csv");
+  fs::create_symlink("/dev/zero", recording_ + "/samples.csv");
+  const auto zero = Run();
+  ExpectRejected(zero, "samples.csv:", "Put a regular file there");
+  EXPECT_THAT(zero.output, HasSubstr("is a character device, not a regular file"));
+}
+
+// A few lines of anchors and aliases name one node 387 million times: refused at once with the
+// limit named (it took 20 s at 9 levels and more than 120 s at 10).
+TEST_F(BadInput, AYamlAliasBombIsRefusedWithinASecond) {
+  std::string ten_levels = kAliasBomb;
+  ten_levels += "a10: &a10 [*a9, *a9, *a9, *a9, *a9, *a9, *a9, *a9, *a9]\n";
+  WriteJob(JobText() + ten_levels);
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = Run();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ExpectRejected(r, "job.yaml:16:34:", "Write the values out, or use fewer aliases");
+  EXPECT_THAT(r.output, HasSubstr("more than 100000 values once anchors"));
+  EXPECT_LT(seconds, 5.0) << "the sanitizers' build is slower; a release build takes 0.1 s";
+}
 
 TEST_F(BadInput, RobotJointWithoutDIsRefusedNotReadAsZero) {
   WriteJob();

@@ -169,5 +169,56 @@ TEST_F(Detection, BadImagesAreRecordedWithTheirReasonAndTheRunGoesOn) {
   EXPECT_EQ(s.observations, 7);
 }
 
+// `detect` replaces observations.csv whole: one it did not write is refused before any work,
+// and left as it was; its own it replaces on the next run.
+TEST_F(Detection, AnObservationsFileDetectDidNotWriteIsNeverReplaced) {
+  const std::string mine = "sample,camera,target,x,y,z\n0,stereo,marker,1,2,3\n";
+  testing::WriteText(dir_ + "/rec/observations.csv", mine);
+  try {
+    RunDetection(job_, testing::Plugins());
+    ADD_FAILURE() << "a user's observations.csv was replaced";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.where().file, HasSubstr("rec/observations.csv"));
+    EXPECT_THAT(e.message(), HasSubstr("was not written by cellmetry detect"));
+    EXPECT_THAT(e.hint(), HasSubstr("Move the file out of the recording"));
+  }
+  EXPECT_EQ(testing::ReadText(dir_ + "/rec/observations.csv"), mine);
+  EXPECT_FALSE(fs::exists(dir_ + "/rec/detections.jsonl")) << "work began before the refusal";
+  fs::remove(dir_ + "/rec/observations.csv");
+  RunDetection(job_, testing::Plugins(), /*limit=*/3);
+  RunDetection(job_, testing::Plugins());  // its own file: replaced
+  EXPECT_EQ(ReadRecording(dir_ + "/rec").observations.size(), 12u);
+}
+
+// The log is appended in place: a link would be written through to a file outside the
+// recording.
+TEST_F(Detection, ALinkedDetectionLogIsNotAppendedThrough) {
+  testing::WriteText(dir_ + "/elsewhere.jsonl", "");
+  fs::create_symlink(dir_ + "/elsewhere.jsonl", dir_ + "/rec/detections.jsonl");
+  try {
+    RunDetection(job_, testing::Plugins());
+    ADD_FAILURE() << "the log was appended through a link";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.message(), HasSubstr("the detection log is a link"));
+    EXPECT_THAT(e.hint(), HasSubstr("Replace the link by a copy of the file it names"));
+  }
+  EXPECT_EQ(testing::ReadText(dir_ + "/elsewhere.jsonl"), "");
+}
+
+// A key twice in a line of the log is a hand edit, refused at its line like any damage.
+TEST_F(Detection, ALogLineWithAKeyTwiceIsRefusedAtItsLine) {
+  RunDetection(job_, testing::Plugins(), /*limit=*/2);
+  std::string log = testing::ReadText(dir_ + "/rec/detections.jsonl");
+  log.insert(1, "\"sample\": 99, ");
+  testing::WriteText(dir_ + "/rec/detections.jsonl", log);
+  try {
+    RunDetection(job_, testing::Plugins());
+    ADD_FAILURE() << "a duplicate key was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, 1);
+    EXPECT_THAT(e.message(), HasSubstr("key 'sample' appears twice in one object"));
+  }
+}
+
 }  // namespace
 }  // namespace cellmetry

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <Eigen/Geometry>
 #include <cstdio>
 #include <filesystem>
@@ -394,6 +396,70 @@ TEST_F(BadMapping, JsonLinesSyntaxErrorIsPlacedAtItsCharacter) {
                      "{\"capture\": 2, \"q1\": 0.5,, \"q2\": 1}\n");
   testing::WriteText(mapping_, ReplaceOnce(MappingText(), "table: t.csv", "table: t.jsonl"));
   ExpectRejected(Import(), "t.jsonl:2:26:", "Write one JSON object per line");
+}
+
+// A JSON-lines table read as written or refused at its line: nothing nlohmann's parser takes
+// that no table means (a key twice: one of them lost; a value nested 20,000 deep: a crash in
+// the flattening; 1e400: "internal error: number overflow").
+struct JsonLine {
+  std::string name;
+  std::string line;  // the table's second line
+  std::string location, message, hint;
+};
+
+void PrintTo(const JsonLine& j, std::ostream* out) { *out << j.name; }
+
+class BadJsonLine : public BadMapping, public ::testing::WithParamInterface<JsonLine> {};
+
+TEST_P(BadJsonLine, IsRefusedAtItsLine) {
+  const JsonLine& j = GetParam();
+  testing::WriteText(dir_ + "/t.jsonl", "{\"capture\": 1, \"q1\": 0.5}\n" + j.line + "\n");
+  testing::WriteText(mapping_, ReplaceOnce(MappingText(), "table: t.csv", "table: t.jsonl"));
+  const auto r = Import();
+  ExpectRejected(r, j.location, j.hint);
+  EXPECT_THAT(r.output, HasSubstr(j.message));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    JsonLines, BadJsonLine,
+    ::testing::Values(
+        JsonLine{"KeyTwice", "{\"capture\": 2, \"q1\": 0.5, \"q1\": 0.7}", "t.jsonl:2:",
+                 "key 'q1' appears twice in one object", "Keep one of them"},
+        JsonLine{"KeyTwiceInANestedObject",
+                 "{\"capture\": 2, \"pose\": {\"t\": [1, 2, 3], \"t\": [4, 5, 6]}}",
+                 "t.jsonl:2:", "key 't' appears twice in one object", "Keep one of them"},
+        JsonLine{"NestedTwentyThousandDeep",
+                 "{\"q1\": " + std::string(20000, '[') + std::string(20000, ']') + "}",
+                 "t.jsonl:2:", "objects and arrays nested deeper than 64 levels",
+                 "A row's values nest a few levels at most"},
+        JsonLine{"NumberBeyondADouble", "{\"capture\": 2, \"q1\": 1e400}", "t.jsonl:2:22:",
+                 "'1e400' is beyond the range of a number",
+                 "Write the value in the units the mapping declares"},
+        JsonLine{"OverlongKeyTwiceIsQuotedShort",
+                 "{\"" + std::string(100000, 'k') + "\": 1, \"" + std::string(100000, 'k') +
+                     "\": 2}",
+                 "t.jsonl:2:", "key '" + std::string(77, 'k') + "...' appears twice",
+                 "Keep one of them"}),
+    [](const ::testing::TestParamInfo<JsonLine>& info) { return info.param.name; });
+
+// An error line quotes at most 80 characters of a cell: a 10 MB cell was echoed whole.
+TEST_F(BadMapping, AnOverlongCellIsQuotedShort) {
+  testing::WriteText(mapping_, MappingText());
+  EditCell(3, 11, "0." + std::string(1000000, '7') + "x");
+  const auto r = Import();
+  ExpectRejected(r, "t.csv:3:11:", "Write a plain decimal number");
+  EXPECT_THAT(r.output, HasSubstr("'0." + std::string(78, '7') + "...' is not a number"));
+  EXPECT_LT(r.output.size(), 1000u);
+}
+
+TEST_F(BadMapping, ATableThatIsAFifoIsRefusedAtOnce) {
+  ASSERT_EQ(::mkfifo((dir_ + "/t.jsonl").c_str(), 0600), 0);
+  testing::WriteText(mapping_, ReplaceOnce(MappingText(), "table: t.csv", "table: t.jsonl"));
+  ExpectRejected(Import(), "t.jsonl:", "Put a regular file there");
+  fs::remove(table_);
+  ASSERT_EQ(::mkfifo(table_.c_str(), 0600), 0);
+  testing::WriteText(mapping_, MappingText());
+  ExpectRejected(Import(), "t.csv:", "Put a regular file there");
 }
 
 TEST_F(BadMapping, AFolderCellmetryDidNotWriteIsLeftAlone) {

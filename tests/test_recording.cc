@@ -265,8 +265,7 @@ TEST(ReadRecording, MetresAndDegreesAreConvertedToMillimetresAndRadians) {
 TEST(WriteRecording, ReplacesAnExistingFolderAndLeavesNoStagingFolder) {
   const std::string parent = testing::TempDir("recording/replace");
   const std::string folder = parent + "/rec";
-  WriteRecording(SmallRecording(), folder);
-  testing::WriteText(folder + "/stale.txt", "from an older run\n");
+  WriteRecording(SmallRecording(), folder);  // with images.csv, which the next one lacks
 
   Recording smaller = SmallRecording();
   smaller.samples.resize(1);
@@ -278,7 +277,6 @@ TEST(WriteRecording, ReplacesAnExistingFolderAndLeavesNoStagingFolder) {
   EXPECT_EQ(read.samples.size(), 1u);
   EXPECT_EQ(read.observations.size(), 1u);
   EXPECT_TRUE(read.images.empty());
-  EXPECT_FALSE(fs::exists(folder + "/stale.txt"));
   EXPECT_FALSE(fs::exists(folder + "/images.csv"));
   std::vector<std::string> entries;
   for (const auto& entry : fs::directory_iterator(parent)) {
@@ -287,7 +285,7 @@ TEST(WriteRecording, ReplacesAnExistingFolderAndLeavesNoStagingFolder) {
   std::sort(entries.begin(), entries.end());
   // The replaced recording stays recoverable beside it (atomic_file.h), one generation deep.
   EXPECT_EQ(entries, (std::vector<std::string>{"rec", "rec.previous"}));
-  EXPECT_TRUE(fs::exists(folder + ".previous/stale.txt"));
+  EXPECT_TRUE(fs::exists(folder + ".previous/images.csv"));
   for (const auto& entry : fs::recursive_directory_iterator(folder)) {
     const std::string name = entry.path().filename().string();
     EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;

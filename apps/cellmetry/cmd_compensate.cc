@@ -4,7 +4,9 @@
 // nothing is, or over an earlier cellmetry output (kept as FILE.previous); a user's file only
 // with --overwrite (export_file.h). Exit code 3 when a target is refused, unless
 // --allow-refused; the commands of the others are written either way.
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "cellmetry/compensation/commands_csv.h"
 #include "cellmetry/compensation/compensation.h"
@@ -28,6 +30,17 @@ int ReportRefused(const std::string& targets_path,
   return refused;
 }
 
+// CLI::Range lets "nan" through: every comparison with it is false.
+CLI::Validator Finite() {
+  return CLI::Validator(
+      [](std::string& text) {
+        const double value = std::strtod(text.c_str(), nullptr);
+        return std::isfinite(value) ? std::string()
+                                    : "Value " + text + " is not a finite number";
+      },
+      "FINITE");
+}
+
 }  // namespace
 
 void AddCompensateCommand(CLI::App& app, Context& context) {
@@ -44,15 +57,24 @@ void AddCompensateCommand(CLI::App& app, Context& context) {
   cmd->add_option("--tool", tool, "the tool the targets are for: a tool frame of the result, or "
                   "'flange' (default: the robot's only tool)");
   cmd->add_option("-o,--output", output, "commands CSV to write (default: standard output)");
+  // A tolerance of 0 or less is never met and 0 iterations never move from the seed: either
+  // calls every reachable target out of reach. The upper ends are beyond any arm's work.
   cmd->add_option("--tolerance-mm", options.tolerance_mm, "a target is reached within this")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(Finite())
+      ->check(CLI::Range(1e-9, 100.0));
   cmd->add_option("--tolerance-rad", options.tolerance_rad, "and within this rotation")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(Finite())
+      ->check(CLI::Range(1e-12, 0.1));
   cmd->add_option("--max-iterations", options.max_iterations, "solver iterations per target")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
   cmd->add_option("--joint-limit-margin-rad", options.joint_limit_margin_rad,
                   "refuse commands this close to a joint limit")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(Finite())
+      ->check(CLI::Range(0.0, 3.2));
   cmd->add_flag("--allow-refused", allow_refused,
                 "exit 0 even when targets are refused (they are listed in the file)");
   cmd->add_flag("--overwrite", overwrite,

@@ -72,7 +72,19 @@ CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
     registry.CreateSolver(block["type"].AsString(), block);  // a bad option fails now
     spec.solvers.emplace_back(label, block);
   }
-  spec.validation_points = root.GetInt("validation_points", spec.validation_points);
+  // An empty list would make a table without rows, written at exit 0 as if it were an answer.
+  const std::pair<const char*, bool> lists[] = {{"pose_sets", spec.pose_sets.empty()},
+                                                {"sizes", spec.sizes.empty()},
+                                                {"formulations", spec.formulations.empty()},
+                                                {"solvers", spec.solvers.empty()}};
+  for (const auto& [key, empty] : lists) {
+    if (empty) {
+      throw root[key].Error("lists nothing: the table would have no rows",
+                            "Give at least one entry (docs/formats.md lists each key's choices)");
+    }
+  }
+  spec.validation_points = root.GetIntIn("validation_points", spec.validation_points, 1, 1000000,
+                                         "Fresh positions to score each row on; 1 or more");
   spec.seeds = root.GetIntIn("seeds", spec.seeds, 1, 100000,
                              "Repetitions of every row; 1 is the simulation's own draw alone");
   spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())

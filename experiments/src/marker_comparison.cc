@@ -168,17 +168,23 @@ MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& reg
     registry.CreateDetector(block["type"].AsString(), block);
     spec.detectors.emplace_back(label, block);
   }
+  if (spec.detectors.empty()) {
+    throw detectors.Error("lists no detector: the tables would have no rows",
+                          "Give at least one, e.g. aruco: {type: aruco}");
+  }
   if (root.Has("stereo")) spec.rig = ReadStereoRig(root.ResolvePath(root["stereo"].AsString()));
   spec.static_pose =
       root.Has("static_pose")
           ? ReadPose(root["static_pose"])
           : Pose{Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(),
                  Eigen::Vector3d(0, 0, 450)};
-  spec.captures = root.GetInt("captures", spec.captures);
+  spec.captures = root.GetIntIn("captures", spec.captures, 2, 100000,
+                                 "Captures per pose: at least 2 for a sigma");
   if (root.Has("workspace")) {
     const ConfigNode w = root["workspace"];
     w.ExpectKeys({"positions", "depth_mm", "lateral_mm", "tilt_rad"});
-    spec.positions = w.GetInt("positions", spec.positions);
+    spec.positions = w.GetIntIn("positions", spec.positions, 1, 100000,
+                                "Positions of the board in the workspace; 1 or more");
     if (w.Has("depth_mm")) {
       const auto d = w["depth_mm"].AsDoubles(2);
       spec.depth_mm = Eigen::Vector2d(d[0], d[1]);
@@ -191,14 +197,14 @@ MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& reg
     r.ExpectKeys({"noise_sigma", "blur_sigma_px", "supersampling"});
     spec.render.noise_sigma = r.GetDouble("noise_sigma", spec.render.noise_sigma);
     spec.render.blur_sigma_px = r.GetDouble("blur_sigma_px", spec.render.blur_sigma_px);
-    spec.render.supersampling = r.GetInt("supersampling", spec.render.supersampling);
+    spec.render.supersampling = r.GetIntIn("supersampling", spec.render.supersampling, 1, 16,
+                                           "Samples per pixel side; 1 to 16");
   }
   spec.seed = static_cast<unsigned>(root.GetInt("seed", 1));
   spec.seeds = root.GetIntIn("seeds", spec.seeds, 1, 100000,
                              "Repetitions of the comparison; 1 is the seed's alone");
   spec.output =
       root.Has("output") ? root.ResolvePath(root["output"].AsString()) : "results/markers";
-  if (spec.captures < 2) throw root["captures"].Error("need at least 2 captures for a sigma");
   return spec;
 }
 

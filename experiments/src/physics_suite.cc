@@ -270,6 +270,10 @@ PhysicsSuiteSpec LoadPhysicsSuite(const std::string& path) {
       if (c.effect && c.concealed) throw node.Error("give effect: or concealed:, not both");
       cell.cases.push_back(c);
     }
+    if (cell.cases.empty()) {
+      throw cell_node["cases"].Error("lists no case: the cell would add nothing to the table",
+                                     "Give at least one case, or remove the cell");
+    }
     spec.cells.push_back(cell);
   }
   if (spec.cells.empty()) throw root["cells"].Error("lists no cell");

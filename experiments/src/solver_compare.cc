@@ -193,9 +193,19 @@ SolverCompareSpec LoadSolverCompare(const std::string& path, Registry& registry)
     registry.CreateSolver(block["type"].AsString(), block);  // a bad option fails now
     spec.solvers.emplace_back(label, block);
   }
+  // An empty list would make a table without rows, written at exit 0 as if it were an answer.
+  if (spec.solvers.empty()) {
+    throw solvers.Error("lists no solver: the table would have no rows",
+                        "Give at least one, e.g. lm: {type: ceres_lm}");
+  }
   if (root.Has("camera_models")) {
     for (const auto& node : root["camera_models"].Elements()) {
       spec.camera_models.push_back(ParseCameraModel(node));
+    }
+    if (spec.camera_models.empty()) {
+      throw root["camera_models"].Error("lists no camera model: the table would have no rows",
+                                        "Give static_cameras, per_frame or both, or leave the "
+                                        "key out for both");
     }
   } else {
     spec.camera_models = {CameraModel::kStaticCameras, CameraModel::kPerFrame};

@@ -7,9 +7,10 @@
 
 #include <algorithm>
 #include <cerrno>
-
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "cellmetry/basics/error.h"
 
@@ -50,12 +51,54 @@ std::string Normalized(const std::string& path) {
   return target.string();
 }
 
-// The kind in `folder`'s marker, "" when it has none.
-std::string MarkerKind(const fs::path& folder) {
+// `folder`'s marker: its kind ("" when it has none) and the entries cellmetry wrote there.
+struct Marker {
+  std::string kind;
+  std::set<std::string> wrote;  // empty in a marker older than the list
+};
+
+constexpr const char* kWrote = "wrote: ";
+
+Marker ReadMarker(const fs::path& folder) {
+  Marker marker;
   std::ifstream in(folder / kOutputMarker);
   std::string line;
   while (std::getline(in, line)) {
-    if (line.rfind("kind: ", 0) == 0) return line.substr(6);
+    if (line.rfind("kind: ", 0) == 0) marker.kind = line.substr(6);
+    if (line.rfind(kWrote, 0) == 0) marker.wrote.insert(line.substr(std::strlen(kWrote)));
+  }
+  return marker;
+}
+
+std::string MarkerKind(const fs::path& folder) { return ReadMarker(folder).kind; }
+
+std::string MarkerText(const std::string& kind, const std::set<std::string>& wrote) {
+  std::string text = "kind: " + kind + "\nwritten by cellmetry: a later " + kind +
+                     " to this path replaces this folder\n";
+  for (const auto& name : wrote) text += kWrote + name + "\n";
+  return text;
+}
+
+// A temporary file a killed write left behind (AtomicWriteFile's NAME.tmpPID).
+bool IsLeftoverTemporary(const std::string& name) {
+  const size_t at = name.rfind(".tmp");
+  return at != std::string::npos && at + 4 < name.size() &&
+         name.find_first_not_of("0123456789", at + 4) == std::string::npos;
+}
+
+// The first entry of a marked `folder` that cellmetry did not write there ("" when none): not
+// in the marker's list, not a folder of cellmetry's own (a diagnosis inside a result), not a
+// leftover temporary. Replacing the folder would move it aside and, a run later, delete it.
+std::string ForeignEntry(const fs::path& folder, const Marker& marker) {
+  if (marker.wrote.empty()) return "";  // an older marker: no list to tell by
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name == kOutputMarker || marker.wrote.count(name) || IsLeftoverTemporary(name)) continue;
+    if (entry.is_directory(ec) && !entry.is_symlink(ec) && !MarkerKind(entry.path()).empty()) {
+      continue;
+    }
+    return name;
   }
   return "";
 }
@@ -112,7 +155,8 @@ void CheckReplaceable(const std::string& path, const std::string& kind) {
   if (Contains(absolute, fs::current_path(ec))) {
     throw InputError({target, 0, 0}, "the output folder holds the working directory", keep);
   }
-  const std::string found = MarkerKind(target);
+  const Marker marker = ReadMarker(target);
+  const std::string& found = marker.kind;
   if (found.empty() && !OnlyCellmetryOutput(target)) {
     throw InputError({target, 0, 0}, "the output folder exists and was not written by cellmetry "
                      "(no " + std::string(kOutputMarker) + " in it); it is left as it is",
@@ -122,7 +166,23 @@ void CheckReplaceable(const std::string& path, const std::string& kind) {
     throw InputError({target, 0, 0}, "the output folder holds a cellmetry " + found +
                      ", which a " + kind + " would replace", keep);
   }
+  if (const std::string foreign = ForeignEntry(target, marker); !foreign.empty()) {
+    throw InputError({target, 0, 0}, "the output folder holds '" + foreign + "', which cellmetry "
+                     "did not write; replacing the folder would move it to " +
+                     fs::path(target).filename().string() + ".previous, and the run after "
+                     "would delete it",
+                     "Move '" + foreign + "' out of the folder, or choose another output folder "
+                     "(output: in the job, or -o)");
+  }
   CheckReplaceable(target + ".previous", kind);  // where the replaced one will go
+}
+
+void NoteOutputFile(const std::string& folder, const std::string& name) {
+  Marker marker = ReadMarker(folder);
+  if (marker.kind.empty() || marker.wrote.empty() || marker.wrote.count(name)) return;
+  marker.wrote.insert(name);
+  AtomicWriteFile((fs::path(folder) / kOutputMarker).string(),
+                  MarkerText(marker.kind, marker.wrote));
 }
 
 StagedDirectory::StagedDirectory(std::string final_path, std::string kind)
@@ -137,9 +197,7 @@ StagedDirectory::StagedDirectory(std::string final_path, std::string kind)
     throw InputError({final_path_, 0, 0}, "cannot create output folder",
                      "Check that the parent folder is writable");
   }
-  std::ofstream(fs::path(staging_) / kOutputMarker)
-      << "kind: " << kind_ << "\nwritten by cellmetry: a later " << kind_
-      << " to this path replaces this folder\n";
+  std::ofstream(fs::path(staging_) / kOutputMarker) << MarkerText(kind_, {});
 }
 
 StagedDirectory::~StagedDirectory() {
@@ -152,6 +210,16 @@ StagedDirectory::~StagedDirectory() {
 // <final>.previous (an older .previous of the same kind goes; anything else there is refused).
 void StagedDirectory::Commit() {
   CheckReplaceable(final_path_, kind_);  // nothing appeared there meanwhile
+  // The marker lists what this run wrote: anything else found in the folder later is a user's,
+  // and a rerun refuses the folder rather than move it aside (ForeignEntry).
+  std::set<std::string> wrote;
+  std::error_code list_error;
+  for (const auto& entry : fs::directory_iterator(staging_, list_error)) {
+    const std::string name = entry.path().filename().string();
+    if (name != kOutputMarker) wrote.insert(name);
+  }
+  wrote.insert(kOutputMarker);  // never empty: an empty list reads as an older marker
+  AtomicWriteFile((fs::path(staging_) / kOutputMarker).string(), MarkerText(kind_, wrote));
   const std::string previous = final_path_ + ".previous";
   const std::string older = previous + ".old" + std::to_string(::getpid());
   std::error_code ec;

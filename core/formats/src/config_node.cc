@@ -3,12 +3,14 @@
 #include "cellmetry/formats/config_node.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
+#include <string_view>
+
+#include "cellmetry/formats/input_file.h"
+#include "cellmetry/formats/quoted_text.h"
 
 namespace cellmetry {
 namespace {
@@ -68,26 +70,47 @@ ConfigNode ConfigNode::LoadFile(const std::string& path) {
     throw InputError({path, 0, 0}, "is a folder, not a YAML file",
                      "Give the path of the YAML file itself");
   }
-  std::ifstream in(path);
-  if (!in) {
-    throw InputError({path, 0, 0}, "cannot open file",
-                     "Check the path (relative paths in a job are relative to the job file)");
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  return LoadString(text.str(), path);
+  return LoadString(
+      ReadRegularFile(path, kMaxYamlBytes,
+                      "Check the path (relative paths in a job are relative to the job file)"),
+      path);
 }
 
 namespace {
 
+// A YAML alias (*name) is the node its anchor (&name) made, not a copy: a file of a few lines
+// can name one node 10^9 times through nested aliases, and every reader that walks the tree
+// walks each time. The walk below, the first after parsing, counts the nodes it visits with
+// aliases expanded and stops at kMaxYamlNodes: the largest bundled file (the ten-robot
+// simulation) has about 400, a bomb of 9 levels 387 million.
+constexpr size_t kMaxYamlNodes = 100000;
+
+struct NodeBudget {
+  std::string origin;
+  size_t visited = 0;
+
+  void Visit(const YAML::Node& node) {
+    if (++visited <= kMaxYamlNodes) return;
+    const YAML::Mark mark = node.Mark();
+    throw InputError({origin, mark.is_null() ? 0 : mark.line + 1,
+                      mark.is_null() ? 0 : mark.column + 1},
+                     "more than " + std::to_string(kMaxYamlNodes) +
+                         " values once anchors (&) and aliases (*) are expanded",
+                     "Write the values out, or use fewer aliases: a cellmetry file holds a "
+                     "few hundred values");
+  }
+};
+
 // Every key a word (a reader takes keys with as<std::string>, which throws on a list or a map).
 // yaml-cpp keeps the second of two equal keys in a map without a word (and a reader takes the
 // first): a job that says `folds: 5` twice means one of them by mistake.
-void RefuseDuplicateKeys(const YAML::Node& node, const std::string& origin) {
+void RefuseDuplicateKeys(const YAML::Node& node, NodeBudget& budget) {
+  budget.Visit(node);
   if (node.IsSequence()) {
-    for (const auto& element : node) RefuseDuplicateKeys(element, origin);
+    for (const auto& element : node) RefuseDuplicateKeys(element, budget);
   }
   if (!node.IsMap()) return;
+  const std::string& origin = budget.origin;
   std::set<std::string> seen;
   for (const auto& entry : node) {
     // YAML allows a list or a map as a key (`? [a, b]: 1`); no cellmetry file has one, and every
@@ -105,8 +128,42 @@ void RefuseDuplicateKeys(const YAML::Node& node, const std::string& origin) {
                        "key '" + entry.first.Scalar() + "' appears twice in this map",
                        "Keep one of them");
     }
-    RefuseDuplicateKeys(entry.second, origin);
+    RefuseDuplicateKeys(entry.second, budget);
   }
+}
+
+// The 1-based line of a second document's marker in `text` (0 when there is none): a '---'
+// at the start of a line after content, or content after a '...' line. YAML::Load reads the
+// first document only, so what follows would be read by nothing. A scan of the lines, not a
+// parse of the rest: parsing every document (YAML::LoadAll) grew memory without bound on
+// fuzzed input. A '---' at the start of a line cannot be inside a scalar: YAML forbids it there.
+int SecondDocumentLine(const std::string& text) {
+  bool content = false, ended = false;
+  int line_number = 0;
+  for (size_t begin = 0; begin < text.size();) {
+    size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    std::string_view line(text.data() + begin, end - begin);
+    begin = end + 1;
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    const auto marker = [&](std::string_view m) {
+      return line.substr(0, 3) == m && (line.size() == 3 || line[3] == ' ' || line[3] == '\t');
+    };
+    const size_t first = line.find_first_not_of(" \t");
+    const bool blank = first == std::string_view::npos || line[first] == '#';
+    if (marker("---")) {
+      if (content || ended) return line_number;
+      content = line.find_first_not_of(" \t", 3) != std::string_view::npos &&
+                line[line.find_first_not_of(" \t", 3)] != '#';
+    } else if (marker("...")) {
+      ended = true;
+    } else if (!blank && line[0] != '%') {  // a %YAML directive belongs to the next document
+      if (ended) return line_number;
+      content = true;
+    }
+  }
+  return 0;
 }
 
 }  // namespace
@@ -119,7 +176,13 @@ ConfigNode ConfigNode::LoadString(const std::string& text, const std::string& or
     throw InputError({origin, e.mark.line + 1, e.mark.column + 1}, "YAML syntax: " + e.msg,
                      "Fix the YAML syntax (indentation, colons, brackets)");
   }
-  RefuseDuplicateKeys(root, origin);
+  if (const int line = SecondDocumentLine(text)) {
+    throw InputError({origin, line, 1}, "a second YAML document in one file ('---' starts it)",
+                     "cellmetry reads one document per file: remove the '---' and what follows, "
+                     "or put it in a file of its own");
+  }
+  NodeBudget budget{origin};
+  RefuseDuplicateKeys(root, budget);
   return ConfigNode(root, origin, "");
 }
 
@@ -156,7 +219,13 @@ SourceLocation ConfigNode::KeyLocation(const std::string& key) const {
 }
 
 InputError ConfigNode::Error(const std::string& what, const std::string& hint) const {
-  return InputError(location(), (key_path_.empty() ? "" : key_path_ + ": ") + what, hint);
+  // Readers quote a value whole ("unknown solver type '...'"). A path is quoted whole, as the
+  // user must find it; a value longer than any path (PATH_MAX) is cut to 80 characters.
+  constexpr size_t kLongestPath = 4096;
+  const std::string said = node_ && node_.IsScalar()
+                               ? WithTextShortened(what, node_.Scalar(), kLongestPath)
+                               : what;
+  return InputError(location(), (key_path_.empty() ? "" : key_path_ + ": ") + said, hint);
 }
 
 bool ConfigNode::Has(const std::string& key) const {

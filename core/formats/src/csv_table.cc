@@ -6,31 +6,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 #include "cellmetry/formats/config_node.h"
+#include "cellmetry/formats/input_file.h"
+#include "cellmetry/formats/quoted_text.h"
 
 namespace cellmetry {
 namespace {
-
-// A cell as an error message quotes it: at most 80 characters, and what no terminal shows (a NUL,
-// a control character) as \xNN.
-std::string Quoted(const std::string& cell) {
-  std::string out;
-  size_t i = 0;
-  for (; i < cell.size() && out.size() < 80; ++i) {
-    const unsigned char c = static_cast<unsigned char>(cell[i]);
-    if (c < 0x20 || c == 0x7f) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\x%02x", c);
-      out += escaped;
-    } else {
-      out += cell[i];
-    }
-  }
-  return i < cell.size() ? out + "..." : out;
-}
 
 std::string Trim(const std::string& s) {
   const size_t begin = s.find_first_not_of(" \t\r");
@@ -64,11 +47,7 @@ std::vector<std::string> SplitCsvLine(const std::string& line) {
 }  // namespace
 
 CsvTable CsvTable::Read(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError({path, 0, 0}, "cannot open file", "Check that the file exists");
-  std::ostringstream text;
-  text << in.rdbuf();
-  CsvTable table = Parse(text.str(), path);
+  CsvTable table = Parse(ReadRegularFile(path, kMaxTableBytes, "Check that the file exists"), path);
   if (table.header_.empty()) {
     throw InputError({path, 1, 0}, "file is empty", "The first line must be the column header");
   }
@@ -115,7 +94,7 @@ void CsvTable::RequireColumns(const std::vector<std::string>& names) const {
   for (const auto& name : names) {
     if (HasColumn(name)) continue;
     std::string present;
-    for (const auto& h : header_) present += (present.empty() ? "" : ",") + h;
+    for (const auto& h : header_) present += (present.empty() ? "" : ",") + QuotedShort(h);
     throw InputError({path_, 1, 0}, "missing column '" + name + "'",
                      "The header must name it; the header is: " + present);
   }
@@ -127,7 +106,8 @@ void CsvTable::RejectUnknownColumns(const std::vector<std::string>& known) const
     for (const auto& k : known) ok = ok || k == header_[i];
     if (ok) continue;
     const std::string nearest = NearestWord(header_[i], known);
-    throw InputError({path_, 1, static_cast<int>(i + 1)}, "unknown column '" + header_[i] + "'",
+    throw InputError({path_, 1, static_cast<int>(i + 1)},
+                     "unknown column '" + QuotedShort(header_[i]) + "'",
                      nearest.empty() ? "Remove it or rename it to a known column"
                                      : "Did you mean '" + nearest + "'?");
   }
@@ -136,8 +116,11 @@ void CsvTable::RejectUnknownColumns(const std::vector<std::string>& known) const
 InputError CsvTable::Error(size_t row, const std::string& column, const std::string& what,
                            const std::string& hint) const {
   const auto index = ColumnIndex(column);
+  // Readers quote a text cell whole ("unknown camera '...'"): a 10 MB cell stays 80 characters.
   return InputError({path_, lines_[row], index ? static_cast<int>(*index + 1) : 0},
-                    "column '" + column + "': " + what, hint);
+                    "column '" + column + "': " +
+                        (index ? WithTextShortened(what, rows_[row][*index]) : what),
+                    hint);
 }
 
 const std::string& CsvTable::Cell(size_t row, const std::string& column) const {
@@ -167,15 +150,15 @@ double CsvTable::Number(size_t row, const std::string& column) const {
   double value = 0.0;
   const auto [end, error] = std::from_chars(first, last, value);
   if (error == std::errc::result_out_of_range) {
-    throw Error(row, column, "'" + Quoted(cell) + "' is beyond the range of a number",
+    throw Error(row, column, "'" + QuotedShort(cell) + "' is beyond the range of a number",
                 "Write the value in the file's units");
   }
   if (error != std::errc() || end != last || first == last) {
-    throw Error(row, column, "'" + Quoted(cell) + "' is not a number",
+    throw Error(row, column, "'" + QuotedShort(cell) + "' is not a number",
                 "Write a plain decimal number");
   }
   if (!std::isfinite(value)) {
-    throw Error(row, column, "'" + Quoted(cell) + "' is not a finite number",
+    throw Error(row, column, "'" + QuotedShort(cell) + "' is not a finite number",
                 "Remove the row or replace the value with a measurement");
   }
   return value;
@@ -184,7 +167,7 @@ double CsvTable::Number(size_t row, const std::string& column) const {
 int CsvTable::Integer(size_t row, const std::string& column) const {
   const double value = Number(row, column);
   if (value != std::floor(value) || std::fabs(value) > 2e9) {
-    throw Error(row, column, "'" + Cell(row, column) + "' is not a whole number",
+    throw Error(row, column, "'" + QuotedShort(Cell(row, column)) + "' is not a whole number",
                 "Write a whole number");
   }
   return static_cast<int>(value);

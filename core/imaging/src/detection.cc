@@ -26,6 +26,8 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/formats/image.h"
 #include "cellmetry/formats/config_fields.h"
+#include "cellmetry/formats/input_file.h"
+#include "cellmetry/formats/strict_json.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/formats/recording.h"
 #include "cellmetry/basics/so3_jacobians.h"
@@ -124,10 +126,19 @@ ImageDetection FromJson(const nlohmann::json& j) {
 // would silently lose finished work.
 std::vector<ImageDetection> ReadDetectionLog(const std::string& path) {
   std::vector<ImageDetection> done;
-  if (!std::filesystem::exists(path)) return done;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, 0, 0}, "cannot read the detection log", "Check permissions");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::error_code ec;
+  const auto status = std::filesystem::symlink_status(path, ec);
+  if (!std::filesystem::exists(status)) return done;
+  // The log is appended to in place: through a link, detect would write to a file outside the
+  // recording that something else may own.
+  if (std::filesystem::is_symlink(status)) {
+    throw InputError({path, 0, 0},
+                     "the detection log is a link; detect appends to it in place and would write "
+                     "through the link to a file that may lie outside the recording",
+                     "Replace the link by a copy of the file it names (cp --remove-destination "
+                     "TARGET " + path + "), or delete it to detect everything again");
+  }
+  const std::string text = ReadRegularFile(path, kMaxTableBytes, "Check permissions");
   std::vector<std::string> lines;
   for (size_t begin = 0; begin < text.size();) {
     const size_t end = std::min(text.find('\n', begin), text.size());
@@ -144,7 +155,7 @@ std::vector<ImageDetection> ReadDetectionLog(const std::string& path) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const bool last = i + 1 == lines.size();
     try {
-      done.push_back(FromJson(nlohmann::json::parse(line)));
+      done.push_back(FromJson(ParseStrictJson<nlohmann::json>(line)));
       clean += line + "\n";
     } catch (const nlohmann::json::exception& e) {
       if (last) {  // torn last line
@@ -155,6 +166,9 @@ std::vector<ImageDetection> ReadDetectionLog(const std::string& path) {
       const int column = parse && parse->byte <= line.size() ? static_cast<int>(parse->byte) : 0;
       throw InputError({path, static_cast<int>(i + 1), column},
                        "a line of the detection log is not JSON", hint);
+    } catch (const StrictJsonError& bad) {  // a hand edit, never a torn write
+      throw InputError({path, static_cast<int>(i + 1), 0},
+                       "a line of the detection log is not a detection: " + bad.what, hint);
     } catch (const NotADetection& bad) {
       if (last) {
         rewrite = true;
@@ -398,7 +412,36 @@ DetectJob LoadDetectJob(const std::string& path, Registry& registry) {
   return job;
 }
 
+namespace {
+
+// The first line of every observations.csv `detect` writes: how a rerun knows the file is its
+// own to replace (CSV readers skip a line that starts with '#').
+constexpr const char* kDetectedMark =
+    "# written by cellmetry detect from detections.jsonl; the next detect replaces this file\n";
+
+// `detect` replaces observations.csv whole; one it did not write (a user's own measurements, an
+// imported table) is refused before any work, never overwritten.
+void RequireOwnObservations(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::symlink_status(path, ec);
+  if (!std::filesystem::exists(status)) return;
+  std::string first;
+  if (std::filesystem::is_regular_file(status)) {
+    std::ifstream in(path, std::ios::binary);
+    std::getline(in, first);
+  }
+  if (first + "\n" == kDetectedMark) return;
+  throw InputError({path, 0, 0},
+                   "observations.csv was not written by cellmetry detect, which would replace it "
+                   "with what it detects",
+                   "Move the file out of the recording (or rename it) to keep it; delete it if "
+                   "an older cellmetry detect wrote it");
+}
+
+}  // namespace
+
 DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit) {
+  RequireOwnObservations(job.recording + "/observations.csv");
   const Recording recording = ReadRecording(job.recording);
   for (const auto& [camera, imaging] : job.cameras) {
     if (!recording.HasCamera(camera)) {
@@ -410,6 +453,10 @@ DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit) 
   std::vector<ImageDetection> log = ReadDetectionLog(log_path);
   DetectSummary summary;
   const std::vector<PendingImage> pending = Pending(job, recording, log, limit, &summary);
+  // detect's own files in a recording cellmetry made: a later `simulate` to the same folder
+  // replaces them with the rest instead of refusing them as a user's.
+  NoteOutputFile(job.recording, kLog);
+  NoteOutputFile(job.recording, "observations.csv");
   DetectAndLog(job, registry, pending, log_path, &log, &summary);
   const Detectors layouts = MakeDetectors(job, registry);
   for (const auto& d : log) {
@@ -423,7 +470,8 @@ DetectSummary RunDetection(const DetectJob& job, Registry& registry, int limit) 
   const std::vector<Observation> observations =
       MakeObservations(job, layouts, log, &summary.failures);
   summary.observations = static_cast<int>(observations.size());
-  AtomicWriteFile(job.recording + "/observations.csv", ObservationsCsv(observations));
+  AtomicWriteFile(job.recording + "/observations.csv",
+                  kDetectedMark + ObservationsCsv(observations));
   return summary;
 }
 

@@ -3,10 +3,9 @@
 // breaks inside, a decimal comma, an 8-bit encoding the mapping names.
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <map>
-#include <sstream>
 
+#include "cellmetry/formats/input_file.h"
 #include "cellmetry/import/data_table.h"
 
 namespace cellmetry {
@@ -140,14 +139,8 @@ void ExpectUtf8(const std::string& path, const std::vector<Record>& records) {
 }  // namespace
 
 DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw InputError({path, 0, 0}, "cannot open the table",
-                     "Check 'table:' in the mapping (a path relative to the mapping file)");
-  }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  std::string text = buffer.str();
+  std::string text = ReadRegularFile(
+      path, kMaxTableBytes, "Check 'table:' in the mapping (a path relative to the mapping file)");
   if (text.rfind("\xFF\xFE", 0) == 0 || text.rfind("\xFE\xFF", 0) == 0) {
     throw InputError({path, 1, 0}, "the table is UTF-16 text",
                      "Save it as CSV UTF-8 (in a spreadsheet: 'CSV UTF-8 (comma delimited)')");

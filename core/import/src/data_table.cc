@@ -5,6 +5,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "cellmetry/formats/quoted_text.h"
+
 namespace cellmetry {
 
 std::optional<double> ParseDecimal(const std::string& text, char decimal, std::string* problem) {
@@ -18,7 +20,7 @@ std::optional<double> ParseDecimal(const std::string& text, char decimal, std::s
   std::string number = text.substr(begin, end - begin + 1);
   if (decimal == ',') {
     if (number.find('.') != std::string::npos) {
-      *problem = "'" + number + "' has a '.' but this table's decimal mark is ','";
+      *problem = "'" + QuotedShort(number) + "' has a '.' but this table's decimal mark is ','";
       return std::nullopt;
     }
     for (char& c : number) {
@@ -31,15 +33,15 @@ std::optional<double> ParseDecimal(const std::string& text, char decimal, std::s
   const char* last = number.data() + number.size();
   const auto [ptr, ec] = std::from_chars(first, last, value);
   if (ec == std::errc::result_out_of_range) {
-    *problem = "'" + text + "' is beyond the range of a number";
+    *problem = "'" + QuotedShort(text) + "' is beyond the range of a number";
     return std::nullopt;
   }
   if (ec != std::errc() || ptr != last || number.empty()) {
-    *problem = "'" + text + "' is not a number";
+    *problem = "'" + QuotedShort(text) + "' is not a number";
     return std::nullopt;
   }
   if (!std::isfinite(value)) {
-    *problem = "'" + text + "' is not a finite number";
+    *problem = "'" + QuotedShort(text) + "' is not a finite number";
     return std::nullopt;
   }
   return value;
@@ -76,9 +78,12 @@ SourceLocation DataTable::HeaderWhere(size_t column) const { return header_where
 
 InputError DataTable::Error(size_t row, size_t column, const std::string& what,
                             const std::string& hint) const {
+  // Readers quote a cell whole: a 10 MB cell stays 80 characters in the one line.
   return InputError(Where(row, column),
-                    "column '" + columns_[column] + "' of data row " + std::to_string(row + 1) +
-                        ": " + what,
+                    "column '" + QuotedShort(columns_[column]) + "' of data row " +
+                        std::to_string(row + 1) + ": " +
+                        WithTextShortened(WithTextShortened(what, cells_[row][column]),
+                                          columns_[column]),
                     hint);
 }
 

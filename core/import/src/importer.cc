@@ -405,7 +405,9 @@ class Importer {
 JoinedTable ReadMappedTables(const ImportMapping& mapping) {
   std::vector<DataTable> tables;
   for (const TableSpec& spec : mapping.tables) {
-    if (!std::filesystem::is_regular_file(spec.path)) {
+    // What is there but not a regular file (a FIFO, a device) the reader refuses by name.
+    std::error_code ec;
+    if (!std::filesystem::exists(spec.path, ec)) {
       throw InputError(spec.where, "no table at '" + spec.path + "'",
                        "Give the table's path relative to the mapping file");
     }

@@ -5,6 +5,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "cellmetry/formats/input_file.h"
+#include "cellmetry/formats/strict_json.h"
 #include "cellmetry/import/data_table.h"
 
 namespace cellmetry {
@@ -60,14 +62,25 @@ std::string TopKey(const std::string& column) {
   return column.substr(0, column.find_first_of(".["));
 }
 
+// The number nlohmann names in "number overflow parsing '1e400'", and where it is on `line`.
+std::pair<std::string, int> OverflowingNumber(const std::string& message, const std::string& line) {
+  const size_t open = message.find('\'');
+  const size_t close = message.rfind('\'');
+  if (open == std::string::npos || close <= open) return {"", 0};
+  const std::string number = message.substr(open + 1, close - open - 1);
+  const size_t at = line.find(number);
+  const std::string quoted = number.size() > 80 ? number.substr(0, 77) + "..." : number;
+  return {quoted, at == std::string::npos ? 0 : static_cast<int>(at) + 1};
+}
+
 }  // namespace
 
 DataTable ReadJsonLinesTable(const std::string& path) {
+  const char* const where_hint =
+      "Check 'table:' in the mapping (a path relative to the mapping file)";
+  RequireRegularFile(path, kMaxTableBytes, where_hint);
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw InputError({path, 0, 0}, "cannot open the table",
-                     "Check 'table:' in the mapping (a path relative to the mapping file)");
-  }
+  if (!in) throw InputError({path, 0, 0}, "cannot open the table", where_hint);
   DataTable table(path, "JSON lines", '.');
   std::map<std::string, size_t> index;
   std::string line;
@@ -79,10 +92,18 @@ DataTable ReadJsonLinesTable(const std::string& path) {
     if (line.find_first_not_of(" \t") == std::string::npos) continue;
     nlohmann::ordered_json object;
     try {
-      object = nlohmann::ordered_json::parse(line);
+      object = ParseStrictJson<nlohmann::ordered_json>(line);
     } catch (const nlohmann::json::parse_error& e) {
       throw InputError({path, line_number, static_cast<int>(e.byte)},
                        "not valid JSON", "Write one JSON object per line: {\"q1\": 0.5, ...}");
+    } catch (const nlohmann::json::out_of_range& e) {
+      // The one range error parsing raises: a number beyond a double (1e400).
+      const auto [number, column] = OverflowingNumber(e.what(), line);
+      throw InputError({path, line_number, column},
+                       "'" + number + "' is beyond the range of a number",
+                       "Write the value in the units the mapping declares");
+    } catch (const StrictJsonError& e) {
+      throw InputError({path, line_number, 0}, e.what, e.hint);
     }
     if (!object.is_object()) {
       throw InputError({path, line_number, 1}, "the line is JSON but not an object",

@@ -21,8 +21,16 @@ void AtomicWriteFile(const std::string& path, const std::string& text);
 // output), a folder of another kind (a job's output naming its own recording), or a folder that
 // holds the working directory. Commands call it before their work, so that a long fit is not
 // lost to a refusal at the end.
+// The marker also lists the entries cellmetry wrote into the folder: a folder that holds
+// anything else (a user's notes, photos) is refused too, since replacing it would move them
+// aside and the next replacement delete them.
 inline constexpr const char* kOutputMarker = ".cellmetry-output";
 void CheckReplaceable(const std::string& path, const std::string& kind);
+
+// Adds `name` to the list in `folder`'s marker: for a file a later command writes into a
+// folder cellmetry made (`detect`'s observations.csv in a simulated recording). A folder
+// without a marker is left as it is.
+void NoteOutputFile(const std::string& folder, const std::string& name);
 
 // A folder under construction: files go to staging(), Commit() renames it to `final_path`
 // (replacing an older one of the same kind, CheckReplaceable, which stays recoverable as
