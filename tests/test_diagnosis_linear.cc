@@ -253,9 +253,10 @@ TEST(PlausibleNoncentrality, IsTheScoreStatisticAtThePlausibleSize) {
   Eigen::MatrixXd P = Eigen::MatrixXd::Zero(50, 2);
   P(0, 0) = 100.0;
   P(1, 1) = 30.0;
-  Parameter a{"a", "rad", 0.0};
+  Parameter a, b;
+  a.name = "a", b.name = "b";
+  a.unit = b.unit = "rad";
   a.plausible = 0.02;
-  Parameter b{"b", "rad", 0.0};
   b.plausible = 0.1;
   EXPECT_NEAR(PlausibleNoncentrality(P.leftCols(1), {a}), 4.0, 1e-12);
   EXPECT_NEAR(PlausibleNoncentrality(P, {a, b}), 9.0, 1e-12);  // 30 * 0.1 beats 100 * 0.02
