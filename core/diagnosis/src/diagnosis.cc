@@ -59,6 +59,12 @@ Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
     if (row.kind == "position" && Carried(recording, row.target)) tool.Add(row.error);
   }
   tool.Finish();
+  for (const WorkcellRobot& robot : spec.robots) {  // a level base's tilt over its sigma
+    if (!robot.level_sigma_rad) continue;
+    const Eigen::Vector3d z = f.result.estimate.T_world_base.at(robot.name).R.col(2);
+    const double tilt = std::acos(std::min(1.0, std::abs(z.z())));
+    f.summary.prior_chi2 += std::pow(tilt / *robot.level_sigma_rad, 2);
+  }
   f.summary.rms_mm = tool.norm;
   f.summary.dof = rows - static_cast<double>(f.result.uncertainty.names.size());
   f.summary.p_value = ChiSquareSurvival(f.summary.chi2, f.summary.dof);
@@ -497,8 +503,10 @@ class Diagnoser {
   // of the strongest refit and moves its fit to `best_fit`.
   int RefitBest(const Fitted& current, ScoredRound* s, Fitted* best_fit) const {
     auto& candidates = s->round.candidates;
-    std::vector<size_t> order(candidates.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::vector<size_t> order;  // frames wait for TestFrame: held-out error cannot judge them
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      if (!s->testable[i]->frame) order.push_back(i);
+    }
     std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
       return Strength(candidates[a].score, candidates[a].dof) >
              Strength(candidates[b].score, candidates[b].dof);
@@ -625,6 +633,45 @@ class Diagnoser {
     return a;
   }
 
+  // The strongest frame candidate (CandidateEffect::frame) of a round scored at `current`, if
+  // its score test passes, refitted and accepted where its likelihood-ratio test passes too and
+  // its size is plausible. A frame is one question the job's statements pose (is the world tag
+  // level?), asked once whatever the physics search found, so its tests are corrected for the
+  // frames asked, not for every candidate of the round (Bonferroni). Held-out error does not
+  // judge it: a frame moves no prediction. -1 when none was tried.
+  int TestFrame(const Fitted& current, ScoredRound* s, Fitted* with_cv) const {
+    auto& candidates = s->round.candidates;
+    std::vector<int> frames;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      if (s->testable[i]->frame) frames.push_back(static_cast<int>(i));
+    }
+    const double asked = static_cast<double>(frames.size());
+    int best = -1;
+    for (int i : frames) {
+      const CandidateFinding& f = candidates[i];
+      if (!(ChiSquareSurvival(f.score, f.dof) * asked < options_.alpha)) continue;
+      if (best < 0 || f.score > candidates[best].score) best = i;
+    }
+    if (best < 0) return -1;
+    CandidateFinding& f = candidates[best];
+    const CandidateEffect& c = *s->testable[best];
+    Progress::Note("testing " + c.label + ", a frame the job's statements determine");
+    *with_cv = Fit(WarmWith(current, c), recording_, make_solver_, options_.folds);
+    f.refitted = true;
+    // The job's stated priors count too: a level statement is what determines a frame.
+    f.likelihood_ratio = std::max(
+        0.0, (current.summary.chi2 - with_cv->summary.chi2) / s->round.dispersion +
+                 current.summary.prior_chi2 - with_cv->summary.prior_chi2);
+    f.p_lr_holm = std::min(1.0, ChiSquareSurvival(f.likelihood_ratio, f.dof) * asked);
+    f.implausible = Unusual(c.effect.effect->parameters(),
+                            with_cv->result.estimate.effects.at(c.effect.name));
+    f.cv_rms_mm = with_cv->summary.held_out_rms_mm;
+    if (!f.implausible.empty()) f.failed.push_back("size");
+    if (!(f.p_lr_holm < options_.alpha)) f.failed.push_back("LR");
+    f.accepted = f.failed.empty();
+    return best;
+  }
+
   // Where the current model's residuals follow the recorded regressors, strongest first.
   std::vector<RegressorFinding> Regressors(const Fitted& current,
                                            const std::vector<Regressor>& regressors) const {
@@ -706,6 +753,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     if (scored.round.candidates.empty()) break;
     Fitted best_fit;
     const int best = diagnoser.RefitBest(current, &scored, &best_fit);
+    if (best < 0) break;  // only frames left
     Fitted with_cv =
         diagnoser.TestChosen(current, &scored, best, best_fit,
                              options.max_effects - static_cast<int>(out.accepted.size()),
@@ -725,6 +773,23 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     }
     out.rounds.push_back(std::move(scored.round));
     if (!accepted) break;
+  }
+  // The frames the job's statements determine, after the physics (they move no prediction).
+  for (;;) {
+    ScoredRound scored = diagnoser.Score(current, &done, &out.untestable);
+    Fitted with_cv;
+    const int tried = diagnoser.TestFrame(current, &scored, &with_cv);
+    if (tried < 0) break;
+    const CandidateFinding& chosen = scored.round.candidates[tried];
+    const CandidateEffect& c = *scored.testable[tried];
+    done.insert(c.effect.name);
+    if (chosen.accepted) {
+      scored.round.accepted = chosen.name;
+      out.accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
+      out.accepted.back().frame = true;
+      current = std::move(with_cv);
+    }
+    out.rounds.push_back(std::move(scored.round));
   }
   out.final = current.summary;
   out.final_fit = current.result;

@@ -1,5 +1,6 @@
 // The physics finder's default candidates (diagnosis.h): the effect library, each effect on one
 // joint or camera at a time, so that a finding names the joint or camera.
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -150,6 +151,10 @@ void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording
                         any, "world tag tilted from the placement's frame",
                         "a robot standing level stated in the job (base: {level: {sigma_rad}}), "
                         "or its base's rotation measured and held", registry));
+    // Where the job states a robot level, the tag's tilt from level is a frame the statement
+    // determines (CandidateEffect::frame); without it, nothing does and it is untestable.
+    out->back().frame = std::any_of(spec.robots.begin(), spec.robots.end(),
+                                    [](const WorkcellRobot& r) { return r.level_sigma_rad.has_value(); });
   }
   if (!groups) return;
   AddEveryCameraCandidates(recording, any, registry, out);

@@ -104,7 +104,14 @@ void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstr
   out << "Left out: ";
   // A group's forms are pieces of one cause: the cause first, the form as its best description.
   if (!head.group_label.empty()) out << head.group_label << ", best described as ";
-  out << head.description << " (up to " << Mm(head.peak_mm) << " at the tool)";
+  out << head.description;
+  if (head.frame) {
+    out << ", a frame the job's stated level determines: it moves where the answer is read, not "
+           "what the model predicts, so held-out error cannot judge it; its likelihood-ratio test "
+           "and its size did";
+  } else {
+    out << " (up to " << Mm(head.peak_mm) << " at the tool)";
+  }
   const size_t members = 1 + f.separate.size() + f.residual_shape.size();
   if (members > 1) {
     out << "; one finding at " << f.site << " with the effects below (this one removes "
@@ -317,6 +324,7 @@ nlohmann::json AcceptedJson(const AcceptedEffect& a) {
                    {"headline_correlation", a.headline_correlation},
                    {"site_correlations", a.site_correlations},
                    {"stronger_implausible", a.stronger_implausible},
+                   {"frame", a.frame},
                    {"parameters", nlohmann::json::array()}};
   for (const auto& p : a.parameters) {
     j["parameters"].push_back(

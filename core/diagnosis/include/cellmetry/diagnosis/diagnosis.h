@@ -159,6 +159,11 @@ struct CandidateEffect {
   // Two candidates with an atom in common fit the same thing: once one is accepted the other
   // leaves the rounds, and neither is the other's rival (one contains the other).
   std::vector<std::string> atoms;
+  // Where the answer is read, not what it predicts: the world tag's tilt from the placement's
+  // frame, which a robot stated level determines. It moves the frames the answer gives, and no
+  // prediction the held-out error could see, so it is judged by its tests of significance and
+  // size alone, after the rounds (a frame in `accepted`, AcceptedEffect::frame).
+  bool frame = false;
 };
 
 // Whether `a` and `b` would fit the same thing: one family, or an atom in common.
@@ -271,6 +276,8 @@ struct AcceptedEffect {
   // have (CandidateFinding::implausible), strongest first: "label: why". Set aside as names and
   // as rivals, they say the mismatch along this signature may be larger than its name explains.
   std::vector<std::string> stronger_implausible;
+  // A frame (CandidateEffect::frame), accepted on its likelihood-ratio test and size alone.
+  bool frame = false;
 };
 
 // Accepted effects at one site, as one physical finding (step 7); indices into
@@ -284,7 +291,9 @@ struct PhysicalFinding {
 };
 
 struct FitSummary {
-  double chi2 = 0.0;
+  double chi2 = 0.0;                         // of the measurements
+  double prior_chi2 = 0.0;                   // what the job's stated priors add (a level base's
+                                             // tilt over its sigma, squared)
   double dof = 0.0;
   double p_value = 1.0;                      // chi-square against the floor
   double rms_mm = 0.0;                       // carried targets' positions
