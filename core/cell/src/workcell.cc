@@ -1,26 +1,28 @@
 // The workcell identification (workcell.h): fit, sigma, uncertainty, residuals, held-out.
 #include "cellmetry/cell/workcell.h"
-#include "cellmetry/cell/robot_pairs.h"
 
-#include "cellmetry/basics/plausibility.h"
-#include "cellmetry/basics/error.h"
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <mutex>
 #include <random>
 
+#include "cellmetry/basics/error.h"
+#include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"
-#include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/outliers.h"
+#include "cellmetry/cell/robot_pairs.h"
+#include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/estimation/reweighted_solve.h"
 #include "camera_left_out_fit.h"
 #include "fit_once.h"
+#include "input_uncertainty.h"
 #include "residual_rows.h"
 #include "robust_first_fit.h"
-#include "input_uncertainty.h"
 #include "uncertainty_split.h"
 
 namespace cellmetry {
@@ -118,8 +120,15 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
   std::mt19937 rng(spec.seed);
   std::shuffle(poses.begin(), poses.end(), rng);
   out.folds = folds;
+  // The folds side by side (each fit's own threads leave its serial parts to overlap), then
+  // summed in fold order, so that the answer does not depend on which finished first.
+  struct FoldRows {
+    std::vector<ResidualRow> rows;  // the held-out carried-target rows
+  };
+  std::vector<FoldRows> fold_rows(folds);
   Progress progress("cross-validation (" + CameraModelName(spec.camera_model) + ") fold", folds);
-  for (int f = 0; f < folds; ++f) {
+  std::mutex progress_mutex;
+  tbb::parallel_for(0, folds, [&](int f) {
     std::set<int> train, test;
     for (size_t i = 0; i < poses.size(); ++i) {
       (static_cast<int>(i) % folds == f ? test : train).insert(poses[i]);
@@ -127,12 +136,17 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     Fit fit = FitOnce(spec, recording, data, noise, answer, train, held, make_solver,
                       /*warm_start=*/true);
     const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
+    for (auto& row : MeasurementRows(spec, recording, data, noise, trained, test, nullptr)) {
+      if (IsCarried(recording, row.target)) fold_rows[f].rows.push_back(std::move(row));
+    }
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    progress.Advance();
+  });
+  for (const FoldRows& f : fold_rows) {
     ResidualRms fold;
     double normalized_ss = 0.0;  // every carried-target row the fit uses: rotations too, where
     int normalized_rows = 0;     // an effect may show most (a delta platform's tilt)
-    for (const auto& row :
-         MeasurementRows(spec, recording, data, noise, trained, test, nullptr)) {
-      if (!IsCarried(recording, row.target)) continue;
+    for (const auto& row : f.rows) {
       normalized_ss += row.normalized.squaredNorm();
       normalized_rows += 3;
       if (row.kind != "position") continue;
@@ -144,7 +158,6 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
         normalized_rows > 0 ? std::sqrt(normalized_ss / normalized_rows) : 0.0);
     fold.Finish();
     out.per_fold.push_back(fold);
-    progress.Advance();
   }
   out.total.Finish();
   for (auto& [camera, rms] : out.per_camera) rms.Finish();

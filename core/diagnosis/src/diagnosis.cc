@@ -435,8 +435,9 @@ class Diagnoser {
 
   // Linearizes the current model once, scores every candidate not `done`; untestable ones go
   // to `untestable` and join `done`.
+  // `frames_only`: the frame candidates alone (CandidateEffect::frame), for TestFrame.
   ScoredRound Score(const Fitted& current, std::set<std::string>* done,
-                    std::vector<CandidateFinding>* untestable) const {
+                    std::vector<CandidateFinding>* untestable, bool frames_only = false) const {
     ScoredRound s;
     s.base = LinearizeWithCandidate(current.spec, recording_, data_, noise_,
                                     current.result.estimate, false);
@@ -458,7 +459,7 @@ class Diagnoser {
     std::vector<const CandidateEffect*> open;
     std::vector<WorkcellEffect> effects;
     for (const auto& c : candidates_) {
-      if (done->count(c.effect.name)) continue;
+      if (done->count(c.effect.name) || (frames_only && !c.frame)) continue;
       open.push_back(&c);
       effects.push_back(c.effect);
     }
@@ -775,8 +776,13 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     if (!accepted) break;
   }
   // The frames the job's statements determine, after the physics (they move no prediction).
-  for (;;) {
-    ScoredRound scored = diagnoser.Score(current, &done, &out.untestable);
+  auto frame_open = [&] {
+    return std::any_of(candidates.begin(), candidates.end(), [&](const CandidateEffect& c) {
+      return c.frame && !done.count(c.effect.name);
+    });
+  };
+  while (frame_open()) {
+    ScoredRound scored = diagnoser.Score(current, &done, &out.untestable, /*frames_only=*/true);
     Fitted with_cv;
     const int tried = diagnoser.TestFrame(current, &scored, &with_cv);
     if (tried < 0) break;
@@ -797,9 +803,12 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   if (spec.leave_one_camera_out) {
     // The final fit as `cellmetry run` reports it: each camera left out in turn too.
     Progress::Note("identifying the final model without each camera in turn");
+    // Its cross-validation is the current fit's (the same model on the same data).
     WorkcellProblem final_spec = current.spec;
     final_spec.leave_one_camera_out = true;
+    final_spec.folds = 0;
     out.final_fit = IdentifyWorkcell(final_spec, recording, make_solver);
+    out.final_fit.held_out = current.result.held_out;
   }
   GroupFindings(options, &out);
   // Without an accepted effect the model is the geometry, whose findings are already known.
