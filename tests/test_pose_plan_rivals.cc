@@ -71,6 +71,12 @@ TEST(PosePlanRivals, PosesPlannedForTheClosestCandidateAndItsRivalLetTheFinderNa
                               "--effect ur3.transmission_j2` proposes";
   EXPECT_NE(DiagnosisReport(before).find(command), std::string::npos) << DiagnosisReport(before);
   EXPECT_NE(report::DiagnoseReportHtml(before, recorded, "test").find(command), std::string::npos);
+  // Silent on the name, not on the site: the two tie at joint 2, and the report says both.
+  const std::string tie =
+      "Tied at ur3 joint 2: joint 2 compliance or joint 2 transmission error.";
+  EXPECT_NE(DiagnosisReport(before).find(tie), std::string::npos) << DiagnosisReport(before);
+  EXPECT_EQ(DiagnosisJson(before)["tie"].get<std::string>().rfind(tie, 0), 0u);
+  EXPECT_NE(report::DiagnoseReportHtml(before, recorded, "test").find(tie), std::string::npos);
   int in_json = 0;
   const nlohmann::json json = DiagnosisJson(before);
   for (const auto& f : json["rounds"].back()["candidates"]) {

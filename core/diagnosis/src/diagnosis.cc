@@ -364,6 +364,7 @@ class Diagnoser {
     CandidateFinding f;
     f.name = c.effect.name;
     f.label = c.label;
+    f.site = c.site;
     f.unabsorbed = test.unabsorbed;
     f.detectable = detectable;
     f.dof = test.dof;
@@ -783,6 +784,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   };
   while (frame_open()) {
     ScoredRound scored = diagnoser.Score(current, &done, &out.untestable, /*frames_only=*/true);
+    scored.round.frames = true;
     Fitted with_cv;
     const int tried = diagnoser.TestFrame(current, &scored, &with_cv);
     if (tried < 0) break;

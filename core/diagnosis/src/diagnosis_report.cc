@@ -38,6 +38,30 @@ std::string Why(const CandidateFinding& f, const std::string& test) {
   return why;
 }
 
+// The last round of the physics (not the frames' step after it); null when there is none.
+const DiagnosisRound* LastPhysicsRound(const DiagnosisResult& r) {
+  const auto it = std::find_if(r.rounds.rbegin(), r.rounds.rend(),
+                               [](const DiagnosisRound& round) { return !round.frames; });
+  return it == r.rounds.rend() ? nullptr : &*it;
+}
+
+// Where the closest candidate passed every test but the one against its rival (the rival test,
+// or the bootstrap's split) and the rival acts at the same joint or camera: a finding at that
+// site with two names, said as such ("" otherwise). Something is there; these poses cannot say
+// which of the two it is.
+std::string TieAtItsSite(const DiagnosisRound& round, const CandidateFinding& f) {
+  const bool rivals = f.failed == std::vector<std::string>{"rivals"};
+  const bool bootstrap = f.failed == std::vector<std::string>{"bootstrap"};
+  if ((!rivals && !bootstrap) || f.site.empty()) return "";
+  const std::string& rival = rivals ? f.rival_effect : f.bootstrap_rival_effect;
+  const auto other = std::find_if(round.candidates.begin(), round.candidates.end(),
+                                  [&](const CandidateFinding& c) { return c.name == rival; });
+  if (other == round.candidates.end() || other->site != f.site) return "";
+  return "Tied at " + f.site + ": " + f.label + " or " + other->label +
+         ". Something of either shape is there (the closest passes every other test); these "
+         "poses cannot say which.";
+}
+
 std::string Value(const ScalarEstimate& s) {
   char b[96];
   std::snprintf(b, sizeof(b), "%s = %.3g +- %.2g %s", s.name.c_str(), s.value, s.sigma,
@@ -192,9 +216,12 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
     }
     out << ".\n";
   }
-  if (!r.rounds.empty()) {  // the last round's chosen one failed: what it would give, and why not
-    for (const auto& f : r.rounds.back().candidates) {
+  // The last physics round's chosen one failed: what it would give, and why not.
+  if (const DiagnosisRound* physics = LastPhysicsRound(r)) {
+    for (const auto& f : physics->candidates) {
       if (f.failed.empty()) continue;
+      const std::string tie = TieAtItsSite(*physics, f);
+      if (!tie.empty()) out << tie << "\n";
       out << "Closest candidate: " << f.label << " (held-out RMS " << Mm(r.final.held_out_rms_mm)
           << " -> " << Mm(f.cv_rms_mm) << "), not accepted:";
       for (size_t i = 0; i < f.failed.size(); ++i)
@@ -210,6 +237,15 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
         }
         out << " (canonical correlation of what the geometry leaves of them).\n";
       }
+    }
+  }
+  for (const DiagnosisRound& round : r.rounds) {  // a frame the tests did not accept
+    if (!round.frames) continue;
+    for (const auto& f : round.candidates) {
+      if (f.failed.empty()) continue;
+      out << "Frame not accepted: " << f.label << ":";
+      for (size_t i = 0; i < f.failed.size(); ++i) out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
+      out << ".\n";
     }
   }
   if (!r.unexplained.empty()) out << "Unexplained: " << r.unexplained << ".\n";
@@ -255,10 +291,21 @@ std::string PlanAgainstRivalAdvice(const DiagnosisResult& r, const CandidateFind
 }
 
 std::string PlanAgainstRivalAdvice(const DiagnosisResult& r) {
-  if (r.rounds.empty()) return "";
-  for (const auto& f : r.rounds.back().candidates) {
+  const DiagnosisRound* last = LastPhysicsRound(r);
+  if (!last) return "";
+  for (const auto& f : last->candidates) {
     const std::string advice = PlanAgainstRivalAdvice(r, f);
     if (!advice.empty()) return advice;
+  }
+  return "";
+}
+
+std::string DiagnosisTie(const DiagnosisResult& r) {
+  const DiagnosisRound* last = LastPhysicsRound(r);
+  if (!last) return "";
+  for (const auto& f : last->candidates) {
+    const std::string tie = TieAtItsSite(*last, f);
+    if (!tie.empty()) return tie;
   }
   return "";
 }
@@ -283,6 +330,7 @@ nlohmann::json LookAlikesJson(const std::vector<LookAlike>& look_alikes) {
 
 nlohmann::json CandidateJson(const CandidateFinding& f) {
   return nlohmann::json{{"name", f.name},
+                        {"site", f.site},
                         {"label", f.label},
                         {"testable", f.testable},
                         {"untestable_because", f.untestable_because},
@@ -371,10 +419,12 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& result) {
   for (const auto& round : r.rounds) {
     nlohmann::json jr{{"accepted", round.accepted},
                       {"dispersion", round.dispersion},
+                      {"frames", round.frames},
                       {"candidates", nlohmann::json::array()}};
     for (const auto& f : round.candidates) jr["candidates"].push_back(CandidateJson(f));
     j["rounds"].push_back(jr);
   }
+  j["tie"] = DiagnosisTie(r);
   j["accepted"] = nlohmann::json::array();
   for (const auto& a : r.accepted) j["accepted"].push_back(AcceptedJson(a));
   j["min_group_share"] = r.min_group_share;

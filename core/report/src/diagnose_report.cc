@@ -141,6 +141,8 @@ std::string DiagnoseReportHtml(const DiagnosisResult& r, const Recording& record
   page.Paragraph("Noise floor: " + r.noise_source + ", " + Num(r.floor_rms_mm, 3) + " mm RMS. " +
                  (r.unexplained.empty() ? "What remains is consistent with noise."
                                         : "Unexplained: " + r.unexplained + "."));
+  const std::string tie = DiagnosisTie(r);
+  if (!tie.empty()) page.Paragraph(tie);
   const std::string advice = PlanAgainstRivalAdvice(r);
   if (!advice.empty()) page.Paragraph("Next: " + advice);
   FindingsSection(r, &page);

@@ -182,6 +182,7 @@ struct LookAlike {
 struct CandidateFinding {
   std::string name;
   std::string label;
+  std::string site;                 // CandidateEffect::site ("" where it has none)
   bool testable = true;
   std::string untestable_because;   // "98 % absorbed by the geometry", "no temperatures", ...
   std::string data_needed;          // what would make it testable
@@ -232,6 +233,7 @@ struct DiagnosisRound {
                                              // (>= 1); every test statistic is divided by it
   std::vector<CandidateFinding> candidates;  // testable ones, best score first
   std::string accepted;                      // "" when none passed
+  bool frames = false;                       // the frames' step (CandidateEffect::frame)
 };
 
 // One carried-target position row seen along an accepted effect: what the effect predicts there
@@ -351,6 +353,10 @@ std::string DiagnosisReport(const DiagnosisResult& result);
 std::string PlanAgainstRivalAdvice(const DiagnosisResult& result);
 std::string PlanAgainstRivalAdvice(const DiagnosisResult& result,
                                    const CandidateFinding& candidate);
+// Where the last round's closest candidate failed only the test against its rival and the rival
+// acts at the same joint or camera: "Tied at <site>: <it> or <rival>. ..." ("" otherwise). Part
+// of DiagnosisReport, report.html's summary and diagnosis.json's `tie`.
+std::string DiagnosisTie(const DiagnosisResult& result);
 nlohmann::json DiagnosisJson(const DiagnosisResult& result);
 
 }  // namespace cellmetry
