@@ -147,6 +147,7 @@ SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
       run.aliases = d.accepted.front().alias_names;
       run.group = d.accepted.front().group;
     }
+    if (d.accepted.empty()) run.tied = TiedCandidates(d);
     run.held_out_over_floor = d.final.held_out_rms_mm / d.floor_rms_mm;
     for (const auto& f : d.rounds.empty() ? std::vector<CandidateFinding>{}
                                           : d.rounds.back().candidates) {
@@ -172,7 +173,7 @@ nlohmann::json ToJson(const SuiteCaseResult& r) {
   nlohmann::json runs = nlohmann::json::array();
   for (const auto& run : r.runs) {
     runs.push_back({{"named", run.named}, {"aliases", run.aliases}, {"group", run.group},
-                    {"failed", run.failed},
+                    {"failed", run.failed}, {"tied", run.tied},
                     {"held_out_over_floor", run.held_out_over_floor}, {"seconds", run.seconds}});
   }
   const OracleSelection& o = r.oracle;
@@ -195,6 +196,7 @@ SuiteCaseResult FromJson(const nlohmann::json& j, const std::string& cell, const
                   ""};
     if (run.contains("aliases")) read.aliases = run.at("aliases").get<std::vector<std::string>>();
     if (run.contains("group")) read.group = run.at("group").get<std::string>();
+    if (run.contains("tied")) read.tied = run.at("tied").get<std::vector<std::string>>();
     r.runs.push_back(read);
   }
   if (j.contains("oracle")) {

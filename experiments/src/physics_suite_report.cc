@@ -24,10 +24,17 @@ std::string Percent(double rate) { return FixedNumber(100.0 * rate, 0) + " %"; }
 // The suite's runs in three groups, and the held-out ratios and times of the effect cases.
 struct SuiteTally {
   int effect_runs = 0, effect_right = 0, effect_wrong = 0;  // wrong: another effect named
+  int effect_silent = 0, effect_tied = 0;  // nothing named; of those, tied with it at its site
   int clean_runs = 0, clean_right = 0;
   int outside_runs = 0, outside_right = 0;
   std::vector<double> held_out_over_floor, seconds;
 };
+
+// A silent run whose report ties the hidden effect with a rival at its joint or camera.
+bool TiedWithIt(const SuiteCaseResult& r, const SuiteRun& run) {
+  return std::any_of(run.tied.begin(), run.tied.end(),
+                     [&](const std::string& t) { return t.rfind(r.spec.expect, 0) == 0; });
+}
 
 SuiteTally Tally(const std::vector<SuiteCaseResult>& results) {
   SuiteTally t;
@@ -43,6 +50,10 @@ SuiteTally Tally(const std::vector<SuiteCaseResult>& results) {
       for (const auto& run : r.runs) {
         const bool claimed = run.named != "none" && run.named != "unexplained";
         t.effect_wrong += claimed && !r.named_right(run);
+        if (!claimed && !r.named_right(run)) {
+          ++t.effect_silent;
+          t.effect_tied += TiedWithIt(r, run);
+        }
         t.held_out_over_floor.push_back(run.held_out_over_floor);
       }
     }
@@ -122,12 +133,18 @@ std::string WeakCases(const std::string& cell, const std::vector<SuiteCaseResult
     undecided += verdict == TargetVerdict::kUndecided;
     if (verdict != TargetVerdict::kMissed) continue;
     std::map<std::string, int> instead;
+    int tied_right = 0;  // silent, but tied at the hidden effect's site with it among the two
     for (const auto& run : r.runs) {
-      if (!r.named_right(run)) ++instead[run.named];
+      if (r.named_right(run)) continue;
+      ++instead[run.named];
+      tied_right += TiedWithIt(r, run);
     }
     std::string named;
     for (const auto& [name, count] : instead) {
       named += (named.empty() ? "" : ", ") + name + " " + std::to_string(count);
+    }
+    if (tied_right > 0) {
+      named += "; " + std::to_string(tied_right) + " of them tied with it at its site";
     }
     weak += (weak.empty() ? "" : "; ") + r.spec.name + " " + std::to_string(rate.k) + "/" +
             std::to_string(rate.n) + " (named instead: " + named + ")";
@@ -225,6 +242,9 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
       << verdict(t.effect_right, t.effect_runs, kNamedTarget) << " |\n";
   out << "| the oracle's best guess on each case's poses, always naming one (oracle_selection.h) | "
       << OracleSummary(results) << " | | |\n";
+  out << "| silent, but the hidden effect tied with a rival at its joint or camera (the report "
+         "names both) | "
+      << t.effect_tied << " of " << t.effect_silent << " silent runs | | |\n";
   out << "| wrong effect named | " << t.effect_wrong << "/" << t.effect_runs << " | none | "
       << (t.effect_wrong == 0 ? "met" : "missed") << " |\n";
   out << "| no effect claimed on clean recordings | " << rate(t.clean_right, t.clean_runs)

@@ -46,17 +46,23 @@ const DiagnosisRound* LastPhysicsRound(const DiagnosisResult& r) {
 }
 
 // Where the closest candidate passed every test but the one against its rival (the rival test,
-// or the bootstrap's split) and the rival acts at the same joint or camera: a finding at that
-// site with two names, said as such ("" otherwise). Something is there; these poses cannot say
-// which of the two it is.
-std::string TieAtItsSite(const DiagnosisRound& round, const CandidateFinding& f) {
+// or the bootstrap's split) and the rival acts at the same joint or camera, that rival: a finding
+// at the site with two names. Something is there; these poses cannot say which of the two it is.
+// Null otherwise.
+const CandidateFinding* TiedRival(const DiagnosisRound& round, const CandidateFinding& f) {
   const bool rivals = f.failed == std::vector<std::string>{"rivals"};
   const bool bootstrap = f.failed == std::vector<std::string>{"bootstrap"};
-  if ((!rivals && !bootstrap) || f.site.empty()) return "";
+  if ((!rivals && !bootstrap) || f.site.empty()) return nullptr;
   const std::string& rival = rivals ? f.rival_effect : f.bootstrap_rival_effect;
   const auto other = std::find_if(round.candidates.begin(), round.candidates.end(),
                                   [&](const CandidateFinding& c) { return c.name == rival; });
-  if (other == round.candidates.end() || other->site != f.site) return "";
+  if (other == round.candidates.end() || other->site != f.site) return nullptr;
+  return &*other;
+}
+
+std::string TieAtItsSite(const DiagnosisRound& round, const CandidateFinding& f) {
+  const CandidateFinding* other = TiedRival(round, f);
+  if (!other) return "";
   return "Tied at " + f.site + ": " + f.label + " or " + other->label +
          ". Something of either shape is there (the closest passes every other test); these "
          "poses cannot say which.";
@@ -298,6 +304,15 @@ std::string PlanAgainstRivalAdvice(const DiagnosisResult& r) {
     if (!advice.empty()) return advice;
   }
   return "";
+}
+
+std::vector<std::string> TiedCandidates(const DiagnosisResult& r) {
+  const DiagnosisRound* last = LastPhysicsRound(r);
+  if (!last) return {};
+  for (const auto& f : last->candidates) {
+    if (const CandidateFinding* other = TiedRival(*last, f)) return {f.name, other->name};
+  }
+  return {};
 }
 
 std::string DiagnosisTie(const DiagnosisResult& r) {

@@ -357,6 +357,8 @@ std::string PlanAgainstRivalAdvice(const DiagnosisResult& result,
 // acts at the same joint or camera: "Tied at <site>: <it> or <rival>. ..." ("" otherwise). Part
 // of DiagnosisReport, report.html's summary and diagnosis.json's `tie`.
 std::string DiagnosisTie(const DiagnosisResult& result);
+// The same two by candidate name (the closest first); empty where there is no tie.
+std::vector<std::string> TiedCandidates(const DiagnosisResult& result);
 nlohmann::json DiagnosisJson(const DiagnosisResult& result);
 
 }  // namespace cellmetry
