@@ -83,11 +83,6 @@ std::map<std::string, std::vector<double>> NominalModels(const WorkcellProblem& 
   return nominal;
 }
 
-bool IsCarriedTarget(const Recording& recording, const std::string& target) {
-  const auto it = recording.targets.find(target);
-  return it != recording.targets.end() && it->second != kWorldCarrier;
-}
-
 // The position rows of carried targets: prediction - measurement (mm, camera axes), the row
 // offset in the problem's residuals and its sigma.
 struct PositionRow {
@@ -104,7 +99,7 @@ std::vector<PositionRow> CarriedPositionRows(const Problem& problem, const Eigen
   const auto& infos = problem.residual_infos();
   for (size_t b = 0; b < infos.size(); ++b) {
     const ResidualInfo& info = infos[b];
-    if (info.kind != ResidualInfo::Kind::kPosition || !IsCarriedTarget(recording, info.target)) {
+    if (info.kind != ResidualInfo::Kind::kPosition || !recording.IsCarried(info.target)) {
       continue;
     }
     const int row = problem.residual_rows()[b];

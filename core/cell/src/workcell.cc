@@ -51,10 +51,6 @@ SolverMaker FirstFitSolver(const NoiseModel& noise, const SolverMaker& job_solve
 
 namespace {
 
-bool IsCarried(const Recording& recording, const std::string& target) {
-  return recording.targets.at(target) != kWorldCarrier;
-}
-
 // Prediction - measurement rows at `estimate`, in the measurement's units (mm / rad), whatever
 // residual form the fit used: a joint-space fit's rows are whitened joint errors, so its
 // measurements are compared again in the camera frame.
@@ -137,7 +133,7 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
                       /*warm_start=*/true);
     const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
     for (auto& row : MeasurementRows(spec, recording, data, noise, trained, test, nullptr)) {
-      if (IsCarried(recording, row.target)) fold_rows[f].rows.push_back(std::move(row));
+      if (recording.IsCarried(row.target)) fold_rows[f].rows.push_back(std::move(row));
     }
     const std::lock_guard<std::mutex> lock(progress_mutex);
     progress.Advance();
@@ -722,7 +718,7 @@ RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResul
     const auto rows = ResidualRows(*AssembleWorkcell(cartesian, fresh, data, noise, estimate));
     int count = 0;
     for (const auto& row : rows) {
-      if (row.kind != "position" || !IsCarried(fresh, row.target)) continue;
+      if (row.kind != "position" || !fresh.IsCarried(row.target)) continue;
       rms.Add(row.error);
       if (mean) *mean += row.error.norm();
       if (max) *max = std::max(*max, row.error.norm());

@@ -30,10 +30,6 @@ struct Fitted {
   FitSummary summary;
 };
 
-bool Carried(const Recording& recording, const std::string& target) {
-  return recording.targets.at(target) != kWorldCarrier;
-}
-
 // The held-out figures of a fit's cross-validation.
 void SummarizeHeldOut(Fitted* f) {
   f->summary.held_out_rms_mm = f->result.held_out.total.norm;
@@ -56,7 +52,7 @@ Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
   for (const auto& row : f.result.residuals) {
     f.summary.chi2 += row.normalized.squaredNorm();
     rows += 3;
-    if (row.kind == "position" && Carried(recording, row.target)) tool.Add(row.error);
+    if (row.kind == "position" && recording.IsCarried(row.target)) tool.Add(row.error);
   }
   tool.Finish();
   for (const WorkcellRobot& robot : spec.robots) {  // a level base's tilt over its sigma
@@ -172,7 +168,7 @@ void CheckInputs(const NoiseModel& noise, const Recording& recording,
 double FloorRms(const Fitted& fit, const Recording& recording) {
   ResidualRms floor;
   for (const auto& row : fit.result.residuals) {
-    if (row.kind != "position" || !Carried(recording, row.target)) continue;
+    if (row.kind != "position" || !recording.IsCarried(row.target)) continue;
     const Eigen::Vector3d sigma = row.error.cwiseQuotient(row.normalized);
     floor.Add(sigma.unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; }));
   }
@@ -188,7 +184,7 @@ double PeakMm(const CandidateLinearization& lin, const Recording& recording,
   for (Eigen::Index i = 0; i < whitened.size(); ++i) {
     const ResidualInfo& info = lin.rows[i];
     if (info.kind != ResidualInfo::Kind::kPosition || info.observation < 0 ||
-        !Carried(recording, info.target)) {
+        !recording.IsCarried(info.target)) {
       continue;
     }
     auto& d = per_observation.try_emplace(info.observation, Eigen::Vector3d::Zero()).first->second;

@@ -28,7 +28,7 @@ bool IsToolPositionRow(const CandidateLinearization& lin, const Recording& recor
                        Eigen::Index i) {
   const ResidualInfo& info = lin.rows[i];
   return info.kind == ResidualInfo::Kind::kPosition && info.observation >= 0 &&
-         recording.targets.at(info.target) != kWorldCarrier;
+         recording.IsCarried(info.target);
 }
 
 }  // namespace

@@ -325,6 +325,11 @@ bool Recording::HasCamera(const std::string& name) const {
   return std::find(cameras.begin(), cameras.end(), name) != cameras.end();
 }
 
+bool Recording::IsCarried(const std::string& target) const {
+  const auto it = targets.find(target);
+  return it != targets.end() && it->second != kWorldCarrier;
+}
+
 Recording ReadRecording(const std::string& folder) {
   namespace fs = std::filesystem;
   std::error_code unreadable;  // e.g. a name too long: "not a recording", not a throw

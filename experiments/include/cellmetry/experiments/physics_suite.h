@@ -73,7 +73,7 @@ struct SuiteRun {
   double seconds = 0.0;
   std::vector<std::string> aliases;  // the named effect's exact aliases (candidate names)
   std::string group;            // the named effect's group (CandidateEffect::group), or ""
-  std::vector<std::string> tied;  // none named: the two tied at one site (TiedCandidates)
+  std::vector<std::string> tied = {};  // none named: the two tied at one site (TiedCandidates)
 };
 
 struct SuiteCaseResult {

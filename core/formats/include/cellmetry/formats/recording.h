@@ -67,6 +67,8 @@ struct Recording {
   // Index into `samples` of the sample with this id; -1 if absent.
   int SampleIndex(int id) const;
   bool HasCamera(const std::string& name) const;
+  // Whether `target` is one some robot carries (not the world's, nor one the recording lacks).
+  bool IsCarried(const std::string& target) const;
 };
 
 // Reads and validates a recording folder. Raises InputError on any defect.

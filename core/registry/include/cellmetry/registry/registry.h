@@ -45,12 +45,14 @@ namespace cellmetry {
 
 // Bumped whenever a plugin-facing header changes incompatibly; plugins built against another
 // version are refused with a message saying so.
-inline constexpr int kPluginAbiVersion = 7;  // 2: inverse kinematics, limits, detectors;
+inline constexpr int kPluginAbiVersion = 8;  // 2: inverse kinematics, limits, detectors;
                                              // 3: effects, joint offsets and frames
                                              // 4: serial chains and calibrated configs (exports)
                                              // 5: flange twists (RobotModel::ForwardWithTwists)
                                              // 6: Parameter::plausible_nonnegative (its layout)
                                              // 7: Solver::LimitThreads (Solver's layout)
+                                             // 8: Parameter::convention, plausible_group and
+                                             //    plausible_common (its layout)
 
 enum class PluginKind { kDetector, kRobotModel, kSolver, kEffect };
 std::string KindName(PluginKind kind);
