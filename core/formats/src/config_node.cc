@@ -104,10 +104,22 @@ struct NodeBudget {
 // Every key a word (a reader takes keys with as<std::string>, which throws on a list or a map).
 // yaml-cpp keeps the second of two equal keys in a map without a word (and a reader takes the
 // first): a job that says `folds: 5` twice means one of them by mistake.
-void RefuseDuplicateKeys(const YAML::Node& node, NodeBudget& budget) {
+// Nesting deeper than this is refused: a cellmetry file nests a few levels, and an alias inside
+// its own anchor (`a: &a [*a]`) makes a node that contains itself, which no walk would leave.
+constexpr int kMaxYamlDepth = 64;
+
+void RefuseDuplicateKeys(const YAML::Node& node, NodeBudget& budget, int depth = 0) {
   budget.Visit(node);
+  if (depth > kMaxYamlDepth) {
+    const YAML::Mark mark = node.Mark();
+    throw InputError({budget.origin, mark.is_null() ? 0 : mark.line + 1,
+                      mark.is_null() ? 0 : mark.column + 1},
+                     "values nested more than " + std::to_string(kMaxYamlDepth) +
+                         " deep (or an alias (*) inside its own anchor (&))",
+                     "Write the values out: a cellmetry file nests a few levels");
+  }
   if (node.IsSequence()) {
-    for (const auto& element : node) RefuseDuplicateKeys(element, budget);
+    for (const auto& element : node) RefuseDuplicateKeys(element, budget, depth + 1);
   }
   if (!node.IsMap()) return;
   const std::string& origin = budget.origin;
@@ -128,7 +140,7 @@ void RefuseDuplicateKeys(const YAML::Node& node, NodeBudget& budget) {
                        "key '" + entry.first.Scalar() + "' appears twice in this map",
                        "Keep one of them");
     }
-    RefuseDuplicateKeys(entry.second, budget);
+    RefuseDuplicateKeys(entry.second, budget, depth + 1);
   }
 }
 
