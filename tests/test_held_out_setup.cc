@@ -136,17 +136,35 @@ TEST(HeldOutSetup, RegistrationPosesAreChosenAsTheJobSays) {
   EXPECT_THROW(SelectRegistrationPoses(r, {6, 0, {}}, {}), InputError);  // nothing left to score
 }
 
+// The real TX90L as configs/jobs/staubli_tx90l.yaml runs it: calibrated on the 40 poses of
+// tests/data/astl/calibration, scored on the 300 of points/ with its own registration poses.
+struct RealTrackerRun {
+  Recording points;
+  WorkcellResult result;
+  HeldOutSetupScore score;
+};
+
+RealTrackerRun CalibrateAndScoreTheRealTracker() {
+  RealTrackerRun run;
+  const Recording calibration =
+      ImportRecording(testing::Source("configs/import/astl_calibration.yaml"));
+  run.points = ImportRecording(testing::Source("configs/import/astl_points.yaml"));
+  WorkcellJob job = StaubliJob();
+  job.problem.folds = 0;
+  run.result = IdentifyWorkcell(job.problem, calibration, CeresLm());
+  run.score = ScoreHeldOutSetup(
+      job.problem, run.result, run.points,
+      SelectRegistrationPoses(run.points, job.held_out_setup->register_on, {}), CeresLm());
+  return run;
+}
+
 // The real TX90L (tests/data/astl, imported as published): every MDH entry calibrated on the 40
 // poses of one day, checked on the 300 of a setup nine days later, tracker and probe registered
 // again on every 15th. The entries the data cannot determine are all conventions, the held-out
 // RMS is at most 0.09 mm against the nominal model's 0.18, and the predicted sigma holds.
 TEST(HeldOutSetup, RealTrackerDataHoldsOutAtAPublishedCalibrationsAccuracy) {
-  const Recording calibration =
-      ImportRecording(testing::Source("configs/import/astl_calibration.yaml"));
-  const Recording points = ImportRecording(testing::Source("configs/import/astl_points.yaml"));
-  WorkcellJob job = StaubliJob();
-  job.problem.folds = 0;
-  const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
+  const RealTrackerRun run = CalibrateAndScoreTheRealTracker();
+  const WorkcellResult& result = run.result;
   EXPECT_EQ(result.unidentifiable.size(), 12u);
   for (const UnidentifiableParameter& u : result.unidentifiable) {
     EXPECT_FALSE(u.convention.empty()) << u.name << " held without a convention";
@@ -157,9 +175,7 @@ TEST(HeldOutSetup, RealTrackerDataHoldsOutAtAPublishedCalibrationsAccuracy) {
     }
     EXPECT_FALSE(p.undetermined) << p.name;
   }
-  const HeldOutSetupScore score = ScoreHeldOutSetup(
-      job.problem, result, points,
-      SelectRegistrationPoses(points, job.held_out_setup->register_on, {}), CeresLm());
+  const HeldOutSetupScore& score = run.score;
   EXPECT_EQ(score.scored_poses, 280);
   EXPECT_LE(score.rms_mm, 0.09);
   EXPECT_NEAR(score.nominal_rms_mm, 0.18, 0.02);
@@ -174,17 +190,10 @@ TEST(HeldOutSetup, RealTrackerDataHoldsOutAtAPublishedCalibrationsAccuracy) {
 // there: their RMS is the held-out RMS. Each command carries a finite sigma from S, the
 // calibration's covariance joined with the registration's.
 TEST(HeldOutSetup, RegisteredResultCompensatesTheMeasuredTargetsToTheHeldOutError) {
-  const Recording calibration =
-      ImportRecording(testing::Source("configs/import/astl_calibration.yaml"));
-  const Recording points = ImportRecording(testing::Source("configs/import/astl_points.yaml"));
-  WorkcellJob job = StaubliJob();
-  job.problem.folds = 0;
-  const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
-  const HeldOutSetupScore score = ScoreHeldOutSetup(
-      job.problem, result, points,
-      SelectRegistrationPoses(points, job.held_out_setup->register_on, {}), CeresLm());
+  const RealTrackerRun run = CalibrateAndScoreTheRealTracker();
+  const HeldOutSetupScore& score = run.score;
   const std::string folder = testing::TempDirForThisTest("held_out_compensation") + "/setup";
-  WriteHeldOutSetupFolder(score, points, folder);
+  WriteHeldOutSetupFolder(score, run.points, folder);
 
   const CalibratedCell cell = ReadCalibratedCell(folder, testing::Plugins());
   const CompensationChain chain = ChainFromResult(cell, "", "");
