@@ -34,6 +34,7 @@ const std::vector<std::string>& EffectConfigs() {
   static const std::vector<std::string> configs = {
       "{type: joint_compliance, link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}",
       "{type: backlash, joints: [2, 3]}",
+      "{type: backlash, joints: [2, 3], held_by: gravity, link_masses_kg: [2, 3, 1, 1, 1, 0.3]}",
       "{type: transmission_error, joints: [1, 4], harmonics: [1, 2, 5]}",
       "{type: joint_scale}",
       "{type: thermal_drift, reference_c: 20}",
@@ -288,6 +289,31 @@ TEST(Effects, ComplianceFollowsThePayload) {
   EXPECT_NEAR(loaded[1] - empty[1], c[0] * payload_only[1], 1e-15);
   EXPECT_NEAR(loaded[2] - empty[2], c[1] * payload_only[2], 1e-15);
   EXPECT_GT(std::abs(payload_only[1]), 1.0);  // N m: the pose loads joint 2
+}
+
+// Backlash held by gravity sits against the flank the gravity torque pushes it to, whichever way
+// the joint came, and by half the play once the torque is well beyond the friction's hold; the
+// approach form follows the last move instead.
+TEST(Effects, BacklashHeldByGravityFollowsTheTorqueNotTheMove) {
+  const auto ur3 = Ur3();
+  ContextFixture fixture(*ur3);
+  const auto gravity = MakeEffect("{type: backlash, joints: [2], held_by: gravity, hold_nm: 0.01}",
+                                  *ur3);
+  const auto approach = MakeEffect("{type: backlash, joints: [2]}", *ur3);
+  const std::vector<double> b = {4e-3};
+  const std::vector<double> torque = GravityTorques(fixture.frames, std::vector<double>(6, 1.0),
+                                                    fixture.context.payload_kg,
+                                                    fixture.context.gravity_base);
+  ASSERT_GT(std::abs(torque[1]), 1.0);  // N m, a hundred times the hold
+  const double held = Values(*gravity, fixture.context, b)[1];
+  EXPECT_NEAR(held, 0.5 * b[0] * (torque[1] > 0 ? 1.0 : -1.0), 1e-12);
+  for (int from : {-1, 1}) {
+    fixture.approach[1] = from;
+    EXPECT_DOUBLE_EQ(Values(*gravity, fixture.context, b)[1], held);
+    EXPECT_DOUBLE_EQ(Values(*approach, fixture.context, b)[1], -0.5 * b[0] * from);
+  }
+  EXPECT_THROW(MakeEffect("{type: backlash, hold_nm: 1}", *ur3), InputError);
+  EXPECT_THROW(MakeEffect("{type: backlash, held_by: friction}", *ur3), InputError);
 }
 
 // A simulation cycles its payloads over the poses and records them.

@@ -31,8 +31,29 @@ std::unique_ptr<Effect> CreateCompliance(const ConfigNode& config, const RobotMo
 }
 
 std::unique_ptr<Effect> CreateBacklash(const ConfigNode& config, const RobotModel& robot) {
-  config.ExpectKeys({"type", "joints"});
-  return std::make_unique<Backlash>(SelectJoints(config, robot));
+  config.ExpectKeys({"type", "joints", "held_by", "link_masses_kg", "hold_nm"});
+  const std::string held_by = config.GetString("held_by", "approach");
+  if (held_by != "approach" && held_by != "gravity") {
+    throw config["held_by"].Error("unknown backlash hold '" + held_by + "'",
+                                  "Use approach (the last move) or gravity");
+  }
+  std::vector<double> masses;
+  if (held_by == "gravity") {
+    masses.assign(robot.num_joints(), 1.0);
+    if (config.Has("link_masses_kg")) {
+      masses = config["link_masses_kg"].AsDoubles(robot.num_joints());
+    }
+  } else {
+    for (const char* key : {"link_masses_kg", "hold_nm"}) {
+      if (config.Has(key)) {
+        throw config[key].Error("only a backlash held by gravity has it",
+                                "Add held_by: gravity, or remove " + std::string(key));
+      }
+    }
+  }
+  const double hold_nm = config.GetDouble("hold_nm", 2.0);
+  if (!(hold_nm > 0)) throw config["hold_nm"].Error("must be a positive torque (N m)");
+  return std::make_unique<Backlash>(SelectJoints(config, robot), masses, hold_nm);
 }
 
 std::unique_ptr<Effect> CreateTransmission(const ConfigNode& config, const RobotModel& robot) {
@@ -239,7 +260,11 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                        {joints, {"link_masses_kg", "kg", "1 per link", "lumped link masses"}}),
                       &fx::CreateCompliance);
   registry->AddEffect(Info("backlash",
-                       "gear play: dq_i = -b_i/2 * (direction of the last move)", {joints}),
+                       "gear play: dq_i = -b_i/2 * (direction of the last move), or with "
+                       "held_by: gravity, b_i/2 * tanh(tau_g,i / hold_nm)",
+                       {joints, {"held_by", "", "approach", "approach | gravity"},
+                        {"link_masses_kg", "kg", "1 per link", "lumped link masses (gravity)"},
+                        {"hold_nm", "N m", "2", "torque the joint's friction holds (gravity)"}}),
                       &fx::CreateBacklash);
   registry->AddEffect(Info("transmission_error",
                        "gear error repeating with the joint: dq_i = s sin(h q_i) + c cos(h q_i)",

@@ -23,17 +23,21 @@ std::string JointCompliance::Describe(const std::vector<double>& params) const {
   return WithParameters(JointsInWords(joints_) + " compliance under gravity", parameters_, params);
 }
 
-Backlash::Backlash(std::vector<int> joints) : joints_(std::move(joints)) {
+Backlash::Backlash(std::vector<int> joints, std::vector<double> link_masses_kg, double hold_nm)
+    : joints_(std::move(joints)), link_masses_kg_(std::move(link_masses_kg)), hold_nm_(hold_nm) {
   for (int j : joints_) {
     parameters_.push_back({JointName(j) + ".backlash", "rad", 0.0, false, {}, {}, {},
                            "play in the gear train (the joint lags by half of it)", {}});
     parameters_.back().plausible = 5e-3;  // 0.3 deg: spur gears; harmonic drives far less
-    parameters_.back().plausible_nonnegative = true;  // a joint lags where it came from
+    // A joint lags where it came from, or gives with gravity.
+    parameters_.back().plausible_nonnegative = true;
   }
 }
 
 std::string Backlash::Describe(const std::vector<double>& params) const {
-  return WithParameters(JointsInWords(joints_) + " backlash", parameters_, params);
+  return WithParameters(JointsInWords(joints_) + " backlash" +
+                            (held_by_gravity() ? ", held against one flank by gravity" : ""),
+                        parameters_, params);
 }
 
 TransmissionError::TransmissionError(std::vector<int> joints, std::vector<int> harmonics)
