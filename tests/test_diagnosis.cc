@@ -49,7 +49,9 @@ TEST_F(Diagnosis, ConcealedComplianceIsNamedWithItsJointAndModelled) {
               3 * d.accepted.front().parameters.at(0).sigma);
   EXPECT_LT(d.final.held_out_rms_mm, 1.2 * d.floor_rms_mm);
   EXPECT_GT(d.geometric.held_out_rms_mm, d.final.held_out_rms_mm);
-  EXPECT_THAT(DiagnosisReport(d), HasSubstr("Left out: joint 3 compliance under gravity"));
+  EXPECT_THAT(DiagnosisReport(d),
+              HasSubstr("Left out: joint 3 giving under gravity, best described as joint 3 "
+                        "compliance under gravity"));
   // final_fit/ records how the accepted effect was built, for `cellmetry compensate`.
   ASSERT_EQ(d.final_fit.effect_models.size(), d.accepted.size());
   EXPECT_EQ(d.final_fit.effect_models.front().name, "ur3.compliance_j3");

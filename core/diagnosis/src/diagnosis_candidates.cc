@@ -162,8 +162,8 @@ void AddCameraCandidates(const WorkcellProblem& spec, const Recording& recording
 }
 
 // Per joint of `robot`: its compliance (under `masses`, the job's link masses, "" for the
-// model's own), backlash, transmission error (each harmonic alone, and `harmonics` together)
-// and gear ratio error.
+// model's own), backlash (held by the last move, and by gravity), transmission error (each
+// harmonic alone, and `harmonics` together) and gear ratio error.
 void AddJointCandidates(const WorkcellRobot& robot, const std::string& masses,
                         const std::string& harmonics, Registry& registry,
                         std::vector<CandidateEffect>* out) {
@@ -175,9 +175,27 @@ void AddJointCandidates(const WorkcellRobot& robot, const std::string& masses,
                         prefix + "compliance_j" + J, robot, joint + " compliance",
                         "poses that load " + joint + " differently (outstretched and folded)",
                         registry));
-    out->push_back(Make("{type: backlash, joints: [" + J + "]}", prefix + "backlash_j" + J,
-                        robot, joint + " backlash",
-                        "moves into poses from both directions on " + joint, registry));
+    // A spring that stiffens and play that gravity holds against a flank both give with the
+    // gravity torque, less than linearly at large loads: one cause, "the joint gives under
+    // gravity", whose curve's shape tells the mechanism (one group, as a camera's calibration).
+    const std::string gravity_group = prefix + "gravity_load_j" + J;
+    const std::string gravity_label = joint + " giving under gravity";
+    out->back().group = gravity_group;
+    out->back().group_label = gravity_label;
+    // Backlash where the last move holds the joint, and where gravity does: one family.
+    const std::string backlash = prefix + "backlash_j" + J;
+    out->push_back(Make("{type: backlash, joints: [" + J + "]}", backlash, robot,
+                        joint + " backlash", "moves into poses from both directions on " + joint,
+                        registry));
+    out->back().family = backlash;
+    out->push_back(Make("{type: backlash, joints: [" + J + "], held_by: gravity" +
+                            (masses.empty() ? "" : ", link_masses_kg: [" + masses + "]") + "}",
+                        backlash + "_gravity", robot, joint + " backlash held by gravity",
+                        "poses that load " + joint + " by different amounts the same way "
+                        "(payloads)", registry));
+    out->back().family = backlash;
+    out->back().group = gravity_group;
+    out->back().group_label = gravity_label;
     // One candidate per harmonic (two parameters each, so that a single harmonic does not pay
     // for four) and one with them all (where the error has several, each alone carries only
     // its share); one family, since all name the same physics.
