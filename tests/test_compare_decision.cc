@@ -66,23 +66,34 @@ TEST(PhysicsSuiteRecommendations, SayMetMissedOrUndecidedWithWhatWouldDecide) {
     for (const auto& n : named) r.runs.push_back({n, "", 1.0, 1.0, {}, ""});
     return r;
   };
-  const std::vector<SuiteCaseResult> results = {
+  std::vector<SuiteCaseResult> results = {
       result("clean", "none", {"none", "none", "none", "none", "ur3.thermal"}),
       result("joint 3 backlash", "ur3.backlash_j3", std::vector<std::string>(5, "ur3.backlash_j3")),
       result("joint 2 compliance", "ur3.compliance_j2",
              {"ur3.compliance_j2", "none", "ur3.scale_j2", "none", "ur3.compliance_j2"}),
-      result("cam bumped", "unexplained", {"unexplained", "unexplained", "unexplained"})};
-  const std::vector<std::string> lines = PhysicsSuiteRecommendations(spec, results);
-  ASSERT_EQ(lines.size(), 5u);
+      result("cam bumped", "unexplained", {"unexplained", "unexplained", "unexplained"}),
+      result("richer: warm-up", "ur3.thermal", {"ur3.thermal", "ur3.thermal", "none"})};
+  std::vector<SuiteCaseResult> library_only(results.begin(), results.end() - 1);
+  results.back().spec.concealed = ConfigNode::LoadString("{kind: warmup}", "test");
+  std::vector<std::string> lines = PhysicsSuiteRecommendations(spec, library_only);
+  ASSERT_EQ(lines.size(), 6u);
   EXPECT_THAT(lines[0], HasSubstr("Is the right effect named? missed: 70 % [40 %, 89 %] (7/10)"));
-  EXPECT_THAT(lines[1], HasSubstr("Do clean recordings stay clean? undecided: 80 % [38 %, 96 %]"));
-  EXPECT_THAT(lines[1], HasSubstr("runs would decide it (5 so far)"));
-  EXPECT_THAT(lines[2], HasSubstr("so far: 100 % [44 %, 100 %] (3/3), no miss"));
-  EXPECT_THAT(lines[3], HasSubstr("held-out RMS to the floor? met: 1.00 [1.00, 1.00]"));
-  EXPECT_THAT(lines[4], HasSubstr("UR3 at SNR 6.0: shown below 90 %"));
-  EXPECT_THAT(lines[4],
+  EXPECT_THAT(lines[1], HasSubstr("Are the richer variants named? not asked (no such cases)"));
+  EXPECT_THAT(lines[2], HasSubstr("Do clean recordings stay clean? undecided: 80 % [38 %, 96 %]"));
+  EXPECT_THAT(lines[2], HasSubstr("runs would decide it (5 so far)"));
+  EXPECT_THAT(lines[3], HasSubstr("so far: 100 % [44 %, 100 %] (3/3), no miss"));
+  EXPECT_THAT(lines[4], HasSubstr("held-out RMS to the floor? met: 1.00 [1.00, 1.00]"));
+  EXPECT_THAT(lines[5], HasSubstr("UR3 at SNR 6.0: shown below 90 %"));
+  EXPECT_THAT(lines[5],
               HasSubstr("joint 2 compliance 2/5 (named instead: none 2, ur3.scale_j2 1)"));
-  EXPECT_THAT(lines[4], HasSubstr("0 shown at or above, 1 undecided"));
+  EXPECT_THAT(lines[5], HasSubstr("0 shown at or above, 1 undecided"));
+  // A richer variant (concealed physics) counts in both rates, and alone in its own.
+  lines = PhysicsSuiteRecommendations(spec, results);
+  EXPECT_THAT(lines[0], HasSubstr("Is the right effect named? missed: 69 % [42 %, 87 %] (9/13)"));
+  EXPECT_THAT(lines[1], HasSubstr("Are the richer variants named? undecided: 67 % [21 %, 94 %]"));
+  EXPECT_THAT(PhysicsSuiteMarkdown(spec, results),
+              HasSubstr("| of them, richer variants (physics not in the library's equations): "
+                        "named; wrong | 67 % [21 %, 94 %] (2/3); 0/3 |"));
   EXPECT_THAT(PhysicsSuiteMarkdown(spec, results), HasSubstr("Decisions:"));
 }
 

@@ -1,8 +1,9 @@
-// Concealed physics that acts in a camera (concealed_physics.h, lens_distortion): what a pose
-// estimator with a wrong distortion model makes of a board, checked against its own definition
-// (the distorted ray; the depth from the map's local stretch and the turn from its local
-// rotation, by central differences) and against the library's lens form (camera_intrinsics)
-// it goes beyond.
+// Concealed physics (concealed_physics.h). In a camera (lens_distortion): what a pose estimator
+// with a wrong distortion model makes of a board, checked against its own definition (the
+// distorted ray; the depth from the map's local stretch and the turn from its local rotation, by
+// central differences) and against the library's lens form (camera_intrinsics) it goes beyond.
+// In a joint (gravity_backlash): play held by gravity beyond the friction, by the last move
+// within it.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -130,6 +131,44 @@ TEST(LensDistortion, LeavesOtherCamerasAndOtherKindsAlone) {
   Pose bumped = before;
   bump.MeasureInCamera("cam1", &bumped);
   EXPECT_EQ(bumped.t, before.t);
+}
+
+// One joint turning about the horizontal y axis, a 400 mm link of 1 kg to the flange at angle q
+// from the horizontal: its gravity torque goes as cos q. Gravity holds the play against the
+// flank it pushes to wherever |cos q| is beyond the 15 % hold; nearer the vertical the joint
+// lags behind its last move.
+TEST(GravityBacklash, HeldByGravityBeyondTheFrictionAndByTheLastMoveWithin) {
+  ConcealedPhysics play;
+  play.kind = "gravity_backlash";
+  play.robot = "arm";
+  play.joint = 0;
+  play.magnitude = 2e-3;
+  play.link_masses_kg = {1.0};
+  const double half = 1e-3;
+  const std::vector<double> qs = {0.0, 3.0, M_PI / 2 + 0.05, M_PI / 2 - 0.05, M_PI / 2 + 0.02, 0.2};
+  const std::vector<double> expected = {half, -half, half, half, -half, half};
+  Recording recording;
+  std::vector<SampleFacts> facts;
+  for (double q : qs) {
+    Sample s;
+    s.robot = "arm";
+    s.q = {q};
+    recording.samples.push_back(s);
+    SampleFacts f;
+    f.q = {q};
+    Pose axis;  // the joint's z along the world's y
+    axis.R = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).matrix();
+    Pose flange;
+    flange.t = 400.0 * Eigen::Vector3d(std::cos(q), 0.0, std::sin(q));
+    f.T_base_joint = {axis, flange};
+    facts.push_back(f);
+  }
+  const auto actions = play.Actions(recording, facts, Eigen::Vector3d(0, 0, -9.81));
+  ASSERT_EQ(actions.size(), qs.size());
+  for (size_t i = 0; i < qs.size(); ++i) {
+    ASSERT_EQ(actions[i].dq.size(), 1u);
+    EXPECT_DOUBLE_EQ(actions[i].dq[0], expected[i]) << "pose " << i << ", q = " << qs[i];
+  }
 }
 
 }  // namespace

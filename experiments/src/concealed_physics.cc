@@ -28,18 +28,28 @@ double DistributedTorque(const std::vector<Pose>& frames, const std::vector<doub
   return torque;
 }
 
-std::vector<DisturbanceAction> DistributedCompliance(const ConcealedPhysics& c,
-                                                   const Recording& recording,
-                                                   const std::vector<SampleFacts>& facts,
-                                                   const Eigen::Vector3d& gravity) {
+// The gravity torque on the physics' joint in every sample of its robot (0 elsewhere), and the
+// largest of them.
+std::vector<double> JointTorques(const ConcealedPhysics& c, const Recording& recording,
+                                 const std::vector<SampleFacts>& facts,
+                                 const Eigen::Vector3d& gravity, double* tau_max) {
   std::vector<double> torque(facts.size(), 0.0);
-  double tau_max = 0.0;
+  *tau_max = 0.0;
   for (size_t i = 0; i < facts.size(); ++i) {
     if (recording.samples[i].robot != c.robot || facts[i].T_base_joint.empty()) continue;
     torque[i] = DistributedTorque(facts[i].T_base_joint, c.link_masses_kg, facts[i].payload_kg,
                                   gravity, c.joint);
-    tau_max = std::max(tau_max, std::abs(torque[i]));
+    *tau_max = std::max(*tau_max, std::abs(torque[i]));
   }
+  return torque;
+}
+
+std::vector<DisturbanceAction> DistributedCompliance(const ConcealedPhysics& c,
+                                                   const Recording& recording,
+                                                   const std::vector<SampleFacts>& facts,
+                                                   const Eigen::Vector3d& gravity) {
+  double tau_max = 0.0;
+  const std::vector<double> torque = JointTorques(c, recording, facts, gravity, &tau_max);
   std::vector<DisturbanceAction> out(facts.size());
   for (size_t i = 0; i < facts.size(); ++i) {
     if (recording.samples[i].robot != c.robot) continue;
@@ -70,6 +80,35 @@ std::vector<DisturbanceAction> DeadZoneBacklash(const ConcealedPhysics& c,
     previous = q;
     out[i].dq.assign(facts[i].q.size(), 0.0);
     out[i].dq[c.joint] = *actual - q;
+  }
+  return out;
+}
+
+// Gravity holds the joint against one flank of its play wherever its torque beats the friction
+// (a `hold` share of the largest torque the run puts on it); below that, the joint stays where
+// its last move left it, lagging on the side it came from. Masses spread along the links, as
+// DistributedCompliance takes them.
+std::vector<DisturbanceAction> GravityBacklash(const ConcealedPhysics& c,
+                                               const Recording& recording,
+                                               const std::vector<SampleFacts>& facts,
+                                               const Eigen::Vector3d& gravity) {
+  double tau_max = 0.0;
+  const std::vector<double> torque = JointTorques(c, recording, facts, gravity, &tau_max);
+  std::vector<DisturbanceAction> out(facts.size());
+  const double half = 0.5 * c.magnitude;
+  double lag = -half;  // arrived from below
+  std::optional<double> previous;
+  for (size_t i = 0; i < facts.size(); ++i) {
+    if (recording.samples[i].robot != c.robot) continue;
+    const double q = facts[i].q[c.joint];
+    if (std::abs(torque[i]) > c.hold * tau_max) {
+      lag = torque[i] > 0 ? half : -half;
+    } else if (previous && q != *previous) {
+      lag = q > *previous ? -half : half;
+    }
+    previous = q;
+    out[i].dq.assign(facts[i].q.size(), 0.0);
+    out[i].dq[c.joint] = lag;
   }
   return out;
 }
@@ -137,17 +176,17 @@ void ConcealedPhysics::MeasureInCamera(const std::string& cam, Pose* T_cam_targe
 
 ConcealedPhysics ReadConcealedPhysics(const ConfigNode& node) {
   node.ExpectKeys({"kind", "robot", "joint", "camera", "magnitude", "link_masses_kg",
-                   "stiffening", "harmonics", "time_constant_s", "direction", "lens_shape",
-                   "lens_beyond"});
+                   "stiffening", "hold", "harmonics", "time_constant_s", "direction",
+                   "lens_shape", "lens_beyond"});
   ConcealedPhysics c;
   c.kind = node["kind"].AsString();
-  static const std::vector<std::string> kinds = {"distributed_compliance", "dead_zone_backlash",
-                                                 "gear_harmonics",         "warmup",
-                                                 "camera_bump",            "lens_distortion"};
+  static const std::vector<std::string> kinds = {
+      "distributed_compliance", "dead_zone_backlash", "gravity_backlash", "gear_harmonics",
+      "warmup",                 "camera_bump",        "lens_distortion"};
   if (std::find(kinds.begin(), kinds.end(), c.kind) == kinds.end()) {
     throw node["kind"].Error("unknown concealed physics '" + c.kind + "'",
-                             "Use distributed_compliance, dead_zone_backlash, gear_harmonics, "
-                             "warmup, camera_bump or lens_distortion");
+                             "Use distributed_compliance, dead_zone_backlash, gravity_backlash, "
+                             "gear_harmonics, warmup, camera_bump or lens_distortion");
   }
   c.robot = node.GetString("robot", "");
   c.joint = node.GetInt("joint", 1) - 1;
@@ -155,6 +194,10 @@ ConcealedPhysics ReadConcealedPhysics(const ConfigNode& node) {
   c.magnitude = node.GetDouble("magnitude", 0.0);  // the physics suite sets it from the SNR
   if (node.Has("link_masses_kg")) c.link_masses_kg = node["link_masses_kg"].AsDoubles();
   c.stiffening = node.GetDouble("stiffening", c.stiffening);
+  c.hold = node.GetDouble("hold", c.hold);
+  if (!(c.hold >= 0 && c.hold < 1)) {
+    throw node["hold"].Error("is a share of the largest torque, in [0, 1)");
+  }
   if (node.Has("harmonics")) {
     c.harmonics.clear();
     for (const auto& h : node["harmonics"].Elements()) c.harmonics.push_back(h.AsInt());
@@ -187,6 +230,7 @@ std::vector<DisturbanceAction> ConcealedPhysics::Actions(
     return DistributedCompliance(c, recording, facts, gravity_base);
   }
   if (c.kind == "dead_zone_backlash") return DeadZoneBacklash(c, recording, facts);
+  if (c.kind == "gravity_backlash") return GravityBacklash(c, recording, facts, gravity_base);
   if (c.kind == "gear_harmonics") return GearHarmonics(c, recording, facts);
   std::vector<DisturbanceAction> out(recording.samples.size());
   for (size_t i = 0; i < out.size(); ++i) {

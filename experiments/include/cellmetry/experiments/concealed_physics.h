@@ -10,6 +10,11 @@
 //                           only part of it (friction), and a move that does not cross the play
 //                           leaves it where it was: the error depends on the history of moves,
 //                           not only on the direction of the last one
+//   gravity_backlash        joint `joint`'s play, held against one flank by gravity wherever
+//                           its torque (masses spread as above) exceeds the friction's hold, a
+//                           `hold` share (default 0.15) of the largest torque the run puts on
+//                           it; below that the joint stays where its last move left it. The
+//                           library's backlash is held either by the move or by gravity
 //   gear_harmonics          three harmonics (default 1, 3, 7 cycles per turn) of joint `joint`
 //                           with fixed phases, where the library fits harmonics 1 and 2
 //   warmup                  the arm grows as 1 - exp(-t / tau) over the run (sample times)
@@ -51,6 +56,7 @@ struct ConcealedPhysics : Disturbance {
   double magnitude = 0.0;
   std::vector<double> link_masses_kg;  // distributed_compliance (default 1 kg per link)
   double stiffening = 0.3;
+  double hold = 0.15;                  // gravity_backlash: friction, as a share of max torque
   std::vector<int> harmonics = {1, 3, 7};
   double time_constant_s = 1200.0;
   Eigen::Vector3d direction = Eigen::Vector3d(0.6, 0.0, 0.8);  // camera_bump, camera axes
