@@ -1191,6 +1191,10 @@ const std::vector<BadCase> kBadCases = {
      "diagnose {job} -o {dir}/d", 2, Said::kOneLine, "job.yaml:16:26:",
      "diagnosis.rival_draws: must be between 100 and 1000000",
      "Use 100 or more draws; 2000 is the default"},
+    {"NegativeLinkMass", "job.yaml", 0, "", "diagnosis: {link_masses_kg: [2, -3, 1, 1, 1, 1]}\n",
+     "diagnose {job} -o {dir}/d", 2, Said::kOneLine, "job.yaml:16:29:",
+     "diagnosis.link_masses_kg: a link's mass is 0 to 10,000 kg",
+     "Give each link's mass in kg, 0 for a massless link"},
     {"HomeZeroSigma", "job.yaml", 0, "*",
      "job: homing\nrecording: {dir}/sim_b\noutput: {dir}/h\nworld_target: none\nrobots:\n"
      "  delta:\n    model: {src}/robots/delta.yaml\n    tools:\n      marker:\n"

@@ -14,6 +14,7 @@
 #include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"
+#include "cellmetry/cell/motion_check.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/robot_pairs.h"
 #include "cellmetry/cell/workcell_assembly.h"
@@ -479,6 +480,12 @@ void AddUnfittedToolRotationWarning(const WorkcellProblem& spec, WorkcellResult*
 }
 
 void AddWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
+  if (!result->solver.converged) {
+    result->warnings.push_back(
+        "the solver stopped before converging (" + result->solver.stop_reason +
+        "): the answer may not be the best fit; raise the solver's max_iterations, or give "
+        "starts nearer the truth");
+  }
   AddUnfittedToolRotationWarning(spec, result);
   result->weakly_identified = WeaklyIdentified(result->uncertainty, spec.weak_vif);
   if (!result->weakly_identified.empty()) {
@@ -595,6 +602,9 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
     clock.Lap("camera_models");
   }
   AddWarnings(spec, &result);
+  for (std::string& still : StillJoints(spec, recording, data)) {
+    result.warnings.push_back(std::move(still));
+  }
   result.stages = clock.stages();
   return result;
 }

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "cellmetry/basics/error.h"
+#include "cellmetry/cell/motion_check.h"
 
 namespace cellmetry {
 namespace {
@@ -176,6 +177,7 @@ WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& r
     CheckCommand(spec.robots[m.robot], sample, recording.folder + "/samples.csv");
     last_checked = &sample;
   }
+  CheckRobotsMove(spec, recording, data);
   if (!spec.effects.empty()) data.facts = GatherEffectFacts(spec, recording);
   return data;
 }

@@ -59,7 +59,15 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   }
   if (!(o.alpha > 0 && o.alpha < 1)) throw d["alpha"].Error("must be between 0 and 1");
   if (o.folds < 2) throw d["folds"].Error("needs at least 2 folds", "5 is usual");
-  if (d.Has("link_masses_kg")) o.link_masses_kg = d["link_masses_kg"].AsDoubles();
+  if (d.Has("link_masses_kg")) {
+    o.link_masses_kg = d["link_masses_kg"].AsDoubles();
+    for (double m : o.link_masses_kg) {
+      if (!(m >= 0 && m <= 10000)) {
+        throw d["link_masses_kg"].Error("a link's mass is 0 to 10,000 kg",
+                                        "Give each link's mass in kg, 0 for a massless link");
+      }
+    }
+  }
   if (d.Has("gear_harmonics")) {
     for (const auto& h : d["gear_harmonics"].Elements()) {
       const int value = h.AsInt();
