@@ -265,6 +265,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "3,ur3,3,4.700736523,3.39327383,0.7314307094,4.095294476,5.03745842",
                  "samples.csv:5:9:", "Give one joint value per joint",
                  "robot 'ur3' has 6 joints but this sample has no q6"},
+        // Sample 3 said to repeat pose 2 (sample 2's, line 4) though its joints moved on.
+        LineEdit{"PoseIdThatContradictsTheJoints", "samples.csv", 5,
+                 "3,ur3,2,4.700736523,3.39327383,0.7314307094,4.095294476,5.03745842,0.69",
+                 "samples.csv:5:3:",
+                 "Give each commanded pose its own pose id; captures of one pose share it",
+                 "sample 3 repeats pose 2 of sample 2 (line 4), but its q1 differs by 0.0144 rad"},
         LineEdit{"ObservationOfAnUnknownCamera", "observations.csv", 4,
                  "1,cam9,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53",
                  "observations.csv:4:2:", "List it under 'cameras' in recording.yaml",

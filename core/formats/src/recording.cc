@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <map>
@@ -95,6 +96,32 @@ void ReadHeader(const std::string& path, Recording* recording, Units* units) {
   }
 }
 
+// Captures of one commanded pose share its pose id, and the spread of their readings is the
+// robot's repeatability: a sample whose joints differ from its pose's first capture by more than
+// any repeat does (kPoseRepeatRad) says another pose, and would pass pose-to-pose differences off
+// as repeatability.
+constexpr double kPoseRepeatRad = 0.01;
+
+void CheckPoseRepeats(const CsvTable& table, size_t row, const Sample& sample,
+                      const Recording& recording,
+                      std::map<std::pair<std::string, int>, size_t>* first_of_pose) {
+  const auto [first, inserted] =
+      first_of_pose->insert({{sample.robot, sample.pose}, recording.samples.size()});
+  if (inserted) return;
+  const Sample& earlier = recording.samples[first->second];
+  for (size_t j = 0; j < sample.q.size() && j < earlier.q.size(); ++j) {
+    if (std::abs(sample.q[j] - earlier.q[j]) <= kPoseRepeatRad) continue;
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "sample %d repeats pose %d of sample %d (line %d), but its q%zu differs by "
+                  "%.3g rad",
+                  sample.id, sample.pose, earlier.id, earlier.line, j + 1,
+                  std::abs(sample.q[j] - earlier.q[j]));
+    throw table.Error(row, "pose", text,
+                      "Give each commanded pose its own pose id; captures of one pose share it");
+  }
+}
+
 void ReadSamples(const std::string& path, const Units& units, Recording* recording) {
   const CsvTable table = CsvTable::Read(path);
   table.RequireColumns({"sample", "robot", "pose"});
@@ -104,6 +131,7 @@ void ReadSamples(const std::string& path, const Units& units, Recording* recordi
   for (int j = 1; j <= max_joints; ++j) known.push_back("q" + std::to_string(j));
   table.RejectUnknownColumns(known);
   std::set<int> seen;
+  std::map<std::pair<std::string, int>, size_t> first_of_pose;  // (robot, pose) -> its first row
   for (size_t row = 0; row < table.num_rows(); ++row) {
     Sample sample;
     sample.line = table.line_of(row);
@@ -137,6 +165,7 @@ void ReadSamples(const std::string& path, const Units& units, Recording* recordi
       if (present) sample.q.push_back(Within(table, row, column, kMaxJointRad / units.to_rad) *
                                       units.to_rad);
     }
+    CheckPoseRepeats(table, row, sample, *recording, &first_of_pose);
     sample.time_s = table.OptionalNumber(row, "t");
     sample.temperature_c = table.OptionalNumber(row, "temperature");
     sample.payload_kg = table.OptionalNumber(row, "payload");
