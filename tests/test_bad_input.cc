@@ -271,6 +271,13 @@ INSTANTIATE_TEST_SUITE_P(
                  "samples.csv:5:3:",
                  "Give each commanded pose its own pose id; captures of one pose share it",
                  "sample 3 repeats pose 2 of sample 2 (line 4), but its q1 differs by 0.0144 rad"},
+        // The joints and rotations are radians: read as degrees the flange hardly turns.
+        LineEdit{"AnglesInRadiansDeclaredAsDegrees", "recording.yaml", 3,
+                 "units: {length: mm, angle: deg}", "recording.yaml:3:28:",
+                 "The recording's angles look like radians: declare units: {angle: rad} there",
+                 "robot ur3 turns its flange unlike target 'tool' turns in cam1 between "
+                 "captures (their angles and axes, median): 56 % apart with the recording's "
+                 "angles in deg, 0.1 % read in rad"},
         LineEdit{"ObservationOfAnUnknownCamera", "observations.csv", 4,
                  "1,cam9,tool,244.702809,-55.417908,725.561068,-2.15,1.60,0.53",
                  "observations.csv:4:2:", "List it under 'cameras' in recording.yaml",

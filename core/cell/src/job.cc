@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "angle_unit_check.h"
 #include "length_scale_check.h"
 
 namespace cellmetry {
@@ -545,6 +546,9 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
       }
     }
   }
+  // Angles in the other unit (rad declared deg, or the reverse) against the robot's turns, first:
+  // joint readings 57 times too small also make the cell look 57 times too small.
+  CheckAngleUnits(job, recording);
   // Lengths a thousand times off (m declared, mm held, or the reverse) against the robot's size.
   CheckLengthScale(job, recording);
 }
