@@ -65,7 +65,8 @@ void ReadTools(const ConfigNode& tools, WorkcellRobot* robot) {
   }
 }
 
-// `base: {free, start}`. Without a world target the base is the world: held, at its start.
+// `base: {free, start}`. Where it is the world (the first robot's, without a world target):
+// held, at its start.
 void ReadBase(const ConfigNode& node, bool world_is_base, WorkcellRobot* robot) {
   robot->base.free.fill(!world_is_base);
   robot->base.description = "base of " + robot->name + " in the world";
@@ -276,7 +277,9 @@ void ReadRobots(const ConfigNode& root, Registry& registry, WorkcellJob* job) {
   std::map<std::string, std::string> carrier;  // target -> robot
   for (const auto& name : robots.Keys()) {
     const ConfigNode robot = robots[name];
-    problem.robots.push_back(ReadRobot(name, robot, problem.world_target.empty(), registry));
+    // Without a world target the first robot's base is the world; the others stand in it.
+    const bool world_is_base = problem.world_target.empty() && problem.robots.empty();
+    problem.robots.push_back(ReadRobot(name, robot, world_is_base, registry));
     CheckToolNamesUnique(robot["tools"], name, problem.world_target, &carrier);
     job->locations["robots." + name] = robot.location();
     for (const auto& target : robot["tools"].Keys()) {
@@ -284,12 +287,6 @@ void ReadRobots(const ConfigNode& root, Registry& registry, WorkcellJob* job) {
       job->locations["robots." + name + ".tools." + target] =
           tool ? tool->location() : robot["tools"].location();
     }
-  }
-  if (problem.world_target.empty() && problem.robots.size() != 1) {
-    throw root["world_target"].Error("without a world target the cell's one robot base is the "
-                                     "world; this job has " +
-                                     std::to_string(problem.robots.size()) + " robots",
-                                     "Name a world_target that every camera can relate to");
   }
   for (const auto& name : robots.Keys()) {
     if (robots[name].Has("effects")) {

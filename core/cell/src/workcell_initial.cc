@@ -254,6 +254,7 @@ void CamerasThroughRobots(const WorkcellProblem& spec, const Recording& recordin
     const Observation& obs = recording.observations[m.observation];
     if (estimate->T_world_cam.count(obs.camera)) continue;
     const WorkcellRobot& robot = spec.robots[m.robot];
+    if (!estimate->T_world_base.count(robot.name)) continue;  // placed through the cameras later
     Pose T_base_flange;
     if (!robot.model->Forward(recording.samples[m.sample_index].q.data(),
                               estimate->model[robot.name].data(), &T_base_flange)) {
@@ -310,6 +311,29 @@ void ToolsAndCamerasInTurn(const WorkcellProblem& spec, const Recording& recordi
   }
 }
 
+InputError NotInTheWorld(const WorkcellRobot& robot, size_t points, const Recording& recording) {
+  return InputError({recording.folder + "/observations.csv", 0, 0},
+                    "robot '" + robot.name + "' has " + std::to_string(points) +
+                        " usable measurements in the world frame; at least 3 are needed",
+                    "Record more poses where a camera sees both the world target (or, without "
+                    "one, the first robot's target) and this robot's target");
+}
+
+// Robots that stand where no world target places them and no start puts them (the second and
+// later robots of a cell without a world target), placed through the cameras the first robot
+// placed: their targets' world points, then their base and tools in closed form.
+void PlaceThroughCameras(const WorkcellProblem& spec, const Recording& recording,
+                         const WorkcellData& data, const std::vector<size_t>& robots,
+                         WorkcellEstimate* estimate) {
+  const auto points = WorldPoints(spec, recording, data, *estimate);
+  for (size_t r : robots) {
+    const WorkcellRobot& robot = spec.robots[r];
+    if (points[r].size() < 3) throw NotInTheWorld(robot, points[r].size(), recording);
+    InitialBaseAndTools(robot, points[r], estimate);
+    if (spec.use_tool_rotation) InitialToolRotations(robot, points[r], estimate);
+  }
+}
+
 // Whether `start` places every robot (base and model), tool and static camera `data` uses.
 bool PlacesEverything(const WorkcellEstimate& start, const WorkcellProblem& spec,
                       const Recording& recording, const WorkcellData& data) {
@@ -354,14 +378,16 @@ WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& r
   }
   const auto points = WorldPoints(spec, recording, data, estimate);
   std::vector<size_t> through_cameras;  // robots placed where they stand, seen by no placed camera
+  std::vector<size_t> later;            // robots placed through cameras those robots place
   for (size_t r = 0; r < spec.robots.size(); ++r) {
     const WorkcellRobot& robot = spec.robots[r];
     if (points[r].size() < 3 && !robot.base_start) {
-      throw InputError({recording.folder + "/observations.csv", 0, 0},
-                       "robot '" + robot.name + "' has " + std::to_string(points[r].size()) +
-                           " usable measurements in the world frame; at least 3 are needed",
-                       "Record more poses where a camera sees both the world target and the "
-                       "robot's target");
+      const bool placed_in_turn = spec.world_target.empty() && static_cameras && r > 0;
+      if (placed_in_turn) {
+        later.push_back(r);
+        continue;
+      }
+      throw NotInTheWorld(robot, points[r].size(), recording);
     }
     if (points[r].size() < 3) {
       estimate.T_world_base[robot.name] = *robot.base_start;
@@ -375,6 +401,7 @@ WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& r
   if (static_cameras && !through_cameras.empty()) {
     ToolsAndCamerasInTurn(spec, recording, data, through_cameras, &estimate);
   }
+  if (!later.empty()) PlaceThroughCameras(spec, recording, data, later, &estimate);
   return estimate;
 }
 

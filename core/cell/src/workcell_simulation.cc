@@ -277,9 +277,13 @@ WorkcellProblem SimulatedProblem(const WorkcellSimulationSpec& spec, ResidualFor
     robot.model = sim.model;
     robot.model_parameters = sim.model->parameters();
     for (auto& p : robot.model_parameters) p.fixed = false;
-    robot.base.start = spec.world_target.empty() ? Pose::Identity() : sim.T_world_base;
-    robot.base.free.fill(!spec.world_target.empty());
-    if (spec.world_target.empty()) robot.base_start = robot.base.start;
+    // Without a world target the first robot's base is the world, held; the others stand in it.
+    const bool world_is_base = spec.world_target.empty() && problem.robots.empty();
+    robot.base.start = !spec.world_target.empty()
+                           ? sim.T_world_base
+                           : spec.robots.front().T_world_base.inverse() * sim.T_world_base;
+    robot.base.free.fill(!world_is_base);
+    if (world_is_base) robot.base_start = robot.base.start;
     for (const auto& [target, pose] : sim.T_flange_target) {
       WorkcellTool tool;
       tool.target = target;
