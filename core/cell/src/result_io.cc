@@ -507,9 +507,16 @@ void PrintParameters(const WorkcellResult& r, std::ostringstream& out) {
         << " observations failed the outlier test and were left out (outliers.csv)\n";
   }
   for (const auto& u : r.unidentifiable) out << "  " << UnidentifiableLine(u) << "\n";
-  for (const auto& c : r.strong_correlations) {
+  // The five strongest (they come strongest first); the rest are in result.json and the report.
+  constexpr size_t kShownCorrelations = 5;
+  for (size_t k = 0; k < r.strong_correlations.size() && k < kShownCorrelations; ++k) {
+    const CorrelatedPair& c = r.strong_correlations[k];
     out << "  strongly correlated: " << c.a << " ~ " << c.b << " (" << FixedNumber(c.correlation, 3)
         << ")\n";
+  }
+  if (r.strong_correlations.size() > kShownCorrelations) {
+    out << "  strongly correlated: " << r.strong_correlations.size() - kShownCorrelations
+        << " more pairs (result.json, report.html)\n";
   }
 }
 
