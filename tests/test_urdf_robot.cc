@@ -3,6 +3,7 @@
 // calibration on simulation recovering perturbed joint origins, and refusals in words.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +14,8 @@
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/truth.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/exports/calibrated_cell.h"
+#include "cellmetry/exports/exports.h"
 #include "cellmetry/formats/config_node.h"
 #include "support/test_support.h"
 
@@ -28,8 +31,8 @@ ConfigNode UrdfConfig(const std::string& dir, const std::string& urdf,
                       const std::string& base_link = "base_link",
                       const std::string& tip_link = "tool0") {
   testing::WriteText(dir + "/robot.urdf", urdf);
-  testing::WriteText(dir + "/robot.yaml", "type: urdf\nfile: robot.urdf\nbase_link: " +
-                                              base_link + "\ntip_link: " + tip_link + "\n");
+  testing::WriteText(dir + "/robot.yaml", "type: urdf\nfile: robot.urdf\nbase_link: " + base_link +
+                                              "\ntip_link: " + tip_link + "\n");
   return ConfigNode::LoadFile(dir + "/robot.yaml");
 }
 
@@ -117,7 +120,7 @@ TEST(UrdfRobot, ParametersAreTheJointOriginsNamedAfterTheUrdfsJoints) {
   const auto model = Tx2();
   const auto& p = model->parameters();
   ASSERT_EQ(p.size(), 42u);
-  const std::vector<std::string> joint_3 = {"joint_3.x",     "joint_3.y",   "joint_3.z",
+  const std::vector<std::string> joint_3 = {"joint_3.x",     "joint_3.y",     "joint_3.z",
                                             "joint_3.roll",  "joint_3.pitch", "joint_3.yaw",
                                             "joint_3.offset"};
   for (size_t k = 0; k < joint_3.size(); ++k) EXPECT_EQ(p[14 + k].name, joint_3[k]);
@@ -137,17 +140,17 @@ TEST(UrdfRobot, ConventionsHoldWhatTheBaseToolAndNeighbouringJointsCarry) {
   std::vector<std::string> held;
   int free = 0;
   for (const Parameter& p : model->parameters()) {
-    if (p.convention.empty()) ++free;
-    else held.push_back(p.name);
+    if (p.convention.empty())
+      ++free;
+    else
+      held.push_back(p.name);
   }
   const std::vector<std::string> expected = {
-      "joint_1.x",     "joint_1.y",    "joint_1.z",     "joint_1.roll", "joint_1.pitch",
-      "joint_1.yaw",   "joint_1.offset",
-      "joint_2.z",     "joint_2.pitch", "joint_2.yaw",
-      "joint_3.x",     "joint_3.y",    "joint_3.pitch",
-      "joint_4.y",     "joint_4.pitch", "joint_4.yaw",
-      "joint_5.z",     "joint_5.pitch", "joint_5.yaw",
-      "joint_6.y",     "joint_6.z",    "joint_6.pitch", "joint_6.yaw",  "joint_6.offset"};
+      "joint_1.x",   "joint_1.y",      "joint_1.z",     "joint_1.roll",  "joint_1.pitch",
+      "joint_1.yaw", "joint_1.offset", "joint_2.z",     "joint_2.pitch", "joint_2.yaw",
+      "joint_3.x",   "joint_3.y",      "joint_3.pitch", "joint_4.y",     "joint_4.pitch",
+      "joint_4.yaw", "joint_5.z",      "joint_5.pitch", "joint_5.yaw",   "joint_6.y",
+      "joint_6.z",   "joint_6.pitch",  "joint_6.yaw",   "joint_6.offset"};
   EXPECT_EQ(held, expected);
   EXPECT_EQ(free, 18);
   const auto& p = model->parameters();
@@ -175,10 +178,10 @@ Eigen::MatrixXd CellJacobian(const RobotModel& model, const std::vector<double>&
     }
     for (int a = 0; a < 3; ++a) {
       const Eigen::Vector3d e = Eigen::Vector3d::Unit(a), e_flange = flange.R.col(a);
-      rows.col(n + a) << e, Eigen::Vector3d::Zero();               // base shift
-      rows.col(n + 3 + a) << e.cross(tool), e;                      // base turn
-      rows.col(n + 6 + a) << e_flange, Eigen::Vector3d::Zero();     // tool shift
-      rows.col(n + 9 + a) << Eigen::Vector3d::Zero(), e_flange;     // tool turn
+      rows.col(n + a) << e, Eigen::Vector3d::Zero();             // base shift
+      rows.col(n + 3 + a) << e.cross(tool), e;                   // base turn
+      rows.col(n + 6 + a) << e_flange, Eigen::Vector3d::Zero();  // tool shift
+      rows.col(n + 9 + a) << Eigen::Vector3d::Zero(), e_flange;  // tool turn
     }
   }
   for (int c = 0; c < J.cols(); ++c) J.col(c).normalize();
@@ -307,41 +310,64 @@ TEST(UrdfRobot, JointFramesAndSerialChainAgreeWithTheForwardKinematics) {
 }
 
 // A TX2-90L whose joint origins are off the URDF's by tenths of a millimetre and milliradians
-// (the free parameters), seen by two cameras; `free_model: all` identifies them: every model
-// parameter within 3 sigma of the truth, and exactly the conventions held.
-TEST(UrdfRobot, CalibrationRecoversPerturbedJointOriginsWithinThreeSigma) {
-  const std::string dir = testing::TempDirForThisTest("urdf_robot");
-  const std::string robot = testing::Source("configs/robots/staubli_tx2_90l_urdf.yaml");
-  testing::WriteText(dir + "/sim.yaml",
-                     "simulation: workcell\nseed: 21\nrobots:\n  tx2:\n    model: " + robot +
-                         "\n    base: {xyz: [431, 555, -900], rvec: [0.002, -0.001, 0.003]}\n"
-                         "    model_errors: {joint_2.x: 0.3, joint_2.y: -0.2, joint_2.roll: 0.001,"
-                         " joint_2.offset: 0.002, joint_3.z: -0.4, joint_3.roll: -0.0008,"
-                         " joint_3.yaw: 0.0012, joint_3.offset: -0.0015, joint_4.x: 0.25,"
-                         " joint_4.z: 0.3, joint_4.roll: 0.0007, joint_4.offset: 0.001,"
-                         " joint_5.x: -0.2, joint_5.y: 0.15, joint_5.roll: -0.0009,"
-                         " joint_5.offset: -0.001, joint_6.x: 0.1, joint_6.roll: 0.0006}\n"
-                         "    tools:\n      tool: {xyz: [0.5, -0.3, 66], rvec: [0, 0, 0]}\n"
-                         "    poses: {random: 80, lower: [-3.1, -2.2, -2.2, -3.1, -2.0, -3.1],"
-                         " upper: [3.1, 2.2, 2.2, 3.1, 2.0, 3.1]}\n"
-                         "cameras:\n"
-                         "  cam1: {xyz: [440, 404, 811], rvec: [1.4836, -2.6529, -0.0716]}\n"
-                         "  cam2: {xyz: [900, 300, 700], rvec: [2.2, -1.5, 0.3]}\n"
-                         "noise:\n  position_mm: [0.1, 0.1, 0.4]\n"
-                         "  rotation_rad: [0.0005, 0.0005, 0.001]\n");
-  const WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
+// (the free parameters), seen by two cameras, fitted by a job with `free_model: all`; the result
+// written as `cellmetry run` writes it. Computed once for the tests below.
+struct FittedTx2 {
+  std::string dir;
+  WorkcellSimulationSpec spec;
   WorkcellTruth truth;
-  const Recording recording = SimulateWorkcell(spec, &truth);
-  testing::WriteText(dir + "/job.yaml",
-                     "job: workcell\nrecording: rec\noutput: fit\nuse_tool_rotation: true\n"
-                     "robots:\n  tx2:\n    model: " + robot + "\n    base: {free: all}\n"
-                     "    free_model: all\n"
-                     "    tools:\n      tool: {xyz: [0, 0, 60], free: all}\n" +
-                         std::string(testing::kTwoCameraNoiseYaml) +
-                         "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
-  const WorkcellJob job = LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(), false);
-  const WorkcellResult result = testing::Identify(job, recording);
+  WorkcellResult result;
+};
 
+const FittedTx2& Fitted() {
+  static const FittedTx2 fitted = [] {
+    FittedTx2 f;
+    f.dir = testing::TempDir("urdf_robot/fitted_tx2");
+    const std::string& dir = f.dir;
+    const std::string robot = testing::Source("configs/robots/staubli_tx2_90l_urdf.yaml");
+    testing::WriteText(
+        dir + "/sim.yaml",
+        "simulation: workcell\nseed: 21\nrobots:\n  tx2:\n    model: " + robot +
+            "\n    base: {xyz: [431, 555, -900], rvec: [0.002, -0.001, 0.003]}\n"
+            "    model_errors: {joint_2.x: 0.3, joint_2.y: -0.2, joint_2.roll: 0.001,"
+            " joint_2.offset: 0.002, joint_3.z: -0.4, joint_3.roll: -0.0008,"
+            " joint_3.yaw: 0.0012, joint_3.offset: -0.0015, joint_4.x: 0.25,"
+            " joint_4.z: 0.3, joint_4.roll: 0.0007, joint_4.offset: 0.001,"
+            " joint_5.x: -0.2, joint_5.y: 0.15, joint_5.roll: -0.0009,"
+            " joint_5.offset: -0.001, joint_6.x: 0.1, joint_6.roll: 0.0006}\n"
+            "    tools:\n      tool: {xyz: [0.5, -0.3, 66], rvec: [0, 0, 0]}\n"
+            "    poses: {random: 80, lower: [-3.1, -2.2, -2.2, -3.1, -2.0, -3.1],"
+            " upper: [3.1, 2.2, 2.2, 3.1, 2.0, 3.1]}\n"
+            "cameras:\n"
+            "  cam1: {xyz: [440, 404, 811], rvec: [1.4836, -2.6529, -0.0716]}\n"
+            "  cam2: {xyz: [900, 300, 700], rvec: [2.2, -1.5, 0.3]}\n"
+            "noise:\n  position_mm: [0.1, 0.1, 0.4]\n"
+            "  rotation_rad: [0.0005, 0.0005, 0.001]\n");
+    f.spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
+    const Recording recording = SimulateWorkcell(f.spec, &f.truth);
+    testing::WriteText(dir + "/job.yaml",
+                       "job: workcell\nrecording: rec\noutput: fit\nuse_tool_rotation: true\n"
+                       "robots:\n  tx2:\n    model: " +
+                           robot +
+                           "\n    base: {free: all}\n"
+                           "    free_model: all\n"
+                           "    tools:\n      tool: {xyz: [0, 0, 60], free: all}\n" +
+                           std::string(testing::kTwoCameraNoiseYaml) +
+                           "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
+    const WorkcellJob job = LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(), false);
+    f.result = testing::Identify(job, recording);
+    WriteWorkcellResult(f.result, dir + "/fit");
+    return f;
+  }();
+  return fitted;
+}
+
+// Every model parameter within 3 sigma of the truth, and exactly the conventions held.
+TEST(UrdfRobot, CalibrationRecoversPerturbedJointOriginsWithinThreeSigma) {
+  const FittedTx2& f = Fitted();
+  const WorkcellResult& result = f.result;
+  const WorkcellTruth& truth = f.truth;
+  const WorkcellSimulationSpec& spec = f.spec;
   std::vector<std::string> held, conventions;
   for (const auto& u : result.unidentifiable) held.push_back(u.name);
   for (const Parameter& p : spec.robots[0].model->parameters()) {
@@ -362,12 +388,39 @@ TEST(UrdfRobot, CalibrationRecoversPerturbedJointOriginsWithinThreeSigma) {
     if (q.in_gauge) continue;
     ++scored;
     worst_normalized = std::max(worst_normalized, std::abs(q.normalized()));
-    EXPECT_LT(std::abs(q.normalized()), 3.0) << q.name << " error " << q.error << " sigma "
-                                             << q.sigma;
+    EXPECT_LT(std::abs(q.normalized()), 3.0)
+        << q.name << " error " << q.error << " sigma " << q.sigma;
   }
   EXPECT_EQ(free_parameters, 18);
   std::printf("worst model error: %.2f sigma over %d parameters and combinations\n",
               worst_normalized, scored);
+}
+
+// The fitted arm exported: as a URDF that urdfdom reads (the export checks its chain against the
+// model's forward kinematics), and as a `urdf` robot config on the same URDF whose `calibrated:`
+// values rebuild the fit bit for bit, for the next job.
+TEST(UrdfRobot, TheFittedArmIsExportedAsUrdfAndAsARobotConfig) {
+  const Registry& registry = testing::Plugins();
+  const CalibratedCell cell = ReadCalibratedCell(Fitted().dir + "/fit", registry);
+  const std::string urdf = ExportText(cell, ExportFormat::kUrdf, "tx2", registry);
+  const urdf::ModelInterfaceSharedPtr parsed = urdf::parseURDF(urdf);
+  ASSERT_TRUE(parsed);
+  int revolute = 0;
+  for (const auto& [name, joint] : parsed->joints_) {
+    revolute += joint->type == urdf::Joint::CONTINUOUS ? 1 : 0;
+  }
+  EXPECT_EQ(revolute, 6);
+
+  const std::string config_text = ExportText(cell, ExportFormat::kRobot, "tx2", registry);
+  EXPECT_THAT(config_text, HasSubstr("type: urdf\n"));
+  EXPECT_THAT(config_text, HasSubstr("tests/data/urdf/staubli_tx2_90l.urdf"));
+  EXPECT_THAT(config_text, HasSubstr("  joint_2.x: "));
+  const auto rebuilt = registry.CreateRobotModel(
+      "urdf", ConfigNode::LoadString(config_text, "exported robot config"));
+  const std::vector<double> rebuilt_nominal = Nominal(*rebuilt);
+  EXPECT_EQ(rebuilt_nominal, cell.robots[0].values);
+  // Not the URDF's own: the fit moved them.
+  EXPECT_NE(rebuilt_nominal, Nominal(*Tx2()));
 }
 
 // What a user gets wrong: each refused at the config's key with the file and what to do.
@@ -375,8 +428,7 @@ InputError Refusal(const std::string& urdf, const std::string& base_link,
                    const std::string& tip_link) {
   const std::string dir = testing::TempDirForThisTest("urdf_robot");
   const ConfigNode config = UrdfConfig(dir, urdf, base_link, tip_link);
-  return testing::CatchInputError(
-      [&] { testing::Plugins().CreateRobotModel("urdf", config); });
+  return testing::CatchInputError([&] { testing::Plugins().CreateRobotModel("urdf", config); });
 }
 
 TEST(UrdfRobot, BadInputIsRefusedWithWhatToDo) {
@@ -395,10 +447,9 @@ TEST(UrdfRobot, BadInputIsRefusedWithWhatToDo) {
     EXPECT_THAT(e.what(), HasSubstr("<- base_link)"));
   }
   {  // A prismatic joint on the chain.
-    const InputError e = Refusal(
-        testing::ReplaceOnce(tx2, "name=\"joint_4\" type=\"revolute\"",
-                             "name=\"joint_4\" type=\"prismatic\""),
-        "base_link", "tool0");
+    const InputError e = Refusal(testing::ReplaceOnce(tx2, "name=\"joint_4\" type=\"revolute\"",
+                                                      "name=\"joint_4\" type=\"prismatic\""),
+                                 "base_link", "tool0");
     EXPECT_THAT(e.what(), HasSubstr("joint 'joint_4'"));
     EXPECT_THAT(e.what(), HasSubstr("is prismatic: the urdf robot model has revolute and "
                                     "continuous joints only"));
@@ -418,17 +469,30 @@ TEST(UrdfRobot, BadInputIsRefusedWithWhatToDo) {
     testing::WriteText(dir + "/robot.yaml",
                        "type: urdf\nfile: missing.urdf\nbase_link: a\ntip_link: b\n");
     const ConfigNode config = ConfigNode::LoadFile(dir + "/robot.yaml");
-    const InputError e = testing::CatchInputError(
-        [&] { testing::Plugins().CreateRobotModel("urdf", config); });
+    const InputError e =
+        testing::CatchInputError([&] { testing::Plugins().CreateRobotModel("urdf", config); });
     EXPECT_THAT(e.what(), HasSubstr("cannot read the URDF"));
     EXPECT_THAT(e.what(), HasSubstr("missing.urdf"));
     EXPECT_EQ(e.where().line, 2);
   }
+  {  // A calibrated value for a parameter the chain does not have.
+    const std::string dir = testing::TempDirForThisTest("urdf_robot");
+    testing::WriteText(dir + "/robot.urdf", tx2);
+    const ConfigNode config =
+        ConfigNode::LoadString("type: urdf\nfile: " + dir +
+                                   "/robot.urdf\nbase_link: base_link\ntip_link: tool0\n"
+                                   "calibrated: {joint_2.xx: 50.1}\n",
+                               "robot.yaml");
+    const InputError e =
+        testing::CatchInputError([&] { testing::Plugins().CreateRobotModel("urdf", config); });
+    EXPECT_THAT(e.what(), HasSubstr("no parameter 'joint_2.xx'"));
+    EXPECT_THAT(e.what(), HasSubstr("Did you mean 'joint_2.x'?"));
+  }
   {  // A key it needs, left out.
     const ConfigNode config =
         ConfigNode::LoadString("type: urdf\nfile: x.urdf\nbase_link: a\n", "robot.yaml");
-    const InputError e = testing::CatchInputError(
-        [&] { testing::Plugins().CreateRobotModel("urdf", config); });
+    const InputError e =
+        testing::CatchInputError([&] { testing::Plugins().CreateRobotModel("urdf", config); });
     EXPECT_THAT(e.what(), HasSubstr("a urdf robot needs `tip_link`"));
   }
 }

@@ -52,17 +52,21 @@ urdf::LinkConstSharedPtr FindLink(const urdf::ModelInterface& model, const Confi
   const std::string nearest = NearestWord(name, names);
   std::string list;
   for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-  throw config[key].Error(
-      "no link '" + name + "' in " + file,
-      (nearest.empty() ? std::string() : "Did you mean '" + nearest + "'? ") + "Its links: " + list);
+  throw config[key].Error("no link '" + name + "' in " + file,
+                          (nearest.empty() ? std::string() : "Did you mean '" + nearest + "'? ") +
+                              "Its links: " + list);
 }
 
 std::string TypeName(int type) {
   switch (type) {
-    case urdf::Joint::PRISMATIC: return "prismatic";
-    case urdf::Joint::PLANAR: return "planar";
-    case urdf::Joint::FLOATING: return "floating";
-    default: return "of unknown type";
+    case urdf::Joint::PRISMATIC:
+      return "prismatic";
+    case urdf::Joint::PLANAR:
+      return "planar";
+    case urdf::Joint::FLOATING:
+      return "floating";
+    default:
+      return "of unknown type";
   }
 }
 
@@ -119,9 +123,9 @@ UrdfChain ReadUrdfChain(const ConfigNode& config) {
     }
     const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
     if (!(axis.norm() > 1e-9)) {
-      throw config["file"].Error("joint '" + joint->name + "' in " + chain.file +
-                                     " has a zero <axis>",
-                                 "Give the joint's axis as a direction, e.g. <axis xyz=\"0 0 1\"/>");
+      throw config["file"].Error(
+          "joint '" + joint->name + "' in " + chain.file + " has a zero <axis>",
+          "Give the joint's axis as a direction, e.g. <axis xyz=\"0 0 1\"/>");
     }
     UrdfJoint movable;
     movable.name = joint->name;

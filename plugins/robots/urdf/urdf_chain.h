@@ -24,12 +24,12 @@
 namespace cellmetry::urdf_robot {
 
 struct UrdfJoint {
-  std::string name;                        // the URDF joint's name
+  std::string name;                           // the URDF joint's name
   Pose T_previous_parent = Pose::Identity();  // fixed joints since the previous movable joint
                                               // (or base_link), up to this joint's parent link
-  Eigen::Vector3d xyz_mm = Eigen::Vector3d::Zero();  // <origin xyz>, in the parent link
+  Eigen::Vector3d xyz_mm = Eigen::Vector3d::Zero();              // <origin xyz>, in the parent link
   Eigen::Matrix3d R_parent_joint = Eigen::Matrix3d::Identity();  // <origin rpy>
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // <axis>, unit, in the joint frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();               // <axis>, unit, in the joint frame
 };
 
 struct UrdfChain {

@@ -50,7 +50,8 @@ std::vector<std::string> HeldByConvention(const UrdfChain& chain) {
     const Eigen::Vector3d previous_point = T_parent_previous.t;
     // A shift along the previous axis.
     const int shift = BestCoordinate(previous_axis, kTranslation, held, i);
-    hold(i, shift, "a shift along " + previous + "'s axis, which " + previous + "'s origin carries");
+    hold(i, shift,
+         "a shift along " + previous + "'s axis, which " + previous + "'s origin carries");
     // A turn about its own axis (the joint frame's axis: exactly the offset).
     const int own_turn = BestCoordinate(joint.axis, kRotation, held, i);
     hold(i, own_turn, "a turn about " + joint.name + "'s own axis, which its offset carries");
@@ -72,8 +73,9 @@ std::vector<std::string> HeldByConvention(const UrdfChain& chain) {
            "where " + joint.name + "'s axis stands about the parallel axis of " + previous +
                ", which " + previous + ".offset carries");
     } else {
-      hold(i, kOffset, "on the line of " + previous + "'s axis, " + previous +
-                           ".offset carries a turn about it");
+      hold(i, kOffset,
+           "on the line of " + previous + "'s axis, " + previous +
+               ".offset carries a turn about it");
     }
   }
   const size_t last = n - 1;

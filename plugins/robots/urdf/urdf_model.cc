@@ -1,6 +1,9 @@
 // UrdfModel's non-template parts (urdf_model.h): the parameters, the joint frames, the chain.
 #include "urdf_model.h"
 
+#include <sstream>
+
+#include "cellmetry/formats/exact_number.h"
 #include "urdf_conventions.h"
 
 namespace cellmetry::urdf_robot {
@@ -10,8 +13,7 @@ namespace {
 // A fixed turn taking z to `axis` (unit): joint frames with z along the axis, as
 // RobotModel::JointFrames and SerialChain want them.
 Pose ZToAxis(const Eigen::Vector3d& axis) {
-  return Pose{Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis)
-                  .toRotationMatrix(),
+  return Pose{Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis).toRotationMatrix(),
               Eigen::Vector3d::Zero()};
 }
 
@@ -23,20 +25,20 @@ UrdfModel::UrdfModel(UrdfChain chain) : chain_(std::move(chain)) {
     const std::string j = joint.name + ".";
     const char* in_parent = " of <origin xyz>, in the parent link";
     const char* turn = " of a small turn after <origin rpy>, in the joint frame";
-    parameters_.push_back({j + "x", "mm", joint.xyz_mm.x(), true, {}, {}, {},
-                           std::string("x") + in_parent, {}});
-    parameters_.push_back({j + "y", "mm", joint.xyz_mm.y(), true, {}, {}, {},
-                           std::string("y") + in_parent, {}});
-    parameters_.push_back({j + "z", "mm", joint.xyz_mm.z(), true, {}, {}, {},
-                           std::string("z") + in_parent, {}});
-    parameters_.push_back({j + "roll", "rad", 0.0, true, {}, {}, {},
-                           std::string("roll (about x)") + turn, {}});
-    parameters_.push_back({j + "pitch", "rad", 0.0, true, {}, {}, {},
-                           std::string("pitch (about y)") + turn, {}});
-    parameters_.push_back({j + "yaw", "rad", 0.0, true, {}, {}, {},
-                           std::string("yaw (about z)") + turn, {}});
-    parameters_.push_back({j + "offset", "rad", 0.0, true, {}, {}, {},
-                           "joint zero offset added to the reading", {}});
+    parameters_.push_back(
+        {j + "x", "mm", joint.xyz_mm.x(), true, {}, {}, {}, std::string("x") + in_parent, {}});
+    parameters_.push_back(
+        {j + "y", "mm", joint.xyz_mm.y(), true, {}, {}, {}, std::string("y") + in_parent, {}});
+    parameters_.push_back(
+        {j + "z", "mm", joint.xyz_mm.z(), true, {}, {}, {}, std::string("z") + in_parent, {}});
+    parameters_.push_back(
+        {j + "roll", "rad", 0.0, true, {}, {}, {}, std::string("roll (about x)") + turn, {}});
+    parameters_.push_back(
+        {j + "pitch", "rad", 0.0, true, {}, {}, {}, std::string("pitch (about y)") + turn, {}});
+    parameters_.push_back(
+        {j + "yaw", "rad", 0.0, true, {}, {}, {}, std::string("yaw (about z)") + turn, {}});
+    parameters_.push_back(
+        {j + "offset", "rad", 0.0, true, {}, {}, {}, "joint zero offset added to the reading", {}});
   }
   for (size_t k = 0; k < parameters_.size(); ++k) parameters_[k].convention = conventions[k];
 }
@@ -70,6 +72,44 @@ bool UrdfModel::AsSerialChain(const double* params, SerialChain* chain) const {
   chain->T_last_joint_flange = T_previous_z.inverse() * chain_.T_last_joint_tip;
   chain->not_expressible.clear();
   return true;
+}
+
+bool UrdfModel::SetNominal(const std::string& name, double value) {
+  const int index = FindParameter(parameters_, name);
+  if (index < 0) return false;
+  parameters_[static_cast<size_t>(index)].nominal = value;
+  return true;
+}
+
+namespace {
+
+// `key: value` of a string the config had, quoted as YAML needs; nothing when it had none.
+void CopyText(const ConfigNode& config, const std::string& key, std::ostream& out) {
+  if (!config.Has(key)) return;
+  YAML::Emitter text;
+  text << config[key].AsString();
+  out << key << ": " << text.c_str() << "\n";
+}
+
+}  // namespace
+
+std::string UrdfModel::CalibratedConfig(const ConfigNode& config, const double* params) const {
+  std::ostringstream out;
+  out << "type: urdf\n";
+  CopyText(config, "name", out);
+  CopyText(config, "description", out);
+  YAML::Emitter file;
+  file << chain_.file;
+  out << "file: " << file.c_str() << "   # the URDF the calibration ran on, unchanged\n";
+  CopyText(config, "base_link", out);
+  CopyText(config, "tip_link", out);
+  out << "calibrated:   # replace the URDF's joint origins (mm) and zero turns and offsets (rad)\n";
+  for (size_t k = 0; k < parameters_.size(); ++k) {
+    YAML::Emitter name;
+    name << parameters_[k].name;
+    out << "  " << name.c_str() << ": " << ExactNumber(params[k]) << "\n";
+  }
+  return out.str();
 }
 
 }  // namespace cellmetry::urdf_robot

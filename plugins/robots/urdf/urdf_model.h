@@ -20,6 +20,9 @@
 // a shift along the previous axis is the previous joint's, and a turn about the previous axis
 // (or, where the two axes are parallel, where this axis stands about it) the previous offset's.
 //
+// A config's `calibrated:` map (parameter name -> value, mm and rad) replaces nominal values: what
+// CalibratedConfig writes, so that a calibration becomes the next job's robot on the same URDF.
+//
 // As a chain of revolute joints about z (serial_chain.h), for exports: with M_i a fixed rotation
 // taking z to axis_i, Rot(axis_i, q) = M_i Rz(q) M_i^T, so joint i's origin is
 // M_{i-1}^T O_i Rot(axis_i, offset_i) M_i (M_0 = I) and the flange M_n^T T_last_joint_tip.
@@ -48,6 +51,10 @@ class UrdfModel : public RobotModelFromTemplate<UrdfModel> {
   bool JointFrames(const double* q, const double* params,
                    std::vector<Pose>* T_base_joint) const override;
   bool AsSerialChain(const double* params, SerialChain* chain) const override;
+  // The `urdf` config with the URDF's absolute path and `params` as its `calibrated:` values.
+  std::string CalibratedConfig(const ConfigNode& config, const double* params) const override;
+  // Replaces the nominal value of the parameter called `name`; false when there is none.
+  bool SetNominal(const std::string& name, double value);
 
   template <typename T>
   bool ForwardT(const double* q, const T* params, Transform<T>* T_base_flange) const {
@@ -80,8 +87,7 @@ class UrdfModel : public RobotModelFromTemplate<UrdfModel> {
     Matrix3<T> K;
     K << T(0), T(-axis.z()), T(axis.y()), T(axis.z()), T(0), T(-axis.x()), T(-axis.y()),
         T(axis.x()), T(0);
-    return Matrix3<T>::Identity() * c + K * s +
-           (axis * axis.transpose()).cast<T>() * (T(1) - c);
+    return Matrix3<T>::Identity() * c + K * s + (axis * axis.transpose()).cast<T>() * (T(1) - c);
   }
 
   // Rz(yaw) Ry(pitch) Rx(roll), URDF's rpy.
