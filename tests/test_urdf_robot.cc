@@ -157,6 +157,20 @@ TEST(UrdfRobot, ConventionsHoldWhatTheBaseToolAndNeighbouringJointsCarry) {
   EXPECT_THAT(p[FindParameter(p, "joint_3.x")].convention, HasSubstr("parallel axis of joint_2"));
 }
 
+// One joint: its seven parameters put the base frame, all held; it turns the tip about z.
+TEST(UrdfRobot, AChainOfOneJointIsHeldWhole) {
+  const std::string dir = testing::TempDirForThisTest("urdf_robot");
+  const auto model = testing::Plugins().CreateRobotModel(
+      "urdf", UrdfConfig(dir, testing::ReadText(testing::Source(kUrdf)), "base_link", "link_1"));
+  ASSERT_EQ(model->num_joints(), 1);
+  for (const Parameter& p : model->parameters()) EXPECT_FALSE(p.convention.empty()) << p.name;
+  const double q = 0.5;
+  Pose T;
+  ASSERT_TRUE(model->Forward(&q, Nominal(*model).data(), &T));
+  EXPECT_LT((T.t - Eigen::Vector3d(0, 0, 478)).norm(), 1e-12);
+  EXPECT_NEAR(T.R(1, 0), std::sin(q), 1e-15);
+}
+
 // Column k: how the tool point and its rotation move with parameter k of [model, base, tool],
 // stacked over poses, each column scaled to unit length (mm and rad alike).
 Eigen::MatrixXd CellJacobian(const RobotModel& model, const std::vector<double>& params,

@@ -13,7 +13,8 @@ constexpr int kTranslation = kX;  // x y z
 constexpr int kRotation = kRoll;  // roll pitch yaw
 
 // Of the three coordinates from `first` on (x y z or roll pitch yaw) not yet held, the one where
-// `direction` is largest: holding it removes that direction best.
+// `direction` is largest: holding it removes that direction best. -1 when all three are held (a
+// chain of one joint, held whole).
 int BestCoordinate(const Eigen::Vector3d& direction, int first,
                    const std::vector<std::string>& held, size_t joint) {
   int best = -1;
@@ -25,7 +26,7 @@ int BestCoordinate(const Eigen::Vector3d& direction, int first,
       best = k;
     }
   }
-  return first + best;
+  return best < 0 ? -1 : first + best;
 }
 
 }  // namespace
@@ -34,6 +35,7 @@ std::vector<std::string> HeldByConvention(const UrdfChain& chain) {
   const size_t n = chain.joints.size();
   std::vector<std::string> held(kParamsPerJoint * n);
   auto hold = [&](size_t joint, int entry, const std::string& why) {
+    if (entry < 0) return;
     std::string& slot = held[kParamsPerJoint * joint + entry];
     if (slot.empty()) slot = why;
   };
