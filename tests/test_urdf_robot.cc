@@ -325,7 +325,7 @@ TEST(UrdfRobot, JointFramesAndSerialChainAgreeWithTheForwardKinematics) {
 
 // A TX2-90L whose joint origins are off the URDF's by tenths of a millimetre and milliradians
 // (the free parameters), seen by two cameras, fitted by a job with `free_model: all`; the result
-// written as `cellmetry run` writes it. Computed once for the tests below.
+// written as `cellmetry run` writes it. Computed once per process for the tests below.
 struct FittedTx2 {
   std::string dir;
   WorkcellSimulationSpec spec;
@@ -336,7 +336,8 @@ struct FittedTx2 {
 const FittedTx2& Fitted() {
   static const FittedTx2 fitted = [] {
     FittedTx2 f;
-    f.dir = testing::TempDir("urdf_robot/fitted_tx2");
+    // One folder per test: ctest runs each test as a process of its own, side by side.
+    f.dir = testing::TempDirForThisTest("urdf_robot/fitted_tx2");
     const std::string& dir = f.dir;
     const std::string robot = testing::Source("configs/robots/staubli_tx2_90l_urdf.yaml");
     testing::WriteText(
