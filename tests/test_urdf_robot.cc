@@ -1,6 +1,7 @@
 // The `urdf` robot model (plugins/robots/urdf): the TX2-90L's URDF against its modified-DH
 // table, exact derivatives, conventions that leave exactly what the data determines, a
-// calibration on simulation recovering perturbed joint origins, and refusals in words.
+// calibration on simulation recovering perturbed joint origins, the fitted arm's exports (URDF,
+// robot config), and refusals in words.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <urdf_parser/urdf_parser.h>
