@@ -340,7 +340,7 @@ TEST_F(BadInput, UnknownRobotModelTypeListsTheKnownOnes) {
   const auto r = Run();
   ExpectRejected(r, "ur3.yaml:4:7:", "Did you mean 'serial_mdh'?");
   EXPECT_THAT(r.output, HasSubstr("unknown robot model type 'serial_mdhh'"));
-  EXPECT_THAT(r.output, HasSubstr("Known robot model types: delta, serial_mdh"));
+  EXPECT_THAT(r.output, HasSubstr("Known robot model types: delta, serial_mdh, urdf"));
 }
 
 // A job value outside its meaning: `from` in the job text becomes `to` (or `to` is appended when

@@ -53,8 +53,10 @@ CalibratedRobot ReadRobot(const std::string& name, const json& j, const std::str
     throw InputError({json_path, 0, 0}, "the result does not record the config of robot '" +
                      name + "' (the job was built in memory)", kRerun);
   }
-  robot.model_config = std::make_shared<ConfigNode>(
-      ConfigNode::LoadString(text, robot.model_file + " (as recorded in " + json_path + ")"));
+  // Named after the config file itself: paths it holds (a urdf robot's `file:`) resolve against
+  // its folder, as they did in the run, not against the result's.
+  robot.model_config =
+      std::make_shared<ConfigNode>(ConfigNode::LoadString(text, robot.model_file));
   robot.model_type = (*robot.model_config)["type"].AsString();
   robot.model = registry.CreateRobotModel(robot.model_type, *robot.model_config);
   const auto& parameters = robot.model->parameters();

@@ -5,7 +5,9 @@
 // A robot's model comes from the robot config the result recorded (`robots.<name>.model_config`,
 // the file's text at the time of the run) and every parameter's value at the answer
 // (`model_values`), so an export never depends on the config file still being there or
-// unchanged. Lengths mm, angles rad; frames T_parent_child as everywhere in cellmetry.
+// unchanged. A file the config names in turn (a `urdf` robot's URDF) is read again from where
+// the config named it, relative to the config's folder as in the run: it must still be there.
+// Lengths mm, angles rad; frames T_parent_child as everywhere in cellmetry.
 //
 // Reading throws InputError (exit code 2) naming result.json for: a missing folder or file, a
 // file that is not a cellmetry result, a result written before results recorded their robots'

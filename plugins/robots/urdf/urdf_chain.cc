@@ -1,0 +1,148 @@
+// ReadUrdfChain (urdf_chain.h): urdfdom parses the file; the chain is walked from the tip up to
+// the base through each link's parent joint, since a URDF is a tree and a link has one parent.
+#include "urdf_chain.h"
+
+#include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace cellmetry::urdf_robot {
+
+namespace {
+
+constexpr double kMmPerMetre = 1000.0;
+
+Pose PoseOf(const urdf::Pose& origin) {
+  Pose pose;
+  const urdf::Rotation& r = origin.rotation;
+  pose.R = Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized().toRotationMatrix();
+  pose.t = Eigen::Vector3d(origin.position.x, origin.position.y, origin.position.z) * kMmPerMetre;
+  return pose;
+}
+
+std::string ReadFile(const ConfigNode& config, const std::string& path) {
+  std::ifstream in(path);
+  if (!in) {
+    throw config["file"].Error("cannot read the URDF '" + path + "'",
+                               "Give its path relative to this robot config");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::vector<std::string> LinkNames(const urdf::ModelInterface& model) {
+  std::vector<urdf::LinkSharedPtr> links;
+  model.getLinks(links);
+  std::vector<std::string> names;
+  for (const auto& link : links) names.push_back(link->name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// The named link, or an InputError at `key` that names the file, the nearest name and the links.
+urdf::LinkConstSharedPtr FindLink(const urdf::ModelInterface& model, const ConfigNode& config,
+                                  const std::string& key, const std::string& file) {
+  const std::string name = config[key].AsString();
+  urdf::LinkConstSharedPtr link = model.getLink(name);
+  if (link) return link;
+  const std::vector<std::string> names = LinkNames(model);
+  const std::string nearest = NearestWord(name, names);
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  throw config[key].Error("no link '" + name + "' in " + file,
+                          (nearest.empty() ? std::string() : "Did you mean '" + nearest + "'? ") +
+                              "Its links: " + list);
+}
+
+std::string TypeName(int type) {
+  switch (type) {
+    case urdf::Joint::PRISMATIC:
+      return "prismatic";
+    case urdf::Joint::PLANAR:
+      return "planar";
+    case urdf::Joint::FLOATING:
+      return "floating";
+    default:
+      return "of unknown type";
+  }
+}
+
+}  // namespace
+
+UrdfChain ReadUrdfChain(const ConfigNode& config) {
+  UrdfChain chain;
+  chain.file = config.ResolvePath(config["file"].AsString());
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(ReadFile(config, chain.file));
+  if (!model) {
+    throw config["file"].Error(
+        "urdfdom cannot parse '" + chain.file + "' (its reason is printed above)",
+        "Check the XML; expand a xacro file first: xacro robot.urdf.xacro > robot.urdf");
+  }
+  const urdf::LinkConstSharedPtr base = FindLink(*model, config, "base_link", chain.file);
+  const urdf::LinkConstSharedPtr tip = FindLink(*model, config, "tip_link", chain.file);
+
+  // Tip to base, each link's parent joint; the root has none.
+  std::vector<urdf::JointConstSharedPtr> path;
+  std::string walked = tip->name;
+  for (urdf::LinkConstSharedPtr link = tip; link != base;) {
+    const urdf::JointConstSharedPtr joint = link->parent_joint;
+    if (!joint) {
+      throw config["tip_link"].Error(
+          "link '" + tip->name + "' is not below '" + base->name + "' in " + chain.file +
+              " (from it up to the root: " + walked + ")",
+          "Name as base_link a link on that path, and as tip_link one below it");
+    }
+    path.push_back(joint);
+    link = model->getLink(joint->parent_link_name);
+    walked += " <- " + link->name;
+  }
+  std::reverse(path.begin(), path.end());
+
+  Pose folded = Pose::Identity();  // fixed joints since the last movable one
+  for (const urdf::JointConstSharedPtr& joint : path) {
+    const Pose origin = PoseOf(joint->parent_to_joint_origin_transform);
+    if (joint->type == urdf::Joint::FIXED) {
+      folded = folded * origin;
+      continue;
+    }
+    if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::CONTINUOUS) {
+      throw config["tip_link"].Error(
+          "joint '" + joint->name + "' on the chain from '" + base->name + "' to '" + tip->name +
+              "' in " + chain.file + " is " + TypeName(joint->type) +
+              ": the urdf robot model has revolute and continuous joints only",
+          "End the chain before it (tip_link: '" + joint->parent_link_name + "')");
+    }
+    if (joint->mimic) {
+      throw config["tip_link"].Error(
+          "joint '" + joint->name + "' in " + chain.file + " mimics '" + joint->mimic->joint_name +
+              "': the urdf robot model reads one controller reading per joint",
+          "End the chain before it (tip_link: '" + joint->parent_link_name + "')");
+    }
+    const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
+    if (!(axis.norm() > 1e-9)) {
+      throw config["file"].Error(
+          "joint '" + joint->name + "' in " + chain.file + " has a zero <axis>",
+          "Give the joint's axis as a direction, e.g. <axis xyz=\"0 0 1\"/>");
+    }
+    UrdfJoint movable;
+    movable.name = joint->name;
+    movable.T_previous_parent = folded;
+    movable.xyz_mm = origin.t;
+    movable.R_parent_joint = origin.R;
+    movable.axis = axis.normalized();
+    chain.joints.push_back(movable);
+    folded = Pose::Identity();
+  }
+  chain.T_last_joint_tip = folded;
+  if (chain.joints.empty()) {
+    throw config["tip_link"].Error("no revolute or continuous joint between '" + base->name +
+                                       "' and '" + tip->name + "' in " + chain.file,
+                                   "Name the links at the two ends of the arm");
+  }
+  return chain;
+}
+
+}  // namespace cellmetry::urdf_robot
