@@ -331,9 +331,10 @@ TEST(CheckerboardPhotos, OpenCvCalibrationSample) {
 void ExpectCharucoPhoto(const std::string& image_name, size_t min_corners) {
   const std::string path = std::string(kDocImages) + image_name;
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not installed (opencv-doc)";
-  const auto d = Make(
-      "{type: charuco, dictionary: DICT_6X6_250, squares_x: 5, squares_y: 7, square_mm: 40, "
-      "marker_mm: 20}");
+  // The board as configs/boards/ gives it.
+  const ConfigNode config =
+      ConfigNode::LoadFile(testing::Source("configs/boards/charuco_5x7_40mm.yaml"))["detector"];
+  const auto d = testing::Plugins().CreateDetector(config["type"].AsString(), config);
   const Detection detection = d->Detect(ReadGrayImage(path).view());
   ASSERT_TRUE(detection.found()) << detection.failure;
   EXPECT_GE(detection.keypoints.size(), min_corners) << image_name;
