@@ -8,7 +8,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   libopencv-dev libopencv-contrib-dev libapriltag-dev libtbb-dev libboost-math-dev
   libsuitesparse-dev   # SuiteSparseQR: the sparse R factor behind identifiability and sigma
-  opencv-doc   # OpenCV's ArUco tutorial photographs: real images the detector tests use
+  opencv-doc   # OpenCV's ArUco/ChArUco and calibration photographs: real images the detector tests use
   liburdfdom-dev   # the URDF parser: the urdf robot model, and test_exports reading `export --format urdf`
   chromium   # tests only: test_report opens every report.html headless (console, plots drawn)
   clang-14 libclang-rt-14-dev   # scripts/sanitize.sh, scripts/fuzz.sh: ASan, UBSan, libFuzzer

@@ -993,7 +993,7 @@ const std::vector<BadCase> kBadCases = {
      "Run with --help for more information."},
     {"UnknownCommand", "", 0, "", "", "frobnicate {job}", 2, Said::kOneLine, "cellmetry:",
      "'frobnicate' is not a cellmetry command",
-     "compare, detect, diagnose, plan, export, compensate, import, plugins"},
+     "compare, detect, diagnose, plan, export, compensate, import, calibrate-camera, plugins"},
     {"UnknownGlobalOption", "", 0, "", "", "--verbose run {job}", 2, Said::kUsage, "",
      "The following argument was not expected: --verbose",
      "Run with --help for more information."},

@@ -21,7 +21,8 @@ using ::testing::Not;
 const std::vector<std::string> kBuiltSolvers = {"ceres_lm", "gradient_descent", "jacobian_pinv",
                                                 "nlopt", "normal_lm"};
 const std::vector<std::string> kBuiltRobotModels = {"delta", "serial_mdh", "urdf"};
-const std::vector<std::string> kBuiltDetectors = {"apriltag_board", "aruco", "dot", "dot_pattern"};
+const std::vector<std::string> kBuiltDetectors = {"apriltag_board", "aruco", "charuco",
+                                                  "checkerboard", "dot", "dot_pattern"};
 
 using testing::CatchInputError;
 

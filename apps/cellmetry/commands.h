@@ -32,5 +32,6 @@ void AddPlanCommand(CLI::App& app, Context& context);
 void AddExportCommand(CLI::App& app, Context& context);
 void AddCompensateCommand(CLI::App& app, Context& context);
 void AddImportCommand(CLI::App& app, Context& context);
+void AddCalibrateCameraCommand(CLI::App& app, Context& context);
 
 }  // namespace cellmetry::app

@@ -77,6 +77,7 @@ int main(int argc, char** argv) {
   app::AddExportCommand(cli, context);
   app::AddCompensateCommand(cli, context);
   app::AddImportCommand(cli, context);
+  app::AddCalibrateCameraCommand(cli, context);
   app::AddPluginsCommand(cli, context);
   try {
     app::RefuseUnknownCommand(cli, argc, argv);

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "aruco_detector.h"
-#include "aruco_dictionary.h"
 #include "cellmetry/registry/registry.h"
+#include "fiducial_common/aruco_dictionary.h"
 
 namespace cellmetry::aruco {
 namespace {
@@ -119,10 +119,10 @@ std::unique_ptr<Detector> Create(const ConfigNode& config) {
                        "e.g. dictionary: DICT_6X6_250");
   }
   if (config.Has("dictionary")) {
-    options.target.dictionary = PredefinedDictionary(config["dictionary"]);
+    options.target.dictionary = fiducial::PredefinedDictionary(config["dictionary"]);
     options.dictionary_name = config["dictionary"].AsString();
   } else {
-    options.target.dictionary = DictionaryFromFile(config["dictionary_file"]);
+    options.target.dictionary = fiducial::DictionaryFromFile(config["dictionary_file"]);
     options.dictionary_name = "custom-dictionary";
   }
   if (!config.Has("marker_length_mm")) {

@@ -1,6 +1,7 @@
 // PrintedPage: black rectangles on white paper, and the MarkerFace texture the renderer draws
-// for it. Both square-fiducial plugins (aruco, apriltag_board) print their bit cells with it, so
-// that the texture and the plugin's layout() come from the same numbers.
+// for it. The square-fiducial plugins (aruco, apriltag_board) print their bit cells with it, the
+// board plugins (checkerboard, charuco) their squares, so that the texture and the plugin's
+// layout() come from the same numbers.
 //
 // A page is described as printed and seen from its printed side: u to the right, v down, in mm
 // from its top-left corner. Its placement in the target frame says where that corner is and

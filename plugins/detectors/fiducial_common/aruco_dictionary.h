@@ -11,7 +11,7 @@
 
 #include "cellmetry/formats/config_node.h"
 
-namespace cellmetry::aruco {
+namespace cellmetry::fiducial {
 
 // "DICT_4X4_50", ..., "DICT_ARUCO_ORIGINAL", "DICT_APRILTAG_36h11", in OpenCV's order.
 const std::vector<std::string>& DictionaryNames();
@@ -24,4 +24,4 @@ cv::Ptr<cv::aruco::Dictionary> PredefinedDictionary(const ConfigNode& node);
 // the file is missing or is not a dictionary.
 cv::Ptr<cv::aruco::Dictionary> DictionaryFromFile(const ConfigNode& node);
 
-}  // namespace cellmetry::aruco
+}  // namespace cellmetry::fiducial

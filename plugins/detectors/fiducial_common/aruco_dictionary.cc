@@ -1,11 +1,11 @@
 // ArUco dictionaries by name (aruco_dictionary.h): OpenCV 4.6's predefined ones, or a custom one
 // read from a file.
-#include "aruco_dictionary.h"
+#include "fiducial_common/aruco_dictionary.h"
 
 #include <filesystem>
 #include <utility>
 
-namespace cellmetry::aruco {
+namespace cellmetry::fiducial {
 namespace {
 
 using cv::aruco::PREDEFINED_DICTIONARY_NAME;
@@ -87,4 +87,4 @@ cv::Ptr<cv::aruco::Dictionary> DictionaryFromFile(const ConfigNode& node) {
   return dictionary;
 }
 
-}  // namespace cellmetry::aruco
+}  // namespace cellmetry::fiducial
