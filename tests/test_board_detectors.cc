@@ -21,6 +21,7 @@
 #include "cellmetry/imaging/render.h"
 #include "cellmetry/imaging/target_pose.h"
 #include "cellmetry/model/camera.h"
+#include "support/detector_views.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -33,30 +34,10 @@ const char kCharuco[] =
     "{type: charuco, dictionary: DICT_5X5_100, squares_x: 7, squares_y: 5, square_mm: 30, "
     "marker_mm: 22}";
 
-std::unique_ptr<Detector> Make(const std::string& yaml) {
-  const ConfigNode config = ConfigNode::LoadString(yaml, "test.yaml");
-  return testing::Plugins().CreateDetector(config["type"].AsString(), config);
-}
-
-Eigen::Matrix3d Rot(const Eigen::Vector3d& axis, double degrees) {
-  return Eigen::AngleAxisd(degrees * M_PI / 180.0, axis.normalized()).toRotationMatrix();
-}
-
-Eigen::Vector3d LayoutCentre(const Detector& d) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const auto& p : d.layout()) sum += p.p_target_mm;
-  return sum / static_cast<double>(d.layout().size());
-}
-
-// The board with its printed side toward the camera (the face's z axis toward it), turned by
-// `tilt`, its layout's centre at `at` (as test_fiducial_detectors.cc's Facing()).
-Pose Facing(const Detector& d, const std::vector<MarkerFace>& faces, const Eigen::Vector3d& at,
-            const Eigen::Matrix3d& tilt) {
-  Pose T_cam_target;
-  T_cam_target.R = tilt * Rot(Eigen::Vector3d::UnitX(), 180) * faces[0].T_target_face.R.transpose();
-  T_cam_target.t = at - T_cam_target.R * LayoutCentre(d);
-  return T_cam_target;
-}
+using testing::Facing;
+using testing::LayoutCentre;
+using testing::MakeDetector;
+using testing::RotationDeg;
 
 // Poses 330..600 mm away, tilted up to 35 degrees and turned in the image plane by 0, 90, 180
 // and -90 degrees: every order findChessboardCornersSB may list the corners in.
@@ -64,11 +45,11 @@ std::vector<Pose> TestPoses(const Detector& d, const std::vector<MarkerFace>& fa
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY();
   const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
   return {Facing(d, faces, {0, 0, 330}, Eigen::Matrix3d::Identity()),
-          Facing(d, faces, {20, -15, 380}, Rot(x, 25)),
-          Facing(d, faces, {-25, 10, 420}, Rot(y, -30) * Rot(z, 90)),
-          Facing(d, faces, {15, 20, 480}, Rot(x + y, 35) * Rot(z, 180)),
-          Facing(d, faces, {-20, -25, 540}, Rot(x - 0.5 * y, 20) * Rot(z, -90)),
-          Facing(d, faces, {10, 5, 600}, Rot(y, 15) * Rot(z, 160))};
+          Facing(d, faces, {20, -15, 380}, RotationDeg(x, 25)),
+          Facing(d, faces, {-25, 10, 420}, RotationDeg(y, -30) * RotationDeg(z, 90)),
+          Facing(d, faces, {15, 20, 480}, RotationDeg(x + y, 35) * RotationDeg(z, 180)),
+          Facing(d, faces, {-20, -25, 540}, RotationDeg(x - 0.5 * y, 20) * RotationDeg(z, -90)),
+          Facing(d, faces, {10, 5, 600}, RotationDeg(y, 15) * RotationDeg(z, 160))};
 }
 
 struct Scores {
@@ -133,7 +114,7 @@ void Print(const std::string& name, const Scores& s) {
 // --- Rendered views: poses from the keypoints against the truth.
 
 TEST(CheckerboardDetector, PoseOnRenderedViewsMatchesTruth) {
-  const auto d = Make(kCheckerboard);
+  const auto d = MakeDetector(kCheckerboard);
   ASSERT_EQ(d->layout().size(), 54u);
   const Scores s = Measure(*d, TestPoses(*d, d->Faces(10.0)), 1);
   Print("checkerboard 9x6", s);
@@ -145,17 +126,17 @@ TEST(CheckerboardDetector, PoseOnRenderedViewsMatchesTruth) {
 
 // The detection options against the defaults (printed, not checked; docs/markers.md quotes them).
 TEST(CheckerboardDetector, OptionVariantsOnRenderedViews) {
-  const auto d = Make(kCheckerboard);
+  const auto d = MakeDetector(kCheckerboard);
   const auto poses = TestPoses(*d, d->Faces(10.0));
   for (const char* variant : {"accuracy: false", "normalize_image: true", "exhaustive: true"}) {
-    const auto v = Make(std::string(kCheckerboard).substr(0, sizeof(kCheckerboard) - 2) + ", " +
+    const auto v = MakeDetector(std::string(kCheckerboard).substr(0, sizeof(kCheckerboard) - 2) + ", " +
                         variant + "}");
     Print(std::string("checkerboard 9x6 (") + variant + ")", Measure(*v, poses, 1));
   }
 }
 
 TEST(CharucoDetector, PoseOnRenderedViewsMatchesTruth) {
-  const auto d = Make(kCharuco);
+  const auto d = MakeDetector(kCharuco);
   ASSERT_EQ(d->layout().size(), 24u);  // (7 - 1) x (5 - 1) inner corners
   const Scores s = Measure(*d, TestPoses(*d, d->Faces(10.0)), 2);
   Print("charuco 7x5 DICT_5X5_100", s);
@@ -168,19 +149,19 @@ TEST(CharucoDetector, PoseOnRenderedViewsMatchesTruth) {
 
 // Without the plugin's last cornerSubPix: OpenCV's corners, its 0.5 px shift taken off (printed).
 TEST(CharucoDetector, OpenCvCornersOnRenderedViews) {
-  const auto d = Make(kCharuco);
-  const auto v = Make(std::string(kCharuco).substr(0, sizeof(kCharuco) - 2) + ", subpix: false}");
+  const auto d = MakeDetector(kCharuco);
+  const auto v = MakeDetector(std::string(kCharuco).substr(0, sizeof(kCharuco) - 2) + ", subpix: false}");
   Print("charuco 7x5 (subpix: false)", Measure(*v, TestPoses(*d, d->Faces(10.0)), 2));
 }
 
 // Half the ChArUco board out of the frame: the corners in view are found, the pose holds.
 TEST(CharucoDetector, BoardCutByTheImageBorder) {
-  const auto d = Make(kCharuco);
+  const auto d = MakeDetector(kCharuco);
   const auto faces = d->Faces(10.0);
   const PinholeCamera camera = OakDLikeCamera();
   // The board's centre 20 mm left of the frame's right edge at 400 mm.
   const Pose pose = Facing(*d, faces, {0.5 * camera.width * 400 / camera.fx - 20, 0, 400},
-                           Rot(Eigen::Vector3d::UnitY(), 10));
+                           RotationDeg(Eigen::Vector3d::UnitY(), 10));
   const Scores s = Measure(*d, {pose}, 3);
   Print("charuco 7x5, cut by the border", s);
   EXPECT_LT(s.fewest_corners, 24u);
@@ -192,7 +173,7 @@ TEST(CharucoDetector, BoardCutByTheImageBorder) {
 
 // The checkerboard needs the whole board: cut by the border, it is not found, and says why.
 TEST(CheckerboardDetector, BoardCutByTheImageBorderIsNotFound) {
-  const auto d = Make(kCheckerboard);
+  const auto d = MakeDetector(kCheckerboard);
   const auto faces = d->Faces(10.0);
   const PinholeCamera camera = OakDLikeCamera();
   const Pose pose = Facing(*d, faces, {0.5 * camera.width * 400 / camera.fx - 20, 0, 400},
@@ -207,7 +188,7 @@ TEST(CheckerboardDetector, BoardCutByTheImageBorderIsNotFound) {
 // layout() is where OpenCV 4.6's CharucoBoard puts the chessboard corners, and the printed face
 // is what CharucoBoard::draw prints (at a texel size where both are exact).
 TEST(CharucoDetector, BoardAgreesWithOpenCvCharucoBoard) {
-  const auto d = Make(
+  const auto d = MakeDetector(
       "{type: charuco, dictionary: DICT_6X6_250, squares_x: 5, squares_y: 7, square_mm: 24, "
       "marker_mm: 16}");
   const auto board = cv::aruco::CharucoBoard::create(
@@ -239,7 +220,7 @@ TEST(Boards, KeypointCovarianceIsSigmaSquared) {
        {"{type: checkerboard, corners_x: 9, corners_y: 6, square_mm: 20, sigma_px: 0.2}",
         "{type: charuco, dictionary: DICT_5X5_100, squares_x: 7, squares_y: 5, square_mm: 30, "
         "marker_mm: 22, sigma_px: 0.2}"}) {
-    const auto d = Make(yaml);
+    const auto d = MakeDetector(yaml);
     const auto faces = d->Faces(10.0);
     std::mt19937 rng(1);
     const Detection detection = d->Detect(
@@ -268,7 +249,7 @@ const char kDocImages[] = "/usr/share/doc/opencv-doc/opencv4/html/";
 TEST(CheckerboardPhotos, OpenCvCalibrationSample) {
   const std::string intrinsics = std::string(kDocData) + "left_intrinsics.yml";
   if (!std::filesystem::exists(intrinsics)) GTEST_SKIP() << intrinsics << " is not installed";
-  const auto d = Make("{type: checkerboard, corners_x: 9, corners_y: 6, square_mm: 25}");
+  const auto d = MakeDetector("{type: checkerboard, corners_x: 9, corners_y: 6, square_mm: 25}");
   std::vector<cv::Point3f> object;
   for (const MarkerPoint& p : d->layout()) {
     object.emplace_back(static_cast<float>(p.p_target_mm.x()),
@@ -401,7 +382,7 @@ TEST(BoardBadInput, WrongOptionsAreRefusedWithAMessage) {
   };
   for (const auto& [yaml_text, text] : cases) {
     const auto& yaml = yaml_text;  // C++17: a lambda cannot capture a structured binding (clang)
-    const InputError e = testing::CatchInputError([&] { Make(yaml); });
+    const InputError e = testing::CatchInputError([&] { MakeDetector(yaml); });
     EXPECT_THAT(e.what(), HasSubstr(text)) << yaml;
     EXPECT_THAT(e.what(), HasSubstr("test.yaml:1:")) << yaml;
   }
@@ -419,10 +400,10 @@ TEST(BoardBadInput, ErrorNamesTheLineAndTheFix) {
 
 TEST(BoardBadInput, BlankImageFailsInWords) {
   const GrayImage blank(1280, 800, 128);
-  const auto checkerboard = Make(kCheckerboard);
+  const auto checkerboard = MakeDetector(kCheckerboard);
   EXPECT_THAT(checkerboard->Detect(blank.view()).failure,
               HasSubstr("no 9 x 6 inner-corner checkerboard found"));
-  const auto charuco = Make(kCharuco);
+  const auto charuco = MakeDetector(kCharuco);
   EXPECT_THAT(charuco->Detect(blank.view()).failure,
               HasSubstr("no chessboard corner of this DICT_5X5_100 ChArUco board found"));
   EXPECT_THAT(checkerboard->Detect(ImageView{}).failure, HasSubstr("empty"));
@@ -432,14 +413,14 @@ TEST(BoardBadInput, BlankImageFailsInWords) {
 // Markers of another board in view are not this board's corners, and the failure says so.
 TEST(BoardBadInput, OtherMarkersAreNamed) {
   const auto printed =
-      Make("{type: aruco, dictionary: DICT_5X5_100, marker_length_mm: 40, marker_ids: [60]}");
+      MakeDetector("{type: aruco, dictionary: DICT_5X5_100, marker_length_mm: 40, marker_ids: [60]}");
   const auto faces = printed->Faces(10.0);
   std::mt19937 rng(4);
   const GrayImage image =
       RenderView(OakDLikeCamera(),
                  {{Facing(*printed, faces, {0, 0, 400}, Eigen::Matrix3d::Identity()), &faces}},
                  RenderOptions(), rng);
-  const Detection d = Make(kCharuco)->Detect(image.view());
+  const Detection d = MakeDetector(kCharuco)->Detect(image.view());
   EXPECT_FALSE(d.found());
   EXPECT_THAT(d.failure, HasSubstr("other marker ids (60)"));
 }

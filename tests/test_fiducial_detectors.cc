@@ -19,6 +19,7 @@
 #include "cellmetry/model/camera.h"
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/imaging/render.h"
+#include "support/detector_views.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -26,30 +27,10 @@ namespace {
 
 using ::testing::HasSubstr;
 
-std::unique_ptr<Detector> Make(const std::string& yaml) {
-  const ConfigNode config = ConfigNode::LoadString(yaml, "test.yaml");
-  return testing::Plugins().CreateDetector(config["type"].AsString(), config);
-}
-
-Eigen::Matrix3d Rot(const Eigen::Vector3d& axis, double degrees) {
-  return Eigen::AngleAxisd(degrees * M_PI / 180.0, axis.normalized()).toRotationMatrix();
-}
-
-Eigen::Vector3d LayoutCentre(const Detector& d) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const auto& p : d.layout()) sum += p.p_target_mm;
-  return sum / static_cast<double>(d.layout().size());
-}
-
-// The target with its first face's printed side toward the camera (as test_render.cc's
-// Facing(): the face's z axis toward the camera), turned by `tilt`, its layout's centre at `at`.
-Pose Facing(const Detector& d, const std::vector<MarkerFace>& faces, const Eigen::Vector3d& at,
-            const Eigen::Matrix3d& tilt) {
-  Pose T_cam_target;
-  T_cam_target.R = tilt * Rot(Eigen::Vector3d::UnitX(), 180) * faces[0].T_target_face.R.transpose();
-  T_cam_target.t = at - T_cam_target.R * LayoutCentre(d);
-  return T_cam_target;
-}
+using testing::Facing;
+using testing::LayoutCentre;
+using testing::MakeDetector;
+using testing::RotationDeg;
 
 struct Bias {
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();  // over every corner of every render
@@ -110,11 +91,11 @@ std::vector<Pose> TestPoses(const Detector& d, const std::vector<MarkerFace>& fa
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY();
   return {
       Facing(d, faces, {0, 0, 300}, Eigen::Matrix3d::Identity()),
-      Facing(d, faces, {40, -25, 350}, Rot(x, 25)),
-      Facing(d, faces, {-60, 30, 420}, Rot(y, -30)),
-      Facing(d, faces, {25, 40, 480}, Rot(x + y, 35)),
-      Facing(d, faces, {-30, -40, 540}, Rot(x - 0.5 * y, 20) * Rot(Eigen::Vector3d::UnitZ(), 30)),
-      Facing(d, faces, {10, 5, 600}, Rot(y, 15))};
+      Facing(d, faces, {40, -25, 350}, RotationDeg(x, 25)),
+      Facing(d, faces, {-60, 30, 420}, RotationDeg(y, -30)),
+      Facing(d, faces, {25, 40, 480}, RotationDeg(x + y, 35)),
+      Facing(d, faces, {-30, -40, 540}, RotationDeg(x - 0.5 * y, 20) * RotationDeg(Eigen::Vector3d::UnitZ(), 30)),
+      Facing(d, faces, {10, 5, 600}, RotationDeg(y, 15))};
 }
 
 void PrintBias(const std::string& name, const Bias& bias) {
@@ -127,13 +108,13 @@ void PrintBias(const std::string& name, const Bias& bias) {
 // `yaml` without its closing brace. Also prints (does not check) the corners the library gives
 // without the plugin's edge refinement, for comparison.
 void ExpectUnbiased(const std::string& name, const std::string& yaml) {
-  const auto d = Make(yaml + "}");
+  const auto d = MakeDetector(yaml + "}");
   const std::vector<MarkerFace> faces = d->Faces(10.0);
   const Bias bias = MeasureBias(*d, TestPoses(*d, faces), 5, 11);
   PrintBias(name, bias);
   EXPECT_LT(bias.mean.norm(), 0.1) << name;
   EXPECT_LT(bias.worst_corner_px, 0.1) << name;
-  const auto library = Make(yaml + ", edge_refinement: false}");
+  const auto library = MakeDetector(yaml + ", edge_refinement: false}");
   PrintBias(name + " (edge_refinement: false)", MeasureBias(*library, TestPoses(*d, faces), 5, 11));
 }
 
@@ -151,14 +132,14 @@ TEST(ArucoDetector, GridBoardCornersAreUnbiased) {
 // The decimation and refinement options of the AprilTag plugin against its defaults (printed,
 // not checked; docs/markers.md quotes them): full resolution, each refinement alone, neither.
 void PrintAprilTagVariants(const std::string& name, const std::string& yaml) {
-  const auto d = Make(yaml + "}");
+  const auto d = MakeDetector(yaml + "}");
   const std::vector<MarkerFace> faces = d->Faces(10.0);
   for (const char* variant :
        {"quad_decimate: 1, min_white_black_diff: 5",
         "quad_decimate: 1, min_white_black_diff: 5, edge_refinement: false",
         "min_white_black_diff: 5", "redetect_unrefined: false", "refine_edges: false",
         "refine_edges: false, edge_refinement: false"}) {
-    const auto v = Make(yaml + ", " + variant + "}");
+    const auto v = MakeDetector(yaml + ", " + variant + "}");
     PrintBias(name + " (" + variant + ")", MeasureBias(*v, TestPoses(*d, faces), 5, 11));
   }
 }
@@ -189,10 +170,10 @@ TEST(AprilTagBoard, EveryFamilyPrintsDetectableTags) {
   for (const char* family :
        {"tag16h5", "tag25h9", "tag36h10", "tag36h11", "tagCircle21h7", "tagCircle49h12",
         "tagCustom48h12", "tagStandard41h12", "tagStandard52h13"}) {
-    const auto d = Make(std::string("{type: apriltag_board, family: ") + family +
+    const auto d = MakeDetector(std::string("{type: apriltag_board, family: ") + family +
                         ", tag_size_mm: 40, first_id: 5, max_hamming: 0}");
     const auto faces = d->Faces(10.0);
-    const Pose pose = Facing(*d, faces, {15, -10, 350}, Rot(Eigen::Vector3d(1, 1, 0), 20));
+    const Pose pose = Facing(*d, faces, {15, -10, 350}, RotationDeg(Eigen::Vector3d(1, 1, 0), 20));
     const Detection detection =
         d->Detect(RenderView(camera, {{pose, &faces}}, options, rng).view());
     ASSERT_EQ(detection.keypoints.size(), 4u) << family << ": " << detection.failure;
@@ -211,7 +192,7 @@ TEST(AprilTagBoard, EveryFamilyPrintsDetectableTags) {
 // the library misses one of these 20 mm tags seen at about 60 degrees (cells under 3 px along
 // the foreshortened side, half that decimated); the others' corners hold (docs/markers.md).
 TEST(AprilTagBoard, CubeSeenAtAnAngleShowsAllVisibleTags) {
-  const auto d = Make(
+  const auto d = MakeDetector(
       "{type: apriltag_board, family: tag36h11, tags_x: 2, tags_y: 2, tag_size_mm: 20, "
       "spacing_mm: 6, cube_mm: 60, cube_faces: {+x: 0, +y: 4, -x: 8, -y: 12, +z: 16}, "
       "quad_decimate: 1}");
@@ -288,11 +269,11 @@ TEST(Fiducials, BoardCutByTheImageBorder) {
        {"{type: aruco, dictionary: DICT_4X4_50, marker_length_mm: 30, markers_x: 4, markers_y: 3, "
         "separation_mm: 6}",
         "{type: apriltag_board, tags_x: 4, tags_y: 3, tag_size_mm: 30, spacing_mm: 9}"}) {
-    const auto d = Make(yaml);
+    const auto d = MakeDetector(yaml);
     const auto faces = d->Faces(10.0);
     // The board's centre 20 mm left of the frame's right edge at 400 mm.
     const Pose pose = Facing(*d, faces, {0.5 * camera.width * 400 / camera.fx - 20, 0, 400},
-                             Rot(Eigen::Vector3d::UnitY(), 10));
+                             RotationDeg(Eigen::Vector3d::UnitY(), 10));
     std::mt19937 rng(8);
     const Detection detection =
         d->Detect(RenderView(camera, {{pose, &faces}}, RenderOptions(), rng).view());
@@ -311,7 +292,7 @@ TEST(Fiducials, BoardCutByTheImageBorder) {
 // layout() is where OpenCV 4.6's GridBoard puts the corners, and the printed face is what
 // GridBoard::draw prints (at a texel size where both are exact).
 TEST(ArucoDetector, BoardAgreesWithOpenCvGridBoard) {
-  const auto d = Make(
+  const auto d = MakeDetector(
       "{type: aruco, dictionary: DICT_4X4_50, marker_length_mm: 40, markers_x: 3, "
       "markers_y: 2, separation_mm: 8, first_id: 5}");
   const auto dictionary = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50);
@@ -344,7 +325,7 @@ TEST(ArucoDetector, BoardAgreesWithOpenCvGridBoard) {
 
 TEST(ArucoDetector, SingleMarkerLayoutIsOpenCvsMarkerFrame) {
   const auto d =
-      Make("{type: aruco, dictionary: DICT_6X6_250, marker_length_mm: 50, marker_ids: [40, 98]}");
+      MakeDetector("{type: aruco, dictionary: DICT_6X6_250, marker_length_mm: 50, marker_ids: [40, 98]}");
   const std::vector<Eigen::Vector3d> expected = {
       {-25, 25, 0}, {25, 25, 0}, {25, -25, 0}, {-25, -25, 0}};
   ASSERT_EQ(d->layout().size(), 8u);
@@ -362,7 +343,7 @@ TEST(Fiducials, KeypointCovarianceIsSigmaSquared) {
   for (const char* yaml : {"{type: aruco, dictionary: DICT_4X4_50, marker_length_mm: 40, "
                            "marker_ids: [3], sigma_px: 0.2}",
                            "{type: apriltag_board, tag_size_mm: 40, sigma_px: 0.2}"}) {
-    const auto d = Make(yaml);
+    const auto d = MakeDetector(yaml);
     const auto faces = d->Faces(10.0);
     std::mt19937 rng(1);
     const Detection detection = d->Detect(
@@ -379,7 +360,7 @@ TEST(Fiducials, KeypointCovarianceIsSigmaSquared) {
 
 // The library blurs the image it is given in place when quad_sigma != 0: the caller's is not.
 TEST(AprilTagBoard, BlurOptionLeavesTheCallersImageAlone) {
-  const auto d = Make("{type: apriltag_board, tag_size_mm: 40, quad_sigma: 0.8}");
+  const auto d = MakeDetector("{type: apriltag_board, tag_size_mm: 40, quad_sigma: 0.8}");
   const auto faces = d->Faces(10.0);
   std::mt19937 rng(2);
   const GrayImage image = RenderView(
@@ -407,7 +388,7 @@ using Gold = std::map<int, std::array<int, 8>>;
 std::map<int, Eigen::Vector2d> ExpectGold(const std::string& yaml, const GrayImage& image,
                                           const std::string& name, const Gold& gold,
                                           double tolerance) {
-  const Detection detection = Make(yaml)->Detect(image.view());
+  const Detection detection = MakeDetector(yaml)->Detect(image.view());
   EXPECT_TRUE(detection.found()) << detection.failure;
   std::map<int, Eigen::Vector2d> found;
   for (const Keypoint& k : detection.keypoints) found[k.id] = k.pixel;
@@ -521,7 +502,7 @@ TEST(ArucoPhotos, CharucoBoardMarkers) {
 
 TEST(FiducialBadInput, UnknownDictionaryListsTheKnownOnes) {
   const InputError e = testing::CatchInputError(
-      [] { Make("{type: aruco, dictionary: DICT_6X6_25O, marker_length_mm: 40}"); });
+      [] { MakeDetector("{type: aruco, dictionary: DICT_6X6_25O, marker_length_mm: 40}"); });
   EXPECT_THAT(e.what(), HasSubstr("unknown ArUco dictionary 'DICT_6X6_25O'"));
   EXPECT_THAT(e.what(), HasSubstr("Did you mean 'DICT_6X6_250'"));
   EXPECT_THAT(e.what(), HasSubstr("DICT_ARUCO_ORIGINAL"));
@@ -530,7 +511,7 @@ TEST(FiducialBadInput, UnknownDictionaryListsTheKnownOnes) {
 
 TEST(FiducialBadInput, UnknownFamilyListsTheKnownOnes) {
   const InputError e = testing::CatchInputError(
-      [] { Make("{type: apriltag_board, family: tag36h12, tag_size_mm: 40}"); });
+      [] { MakeDetector("{type: apriltag_board, family: tag36h12, tag_size_mm: 40}"); });
   EXPECT_THAT(e.what(), HasSubstr("unknown AprilTag family 'tag36h12'"));
   EXPECT_THAT(e.what(), HasSubstr("tagStandard41h12"));
   EXPECT_THAT(e.what(), HasSubstr("tag36h11"));
@@ -571,18 +552,18 @@ TEST(FiducialBadInput, WrongOptionTypesAndValues) {
   };
   for (const auto& [yaml_text, text] : cases) {
     const auto& yaml = yaml_text;  // C++17: a lambda cannot capture a structured binding (clang)
-    const InputError e = testing::CatchInputError([&] { Make(yaml); });
+    const InputError e = testing::CatchInputError([&] { MakeDetector(yaml); });
     EXPECT_THAT(e.what(), HasSubstr(text)) << yaml;
   }
 }
 
 TEST(FiducialBadInput, BlankImageFailsInWords) {
   const GrayImage blank(1280, 800, 128);
-  const auto aruco = Make("{type: aruco, dictionary: DICT_6X6_250, marker_length_mm: 40}");
+  const auto aruco = MakeDetector("{type: aruco, dictionary: DICT_6X6_250, marker_length_mm: 40}");
   const Detection a = aruco->Detect(blank.view());
   EXPECT_FALSE(a.found());
   EXPECT_THAT(a.failure, HasSubstr("no DICT_6X6_250 marker"));
-  const auto april = Make("{type: apriltag_board, tag_size_mm: 40}");
+  const auto april = MakeDetector("{type: apriltag_board, tag_size_mm: 40}");
   const Detection b = april->Detect(blank.view());
   EXPECT_FALSE(b.found());
   EXPECT_THAT(b.failure, HasSubstr("no tag36h11 tag"));
@@ -593,7 +574,7 @@ TEST(FiducialBadInput, BlankImageFailsInWords) {
 // Markers of another target in view are not this target's keypoints, and the failure says so.
 TEST(FiducialBadInput, OtherIdsAreNamed) {
   const auto printed =
-      Make("{type: aruco, dictionary: DICT_4X4_50, marker_length_mm: 40, marker_ids: [9]}");
+      MakeDetector("{type: aruco, dictionary: DICT_4X4_50, marker_length_mm: 40, marker_ids: [9]}");
   const auto faces = printed->Faces(10.0);
   std::mt19937 rng(4);
   const GrayImage image =
@@ -601,7 +582,7 @@ TEST(FiducialBadInput, OtherIdsAreNamed) {
                  {{Facing(*printed, faces, {0, 0, 400}, Eigen::Matrix3d::Identity()), &faces}},
                  RenderOptions(), rng);
   const auto other =
-      Make("{type: aruco, dictionary: DICT_4X4_50, marker_length_mm: 40, marker_ids: [3]}");
+      MakeDetector("{type: aruco, dictionary: DICT_4X4_50, marker_length_mm: 40, marker_ids: [3]}");
   const Detection d = other->Detect(image.view());
   EXPECT_FALSE(d.found());
   EXPECT_THAT(d.failure, HasSubstr("other ids (9)"));
