@@ -85,24 +85,8 @@ TEST(CameraCalibration, RecoversARenderedCameraWithinItsSigmas) {
   const CameraCalibration c = CalibrateCamera(*board, paths, options);
   ASSERT_EQ(c.views.size(), 15u);
   EXPECT_TRUE(c.skipped.empty());
-  const double fitted[9] = {c.camera.fx,
-                            c.camera.fy,
-                            c.camera.cx,
-                            c.camera.cy,
-                            c.camera.distortion[0],
-                            c.camera.distortion[1],
-                            c.camera.distortion[2],
-                            c.camera.distortion[3],
-                            c.camera.distortion[4]};
-  const double expected[9] = {truth.fx,
-                              truth.fy,
-                              truth.cx,
-                              truth.cy,
-                              truth.distortion[0],
-                              truth.distortion[1],
-                              truth.distortion[2],
-                              truth.distortion[3],
-                              truth.distortion[4]};
+  const std::array<double, 9> fitted = IntrinsicValues(c.camera);
+  const std::array<double, 9> expected = IntrinsicValues(truth);
   std::printf("[ calib ] rendered, 15 views: RMS %.4f px\n", c.rms_px);
   for (int i = 0; i < 9; ++i) {
     std::printf("[ calib ]   %-3s %10.5f truth %10.5f sigma %.2e (%+.1f sigma)\n",

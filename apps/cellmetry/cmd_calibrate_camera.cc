@@ -42,15 +42,7 @@ void AddCalibrateCameraCommand(CLI::App& app, Context& context) {
     AtomicWriteFile(output_path, CameraFileText(c));
     std::printf("Camera calibration from %zu of %zu images: reprojection RMS %.3f px\n",
                 c.views.size(), image_paths.size(), c.rms_px);
-    const double values[9] = {c.camera.fx,
-                              c.camera.fy,
-                              c.camera.cx,
-                              c.camera.cy,
-                              c.camera.distortion[0],
-                              c.camera.distortion[1],
-                              c.camera.distortion[2],
-                              c.camera.distortion[3],
-                              c.camera.distortion[4]};
+    const std::array<double, 9> values = IntrinsicValues(c.camera);
     for (int i = 0; i < 9; ++i) {
       std::printf("  %-3s %12.6g  sigma %.3g%s\n", IntrinsicNames()[i], values[i], c.sigma[i],
                   i < 4 ? " px" : "");

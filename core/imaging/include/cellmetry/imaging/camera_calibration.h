@@ -52,6 +52,8 @@ struct CameraCalibration {
 
 // Names of the sigma entries, in order: fx, fy, cx, cy, k1, k2, p1, p2, k3.
 const std::array<const char*, 9>& IntrinsicNames();
+// A camera's values in that order.
+std::array<double, 9> IntrinsicValues(const PinholeCamera& camera);
 
 // InputError when the layout is not flat, or fewer than 3 views remain.
 CameraCalibration CalibrateCamera(Detector& detector, const std::vector<std::string>& image_paths,
