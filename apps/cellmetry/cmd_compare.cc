@@ -3,13 +3,15 @@
 // table.csv; or the physics finder's concealed-effect suite (`compare: physics`,
 // physics_suite.h: rates with Wilson intervals and a decision per question), writing one
 // markdown file; or solvers x camera models over seeds with a
-// recommendation per question (`compare: solvers`, solver_compare.h).
+// recommendation per question (`compare: solvers`, solver_compare.h); or cellmetry's hand-eye
+// fit against OpenCV's hand-eye methods (`compare: hand_eye`, hand_eye_compare.h).
 #include <cstdio>
 #include <functional>
 #include <memory>
 #include <utility>
 
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/experiments/hand_eye_compare.h"
 #include "cellmetry/experiments/kinematic_compare.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/physics_suite.h"
@@ -52,6 +54,15 @@ TableComparison LoadSolvers(const std::string& path, int seeds) {
           }};
 }
 
+TableComparison LoadHandEye(const std::string& path, int seeds) {
+  auto spec = std::make_shared<HandEyeCompareSpec>(LoadHandEyeCompare(path, Registry::Global()));
+  if (seeds > 0) spec->seeds = seeds;
+  return {spec->output, [spec] {
+            const auto rows = RunHandEyeCompare(*spec);
+            return std::pair(HandEyeCompareMarkdown(*spec, rows), HandEyeCompareCsv(rows));
+          }};
+}
+
 TableComparison LoadKinematic(const std::string& path, int seeds) {
   auto spec = std::make_shared<CompareSpec>(LoadCompareSpec(path, Registry::Global()));
   if (seeds > 0) spec->seeds = seeds;
@@ -68,7 +79,7 @@ void AddCompareCommand(CLI::App& app, Context& context) {
       "compare", "calibrate simulated arms per pose set x size x formulation x solver (Table 7)");
   static std::string spec_path, output;
   cmd->add_option("spec", spec_path,
-                  "comparison spec (YAML, compare: kinematic | markers | physics | solvers)")
+                  "comparison spec (YAML, compare: kinematic | markers | physics | solvers | hand_eye)")
       ->required();
   cmd->add_option("-o,--output", output, "folder for table.md and table.csv");
   static int seeds = 0;
@@ -81,12 +92,14 @@ void AddCompareCommand(CLI::App& app, Context& context) {
     LoadPlugins(context);
     const ConfigNode root = ConfigNode::LoadFile(spec_path);
     const std::string kind = root["compare"].AsString();
-    if (kind != "physics" && kind != "markers" && kind != "kinematic" && kind != "solvers") {
+    if (kind != "physics" && kind != "markers" && kind != "kinematic" && kind != "solvers" &&
+        kind != "hand_eye") {
       throw root["compare"].Error(
           "unknown comparison '" + kind + "'",
           "Use compare: kinematic (Table 7: pose sets x sizes x formulations x solvers), markers "
-          "(Tables 3 and 4: marker detectors), physics (the concealed-effect suite) or solvers "
-          "(solvers x camera models over seeds, with a recommendation); docs/formats.md");
+          "(Tables 3 and 4: marker detectors), physics (the concealed-effect suite), solvers "
+          "(solvers x camera models over seeds, with a recommendation) or hand_eye (cellmetry "
+          "against OpenCV's hand-eye methods); docs/formats.md");
     }
     if (kind == "physics") {
       PhysicsSuiteSpec spec = LoadPhysicsSuite(spec_path);
@@ -100,6 +113,7 @@ void AddCompareCommand(CLI::App& app, Context& context) {
     }
     const TableComparison comparison = kind == "markers"   ? LoadMarkers(spec_path, seeds)
                                        : kind == "solvers" ? LoadSolvers(spec_path, seeds)
+                                       : kind == "hand_eye" ? LoadHandEye(spec_path, seeds)
                                                            : LoadKinematic(spec_path, seeds);
     const std::string folder = output.empty() ? comparison.output : output;
     CheckReplaceable(folder, "comparison");  // before the work, not after it

@@ -1,0 +1,215 @@
+// cellmetry against OpenCV's hand-eye methods, over seeds (hand_eye_compare.h).
+#include "cellmetry/experiments/hand_eye_compare.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include <opencv2/core.hpp>
+
+#include "cellmetry/basics/error.h"
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/experiments/intervals.h"
+#include "cellmetry/experiments/solver_compare.h"
+#include "opencv_hand_eye.h"
+
+namespace cellmetry {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The one robot, camera and board of a hand-eye cell into `spec`, or an InputError at `where`
+// saying what is missing.
+void ReadCell(const ConfigNode& where, HandEyeCompareSpec* spec) {
+  const WorkcellSimulationSpec& sim = spec->simulation;
+  if (sim.robots.size() != 1 || sim.T_world_cam.size() != 1) {
+    throw where.Error("is not a hand-eye cell: it has " + std::to_string(sim.robots.size()) +
+                          " robots and " + std::to_string(sim.T_world_cam.size()) + " cameras",
+                      "Simulate one robot and one camera");
+  }
+  const SimulatedRobot& robot = sim.robots.front();
+  if (!sim.world_target.empty() || robot.T_flange_target.size() != 1 ||
+      !robot.point_targets.empty()) {
+    throw where.Error("is not an eye-to-hand cell: it needs world_target: none and one board "
+                      "(not a point) on the robot's tool",
+                      "See configs/simulations/ur3_eye_to_hand.yaml");
+  }
+  spec->setup = HandEyeSetup::kEyeToHand;
+  spec->robot = robot.name;
+  spec->camera = sim.T_world_cam.begin()->first;
+  spec->board = robot.T_flange_target.begin()->first;
+}
+
+// The hand-eye frame's truth: T_base_cam (eye-to-hand).
+Pose TruthOf(const HandEyeCompareSpec& spec) {
+  return spec.simulation.robots.front().T_world_base.inverse() *
+         spec.simulation.T_world_cam.at(spec.camera);
+}
+
+Pose AnswerOf(const WorkcellEstimate& estimate, const HandEyeCompareSpec& spec) {
+  return estimate.T_world_base.at(spec.robot).inverse() * estimate.T_world_cam.at(spec.camera);
+}
+
+// The captures every OpenCV method reads: each observation of the board with its rotation, and
+// the nominal model's flange pose at the sample's joints.
+HandEyeCaptures CapturesOf(const Recording& recording, const WorkcellRobot& robot,
+                           const HandEyeCompareSpec& spec) {
+  std::vector<double> nominal;
+  for (const Parameter& p : robot.model_parameters) nominal.push_back(p.nominal);
+  HandEyeCaptures captures;
+  for (const Observation& obs : recording.observations) {
+    if (obs.camera != spec.camera || obs.target != spec.board || !obs.rvec) continue;
+    const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
+    Pose T_base_flange;
+    if (!robot.model->Forward(sample.q.data(), nominal.data(), &T_base_flange)) continue;
+    captures.T_base_flange.push_back(T_base_flange);
+    captures.T_cam_board.push_back(PoseFromRvecT(*obs.rvec, obs.position_mm));
+  }
+  return captures;
+}
+
+void Score(const Pose& found, const Pose& truth, double time_s, HandEyeCompareRow* row) {
+  const double position = (found.t - truth.t).norm();
+  const double rotation = RvecFromRotation(found.R * truth.R.transpose()).norm() * 1e3;
+  if (!std::isfinite(position) || !std::isfinite(rotation)) {
+    ++row->failed;
+    return;
+  }
+  row->position_error_mm.push_back(position);
+  row->rotation_error_mrad.push_back(rotation);
+  row->time_s.push_back(time_s);
+}
+
+std::string Number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, v != 0.0 && std::abs(v) < 1e-3 ? "%.2e" : "%.3g", v);
+  return text;
+}
+
+std::string IntervalText(const std::vector<double>& values, double scale = 1.0) {
+  if (values.empty()) return "-";
+  const MeanInterval m = TInterval95(values);
+  return Number(m.mean * scale) + " [" + Number(m.low * scale) + ", " + Number(m.high * scale) +
+         "]";
+}
+
+}  // namespace
+
+std::string HandEyeSetupName(HandEyeSetup setup) {
+  return setup == HandEyeSetup::kEyeInHand ? "eye-in-hand" : "eye-to-hand";
+}
+
+HandEyeCompareSpec LoadHandEyeCompare(const std::string& path, Registry& registry) {
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  root.ExpectKeys({"compare", "description", "simulation", "job", "seeds", "output"});
+  HandEyeCompareSpec spec;
+  spec.file = path;
+  spec.description = root.GetString("description", "");
+  spec.simulation =
+      LoadWorkcellSimulation(root.ResolvePath(root["simulation"].AsString()), registry);
+  ReadCell(root["simulation"], &spec);
+  spec.job = LoadWorkcellJob(root.ResolvePath(root["job"].AsString()), registry,
+                             /*recording_must_exist=*/false);
+  spec.job.problem.uncertain_inputs = {};
+  spec.job.problem.folds = 0;  // scored against the truth
+  spec.job.problem.leave_one_camera_out = false;
+  spec.seeds = root.GetIntIn("seeds", spec.seeds, 2, 100000,
+                             "Repetitions per method; 10 or more gives a useful interval");
+  spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
+                                   : "results/compare_hand_eye";
+  return spec;
+}
+
+std::vector<HandEyeCompareRow> RunHandEyeCompare(const HandEyeCompareSpec& spec) {
+  std::vector<HandEyeCompareRow> rows(1 + OpenCvHandEyeMethods().size());
+  rows[0].method = "cellmetry";
+  for (size_t m = 0; m < OpenCvHandEyeMethods().size(); ++m) {
+    rows[m + 1].method = OpenCvHandEyeMethods()[m];
+  }
+  const Pose truth = TruthOf(spec);
+  Registry& registry = Registry::Global();
+  const SolverMaker make_solver = [&] {
+    return registry.CreateSolver(spec.job.solver_type, *spec.job.solver_config);
+  };
+  Progress progress("hand-eye seed", spec.seeds);
+  for (int seed = 0; seed < spec.seeds; ++seed) {
+    WorkcellSimulationSpec sim = spec.simulation;
+    sim.noise_seed = spec.simulation.noise_seed + 1000u * static_cast<unsigned>(seed + 1);
+    const Recording recording = SimulateWorkcell(sim, nullptr);
+    if (seed == 0) ValidateJobAgainstRecording(spec.job, recording);
+    Clock::time_point start = Clock::now();
+    const WorkcellResult result = IdentifyWorkcell(spec.job.problem, recording, make_solver);
+    Score(AnswerOf(result.estimate, spec), truth, SecondsSince(start), &rows[0]);
+    const HandEyeCaptures captures =
+        CapturesOf(recording, spec.job.problem.robots.front(), spec);
+    for (size_t m = 0; m < OpenCvHandEyeMethods().size(); ++m) {
+      start = Clock::now();
+      Pose found;
+      try {
+        found = OpenCvHandEye(OpenCvHandEyeMethods()[m], captures);
+      } catch (const cv::Exception&) {
+        ++rows[m + 1].failed;
+        continue;
+      }
+      Score(found, truth, SecondsSince(start), &rows[m + 1]);
+    }
+    progress.Advance();
+  }
+  return rows;
+}
+
+std::vector<std::string> HandEyeRecommendations(const std::vector<HandEyeCompareRow>& rows) {
+  std::vector<Contender> by_position, by_rotation;
+  for (const auto& row : rows) {
+    if (row.failed > 0) continue;  // a method that sometimes gives no answer is not recommended
+    by_position.push_back({row.method, row.position_error_mm, row.time_s});
+    by_rotation.push_back({row.method, row.rotation_error_mrad, row.time_s});
+  }
+  return {Recommendation("which method, by the hand-eye frame's position", by_position,
+                         "mm", 1e-6, 1e-5),
+          Recommendation("which method, by its rotation", by_rotation, "mrad", 1e-6, 1e-5)};
+}
+
+std::string HandEyeCompareMarkdown(const HandEyeCompareSpec& spec,
+                                   const std::vector<HandEyeCompareRow>& rows) {
+  std::ostringstream out;
+  if (!spec.description.empty()) out << spec.description << "\n\n";
+  out << "Setup: " << HandEyeSetupName(spec.setup)
+      << ". Score: the hand-eye frame's error against the simulation's truth (position: "
+         "distance, mm; rotation: angle, mrad); a fresh noise draw per seed, every method on "
+         "the same captures. "
+      << spec.seeds << " seeds; mean [95 % t-interval].\n\n";
+  out << "| method | position error (mm) | rotation error (mrad) | time (ms) | failed | known "
+         "fault |\n";
+  out << "|---|---|---|---|---|---|\n";
+  for (const auto& row : rows) {
+    out << "| " << row.method << " | " << IntervalText(row.position_error_mm) << " | "
+        << IntervalText(row.rotation_error_mrad) << " | " << IntervalText(row.time_s, 1e3)
+        << " | " << row.failed << "/" << spec.seeds << " | "
+        << (row.method == "cellmetry" ? "" : OpenCvHandEyeFault(row.method)) << " |\n";
+  }
+  out << "\nRecommendations (the same accuracy or time: means within 1 %, or the 95 % "
+         "t-interval of the per-seed differences contains 0; a tie is called a tie):\n\n";
+  for (const auto& line : HandEyeRecommendations(rows)) out << "- " << line << "\n";
+  return out.str();
+}
+
+std::string HandEyeCompareCsv(const std::vector<HandEyeCompareRow>& rows) {
+  std::ostringstream out;
+  out.precision(9);
+  out << "method,seed,position_error_mm,rotation_error_mrad,time_s\n";
+  for (const auto& row : rows) {
+    for (size_t i = 0; i < row.position_error_mm.size(); ++i) {
+      out << row.method << "," << i << "," << row.position_error_mm[i] << ","
+          << row.rotation_error_mrad[i] << "," << row.time_s[i] << "\n";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace cellmetry
