@@ -1,6 +1,9 @@
 // The marker comparison (the report's Tables 3 and 4) on rendered stereo images.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
+
 #include "cellmetry/experiments/marker_comparison.h"
 #include "support/test_support.h"
 
@@ -32,6 +35,37 @@ TEST(MarkerComparison, DepthRepeatabilityOrdersPatternDotAruco) {
   EXPECT_LT(dot.repeatability_mm.z() / dot.floor_mm.z(), 1.5);
   const std::string table = MarkerTableMarkdown(spec, rows);
   EXPECT_NE(table.find("depth / floor"), std::string::npos);
+}
+
+// An interrupted comparison resumes: seeds in the checkpoint are read back, not run again (a
+// figure planted there comes back), and a checkpoint of another spec is not reused.
+TEST(MarkerComparison, ResumesFinishedSeedsFromItsCheckpoint) {
+  const std::string dir = testing::TempDirForThisTest("marker_resume");
+  MarkerComparisonSpec spec =
+      LoadMarkerComparison(testing::Source("configs/compare/markers.yaml"), testing::Plugins());
+  spec.detectors.erase(spec.detectors.begin() + 1, spec.detectors.end());  // the dot
+  spec.captures = 4;
+  spec.positions = 3;
+  spec.seeds = 2;
+  const std::string checkpoint = dir + "/markers.partial.json";
+  const auto first = CompareMarkersOverSeeds(spec, testing::Plugins(), checkpoint);
+  ASSERT_EQ(first.size(), 2u);
+  nlohmann::json done;
+  std::ifstream(checkpoint) >> done;
+  ASSERT_EQ(done.size(), 2u);
+  const std::string key = spec.fingerprint + "/" + std::to_string(spec.seed + 1);
+  ASSERT_TRUE(done.contains(key));
+  EXPECT_DOUBLE_EQ(done[key][0]["workspace_rms_mm"].get<double>(), first[1][0].workspace_rms_mm);
+  done[key][0]["workspace_rms_mm"] = 123.0;
+  std::ofstream(checkpoint) << done.dump();
+
+  const auto resumed = CompareMarkersOverSeeds(spec, testing::Plugins(), checkpoint);
+  EXPECT_EQ(resumed[1][0].workspace_rms_mm, 123.0);
+  EXPECT_EQ(resumed[0][0].repeatability_mm, first[0][0].repeatability_mm);
+
+  spec.fingerprint += "-edited";
+  const auto fresh = CompareMarkersOverSeeds(spec, testing::Plugins(), checkpoint);
+  EXPECT_DOUBLE_EQ(fresh[1][0].workspace_rms_mm, first[1][0].workspace_rms_mm);
 }
 
 }  // namespace

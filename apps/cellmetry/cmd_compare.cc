@@ -6,6 +6,7 @@
 // recommendation per question (`compare: solvers`, solver_compare.h); or cellmetry's hand-eye
 // fit against OpenCV's hand-eye methods (`compare: hand_eye`, hand_eye_compare.h).
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <utility>
@@ -24,19 +25,21 @@ namespace cellmetry::app {
 namespace {
 
 // A table-writing comparison, loaded: where it writes by default, and the work that makes its
-// table.md and table.csv (run only after the output folder was found replaceable).
+// table.md and table.csv (run only after the output folder was found replaceable). `run` takes
+// the path of its checkpoint of finished work (beside the output folder), which the caller
+// removes once the tables are written; a kind without one ignores it.
 struct TableComparison {
   std::string output;
-  std::function<std::pair<std::string, std::string>()> run;  // {markdown, csv}
+  std::function<std::pair<std::string, std::string>(const std::string& checkpoint)> run;
 };
 
 TableComparison LoadMarkers(const std::string& path, int seeds) {
   auto spec =
       std::make_shared<MarkerComparisonSpec>(LoadMarkerComparison(path, Registry::Global()));
   if (seeds > 0) spec->seeds = seeds;
-  return {spec->output, [spec] {
+  return {spec->output, [spec](const std::string& checkpoint) {
             if (spec->seeds > 1) {  // every figure over seeds, with a recommendation
-              const auto per_seed = CompareMarkersOverSeeds(*spec, Registry::Global());
+              const auto per_seed = CompareMarkersOverSeeds(*spec, Registry::Global(), checkpoint);
               return std::pair(MarkerSeedsMarkdown(*spec, per_seed),
                                MarkerSeedsCsv(*spec, per_seed));
             }
@@ -48,7 +51,7 @@ TableComparison LoadMarkers(const std::string& path, int seeds) {
 TableComparison LoadSolvers(const std::string& path, int seeds) {
   auto spec = std::make_shared<SolverCompareSpec>(LoadSolverCompare(path, Registry::Global()));
   if (seeds > 0) spec->seeds = seeds;
-  return {spec->output, [spec] {
+  return {spec->output, [spec](const std::string&) {
             const auto rows = RunSolverCompare(*spec, Registry::Global());
             return std::pair(SolverCompareMarkdown(*spec, rows), SolverCompareCsv(rows));
           }};
@@ -57,7 +60,7 @@ TableComparison LoadSolvers(const std::string& path, int seeds) {
 TableComparison LoadHandEye(const std::string& path, int seeds) {
   auto spec = std::make_shared<HandEyeCompareSpec>(LoadHandEyeCompare(path, Registry::Global()));
   if (seeds > 0) spec->seeds = seeds;
-  return {spec->output, [spec] {
+  return {spec->output, [spec](const std::string&) {
             const auto rows = RunHandEyeCompare(*spec);
             return std::pair(HandEyeCompareMarkdown(*spec, rows), HandEyeCompareCsv(rows));
           }};
@@ -66,7 +69,7 @@ TableComparison LoadHandEye(const std::string& path, int seeds) {
 TableComparison LoadKinematic(const std::string& path, int seeds) {
   auto spec = std::make_shared<CompareSpec>(LoadCompareSpec(path, Registry::Global()));
   if (seeds > 0) spec->seeds = seeds;
-  return {spec->output, [spec] {
+  return {spec->output, [spec](const std::string&) {
             const auto rows = RunComparison(*spec, Registry::Global());
             return std::pair(CompareTableMarkdown(*spec, rows), CompareTableCsv(rows));
           }};
@@ -117,13 +120,15 @@ void AddCompareCommand(CLI::App& app, Context& context) {
                                                            : LoadKinematic(spec_path, seeds);
     const std::string folder = output.empty() ? comparison.output : output;
     CheckReplaceable(folder, "comparison");  // before the work, not after it
-    const auto [table, csv] = comparison.run();
+    const std::string checkpoint = folder + ".partial.json";
+    const auto [table, csv] = comparison.run(checkpoint);
     StagedDirectory out(folder, "comparison");
     AtomicWriteFile(out.File("table.md"), table);
     AtomicWriteFile(out.File("table.csv"), csv);
     AtomicWriteFile(out.File(report::kReportFile),
                     report::CompareReportHtml(csv, table, "cellmetry compare: " + spec_path));
     out.Commit();
+    std::filesystem::remove(checkpoint);
     std::printf("%s  written: %s/{table.md,table.csv,report.html}\n", table.c_str(),
                 folder.c_str());
   });

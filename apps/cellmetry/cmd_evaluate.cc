@@ -2,6 +2,7 @@
 // its unit and in its own sigma.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -13,11 +14,17 @@ namespace cellmetry::app {
 void AddEvaluateCommand(CLI::App& app, Context& context) {
   CLI::App* cmd = app.add_subcommand("evaluate", "compare a result with a simulation's truth");
   static std::string result_folder, truth_path;
-  cmd->add_option("result", result_folder, "result folder written by `cellmetry run`")
+  cmd->add_option("result", result_folder,
+                  "result folder written by `cellmetry run` (or its result.json)")
       ->required();
   cmd->add_option("truth", truth_path, "truth.yaml of the simulated recording")->required();
   cmd->callback([] {
-    const std::string json_path = result_folder + "/result.json";
+    // The folder, or the result.json in it: both name the same result.
+    const std::filesystem::path given(result_folder);
+    const std::string json_path = given.filename() == "result.json" &&
+                                          !std::filesystem::is_directory(given)
+                                      ? given.string()
+                                      : (given / "result.json").string();
     std::ifstream in(json_path);
     if (!in) throw InputError({json_path, 0, 0}, "cannot open result", "Run the job first");
     nlohmann::json result;

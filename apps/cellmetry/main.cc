@@ -66,6 +66,9 @@ int main(int argc, char** argv) {
   cli.add_option("--plugin-path", context.plugin_paths, "extra folder to load plugins from")
       ->type_name("DIR");
   cli.add_flag("-q,--quiet", context.quiet, "no progress output");
+  cli.add_flag_callback(
+      "-v,--verbose", [] { Progress::SetVerbose(true); },
+      "progress of nested work and its notes too (a fit's folds inside a comparison's seeds)");
   app::AddRunCommand(cli, context);
   app::AddSimulateCommand(cli, context);
   app::AddEvaluateCommand(cli, context);

@@ -1,8 +1,11 @@
 // The marker comparison over seeds, with intervals and a recommendation (marker_comparison.h).
 #include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/solver_compare.h"
 
@@ -25,16 +28,79 @@ std::vector<double> Over(const std::vector<std::vector<MarkerRow>>& per_seed, si
   return values;
 }
 
+nlohmann::json ToJson(const std::vector<MarkerRow>& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  auto xyz = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
+  for (const MarkerRow& r : rows) {
+    out.push_back({{"label", r.label}, {"repeatability_mm", xyz(r.repeatability_mm)},
+                   {"floor_mm", xyz(r.floor_mm)}, {"static_bias_mm", r.static_bias_mm},
+                   {"workspace_rms_mm", r.workspace_rms_mm},
+                   {"captures_found", r.captures_found}, {"positions_found", r.positions_found},
+                   {"positions", r.positions}, {"ms_per_frame", r.ms_per_frame}});
+  }
+  return out;
+}
+
+std::vector<MarkerRow> FromJson(const nlohmann::json& rows) {
+  std::vector<MarkerRow> out;
+  auto xyz = [](const nlohmann::json& v) {
+    const auto a = v.get<std::vector<double>>();
+    return Eigen::Vector3d(a.at(0), a.at(1), a.at(2));
+  };
+  for (const auto& j : rows) {
+    MarkerRow r;
+    r.label = j.at("label").get<std::string>();
+    r.repeatability_mm = xyz(j.at("repeatability_mm"));
+    r.floor_mm = xyz(j.at("floor_mm"));
+    r.static_bias_mm = j.at("static_bias_mm").get<double>();
+    r.workspace_rms_mm = j.at("workspace_rms_mm").get<double>();
+    r.captures_found = j.at("captures_found").get<int>();
+    r.positions_found = j.at("positions_found").get<int>();
+    r.positions = j.at("positions").get<int>();
+    r.ms_per_frame = j.at("ms_per_frame").get<double>();
+    out.push_back(r);
+  }
+  return out;
+}
+
+// The seeds finished before, or nothing when there is no readable checkpoint.
+nlohmann::json ReadCheckpoint(const std::string& path) {
+  if (path.empty()) return nlohmann::json::object();
+  std::ifstream in(path);
+  if (!in) return nlohmann::json::object();
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return nlohmann::json::object();  // torn by a crash while written: start over
+  }
+}
+
 }  // namespace
 
 std::vector<std::vector<MarkerRow>> CompareMarkersOverSeeds(const MarkerComparisonSpec& spec,
-                                                            Registry& registry) {
+                                                            Registry& registry,
+                                                            const std::string& checkpoint) {
   std::vector<std::vector<MarkerRow>> per_seed;
+  nlohmann::json done = ReadCheckpoint(checkpoint);
   Progress progress("marker comparison seed", spec.seeds);
   for (int i = 0; i < spec.seeds; ++i) {
     MarkerComparisonSpec one = spec;
     one.seed = spec.seed + static_cast<unsigned>(i);
+    const std::string key = spec.fingerprint + "/" + std::to_string(one.seed);
+    if (done.contains(key)) {
+      try {
+        per_seed.push_back(FromJson(done[key]));
+        progress.Resume(1);
+        continue;
+      } catch (const std::exception&) {
+        // a row that does not read back is run again
+      }
+    }
     per_seed.push_back(CompareMarkers(one, registry));
+    if (!checkpoint.empty()) {
+      done[key] = ToJson(per_seed.back());
+      AtomicWriteFile(checkpoint, done.dump(1));
+    }
     progress.Advance();
   }
   return per_seed;

@@ -297,7 +297,7 @@ std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& suite, Regi
       if (done.contains(key)) {
         Progress::Note("resuming: " + cell.name + " / " + c.name + " done before");
         results.push_back(FromJson(done[key], cell.name, c));
-        for (int s = 0; s < suite.seeds; ++s) progress.Advance();
+        progress.Resume(suite.seeds);
         continue;
       }
       results.push_back(RunCase(suite, cell, base, job, c, registry, &progress));

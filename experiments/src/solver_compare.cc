@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 #include <sstream>
 
@@ -16,21 +15,10 @@
 namespace cellmetry {
 
 std::string StopReasonWords(const std::string& reason) {
-  std::string first = reason.substr(0, reason.find(". "));  // the first sentence
+  // The first clause: what stopped the solver, without the figures that differ per run.
+  std::string first = reason.substr(0, std::min(reason.find(". "), reason.find(';')));
   if (!first.empty() && first.back() == '.') first.pop_back();
-  std::string words;
-  for (size_t i = 0; i < first.size();) {
-    if (std::isdigit(static_cast<unsigned char>(first[i]))) {
-      while (i < first.size() && (std::isdigit(static_cast<unsigned char>(first[i])) ||
-                                  std::strchr(".eE+-", first[i]))) {
-        ++i;
-      }
-      words += 'N';
-    } else {
-      words += first[i++];
-    }
-  }
-  return words;
+  return first;
 }
 
 namespace {

@@ -47,6 +47,8 @@ struct MarkerComparisonSpec {
   unsigned seed = 1;
   int seeds = 10;
   std::string output;
+  // The spec file's text, hashed: a checkpoint written under another spec is not reused.
+  std::string fingerprint;
 };
 
 struct MarkerRow {
@@ -67,9 +69,13 @@ std::string MarkerTableMarkdown(const MarkerComparisonSpec& spec,
                                 const std::vector<MarkerRow>& rows);
 std::string MarkerTableCsv(const std::vector<MarkerRow>& rows);
 
-// The comparison once per seed (spec.seed + i, i < spec.seeds): [seed][detector].
+// The comparison once per seed (spec.seed + i, i < spec.seeds): [seed][detector]. With a
+// `checkpoint` path, each seed's rows are written there as the seed ends (JSON, keyed by the
+// spec's fingerprint and the seed) and seeds found there are not run again: an interrupted
+// comparison resumes where it stopped. The caller removes the file once the tables are written.
 std::vector<std::vector<MarkerRow>> CompareMarkersOverSeeds(const MarkerComparisonSpec& spec,
-                                                            Registry& registry);
+                                                            Registry& registry,
+                                                            const std::string& checkpoint = "");
 // Each detector's figures as mean [95 % t-interval] over the seeds, and one recommendation on
 // the workspace RMS error and time per frame (solver_compare.h's Recommendation).
 std::string MarkerSeedsMarkdown(const MarkerComparisonSpec& spec,

@@ -30,9 +30,10 @@
 
 namespace cellmetry {
 
-// A solver's stop reason as words to count over seeds: its first sentence, each number as N
-// ("Parameter tolerance reached" from "Parameter tolerance reached. Relative step_norm: 5.8e-13
-// <= 1e-12."; "N epochs done (limit); kept epoch N, the lowest cost").
+// A solver's stop reason as words to count over seeds: its first clause, up to ". " or ";",
+// without the figures that differ per run ("Parameter tolerance reached" from "Parameter
+// tolerance reached. Relative step_norm: 5.8e-13 <= 1e-12."; "5000 epochs done (limit)" from
+// "5000 epochs done (limit); kept epoch 4994, the lowest cost").
 std::string StopReasonWords(const std::string& reason);
 
 // One candidate answer to a question: per-seed error (lower is better) and solve time.
