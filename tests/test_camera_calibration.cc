@@ -153,6 +153,25 @@ TEST(CameraCalibration, OpenCvSamplePhotographs) {
   EXPECT_EQ(read.height, 480);
 }
 
+// `left*.jpg` in OpenCV's sample folder also matches left.jpg, a 612 x 459 photograph that is
+// not of the board: it is left out for showing no board, and the 640 x 480 views are used.
+TEST(CameraCalibration, AFirstImageWithoutTheBoardDoesNotSetTheSize) {
+  const std::string photo = std::string(kDocData) + "left.jpg";
+  if (!std::filesystem::exists(photo)) GTEST_SKIP() << photo << " is not installed";
+  std::vector<std::string> paths = {photo};
+  for (int i = 1; i <= 4; ++i) {
+    paths.push_back(std::string(kDocData) + "left0" + std::to_string(i) + ".jpg");
+  }
+  const ConfigNode config = ConfigNode::LoadFile(
+      testing::Source("configs/boards/checkerboard_9x6_25mm.yaml"))["detector"];
+  const auto board = testing::Plugins().CreateDetector(config["type"].AsString(), config);
+  const CameraCalibration c = CalibrateCamera(*board, paths, CameraCalibrationOptions());
+  EXPECT_EQ(c.views.size(), 4u);
+  ASSERT_EQ(c.skipped.size(), 1u);
+  EXPECT_EQ(c.skipped[0].first, photo);
+  EXPECT_EQ(c.camera.width, 640);
+}
+
 TEST(CameraCalibrationCli, WritesTheCameraFileAndRefusesBadInput) {
   const std::string dir = testing::TempDirForThisTest("calibrate_camera_cli");
   const auto board = Make(kBoard);

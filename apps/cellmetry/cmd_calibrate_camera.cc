@@ -38,6 +38,7 @@ void AddCalibrateCameraCommand(CLI::App& app, Context& context) {
     options.detector_at = detector_config.location();
     auto detector =
         Registry::Global().CreateDetector(detector_config["type"].AsString(), detector_config);
+    if (StopAfterCheck(output_path)) return;  // the images are read by the calibration
     const CameraCalibration c = CalibrateCamera(*detector, image_paths, options);
     AtomicWriteFile(output_path, CameraFileText(c));
     std::printf("Camera calibration from %zu of %zu images: reprojection RMS %.3f px\n",

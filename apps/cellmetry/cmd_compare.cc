@@ -12,6 +12,8 @@
 #include <utility>
 
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/experiments/concealed_physics.h"
 #include "cellmetry/experiments/hand_eye_compare.h"
 #include "cellmetry/experiments/kinematic_compare.h"
 #include "cellmetry/experiments/marker_comparison.h"
@@ -107,6 +109,11 @@ void AddCompareCommand(CLI::App& app, Context& context) {
     if (kind == "physics") {
       PhysicsSuiteSpec spec = LoadPhysicsSuite(spec_path);
       if (seeds > 0) spec.seeds = seeds;
+      for (const auto& cell : spec.cells) {  // what the runs would read, read now
+        LoadWorkcellSimulation(cell.simulation, Registry::Global(), ReadConcealedDisturbance);
+        LoadDiagnosisJob(cell.job, Registry::Global(), /*recording_must_exist=*/false);
+      }
+      if (StopAfterCheck(output.empty() ? spec.output : output)) return;
       const auto results = RunPhysicsSuite(spec, Registry::Global());
       const std::string table = PhysicsSuiteMarkdown(spec, results);
       WritePhysicsSuite(spec, output.empty() ? spec.output : output, table);
@@ -120,6 +127,7 @@ void AddCompareCommand(CLI::App& app, Context& context) {
                                                            : LoadKinematic(spec_path, seeds);
     const std::string folder = output.empty() ? comparison.output : output;
     CheckReplaceable(folder, "comparison");  // before the work, not after it
+    if (StopAfterCheck(folder)) return;
     const std::string checkpoint = folder + ".partial.json";
     const auto [table, csv] = comparison.run(checkpoint);
     StagedDirectory out(folder, "comparison");

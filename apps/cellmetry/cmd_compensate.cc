@@ -85,6 +85,7 @@ void AddCompensateCommand(CLI::App& app, Context& context) {
     const CalibratedCell cell = ReadCalibratedCell(result_folder, Registry::Global());
     const CompensationChain chain = ChainFromResult(cell, robot, tool);
     const auto targets = ReadCompensationTargets(targets_path, chain.model->num_joints());
+    if (StopAfterCheck(output.empty() ? "to the standard output" : output)) return;
     const auto commands = Compensate(chain, targets, cell.covariance, options);
     const std::string text =
         CompensatedCommandsCsv(chain, commands, CompensationComments(cell, chain));

@@ -20,6 +20,7 @@ void AddDetectCommand(CLI::App& app, Context& context) {
     Progress::SetQuiet(context.quiet);
     LoadPlugins(context);
     const DetectJob job = LoadDetectJob(job_path, Registry::Global());
+    if (StopAfterCheck(job.recording + "/observations.csv")) return;
     const DetectSummary s = RunDetection(job, Registry::Global(), limit);
     std::string detectors;
     for (const auto& marker : job.targets) {

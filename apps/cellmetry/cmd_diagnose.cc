@@ -82,6 +82,7 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
     ValidateJobAgainstRecording(job.workcell, read);
     // The finder's candidates and linearizations are made from the cameras the job uses.
     const Recording recording = WithoutCameras(read, UnusedCameras(job.workcell.problem));
+    if (StopAfterCheck(folder)) return;
     const SolverMaker make_solver = [&] {
       return registry.CreateSolver(job.workcell.solver_type, *job.workcell.solver_config);
     };

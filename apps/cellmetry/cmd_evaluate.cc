@@ -36,6 +36,7 @@ void AddEvaluateCommand(CLI::App& app, Context& context) {
     }
     const WorkcellEvaluation evaluation =
         EvaluateWorkcell(result, ReadTruth(truth_path), truth_path);
+    if (StopAfterCheck("nothing (evaluate prints)")) return;
     std::printf("%-28s %14s %12s %10s\n", "quantity", "error", "sigma", "error/sigma");
     bool gauge = false;
     for (const auto& q : evaluation.quantities) {

@@ -35,6 +35,7 @@ void AddExportCommand(CLI::App& app, Context& context) {
     LoadPlugins(context);
     const CalibratedCell cell = ReadCalibratedCell(result_folder, Registry::Global());
     const std::string text = ExportText(cell, format, robot, Registry::Global());
+    if (StopAfterCheck(output.empty() ? "to the standard output" : output)) return;
     if (output.empty()) {
       std::fputs(text.c_str(), stdout);
       return;

@@ -22,6 +22,7 @@ void AddHomeCommand(CLI::App& app, Context& context) {
     const HomingJob job = LoadHomingJob(job_path, Registry::Global());
     CheckReplaceable(output.empty() ? job.job.output : output, "homing");
     const std::vector<PointSample> samples = CollectPoints(job, ReadRecording(job.job.recording));
+    if (StopAfterCheck(output.empty() ? job.job.output : output)) return;
     const HomingResult result = HomeVisually(job.arm, samples, job.sigma_mm, job.options);
     const std::string folder = output.empty() ? job.job.output : output;
     WriteHomingResult(result, folder, [&](const std::string& staging) {

@@ -32,6 +32,7 @@ void Import(const std::string& mapping_path, const std::string& output) {
   const ImportMapping mapping = ReadImportMapping(mapping_path);
   const JoinedTable table = ReadMappedTables(mapping);
   const Recording recording = ImportTable(mapping, table);
+  if (StopAfterCheck(output)) return;
   // The mapping goes with the recording, for whoever wonders where the numbers came from.
   const std::string provenance =
       "# The mapping this recording was imported with by `cellmetry import " + mapping_path +

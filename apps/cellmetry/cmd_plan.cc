@@ -47,6 +47,7 @@ void AddPlanCommand(CLI::App& app, Context& context) {
     };
     const std::vector<CandidateEffect> candidates = JobCandidates(job, recording, registry);
     CheckNamedEffects(candidates, options);  // before the identification, not after it
+    if (StopAfterCheck(folder)) return;
     WorkcellProblem problem = job.workcell.problem;
     problem.folds = 0;  // the plan needs the answer, not its held-out score, nor each camera's
   problem.leave_one_camera_out = false;

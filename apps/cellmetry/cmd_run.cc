@@ -39,6 +39,7 @@ void RunJob(const std::string& job_path, const std::string& output,
                      "Name a camera as recording.yaml does");
   }
   ValidateJobAgainstRecording(job, recording);
+  if (StopAfterCheck(folder)) return;
   const SolverMaker make_solver = [&] {
     return registry.CreateSolver(job.solver_type, *job.solver_config);
   };

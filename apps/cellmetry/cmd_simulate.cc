@@ -23,6 +23,7 @@ void AddSimulateCommand(CLI::App& app, Context& context) {
     const WorkcellSimulationSpec spec =
         LoadWorkcellSimulation(spec_path, Registry::Global(), ReadConcealedDisturbance);
     CheckReplaceable(output, "recording");  // before the work, not after it
+    if (StopAfterCheck(output)) return;
     WorkcellTruth truth;
     Recording recording = SimulateWorkcell(spec, &truth);
     std::function<void(const std::string&)> images;

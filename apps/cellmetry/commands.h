@@ -17,6 +17,12 @@ struct Context {
 // `cellmetry compensate` refused a target (its commands file lists why).
 inline constexpr int kRefusedTargetsExitCode = 3;
 
+// `cellmetry --check <command> ...`: every input the command reads has been loaded and checked
+// by now; StopAfterCheck says so and what the command would write, and returns true, and the
+// command stops before its work, writing nothing. Without --check it returns false.
+bool StopAfterCheck(const std::string& would_write);
+void SetCheckOnly(bool check_only);
+
 // Loads the default plugin folders plus --plugin-path ones into the global registry.
 void LoadPlugins(const Context& context);
 

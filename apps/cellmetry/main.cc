@@ -12,6 +12,18 @@
 
 namespace cellmetry::app {
 
+namespace {
+bool g_check_only = false;
+}  // namespace
+
+void SetCheckOnly(bool check_only) { g_check_only = check_only; }
+
+bool StopAfterCheck(const std::string& would_write) {
+  if (!g_check_only) return false;
+  std::printf("checked: every input reads; would write %s\n", would_write.c_str());
+  return true;
+}
+
 void LoadPlugins(const Context& context) {
   Registry& registry = Registry::Global();
   registry.LoadDefaultFolders(context.executable);
@@ -66,6 +78,10 @@ int main(int argc, char** argv) {
   cli.add_option("--plugin-path", context.plugin_paths, "extra folder to load plugins from")
       ->type_name("DIR");
   cli.add_flag("-q,--quiet", context.quiet, "no progress output");
+  cli.add_flag_callback(
+      "--check", [] { app::SetCheckOnly(true); },
+      "load and check every input, say what would be written, and stop before the work "
+      "(nothing is written)");
   cli.add_flag_callback(
       "-v,--verbose", [] { Progress::SetVerbose(true); },
       "progress of nested work and its notes too (a fit's folds inside a comparison's seeds)");

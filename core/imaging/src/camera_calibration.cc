@@ -60,14 +60,6 @@ CameraCalibration CalibrateCamera(Detector& detector, const std::vector<std::str
       out.skipped.emplace_back(path, e.message());
       continue;
     }
-    if (size.area() == 0) size = cv::Size(image.width(), image.height());
-    if (image.width() != size.width || image.height() != size.height) {
-      out.skipped.emplace_back(path, "the image is " + std::to_string(image.width()) + " x " +
-                                         std::to_string(image.height()) + ", the first was " +
-                                         std::to_string(size.width) + " x " +
-                                         std::to_string(size.height));
-      continue;
-    }
     const Detection detection = detector.Detect(image.view());
     std::vector<cv::Point3f> object;
     std::vector<cv::Point2f> pixels;
@@ -84,15 +76,30 @@ CameraCalibration CalibrateCamera(Detector& detector, const std::vector<std::str
                                                        : detection.failure);
       continue;
     }
+    // One camera, one image size: the first view that shows the board sets it (an image of
+    // another size among the views, such as a photograph that is not of the board, is not it).
+    if (size.area() == 0) size = cv::Size(image.width(), image.height());
+    if (image.width() != size.width || image.height() != size.height) {
+      out.skipped.emplace_back(path, "the image is " + std::to_string(image.width()) + " x " +
+                                         std::to_string(image.height()) + ", the first view was " +
+                                         std::to_string(size.width) + " x " +
+                                         std::to_string(size.height));
+      continue;
+    }
     objects.push_back(std::move(object));
     images.push_back(std::move(pixels));
     out.views.push_back({path, static_cast<int>(images.back().size()), 0.0});
   }
   if (out.views.size() < 3) {
+    std::string why;  // the first few images left out, and why
+    for (size_t i = 0; i < out.skipped.size() && i < 3; ++i) {
+      why += (i == 0 ? " (" : "; ") + out.skipped[i].first + ": " + out.skipped[i].second;
+    }
+    if (!why.empty()) why += out.skipped.size() > 3 ? "; ...)" : ")";
     throw InputError(options.detector_at,
                      "calibrate-camera found the board in " + std::to_string(out.views.size()) +
                          " of " + std::to_string(image_paths.size()) +
-                         " images; it needs 3 or more",
+                         " images; it needs 3 or more" + why,
                      "Check the detector's options against the board, and give views of the "
                      "board tilted different ways");
   }

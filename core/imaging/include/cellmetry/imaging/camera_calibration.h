@@ -12,8 +12,8 @@
 //                   variance (sum of squares over observations minus parameters). They assume
 //                   independent keypoint noise and no model error: a lower bound on what
 //                   another set of views would give.
-// A view is left out (skipped, with the reason) when its image cannot be read, has another size
-// than the first one read, or yields fewer than min_keypoints keypoints.
+// A view is left out (skipped, with the reason) when its image cannot be read, yields fewer than
+// min_keypoints keypoints, or has another size than the first view that shows the board.
 #pragma once
 
 #include <array>
