@@ -370,6 +370,8 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
                    const PosePlanOptions& options) {
   CheckNamedEffects(candidates, options);
   PosePlan plan;
+  plan.draws = options.draws;
+  plan.min_unabsorbed = options.min_unabsorbed;
   std::vector<Draw> draws = DrawInView(spec, recording, fitted.estimate, options);
   plan.draws_in_view = static_cast<int>(draws.size());
   if (draws.empty()) {
@@ -426,10 +428,49 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
   return plan;
 }
 
+bool PlanMeetsItsGoal(const PosePlan& plan, std::vector<std::string>* unmet) {
+  std::vector<std::string> lines;
+  for (const auto& e : plan.effects) {
+    if (e.unabsorbed_after < plan.min_unabsorbed) lines.push_back(e.label + " stays untestable");
+  }
+  for (const auto& p : plan.pairs) {
+    char line[256];
+    if (p.correlation_after >= p.correlation_before) {
+      std::snprintf(line, sizeof(line), "%s and %s are left as alike or more (%.2f -> %.2f)",
+                    p.a.c_str(), p.b.c_str(), p.correlation_before, p.correlation_after);
+      lines.push_back(line);
+    } else if (p.correlation_after >= 0.99) {
+      std::snprintf(line, sizeof(line), "%s and %s stay one finding (alike %.2f)", p.a.c_str(),
+                    p.b.c_str(), p.correlation_after);
+      lines.push_back(line);
+    }
+  }
+  if (unmet != nullptr) *unmet = lines;
+  return lines.empty();
+}
+
 std::string PosePlanReport(const PosePlan& plan) {
   std::ostringstream out;
-  out << "Planned " << plan.poses.size() << " poses (D-optimal among " << plan.draws_in_view
-      << " drawn poses in view).\n";
+  out << "Planned " << plan.poses.size() << " poses (D-optimal among "
+      << plan.draws_in_view << " of " << plan.draws
+      << " poses drawn inside the robot config's joint limits, each target where a camera "
+         "that saw it before sees it again).\n";
+  std::vector<std::string> unmet;
+  if (PlanMeetsItsGoal(plan, &unmet)) {
+    out << "Goal met: "
+        << (plan.effects.empty()   ? "the recorded poses leave no candidate untestable"
+            : plan.pairs.empty()   ? "every planned effect testable"
+                                   : "every named effect testable and each pair told further "
+                                     "apart")
+        << ".\n";
+  } else {
+    out << "Goal not met by the best " << plan.poses.size() << " poses found among those drawn:\n";
+    for (const auto& line : unmet) out << "  - " << line << "\n";
+    if (!plan.pairs.empty()) {
+      out << "  Poses alone may not tell them apart: record under a condition the poses do not "
+             "set (temperature, load, time), or plan more poses (-n).\n";
+    }
+  }
   for (const auto& e : plan.effects) {
     char line[256];
     std::snprintf(line, sizeof(line),

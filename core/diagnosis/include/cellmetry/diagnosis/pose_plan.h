@@ -77,8 +77,15 @@ struct PosePlan {
   std::vector<PlannedEffect> effects;
   std::vector<PlannedPair> pairs;    // every two named candidates (none when none are named)
   std::vector<PlannedSigma> sigma;
-  int draws_in_view = 0;             // of options.draws, those some camera would see
+  int draws = 0;                     // options.draws: poses drawn inside the joint limits
+  int draws_in_view = 0;             // of those, the ones some camera would see
+  double min_unabsorbed = 0.05;      // options.min_unabsorbed: testable from here
 };
+
+// Whether the plan reached what it was asked: every planned effect testable after it, and every
+// named pair less alike than before and below the finder's 0.99. `unmet` says, one line each,
+// what it did not reach.
+bool PlanMeetsItsGoal(const PosePlan& plan, std::vector<std::string>* unmet);
 
 // Raises InputError (at --effect) for a name in options.effects that no candidate has, listing
 // the names there are. PlanPoses checks it too; a caller checks it before the identification
@@ -93,7 +100,8 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
                    const WorkcellResult& fitted, const std::vector<CandidateEffect>& candidates,
                    const PosePlanOptions& options);
 
-// The plan in words, and as CSV (robot,q1..qN,cameras) a robot program can read.
+// The plan in words — first whether it reaches its goal, said plainly when no set of the drawn
+// poses does — and as CSV (robot,q1..qN,cameras) a robot program can read.
 std::string PosePlanReport(const PosePlan& plan);
 std::string PosePlanCsv(const PosePlan& plan);
 
