@@ -174,6 +174,34 @@ TEST(CsvTable, ParsesQuotedCellsFromText) {
   EXPECT_TRUE(CsvTable::Parse("", "empty.csv").header().empty());
 }
 
+// A table read one row at a time: its rows counted before the first (blank and comment lines
+// not), a byte-order mark and short rows as CsvTable reads them, each row at its line, and a
+// table of more rows than the reader's limit refused before any row is read, the limit named.
+TEST(CsvRows, ReadsOneRowAtATimeWithItsLineAndRefusesMoreThanItsLimit) {
+  const std::string path = testing::TempDir("recording/csv_rows") + "/table.csv";
+  testing::WriteText(path, "\xEF\xBB\xBFname,value\n# a comment\n\"a, b\",1\n\n  \nc\n");
+  CsvRows rows(path, 2, "Split it");
+  EXPECT_EQ(rows.num_rows(), 2u);
+  EXPECT_EQ(rows.header().front(), "name");
+  ASSERT_TRUE(rows.Next());
+  EXPECT_EQ(rows.line(), 3);
+  EXPECT_EQ(rows.Text("name"), "a, b");
+  EXPECT_EQ(rows.Integer("value"), 1);
+  ASSERT_TRUE(rows.Next());
+  EXPECT_EQ(rows.line(), 6);
+  EXPECT_FALSE(rows.HasValue("value"));
+  EXPECT_EQ(rows.OptionalNumber("value"), std::nullopt);
+  EXPECT_FALSE(rows.Next());
+  try {
+    CsvRows too_many(path, 1, "Split it");
+    FAIL() << "two rows read under a limit of one";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, path);
+    EXPECT_THAT(e.message(), ::testing::HasSubstr("has 2 rows, more than the 1 cellmetry reads"));
+    EXPECT_EQ(e.hint(), "Split it");
+  }
+}
+
 TEST(WriteRecording, ReadingBackGivesTheSameRecording) {
   const std::string folder = testing::TempDir("recording/round_trip") + "/rec";
   const Recording written = SmallRecording();
