@@ -178,7 +178,8 @@ TEST(CsvTable, ParsesQuotedCellsFromText) {
 // not), a byte-order mark and short rows as CsvTable reads them, each row at its line, and a
 // table of more rows than the reader's limit refused before any row is read, the limit named.
 TEST(CsvRows, ReadsOneRowAtATimeWithItsLineAndRefusesMoreThanItsLimit) {
-  const std::string path = testing::TempDir("recording/csv_rows") + "/table.csv";
+  const std::string dir = testing::TempDir("recording/csv_rows");
+  const std::string path = dir + "/table.csv";
   testing::WriteText(path, "\xEF\xBB\xBFname,value\n# a comment\n\"a, b\",1\n\n  \nc\n");
   CsvRows rows(path, 2, "Split it");
   EXPECT_EQ(rows.num_rows(), 2u);
@@ -192,6 +193,12 @@ TEST(CsvRows, ReadsOneRowAtATimeWithItsLineAndRefusesMoreThanItsLimit) {
   EXPECT_FALSE(rows.HasValue("value"));
   EXPECT_EQ(rows.OptionalNumber("value"), std::nullopt);
   EXPECT_FALSE(rows.Next());
+  const std::string mark_alone = dir + "/mark_alone.csv";
+  testing::WriteText(mark_alone, "\xEF\xBB\xBF\nname\nx\n");  // a line left empty: not a row
+  CsvRows after_mark(mark_alone, 1, "Split it");
+  EXPECT_EQ(after_mark.num_rows(), 1u);
+  ASSERT_TRUE(after_mark.Next());
+  EXPECT_EQ(after_mark.Text("name"), "x");
   try {
     CsvRows too_many(path, 1, "Split it");
     FAIL() << "two rows read under a limit of one";

@@ -60,6 +60,12 @@ size_t CountContentLines(const std::string& path, std::uintmax_t max_bytes) {
   bool at_start = true, comment = false, content = false;
   std::vector<char> buffer(size_t{1} << 20);
   std::uintmax_t total = 0;
+  // A byte-order mark alone on the first line leaves nothing there once it is taken off.
+  char mark[3] = {};
+  if (!in.read(mark, 3) || std::string(mark, 3) != kByteOrderMark) {
+    in.clear();
+    in.seekg(0);
+  }
   while (total <= max_bytes && (in.read(buffer.data(), static_cast<std::streamsize>(
                                     buffer.size())) || in.gcount() > 0)) {
     const size_t n = static_cast<size_t>(in.gcount());
@@ -258,6 +264,7 @@ CsvRows::CsvRows(const std::string& path, size_t max_rows, const std::string& to
   RequireRegularFile(path, kMaxTableBytes, "Check that the file exists");
   const size_t content_lines = CountContentLines(path, kMaxTableBytes);
   num_rows_ = content_lines > 0 ? content_lines - 1 : 0;  // the first is the header
+  max_rows_ = max_rows;
   if (num_rows_ > max_rows) {
     throw InputError({path, 0, 0},
                      "has " + std::to_string(num_rows_) + " rows, more than the " +
@@ -299,6 +306,12 @@ bool CsvRows::Next() {
   std::string text;
   while (ReadLine(&text)) {
     if (SkippedLine(text)) continue;
+    // A file that grows after its rows were counted stops at the limit all the same.
+    if (++rows_read_ > max_rows_) {
+      throw InputError({path_, line_, 0}, "grew beyond " + std::to_string(max_rows_) +
+                                              " rows while being read",
+                       "Wait until whatever writes it has finished, then run again");
+    }
     cells_ = SplitRow(text, line_);
     if (progress_) progress_->Advance();
     return true;

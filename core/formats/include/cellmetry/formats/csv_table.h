@@ -122,6 +122,8 @@ class CsvRows : public CsvColumns {
   std::ifstream in_;
   std::uintmax_t bytes_read_ = 0;
   size_t num_rows_ = 0;
+  size_t max_rows_ = 0;
+  size_t rows_read_ = 0;
   int line_ = 0;
   std::vector<std::string> cells_;
   std::unique_ptr<Progress> progress_;
