@@ -3,7 +3,7 @@
 // robot config whose twists and offsets are radians but say `angle: deg` is refused at that
 // line, the recording left alone, and the same config as written passes; an import whose
 // quaternion columns were mapped in the other order is refused at the mapping's order, one whose
-// Euler angles were read in the other convention at the mapping's axes.
+// Euler angles were read in the other convention at the mapping's axes (rpy: its convention).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -76,10 +76,11 @@ TEST(AngleUnits, QuaternionColumnsInTheOtherOrderAreRefusedAtTheMappingsOrder) {
 }
 
 // VSB experiment A's spreadsheet excerpt writes the tool's rotation as intrinsic XYZ Euler angles
-// in degrees. Declared extrinsic (the same angles turned about the fixed axes), `run` on the
-// import names the tool's `axes:` line in the recording's copy of the mapping; declared as
-// written, the recording passes the check. The margin is smaller than a unit's (2.6 % against
-// the 2 % threshold): the two conventions differ in a turn's size only through the middle angle.
+// in degrees. Declared extrinsic (the same angles turned about the fixed axes) or rpy (fixed
+// axes x, y, z), `run` on the import names the tool's `axes:` or `convention:` in the
+// recording's copy of the mapping; declared as written, the recording passes the check. The
+// margin is smaller than a unit's (2.6 % against the 2 % threshold): the two conventions differ
+// in a turn's size only through the middle angle.
 TEST(AngleUnits, EulerAnglesReadInTheOtherConventionAreRefusedAtTheMappingsAxes) {
   const std::string dir = testing::TempDirForThisTest("angle_units");
   const std::string as_written = testing::ReplaceOnce(
@@ -89,35 +90,39 @@ TEST(AngleUnits, EulerAnglesReadInTheOtherConventionAreRefusedAtTheMappingsAxes)
   std::string job = testing::ReadText(testing::Source("configs/jobs/vsb_exp_a_excerpt.yaml"));
   job = job.substr(0, job.find("validation:"));  // no cross-validation
   job = testing::ReplaceOnce(job, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
-  for (const bool declared_right : {true, false}) {
-    const std::string name = declared_right ? "right" : "wrong";
-    const std::string tool_axes = "axes: intrinsic,\n               columns: [tool";
-    const std::string mapping =
-        declared_right ? as_written
-                       : testing::ReplaceOnce(as_written, tool_axes,
-                                              "axes: extrinsic,\n               columns: [tool");
-    testing::WriteText(dir + "/" + name + ".yaml", mapping);
+  // The tool's rotation declared as `declared`; the job on its import, written to `dir`.
+  const auto import_as = [&](const std::string& name, const std::string& declared) {
+    const std::string tool = "convention: euler, order: XYZ, axes: intrinsic,\n"
+                             "               columns: [tool";
+    testing::WriteText(dir + "/" + name + ".yaml",
+                       testing::ReplaceOnce(as_written, tool, declared + ",\n"
+                                                              "               columns: [tool"));
     const std::string recording = dir + "/rec_" + name;
-    ASSERT_EQ(testing::RunCellmetry("import " + dir + "/" + name + ".yaml -o " + recording)
+    EXPECT_EQ(testing::RunCellmetry("import " + dir + "/" + name + ".yaml -o " + recording)
                   .exit_code, 0);
     testing::WriteText(dir + "/job_" + name + ".yaml",
                        testing::ReplaceOnce(job, "recording: ../../results/vsb_exp_a_excerpt\n",
                                             "recording: " + recording + "\n"));
-    if (declared_right) {
-      EXPECT_NO_THROW(
-          ValidateJobAgainstRecording(LoadWorkcellJob(dir + "/job_right.yaml", testing::Plugins()),
-                                      ReadRecording(recording)));
-      continue;
-    }
-    const testing::CommandResult refused =
-        testing::RunCellmetry("run " + dir + "/job_wrong.yaml -o " + dir + "/out");
-    // The tool's `axes:`, line 23 of the mapping, below the two lines the copy begins with.
-    testing::ExpectOneLineError(refused, "rec_wrong/import.yaml:25:53:",
-                                "2.6 % apart with the Euler angles read as XYZ extrinsic, 0.1 % "
-                                "read as XYZ intrinsic");
-    EXPECT_THAT(refused.output,
-                HasSubstr("say axes: intrinsic in the mapping and import it again"));
-  }
+    return dir + "/job_" + name + ".yaml";
+  };
+  const std::string right = import_as("right", "convention: euler, order: XYZ, axes: intrinsic");
+  EXPECT_NO_THROW(ValidateJobAgainstRecording(LoadWorkcellJob(right, testing::Plugins()),
+                                              ReadRecording(dir + "/rec_right")));
+  // Line 23 of the mapping, below the two lines the recording's copy begins with.
+  const testing::CommandResult extrinsic = testing::RunCellmetry(
+      "run " + import_as("extrinsic", "convention: euler, order: XYZ, axes: extrinsic") + " -o " +
+      dir + "/out");
+  testing::ExpectOneLineError(extrinsic, "rec_extrinsic/import.yaml:25:53:",
+                              "2.6 % apart with the Euler angles read as XYZ extrinsic, 0.1 % "
+                              "read as XYZ intrinsic");
+  EXPECT_THAT(extrinsic.output,
+              HasSubstr("say axes: intrinsic in the mapping and import it again"));
+  const testing::CommandResult rpy =
+      testing::RunCellmetry("run " + import_as("rpy", "convention: rpy") + " -o " + dir + "/out");
+  testing::ExpectOneLineError(rpy, "rec_rpy/import.yaml:25:28:",
+                              "with the angles read as rpy (fixed axes x, y, z), 0.1 % read as "
+                              "Euler XYZ about turned axes");
+  EXPECT_THAT(rpy.output, HasSubstr("say convention: euler, order: XYZ, axes: intrinsic"));
 }
 
 }  // namespace
