@@ -2,7 +2,8 @@
 // the target between captures, and reading one file's angles otherwise makes them agree. A
 // robot config whose twists and offsets are radians but say `angle: deg` is refused at that
 // line, the recording left alone, and the same config as written passes; an import whose
-// quaternion columns were mapped in the other order is refused at the mapping's order.
+// quaternion columns were mapped in the other order is refused at the mapping's order, one whose
+// Euler angles were read in the other convention at the mapping's axes (rpy: its convention).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -72,6 +73,56 @@ TEST(AngleUnits, QuaternionColumnsInTheOtherOrderAreRefusedAtTheMappingsOrder) {
                               "14 % apart with the quaternion's columns read as xyzw, 0.0 % "
                               "read as wxyz");
   EXPECT_THAT(refused.output, HasSubstr("say order: wxyz in the mapping and import it again"));
+}
+
+// VSB experiment A's spreadsheet excerpt writes the tool's rotation as intrinsic XYZ Euler angles
+// in degrees. Declared extrinsic (the same angles turned about the fixed axes) or rpy (fixed
+// axes x, y, z), `run` on the import names the tool's `axes:` or `convention:` in the
+// recording's copy of the mapping; declared as written, the recording passes the check. The
+// margin is smaller than a unit's (2.6 % against the 2 % threshold): the two conventions differ
+// in a turn's size only through the middle angle.
+TEST(AngleUnits, EulerAnglesReadInTheOtherConventionAreRefusedAtTheMappingsAxes) {
+  const std::string dir = testing::TempDirForThisTest("angle_units");
+  const std::string as_written = testing::ReplaceOnce(
+      testing::ReadText(testing::Source("configs/import/vsb_exp_a_excerpt.yaml")),
+      "table: vsb_exp_a_excerpt.csv",
+      "table: " + testing::Source("configs/import/vsb_exp_a_excerpt.csv"));
+  std::string job = testing::ReadText(testing::Source("configs/jobs/vsb_exp_a_excerpt.yaml"));
+  job = job.substr(0, job.find("validation:"));  // no cross-validation
+  job = testing::ReplaceOnce(job, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  // The tool's rotation declared as `declared`; the job on its import, written to `dir`.
+  const auto import_as = [&](const std::string& name, const std::string& declared) {
+    const std::string tool = "convention: euler, order: XYZ, axes: intrinsic,\n"
+                             "               columns: [tool";
+    testing::WriteText(dir + "/" + name + ".yaml",
+                       testing::ReplaceOnce(as_written, tool, declared + ",\n"
+                                                              "               columns: [tool"));
+    const std::string recording = dir + "/rec_" + name;
+    EXPECT_EQ(testing::RunCellmetry("import " + dir + "/" + name + ".yaml -o " + recording)
+                  .exit_code, 0);
+    testing::WriteText(dir + "/job_" + name + ".yaml",
+                       testing::ReplaceOnce(job, "recording: ../../results/vsb_exp_a_excerpt\n",
+                                            "recording: " + recording + "\n"));
+    return dir + "/job_" + name + ".yaml";
+  };
+  const std::string right = import_as("right", "convention: euler, order: XYZ, axes: intrinsic");
+  EXPECT_NO_THROW(ValidateJobAgainstRecording(LoadWorkcellJob(right, testing::Plugins()),
+                                              ReadRecording(dir + "/rec_right")));
+  // Line 23 of the mapping, below the two lines the recording's copy begins with.
+  const testing::CommandResult extrinsic = testing::RunCellmetry(
+      "run " + import_as("extrinsic", "convention: euler, order: XYZ, axes: extrinsic") + " -o " +
+      dir + "/out");
+  testing::ExpectOneLineError(extrinsic, "rec_extrinsic/import.yaml:25:53:",
+                              "2.6 % apart with the Euler angles read as XYZ extrinsic, 0.1 % "
+                              "read as XYZ intrinsic");
+  EXPECT_THAT(extrinsic.output,
+              HasSubstr("say axes: intrinsic in the mapping and import it again"));
+  const testing::CommandResult rpy =
+      testing::RunCellmetry("run " + import_as("rpy", "convention: rpy") + " -o " + dir + "/out");
+  testing::ExpectOneLineError(rpy, "rec_rpy/import.yaml:25:28:",
+                              "with the angles read as rpy (fixed axes x, y, z), 0.1 % read as "
+                              "Euler XYZ about turned axes");
+  EXPECT_THAT(rpy.output, HasSubstr("say convention: euler, order: XYZ, axes: intrinsic"));
 }
 
 }  // namespace

@@ -174,6 +174,41 @@ TEST(CsvTable, ParsesQuotedCellsFromText) {
   EXPECT_TRUE(CsvTable::Parse("", "empty.csv").header().empty());
 }
 
+// A table read one row at a time: its rows counted before the first (blank and comment lines
+// not), a byte-order mark and short rows as CsvTable reads them, each row at its line, and a
+// table of more rows than the reader's limit refused before any row is read, the limit named.
+TEST(CsvRows, ReadsOneRowAtATimeWithItsLineAndRefusesMoreThanItsLimit) {
+  const std::string dir = testing::TempDir("recording/csv_rows");
+  const std::string path = dir + "/table.csv";
+  testing::WriteText(path, "\xEF\xBB\xBFname,value\n# a comment\n\"a, b\",1\n\n  \nc\n");
+  CsvRows rows(path, 2, "Split it");
+  EXPECT_EQ(rows.num_rows(), 2u);
+  EXPECT_EQ(rows.header().front(), "name");
+  ASSERT_TRUE(rows.Next());
+  EXPECT_EQ(rows.line(), 3);
+  EXPECT_EQ(rows.Text("name"), "a, b");
+  EXPECT_EQ(rows.Integer("value"), 1);
+  ASSERT_TRUE(rows.Next());
+  EXPECT_EQ(rows.line(), 6);
+  EXPECT_FALSE(rows.HasValue("value"));
+  EXPECT_EQ(rows.OptionalNumber("value"), std::nullopt);
+  EXPECT_FALSE(rows.Next());
+  const std::string mark_alone = dir + "/mark_alone.csv";
+  testing::WriteText(mark_alone, "\xEF\xBB\xBF\nname\nx\n");  // a line left empty: not a row
+  CsvRows after_mark(mark_alone, 1, "Split it");
+  EXPECT_EQ(after_mark.num_rows(), 1u);
+  ASSERT_TRUE(after_mark.Next());
+  EXPECT_EQ(after_mark.Text("name"), "x");
+  try {
+    CsvRows too_many(path, 1, "Split it");
+    FAIL() << "two rows read under a limit of one";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, path);
+    EXPECT_THAT(e.message(), ::testing::HasSubstr("has 2 rows, more than the 1 cellmetry reads"));
+    EXPECT_EQ(e.hint(), "Split it");
+  }
+}
+
 TEST(WriteRecording, ReadingBackGivesTheSameRecording) {
   const std::string folder = testing::TempDir("recording/round_trip") + "/rec";
   const Recording written = SmallRecording();

@@ -3,12 +3,15 @@
 #include "angle_unit_check.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <tuple>
 #include <vector>
 
+#include "cellmetry/basics/euler_angles.h"
 #include "cellmetry/basics/statistics.h"
 #include "cellmetry/basics/transform.h"
 #include "cellmetry/formats/config_node.h"
@@ -139,24 +142,45 @@ SourceLocation DeclaredAngle(const std::string& file, std::string* unit) {
   }
 }
 
-// Where an imported recording's mapping (its copy, <recording>/import.yaml) gives the order of
-// the quaternion it read `target`'s rotation in from `camera`, and that order ("" when the
-// rotation was not a quaternion or the recording was not imported).
-SourceLocation DeclaredQuaternionOrder(const Recording& recording, const std::string& camera,
-                                       const std::string& target, std::string* order) {
-  order->clear();
+// How an imported recording's mapping (its copy, <recording>/import.yaml) read the rotations of
+// one target in one camera: the rotation's `convention`, `order` and `axes` as written there
+// (empty when absent), where each is, and whether the rotation was inverted on import
+// (pose_of: camera_in_target). Empty when the recording was not imported.
+struct DeclaredRotation {
+  std::string convention, order, axes;
+  SourceLocation convention_at, order_at, axes_at;
+  bool inverted = false;
+};
+
+// Whether a mapping's camera: or target: names `name`: by name, or by a column (any row may).
+bool Names(const ConfigNode& node, const std::string& name) {
+  return node.IsMap() || (node.IsScalar() && node.AsString() == name);
+}
+
+DeclaredRotation DeclaredRotationOf(const Recording& recording, const std::string& camera,
+                                    const std::string& target) {
   const std::string file = recording.folder + "/import.yaml";
   if (recording.folder.empty() || !std::filesystem::is_regular_file(file)) return {};
   try {
     const ConfigNode root = ConfigNode::LoadFile(file);
     if (!root.Has("observations")) return {};
     for (const ConfigNode& o : root["observations"].Elements()) {
-      if (o.GetString("camera", "") != camera || o.GetString("target", "") != target) continue;
-      if (!o.Has("rotation") || o["rotation"].GetString("convention", "") != "quaternion") {
-        return {};
+      if (!o.Has("camera") || !o.Has("target") || !Names(o["camera"], camera) ||
+          !Names(o["target"], target) || !o.Has("rotation")) {
+        continue;
       }
-      *order = o["rotation"].GetString("order", "");
-      return o["rotation"]["order"].location();
+      const ConfigNode rotation = o["rotation"];
+      DeclaredRotation declared;
+      declared.inverted = o.GetString("pose_of", "") == "camera_in_target";
+      for (auto [key, text, at] : {std::tuple{"convention", &declared.convention,
+                                              &declared.convention_at},
+                                   std::tuple{"order", &declared.order, &declared.order_at},
+                                   std::tuple{"axes", &declared.axes, &declared.axes_at}}) {
+        if (!rotation.Has(key)) continue;
+        *text = rotation[key].AsString();
+        *at = rotation[key].location();
+      }
+      return declared;
     }
   } catch (const InputError&) {
   }
@@ -181,23 +205,44 @@ std::string OtherUnit(const std::string& declared) {
   return OtherScale(declared) > 1.0 ? "rad" : "deg";
 }
 
-// The recording's rotations as read had the mapping's quaternion columns been in the other
-// order: the columns are recovered from the rotation read (up to a sign, which is the same
-// rotation) and put in their places.
-Reading OtherQuaternionOrder(const std::string& declared) {
+// The recording's rotations as read had the table's rotation been read otherwise: `reread`
+// takes the rotation the table's numbers were read as (before any inversion on import) to the
+// one they would have been read as.
+Reading TableReadOtherwise(std::function<Eigen::Matrix3d(const Eigen::Matrix3d&)> reread,
+                           bool inverted) {
   Reading reading;
-  const bool scalar_first = declared == "wxyz";
-  reading.rotation = [scalar_first](const Eigen::Vector3d& rvec) {
-    const double angle = rvec.norm();
-    const Eigen::Quaterniond read(
-        angle > 0 ? Eigen::AngleAxisd(angle, rvec / angle) : Eigen::AngleAxisd::Identity());
-    // Read as (w, x, y, z) = (c0, c1, c2, c3), the columns were (x, y, z, w); or the reverse.
-    const Eigen::Quaterniond other =
-        scalar_first ? Eigen::Quaterniond(read.z(), read.w(), read.x(), read.y())
-                     : Eigen::Quaterniond(read.x(), read.y(), read.z(), read.w());
-    return Eigen::Matrix3d(other.normalized().toRotationMatrix());
+  reading.rotation = [reread = std::move(reread), inverted](const Eigen::Vector3d& rvec) {
+    const Eigen::Matrix3d read = RotationFromRvec(rvec.data());
+    const Eigen::Matrix3d other = reread(inverted ? Eigen::Matrix3d(read.transpose()) : read);
+    return inverted ? Eigen::Matrix3d(other.transpose()) : other;
   };
   return reading;
+}
+
+// The mapping's quaternion columns in the other order: the columns are recovered from the
+// rotation read (up to a sign, which is the same rotation) and put in their places.
+Reading OtherQuaternionOrder(bool scalar_first, bool inverted) {
+  return TableReadOtherwise(
+      [scalar_first](const Eigen::Matrix3d& R) {
+        const Eigen::Quaterniond read(R);
+        // Read as (w, x, y, z) = (c0, c1, c2, c3), the columns were (x, y, z, w); or the reverse.
+        const Eigen::Quaterniond other =
+            scalar_first ? Eigen::Quaterniond(read.z(), read.w(), read.x(), read.y())
+                         : Eigen::Quaterniond(read.x(), read.y(), read.z(), read.w());
+        return Eigen::Matrix3d(other.normalized().toRotationMatrix());
+      },
+      inverted);
+}
+
+// The mapping's Euler angles about `axes` in the other convention (intrinsic for extrinsic, or
+// the reverse): the angles are recovered from the rotation read and turned the other way. Either
+// branch of the angles gives the same rotation the other way too.
+Reading OtherEulerConvention(const std::array<int, 3>& axes, bool intrinsic, bool inverted) {
+  return TableReadOtherwise(
+      [axes, intrinsic](const Eigen::Matrix3d& R) {
+        return EulerToRotation(axes, !intrinsic, RotationToEuler(axes, intrinsic, R));
+      },
+      inverted);
 }
 
 [[noreturn]] void Refuse(const SourceLocation& where, const std::string& what_was_read,
@@ -211,6 +256,50 @@ Reading OtherQuaternionOrder(const std::string& declared) {
                        "median): " + Percent(as_declared) + " apart with " + what_was_read +
                        " " + as_declared_text + ", " + Percent(as_other) + " " + other_text,
                    hint);
+}
+
+// The imported table's rotations read in the other quaternion order or Euler convention than
+// the mapping declares, refused at the mapping's line when that agrees kAngleBetterFactor times
+// better than the declaration.
+void TryOtherTableReadings(const Recording& recording, const WorkcellRobot& robot,
+                           const std::string& target, const std::string& camera,
+                           const std::vector<Capture>& captures, double as_declared) {
+  const DeclaredRotation declared = DeclaredRotationOf(recording, camera, target);
+  const bool quaternion = declared.convention == "quaternion" &&
+                          (declared.order == "wxyz" || declared.order == "xyzw");
+  const auto euler_axes = ParseEulerOrder(declared.order);
+  const bool euler = declared.convention == "euler" && euler_axes &&
+                     (declared.axes == "intrinsic" || declared.axes == "extrinsic");
+  const bool rpy = declared.convention == "rpy";
+  if (!quaternion && !euler && !rpy) return;
+  const bool intrinsic = euler && declared.axes == "intrinsic";
+  const Reading other =
+      quaternion ? OtherQuaternionOrder(declared.order == "wxyz", declared.inverted)
+                 : OtherEulerConvention(euler ? *euler_axes : std::array<int, 3>{0, 1, 2},
+                                        intrinsic, declared.inverted);
+  const double mismatch = TurnMismatch(robot, captures, other);
+  if (!(mismatch >= 0 && mismatch * kAngleBetterFactor < as_declared)) return;
+  if (quaternion) {
+    const std::string other_order = declared.order == "wxyz" ? "xyzw" : "wxyz";
+    Refuse(declared.order_at, "the quaternion's columns read as", declared.order,
+           "read as " + other_order, robot, target, camera, as_declared, mismatch,
+           "The quaternion's scalar looks " +
+               std::string(other_order == "wxyz" ? "first" : "last") + ": say order: " +
+               other_order + " in the mapping and import it again");
+  }
+  if (rpy) {
+    Refuse(declared.convention_at, "the angles read as", "rpy (fixed axes x, y, z)",
+           "read as Euler XYZ about turned axes", robot, target, camera, as_declared, mismatch,
+           "The angles look intrinsic (each turn about the turned axes): say convention: euler, "
+           "order: XYZ, axes: intrinsic in the mapping and import it again");
+  }
+  const std::string other_axes = intrinsic ? "extrinsic" : "intrinsic";
+  Refuse(declared.axes_at, "the Euler angles read as", declared.order + " " + declared.axes,
+         "read as " + declared.order + " " + other_axes, robot, target, camera, as_declared,
+         mismatch,
+         "The Euler angles look " + other_axes + " (each turn about the " +
+             (intrinsic ? "fixed" : "turned") + " axes): say axes: " + other_axes +
+             " in the mapping and import it again");
 }
 
 // The alternatives to the declared reading, each refused when it agrees kAngleBetterFactor
@@ -241,19 +330,7 @@ void TryOtherReadings(const WorkcellJob& job, const Recording& recording,
            "The recording's angles look like " + looks + ": declare units: {angle: " +
                other_unit + "} there, or convert its numbers");
   }
-  std::string order;
-  const SourceLocation in_mapping = DeclaredQuaternionOrder(recording, camera, target, &order);
-  if (order == "wxyz" || order == "xyzw") {
-    const std::string other_order = order == "wxyz" ? "xyzw" : "wxyz";
-    const double swapped = TurnMismatch(robot, captures, OtherQuaternionOrder(order));
-    if (better(swapped)) {
-      Refuse(in_mapping, "the quaternion's columns read as", order, "read as " + other_order,
-             robot, target, camera, as_declared, swapped,
-             "The quaternion's scalar looks " +
-                 std::string(other_order == "wxyz" ? "first" : "last") + ": say order: " +
-                 other_order + " in the mapping and import it again");
-    }
-  }
+  TryOtherTableReadings(recording, robot, target, camera, captures, as_declared);
   const SourceLocation in_model = DeclaredAngle(robot.model_file, &unit);
   Reading model_other;
   model_other.model_scale = OtherScale(unit);

@@ -30,13 +30,26 @@ constexpr double kMaxRotationRad = 10.0; // a rotation vector is at most pi long
 constexpr double kMaxJointRad = 100.0;   // sixteen turns
 constexpr int kMaxJoints = 64;            // no arm has more; a count of 2e9 made 2e9 column names
 
-// `column` of `row`, refused with its file, line and column when beyond `max_abs` (file units).
-double Within(const CsvTable& table, size_t row, const std::string& column, double max_abs) {
-  const double value = table.Number(row, column);
+// Rows of samples.csv, observations.csv or images.csv: a fit takes about 5.5 KB per observation
+// row, so beyond these it would take more than 1 GB (docs/reliability.md, "Limits on what is
+// read"), and the table is refused before a row is parsed.
+constexpr size_t kMaxRecordingRows = 150000;
+
+CsvRows RecordingTable(const std::string& path) {
+  const std::string limit = std::to_string(kMaxRecordingRows);
+  return CsvRows(path, kMaxRecordingRows,
+                 "A fit on more would take over 1 GB of memory: thin the recording (keep every "
+                 "n-th pose) or split it into recordings of at most " + limit + " rows each");
+}
+
+// `column` of the current row, refused with its file, line and column when beyond `max_abs`
+// (file units).
+double Within(const CsvRows& table, const std::string& column, double max_abs) {
+  const double value = table.Number(column);
   if (std::abs(value) > max_abs) {
     char limit[32];
     std::snprintf(limit, sizeof(limit), "%g", max_abs);
-    throw table.Error(row, column,
+    throw table.Error(column,
                       "'" + std::to_string(value) +
                           "' is beyond any measurement of it (|value| <= " + limit +
                           " in this file's units)",
@@ -102,7 +115,7 @@ void ReadHeader(const std::string& path, Recording* recording, Units* units) {
 // as repeatability.
 constexpr double kPoseRepeatRad = 0.01;
 
-void CheckPoseRepeats(const CsvTable& table, size_t row, const Sample& sample,
+void CheckPoseRepeats(const CsvRows& table, const Sample& sample,
                       const Recording& recording,
                       std::map<std::pair<std::string, int>, size_t>* first_of_pose) {
   const auto [first, inserted] =
@@ -117,13 +130,13 @@ void CheckPoseRepeats(const CsvTable& table, size_t row, const Sample& sample,
                   "%.3g rad",
                   sample.id, sample.pose, earlier.id, earlier.line, j + 1,
                   std::abs(sample.q[j] - earlier.q[j]));
-    throw table.Error(row, "pose", text,
+    throw table.Error("pose", text,
                       "Give each commanded pose its own pose id; captures of one pose share it");
   }
 }
 
 void ReadSamples(const std::string& path, const Units& units, Recording* recording) {
-  const CsvTable table = CsvTable::Read(path);
+  CsvRows table = RecordingTable(path);
   table.RequireColumns({"sample", "robot", "pose"});
   int max_joints = 0;
   for (const auto& [name, joints] : recording->robots) max_joints = std::max(max_joints, joints);
@@ -132,43 +145,44 @@ void ReadSamples(const std::string& path, const Units& units, Recording* recordi
   table.RejectUnknownColumns(known);
   std::set<int> seen;
   std::map<std::pair<std::string, int>, size_t> first_of_pose;  // (robot, pose) -> its first row
-  for (size_t row = 0; row < table.num_rows(); ++row) {
+  recording->samples.reserve(table.num_rows());
+  while (table.Next()) {
     Sample sample;
-    sample.line = table.line_of(row);
-    sample.id = table.Integer(row, "sample");
+    sample.line = table.line();
+    sample.id = table.Integer("sample");
     if (!seen.insert(sample.id).second) {
-      throw table.Error(row, "sample", "sample " + std::to_string(sample.id) + " appears twice",
+      throw table.Error("sample", "sample " + std::to_string(sample.id) + " appears twice",
                         "Give every captured state its own sample id");
     }
-    sample.robot = table.Text(row, "robot");
+    sample.robot = table.Text("robot");
     const auto robot = recording->robots.find(sample.robot);
     if (robot == recording->robots.end()) {
-      throw table.Error(row, "robot", "unknown robot '" + sample.robot + "'",
+      throw table.Error("robot", "unknown robot '" + sample.robot + "'",
                         "List it under 'robots' in recording.yaml");
     }
-    sample.pose = table.Integer(row, "pose");
+    sample.pose = table.Integer("pose");
     for (int j = 1; j <= max_joints; ++j) {
       const std::string column = "q" + std::to_string(j);
-      const bool present = table.HasValue(row, column);
+      const bool present = table.HasValue(column);
       if (j <= robot->second && !present) {
-        throw table.Error(row, column,
+        throw table.Error(column,
                           "robot '" + sample.robot + "' has " + std::to_string(robot->second) +
                               " joints but this sample has no " + column,
                           "Give one joint value per joint");
       }
       if (j > robot->second && present) {
-        throw table.Error(row, column,
+        throw table.Error(column,
                           "robot '" + sample.robot + "' has only " +
                               std::to_string(robot->second) + " joints",
                           "Leave " + column + " empty for this robot or fix its joint count");
       }
-      if (present) sample.q.push_back(Within(table, row, column, kMaxJointRad / units.to_rad) *
+      if (present) sample.q.push_back(Within(table, column, kMaxJointRad / units.to_rad) *
                                       units.to_rad);
     }
-    CheckPoseRepeats(table, row, sample, *recording, &first_of_pose);
-    sample.time_s = table.OptionalNumber(row, "t");
-    sample.temperature_c = table.OptionalNumber(row, "temperature");
-    sample.payload_kg = table.OptionalNumber(row, "payload");
+    CheckPoseRepeats(table, sample, *recording, &first_of_pose);
+    sample.time_s = table.OptionalNumber("t");
+    sample.temperature_c = table.OptionalNumber("temperature");
+    sample.payload_kg = table.OptionalNumber("payload");
     recording->samples.push_back(std::move(sample));
   }
 }
@@ -181,14 +195,14 @@ std::vector<std::string> CovarianceColumns(const std::string& prefix) {
 
 // A symmetric 3x3 covariance given by its upper triangle (prefix xx, xy, xz, yy, yz, zz), in the
 // file's units squared; none when the columns are absent or the row leaves them empty.
-std::optional<Eigen::Matrix3d> ReadCovariance(const CsvTable& table, size_t row,
-                                              const std::string& prefix, double scale) {
+std::optional<Eigen::Matrix3d> ReadCovariance(const CsvRows& table, const std::string& prefix,
+                                              double scale) {
   const std::vector<std::string> columns = CovarianceColumns(prefix);
   for (const auto& c : columns) {
     if (!table.HasColumn(c)) return std::nullopt;
   }
-  if (!table.HasValue(row, columns[0])) return std::nullopt;
-  const auto v = [&](int i) { return table.Number(row, columns[i]); };
+  if (!table.HasValue(columns[0])) return std::nullopt;
+  const auto v = [&](int i) { return table.Number(columns[i]); };
   Eigen::Matrix3d c;
   c << v(0), v(1), v(2), v(1), v(3), v(4), v(2), v(4), v(5);
   return c * scale;
@@ -196,7 +210,7 @@ std::optional<Eigen::Matrix3d> ReadCovariance(const CsvTable& table, size_t row,
 
 void ReadObservations(const std::string& path, const Units& units, Recording* recording,
                       bool allow_empty) {
-  const CsvTable table = CsvTable::Read(path);
+  CsvRows table = RecordingTable(path);
   table.RequireColumns({"sample", "camera", "target", "x", "y", "z"});
   std::vector<std::string> known = {"sample", "camera", "target", "x", "y", "z", "rx", "ry", "rz"};
   for (const char* prefix : {"cov_", "rcov_"}) {
@@ -209,52 +223,53 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
   for (const auto& s : recording->samples) sample_ids.insert(s.id);
   // A row given twice weighs twice in the fit, without a word (found by test_bad_input).
   std::map<std::tuple<int, std::string, std::string>, int> first_line;
-  for (size_t row = 0; row < table.num_rows(); ++row) {
+  recording->observations.reserve(table.num_rows());
+  while (table.Next()) {
     Observation obs;
-    obs.line = table.line_of(row);
-    obs.sample = table.Integer(row, "sample");
+    obs.line = table.line();
+    obs.sample = table.Integer("sample");
     if (!sample_ids.count(obs.sample)) {
-      throw table.Error(row, "sample", "unknown sample " + std::to_string(obs.sample),
+      throw table.Error("sample", "unknown sample " + std::to_string(obs.sample),
                         "Every observation must name a sample listed in samples.csv");
     }
-    obs.camera = table.Text(row, "camera");
+    obs.camera = table.Text("camera");
     if (!recording->HasCamera(obs.camera)) {
-      throw table.Error(row, "camera", "unknown camera '" + obs.camera + "'",
+      throw table.Error("camera", "unknown camera '" + obs.camera + "'",
                         "List it under 'cameras' in recording.yaml");
     }
-    obs.target = table.Text(row, "target");
+    obs.target = table.Text("target");
     if (!recording->targets.count(obs.target)) {
-      throw table.Error(row, "target", "unknown target '" + obs.target + "'",
+      throw table.Error("target", "unknown target '" + obs.target + "'",
                         "List it under 'targets' in recording.yaml");
     }
     const auto [first, fresh] =
         first_line.insert({{obs.sample, obs.camera, obs.target}, obs.line});
     if (!fresh) {
-      throw table.Error(row, "target",
+      throw table.Error("target",
                         "target '" + obs.target + "' in sample " + std::to_string(obs.sample) +
                             " by camera '" + obs.camera + "' was already given on line " +
                             std::to_string(first->second),
                         "Keep one row per sample, camera and target");
     }
-    obs.position_mm = Eigen::Vector3d(Within(table, row, "x", kMaxPositionMm / units.to_mm),
-                                      Within(table, row, "y", kMaxPositionMm / units.to_mm),
-                                      Within(table, row, "z", kMaxPositionMm / units.to_mm)) *
+    obs.position_mm = Eigen::Vector3d(Within(table, "x", kMaxPositionMm / units.to_mm),
+                                      Within(table, "y", kMaxPositionMm / units.to_mm),
+                                      Within(table, "z", kMaxPositionMm / units.to_mm)) *
                       units.to_mm;
     if (has_rotation) {
-      const int filled = table.HasValue(row, "rx") + table.HasValue(row, "ry") +
-                         table.HasValue(row, "rz");
+      const int filled = table.HasValue("rx") + table.HasValue("ry") +
+                         table.HasValue("rz");
       if (filled == 3) {
-        obs.rvec = Eigen::Vector3d(Within(table, row, "rx", kMaxRotationRad / units.to_rad),
-                                   Within(table, row, "ry", kMaxRotationRad / units.to_rad),
-                                   Within(table, row, "rz", kMaxRotationRad / units.to_rad)) *
+        obs.rvec = Eigen::Vector3d(Within(table, "rx", kMaxRotationRad / units.to_rad),
+                                   Within(table, "ry", kMaxRotationRad / units.to_rad),
+                                   Within(table, "rz", kMaxRotationRad / units.to_rad)) *
                    units.to_rad;
       } else if (filled != 0) {
-        throw table.Error(row, "rx", "rotation is partly filled in",
+        throw table.Error("rx", "rotation is partly filled in",
                           "Give all of rx,ry,rz or leave all three empty");
       }
     }
-    obs.covariance_mm2 = ReadCovariance(table, row, "cov_", units.to_mm * units.to_mm);
-    obs.rotation_covariance_rad2 = ReadCovariance(table, row, "rcov_", units.to_rad * units.to_rad);
+    obs.covariance_mm2 = ReadCovariance(table, "cov_", units.to_mm * units.to_mm);
+    obs.rotation_covariance_rad2 = ReadCovariance(table, "rcov_", units.to_rad * units.to_rad);
     recording->observations.push_back(std::move(obs));
   }
   if (recording->observations.empty() && !allow_empty) {
@@ -264,27 +279,27 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
 }
 
 void ReadImages(const std::string& path, Recording* recording) {
-  const CsvTable table = CsvTable::Read(path);
+  CsvRows table = RecordingTable(path);
   table.RequireColumns({"sample", "camera", "view", "path"});
   table.RejectUnknownColumns({"sample", "camera", "view", "path"});
-  for (size_t row = 0; row < table.num_rows(); ++row) {
+  while (table.Next()) {
     ImageRef image;
-    image.sample = table.Integer(row, "sample");
+    image.sample = table.Integer("sample");
     if (recording->SampleIndex(image.sample) < 0) {
-      throw table.Error(row, "sample", "unknown sample " + std::to_string(image.sample),
+      throw table.Error("sample", "unknown sample " + std::to_string(image.sample),
                         "Every image must name a sample listed in samples.csv");
     }
-    image.camera = table.Text(row, "camera");
+    image.camera = table.Text("camera");
     if (!recording->HasCamera(image.camera)) {
-      throw table.Error(row, "camera", "unknown camera '" + image.camera + "'",
+      throw table.Error("camera", "unknown camera '" + image.camera + "'",
                         "List it under 'cameras' in recording.yaml");
     }
-    image.view = table.Text(row, "view");
+    image.view = table.Text("view");
     if (image.view != "left" && image.view != "right" && image.view != "mono") {
-      throw table.Error(row, "view", "unknown view '" + image.view + "'",
+      throw table.Error("view", "unknown view '" + image.view + "'",
                         "Use left, right or mono");
     }
-    image.path = table.Text(row, "path");
+    image.path = table.Text("path");
     recording->images.push_back(std::move(image));
   }
 }

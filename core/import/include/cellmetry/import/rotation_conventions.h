@@ -27,6 +27,8 @@
 #include <optional>
 #include <string>
 
+#include "cellmetry/basics/euler_angles.h"  // ParseEulerOrder, EulerToRotation, ...
+
 namespace cellmetry {
 
 enum class RotationKind { kEuler, kRollPitchYaw, kQuaternion, kRotationVector, kMatrix };
@@ -46,9 +48,6 @@ struct RotationConvention {
   std::string Describe() const;
 };
 
-// "XYZ" -> {0, 1, 2}; none unless it is one of the 12 Euler sequences (no axis twice in a row).
-std::optional<std::array<int, 3>> ParseEulerOrder(const std::string& order);
-
 // R from `values` (value_count() of them, angles in rad). `problem` is set (and R is still the
 // nearest rotation, or identity when there is none) when the values are not a rotation.
 Eigen::Matrix3d ToRotation(const RotationConvention& convention, const double* values,
@@ -59,12 +58,5 @@ Eigen::Matrix3d ToRotation(const RotationConvention& convention, const double* v
 // angle in [0, pi], matrix row-major. ToRotation(FromRotation(R)) == R to rounding.
 std::array<double, 9> FromRotation(const RotationConvention& convention,
                                    const Eigen::Matrix3d& R);
-
-// The elementary rotations, for readers and tests: about axis 0 = x, 1 = y, 2 = z.
-Eigen::Matrix3d AxisRotation(int axis, double angle_rad);
-Eigen::Matrix3d EulerToRotation(const std::array<int, 3>& axes, bool intrinsic,
-                                const Eigen::Vector3d& angles_rad);
-Eigen::Vector3d RotationToEuler(const std::array<int, 3>& axes, bool intrinsic,
-                                const Eigen::Matrix3d& R);
 
 }  // namespace cellmetry
