@@ -20,6 +20,7 @@
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/estimation/reweighted_solve.h"
 #include "camera_left_out_fit.h"
+#include "far_start.h"
 #include "fit_once.h"
 #include "input_uncertainty.h"
 #include "residual_rows.h"
@@ -647,6 +648,18 @@ void AddCamerasLeftOut(const WorkcellProblem& spec, const Recording& recording,
 
 }  // namespace
 
+namespace {
+
+// The identification from the job's starts (or the closed form where it gives none).
+WorkcellResult IdentifyFromStart(const WorkcellProblem& spec, const Recording& recording,
+                                 const SolverMaker& make_solver);
+// The identification from the job's far starts and from the closed form's, the better kept.
+WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProblem& closed,
+                                 const std::vector<FarStart>& far, const Recording& recording,
+                                 const SolverMaker& make_solver);
+
+}  // namespace
+
 WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                 const SolverMaker& make_solver) {
   const std::set<std::string> unused = UnusedCameras(spec);
@@ -657,6 +670,69 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
     result.unused_cameras.assign(unused.begin(), unused.end());
     return result;
   }
+  WorkcellProblem without_starts;
+  const std::vector<FarStart> far = FarStarts(spec, recording, &without_starts);
+  if (far.empty()) return IdentifyFromStart(spec, recording, make_solver);
+  return BetterOfTwoStarts(spec, without_starts, far, recording, make_solver);
+}
+
+namespace {
+
+std::string FarStartWords(const std::vector<FarStart>& far) {
+  std::string words;
+  for (const FarStart& f : far) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%s's %.0f mm and %.2f rad", f.frame.c_str(), f.distance_mm,
+                  f.angle_rad);
+    words += (words.empty() ? "" : ", ") + std::string(line);
+  }
+  return words;
+}
+
+// Both fits, scored by how well each predicts the carried targets of the recording (the same
+// rows for both, whatever each left out as outliers): the better kept, the choice a warning.
+WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProblem& closed,
+                                 const std::vector<FarStart>& far, const Recording& recording,
+                                 const SolverMaker& make_solver) {
+  Progress::Note("the job's start lies far from the data's closed form: fitting from both");
+  std::optional<WorkcellResult> given, own;
+  std::string given_failure;
+  try {
+    given = IdentifyFromStart(spec, recording, make_solver);
+  } catch (const InputError& e) {
+    given_failure = e.message();
+  }
+  try {
+    own = IdentifyFromStart(closed, recording, make_solver);
+  } catch (const InputError&) {
+    if (!given) throw;
+    return *given;  // the closed form's fit fails where the given start's holds
+  }
+  const double own_mm = ScoreOnRecording(closed, *own, recording).after.norm;
+  const double given_mm =
+      given ? ScoreOnRecording(spec, *given, recording).after.norm : INFINITY;
+  // The same answer to a part in a thousand: the start was far but harmless.
+  const bool same = given && std::abs(given_mm - own_mm) <= 1e-3 * own_mm;
+  const bool keep_given = given && given_mm <= own_mm * (1 + 1e-3);
+  char line[480];
+  char number[32];
+  std::snprintf(number, sizeof number, "%.4g mm RMS", given_mm);
+  const std::string from_given = given ? number : "a failed fit (" + given_failure + ")";
+  std::snprintf(line, sizeof line,
+                "the job's start lies far from where the data put the frame (%s from the "
+                "closed-form start); fitted from both: the carried targets are predicted to "
+                "%s from the given start, %.4g mm RMS from the data's own: %s",
+                FarStartWords(far).c_str(), from_given.c_str(), own_mm,
+                same        ? "the same answer, kept"
+                : keep_given ? "the given start's answer kept"
+                             : "the data's answer kept. Check the start in the job");
+  WorkcellResult& kept = keep_given ? *given : *own;
+  kept.warnings.push_back(line);
+  return kept;
+}
+
+WorkcellResult IdentifyFromStart(const WorkcellProblem& spec, const Recording& recording,
+                                 const SolverMaker& make_solver) {
   // Gross outliers (outliers.h): those a robust first fit finds are left out before the plain
   // fit; then what the plain fit's own residuals show, left out and the cell identified again,
   // twice at most (what the first ones masked shows in the second pass). Clean data: the plain
@@ -714,6 +790,8 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
   if (!outliers.empty()) NumberByOriginal(recording, kept, &result.residuals);
   return result;
 }
+
+}  // namespace
 
 RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResult& result,
                                 const Recording& fresh) {
