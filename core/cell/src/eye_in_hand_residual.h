@@ -10,8 +10,8 @@
 // Blocks: the robot's base (T_world_base), the camera's frame on the flange (T_flange_camera,
 // the "<robot>.<camera>" tool block) and the robot model, each a frame block (frame_block.h)
 // but the model. Wrapped by OnJets (jet_costs.h): Ceres's automatic differentiation gives the
-// exact derivatives; the model runs on Jets only where its parameters are free, which
-// test_eye_in_hand checks against central differences.
+// exact derivatives (a held block carries no derivative directions), which test_eye_in_hand
+// checks against central differences with the model free.
 #pragma once
 
 #include <vector>

@@ -11,8 +11,9 @@
 // Park & Martin (1994), "Robot sensor calibration: solving AX = XB on the Euclidean group", IEEE
 // Trans. Robotics and Automation 10(5), 717-721: the rotation axes satisfy alpha_k = R_X beta_k
 // (alpha = Log R_A, beta = Log R_B), so R_X = (M^T M)^(-1/2) M^T with M = sum beta_k alpha_k^T
-// (their eq. 13, here through the SVD of M, which also keeps det R_X = +1); then t_X is the
-// least-squares solution of (R_A - I) t_X = R_X t_B - t_A stacked over the motions (eq. 14).
+// (their least-squares rotation, here through the SVD of M = U S V^T as V U^T, which also keeps
+// det R_X = +1); then t_X is the least-squares solution of (R_A - I) t_X = R_X t_B - t_A stacked
+// over the motions (their translation step).
 // HandEyeStart then places the base: T_world_base = C_i X^-1 F_i^-1, averaged over the poses.
 #pragma once
 
