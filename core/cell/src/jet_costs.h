@@ -24,6 +24,13 @@ std::unique_ptr<ceres::CostFunction> OnJets(Functor* functor, const Problem& pro
   return std::unique_ptr<ceres::CostFunction>(cost);
 }
 
+// EyeInHandResidual (eye_in_hand_residual.h) over `blocks` of `problem`: base, the camera's
+// frame on the flange, model.
+std::unique_ptr<ceres::CostFunction> EyeInHandCostFunction(
+    const TargetComparison& comparison, const Eigen::Matrix3d& R_ref_world_base,
+    const Eigen::Matrix3d& R_ref_flange_camera, const RobotModel* model,
+    const std::vector<double>& q, const Problem& problem, const std::vector<int>& blocks);
+
 // JointSpaceResidual (joint_space_residual.h) over `blocks` of `problem`.
 std::unique_ptr<ceres::CostFunction> JointSpaceCostFunction(const FrameRefs& refs,
                                                            const RobotModel* model,

@@ -65,6 +65,28 @@ void ReadTools(const ConfigNode& tools, WorkcellRobot* robot) {
   }
 }
 
+// `cameras: {<camera>: {xyz, rvec, free}}`: cameras riding on the flange (eye in hand), each a
+// frame T_flange_camera named "<robot>.<camera>"; every entry free and, without xyz/rvec, a
+// closed-form start (hand_eye_start.h).
+void ReadMountedCameras(const ConfigNode& cameras, WorkcellRobot* robot) {
+  for (const auto& camera : cameras.Keys()) {
+    WorkcellTool t;
+    t.camera = camera;
+    t.target = robot->name + "." + camera;
+    t.flange_tool.free.fill(true);
+    t.flange_tool.description = "camera '" + camera + "' on the flange of " + robot->name;
+    if (const auto node = cameras.Optional(camera)) {
+      node->ExpectKeys({"xyz", "rvec", "free"});
+      if (node->Has("xyz") || node->Has("rvec")) {
+        t.flange_tool.start = ReadPose(*node);
+        t.start_given = true;
+      }
+      t.flange_tool.free = ReadFreeFlags(*node, t.flange_tool.free);
+    }
+    robot->tools.push_back(t);
+  }
+}
+
 // `base: {free, start}`. Where it is the world (the first robot's, without a world target):
 // held, at its start.
 void ReadBase(const ConfigNode& node, bool world_is_base, WorkcellRobot* robot) {
@@ -105,7 +127,7 @@ void ReadBase(const ConfigNode& node, bool world_is_base, WorkcellRobot* robot) 
 
 WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, bool world_is_base,
                         Registry& registry) {
-  node.ExpectKeys({"model", "base", "tools", "free_model", "effects"});
+  node.ExpectKeys({"model", "base", "tools", "cameras", "free_model", "effects"});
   WorkcellRobot robot;
   robot.name = name;
   robot.model_file = node.ResolvePath(node["model"].AsString());
@@ -122,7 +144,13 @@ WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, bool wo
   for (auto& p : robot.model_parameters) p.fixed = true;  // the job frees what it identifies
   if (node.Has("free_model")) ReadFreeModel(node["free_model"], type, &robot);
   ReadBase(node, world_is_base, &robot);
-  ReadTools(node["tools"], &robot);
+  if (!node.Has("tools") && !node.Has("cameras")) {
+    throw node.Error("robot '" + name + "' has nothing on its flange to identify",
+                     "List the targets it carries under 'tools:', or the cameras riding on it "
+                     "under 'cameras:' (eye in hand)");
+  }
+  if (node.Has("tools")) ReadTools(node["tools"], &robot);
+  if (node.Has("cameras")) ReadMountedCameras(node["cameras"], &robot);
   return robot;
 }
 
@@ -280,12 +308,17 @@ void ReadRobots(const ConfigNode& root, Registry& registry, WorkcellJob* job) {
     // Without a world target the first robot's base is the world; the others stand in it.
     const bool world_is_base = problem.world_target.empty() && problem.robots.empty();
     problem.robots.push_back(ReadRobot(name, robot, world_is_base, registry));
-    CheckToolNamesUnique(robot["tools"], name, problem.world_target, &carrier);
     job->locations["robots." + name] = robot.location();
-    for (const auto& target : robot["tools"].Keys()) {
-      const auto tool = robot["tools"].Optional(target);
-      job->locations["robots." + name + ".tools." + target] =
-          tool ? tool->location() : robot["tools"].location();
+    if (robot.Has("tools")) {
+      CheckToolNamesUnique(robot["tools"], name, problem.world_target, &carrier);
+    }
+    for (const std::string list : {"tools", "cameras"}) {
+      if (!robot.Has(list)) continue;
+      for (const auto& key : robot[list].Keys()) {
+        const auto entry = robot[list].Optional(key);
+        job->locations["robots." + name + "." + list + "." + key] =
+            entry ? entry->location() : robot[list].location();
+      }
     }
   }
   for (const auto& name : robots.Keys()) {
@@ -533,6 +566,17 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
                        "Use the robot config that matches the recorded robot");
     }
     for (const auto& tool : robot.tools) {
+      if (tool.is_camera()) {
+        const auto mount = recording.camera_mounts.find(tool.camera);
+        if (mount == recording.camera_mounts.end() || mount->second != robot.name) {
+          throw InputError(job.Where("robots." + robot.name + ".cameras." + tool.camera),
+                           "camera '" + tool.camera + "' does not ride on robot '" + robot.name +
+                               "' in the recording",
+                           "List under 'cameras:' the cameras recording.yaml puts 'on: " +
+                               robot.name + "'");
+        }
+        continue;
+      }
       const auto target = recording.targets.find(tool.target);
       if (target == recording.targets.end() || target->second != robot.name) {
         throw InputError(job.Where("robots." + robot.name + ".tools." + tool.target),

@@ -113,10 +113,26 @@ void ReadTools(const ConfigNode& tools, SimulatedRobot* robot) {
   }
 }
 
+// `cameras: {<name>: {xyz, rvec}}`: cameras riding on the flange (eye in hand), at their true
+// T_flange_camera; each sees the world target from every pose.
+void ReadMountedCameras(const ConfigNode& cameras, const WorkcellSimulationSpec& spec,
+                        SimulatedRobot* robot) {
+  for (const auto& name : cameras.Keys()) {
+    const ConfigNode node = cameras[name];
+    node.ExpectKeys({"xyz", "rvec"});
+    if (spec.cameras.count(name)) {
+      throw InputError(cameras.KeyLocation(name),
+                       "camera '" + name + "' is already a camera standing in the world",
+                       "Give the camera on the flange its own name");
+    }
+    robot->T_flange_camera[name] = ReadPose(node);
+  }
+}
+
 SimulatedRobot ReadRobot(const std::string& name, const ConfigNode& node, Registry& registry,
                          std::mt19937& rng, WorkcellSimulationSpec* spec) {
-  node.ExpectKeys({"model", "base", "tools", "model_errors", "errors", "poses", "payloads_kg",
-                   "effects"});
+  node.ExpectKeys({"model", "base", "tools", "cameras", "model_errors", "errors", "poses",
+                   "payloads_kg", "effects"});
   SimulatedRobot robot;
   robot.name = name;
   const ConfigNode config = ConfigNode::LoadFile(node.ResolvePath(node["model"].AsString()));
@@ -139,7 +155,8 @@ SimulatedRobot ReadRobot(const std::string& name, const ConfigNode& node, Regist
     robot.errors.homing_increments = e.GetDouble("homing_increments", 0.0);
   }
   if (node.Has("base")) robot.T_world_base = ReadPose(node["base"]);
-  ReadTools(node["tools"], &robot);
+  if (!node.Has("cameras") || node.Has("tools")) ReadTools(node["tools"], &robot);
+  if (node.Has("cameras")) ReadMountedCameras(node["cameras"], *spec, &robot);
   ReadPoses(node["poses"], rng, &robot, spec);
   if (node.Has("payloads_kg")) {
     robot.payloads_kg = node["payloads_kg"].AsDoubles();
@@ -253,6 +270,16 @@ void CheckTargetNamesUnique(const ConfigNode& tools, const std::string& robot,
   }
 }
 
+// Whether some robot carries cameras on its flange (eye in hand): the spec then needs no
+// static `cameras:`.
+bool CamerasRideOnRobots(const ConfigNode& root) {
+  if (!root.Has("robots") || !root["robots"].IsMap()) return false;
+  for (const auto& name : root["robots"].Keys()) {
+    if (root["robots"][name].Has("cameras")) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry,
@@ -279,13 +306,16 @@ WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry&
   spec.world_target = root.GetString("world_target", spec.world_target);
   if (spec.world_target == "none") spec.world_target.clear();
   if (root.Has("images")) spec.images = root["images"];
-  ReadCameras(root["cameras"], &spec);
+  if (root.Has("cameras") || !CamerasRideOnRobots(root)) ReadCameras(root["cameras"], &spec);
   std::mt19937 rng(spec.seed + 7919);
   const ConfigNode robots = root["robots"];
   std::map<std::string, std::string> carrier;  // target -> robot (or "world", a camera)
   for (const auto& name : robots.Keys()) {
     spec.robots.push_back(ReadRobot(name, robots[name], registry, rng, &spec));
-    CheckTargetNamesUnique(robots[name]["tools"], name, spec.world_target, spec.cameras, &carrier);
+    if (robots[name].Has("tools")) {
+      CheckTargetNamesUnique(robots[name]["tools"], name, spec.world_target, spec.cameras,
+                             &carrier);
+    }
   }
   if (spec.repeats < 1) throw root["repeats"].Error("must be at least 1");
   std::mt19937 truth_rng(spec.seed);

@@ -53,6 +53,12 @@ SolverMaker FirstFitSolver(const NoiseModel& noise, const SolverMaker& job_solve
 
 namespace {
 
+// A row that measures a robot: a target it carries, or the world target as a camera riding on
+// it sees it (eye in hand).
+bool MeasuresARobot(const Recording& recording, const ResidualRow& row) {
+  return recording.IsCarried(row.target) || recording.camera_mounts.count(row.camera) > 0;
+}
+
 // Prediction - measurement rows at `estimate`, in the measurement's units (mm / rad), whatever
 // residual form the fit used: a joint-space fit's rows are whitened joint errors, so its
 // measurements are compared again in the camera frame.
@@ -135,7 +141,7 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
                       /*warm_start=*/true);
     const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
     for (auto& row : MeasurementRows(spec, recording, data, noise, trained, test, nullptr)) {
-      if (recording.IsCarried(row.target)) fold_rows[f].rows.push_back(std::move(row));
+      if (MeasuresARobot(recording, row)) fold_rows[f].rows.push_back(std::move(row));
     }
     const std::lock_guard<std::mutex> lock(progress_mutex);
     progress.Advance();
@@ -469,6 +475,7 @@ void AddUnfittedToolRotationWarning(const WorkcellProblem& spec, WorkcellResult*
   std::string targets;
   for (const WorkcellRobot& robot : spec.robots) {
     for (const WorkcellTool& tool : robot.tools) {
+      if (tool.is_camera()) continue;  // eye in hand: its rotations are always fitted
       const std::array<bool, 6>& free = tool.flange_tool.free;
       if (free[3] || free[4] || free[5]) targets += (targets.empty() ? "" : ", ") + tool.target;
     }
@@ -806,7 +813,7 @@ RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResul
     const auto rows = ResidualRows(*AssembleWorkcell(cartesian, fresh, data, noise, estimate));
     int count = 0;
     for (const auto& row : rows) {
-      if (row.kind != "position" || !fresh.IsCarried(row.target)) continue;
+      if (row.kind != "position" || !MeasuresARobot(fresh, row)) continue;
       rms.Add(row.error);
       if (mean) *mean += row.error.norm();
       if (max) *max = std::max(*max, row.error.norm());

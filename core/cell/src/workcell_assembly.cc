@@ -421,6 +421,29 @@ bool ModelFree(const AssembledWorkcell& out, int robot) {
   return false;
 }
 
+// The residuals of one world-target observation by a camera riding on a flange (eye in hand):
+// its position and its rotation, on Jets (eye_in_hand_residual.h).
+void AddEyeInHandResiduals(const Recording& recording, const ToolMeasurement& m,
+                           const WorkcellRobot& robot, const TargetNoise& sigma,
+                           AssembledWorkcell* out) {
+  const Observation& obs = recording.observations[m.observation];
+  const std::vector<int> blocks = {out->base_block[m.robot], out->tool_block[m.robot][m.tool],
+                                   out->model_block[m.robot]};
+  const Pose observed = ObservedPose(obs);
+  for (Compared what : {Compared::kPosition, Compared::kRotation}) {
+    const bool position = what == Compared::kPosition;
+    const Eigen::Vector3d s = position ? RowPositionSigma(sigma, obs) : sigma.rotation_rad;
+    auto cost = EyeInHandCostFunction(TargetComparison(what, observed, s),
+                                      out->R_ref.at(blocks[0]), out->R_ref.at(blocks[1]),
+                                      robot.model.get(), recording.samples[m.sample_index].q,
+                                      out->problem, blocks);
+    out->problem.AddResidual(
+        std::move(cost), blocks,
+        InfoFor(recording, m.observation,
+                position ? ResidualInfo::Kind::kPosition : ResidualInfo::Kind::kRotation, s));
+  }
+}
+
 // Residuals of every carried-target measurement of `poses` (empty: all).
 void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
                       const WorkcellData& data, const NoiseModel& noise,
@@ -440,6 +463,11 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
     const Observation& obs = recording.observations[m.observation];
+    if (spec.robots[m.robot].tools[m.tool].is_camera()) {
+      AddEyeInHandResiduals(recording, m, spec.robots[m.robot], *camera_targets.Of(obs).noise,
+                            out);
+      continue;
+    }
     ToolContext c{spec, recording, data, start, m, {}, {}, false, false, nullptr, nullptr, nullptr};
     c.static_camera = static_cameras;
     c.model_free = ModelFree(*out, m.robot);
@@ -563,7 +591,7 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
   auto out = std::make_unique<AssembledWorkcell>();
   AddBlocks(spec, start, out.get());
   // At most this many measurement blocks (fewer for a subset of poses).
-  const size_t per_tool = spec.use_tool_rotation ? 2 : 1;
+  const size_t per_tool = 2;  // position, and the rotation where fitted (eye in hand: always)
   const size_t world = spec.camera_model == CameraModel::kStaticCameras ? 2 : 0;
   out->problem.ReserveResiduals(
       static_cast<int>(per_tool * data.tools.size() + world * data.world_observations.size()));

@@ -2,6 +2,7 @@
 #include "cellmetry/cell/workcell_data.h"
 
 #include <cstdio>
+#include <optional>
 #include <set>
 
 #include "cellmetry/basics/error.h"
@@ -55,6 +56,7 @@ WorldSeen CollectWorld(const WorkcellProblem& spec, const Recording& recording,
   for (size_t i = 0; i < recording.observations.size(); ++i) {
     const Observation& obs = recording.observations[i];
     if (spec.world_target.empty() || obs.target != spec.world_target) continue;
+    if (recording.camera_mounts.count(obs.camera)) continue;  // moves: not a static camera's
     if (!obs.rvec) {
       ++data->skipped["world target without rotation"];
       continue;
@@ -114,6 +116,83 @@ std::optional<ToolMeasurement> PairTool(const WorkcellProblem& spec, const Recor
   return m;
 }
 
+// Every camera riding on a flange the job identifies: camera -> (robot index, tool index).
+std::map<std::string, std::pair<int, int>> MountedCameras(const WorkcellProblem& spec) {
+  std::map<std::string, std::pair<int, int>> mounted;
+  for (size_t r = 0; r < spec.robots.size(); ++r) {
+    for (size_t t = 0; t < spec.robots[r].tools.size(); ++t) {
+      if (!spec.robots[r].tools[t].is_camera()) continue;
+      mounted[spec.robots[r].tools[t].camera] = {static_cast<int>(r), static_cast<int>(t)};
+    }
+  }
+  return mounted;
+}
+
+// What eye in hand does not combine with, said before anything is fitted: its residual
+// (eye_in_hand_residual.h) is the Cartesian chain without effects, the board it sees defines
+// the world, and its camera moves, so no capture has a world pose of its own.
+void CheckEyeInHandSetting(const WorkcellProblem& spec, const Recording& recording) {
+  std::string refused, hint;
+  if (spec.world_target.empty()) {
+    refused = "a world target (the board the camera sees defines the world)";
+    hint = "Name the board the camera sees as world_target: (its pose then defines the world)";
+  } else if (spec.camera_model != CameraModel::kStaticCameras) {
+    refused = "camera_model: static_cameras (a moving camera has no per-frame world pose)";
+    hint = "Use camera_model: static_cameras";
+  } else if (spec.residual != ResidualForm::kCartesian) {
+    refused = "residual: cartesian";
+    hint = "Use residual: cartesian";
+  } else if (!spec.effects.empty() || !spec.uncertain_inputs.effects.empty()) {
+    refused = "a cell without effects (its residual is the geometric chain)";
+    hint = "Leave effects: and uncertain effects out of a job with a camera on a flange";
+  }
+  if (refused.empty()) return;
+  throw InputError({recording.folder + "/recording.yaml", 0, 0},
+                   "a camera riding on a robot (eye in hand) needs " + refused,
+                   hint + " (docs/formats.md, \"Eye in hand\")");
+}
+
+// An observation by a camera riding on a flange: of the world target, in a capture of the
+// robot that carries it, with its rotation; or the reason it cannot be used.
+std::optional<ToolMeasurement> PairMounted(const WorkcellProblem& spec, const Recording& recording,
+                                           int index, const std::pair<int, int>& carrier,
+                                           std::string* skipped) {
+  const Observation& obs = recording.observations[index];
+  ToolMeasurement m;
+  m.observation = index;
+  m.sample_index = recording.SampleIndex(obs.sample);
+  m.robot = carrier.first;
+  m.tool = carrier.second;
+  if (obs.target != spec.world_target) {
+    *skipped = "a camera riding on a robot sees a target other than the world target";
+  } else if (recording.samples[m.sample_index].robot != spec.robots[m.robot].name) {
+    *skipped = "a camera riding on a robot in a sample of another robot";
+  } else if (!obs.rvec) {
+    *skipped = "world target without rotation";
+  } else {
+    return m;
+  }
+  return std::nullopt;
+}
+
+// An observation by a camera riding on a robot: a measurement, or counted among the skipped.
+void AddMounted(const WorkcellProblem& spec, const Recording& recording,
+                const std::map<std::string, std::pair<int, int>>& mounted, int index,
+                WorkcellData* data) {
+  const Observation& obs = recording.observations[index];
+  const auto on = mounted.find(obs.camera);
+  std::string skipped = "camera '" + obs.camera + "' rides on robot '" +
+                        recording.camera_mounts.at(obs.camera) +
+                        "', and the job does not list it under that robot's cameras:";
+  const auto m = on == mounted.end() ? std::nullopt
+                                     : PairMounted(spec, recording, index, on->second, &skipped);
+  if (m) {
+    data->tools.push_back(*m);
+  } else {
+    ++data->skipped[skipped];
+  }
+}
+
 [[noreturn]] void NothingUsable(const Recording& recording, const WorkcellData& data) {
   std::string reasons;
   for (const auto& [reason, count] : data.skipped) {
@@ -146,9 +225,15 @@ std::vector<SampleFacts> GatherEffectFacts(const WorkcellProblem& spec,
 WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& recording) {
   WorkcellData data;
   const auto carried = CarriedTargets(spec);
+  const auto mounted = MountedCameras(spec);
+  if (!mounted.empty()) CheckEyeInHandSetting(spec, recording);
   const WorldSeen world = CollectWorld(spec, recording, &data);
   for (size_t i = 0; i < recording.observations.size(); ++i) {
     const Observation& obs = recording.observations[i];
+    if (recording.camera_mounts.count(obs.camera)) {
+      AddMounted(spec, recording, mounted, static_cast<int>(i), &data);
+      continue;
+    }
     if (!spec.world_target.empty() && obs.target == spec.world_target) continue;
     const auto carrier = carried.find(obs.target);
     if (carrier == carried.end()) {

@@ -7,6 +7,7 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/rigid_fit.h"
 #include "base_fit_sums.h"
+#include "hand_eye_start.h"
 
 namespace cellmetry {
 namespace {
@@ -61,7 +62,10 @@ class TranslationStep {
     }
     for (size_t t = 0; t < robot.tools.size(); ++t) {
       for (int a = 0; a < 3; ++a) {
-        if (robot.tools[t].flange_tool.free[a]) columns_.push_back({static_cast<int>(t), a});
+        // A camera on the flange is placed by hand_eye_start.h, not by target points.
+        if (robot.tools[t].flange_tool.free[a] && !robot.tools[t].is_camera()) {
+          columns_.push_back({static_cast<int>(t), a});
+        }
       }
     }
     const size_t runs = run_starts.size() - 1;
@@ -201,6 +205,7 @@ std::vector<std::vector<RobotPoint>> WorldPoints(const WorkcellProblem& spec,
   bool last_ok = false;
   Pose last_T_base_flange;
   for (const ToolMeasurement& m : data.tools) {
+    if (spec.robots[m.robot].tools[m.tool].is_camera()) continue;  // eye in hand: no point
     const Observation& obs = recording.observations[m.observation];
     Pose T_world_cam;
     if (static_cameras) {
@@ -251,6 +256,7 @@ void CamerasThroughRobots(const WorkcellProblem& spec, const Recording& recordin
   std::map<std::string, std::pair<std::vector<Eigen::Vector3d>, std::vector<Eigen::Vector3d>>>
       matches;
   for (const ToolMeasurement& m : data.tools) {
+    if (spec.robots[m.robot].tools[m.tool].is_camera()) continue;  // eye in hand: it moves
     const Observation& obs = recording.observations[m.observation];
     if (estimate->T_world_cam.count(obs.camera)) continue;
     const WorkcellRobot& robot = spec.robots[m.robot];
@@ -376,11 +382,14 @@ WorkcellEstimate InitialEstimate(const WorkcellProblem& spec, const Recording& r
       estimate.T_flange_target[tool.target] = tool.flange_tool.start;
     }
   }
+  HandEyeStart(spec, recording, data, &estimate);
   const auto points = WorldPoints(spec, recording, data, estimate);
   std::vector<size_t> through_cameras;  // robots placed where they stand, seen by no placed camera
   std::vector<size_t> later;            // robots placed through cameras those robots place
   for (size_t r = 0; r < spec.robots.size(); ++r) {
     const WorkcellRobot& robot = spec.robots[r];
+    // Placed by the camera riding on it (eye in hand), with no target of its own seen.
+    if (points[r].size() < 3 && estimate.T_world_base.count(robot.name)) continue;
     if (points[r].size() < 3 && !robot.base_start) {
       const bool placed_in_turn = spec.world_target.empty() && static_cameras && r > 0;
       if (placed_in_turn) {

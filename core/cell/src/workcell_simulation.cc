@@ -169,11 +169,31 @@ void MeasureRobot(const WorkcellSimulationSpec& spec, const SimulatedRobot& robo
   }
 }
 
+// A robot's samples as its flange cameras see the world target (eye in hand): the world in the
+// camera, T_cam_world = (T_world_base T_base_flange T_flange_camera)^-1, with the noise alone.
+void MeasureFromFlange(const WorkcellSimulationSpec& spec, const SimulatedRobot& robot,
+                       Recording* recording, Noise& noise) {
+  if (robot.T_flange_camera.empty() || spec.world_target.empty()) return;
+  for (const Sample& sample : recording->samples) {
+    if (sample.robot != robot.name) continue;
+    Pose T_base_flange;
+    if (!robot.model->Forward(sample.q.data(), robot.model_values.data(), &T_base_flange)) continue;
+    for (const auto& [camera, T_flange_camera] : robot.T_flange_camera) {
+      const Pose T_cam_world = (robot.T_world_base * T_base_flange * T_flange_camera).inverse();
+      recording->observations.push_back(
+          Measure(sample.id, camera, spec.world_target, T_cam_world, spec, false, noise));
+    }
+  }
+}
+
 void RecordTruth(const WorkcellSimulationSpec& spec, WorkcellTruth* truth) {
   for (const auto& robot : spec.robots) {
     truth->frames[robot.name + ".base"] = {"world", robot.T_world_base};
     for (const auto& [target, pose] : robot.T_flange_target) {
       truth->frames[target] = {robot.name + ".flange", pose};
+    }
+    for (const auto& [camera, pose] : robot.T_flange_camera) {
+      truth->frames[robot.name + "." + camera] = {robot.name + ".flange", pose};
     }
     const auto& params = robot.model->parameters();
     for (size_t i = 0; i < params.size(); ++i) {
@@ -212,10 +232,17 @@ Recording SimulateWorkcell(const WorkcellSimulationSpec& given, WorkcellTruth* t
   for (const auto& robot : spec.robots) {
     recording.robots[robot.name] = robot.model->num_joints();
     for (const auto& [target, pose] : robot.T_flange_target) recording.targets[target] = robot.name;
+    for (const auto& [camera, pose] : robot.T_flange_camera) {
+      recording.cameras.push_back(camera);
+      recording.camera_mounts[camera] = robot.name;
+    }
   }
   recording.samples = PlanSamples(spec);
   Noise noise{rng};
-  for (const auto& robot : spec.robots) MeasureRobot(spec, robot, &recording, noise);
+  for (const auto& robot : spec.robots) {
+    MeasureRobot(spec, robot, &recording, noise);
+    MeasureFromFlange(spec, robot, &recording, noise);
+  }
   if (truth) RecordTruth(spec, truth);
   return recording;
 }
@@ -243,6 +270,9 @@ WorkcellEstimate TruthEstimate(const WorkcellSimulationSpec& spec) {
     e.T_world_base[robot.name] = robot.T_world_base;
     e.model[robot.name] = robot.model_values;
     for (const auto& [target, pose] : robot.T_flange_target) e.T_flange_target[target] = pose;
+    for (const auto& [camera, pose] : robot.T_flange_camera) {
+      e.T_flange_target[robot.name + "." + camera] = pose;
+    }
   }
   e.T_world_cam = spec.T_world_cam;
   return e;
@@ -335,6 +365,13 @@ std::vector<SampleView> WorkcellViews(const WorkcellSimulationSpec& spec,
       }
       views.push_back(view);
     }
+    for (const auto& [camera, T_flange_camera] : robot->T_flange_camera) {
+      if (spec.world_target.empty()) break;
+      SampleView view{sample.id, camera, {}};
+      view.T_cam_target[spec.world_target] =
+          (robot->T_world_base * T_base_flange * T_flange_camera).inverse();
+      views.push_back(view);
+    }
   }
   return views;
 }
@@ -342,6 +379,9 @@ std::vector<SampleView> WorkcellViews(const WorkcellSimulationSpec& spec,
 std::vector<std::string> CameraNames(const WorkcellSimulationSpec& spec) {
   std::vector<std::string> names;
   for (const auto& [camera, pose] : spec.T_world_cam) names.push_back(camera);
+  for (const auto& robot : spec.robots) {
+    for (const auto& [camera, pose] : robot.T_flange_camera) names.push_back(camera);
+  }
   return names;
 }
 

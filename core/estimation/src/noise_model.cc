@@ -37,6 +37,13 @@ std::string RepeatsLabel(const Accumulator& acc) {
                           : "each of " + std::to_string(acc.groups) + " poses");
 }
 
+// Whether every capture of `target` by `camera` shows the same view: a target fixed in the world
+// seen by a camera standing still. A camera riding on a robot (eye in hand) sees it from each
+// pose anew, as a static camera sees a carried target.
+bool OneView(const Recording& recording, const std::string& camera, const std::string& target) {
+  return recording.targets.at(target) == kWorldCarrier && !recording.camera_mounts.count(camera);
+}
+
 }  // namespace
 
 const TargetNoise& NoiseModel::at(const std::string& camera, const std::string& target) const {
@@ -80,8 +87,8 @@ std::vector<RepeatGroup> RepeatGroups(const Recording& recording) {
     const int target = name_id(obs.target);
     if (on_world.size() < names.size()) on_world.resize(names.size(), -1);
     if (on_world[target] < 0) on_world[target] = recording.targets.at(obs.target) == kWorldCarrier;
-    const int pose =
-        on_world[target] ? -1 : recording.samples[recording.SampleIndex(obs.sample)].pose;
+    const bool one_view = on_world[target] && !recording.camera_mounts.count(obs.camera);
+    const int pose = one_view ? -1 : recording.samples[recording.SampleIndex(obs.sample)].pose;
     const auto [it, added] = index.emplace(std::make_tuple(camera, target, pose), groups.size());
     if (added) groups.push_back({names[camera], names[target], pose, {}});
     groups[it->second].members.push_back(&obs);
@@ -105,7 +112,7 @@ NoiseModel EstimateRepeatability(const Recording& recording) {
     const int size = static_cast<int>(members.size());
     acc.fewest = acc.groups == 1 ? size : std::min(acc.fewest, size);
     acc.most = std::max(acc.most, size);
-    acc.world = recording.targets.at(*group.target) == kWorldCarrier;
+    acc.world = OneView(recording, *group.camera, *group.target);
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (const auto* o : members) mean += o->position_mm;
     mean /= static_cast<double>(members.size());
@@ -159,7 +166,7 @@ NoiseModel DetectionAccuracy(const Recording& recording) {
     noise.position_mm = (s.position / s.count).cwiseSqrt();
     noise.rotation_rad = (s.rotation / s.count).cwiseSqrt();
     noise.source = "detections (" + std::to_string(s.count) + ")";
-    if (recording.targets.at(key.second) == kWorldCarrier) {
+    if (OneView(recording, key.first, key.second)) {
       // Every capture of a world-fixed target shows the camera the same view: the detector's
       // systematic error repeats, and only its noise averages out. Together they weigh as one.
       noise.position_mm *= std::sqrt(double(s.count));

@@ -66,6 +66,30 @@ Units ReadRecordingUnits(const ConfigNode& root) {
   }
   return ReadUnits(root["units"]);
 }
+// `cameras: [cam1, {name: wrist, on: ur3}]`: a name stands still; `on: <robot>` rides on that
+// robot's flange (eye in hand). Robots are read first, so the carrier can be checked here.
+void ReadCameraList(const ConfigNode& cameras, Recording* recording) {
+  cameras.ExpectSequence();
+  for (const ConfigNode& entry : cameras.Elements()) {
+    if (!entry.IsMap()) {
+      recording->cameras.push_back(entry.AsString());
+      continue;
+    }
+    entry.ExpectKeys({"name", "on"});
+    const std::string name = entry["name"].AsString();
+    recording->cameras.push_back(name);
+    if (!entry.Has("on")) continue;
+    const std::string carrier = entry["on"].AsString();
+    if (carrier == kWorldCarrier) continue;  // standing still, said in words
+    if (!recording->robots.count(carrier)) {
+      throw entry["on"].Error("camera '" + name + "' is on unknown robot '" + carrier + "'",
+                              "Use 'world' (a camera standing still) or a robot listed under "
+                              "'robots'");
+    }
+    recording->camera_mounts[name] = carrier;
+  }
+}
+
 void ReadHeader(const std::string& path, Recording* recording, Units* units) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectKeys({"format", "description", "units", "robots", "cameras", "targets"});
@@ -88,7 +112,7 @@ void ReadHeader(const std::string& path, Recording* recording, Units* units) {
     }
     recording->robots[name] = joints;
   }
-  recording->cameras = root["cameras"].AsStrings();
+  ReadCameraList(root["cameras"], recording);
   for (size_t i = 1; i < recording->cameras.size(); ++i) {
     const auto end = recording->cameras.begin() + static_cast<long>(i);
     if (std::find(recording->cameras.begin(), end, recording->cameras[i]) != end) {
@@ -413,7 +437,17 @@ void WriteRecording(const Recording& recording, const std::string& folder,
            << "joints" << YAML::Value << joints << YAML::EndMap;
   }
   header << YAML::EndMap << YAML::Key << "cameras" << YAML::Value << YAML::Flow
-         << recording.cameras;
+         << YAML::BeginSeq;
+  for (const auto& camera : recording.cameras) {
+    const auto mount = recording.camera_mounts.find(camera);
+    if (mount == recording.camera_mounts.end()) {
+      header << camera;
+    } else {
+      header << YAML::BeginMap << YAML::Key << "name" << YAML::Value << camera << YAML::Key
+             << "on" << YAML::Value << mount->second << YAML::EndMap;
+    }
+  }
+  header << YAML::EndSeq;
   header << YAML::Key << "targets" << YAML::Value << YAML::BeginMap;
   for (const auto& [name, carrier] : recording.targets) {
     header << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key

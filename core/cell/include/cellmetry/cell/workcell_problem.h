@@ -47,9 +47,15 @@ enum class ResidualForm { kCartesian, kJointSpace };
 enum class OutlierTest { kRobust, kPlain, kOff };
 std::string ResidualFormName(ResidualForm form);
 
+// A frame on a robot's flange: a target it carries (T_flange_target), or a camera riding on it
+// (eye in hand: `camera` set, the frame is T_flange_camera, named "<robot>.<camera>", and what
+// that camera measures is the world target; hand_eye_start.h finds its start).
 struct WorkcellTool {
-  std::string target;          // recording target carried by the robot
+  std::string target;          // recording target carried by the robot, or "<robot>.<camera>"
   FrameBlockSpec flange_tool;  // start = nominal T_flange_target
+  std::string camera;          // not empty: the camera riding on the flange (eye in hand)
+  bool start_given = false;    // the job gave the frame's start (else: closed form)
+  bool is_camera() const { return !camera.empty(); }
 };
 
 struct WorkcellRobot {
@@ -106,7 +112,9 @@ struct WorkcellCamera {
 struct WorkcellEstimate {
   std::map<std::string, Pose> T_world_base;           // robot -> base
   std::map<std::string, std::vector<double>> model;   // robot -> model parameter values
-  std::map<std::string, Pose> T_flange_target;        // target -> tool offset
+  std::map<std::string, Pose> T_flange_target;        // target -> tool offset; a camera riding
+                                                      // on a flange: "<robot>.<camera>" ->
+                                                      // T_flange_camera
   std::map<std::string, Pose> T_world_cam;            // camera -> pose (static cameras only)
   std::map<std::string, std::vector<double>> effects; // effect -> parameter values (none: zero)
 };

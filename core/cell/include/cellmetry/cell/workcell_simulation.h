@@ -64,6 +64,8 @@ struct SimulatedRobot {
   std::optional<PoseSetSpec> pose_set;               // commands drawn when simulated
   Pose T_world_base;
   std::map<std::string, Pose> T_flange_target;       // carried targets
+  std::map<std::string, Pose> T_flange_camera;       // cameras riding on the flange (eye in
+                                                     // hand): they see the world target
   std::set<std::string> point_targets;               // measured as positions only (a dot)
   std::vector<std::vector<double>> joint_poses;      // q per commanded pose
   std::vector<double> payloads_kg;                   // cycled over the commanded poses

@@ -1,6 +1,8 @@
 // Recording: the `cellmetry-recording/1` folder format (docs/formats.md).
 //
-//   recording.yaml    units, robots (name -> joint count), cameras, targets (name -> carrier)
+//   recording.yaml    units, robots (name -> joint count), cameras (a name, or
+//                     {name, on: <robot>} for one riding on that robot's flange: eye in hand),
+//                     targets (name -> carrier)
 //   samples.csv       sample,robot,pose,q1..qN[,t][,temperature][,payload]
 //   observations.csv  sample,camera,target,x,y,z[,rx,ry,rz]   (target pose in the camera frame)
 //                     [,cov_xx..cov_zz][,rcov_xx..rcov_zz]    (position / rotation covariance)
@@ -59,6 +61,8 @@ struct Recording {
   std::string description;
   std::map<std::string, int> robots;             // robot name -> joint count
   std::vector<std::string> cameras;
+  // A camera riding on a robot's flange (eye in hand) -> that robot; the others stand still.
+  std::map<std::string, std::string> camera_mounts;
   std::map<std::string, std::string> targets;    // target name -> robot name or "world"
   std::vector<Sample> samples;                   // in capture order
   std::vector<Observation> observations;
