@@ -24,15 +24,31 @@ double SecondsSince(Clock::time_point start) {
 }
 
 // The one robot, camera and board of a hand-eye cell into `spec`, or an InputError at `where`
-// saying what is missing.
+// saying what is missing. Eye-in-hand: the one camera rides on the robot and sees the world
+// target; eye-to-hand: the one camera stands still and sees the one board the robot carries,
+// with no world target.
 void ReadCell(const ConfigNode& where, HandEyeCompareSpec* spec) {
   const WorkcellSimulationSpec& sim = spec->simulation;
-  if (sim.robots.size() != 1 || sim.T_world_cam.size() != 1) {
+  const size_t riding = sim.robots.empty() ? 0 : sim.robots.front().T_flange_camera.size();
+  if (sim.robots.size() != 1 || sim.T_world_cam.size() + riding != 1) {
     throw where.Error("is not a hand-eye cell: it has " + std::to_string(sim.robots.size()) +
-                          " robots and " + std::to_string(sim.T_world_cam.size()) + " cameras",
+                          " robots and " + std::to_string(sim.T_world_cam.size() + riding) +
+                          " cameras",
                       "Simulate one robot and one camera");
   }
   const SimulatedRobot& robot = sim.robots.front();
+  spec->robot = robot.name;
+  if (riding == 1) {
+    if (sim.world_target.empty()) {
+      throw where.Error("is not an eye-in-hand cell: the camera on the flange needs a static "
+                        "board, the world target",
+                        "See configs/simulations/ur3_eye_in_hand.yaml");
+    }
+    spec->setup = HandEyeSetup::kEyeInHand;
+    spec->camera = robot.T_flange_camera.begin()->first;
+    spec->board = sim.world_target;
+    return;
+  }
   if (!sim.world_target.empty() || robot.T_flange_target.size() != 1 ||
       !robot.point_targets.empty()) {
     throw where.Error("is not an eye-to-hand cell: it needs world_target: none and one board "
@@ -40,18 +56,22 @@ void ReadCell(const ConfigNode& where, HandEyeCompareSpec* spec) {
                       "See configs/simulations/ur3_eye_to_hand.yaml");
   }
   spec->setup = HandEyeSetup::kEyeToHand;
-  spec->robot = robot.name;
   spec->camera = sim.T_world_cam.begin()->first;
   spec->board = robot.T_flange_target.begin()->first;
 }
 
-// The hand-eye frame's truth: T_base_cam (eye-to-hand).
+// The hand-eye frame: T_flange_cam (eye-in-hand) or T_base_cam (eye-to-hand), its truth and
+// cellmetry's answer.
 Pose TruthOf(const HandEyeCompareSpec& spec) {
-  return spec.simulation.robots.front().T_world_base.inverse() *
-         spec.simulation.T_world_cam.at(spec.camera);
+  const SimulatedRobot& robot = spec.simulation.robots.front();
+  if (spec.setup == HandEyeSetup::kEyeInHand) return robot.T_flange_camera.at(spec.camera);
+  return robot.T_world_base.inverse() * spec.simulation.T_world_cam.at(spec.camera);
 }
 
 Pose AnswerOf(const WorkcellEstimate& estimate, const HandEyeCompareSpec& spec) {
+  if (spec.setup == HandEyeSetup::kEyeInHand) {
+    return estimate.T_flange_target.at(spec.robot + "." + spec.camera);
+  }
   return estimate.T_world_base.at(spec.robot).inverse() * estimate.T_world_cam.at(spec.camera);
 }
 
@@ -62,6 +82,7 @@ HandEyeCaptures CapturesOf(const Recording& recording, const WorkcellRobot& robo
   std::vector<double> nominal;
   for (const Parameter& p : robot.model_parameters) nominal.push_back(p.nominal);
   HandEyeCaptures captures;
+  captures.eye_in_hand = spec.setup == HandEyeSetup::kEyeInHand;
   for (const Observation& obs : recording.observations) {
     if (obs.camera != spec.camera || obs.target != spec.board || !obs.rvec) continue;
     const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];

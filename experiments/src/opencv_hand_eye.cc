@@ -79,7 +79,9 @@ std::string OpenCvHandEyeFault(const std::string& method) {
   const bool fixed = CV_VERSION_MAJOR > 4 || (CV_VERSION_MAJOR == 4 && CV_VERSION_MINOR >= 10);
   if (fixed) return "";
   if (method == "opencv_tsai") return "OpenCV " CV_VERSION ": uninformative pairs kept";
-  if (method == "opencv_horaud" || method == "opencv_daniilidis") return "OpenCV " CV_VERSION ": quaternion signs";
+  if (method == "opencv_horaud" || method == "opencv_daniilidis") {
+    return "OpenCV " CV_VERSION ": quaternion signs";
+  }
   return "";
 }
 

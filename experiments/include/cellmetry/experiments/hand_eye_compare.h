@@ -24,7 +24,9 @@
 // Spec (YAML):
 //   compare: hand_eye
 //   description: free text
-//   simulation: <simulation spec>   # the cell and its truth; noise drawn per seed
+//   simulation: <simulation spec>   # the cell and its truth; noise drawn per seed (one robot,
+//                                   # one camera: on its flange with a world board, or static
+//                                   # with a board on the tool and world_target: none)
 //   job: <job file>                 # cellmetry's fit of it (its recording is not read)
 //   seeds: 10
 //   output: <folder for table.md, table.csv and report.html>
