@@ -51,7 +51,7 @@ std::string SimulationYaml(const CellSize& size) {
   std::ostringstream yaml;
   yaml << "simulation: workcell\nseed: 15\nrepeats: 1\nrobots:\n";
   for (int r = 0; r < size.robots; ++r) {
-    yaml << "  ur3_" << r << ":\n    model: " << bench::Source("configs/robots/ur3.yaml") << "\n"
+    yaml << "  ur3_" << r << ":\n    model: " << bench::Source("configs/robots/ur3_vsb2020.yaml") << "\n"
          << "    base: {xyz: [" << 1000 * (r % 5) << ", " << 1200 * (r / 5) << ", 0], rvec: [0, 0, "
          << 0.3 * r << "]}\n"
          << "    tools: {tool_" << r << ": {xyz: [0.5, -0.3, 66]}}\n"
@@ -73,7 +73,7 @@ std::string JobYaml(const CellSize& size, const std::string& recording) {
   yaml << "job: workcell\nrecording: " << recording << "\noutput: " << recording
        << "_result\ncamera_model: static_cameras\nrobots:\n";
   for (int r = 0; r < size.robots; ++r) {
-    yaml << "  ur3_" << r << ":\n    model: " << bench::Source("configs/robots/ur3.yaml")
+    yaml << "  ur3_" << r << ":\n    model: " << bench::Source("configs/robots/ur3_vsb2020.yaml")
          << "\n    base: {free: all}\n    tools:\n      tool_" << r
          << ": {xyz: [0, 0, 66], free: [x, y, z]}\n";
   }

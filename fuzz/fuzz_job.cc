@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   namespace fz = cellmetry::fuzz;
   folder = fz::TempDir() + "/job";
   std::filesystem::create_directories(folder + "/recording");
-  fz::CopyFile(CELLMETRY_SOURCE_DIR "/configs/robots/ur3.yaml", folder + "/ur3.yaml");
+  fz::CopyFile(CELLMETRY_SOURCE_DIR "/configs/robots/ur3_vsb2020.yaml", folder + "/ur3.yaml");
   fz::CopyFile(CELLMETRY_SOURCE_DIR "/configs/robots/delta.yaml", folder + "/delta.yaml");
   const std::string sim_b = CELLMETRY_SOURCE_DIR "/tests/data/vsb/sim_b/";
   fz::CopyFile(sim_b + "recording.yaml", folder + "/recording/recording.yaml");

@@ -20,7 +20,7 @@ using ::testing::HasSubstr;
 WorkcellJob SimBWithRobot(const std::string& dir, const std::string& robot_yaml) {
   testing::WriteText(dir + "/ur3.yaml", robot_yaml);
   std::string job = testing::ReadText(testing::Source("configs/jobs/vsb_sim_b.yaml"));
-  job = testing::ReplaceOnce(job, "../robots/ur3.yaml", dir + "/ur3.yaml");
+  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml", dir + "/ur3.yaml");
   job = testing::ReplaceOnce(job, "../../tests/data/vsb/sim_b",
                              testing::Source("tests/data/vsb/sim_b"));
   testing::WriteText(dir + "/job.yaml", job);
@@ -29,7 +29,7 @@ WorkcellJob SimBWithRobot(const std::string& dir, const std::string& robot_yaml)
 
 TEST(AngleUnits, RobotConfigInRadiansDeclaredAsDegreesIsRefusedAtItsUnitsLine) {
   const std::string dir = testing::TempDirForThisTest("angle_units");
-  const std::string ur3 = testing::ReadText(testing::Source("configs/robots/ur3.yaml"));
+  const std::string ur3 = testing::ReadText(testing::Source("configs/robots/ur3_vsb2020.yaml"));
   const Recording recording = ReadRecording(testing::Source("tests/data/vsb/sim_b"));
   // As written: no complaint.
   EXPECT_NO_THROW(ValidateJobAgainstRecording(SimBWithRobot(dir, ur3), recording));
@@ -89,7 +89,7 @@ TEST(AngleUnits, EulerAnglesReadInTheOtherConventionAreRefusedAtTheMappingsAxes)
       "table: " + testing::Source("configs/import/vsb_exp_a_excerpt.csv"));
   std::string job = testing::ReadText(testing::Source("configs/jobs/vsb_exp_a_excerpt.yaml"));
   job = job.substr(0, job.find("validation:"));  // no cross-validation
-  job = testing::ReplaceOnce(job, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   // The tool's rotation declared as `declared`; the job on its import, written to `dir`.
   const auto import_as = [&](const std::string& name, const std::string& declared) {
     const std::string tool = "convention: euler, order: XYZ, axes: intrinsic,\n"

@@ -58,7 +58,7 @@ const std::string& SharedSimBResult() {
     const std::string dir =
         testing::TempDir("bad_input/shared_result_" + std::to_string(::getpid()));
     fs::copy(testing::Source("tests/data/vsb/sim_b"), dir + "/sim_b");
-    fs::copy_file(testing::Source("configs/robots/ur3.yaml"), dir + "/ur3.yaml");
+    fs::copy_file(testing::Source("configs/robots/ur3_vsb2020.yaml"), dir + "/ur3.yaml");
     testing::WriteText(dir + "/job.yaml",
                        SimBJobText(dir + "/sim_b", dir + "/result", dir + "/ur3.yaml"));
     const auto run = testing::RunCellmetry("run " + dir + "/job.yaml");
@@ -79,7 +79,7 @@ class BadInput : public ::testing::Test {
     output_ = dir_ + "/result";
     job_ = dir_ + "/job.yaml";
     fs::copy(testing::Source("tests/data/vsb/sim_b"), recording_);
-    fs::copy_file(testing::Source("configs/robots/ur3.yaml"), robot_);
+    fs::copy_file(testing::Source("configs/robots/ur3_vsb2020.yaml"), robot_);
   }
 
   std::string JobText() const { return SimBJobText(recording_, output_, robot_); }
@@ -490,7 +490,7 @@ class BadCommand : public BadInput, public ::testing::WithParamInterface<BadCase
     testing::WriteText(dir_ + "/sim.yaml",
                        ReplaceOnce(ReadText(testing::Source(
                                        "configs/simulations/ur3_physics_base.yaml")),
-                                   "../robots/ur3.yaml", robot_));
+                                   "../robots/ur3_vsb2020.yaml", robot_));
     testing::WriteText(dir_ + "/notes.txt", "mine\n");
     testing::WriteText(dir_ + "/empty.yaml", "");
     testing::WriteText(dir_ + "/cmp.yaml", "compare: everything\n");
@@ -1466,7 +1466,7 @@ TEST_F(BadInput, MillimetresReadAsMetresAreRefusedWhereTheJobIsLoaded) {
 
 TEST_F(BadInput, SimulatingNoPosesIsRefused) {
   std::string sim = ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = ReplaceOnce(sim, "../robots/ur3.yaml", robot_);
+  sim = ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", robot_);
   sim = ReplaceOnce(sim, "random: 150", "random: 0");
   testing::WriteText(dir_ + "/sim.yaml", sim);
   const auto r = testing::RunCellmetry("simulate " + dir_ + "/sim.yaml -o " + dir_ + "/sim");

@@ -26,7 +26,7 @@ namespace {
 std::string ThreeCameraSimulation(unsigned seed, const std::string& effects = "") {
   return "simulation: workcell\nseed: " + std::to_string(seed) +
          "\nrepeats: 1\nrobots:\n  ur3:\n    model: " +
-         testing::Source("configs/robots/ur3.yaml") +
+         testing::Source("configs/robots/ur3_vsb2020.yaml") +
          "\n    base: {xyz: [431, 555, -460], rvec: [0, 0, -0.0177]}\n"
          "    tools:\n      tool: {xyz: [0, 0.5, 66], rvec: [0, 0, 0]}\n"
          "    poses: {from_recording: " + testing::Source("tests/data/vsb/sim_b") + "}\n"
@@ -57,7 +57,7 @@ WorkcellJob Job(const std::string& dir, const std::string& base = "{free: all}",
                 const std::string& extra = "") {
   testing::WriteText(dir + "/job.yaml",
                      "job: workcell\nrecording: " + dir + "\noutput: " + dir + "/fit\n"
-                     "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3.yaml") +
+                     "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
                      "\n    base: " + base + "\n    tools:\n      tool: {free: [x, y, z]}\n" +
                      extra + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
   return LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(), /*recording_must_exist=*/false);

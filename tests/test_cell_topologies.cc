@@ -68,7 +68,7 @@ std::string Simulation(const Topology& t) {
                      std::string(t.world_target ? "world" : "none") + "\nrobots:\n";
   for (int r = 0; r < t.robots; ++r) {
     const std::string i = std::to_string(r);
-    yaml += "  ur3_" + i + ":\n    model: " + testing::Source("configs/robots/ur3.yaml") +
+    yaml += "  ur3_" + i + ":\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
             "\n    base: " + kBases[r] + "\n    tools: {tool_" + i +
             ": {xyz: [0.5, -0.3, 66], rvec: [0.01, 0.02, -0.01]}}\n" +
             (t.wrist && r == 0 ? "    cameras: {wrist: " + std::string(kWrist) + "}\n" : "") +
@@ -94,7 +94,7 @@ std::string Job(const Topology& t, const std::string& dir) {
     if (t.starts && r == 1) {
       base = "{free: all, start: {xyz: [880, 130, 20], rvec: [0, 0.02, 1.97]}}";
     }
-    yaml += "  ur3_" + i + ":\n    model: " + testing::Source("configs/robots/ur3.yaml") +
+    yaml += "  ur3_" + i + ":\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
             "\n    base: " + base + "\n    tools:\n      tool_" + i + ": {free: " +
             (t.tool_rotation ? "all" : "[x, y, z]") + "}\n";
     if (t.wrist && r == 0) {

@@ -202,7 +202,7 @@ std::unique_ptr<Effect> MakeEffect(const std::string& yaml, const RobotModel& ro
 TEST_P(EffectChainCostTest, JacobianMatchesCentralDifferencesAndTheJets) {
   const EffectChainCase c = GetParam();
   const auto ur3 = testing::Plugins().CreateRobotModel(
-      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
+      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml")));
   const auto scale = MakeEffect("{type: target_scale, targets: [tool, world]}", *ur3);
   const auto intrinsics = MakeEffect("{type: camera_intrinsics, cameras: [cam2, cam1]}", *ur3);
   // A carried target's chain also has effects at the joints (through the model's offsets) and

@@ -34,7 +34,7 @@ struct FittedCell {
 std::string Sim(const std::string& dir, const std::string& name, const std::string& robot_line,
                 const std::string& model_errors) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/" + name));
-  const std::string config = name.rfind("ur3", 0) == 0 ? "ur3.yaml" : "delta.yaml";
+  const std::string config = name.rfind("ur3", 0) == 0 ? "ur3_vsb2020.yaml" : "delta.yaml";
   sim = testing::ReplaceOnce(sim, "../robots/" + config,
                              testing::Source("configs/robots/" + config));
   sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");
@@ -76,7 +76,7 @@ const FittedCell& Ur3Cell() {
                                 "j3.a: 0.4, j4.a: -0.3, j3.beta: 0.0008}");
     WorkcellSimulationSpec spec = LoadWorkcellSimulation(sim, testing::Plugins());
     testing::ConcealJoint3Compliance(&spec);
-    return Fit(dir, spec, "ur3_diagnose.yaml", "ur3.yaml",
+    return Fit(dir, spec, "ur3_diagnose.yaml", "ur3_vsb2020.yaml",
                "    free_model: [j2.offset, j3.offset, j4.offset, j3.a, j4.a, j3.beta]\n"
                "    effects:\n"
                "      - {type: joint_compliance, joints: [3], "
@@ -316,10 +316,10 @@ TEST(Compensate, DeltaCommandsReachTheirTargetsUnderConcealedBacklashAndGeometry
 CompensationChain MemoryChain(const std::string& config, const std::vector<std::string>& effects,
                               const std::vector<std::vector<double>>& values) {
   CompensationChain chain;
-  chain.robot = config == "ur3.yaml" ? "ur3" : "delta";
+  chain.robot = config == "ur3_vsb2020.yaml" ? "ur3" : "delta";
   chain.tool = "tool";
   chain.model = testing::Plugins().CreateRobotModel(
-      config == "ur3.yaml" ? "serial_mdh" : "delta",
+      config == "ur3_vsb2020.yaml" ? "serial_mdh" : "delta",
       ConfigNode::LoadFile(testing::Source("configs/robots/" + config)));
   for (const auto& p : chain.model->parameters()) chain.nominal_params.push_back(p.nominal);
   chain.params = chain.nominal_params;
@@ -376,7 +376,7 @@ double JacobianMismatch(const CompensationChain& chain, const std::vector<double
 
 TEST(CompensateJacobian, MatchesCentralDifferencesForEffectsThatDoNotReadTheJoints) {
   const CommandContext context{{1, -1, 1, -1, 1, -1}, 1.0, 30.0, NAN};
-  const auto ur3 = MemoryChain("ur3.yaml", {"{type: backlash, joints: [2, 3]}",
+  const auto ur3 = MemoryChain("ur3_vsb2020.yaml", {"{type: backlash, joints: [2, 3]}",
                                             "{type: thermal_drift}"},
                                {{0.002, 0.003}, {1.2e-5}});
   EXPECT_LT(JacobianMismatch(ur3, {-3, 2.6, -2, -3, 0.5, -3}, {3, 4, -0.4, 3, 2.6, 3}, context),
@@ -392,7 +392,7 @@ TEST(CompensateJacobian, LeavesOutOnlyTheComplianceContextShareItDocuments) {
   // a share of the order of the compliance times the torque's rate (compensation_chain.h).
   const CommandContext context{{}, 3.0, NAN, NAN};
   const auto ur3 = MemoryChain(
-      "ur3.yaml", {"{type: joint_compliance, joints: [3], "
+      "ur3_vsb2020.yaml", {"{type: joint_compliance, joints: [3], "
                    "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}"}, {{4e-5}});
   const double mismatch =
       JacobianMismatch(ur3, {-3, 2.6, -2, -3, 0.5, -3}, {3, 4, -0.4, 3, 2.6, 3}, context);
@@ -423,7 +423,7 @@ void ExpectPropagatedDerivative(const CompensationChain& chain, const std::vecto
 }
 
 TEST(CompensateSigma, PropagatesThroughExactDerivatives) {
-  const auto chain = MemoryChain("ur3.yaml", {"{type: thermal_drift}"}, {{1.2e-5}});
+  const auto chain = MemoryChain("ur3_vsb2020.yaml", {"{type: thermal_drift}"}, {{1.2e-5}});
   const std::vector<double> q = {0.3, 3.2, -1.1, 0.4, 1.6, -0.7};
   const double h = 1e-6;
   auto moved = [&](auto change) {
@@ -487,7 +487,7 @@ TEST(CompensateRefuses, TargetsOutOfReachOrPastJointLimitsInWords) {
   EXPECT_TRUE(c.refused);
   EXPECT_THAT(c.reason, HasSubstr("out of reach: "));
 
-  const auto ur3 = MemoryChain("ur3.yaml", {}, {});
+  const auto ur3 = MemoryChain("ur3_vsb2020.yaml", {}, {});
   const std::string pose = "x_mm,y_mm,z_mm,rx_rad,ry_rad,rz_rad";
   const std::string seed = ",q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad";
   // Two metres from the base: the solve gets as close as the arm stretches, and says how close.
@@ -502,7 +502,7 @@ TEST(CompensateRefuses, TargetsOutOfReachOrPastJointLimitsInWords) {
 
 TEST(CompensateRefuses, JointTargetsAreReachedAsTheNominalArmWouldReachThem) {
   // A joint target on an arm that is its nominal self needs no change, and says so.
-  const auto ur3 = MemoryChain("ur3.yaml", {}, {});
+  const auto ur3 = MemoryChain("ur3_vsb2020.yaml", {}, {});
   const auto c = CompensateRow(ur3, "q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad",
                                "0.3,3.2,-1.1,0.4,1.6,-0.7");
   ASSERT_FALSE(c.refused) << c.reason;

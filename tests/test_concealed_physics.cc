@@ -90,7 +90,7 @@ TEST(LensDistortion, WithK1AloneIsTheLibrarysRadialFormToFirstOrder) {
 Eigen::Vector3d ByTheLibrary(const std::string& terms, const std::vector<double>& params,
                              const Pose& T) {
   const auto ur3 = testing::Plugins().CreateRobotModel(
-      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
+      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml")));
   const ConfigNode config = ConfigNode::LoadString(
       "{type: camera_intrinsics, cameras: [cam1], terms: " + terms + "}", "test");
   const auto effect = testing::Plugins().CreateEffect("camera_intrinsics", config, *ur3);

@@ -144,12 +144,12 @@ TEST(ConfigNode, YamlSyntaxErrorIsLocated) {
 
 TEST(ConfigNode, ResolvePathIsRelativeToTheFilesFolder) {
   std::string path;
-  const ConfigNode root = LoadText("resolve", "robots:\n  ur3:\n    model: ../robots/ur3.yaml\n",
+  const ConfigNode root = LoadText("resolve", "robots:\n  ur3:\n    model: ../robots/ur3_vsb2020.yaml\n",
                                    &path);
   const std::string folder = std::filesystem::path(path).parent_path().string();
   const std::string parent = std::filesystem::path(folder).parent_path().string();
   const ConfigNode ur3 = root["robots"]["ur3"];
-  EXPECT_EQ(ur3.ResolvePath(ur3["model"].AsString()), parent + "/robots/ur3.yaml");
+  EXPECT_EQ(ur3.ResolvePath(ur3["model"].AsString()), parent + "/robots/ur3_vsb2020.yaml");
   EXPECT_EQ(root.ResolvePath("data/rec"), folder + "/data/rec");
   EXPECT_EQ(root.ResolvePath("/abs/./rec"), "/abs/rec");
 }

@@ -22,7 +22,7 @@ constexpr double kScale = 0.002;  // the tool board's printed size, relative
 WorkcellResult Identify(const std::string& dir, const std::string& uncertain_inputs) {
   const std::string job =
       "job: workcell\nrecording: " + dir + "/rec\n"
-      "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3.yaml") +
+      "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
       "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n" + uncertain_inputs +
       testing::kTwoCameraNoiseYaml + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
   testing::WriteText(dir + "/job.yaml", job);

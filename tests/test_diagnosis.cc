@@ -23,7 +23,7 @@ class Diagnosis : public ::testing::Test {
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
     sim =
-        testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+        testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
     sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");  // quick, still wide
     testing::WriteText(dir_ + "/sim.yaml", sim);
     base_ = LoadWorkcellSimulation(dir_ + "/sim.yaml", testing::Plugins());

@@ -226,7 +226,7 @@ WorkcellSimulationSpec SuiteCell(const std::string& dir, unsigned seed,
                                  std::optional<int> poses = std::nullopt,
                                  Cameras cameras = Cameras::kAsConfigured) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   if (poses) {
     const std::regex count("random: [0-9]+");
     if (!std::regex_search(sim, count)) {

@@ -26,8 +26,8 @@ class DiagnosisLinear : public ::testing::Test {
     const std::string dir = testing::TempDirForThisTest("diagnosis_linear");
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-    sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml",
-                               testing::Source("configs/robots/ur3.yaml"));
+    sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                               testing::Source("configs/robots/ur3_vsb2020.yaml"));
     sim = testing::ReplaceOnce(sim, "random: 150", "random: 60");
     testing::WriteText(dir + "/sim.yaml", sim);
     WorkcellSimulationSpec simulation =

@@ -22,7 +22,7 @@ WorkcellResult FitUr3(const std::string& dir, const std::string& robot_lines,
                       const std::string& job_lines = "") {
   const std::string job = "job: workcell\nrecording: " + dir + "/rec\n" + job_lines +
                           "robots:\n  ur3:\n    model: " +
-                          testing::Source("configs/robots/ur3.yaml") +
+                          testing::Source("configs/robots/ur3_vsb2020.yaml") +
                           "\n    base: {free: all}\n" + robot_lines + testing::kTwoCameraNoiseYaml +
                           "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
   testing::WriteText(dir + "/job.yaml", job);
@@ -42,7 +42,7 @@ WorkcellResult FitScaledBoard(const std::string& dir, double scale) {
 // compliance of `compliance` hidden, fitted with joint 3 compliance free.
 WorkcellResult FitJoint3Compliance(const std::string& dir, double compliance) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
   testing::ConcealJoint3Compliance(&spec, compliance);
@@ -90,7 +90,7 @@ TEST(EffectPlausibility, APlausibleSizeIsNoWarning) {
 // bound; a shift shared beyond 0.05 rad is named as the shared part.
 TEST(GroupedPlausibility, CamerasPrincipalPointsJudgedAsTheirSharedShiftAndEachOnesOwn) {
   const auto ur3 = testing::Plugins().CreateRobotModel(
-      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
+      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml")));
   const ConfigNode three = ConfigNode::LoadString(
       "{type: camera_intrinsics, cameras: [cam1, cam2, cam3], terms: [principal]}", "test");
   const auto effect = testing::Plugins().CreateEffect("camera_intrinsics", three, *ur3);

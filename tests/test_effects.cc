@@ -17,7 +17,7 @@ namespace {
 
 std::shared_ptr<const RobotModel> Ur3() {
   return testing::Plugins().CreateRobotModel(
-      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
+      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml")));
 }
 
 std::shared_ptr<const RobotModel> Delta() {
@@ -320,7 +320,7 @@ TEST(Effects, BacklashHeldByGravityFollowsTheTorqueNotTheMove) {
 TEST(EffectsInWorkcell, SimulatedPayloadsCycleOverThePoses) {
   const std::string dir = testing::TempDirForThisTest("payloads");
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "payloads_kg: [0, 1.0]", "payloads_kg: [0, 1.0, 2.5]");
   testing::WriteText(dir + "/sim.yaml", sim);
   const Recording recording =
@@ -474,7 +474,7 @@ void ExpectRecovered(const std::string& robot_effects, const std::string& camera
                      const std::string& job_effects, const std::string& job_camera_effects) {
   const std::string dir = testing::TempDirForThisTest("effects");
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
                              testing::Source("tests/data/vsb/sim_b"));
   sim = testing::ReplaceOnce(sim, "    poses:", "    effects: " + robot_effects + "\n    poses:");
@@ -486,7 +486,7 @@ void ExpectRecovered(const std::string& robot_effects, const std::string& camera
   WriteRecording(recording, dir + "/rec", TruthYaml(truth));
 
   std::string job = "job: workcell\nrecording: " + dir + "/rec\nuse_tool_rotation: true\n"
-                    "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3.yaml") +
+                    "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
                     "\n    base: {free: all}\n    tools:\n      tool: {free: all}\n"
                     "    effects: " + job_effects + "\n";
   if (!job_camera_effects.empty()) job += "effects: " + job_camera_effects + "\n";

@@ -79,7 +79,7 @@ TEST(EndToEndFromImages, Ur3WithAprilTagCubeThroughDetectAndRunLandsWithinThreeS
   std::string spec =
       testing::ReadText(testing::Source("configs/simulations/ur3_apriltag_images.yaml"));
   spec =
-      testing::ReplaceOnce(spec, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+      testing::ReplaceOnce(spec, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   spec = testing::ReplaceOnce(spec, "../../tests/data/vsb/sim_b",
                               testing::Source("tests/data/vsb/sim_b"));
   spec = testing::ReplaceOnce(spec, "every: 2", "every: 4");  // 63 poses: enough, and quick
@@ -103,8 +103,8 @@ TEST(EndToEndFromImages, Ur3WithAprilTagCubeThroughDetectAndRunLandsWithinThreeS
   std::string job = testing::ReadText(testing::Source("configs/jobs/ur3_apriltag_images.yaml"));
   job = testing::ReplaceOnce(job, "recording: ../../results/ur3_apriltag_images\n",
                              "recording: " + rec + "\n");
-  job = testing::ReplaceOnce(job, "model: ../robots/ur3.yaml",
-                             "model: " + testing::Source("configs/robots/ur3.yaml"));
+  job = testing::ReplaceOnce(job, "model: ../robots/ur3_vsb2020.yaml",
+                             "model: " + testing::Source("configs/robots/ur3_vsb2020.yaml"));
   testing::WriteText(dir + "/identify.yaml", job);
   run("run " + dir + "/identify.yaml -o " + dir + "/result");
 

@@ -14,7 +14,7 @@ namespace cellmetry {
 namespace {
 
 TEST(Identifiability, TiedParametersAreNamedAndHeld) {
-  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml"));
+  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
   std::shared_ptr<const RobotModel> model =
       testing::Plugins().CreateRobotModel("serial_mdh", config);
   WorkcellSimulationSpec sim;

@@ -62,7 +62,7 @@ TEST(FrameCache, SameBitsAsComputingWhateverCameBefore) {
 
 std::unique_ptr<RobotModel> Ur3() {
   return testing::Plugins().CreateRobotModel(
-      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
+      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml")));
 }
 
 std::vector<double> Perturbed(const RobotModel& model, std::mt19937& rng) {

@@ -127,7 +127,7 @@ class Exports : public ::testing::Test {
   // Each test runs in a process of its own under ctest, in parallel with -j: a folder per process.
   static void SetUpTestSuite() {
     dir_ = testing::TempDir("exports/" + std::to_string(::getpid()));
-    MirrorConfigs(dir_, {"configs/robots/ur3.yaml", "configs/robots/delta.yaml",
+    MirrorConfigs(dir_, {"configs/robots/ur3_vsb2020.yaml", "configs/robots/delta.yaml",
                          "configs/simulations/ur3_pair_geometry.yaml",
                          "configs/jobs/ur3_pair_geometry.yaml",
                          "configs/simulations/delta_uniform_125.yaml",
@@ -176,7 +176,7 @@ std::string Exports::dir_, Exports::ur3_result_, Exports::delta_result_;
 // The fit moved the model: what the exports carry is not the nominal table.
 TEST_F(Exports, TheResultsModelIsFittedAndRecordedWhole) {
   const nlohmann::json result = Json(ur3_result_);
-  const ReferenceRobot ur3 = Reference(result, "ur3", "configs/robots/ur3.yaml");
+  const ReferenceRobot ur3 = Reference(result, "ur3", "configs/robots/ur3_vsb2020.yaml");
   double largest_change = 0.0;
   for (size_t i = 0; i < ur3.values.size(); ++i) {
     largest_change = std::max(largest_change,
@@ -203,7 +203,7 @@ TEST_F(Exports, UrdfParsedByUrdfdomMatchesTheFittedForwardKinematics) {
   ASSERT_TRUE(model) << urdf;
   ASSERT_EQ(model->getRoot()->name, "world");
   const nlohmann::json result = Json(ur3_result_);
-  const ReferenceRobot ur3 = Reference(result, "ur3", "configs/robots/ur3.yaml");
+  const ReferenceRobot ur3 = Reference(result, "ur3", "configs/robots/ur3_vsb2020.yaml");
   const Pose T_flange_tool = FromRvecMm(result.at("frames").at("tool"));
 
   // The joints from the tool link up to the root, then composed root first.
@@ -278,7 +278,7 @@ TEST_F(Exports, UrKinematicsYamlMatchesTheFittedForwardKinematics) {
   Pose wrist3_tool0;
   wrist3_tool0.R = Rpy(0, -M_PI / 2, -M_PI / 2) * Rpy(M_PI / 2, 0, M_PI / 2);
   const nlohmann::json result = Json(ur3_result_);
-  const ReferenceRobot ur3 = Reference(result, "ur3", "configs/robots/ur3.yaml");
+  const ReferenceRobot ur3 = Reference(result, "ur3", "configs/robots/ur3_vsb2020.yaml");
   Mismatch mismatch;
   for (const auto& q : RandomJointVectors(6, 8)) {
     Pose T_base_tool0 = Pose::Identity();
@@ -303,7 +303,7 @@ TEST_F(Exports, UrKinematicsYamlMatchesTheFittedForwardKinematics) {
 TEST_F(Exports, RobotConfigLoadsAsTheFittedModel) {
   for (const auto& [result_folder, robot, config] :
        std::vector<std::tuple<std::string, std::string, std::string>>{
-           {ur3_result_, "ur3", "configs/robots/ur3.yaml"},
+           {ur3_result_, "ur3", "configs/robots/ur3_vsb2020.yaml"},
            {delta_result_, "delta", "configs/robots/delta.yaml"}}) {
     const std::string path = dir_ + "/exports/" + robot + "_calibrated.yaml";
     Export(result_folder, "--format robot --robot " + robot, robot + "_calibrated.yaml");

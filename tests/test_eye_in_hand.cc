@@ -71,7 +71,7 @@ TEST(EyeInHand, SimulateRunAndEvaluateOnTheCommandLine) {
   std::string job = testing::ReplaceOnce(job_text, "../../results/ur3_eye_in_hand\n",
                                          dir + "/rec\n");
   job = testing::ReplaceOnce(job, "../../results/ur3_eye_in_hand_fit", dir + "/fit");
-  job = testing::ReplaceOnce(job, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   testing::WriteText(dir + "/job.yaml", job);
   const auto run = testing::RunCellmetry("run " + dir + "/job.yaml");
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -111,7 +111,7 @@ TEST(EyeInHand, ParkAndMartinSolvesExactMotions) {
 
 // The Jet derivatives (eye_in_hand_residual.h) against central differences, with the model free.
 TEST(EyeInHand, JetDerivativesMatchCentralDifferences) {
-  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml"));
+  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
   const auto model = testing::Plugins().CreateRobotModel("serial_mdh", config);
   std::vector<double> params;
   for (const auto& p : model->parameters()) params.push_back(p.nominal);
@@ -163,7 +163,7 @@ void WriteCell(const std::string& dir, const std::string& from, const std::strin
       LoadWorkcellSimulation(testing::Source(kSimulation), testing::Plugins());
   *recording = SimulateWorkcell(spec, nullptr);
   std::string job = testing::ReadText(testing::Source(kJob));
-  job = testing::ReplaceOnce(job, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   if (!from.empty()) job = testing::ReplaceOnce(job, from, to);
   testing::WriteText(dir + "/job.yaml", job);
 }

@@ -18,7 +18,7 @@ TEST(EyeToHand, OneStaticCameraWithoutAWorldTargetFindsTheCameraInTheBaseFrame) 
   const std::string dir = testing::TempDirForThisTest("eye_to_hand");
   testing::WriteText(dir + "/sim.yaml",
                      "simulation: workcell\nseed: 3\nrepeats: 1\nrobots:\n  ur3:\n    model: " +
-                         testing::Source("configs/robots/ur3.yaml") +
+                         testing::Source("configs/robots/ur3_vsb2020.yaml") +
                          "\n    base: {xyz: [431, 555, -460], rvec: [0.01, -0.02, 0.4]}\n"
                          "    tools:\n      tool: {xyz: [3, -2, 66], rvec: [0, 0, 0]}\n"
                          "    poses: {from_recording: " +
@@ -39,7 +39,7 @@ TEST(EyeToHand, OneStaticCameraWithoutAWorldTargetFindsTheCameraInTheBaseFrame) 
   testing::WriteText(dir + "/job.yaml",
                      "job: workcell\nrecording: " + dir + "\noutput: " + dir + "/fit\n"
                      "world_target: none\nrobots:\n  ur3:\n    model: " +
-                         testing::Source("configs/robots/ur3.yaml") +
+                         testing::Source("configs/robots/ur3_vsb2020.yaml") +
                          "\n    tools:\n      tool: {free: [x, y, z]}\n"
                          "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
   const WorkcellJob job =

@@ -12,7 +12,7 @@ WorkcellJob SimBJobWithBaseStart(const std::string& dir, const std::string& star
   testing::WriteText(dir + "/job.yaml",
                      "job: workcell\nrecording: " + testing::Source("tests/data/vsb/sim_b") +
                          "\noutput: " + dir + "/fit\nrobots:\n  ur3:\n    model: " +
-                         testing::Source("configs/robots/ur3.yaml") +
+                         testing::Source("configs/robots/ur3_vsb2020.yaml") +
                          "\n    base: {free: all, start: " + start +
                          "}\n    tools:\n      tool: {free: [x, y, z]}\n"
                          "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");

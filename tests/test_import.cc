@@ -815,8 +815,8 @@ class ImportEveryConvention : public ::testing::TestWithParam<Variant> {
     std::string spec =
         testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
     spec = testing::ReplaceOnce(
-        spec, "../robots/ur3.yaml",
-        testing::Source("configs/robots/ur3.yaml") + "\n    payloads_kg: [0, 0.75, 1.5]");
+        spec, "../robots/ur3_vsb2020.yaml",
+        testing::Source("configs/robots/ur3_vsb2020.yaml") + "\n    payloads_kg: [0, 0.75, 1.5]");
     spec = testing::ReplaceOnce(spec, "../../tests/data/vsb/sim_b",
                                 testing::Source("tests/data/vsb/sim_b"));
     spec = testing::ReplaceOnce(spec, "repeats: 1", "repeats: 2");

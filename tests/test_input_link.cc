@@ -28,7 +28,7 @@ struct Linked {
 TEST(InputLink, ATranslationsSigmaFromTheInputsDoesNotDependOnTheFitsStart) {
   const std::string dir = testing::TempDirForThisTest("input_link");
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
                              testing::Source("tests/data/vsb/sim_b"));
   testing::WriteText(dir + "/sim.yaml", sim);
@@ -37,7 +37,7 @@ TEST(InputLink, ATranslationsSigmaFromTheInputsDoesNotDependOnTheFitsStart) {
   testing::WriteText(
       dir + "/job.yaml",
       "job: workcell\nrecording: " + dir + "/none\nrobots:\n  ur3:\n    model: " +
-          testing::Source("configs/robots/ur3.yaml") +
+          testing::Source("configs/robots/ur3_vsb2020.yaml") +
           "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n" +
           testing::kTwoCameraNoiseYaml +
           "uncertain_inputs:\n  effects:\n    - {sigma: 0.005, effect: {type: camera_intrinsics, "

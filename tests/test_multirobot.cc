@@ -225,8 +225,8 @@ TEST(DuplicateToolNames, RefusedBySimulateAtTheSecondKey) {
   text = testing::ReplaceOnce(text, "      tool: {xyz: [0.5", "      gripper: {xyz: [0.5");
   text = testing::ReplaceOnce(text, "model: ../robots/ur5e.yaml",
                               "model: " + testing::Source("configs/robots/ur5e.yaml"));
-  text = testing::ReplaceOnce(text, "model: ../robots/ur3.yaml",
-                              "model: " + testing::Source("configs/robots/ur3.yaml"));
+  text = testing::ReplaceOnce(text, "model: ../robots/ur3_vsb2020.yaml",
+                              "model: " + testing::Source("configs/robots/ur3_vsb2020.yaml"));
   testing::WriteText(dir + "/sim.yaml", text);
   const auto r = testing::RunCellmetry("simulate " + dir + "/sim.yaml -o " + dir + "/out");
   testing::ExpectOneLineError(r, "sim.yaml:26:7:",

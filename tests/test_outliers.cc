@@ -34,7 +34,7 @@ class Outliers : public ::testing::Test {
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
     sim =
-        testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+        testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
     sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
                                testing::Source("tests/data/vsb/sim_b"));
     testing::WriteText(dir + "/sim.yaml", sim);
@@ -43,7 +43,7 @@ class Outliers : public ::testing::Test {
     testing::WriteText(
         dir + "/job.yaml",
         "job: workcell\nrecording: " + dir + "/none\nrobots:\n  ur3:\n    model: " +
-            testing::Source("configs/robots/ur3.yaml") +
+            testing::Source("configs/robots/ur3_vsb2020.yaml") +
             "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n" +
             testing::kTwoCameraNoiseYaml + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
     job_ = LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(), false);

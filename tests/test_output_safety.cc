@@ -32,7 +32,7 @@ class OutputSafety : public ::testing::Test {
     testing::WriteText(dir_ + "/job.yaml",
                        "job: workcell\nrecording: " + recording_ + "\noutput: " + output +
                            "\nrobots:\n  ur3:\n    model: " +
-                           testing::Source("configs/robots/ur3.yaml") +
+                           testing::Source("configs/robots/ur3_vsb2020.yaml") +
                            "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n"
                            "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
   }

@@ -53,7 +53,7 @@ TEST(Registry, EveryPluginHasAOneLineDescriptionAndDocumentedOptions) {
 TEST(Registry, DocumentedOptionsAreAcceptedKeysAndOthersAreNot) {
   Registry& registry = testing::Plugins();
   const auto ur3 = registry.CreateRobotModel(
-      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml")));
+      "serial_mdh", ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml")));
   for (const auto& info : registry.List()) {
     SCOPED_TRACE(info.name);
     auto create = [&](const std::string& yaml) {
@@ -166,7 +166,7 @@ class ExternalPlugin : public ::testing::Test {
                             "plugin_paths: [" + plugins() + "]\n"
                             "robots:\n"
                             "  ur3:\n"
-                            "    model: " + testing::Source("configs/robots/ur3.yaml") + "\n"
+                            "    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") + "\n"
                             "    base: {free: all}\n"
                             "    tools:\n"
                             "      tool: {xyz: [0, 0, 0], free: [x, y, z]}\n"

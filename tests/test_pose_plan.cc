@@ -22,7 +22,7 @@ class PosePlanning : public ::testing::Test {
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
     sim =
-        testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+        testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
     sim = testing::ReplaceOnce(sim, "random: 150", "random: 60");
     sim = testing::ReplaceOnce(sim, "lower: [-6.2,", "lower: [0.5,");   // joint 1 barely moves
     sim = testing::ReplaceOnce(sim, "upper: [6.2,", "upper: [0.55,");

@@ -27,7 +27,7 @@ constexpr double kCompliance = 3e-5;  // rad/(N m): 0.4 mrad at the UR3's ~13 N 
 // held, and a constant payload; joint 2's compliance (the job's link masses) concealed in it.
 WorkcellSimulationSpec ShoulderHeldCell(const std::string& dir) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "random: 150", "random: 60");
   sim = testing::ReplaceOnce(sim, "lower: [-6.2, 2.4, -2.2, -6.2, -6.2, -6.2]",
                              "lower: [-6.2, 3.3, -1.0, -1.6, 1.5, -6.2]");
@@ -44,8 +44,8 @@ WorkcellSimulationSpec ShoulderHeldCell(const std::string& dir) {
 // is the base's rotation, the wrist's are held by these poses as well as by the tool's).
 DiagnosisJob JobWithJointOffsets(const std::string& dir) {
   std::string job = testing::ReadText(testing::Source("configs/jobs/ur3_diagnose.yaml"));
-  job = testing::ReplaceOnce(job, "model: ../robots/ur3.yaml",
-                             "model: " + testing::Source("configs/robots/ur3.yaml"));
+  job = testing::ReplaceOnce(job, "model: ../robots/ur3_vsb2020.yaml",
+                             "model: " + testing::Source("configs/robots/ur3_vsb2020.yaml"));
   job = testing::ReplaceOnce(job, "    base: {free: all}\n",
                              "    base: {free: all}\n    free_model: [j2.offset, j3.offset]\n");
   testing::WriteText(dir + "/job.yaml", job);

@@ -30,7 +30,7 @@ constexpr unsigned kSeed = 1004;         // the suite's 4th seed of the case
 // recording's noise drawn from `kSeed` as the physics suite draws it.
 WorkcellSimulationSpec Joint2ComplianceCell(const std::string& dir) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
   spec.seed = kSeed;

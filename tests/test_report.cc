@@ -129,7 +129,7 @@ TEST(Report, ManyResidualRowsAreBinnedNotDropped) {
 TEST(Report, DiagnoseShowsTheAcceptedEffectsSignature) {
   const std::string dir = testing::TempDirForThisTest("report");
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3.yaml", testing::Source("configs/robots/ur3.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());

@@ -11,7 +11,7 @@ namespace cellmetry {
 namespace {
 
 std::unique_ptr<RobotModel> Ur3() {
-  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml"));
+  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
   return testing::Plugins().CreateRobotModel("serial_mdh", config);
 }
 

@@ -18,7 +18,7 @@ namespace cellmetry {
 namespace {
 
 std::shared_ptr<const RobotModel> Ur3() {
-  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3.yaml"));
+  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
   return testing::Plugins().CreateRobotModel("serial_mdh", config);
 }
 
@@ -298,7 +298,7 @@ TEST(SimulatedWorkcell, TwoRobotsTwoCamerasRecoverBothBases) {
 // A noise-free UR3 cell seen by an ideal cam1 and by cam2 as given (a YAML flow map).
 std::string CellWithCam2(const std::string& cam2) {
   return "simulation: workcell\nseed: 3\nrobots:\n  ur3:\n    model: " +
-         testing::Source("configs/robots/ur3.yaml") +
+         testing::Source("configs/robots/ur3_vsb2020.yaml") +
          "\n    base: {xyz: [431, 555, -460], rvec: [0, 0, 0]}\n"
          "    tools: {tool: {xyz: [0, 0, 66]}}\n"
          "    poses: {random: 80, lower: [-3.1, 2.4, -2.2, -3.1, -3.1, -3.1],\n"

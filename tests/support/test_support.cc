@@ -115,7 +115,7 @@ const char kTwoCameraNoiseYaml[] =
 
 WorkcellSimulationSpec SimulateScaledToolBoard(const std::string& dir, double scale) {
   std::string sim = ReadText(Source("configs/simulations/ur3_two_cameras.yaml"));
-  sim = ReplaceOnce(sim, "../robots/ur3.yaml", Source("configs/robots/ur3.yaml"));
+  sim = ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", Source("configs/robots/ur3_vsb2020.yaml"));
   sim = ReplaceOnce(sim, "../../tests/data/vsb/sim_b", Source("tests/data/vsb/sim_b"));
   WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", Plugins());
@@ -150,8 +150,8 @@ void ConcealJointCompliance(WorkcellSimulationSpec* spec, int joint, double comp
 
 DiagnosisJob Ur3DiagnoseJob(const std::string& dir) {
   const std::string job = ReplaceOnce(ReadText(Source("configs/jobs/ur3_diagnose.yaml")),
-                                      "model: ../robots/ur3.yaml",
-                                      "model: " + Source("configs/robots/ur3.yaml"));
+                                      "model: ../robots/ur3_vsb2020.yaml",
+                                      "model: " + Source("configs/robots/ur3_vsb2020.yaml"));
   WriteText(dir + "/job.yaml", job);
   DiagnosisJob loaded = LoadDiagnosisJob(dir + "/job.yaml", Plugins(), false);
   loaded.options.bootstrap = 30;
