@@ -160,6 +160,8 @@ TEST(ReportLayout, APointAboveTheFencesIsATriangleAtTheTopEdgeAndCounted) {
   EXPECT_GE(y_ticks, 3);
   ExpectMarksInPlotArea(figure);
   ExpectLegendBesideThePlot(figure);
+  // The legend takes its room from the data area: the scatter keeps its width (three in a row).
+  EXPECT_NE(figure.find("viewBox=\"0 0 380.0 240.0\""), std::string::npos);
 }
 
 TEST(ReportLayout, AnUnfencedScatterHoldsEveryPoint) {

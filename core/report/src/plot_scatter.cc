@@ -82,16 +82,19 @@ std::string ScatterPlot(const ScatterSpec& spec) {
     ys.insert(ys.end(), s.y.begin(), s.y.end());
     total += std::min(s.x.size(), s.y.size());
   }
-  SvgPlot plot(spec.kind, spec.width, spec.height);
+  std::vector<std::pair<std::string, std::string>> legend;
+  for (size_t k = 0; spec.series.size() > 1 && k < spec.series.size(); ++k) {
+    legend.push_back({SeriesColor(static_cast<int>(k)), spec.series[k].name});
+  }
+  // The legend takes its room from the data area: scatters sit three in a row.
+  SvgPlot plot(spec.kind, spec.width - SvgPlot::LegendWidth(legend), spec.height);
   const Range x = RangeOf(xs), y = YRange(spec, ys);
   plot.SetX(x, spec.x_label);
   plot.SetY(y, spec.y_label);
   for (double h : spec.hlines) plot.HLine(h, "#c33");
-  std::vector<std::pair<std::string, std::string>> legend;
   const bool binned = total > static_cast<size_t>(kMaxMarks);
   for (size_t k = 0; k < spec.series.size(); ++k) {
     const std::string color = SeriesColor(static_cast<int>(k));
-    if (spec.series.size() > 1) legend.push_back({color, spec.series[k].name});
     if (binned) {
       DrawDensity(spec.series[k], color, x, y, &plot);
     } else {

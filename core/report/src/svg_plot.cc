@@ -62,6 +62,16 @@ std::vector<double> WithinFences(const std::vector<double>& values, double fence
   return inside;
 }
 
+constexpr size_t kLegendLongest = 30;  // characters shown; the full label is the entry's title
+constexpr double kLegendCharPx = 6.4, kLegendRowPx = 14;
+
+std::string LegendLabel(const std::string& label) {
+  if (label.size() <= kLegendLongest) return label;
+  size_t cut = kLegendLongest - 1;
+  while (cut > 0 && (label[cut] & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
+  return label.substr(0, cut) + "~";
+}
+
 }  // namespace
 
 Range RangeOf(const std::vector<double>& values, bool with_zero, double pad) {
@@ -223,28 +233,29 @@ void SvgPlot::Legend(const std::vector<std::pair<std::string, std::string>>& col
   legend_ = color_label;
 }
 
+double SvgPlot::LegendWidth(const std::vector<std::pair<std::string, std::string>>& color_label) {
+  size_t longest = 0;
+  for (const auto& entry : color_label) {
+    longest = std::max(longest, LegendLabel(entry.second).size());
+  }
+  return color_label.empty() ? 0.0 : 16 + kLegendCharPx * static_cast<double>(longest);
+}
+
 // The legend as a column to the right of the data area: `width` and `height` grow to hold it.
 std::string SvgPlot::LegendSvg(double* width, double* height) const {
   if (legend_.empty()) return "";
-  constexpr size_t kLongest = 30;   // characters shown; the full label is the entry's title
-  constexpr double kCharPx = 6.4, kRowPx = 14;
   const double lx = width_ - right_ + 12;
   std::ostringstream s;
   s << "<g class=\"legend\" data-role=\"legend\">";
   double y = top_;
-  size_t longest = 0;
   for (const auto& [color, label] : legend_) {
-    size_t cut = std::min(label.size(), kLongest - 1);
-    while (cut > 0 && cut < label.size() && (label[cut] & 0xC0) == 0x80) --cut;  // UTF-8 whole
-    const std::string shown = label.size() > kLongest ? label.substr(0, cut) + "~" : label;
-    longest = std::max(longest, shown.size());
     s << "<g>" << TitleTag(label) << "<rect x=\"" << F(lx) << "\" y=\"" << F(y + 2)
       << "\" width=\"9\" height=\"9\" fill=\"" << color << "\"/><text x=\"" << F(lx + 12)
-      << "\" y=\"" << F(y + 10) << "\">" << EscapeXml(shown) << "</text></g>";
-    y += kRowPx;
+      << "\" y=\"" << F(y + 10) << "\">" << EscapeXml(LegendLabel(label)) << "</text></g>";
+    y += kLegendRowPx;
   }
   s << "</g>";
-  *width = std::max(*width, lx + 12 + kCharPx * static_cast<double>(longest) + 6);
+  *width = std::max(*width, width_ + LegendWidth(legend_));
   *height = std::max(*height, y + 6);
   return s.str();
 }

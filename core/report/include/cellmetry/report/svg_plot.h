@@ -80,6 +80,9 @@ class SvgPlot {
   void HLine(double y, const std::string& color, const std::string& dash = "4 3");
   void VLine(double x, const std::string& color, const std::string& dash = "4 3");
   void Legend(const std::vector<std::pair<std::string, std::string>>& color_label);
+  // How much wider the SVG grows for this legend (0 for none): a plot that must keep its total
+  // width (a grid of three) is made this much narrower.
+  static double LegendWidth(const std::vector<std::pair<std::string, std::string>>& color_label);
   void Caption(std::string text) { caption_ = std::move(text); }
 
   int marks() const { return marks_; }
