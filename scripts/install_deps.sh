@@ -10,7 +10,7 @@ packages=(
   libsuitesparse-dev   # SuiteSparseQR: the sparse R factor behind identifiability and sigma
   opencv-doc   # OpenCV's ArUco/ChArUco and calibration photographs: real images the detector tests use
   liburdfdom-dev   # the URDF parser: the urdf robot model, and test_exports reading `export --format urdf`
-  chromium   # tests only: test_report opens every report.html headless (console, plots drawn)
+  chromium   # tests only: test_report, test_report_browser open report.html headless (plots, layout)
   clang-14 libclang-rt-14-dev   # scripts/sanitize.sh, scripts/fuzz.sh: ASan, UBSan, libFuzzer
 )
 missing=()

@@ -1,9 +1,10 @@
 // report.html (core/report): the pages `run` and `diagnose` write open in a browser without a
 // network, log nothing to the console, and draw every plot. Each page is opened in headless
 // Chromium (Debian's `chromium`): --dump-dom gives the DOM after the page's load check ran
-// (html_page.h: data-plots, data-plots-drawn), --enable-logging=stderr gives every console
-// message, --screenshot keeps a picture in <build>/test_artifacts/report/. Without Chromium the
-// DOM-level checks still run on the file and the browser checks are skipped, by name.
+// (html_page.h: data-plots, data-plots-drawn, data-legend-overlaps), --enable-logging=stderr
+// gives every console message, --screenshot keeps a picture in <build>/test_artifacts/report/.
+// Without Chromium the DOM-level checks still run on the file and the browser checks are
+// skipped, by name.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -66,6 +67,8 @@ int OpenInChromium(const std::string& path, const std::string& name) {
   EXPECT_TRUE(std::regex_search(page, drawn, std::regex(R"re(data-plots-drawn="(\d+)")re")));
   if (plots.empty() || drawn.empty()) return 0;
   EXPECT_EQ(plots[1].str(), drawn[1].str()) << "plots without a box or marks";
+  EXPECT_NE(page.find("data-legend-overlaps=\"0\""), std::string::npos)
+      << "a legend drawn over a plot's data area";
   EXPECT_TRUE(fs::exists(Artifacts() + "/" + name + ".png"));
   return std::stoi(plots[1].str());
 }

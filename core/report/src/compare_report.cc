@@ -1,7 +1,8 @@
-// CompareReportHtml (reports.h): one plot per numeric column of a comparison's table.csv, each
-// configuration (its text columns) with the mean over seeds and its 95 % t-interval when the
-// table has a seed column (or a column pair X_lo / X_hi as X's interval); then table.md rendered
-// (its tables, recommendation lists and notes) and every row of table.csv.
+// CompareReportHtml (reports.h): one plot per numeric result column of a comparison's table.csv
+// that varies (PlottedColumns says the rule), each configuration (its settings) with the mean
+// over seeds and its 95 % t-interval when the table has a seed column (or a column pair X_lo /
+// X_hi as X's interval); then table.md rendered (its tables, recommendation lists and notes) and
+// every row of table.csv.
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -65,11 +66,29 @@ void AddMarkdown(const std::string& markdown, HtmlPage* page) {
   flush();
 }
 
+// Which columns of table.csv say what a row was run with (settings) and which what it measured.
 struct Columns {
   std::vector<bool> numeric;
-  std::vector<std::string> labels;  // per data row: its text columns joined
+  std::vector<bool> setting;        // a label or setting: text, or a numeric setting by name
+  std::vector<std::string> labels;  // per data row: its settings joined (the configuration)
   int seed = -1;                    // the "seed" column, if any
 };
+
+// A numeric column named for what a row was run with rather than what it measured: the seed,
+// the size of a pose set, a count of inputs, an index or id.
+bool IsSettingName(const std::string& name) {
+  auto ends = [&](const std::string& tail) {
+    return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(),
+                                                      tail) == 0;
+  };
+  for (const char* exact : {"seed", "seeds", "size", "count", "n", "index", "id"}) {
+    if (name == exact) return true;
+  }
+  for (const char* tail : {"_seed", "_size", "_count", "_index", "_id"}) {
+    if (ends(tail)) return true;
+  }
+  return name.rfind("n_", 0) == 0;
+}
 
 Columns ClassifyColumns(const std::vector<std::vector<std::string>>& table) {
   const auto& header = table[0];
@@ -83,16 +102,54 @@ Columns ClassifyColumns(const std::vector<std::vector<std::string>>& table) {
   }
   for (size_t c = 0; c < header.size(); ++c) {
     if (header[c] == "seed" && columns.numeric[c]) columns.seed = static_cast<int>(c);
+    columns.setting.push_back(!columns.numeric[c] || IsSettingName(header[c]));
   }
   for (size_t r = 1; r < table.size(); ++r) {
     std::string label;
     for (size_t c = 0; c < header.size() && c < table[r].size(); ++c) {
-      if (columns.numeric[c] || header[c].find("stop_reason") != std::string::npos) continue;
+      if (!columns.setting[c] || static_cast<int>(c) == columns.seed ||
+          header[c].find("stop_reason") != std::string::npos) {
+        continue;
+      }
       label += (label.empty() ? "" : " / ") + table[r][c];
     }
     columns.labels.push_back(label);
   }
   return columns;
+}
+
+// Whether every row holds the same number in column c.
+bool IsConstant(const std::vector<std::vector<std::string>>& table, size_t c) {
+  double first = 0, v = 0;
+  IsNumber(table[1][c], &first);
+  for (size_t r = 2; r < table.size(); ++r) {
+    IsNumber(table[r][c], &v);
+    if (!(v == first) && !(std::isnan(v) && std::isnan(first))) return false;
+  }
+  return true;
+}
+
+// The rule for what the page plots: a numeric result column that varies between rows. Not
+// plotted: settings and labels (text, the seed, sizes, counts: IsSettingName), which say what a
+// row is, not what it measured; a column equal in every row (an all-zero floor that was not
+// computed), whose plot would say nothing the table does not; X_lo / X_hi, drawn as X's interval.
+// `skipped` gets why each other numeric column is not plotted, for the page's note.
+std::vector<size_t> PlottedColumns(const std::vector<std::vector<std::string>>& table,
+                                   const Columns& columns, std::vector<std::string>* skipped) {
+  const auto& header = table[0];
+  std::vector<size_t> plotted;
+  for (size_t c = 0; c < header.size(); ++c) {
+    const std::string end = header[c].size() > 3 ? header[c].substr(header[c].size() - 3) : "";
+    if (!columns.numeric[c] || end == "_lo" || end == "_hi") continue;
+    if (columns.setting[c]) {
+      skipped->push_back(header[c] + " (a setting)");
+    } else if (IsConstant(table, c)) {
+      skipped->push_back(header[c] + " (" + table[1][c] + " in every row)");
+    } else {
+      plotted.push_back(c);
+    }
+  }
+  return plotted;
 }
 
 // Column c per configuration: over seeds, the mean and its 95 % t-interval; one row per
@@ -151,19 +208,22 @@ std::string CompareReportHtml(const std::string& csv, const std::string& markdow
   const Columns columns = ClassifyColumns(table);
   page.Section("Per configuration", "plots");
   page.Note(columns.seed >= 0
-                ? "Each numeric column of table.csv per configuration: the mean over seeds "
-                  "(dot) and its 95 % Student-t interval (bar)."
-                : "Each numeric column of table.csv; each row a configuration.");
+                ? "Each numeric result column of table.csv that varies, per configuration: the "
+                  "mean over seeds (dot) and its 95 % Student-t interval (bar)."
+                : "Each numeric result column of table.csv that varies; each row a "
+                  "configuration.");
+  std::vector<std::string> skipped;
+  const std::vector<size_t> plotted = PlottedColumns(table, columns, &skipped);
   page.BeginGrid();
-  for (size_t c = 0; c < header.size(); ++c) {
-    const std::string end = header[c].size() > 3 ? header[c].substr(header[c].size() - 3) : "";
-    if (!columns.numeric[c] || static_cast<int>(c) == columns.seed || end == "_lo" ||
-        end == "_hi") {
-      continue;  // not a figure, the seed itself, or drawn as an interval
-    }
+  for (size_t c : plotted) {
     page.Raw(IntervalPlot("compare_column", ColumnRows(table, columns, c), header[c], ""));
   }
   page.EndGrid();
+  if (!skipped.empty()) {
+    std::string list;
+    for (const auto& s : skipped) list += (list.empty() ? "" : ", ") + s;
+    page.Note("Not plotted: " + list + ".");
+  }
   page.Section("Comparison", "comparison");
   AddMarkdown(markdown, &page);
   page.Section("Every row of table.csv", "table");

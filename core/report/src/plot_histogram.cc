@@ -12,7 +12,7 @@ std::string NormalHistogram(const std::vector<double>& whitened, const std::stri
   constexpr int kBins = 48;
   const double width = 2 * kEdge / kBins;
   std::vector<int> counts(kBins, 0);
-  int n = 0, beyond3 = 0, beyond_edge = 0;
+  int n = 0, beyond3 = 0, below_edge = 0, above_edge = 0;
   double sum = 0, sum2 = 0;
   for (double v : whitened) {
     if (!std::isfinite(v)) continue;
@@ -20,7 +20,10 @@ std::string NormalHistogram(const std::vector<double>& whitened, const std::stri
     sum += v;
     sum2 += v * v;
     if (std::abs(v) > 3) ++beyond3;
-    if (std::abs(v) > kEdge) ++beyond_edge;
+    if (v < -kEdge || v > kEdge) {
+      ++(v < 0 ? below_edge : above_edge);
+      continue;  // not in a bin: a mark at the edge stands for it
+    }
     ++counts[std::clamp(static_cast<int>((v + kEdge) / width), 0, kBins - 1)];
   }
   std::vector<double> density(kBins, 0.0);
@@ -44,14 +47,15 @@ std::string NormalHistogram(const std::vector<double>& whitened, const std::stri
     gy.push_back(std::exp(-0.5 * x * x) / std::sqrt(2 * M_PI));
   }
   plot.Polyline(gx, gy, "#c33", 1.8);
+  plot.BeyondMark(-2 * kEdge, 0, "#7a9cc6", std::to_string(below_edge) + " below -6",
+                  below_edge);
+  plot.BeyondMark(2 * kEdge, 0, "#7a9cc6", std::to_string(above_edge) + " above 6", above_edge);
   plot.Legend({{"#7a9cc6", "residuals"}, {"#c33", "N(0,1)"}});
   const double mean = n > 0 ? sum / n : 0.0;
   const double sd = n > 1 ? std::sqrt(std::max(0.0, (sum2 - n * mean * mean) / (n - 1))) : 0.0;
   plot.Caption(std::to_string(n) + " values: mean " + Num(mean, 3) + ", sd " + Num(sd, 3) +
-               "; " + Num(n > 0 ? 100.0 * beyond3 / n : 0.0, 3) + " % beyond 3 (N(0,1): 0.27 %)" +
-               (beyond_edge > 0 ? "; " + std::to_string(beyond_edge) +
-                                      " beyond 6 counted in the edge bins"
-                                : ""));
+               "; " + Num(n > 0 ? 100.0 * beyond3 / n : 0.0, 3) +
+               " % beyond 3 (N(0,1): 0.27 %).");
   return plot.Svg();
 }
 

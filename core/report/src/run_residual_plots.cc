@@ -52,6 +52,7 @@ void ResidualOrderSection(const WorkcellResult& r, const Recording& recording, H
       spec.y_label = camera + " " + kAxis[axis] + " residual (mm)";
       spec.series = Values(targets);
       spec.symmetric_y = true;
+      spec.fenced_y = true;  // one gross residual must not flatten the band into a line
       page->Raw(ScatterPlot(spec));
     }
   }
@@ -96,6 +97,7 @@ void ResidualImageSection(const WorkcellResult& r, const Recording& recording, H
       spec.y_label = panel < 3 ? std::string(kAxis[panel]) + " residual (mm)" : "|residual| (mm)";
       spec.series = Values(targets);
       spec.symmetric_y = panel < 3;
+      spec.fenced_y = true;
       page->Raw(ScatterPlot(spec));
     }
   }

@@ -37,6 +37,41 @@ std::string TitleTag(const std::string& title) {
   return title.empty() ? "" : "<title>" + EscapeXml(title) + "</title>";
 }
 
+// `values`' finite values within their Tukey far fences, all of them where the fences say
+// nothing (few values, no spread between the quartiles).
+std::vector<double> WithinFences(const std::vector<double>& values, double fence) {
+  std::vector<double> finite;
+  for (double v : values) {
+    if (std::isfinite(v)) finite.push_back(v);
+  }
+  if (finite.size() < 20) return finite;
+  std::vector<double> sorted = finite;
+  std::sort(sorted.begin(), sorted.end());
+  auto quantile = [&](double q) {
+    const double at = q * static_cast<double>(sorted.size() - 1);
+    const size_t below = static_cast<size_t>(at);
+    const size_t above = std::min(below + 1, sorted.size() - 1);
+    return sorted[below] + (at - static_cast<double>(below)) * (sorted[above] - sorted[below]);
+  };
+  const double q1 = quantile(0.25), q3 = quantile(0.75), iqr = q3 - q1;
+  if (!(iqr > 0)) return finite;
+  std::vector<double> inside;
+  for (double v : finite) {
+    if (v >= q1 - fence * iqr && v <= q3 + fence * iqr) inside.push_back(v);
+  }
+  return inside;
+}
+
+constexpr size_t kLegendLongest = 30;  // characters shown; the full label is the entry's title
+constexpr double kLegendCharPx = 6.4, kLegendRowPx = 14;
+
+std::string LegendLabel(const std::string& label) {
+  if (label.size() <= kLegendLongest) return label;
+  size_t cut = kLegendLongest - 1;
+  while (cut > 0 && (label[cut] & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
+  return label.substr(0, cut) + "~";
+}
+
 }  // namespace
 
 Range RangeOf(const std::vector<double>& values, bool with_zero, double pad) {
@@ -58,6 +93,19 @@ Range RangeOf(const std::vector<double>& values, bool with_zero, double pad) {
 }
 
 Range Union(Range a, Range b) { return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)}; }
+
+Range FencedRangeOf(const std::vector<std::vector<double>>& populations, double fence,
+                    double pad) {
+  std::vector<double> all, kept;
+  for (const auto& values : populations) {
+    all.insert(all.end(), values.begin(), values.end());
+    const std::vector<double> inside = WithinFences(values, fence);
+    kept.insert(kept.end(), inside.begin(), inside.end());
+  }
+  const Range every = RangeOf(all, false, pad), fenced = RangeOf(kept, false, pad);
+  const bool gross = (every.hi - every.lo) > 2 * (fenced.hi - fenced.lo);
+  return gross && !kept.empty() ? fenced : every;
+}
 
 std::string Num(double value, int digits) {
   if (!std::isfinite(value)) return std::isnan(value) ? "n/a" : (value > 0 ? "inf" : "-inf");
@@ -96,13 +144,49 @@ double SvgPlot::Py(double y) const {
   return height_ - bottom_ - (y - y_.lo) / (y_.hi - y_.lo) * (height_ - top_ - bottom_);
 }
 
+bool SvgPlot::Holds(double x, double y) const {
+  return x >= std::min(x_.lo, x_.hi) && x <= std::max(x_.lo, x_.hi) &&
+         y >= std::min(y_.lo, y_.hi) && y <= std::max(y_.lo, y_.hi);
+}
+
 void SvgPlot::Circle(double x, double y, double r_px, const std::string& color,
                      const std::string& title, double opacity) {
   if (!std::isfinite(x) || !std::isfinite(y)) return;
+  if (!Holds(x, y)) {
+    BeyondMark(x, y, color, title);
+    return;
+  }
   body_ += "<circle cx=\"" + F(Px(x)) + "\" cy=\"" + F(Py(y)) + "\" r=\"" + F(r_px) +
            "\" fill=\"" + color + "\" fill-opacity=\"" + Num(opacity, 2) + "\">" +
            TitleTag(title) + "</circle>";
   ++marks_;
+}
+
+void SvgPlot::BeyondMark(double x, double y, const std::string& color, const std::string& title,
+                         int count) {
+  if (!std::isfinite(x) || !std::isfinite(y) || count <= 0) return;
+  const double ex = std::clamp(x, std::min(x_.lo, x_.hi), std::max(x_.lo, x_.hi));
+  const double ey = std::clamp(y, std::min(y_.lo, y_.hi), std::max(y_.lo, y_.hi));
+  const double px = Px(ex), py = Py(ey);
+  // Outward: from the edge point toward where the point lies, in pixels.
+  double ux = Px(x) - px, uy = Py(y) - py;
+  const double length = std::hypot(ux, uy);
+  if (length > 0) {
+    ux /= length, uy /= length;
+  } else {
+    ux = 0, uy = -1;
+  }
+  const double tip = 7, half = 4.5;  // px: a triangle larger than any point, so it stands out
+  const std::string points = F(px + tip * ux) + "," + F(py + tip * uy) + " " +
+                             F(px - half * uy) + "," + F(py + half * ux) + " " +
+                             F(px + half * uy) + "," + F(py - half * ux);
+  const std::string note = (count > 1 ? std::to_string(count) + " points" : "a point") +
+                           " beyond the axis, drawn at its edge";
+  body_ += "<polygon class=\"beyond\" points=\"" + points + "\" fill=\"" + color +
+           "\" stroke=\"#222\" stroke-width=\"0.8\">" +
+           TitleTag(title.empty() ? note : title + " (" + note + ")") + "</polygon>";
+  ++marks_;
+  beyond_ += count;
 }
 
 void SvgPlot::Rect(double x0, double y0, double x1, double y1, const std::string& color,
@@ -149,14 +233,52 @@ void SvgPlot::Legend(const std::vector<std::pair<std::string, std::string>>& col
   legend_ = color_label;
 }
 
+double SvgPlot::LegendWidth(const std::vector<std::pair<std::string, std::string>>& color_label) {
+  size_t longest = 0;
+  for (const auto& entry : color_label) {
+    longest = std::max(longest, LegendLabel(entry.second).size());
+  }
+  return color_label.empty() ? 0.0 : 16 + kLegendCharPx * static_cast<double>(longest);
+}
+
+// The legend as a column to the right of the data area: `width` and `height` grow to hold it.
+std::string SvgPlot::LegendSvg(double* width, double* height) const {
+  if (legend_.empty()) return "";
+  const double lx = width_ - right_ + 12;
+  std::ostringstream s;
+  s << "<g class=\"legend\" data-role=\"legend\">";
+  double y = top_;
+  for (const auto& [color, label] : legend_) {
+    s << "<g>" << TitleTag(label) << "<rect x=\"" << F(lx) << "\" y=\"" << F(y + 2)
+      << "\" width=\"9\" height=\"9\" fill=\"" << color << "\"/><text x=\"" << F(lx + 12)
+      << "\" y=\"" << F(y + 10) << "\">" << EscapeXml(LegendLabel(label)) << "</text></g>";
+    y += kLegendRowPx;
+  }
+  s << "</g>";
+  *width = std::max(*width, width_ + LegendWidth(legend_));
+  *height = std::max(*height, y + 6);
+  return s.str();
+}
+
+std::string SvgPlot::CaptionText() const {
+  if (beyond_ == 0) return caption_;
+  const std::string note =
+      (beyond_ == 1 ? std::string("1 point") : std::to_string(beyond_) + " points") +
+      " beyond the axis, drawn at its edge (triangles).";
+  return caption_.empty() ? note : caption_ + " " + note;
+}
+
 std::string SvgPlot::Svg() const {
+  double width = width_, height = height_;
+  const std::string legend = LegendSvg(&width, &height);
   std::ostringstream s;
   s << "<figure class=\"plot\" data-plot=\"" << EscapeXml(kind_) << "\" data-marks=\"" << marks_
-    << "\"><svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << F(width_) << "\" height=\""
-    << F(height_) << "\" viewBox=\"0 0 " << F(width_) << " " << F(height_) << "\">";
+    << "\" data-beyond=\"" << beyond_ << "\"><svg xmlns=\"http://www.w3.org/2000/svg\" width=\""
+    << F(width) << "\" height=\"" << F(height) << "\" viewBox=\"0 0 " << F(width) << " "
+    << F(height) << "\">";
   const double x0 = left_, x1 = width_ - right_, y0 = top_, y1 = height_ - bottom_;
-  s << "<rect class=\"frame\" x=\"" << F(x0) << "\" y=\"" << F(y0) << "\" width=\"" << F(x1 - x0)
-    << "\" height=\"" << F(y1 - y0) << "\"/>";
+  s << "<rect class=\"frame\" data-role=\"plot-area\" x=\"" << F(x0) << "\" y=\"" << F(y0)
+    << "\" width=\"" << F(x1 - x0) << "\" height=\"" << F(y1 - y0) << "\"/>";
   s << "<g class=\"ticks\">";
   for (double t : NiceTicks(x_.lo, x_.hi)) {
     s << "<line x1=\"" << F(Px(t)) << "\" x2=\"" << F(Px(t)) << "\" y1=\"" << F(y1) << "\" y2=\""
@@ -191,15 +313,9 @@ std::string SvgPlot::Svg() const {
     s << "<text class=\"label\" transform=\"translate(12," << F((y0 + y1) / 2)
       << ") rotate(-90)\" text-anchor=\"middle\">" << EscapeXml(y_label_) << "</text>";
   }
-  double lx = x0 + 6;
-  for (const auto& [color, label] : legend_) {
-    s << "<rect x=\"" << F(lx) << "\" y=\"" << F(y0 + 4) << "\" width=\"9\" height=\"9\" fill=\""
-      << color << "\"/><text x=\"" << F(lx + 12) << "\" y=\"" << F(y0 + 12) << "\">"
-      << EscapeXml(label) << "</text>";
-    lx += 18 + 6.2 * static_cast<double>(label.size());
-  }
-  s << "</svg>";
-  if (!caption_.empty()) s << "<figcaption>" << EscapeXml(caption_) << "</figcaption>";
+  s << legend << "</svg>";
+  const std::string caption = CaptionText();
+  if (!caption.empty()) s << "<figcaption>" << EscapeXml(caption) << "</figcaption>";
   s << "</figure>";
   return s.str();
 }

@@ -2,10 +2,17 @@
 //
 // Contract: sections, paragraphs, tables and plots (SvgPlot::Svg markup) are appended in reading
 // order; Html() returns one document whose only script is a check that runs after load: it
-// measures every `figure.plot svg` and sets `data-plots` (how many), `data-plots-drawn` (how many
-// have a nonzero box and at least one mark) on <html>, and `data-report-ready="1"`. Nothing on
-// the page needs that script to be read; it is there so that a browser test (tests/test_report.cc)
-// can see that every plot rendered.
+// measures every `figure.plot svg` and sets on <html> `data-plots` (how many),
+// `data-plots-drawn` (how many have a nonzero box and at least one mark),
+// `data-legend-overlaps` (how many plots' rendered legend box crosses their data area),
+// `data-page-width` (the document's scroll width), `data-window-width` (the window's),
+// `data-tables-scrolling` (how many tables are wider than the page and scroll in their
+// container) and `data-report-ready="1"`. Nothing on the page needs that script to be read; it
+// is there so that the browser tests (tests/test_report.cc, tests/test_report_browser.cc) can
+// see that every plot rendered and the layout holds.
+//
+// Layout: the page fits a 1,400 px window; every table is in a container that scrolls sideways
+// when the table is wider than the page, and long cells wrap.
 #pragma once
 
 #include <string>
