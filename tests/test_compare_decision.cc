@@ -142,6 +142,8 @@ TEST(StopReasonWords, CountsReasonsNotTheirPerRunFigures) {
             "Parameter tolerance reached");
   EXPECT_EQ(StopReasonWords("5000 epochs done (limit); kept epoch 4994, the lowest cost"),
             "5000 epochs done (limit)");
+  EXPECT_EQ(StopReasonWords("predicted cost decrease 2.2e-12 below the tolerance"),
+            "predicted cost decrease below the tolerance");
 }
 
 // Round-off of a noise-free fit (1e-13 mm) is no difference, however consistent.

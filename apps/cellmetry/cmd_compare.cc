@@ -53,8 +53,8 @@ TableComparison LoadMarkers(const std::string& path, int seeds) {
 TableComparison LoadSolvers(const std::string& path, int seeds) {
   auto spec = std::make_shared<SolverCompareSpec>(LoadSolverCompare(path, Registry::Global()));
   if (seeds > 0) spec->seeds = seeds;
-  return {spec->output, [spec](const std::string&) {
-            const auto rows = RunSolverCompare(*spec, Registry::Global());
+  return {spec->output, [spec](const std::string& checkpoint) {
+            const auto rows = RunSolverCompare(*spec, Registry::Global(), checkpoint);
             return std::pair(SolverCompareMarkdown(*spec, rows), SolverCompareCsv(rows));
           }};
 }
@@ -62,8 +62,8 @@ TableComparison LoadSolvers(const std::string& path, int seeds) {
 TableComparison LoadHandEye(const std::string& path, int seeds) {
   auto spec = std::make_shared<HandEyeCompareSpec>(LoadHandEyeCompare(path, Registry::Global()));
   if (seeds > 0) spec->seeds = seeds;
-  return {spec->output, [spec](const std::string&) {
-            const auto rows = RunHandEyeCompare(*spec);
+  return {spec->output, [spec](const std::string& checkpoint) {
+            const auto rows = RunHandEyeCompare(*spec, checkpoint);
             return std::pair(HandEyeCompareMarkdown(*spec, rows), HandEyeCompareCsv(rows));
           }};
 }

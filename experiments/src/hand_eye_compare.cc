@@ -10,6 +10,7 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell.h"
+#include "cellmetry/experiments/checkpoint.h"
 #include "cellmetry/experiments/intervals.h"
 #include "cellmetry/experiments/solver_compare.h"
 #include "opencv_hand_eye.h"
@@ -119,6 +120,34 @@ std::string IntervalText(const std::vector<double>& values, double scale = 1.0) 
          "]";
 }
 
+// One seed's scores, one entry per method in row order ({} where it gave no answer).
+nlohmann::json SeedJson(const std::vector<HandEyeCompareRow>& seed_rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& row : seed_rows) {
+    if (row.position_error_mm.empty()) {
+      out.push_back(nlohmann::json::object());
+      continue;
+    }
+    out.push_back({{"position_error_mm", row.position_error_mm[0]},
+                   {"rotation_error_mrad", row.rotation_error_mrad[0]}, {"time_s", row.time_s[0]}});
+  }
+  return out;
+}
+
+// Appends one seed's scores (SeedJson) to `rows`.
+void ReadSeed(const nlohmann::json& seed, std::vector<HandEyeCompareRow>* rows) {
+  for (size_t m = 0; m < rows->size() && m < seed.size(); ++m) {
+    HandEyeCompareRow& row = (*rows)[m];
+    if (!seed[m].contains("position_error_mm")) {
+      ++row.failed;
+      continue;
+    }
+    row.position_error_mm.push_back(seed[m]["position_error_mm"].get<double>());
+    row.rotation_error_mrad.push_back(seed[m]["rotation_error_mrad"].get<double>());
+    row.time_s.push_back(seed[m]["time_s"].get<double>());
+  }
+}
+
 }  // namespace
 
 std::string HandEyeSetupName(HandEyeSetup setup) {
@@ -146,7 +175,8 @@ HandEyeCompareSpec LoadHandEyeCompare(const std::string& path, Registry& registr
   return spec;
 }
 
-std::vector<HandEyeCompareRow> RunHandEyeCompare(const HandEyeCompareSpec& spec) {
+std::vector<HandEyeCompareRow> RunHandEyeCompare(const HandEyeCompareSpec& spec,
+                                                 const std::string& checkpoint) {
   std::vector<HandEyeCompareRow> rows(1 + OpenCvHandEyeMethods().size());
   rows[0].method = "cellmetry";
   for (size_t m = 0; m < OpenCvHandEyeMethods().size(); ++m) {
@@ -157,15 +187,22 @@ std::vector<HandEyeCompareRow> RunHandEyeCompare(const HandEyeCompareSpec& spec)
   const SolverMaker make_solver = [&] {
     return registry.CreateSolver(spec.job.solver_type, *spec.job.solver_config);
   };
+  Checkpoint done(checkpoint, FileFingerprint(spec.file));
   Progress progress("hand-eye seed", spec.seeds);
   for (int seed = 0; seed < spec.seeds; ++seed) {
+    if (const nlohmann::json* piece = done.Find(std::to_string(seed))) {
+      ReadSeed(*piece, &rows);
+      progress.Resume(1);
+      continue;
+    }
     WorkcellSimulationSpec sim = spec.simulation;
     sim.noise_seed = spec.simulation.noise_seed + 1000u * static_cast<unsigned>(seed + 1);
     const Recording recording = SimulateWorkcell(sim, nullptr);
     if (seed == 0) ValidateJobAgainstRecording(spec.job, recording);
+    std::vector<HandEyeCompareRow> seed_rows(rows.size());
     Clock::time_point start = Clock::now();
     const WorkcellResult result = IdentifyWorkcell(spec.job.problem, recording, make_solver);
-    Score(AnswerOf(result.estimate, spec), truth, SecondsSince(start), &rows[0]);
+    Score(AnswerOf(result.estimate, spec), truth, SecondsSince(start), &seed_rows[0]);
     const HandEyeCaptures captures =
         CapturesOf(recording, spec.job.problem.robots.front(), spec);
     for (size_t m = 0; m < OpenCvHandEyeMethods().size(); ++m) {
@@ -174,11 +211,13 @@ std::vector<HandEyeCompareRow> RunHandEyeCompare(const HandEyeCompareSpec& spec)
       try {
         found = OpenCvHandEye(OpenCvHandEyeMethods()[m], captures);
       } catch (const cv::Exception&) {
-        ++rows[m + 1].failed;
+        ++seed_rows[m + 1].failed;
         continue;
       }
-      Score(found, truth, SecondsSince(start), &rows[m + 1]);
+      Score(found, truth, SecondsSince(start), &seed_rows[m + 1]);
     }
+    done.Put(std::to_string(seed), SeedJson(seed_rows));
+    ReadSeed(SeedJson(seed_rows), &rows);
     progress.Advance();
   }
   return rows;

@@ -3,12 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
-#include <functional>
-#include <iterator>
 #include <random>
 #include <sstream>
 
+#include "cellmetry/experiments/checkpoint.h"
 #include "cellmetry/formats/config_fields.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/imaging/target_pose.h"
@@ -165,9 +163,7 @@ MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& reg
   root.ExpectKeys({"compare", "description", "detectors", "stereo", "static_pose", "captures",
                    "workspace", "render", "seed", "seeds", "output"});
   MarkerComparisonSpec spec;
-  std::ifstream text(path, std::ios::binary);
-  spec.fingerprint = std::to_string(
-      std::hash<std::string>{}(std::string(std::istreambuf_iterator<char>(text), {})));
+  spec.fingerprint = FileFingerprint(path);
   const ConfigNode detectors = root["detectors"];
   for (const auto& label : detectors.Keys()) {
     const ConfigNode block = detectors[label];

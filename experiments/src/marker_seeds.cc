@@ -1,11 +1,10 @@
 // The marker comparison over seeds, with intervals and a recommendation (marker_comparison.h).
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cellmetry/basics/progress.h"
-#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/experiments/checkpoint.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/solver_compare.h"
 
@@ -63,33 +62,21 @@ std::vector<MarkerRow> FromJson(const nlohmann::json& rows) {
   return out;
 }
 
-// The seeds finished before, or nothing when there is no readable checkpoint.
-nlohmann::json ReadCheckpoint(const std::string& path) {
-  if (path.empty()) return nlohmann::json::object();
-  std::ifstream in(path);
-  if (!in) return nlohmann::json::object();
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return nlohmann::json::object();  // torn by a crash while written: start over
-  }
-}
-
 }  // namespace
 
 std::vector<std::vector<MarkerRow>> CompareMarkersOverSeeds(const MarkerComparisonSpec& spec,
                                                             Registry& registry,
                                                             const std::string& checkpoint) {
   std::vector<std::vector<MarkerRow>> per_seed;
-  nlohmann::json done = ReadCheckpoint(checkpoint);
+  Checkpoint done(checkpoint, spec.fingerprint);
   Progress progress("marker comparison seed", spec.seeds);
   for (int i = 0; i < spec.seeds; ++i) {
     MarkerComparisonSpec one = spec;
     one.seed = spec.seed + static_cast<unsigned>(i);
-    const std::string key = spec.fingerprint + "/" + std::to_string(one.seed);
-    if (done.contains(key)) {
+    const std::string key = std::to_string(one.seed);
+    if (const nlohmann::json* piece = done.Find(key)) {
       try {
-        per_seed.push_back(FromJson(done[key]));
+        per_seed.push_back(FromJson(*piece));
         progress.Resume(1);
         continue;
       } catch (const std::exception&) {
@@ -97,10 +84,7 @@ std::vector<std::vector<MarkerRow>> CompareMarkersOverSeeds(const MarkerComparis
       }
     }
     per_seed.push_back(CompareMarkers(one, registry));
-    if (!checkpoint.empty()) {
-      done[key] = ToJson(per_seed.back());
-      AtomicWriteFile(checkpoint, done.dump(1));
-    }
+    done.Put(key, ToJson(per_seed.back()));
     progress.Advance();
   }
   return per_seed;

@@ -2,23 +2,35 @@
 #include "cellmetry/experiments/solver_compare.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell.h"
+#include "cellmetry/experiments/checkpoint.h"
 #include "cellmetry/formats/recording.h"
 
 namespace cellmetry {
 
 std::string StopReasonWords(const std::string& reason) {
-  // The first clause: what stopped the solver, without the figures that differ per run.
-  std::string first = reason.substr(0, std::min(reason.find(". "), reason.find(';')));
-  if (!first.empty() && first.back() == '.') first.pop_back();
-  return first;
+  // The first clause: what stopped the solver. Its measured figures (a cost change of 2.2e-12)
+  // differ per run and are left out; whole numbers (an epoch limit) are settings and stay.
+  const std::string first = reason.substr(0, std::min(reason.find(". "), reason.find(';')));
+  std::istringstream in(first);
+  std::string words;
+  for (std::string word; in >> word;) {
+    const bool figure = std::isdigit(static_cast<unsigned char>(word[0])) &&
+                        word.find_first_of(".eE") != std::string::npos;
+    if (!figure) words += (words.empty() ? "" : " ") + word;
+  }
+  if (!words.empty() && words.back() == '.') words.pop_back();
+  return words;
 }
 
 namespace {
@@ -205,7 +217,36 @@ SolverCompareSpec LoadSolverCompare(const std::string& path, Registry& registry)
   return spec;
 }
 
-std::vector<SolverCompareRow> RunSolverCompare(const SolverCompareSpec& spec, Registry& registry) {
+namespace {
+
+// The score of one fit: the bases' position error against the truth (RMS over robots), or the
+// held-out RMS without a truth.
+double ScoreOf(const SolverCompareSpec& spec, const WorkcellResult& result) {
+  if (!HasTruth(spec)) return result.held_out.total.norm;
+  double error = 0.0;
+  for (const auto& robot : spec.simulation->robots) {
+    const Pose& found = result.estimate.T_world_base.at(robot.name);
+    error += (found.t - robot.T_world_base.t).squaredNorm();
+  }
+  return std::sqrt(error / spec.simulation->robots.size());
+}
+
+// Appends one seed's fits (one entry per row, in row order) to `rows`.
+void ReadSeed(const nlohmann::json& seed, std::vector<SolverCompareRow>* rows) {
+  for (size_t r = 0; r < rows->size() && r < seed.size(); ++r) {
+    SolverCompareRow& row = (*rows)[r];
+    row.error_mm.push_back(seed[r]["error_mm"].get<double>());
+    row.time_s.push_back(seed[r]["time_s"].get<double>());
+    row.iterations.push_back(seed[r]["iterations"].get<int>());
+    row.converged += seed[r]["converged"].get<bool>() ? 1 : 0;
+    ++row.stop_reasons[seed[r]["stop_reason"].get<std::string>()];
+  }
+}
+
+}  // namespace
+
+std::vector<SolverCompareRow> RunSolverCompare(const SolverCompareSpec& spec, Registry& registry,
+                                               const std::string& checkpoint) {
   std::vector<SolverCompareRow> rows;
   for (CameraModel model : spec.camera_models) {
     for (const auto& [label, block] : spec.solvers) {
@@ -220,23 +261,29 @@ std::vector<SolverCompareRow> RunSolverCompare(const SolverCompareSpec& spec, Re
     recorded = ReadRecording(spec.job.recording);
     ValidateJobAgainstRecording(spec.job, *recorded);
   }
+  Checkpoint done(checkpoint, FileFingerprint(spec.file));
   Progress progress("comparison seed", spec.seeds);
   for (int seed = 0; seed < spec.seeds; ++seed) {
+    if (const nlohmann::json* piece = done.Find(std::to_string(seed))) {
+      ReadSeed(*piece, &rows);
+      progress.Resume(1);
+      continue;
+    }
+    std::optional<Recording> simulated;
     WorkcellProblem problem = spec.job.problem;
-    Recording recording;
     problem.leave_one_camera_out = false;  // solvers are compared, not cameras
     if (HasTruth(spec)) {
       WorkcellSimulationSpec sim = *spec.simulation;
       sim.noise_seed = spec.simulation->noise_seed + 1000u * static_cast<unsigned>(seed + 1);
-      recording = SimulateWorkcell(sim, nullptr);
-      if (seed == 0) ValidateJobAgainstRecording(spec.job, recording);
+      simulated = SimulateWorkcell(sim, nullptr);
+      if (seed == 0) ValidateJobAgainstRecording(spec.job, *simulated);
       problem.folds = 0;  // scored against the truth
     } else {
-      recording = *recorded;
       if (problem.folds < 2) problem.folds = 5;
       problem.seed = static_cast<unsigned>(seed + 1);
     }
-    size_t r = 0;
+    const Recording& recording = simulated ? *simulated : *recorded;
+    nlohmann::json seed_json = nlohmann::json::array();
     for (CameraModel model : spec.camera_models) {
       problem.camera_model = model;
       for (const auto& [label, block] : spec.solvers) {
@@ -244,24 +291,15 @@ std::vector<SolverCompareRow> RunSolverCompare(const SolverCompareSpec& spec, Re
           return registry.CreateSolver(block["type"].AsString(), block);
         };
         const WorkcellResult result = IdentifyWorkcell(problem, recording, make);
-        SolverCompareRow& row = rows[r++];
-        double error = 0.0;
-        if (HasTruth(spec)) {
-          for (const auto& robot : spec.simulation->robots) {
-            const Pose& found = result.estimate.T_world_base.at(robot.name);
-            error += (found.t - robot.T_world_base.t).squaredNorm();
-          }
-          error = std::sqrt(error / spec.simulation->robots.size());
-        } else {
-          error = result.held_out.total.norm;
-        }
-        row.error_mm.push_back(error);
-        row.time_s.push_back(result.solver.time_s);
-        row.iterations.push_back(result.solver.iterations);
-        row.converged += result.solver.converged ? 1 : 0;
-        ++row.stop_reasons[StopReasonWords(result.solver.stop_reason)];
+        seed_json.push_back({{"error_mm", ScoreOf(spec, result)},
+                             {"time_s", result.solver.time_s},
+                             {"iterations", result.solver.iterations},
+                             {"converged", result.solver.converged},
+                             {"stop_reason", StopReasonWords(result.solver.stop_reason)}});
       }
     }
+    done.Put(std::to_string(seed), seed_json);
+    ReadSeed(seed_json, &rows);
     progress.Advance();
   }
   return rows;

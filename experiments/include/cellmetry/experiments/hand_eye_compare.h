@@ -64,8 +64,10 @@ struct HandEyeCompareRow {
 };
 
 HandEyeCompareSpec LoadHandEyeCompare(const std::string& path, Registry& registry);
-// One row per method, cellmetry first.
-std::vector<HandEyeCompareRow> RunHandEyeCompare(const HandEyeCompareSpec& spec);
+// One row per method, cellmetry first. With a `checkpoint` path, each finished seed is kept
+// there and a seed found there is not run again (checkpoint.h).
+std::vector<HandEyeCompareRow> RunHandEyeCompare(const HandEyeCompareSpec& spec,
+                                                 const std::string& checkpoint = "");
 // One line per score (position, rotation): which method, with intervals.
 std::vector<std::string> HandEyeRecommendations(const std::vector<HandEyeCompareRow>& rows);
 std::string HandEyeCompareMarkdown(const HandEyeCompareSpec& spec,

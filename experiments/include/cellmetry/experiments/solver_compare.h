@@ -31,9 +31,10 @@
 namespace cellmetry {
 
 // A solver's stop reason as words to count over seeds: its first clause, up to ". " or ";",
-// without the figures that differ per run ("Parameter tolerance reached" from "Parameter
-// tolerance reached. Relative step_norm: 5.8e-13 <= 1e-12."; "5000 epochs done (limit)" from
-// "5000 epochs done (limit); kept epoch 4994, the lowest cost").
+// without the measured figures that differ per run ("Parameter tolerance reached" from
+// "Parameter tolerance reached. Relative step_norm: 5.8e-13 <= 1e-12."; "5000 epochs done
+// (limit)" from "5000 epochs done (limit); kept epoch 4994, the lowest cost"; "predicted cost
+// decrease below the tolerance" from "predicted cost decrease 2.2e-12 below the tolerance").
 std::string StopReasonWords(const std::string& reason);
 
 // One candidate answer to a question: per-seed error (lower is better) and solve time.
@@ -74,8 +75,10 @@ struct SolverCompareRow {
 };
 
 SolverCompareSpec LoadSolverCompare(const std::string& path, Registry& registry);
-// One row per (camera model, solver), in that nesting order.
-std::vector<SolverCompareRow> RunSolverCompare(const SolverCompareSpec& spec, Registry& registry);
+// One row per (camera model, solver), in that nesting order. With a `checkpoint` path, each
+// finished seed is kept there and a seed found there is not run again (checkpoint.h).
+std::vector<SolverCompareRow> RunSolverCompare(const SolverCompareSpec& spec, Registry& registry,
+                                               const std::string& checkpoint = "");
 // One line per question: each camera model's solvers; each solver's camera models.
 std::vector<std::string> SolverCompareRecommendations(const SolverCompareSpec& spec,
                                                       const std::vector<SolverCompareRow>& rows);
