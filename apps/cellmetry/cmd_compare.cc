@@ -71,8 +71,8 @@ TableComparison LoadHandEye(const std::string& path, int seeds) {
 TableComparison LoadKinematic(const std::string& path, int seeds) {
   auto spec = std::make_shared<CompareSpec>(LoadCompareSpec(path, Registry::Global()));
   if (seeds > 0) spec->seeds = seeds;
-  return {spec->output, [spec](const std::string&) {
-            const auto rows = RunComparison(*spec, Registry::Global());
+  return {spec->output, [spec](const std::string& checkpoint) {
+            const auto rows = RunComparison(*spec, Registry::Global(), checkpoint);
             return std::pair(CompareTableMarkdown(*spec, rows), CompareTableCsv(rows));
           }};
 }

@@ -1,15 +1,16 @@
 // The delta report's Table 7 on the one cell pipeline (kinematic_compare.h).
 #include "cellmetry/experiments/kinematic_compare.h"
 
-#include "cellmetry/cell/workcell.h"
-
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cellmetry/basics/error.h"
+#include "cellmetry/cell/workcell.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/experiments/checkpoint.h"
 #include "cellmetry/experiments/solver_compare.h"
 
 namespace cellmetry {
@@ -129,45 +130,99 @@ CompareRow Score(const WorkcellSimulationSpec& sim, const WorkcellProblem& probl
 
 }  // namespace
 
-std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registry) {
+namespace {
+
+// One (pose set, size, seed)'s rows as kept in the checkpoint: the scores, not the labels,
+// which the loops give again.
+nlohmann::json RowsJson(const std::vector<CompareRow>& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const CompareRow& r : rows) {
+    out.push_back({{"mean_mm", r.validation.mean_mm}, {"max_mm", r.validation.max_mm},
+                   {"rms_mm", r.validation.rms_mm}, {"points", r.validation.points},
+                   {"floor_rms_mm", r.floor_rms_mm}, {"iterations", r.iterations},
+                   {"time_s", r.time_s}, {"stop_reason", r.stop_reason}});
+  }
+  return out;
+}
+
+void ReadScores(const nlohmann::json& j, CompareRow* r) {
+  r->validation.mean_mm = j.at("mean_mm").get<double>();
+  r->validation.max_mm = j.at("max_mm").get<double>();
+  r->validation.rms_mm = j.at("rms_mm").get<double>();
+  r->validation.points = j.at("points").get<int>();
+  r->floor_rms_mm = j.at("floor_rms_mm").get<double>();
+  r->iterations = j.at("iterations").get<int>();
+  r->time_s = j.at("time_s").get<double>();
+  r->stop_reason = j.at("stop_reason").get<std::string>();
+}
+
+// One recording per (pose set, size, seed), shared by every formulation and solver. Seed 0:
+// the simulation's own truth (as with one seed); then a fresh truth per seed.
+std::vector<CompareRow> RunOneDraw(const CompareSpec& spec, Registry& registry, PoseSet set,
+                                   int size, int seed,
+                                   const std::vector<std::vector<double>>& validation) {
   const WorkcellSimulationSpec& sim = spec.simulation;
-  const auto validation = ValidationCommands(sim, spec.validation_points);
+  std::mt19937 rng(sim.seed * 7919u + static_cast<unsigned>(set) * 131u + size +
+                   104729u * static_cast<unsigned>(seed));
+  WorkcellSimulationSpec drawn = sim;
+  drawn.robots.front().pose_set = PoseSetSpec{set, size, ""};
+  Recording recording;
+  if (seed == 0) {
+    recording = SimulateWorkcell(drawn, nullptr, rng);
+  } else {
+    SimulatedDraw draw = DrawAndSimulate(drawn, rng);
+    drawn = draw.truth;
+    recording = std::move(draw.recording);
+  }
   std::vector<CompareRow> rows;
-  Progress progress("comparison row", static_cast<int>(spec.pose_sets.size() * spec.sizes.size() *
-                                                       spec.formulations.size() *
-                                                       spec.solvers.size()) * spec.seeds);
+  for (ResidualForm formulation : spec.formulations) {
+    const WorkcellProblem problem = SimulatedProblem(sim, formulation);  // all free
+    for (const auto& [label, block] : spec.solvers) {
+      const SolverMaker make = [&, &block = block] {
+        return registry.CreateSolver(block["type"].AsString(), block);
+      };
+      rows.push_back(
+          Score(drawn, problem, recording, IdentifyWorkcell(problem, recording, make), validation));
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registry,
+                                      const std::string& checkpoint) {
+  const auto validation = ValidationCommands(spec.simulation, spec.validation_points);
+  const int per_draw = static_cast<int>(spec.formulations.size() * spec.solvers.size());
+  Checkpoint done(checkpoint, FileFingerprint(spec.file));
+  std::vector<CompareRow> rows;
+  Progress progress("comparison row", static_cast<int>(spec.pose_sets.size() * spec.sizes.size()) *
+                                          per_draw * spec.seeds);
   for (PoseSet set : spec.pose_sets) {
     for (int size : spec.sizes) {
       for (int seed = 0; seed < spec.seeds; ++seed) {
-        // One recording per (pose set, size, seed), shared by every formulation and solver.
-        // Seed 0: the simulation's own truth (as with one seed); then a fresh truth per seed.
-        std::mt19937 rng(sim.seed * 7919u + static_cast<unsigned>(set) * 131u + size +
-                         104729u * static_cast<unsigned>(seed));
-        WorkcellSimulationSpec drawn = sim;
-        drawn.robots.front().pose_set = PoseSetSpec{set, size, ""};
-        Recording recording;
-        if (seed == 0) {
-          recording = SimulateWorkcell(drawn, nullptr, rng);
+        const std::string key = std::to_string(static_cast<int>(set)) + "/" +
+                                std::to_string(size) + "/" + std::to_string(seed);
+        const nlohmann::json* piece = done.Find(key);
+        std::vector<CompareRow> draw_rows(per_draw);
+        if (piece != nullptr && piece->size() == draw_rows.size()) {
+          for (size_t i = 0; i < draw_rows.size(); ++i) ReadScores((*piece)[i], &draw_rows[i]);
+          progress.Resume(per_draw);
         } else {
-          SimulatedDraw draw = DrawAndSimulate(drawn, rng);
-          drawn = draw.truth;
-          recording = std::move(draw.recording);
+          draw_rows = RunOneDraw(spec, registry, set, size, seed, validation);
+          done.Put(key, RowsJson(draw_rows));
+          progress.Advance(per_draw);
         }
+        size_t i = 0;
         for (ResidualForm formulation : spec.formulations) {
-          const WorkcellProblem problem = SimulatedProblem(sim, formulation);  // all free
           for (const auto& [label, block] : spec.solvers) {
-            const SolverMaker make = [&, &block = block] {
-              return registry.CreateSolver(block["type"].AsString(), block);
-            };
-            CompareRow row = Score(drawn, problem, recording,
-                                   IdentifyWorkcell(problem, recording, make), validation);
+            CompareRow& row = draw_rows[i++];
             row.pose_set = set;
             row.size = size;
             row.formulation = formulation;
             row.solver = label;
             row.seed = seed;
             rows.push_back(row);
-            progress.Advance();
           }
         }
       }

@@ -54,8 +54,11 @@ struct CompareRow {
 
 CompareSpec LoadCompareSpec(const std::string& path, Registry& registry);
 
-// One row per (pose set, size, seed, formulation, solver), in that nesting order.
-std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registry);
+// One row per (pose set, size, seed, formulation, solver), in that nesting order. With a
+// `checkpoint` path, each finished (pose set, size, seed) is kept there and one found there is
+// not run again (checkpoint.h).
+std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registry,
+                                      const std::string& checkpoint = "");
 
 std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<CompareRow>& rows);
 std::string CompareTableCsv(const std::vector<CompareRow>& rows);
