@@ -1,4 +1,4 @@
-// Delta arm kinematic calibration speed (issue 3): 125 simulated positions with the report's
+// Delta arm kinematic calibration speed: 125 simulated positions with the report's
 // dot-detector noise, every geometric parameter and homing offset free, camera pose free.
 //
 //  BM_DeltaCalibrate/lm_forward      IdentifyWorkcell with ceres_lm, Cartesian residual

@@ -1,4 +1,4 @@
-// `cellmetry detect` throughput (issue 4): 2,000 rendered 1280x800 frames of the white dot (1,000
+// `cellmetry detect` throughput: 2,000 rendered 1280x800 frames of the white dot (1,000
 // stereo samples of the delta arm), detected with one thread and with every core. The ratio of
 // the two is how well detect uses the machine (2 cores here: ideally 2x).
 //

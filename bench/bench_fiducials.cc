@@ -9,7 +9,7 @@
 //                              (decimate 2, sigma 0, min_white_black_diff 20, refine edges,
 //                              sharpening 0.25, 1 thread, 1 bit corrected)
 //  BM_apriltag_board/plugin_full_resolution, /direct_full_resolution   quad_decimate 1 and
-//                              min_white_black_diff 5 (the plugin's defaults before issue 15)
+//                              min_white_black_diff 5 (the plugin's earlier defaults)
 //  BM_apriltag_board/plugin_min_white_black_diff_5, /direct_...   decimate 2, the library's 5
 //  BM_apriltag_board/plugin_no_refine_edges, /direct_no_refine_edges   decimate 2 without the
 //                              library's refine_edges (the plugin's edge lines alone)

@@ -1,4 +1,4 @@
-// A factory's cell (issue 15): how `cellmetry run` scales with robots, cameras and poses.
+// A factory's cell: how `cellmetry run` scales with robots, cameras and poses.
 //
 // The layout is configs/simulations/scale_10_ur3_8_cameras.yaml's at any size: UR3s in rows of
 // five, 1 m apart, static cameras 2.5 m up, random joint poses, every camera seeing every tool

@@ -1,9 +1,9 @@
 // Workcell identification speed on the VSB recordings.
 //
 //  BM_Identify/sim_b   closed form + ceres_lm fit(s) + covariance, as `cellmetry run` without
-//                      cross-validation (issue 15's target: <= 5 ms); counters ms_<stage>
+//                      cross-validation (target: <= 5 ms); counters ms_<stage>
 //  BM_Identify/exp_a   2,500 captures, 3 cameras, 7,500 tool observations, static cameras
-//                      (issue 15's target: <= 60 ms)
+//                      (target: <= 60 ms)
 //  BM_Identify/exp_a_cameras_left_out   exp_a's best model (vsb_exp_a.yaml) as `cellmetry run`
 //                      runs it, each camera left out (its stage: ms_cameras_left_out), against
 //                      BM_Identify/exp_a_best, the same without

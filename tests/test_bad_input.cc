@@ -179,7 +179,7 @@ TEST_F(BadInput, RobotConfigNameTooLongForTheFileSystem) {
   ExpectRejected(Run(), "job.yaml:8:12:", "Give a path relative to the job file");
 }
 
-// Found by fuzz_job (CI, session 9): the same for a validation recording's folder name.
+// Found by fuzz_job in CI: the same for a validation recording's folder name.
 TEST_F(BadInput, ValidationRecordingNameTooLongForTheFileSystem) {
   WriteJob(ReplaceOnce(JobText(), "output: ",
                        "validation_recording: " + std::string(5000, 's') + "\noutput: "));
@@ -405,7 +405,7 @@ INSTANTIATE_TEST_SUITE_P(
                 "unknown NLopt algorithm 'LD_LBFGSS'"}),
     [](const ::testing::TestParamInfo<JobEdit>& info) { return info.param.name; });
 
-// Issue 14's table: every option of every command, and values of the job, the robot config,
+// The command table: every option of every command, and values of the job, the robot config,
 // the recording and the simulation spec, given outside their meaning. Each row edits one file
 // of BadInput's copy (or none) and runs one command; it must exit 2 with a message that names
 // the file and line (or the option) and says what to do, and leave every file in the test's
@@ -1272,7 +1272,7 @@ const std::vector<BadCase> kBadCases = {
 };
 
 INSTANTIATE_TEST_SUITE_P(
-    Issue14, BadCommand, ::testing::ValuesIn(kBadCases),
+    EveryCommand, BadCommand, ::testing::ValuesIn(kBadCases),
     [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
 
 // A recording file that is not a regular file: a FIFO blocked the read forever, a link to

@@ -1,4 +1,4 @@
-// `compare: solvers` (issue 17B): the 95 % t-interval, the decision (a tie, a clear winner, the
+// `compare: solvers`: the 95 % t-interval, the decision (a tie, a clear winner, the
 // same accuracy at less time) on small synthetic inputs, and one comparison end to end.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

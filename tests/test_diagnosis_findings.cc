@@ -2,7 +2,7 @@
 // one finding headed by its best single description; a further member is named as separate
 // physics only where it removes a material share of what the group removes, or its signature
 // is unlike the headline's. The rule on made-up figures, the sites of the default candidates,
-// the case that asked for it (issue 13's concealed set: a stiffening joint 3 compliance with
+// the case that asked for it (the suite's concealed set: a stiffening joint 3 compliance with
 // masses spread along the links, which the finder fits as joint 3 compliance plus a joint 3
 // transmission error, reported as ONE finding) and real second physics at the same joint.
 #include <gmock/gmock.h>

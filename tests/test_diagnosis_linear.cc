@@ -193,7 +193,7 @@ TEST(RivalTest, AStrongerRivalIsNeverRejectedAnUnlikeOneIsAtOnce) {
 
 // Near the level the draws do not decide: for a recording whose p is about 1 %, RivalTestP's
 // 2,000 draws scatter by 0.0022 about it, enough to put it on either side of alpha by chance
-// (the suite's one wrong name, 2026-11-29: p 0.009 of 2,000 draws, 0.011-0.012 of 40,000). With
+// (a wrong name the suite once gave: p 0.009 of 2,000 draws, 0.011-0.012 of 40,000). With
 // RivalTestPAt every seed's p lies within 0.0015 of the exact one; far from the level it is
 // RivalTestP's own.
 TEST(RivalTest, NearTheLevelTheDrawsDoNotDecide) {

@@ -1,4 +1,4 @@
-// Multi-robot cells (issue 17): the robot-to-robot transform T_robotA_robotB and its sigma from
+// Multi-robot cells: the robot-to-robot transform T_robotA_robotB and its sigma from
 // both bases' joint covariance; tool names shared by two robots refused.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The pose planner on the case it exists for (issue 13): on a simulated UR3 whose recorded
+// The pose planner on the case it exists for: on a simulated UR3 whose recorded
 // poses hold the shoulder and elbow in one configuration (joints 2 and 3 within 0.02 rad) and
 // the wrist's joints 4 and 5 within 0.1 rad while the base and the last wrist joint turn, under
 // a constant payload, joint 2's gravity load does not change from pose to pose: its compliance

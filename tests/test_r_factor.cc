@@ -1,4 +1,4 @@
-// The sparse path to identifiability and sigma (issue 15): the grouped R factor, the sparse
+// The sparse path to identifiability and sigma: the grouped R factor, the sparse
 // evaluation, and the answers built on them, against the dense computation they replaced.
 #include <gtest/gtest.h>
 

@@ -104,7 +104,7 @@ TEST(NoiseFloor, SaysInWordsWhereItCameFrom) {
   EXPECT_EQ(few.at("cam1", "world").source, "spread of 23 captures of a world-fixed target");
 }
 
-// Sigma that covers the independent truth (issue 13): the placement measured when the robot was
+// Sigma that covers the independent truth: the placement measured when the robot was
 // set up, (431, 555, -460) mm, and the tool's 66 mm (exp_a); the simulator's own placement and
 // tool (sim_b). Every base and tool coordinate within 3 sigma, for the best model and for the
 // geometry alone, with the jobs' stated input uncertainties.
@@ -197,7 +197,7 @@ TEST(RealRecordings, PrincipalPointsHalveTheHeldOutErrorOnExperimentA) {
   EXPECT_NEAR(Frame(best, "tool").pose.t.z(), 66.0, 2.0);
 }
 
-// The answers BM_Identify times (issue 15), pinned: the verdicts (what was held as
+// The answers BM_Identify times, pinned: the verdicts (what was held as
 // unidentifiable, which rows were outliers) and every estimate and sigma part, as the code
 // before the speed-ups computed them. Faster code must compute the same numbers, to 1e-6
 // relative. CELLMETRY_PIN_ANSWERS=1 writes the files again (only for a deliberate change of what

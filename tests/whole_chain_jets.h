@@ -7,7 +7,7 @@
 //
 // Blocks: base, tool, [camera,] robot model, then one block per effect in `effects` order.
 // Evaluated with ceres::DynamicAutoDiffCostFunction. The identification used it until every
-// effect stage had a closed-form motion (issue 15): it runs the forward kinematics once per
+// effect stage had a closed-form motion: it runs the forward kinematics once per
 // kJetStride parameters of the whole chain.
 #pragma once
 

@@ -15,7 +15,7 @@
 namespace cellmetry {
 namespace {
 
-constexpr double kNamedTarget = 0.90;  // issue 13: the right effect named in >= 90 % of runs
+constexpr double kNamedTarget = 0.90;  // the bar: the right effect named in >= 90 % of runs
 constexpr double kCleanTarget = 0.95;  // clean recordings: no claim in >= 95 %
 constexpr double kFloorTarget = 1.2;   // held-out RMS at most 1.2x the noise floor
 

@@ -38,9 +38,9 @@
 //           as many where p is near alpha: Cox 1962, Williams 1970; all of them
 //           together an intersection-union test, Berger 1982), leaving out any rival that,
 //           as the cause, would need a sign its physics cannot have (a negative clearance is
-//           no rival; since 2026-11-29); where one is not rejected, the report names it and
+//           no rival); where one is not rejected, the report names it and
 //           proposes `cellmetry plan` for the two (pose_plan.h), whose poses tell them apart.
-//           ("bootstrap", the gate until 2026-11-28: its group included in >=
+//           ("bootstrap", the other gate: its group included in >=
 //           `bootstrap_share` of bootstrap resamples of poses, each running the greedy
 //           selection, BIC-gated, on the resampled linearization, Sauerbrei & Schumacher 1992;
 //           the share is reported either way);
@@ -96,7 +96,7 @@ struct DiagnosisOptions {
   // What tells the chosen effect from the other candidates: "rivals" (every other group's
   // member rejected as the cause at `alpha` by a parametric test of non-nested models, an
   // intersection-union test: Berger 1982) or "bootstrap" (its group included in at least
-  // `bootstrap_share` of the resamples; the gate until 2026-11-28, docs/physics.md).
+  // `bootstrap_share` of the resamples; docs/physics.md).
   std::string selection_test = "rivals";
   int rival_draws = 2000;          // parametric draws per rival for "rivals" (20x near alpha)
   int folds = 10;                  // blocked cross-validation, by pose (10: the standard error

@@ -51,7 +51,7 @@ using SolverMaker = std::function<std::unique_ptr<Solver>()>;
 // `make`'s solvers, each limited to the machine's cores but one (at least one thread): for a
 // solve the caller runs while its own work on another thread takes a core. On a 2-core
 // machine a small cell's Ceres solve is quicker on one thread then than on two that contend
-// with that work (docs/benchmarks.md, session 32), while a solve alone keeps both.
+// with that work (docs/benchmarks.md), while a solve alone keeps both.
 SolverMaker LeavingOneCore(SolverMaker make);
 
 }  // namespace cellmetry
