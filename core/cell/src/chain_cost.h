@@ -8,7 +8,7 @@
 // T_world_base, T_flange_target, T_world_cam is either a 6-parameter frame block (frame_block.h)
 // or a constant. The residual is TargetComparison's: position (mm) or rotation (rad), over sigma.
 //
-// The Jacobian is closed form (derivation in docs/architecture.md, "Analytic workcell
+// The Jacobian is closed form (derivation in docs/internals.md, "Analytic workcell
 // Jacobian"): with p_w the target position in the world and J_l the SO(3) left Jacobian,
 //   d p_cam / d t_base = R_cw          d p_cam / d r_base = -R_cw [p_w - t_wb]x J_l(r_base)
 //   d p_cam / d t_tool = R_cw R_wf     d p_cam / d t_cam  = -R_cw
