@@ -393,6 +393,59 @@ TEST_F(Exports, TfLaunchFileHoldsEveryFrameOfTheResult) {
   EXPECT_NEAR(std::stod(m[3]), relative.t.z() / 1000.0, 1e-12);
 }
 
+// `--names ur`: ur_description's names; tool0 is the fitted flange (the tool on it, in the world,
+// matches FK as above); tf hangs the base as base_link and the tool from tool0.
+TEST_F(Exports, UrNamesPutTool0AtTheFittedFlangeInUrdfAndTf) {
+  const std::string urdf = Export(ur3_result_, "--format urdf --robot ur3 --names ur", "ur3.ur");
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(urdf);
+  ASSERT_TRUE(model) << urdf;
+  for (const char* joint : {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                            "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"}) {
+    EXPECT_TRUE(model->getJoint(joint)) << joint;
+  }
+  ASSERT_EQ(model->getLink("tool")->getParent()->name, "tool0");
+  const nlohmann::json result = Json(ur3_result_);
+  const ReferenceRobot ur3 = Reference(result, "ur3", "configs/robots/ur3_vsb2020.yaml");
+  const Pose T_flange_tool = FromRvecMm(result.at("frames").at("tool"));
+  const char* names[6] = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                          "wrist_1_joint",      "wrist_2_joint",       "wrist_3_joint"};
+  Mismatch mismatch;
+  for (const auto& q : RandomJointVectors(6, 9)) {
+    Pose T_world_tool_m = Pose::Identity();
+    for (urdf::LinkConstSharedPtr link = model->getLink("tool"); link->parent_joint;
+         link = link->getParent()) {
+      const urdf::JointConstSharedPtr joint = link->parent_joint;
+      const urdf::Pose& o = joint->parent_to_joint_origin_transform;
+      Pose origin;
+      origin.t = {o.position.x, o.position.y, o.position.z};
+      origin.R = Eigen::Quaterniond(o.rotation.w, o.rotation.x, o.rotation.y, o.rotation.z)
+                     .toRotationMatrix();
+      Pose turn;
+      for (int i = 0; i < 6; ++i) {
+        if (joint->name == names[i]) turn.R = Eigen::AngleAxisd(q[i], Eigen::Vector3d::UnitZ())
+                                                  .toRotationMatrix();
+      }
+      T_world_tool_m = origin * turn * T_world_tool_m;
+    }
+    Pose cellmetry_m = ur3.T_world_base * ur3.Flange(q) * T_flange_tool;
+    cellmetry_m.t /= 1000.0;
+    mismatch.Add(T_world_tool_m, cellmetry_m);
+  }
+  std::printf("URDF (--names ur) vs cellmetry FK: %.3g m, %.3g rad\n", mismatch.position,
+              mismatch.rotation);
+  EXPECT_LE(mismatch.position, kTolerance);
+  EXPECT_LE(mismatch.rotation, kTolerance);
+
+  const std::string tf = Export(ur3_result_, "--format tf --robot ur3 --names ur", "ur3_tf.launch");
+  EXPECT_THAT(tf, HasSubstr("--frame-id world --child-frame-id base_link\""));
+  EXPECT_THAT(tf, HasSubstr("--frame-id tool0 --child-frame-id tool\""));
+  EXPECT_THAT(tf, HasSubstr("--child-frame-id ur3b_base\""));  // the other robot keeps its names
+  const auto ur = testing::RunCellmetry("export " + ur3_result_ + " --format ur --names ur");
+  testing::ExpectOneLineError(ur, "--names:", "--names ur applies to --format urdf and tf");
+  const auto bad = testing::RunCellmetry("export " + ur3_result_ + " --format urdf --names ros");
+  testing::ExpectOneLineError(bad, "--names:", "unknown naming 'ros'");
+}
+
 TEST_F(Exports, ADeltaArmIsRefusedAsUrdfAndUrNamingWhatIsPossible) {
   for (const auto& format : {"urdf", "ur"}) {
     const auto r = testing::RunCellmetry("export " + delta_result_ + " --format " + format);
@@ -404,6 +457,9 @@ TEST_F(Exports, ADeltaArmIsRefusedAsUrdfAndUrNamingWhatIsPossible) {
   const auto tf = testing::RunCellmetry("export " + delta_result_ + " --format tf");
   EXPECT_EQ(tf.exit_code, 0) << tf.output;
   EXPECT_THAT(tf.output, HasSubstr("--child-frame-id stereo"));
+  const auto ur = testing::RunCellmetry("export " + delta_result_ + " --format urdf --names ur");
+  testing::ExpectOneLineError(ur, delta_result_ + "/result.json:",
+                              "--names ur names a six-joint serial arm");
 }
 
 TEST_F(Exports, BadInputIsOneLineAndExitCodeTwo) {

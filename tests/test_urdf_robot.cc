@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 
@@ -423,7 +424,7 @@ TEST(UrdfRobot, TheFittedArmIsExportedAsUrdfAndAsARobotConfig) {
   ASSERT_TRUE(parsed);
   int revolute = 0;
   for (const auto& [name, joint] : parsed->joints_) {
-    revolute += joint->type == urdf::Joint::CONTINUOUS ? 1 : 0;
+    revolute += joint->type == urdf::Joint::REVOLUTE ? 1 : 0;  // the URDF's own, with limits
   }
   EXPECT_EQ(revolute, 6);
 
@@ -437,6 +438,82 @@ TEST(UrdfRobot, TheFittedArmIsExportedAsUrdfAndAsARobotConfig) {
   EXPECT_EQ(rebuilt_nominal, cell.robots[0].values);
   // Not the URDF's own: the fit moved them.
   EXPECT_NE(rebuilt_nominal, Nominal(*Tx2()));
+}
+
+// `link`'s pose in `from` (metres) at joint values by name, walked up through the parsed tree.
+Pose LinkPose(const urdf::ModelInterface& model, const std::string& from, const std::string& link,
+              const std::map<std::string, double>& q) {
+  Pose T = Pose::Identity();
+  for (urdf::LinkConstSharedPtr l = model.getLink(link); l && l->name != from;
+       l = l->getParent()) {
+    const urdf::Pose& o = l->parent_joint->parent_to_joint_origin_transform;
+    Pose origin;
+    origin.t = {o.position.x, o.position.y, o.position.z};
+    origin.R = Eigen::Quaterniond(o.rotation.w, o.rotation.x, o.rotation.y, o.rotation.z)
+                   .toRotationMatrix();
+    Pose turn;
+    if (l->parent_joint->type != urdf::Joint::FIXED) {
+      const urdf::Vector3& a = l->parent_joint->axis;
+      turn.R = Eigen::AngleAxisd(q.at(l->parent_joint->name), Eigen::Vector3d(a.x, a.y, a.z))
+                   .toRotationMatrix();
+    }
+    T = origin * turn * T;
+  }
+  return T;
+}
+
+// The fitted arm's URDF keeps the source URDF's names: every link and joint from base_link to
+// tool0 (fixed ones included), the joints' types, axes and limits as read; its origins are the
+// fit's, so that tool0 in base_link is the calibrated model's flange to 1e-9 m.
+TEST(UrdfRobot, TheFittedArmsUrdfKeepsTheSourceNamesAxesAndLimits) {
+  const Registry& registry = testing::Plugins();
+  const CalibratedCell cell = ReadCalibratedCell(Fitted().dir + "/fit", registry);
+  const CalibratedRobot& robot = cell.robots[0];
+  const urdf::ModelInterfaceSharedPtr exported =
+      urdf::parseURDF(ExportText(cell, ExportFormat::kUrdf, "tx2", registry));
+  const urdf::ModelInterfaceSharedPtr source =
+      urdf::parseURDF(testing::ReadText(testing::Source(kUrdf)));
+  ASSERT_TRUE(exported);
+  ASSERT_TRUE(source);
+  EXPECT_EQ(exported->getLink("base_link")->getParent()->name, "world");
+  std::vector<std::string> path;  // tool0 up to base_link, in the source
+  for (urdf::LinkConstSharedPtr l = source->getLink("tool0"); l->name != "base_link";
+       l = l->getParent()) {
+    path.push_back(l->parent_joint->name);
+    const urdf::JointConstSharedPtr got = exported->getJoint(l->parent_joint->name);
+    ASSERT_TRUE(got) << l->parent_joint->name;
+    EXPECT_EQ(got->parent_link_name, l->parent_joint->parent_link_name);
+    EXPECT_EQ(got->child_link_name, l->name);
+    EXPECT_EQ(got->type, l->parent_joint->type);
+    EXPECT_NEAR((Eigen::Vector3d(got->axis.x, got->axis.y, got->axis.z) -
+                 Eigen::Vector3d(l->parent_joint->axis.x, l->parent_joint->axis.y,
+                                 l->parent_joint->axis.z).normalized()).norm(), 0.0, 1e-15);
+    if (l->parent_joint->limits && got->type == urdf::Joint::REVOLUTE) {
+      ASSERT_TRUE(got->limits);
+      EXPECT_EQ(got->limits->lower, l->parent_joint->limits->lower);
+      EXPECT_EQ(got->limits->upper, l->parent_joint->limits->upper);
+      EXPECT_EQ(got->limits->velocity, l->parent_joint->limits->velocity);
+    }
+  }
+  EXPECT_EQ(path.size(), 8u);  // joint_1 ... joint_6, joint_6-flange, flange-tool0
+  EXPECT_EQ(exported->getLink("tool")->getParent()->name, "tool0");  // the fitted tool
+
+  std::mt19937 rng(11);
+  double worst_m = 0.0, worst_rad = 0.0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::vector<double> q = RandomJoints(rng);
+    std::map<std::string, double> by_name;
+    for (int i = 0; i < 6; ++i) by_name["joint_" + std::to_string(i + 1)] = q[i];
+    Pose expected;
+    ASSERT_TRUE(robot.model->Forward(q.data(), robot.values.data(), &expected));
+    expected.t /= 1000.0;
+    const Pose got = LinkPose(*exported, "base_link", "tool0", by_name);
+    worst_m = std::max(worst_m, (got.t - expected.t).norm());
+    worst_rad = std::max(worst_rad, RotationError(got.R, expected.R).norm());
+  }
+  std::printf("exported tool0 vs calibrated FK: %.3g m, %.3g rad\n", worst_m, worst_rad);
+  EXPECT_LE(worst_m, 1e-9);
+  EXPECT_LE(worst_rad, 1e-9);
 }
 
 // What a user gets wrong: each refused at the config's key with the file and what to do.

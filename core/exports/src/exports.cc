@@ -25,11 +25,17 @@ ExportFormat ParseExportFormat(const std::string& name, const std::string& where
 }
 
 std::string ExportText(const CalibratedCell& cell, ExportFormat format, const std::string& robot,
-                       const Registry& registry) {
+                       const Registry& registry, ExportNaming naming) {
+  if (naming == ExportNaming::kUr && format != ExportFormat::kUrdf &&
+      format != ExportFormat::kTf) {
+    throw InputError({"--names", 0, 0}, "--names ur applies to --format urdf and tf",
+                     "Leave out --names (the ur format has ur_description's names already)");
+  }
+  const bool ur = naming == ExportNaming::kUr;
   switch (format) {
-    case ExportFormat::kUrdf: return UrdfExport(cell, ChooseRobot(cell, robot));
+    case ExportFormat::kUrdf: return UrdfExport(cell, ChooseRobot(cell, robot), naming);
     case ExportFormat::kUr: return UrKinematicsExport(cell, ChooseRobot(cell, robot));
-    case ExportFormat::kTf: return TfLaunchExport(cell);
+    case ExportFormat::kTf: return TfLaunchExport(cell, ur ? ChooseRobot(cell, robot).name : "");
     case ExportFormat::kRobot: return RobotConfigExport(cell, ChooseRobot(cell, robot), registry);
   }
   return "";

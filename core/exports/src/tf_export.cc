@@ -3,10 +3,12 @@
 
 #include <Eigen/Geometry>
 #include <cstdio>
+#include <map>
 #include <sstream>
 
 #include "cellmetry/exports/export_header.h"
 #include "cellmetry/exports/relative_pose.h"
+#include "cellmetry/exports/robot_links.h"
 #include "cellmetry/exports/ros_names.h"
 #include "cellmetry/exports/xml_text.h"
 #include "cellmetry/formats/exact_number.h"
@@ -98,26 +100,59 @@ std::vector<std::string> RobotToRobot(const CalibratedCell& cell) {
   return lines;
 }
 
+// Each frame's ROS parent, child and transform: a robot's base and flange under the names of its
+// URDF export (robot_links.h), where `ur_robot` (if any) is named as ur_description does.
+struct RosFrame {
+  std::string parent;
+  std::string child;
+  Pose T_parent_child;
+};
+
+std::vector<RosFrame> RosFrames(const CalibratedCell& cell, const std::string& ur_robot) {
+  std::map<std::string, std::string> names;  // cellmetry frame -> ROS frame
+  std::map<std::string, Pose> T_base_link_base;  // cellmetry base frame -> where it is in its link
+  for (const CalibratedRobot& robot : cell.robots) {
+    const ExportNaming naming = robot.name == ur_robot ? ExportNaming::kUr : ExportNaming::kModel;
+    const RobotLinks ends = RobotEnds(cell, robot, naming);
+    names[robot.name + ".base"] = ends.base_link;
+    names[robot.name + ".flange"] = ends.flange_link;
+    T_base_link_base[robot.name + ".base"] = ends.T_base_link_base;
+  }
+  const auto ros_name = [&](const std::string& frame) {
+    const auto found = names.find(frame);
+    return found == names.end() ? RosFrameName(frame) : found->second;
+  };
+  std::vector<RosFrame> frames;
+  for (const auto& frame : cell.frames) {
+    Pose T = frame.T_parent_frame;
+    const auto base = T_base_link_base.find(frame.name);
+    if (base != T_base_link_base.end()) T = T * base->second.inverse();
+    frames.push_back({ros_name(frame.parent), ros_name(frame.name), T});
+  }
+  return frames;
+}
+
 }  // namespace
 
-std::string TfLaunchExport(const CalibratedCell& cell) {
+std::string TfLaunchExport(const CalibratedCell& cell, const std::string& ur_robot) {
   std::vector<std::string> header = ExportHeader(cell, "tf", nullptr);
   header.push_back("");
   header.push_back("ROS 2 static transforms of every frame the result identified: "
                    "`ros2 launch <this file>`. Metres, unit quaternions.");
-  header.push_back("Tools hang from <robot>_flange, the flange link of the urdf export "
-                   "(robot_state_publisher moves it); with ur_description, change their "
-                   "frame-id to tool0.");
+  header.push_back("Bases and tools hang from the links of the urdf export with the same "
+                   "--names (robot_state_publisher moves them): <robot>_base and "
+                   "<robot>_flange, a urdf robot's own base and tip links, or base_link and "
+                   "tool0 with --names ur.");
   std::ostringstream out;
   out << "<?xml version=\"1.0\"?>\n" << XmlComment(header, "") << "<launch>\n";
-  for (const auto& frame : cell.frames) {
-    const std::string parent = RosFrameName(frame.parent);
-    const std::string child = RosFrameName(frame.name);
-    out << XmlComment({FrameSigmaText(frame)}, "  ")
+  const std::vector<RosFrame> ros_frames = RosFrames(cell, ur_robot);
+  for (size_t i = 0; i < ros_frames.size(); ++i) {
+    const RosFrame& frame = ros_frames[i];
+    out << XmlComment({FrameSigmaText(cell.frames[i])}, "  ")
         << "  <node pkg=\"tf2_ros\" exec=\"static_transform_publisher\" name=\""
-        << EscapeXml(NodeName(child)) << "\"\n        args=\""
-        << PoseArguments(frame.T_parent_frame) << " --frame-id " << EscapeXml(parent)
-        << " --child-frame-id " << EscapeXml(child) << "\"/>\n";
+        << EscapeXml(NodeName(frame.child)) << "\"\n        args=\""
+        << PoseArguments(frame.T_parent_child) << " --frame-id " << EscapeXml(frame.parent)
+        << " --child-frame-id " << EscapeXml(frame.child) << "\"/>\n";
   }
   const std::vector<std::string> relative = RobotToRobot(cell);
   if (!relative.empty()) {

@@ -5,6 +5,7 @@
 
 #include "cellmetry/exports/export_header.h"
 #include "cellmetry/exports/robot_chain.h"
+#include "cellmetry/exports/robot_links.h"
 #include "cellmetry/exports/ros_names.h"
 #include "cellmetry/exports/xml_text.h"
 #include "cellmetry/formats/exact_number.h"
@@ -29,7 +30,7 @@ std::vector<std::string> Comment(const CalibratedCell& cell, const CalibratedRob
                                  const SerialChain& chain) {
   std::vector<std::string> lines = ExportHeader(cell, "urdf", &robot);
   lines.push_back("");
-  lines.push_back("Metres, radians. Joint i turns about the z axis of its frame by the "
+  lines.push_back("Metres, radians. Each movable joint turns about its axis by the "
                   "controller's reading; its origin is the calibrated geometry with the joint's "
                   "zero offset folded in (a rotation about that axis before the joint), so "
                   "joint values are the readings as the controller reports them.");
@@ -47,51 +48,56 @@ std::vector<std::string> Comment(const CalibratedCell& cell, const CalibratedRob
   return lines;
 }
 
+// One joint of the robot, as URDF writes it.
+void RobotJoint(const LinkJoint& joint, std::ostream& out) {
+  if (!joint.movable) {
+    FixedJoint(joint.name, joint.parent_link, joint.child_link, joint.T_parent_child, out);
+    return;
+  }
+  const Eigen::Vector3d& a = joint.axis;
+  out << "  <joint name=\"" << EscapeXml(joint.name) << "\" type=\""
+      << (joint.limit ? "revolute" : "continuous") << "\">\n"
+      << "    <parent link=\"" << EscapeXml(joint.parent_link) << "\"/>\n"
+      << "    <child link=\"" << EscapeXml(joint.child_link) << "\"/>\n"
+      << "    " << UrdfOrigin(joint.T_parent_child) << "\n"
+      << "    <axis xyz=\"" << ExactNumber(a.x()) << " " << ExactNumber(a.y()) << " "
+      << ExactNumber(a.z()) << "\"/>\n";
+  if (joint.limit) {
+    if (!joint.limit_comment.empty()) out << "    <!-- " << joint.limit_comment << " -->\n";
+    out << "    <limit lower=\"" << ExactNumber(joint.limit->lower_rad) << "\" upper=\""
+        << ExactNumber(joint.limit->upper_rad) << "\" effort=\""
+        << ExactNumber(joint.limit->effort) << "\" velocity=\""
+        << ExactNumber(joint.limit->velocity) << "\"/>\n";
+  }
+  out << "  </joint>\n";
+}
+
 }  // namespace
 
-std::string UrdfExport(const CalibratedCell& cell, const CalibratedRobot& robot) {
+std::string UrdfExport(const CalibratedCell& cell, const CalibratedRobot& robot,
+                       ExportNaming naming) {
+  const RobotLinks links = CalibratedRobotLinks(cell, robot, naming);
   const SerialChain chain = CalibratedChain(cell, robot, "a URDF");
-  const std::string base = RosFrameName(robot.name + ".base");
-  const std::string flange = RosFrameName(robot.name + ".flange");
   std::ostringstream out;
   out << "<?xml version=\"1.0\"?>\n" << XmlComment(Comment(cell, robot, chain), "");
   out << "<robot name=\"" << EscapeXml(RosFrameName(robot.name)) << "\">\n";
   Link("world", out);
-  Link(base, out);
+  Link(links.base_link, out);
   const CalibratedFrame* base_frame = FindFrame(cell, robot.name + ".base");
   if (base_frame) out << XmlComment({"T_world_base: " + FrameSigmaText(*base_frame)}, "  ");
-  FixedJoint(base + "_joint", "world", base,
-             base_frame ? base_frame->T_parent_frame : Pose::Identity(), out);
-  const RobotLimits& limits = robot.model->limits();
-  std::string parent = base;
-  for (size_t i = 0; i < chain.T_parent_joint.size(); ++i) {
-    const std::string index = std::to_string(i + 1);
-    const std::string link = RosFrameName(robot.name) + "_link" + index;
-    const bool limited = i < limits.joint_min_rad.size() && i < limits.joint_max_rad.size();
-    Link(link, out);
-    out << "  <joint name=\"" << EscapeXml(RosFrameName(robot.name) + "_joint" + index)
-        << "\" type=\"" << (limited ? "revolute" : "continuous") << "\">\n"
-        << "    <parent link=\"" << EscapeXml(parent) << "\"/>\n"
-        << "    <child link=\"" << EscapeXml(link) << "\"/>\n"
-        << "    " << UrdfOrigin(chain.T_parent_joint[i]) << "\n"
-        << "    <axis xyz=\"0 0 1\"/>\n";
-    if (limited) {
-      out << "    <!-- limits from the robot config; effort and velocity unknown to cellmetry: "
-             "set the robot's own -->\n"
-          << "    <limit lower=\"" << ExactNumber(limits.joint_min_rad[i]) << "\" upper=\""
-          << ExactNumber(limits.joint_max_rad[i]) << "\" effort=\"0\" velocity=\"0\"/>\n";
-    }
-    out << "  </joint>\n";
-    parent = link;
+  const Pose T_world_base = base_frame ? base_frame->T_parent_frame : Pose::Identity();
+  FixedJoint(links.base_joint, "world", links.base_link,
+             T_world_base * links.T_base_link_base.inverse(), out);
+  for (const LinkJoint& joint : links.joints) {
+    Link(joint.child_link, out);
+    RobotJoint(joint, out);
   }
-  Link(flange, out);
-  FixedJoint(flange + "_joint", parent, flange, chain.T_last_joint_flange, out);
   for (const auto& frame : cell.frames) {
     if (frame.parent != robot.name + ".flange") continue;
     const std::string tool = RosFrameName(frame.name);
     Link(tool, out);
     out << XmlComment({"T_flange_" + frame.name + ": " + FrameSigmaText(frame)}, "  ");
-    FixedJoint(tool + "_joint", flange, tool, frame.T_parent_frame, out);
+    FixedJoint(tool + "_joint", links.flange_link, tool, frame.T_parent_frame, out);
   }
   out << "</robot>\n";
   return out.str();

@@ -70,6 +70,20 @@ std::string TypeName(int type) {
   }
 }
 
+// The joint as the URDF has it, for exports under its names; `movable` is set by the caller.
+UrdfPathJoint PathJoint(const urdf::Joint& joint, const Pose& origin) {
+  UrdfPathJoint out;
+  out.name = joint.name;
+  out.parent_link = joint.parent_link_name;
+  out.child_link = joint.child_link_name;
+  out.origin = origin;
+  if (joint.type == urdf::Joint::REVOLUTE && joint.limits) {
+    out.limit = NamedJointLimit{joint.limits->lower, joint.limits->upper, joint.limits->effort,
+                                joint.limits->velocity};
+  }
+  return out;
+}
+
 }  // namespace
 
 UrdfChain ReadUrdfChain(const ConfigNode& config) {
@@ -101,13 +115,17 @@ UrdfChain ReadUrdfChain(const ConfigNode& config) {
   }
   std::reverse(path.begin(), path.end());
 
+  chain.base_link = base->name;
+  chain.tip_link = tip->name;
   Pose folded = Pose::Identity();  // fixed joints since the last movable one
   for (const urdf::JointConstSharedPtr& joint : path) {
     const Pose origin = PoseOf(joint->parent_to_joint_origin_transform);
+    chain.path.push_back(PathJoint(*joint, origin));
     if (joint->type == urdf::Joint::FIXED) {
       folded = folded * origin;
       continue;
     }
+    chain.path.back().movable = static_cast<int>(chain.joints.size());
     if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::CONTINUOUS) {
       throw config["tip_link"].Error(
           "joint '" + joint->name + "' on the chain from '" + base->name + "' to '" + tip->name +

@@ -15,11 +15,13 @@
 // floating or mimic joint on the chain, a chain without a movable joint.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cellmetry/basics/transform.h"
 #include "cellmetry/formats/config_node.h"
+#include "cellmetry/model/named_chain.h"
 
 namespace cellmetry::urdf_robot {
 
@@ -32,10 +34,24 @@ struct UrdfJoint {
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();               // <axis>, unit, in the joint frame
 };
 
+// A joint on the path from base_link to tip_link as the URDF has it, fixed ones included: what
+// exports write back under the URDF's own names (RobotModel::AsNamedChain).
+struct UrdfPathJoint {
+  std::string name;
+  std::string parent_link;
+  std::string child_link;
+  int movable = -1;                      // index into UrdfChain::joints; -1: a fixed joint
+  Pose origin = Pose::Identity();        // a fixed joint's <origin> (mm)
+  std::optional<NamedJointLimit> limit;  // a revolute joint's <limit>; none: continuous
+};
+
 struct UrdfChain {
   std::string file;  // the URDF, as resolved from the config
+  std::string base_link;
+  std::string tip_link;
   std::vector<UrdfJoint> joints;
   Pose T_last_joint_tip = Pose::Identity();  // fixed joints past the last movable one
+  std::vector<UrdfPathJoint> path;           // base_link to tip_link
 };
 
 // Reads `file` (relative to the config), `base_link` and `tip_link` of a `urdf` robot config.

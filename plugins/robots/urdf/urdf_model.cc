@@ -74,6 +74,31 @@ bool UrdfModel::AsSerialChain(const double* params, SerialChain* chain) const {
   return true;
 }
 
+bool UrdfModel::AsNamedChain(const double* params, NamedChain* chain) const {
+  chain->base_link = chain_.base_link;
+  chain->tip_link = chain_.tip_link;
+  chain->joints.clear();
+  for (const UrdfPathJoint& read : chain_.path) {
+    NamedJoint joint;
+    joint.name = read.name;
+    joint.parent_link = read.parent_link;
+    joint.child_link = read.child_link;
+    joint.T_parent_child = read.origin;
+    if (read.movable >= 0) {
+      const UrdfJoint& j = chain_.joints[static_cast<size_t>(read.movable)];
+      const double* p = params + kParamsPerJoint * read.movable;
+      joint.movable = true;
+      joint.axis = j.axis;
+      joint.limit = read.limit;
+      joint.T_parent_child.t = Eigen::Vector3d(p[kX], p[kY], p[kZ]);
+      joint.T_parent_child.R = j.R_parent_joint * RollPitchYaw(p[kRoll], p[kPitch], p[kYaw]) *
+                               TurnAbout(j.axis, p[kOffset]);
+    }
+    chain->joints.push_back(joint);
+  }
+  return true;
+}
+
 bool UrdfModel::SetNominal(const std::string& name, double value) {
   const int index = FindParameter(parameters_, name);
   if (index < 0) return false;

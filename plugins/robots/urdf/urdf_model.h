@@ -26,6 +26,8 @@
 // As a chain of revolute joints about z (serial_chain.h), for exports: with M_i a fixed rotation
 // taking z to axis_i, Rot(axis_i, q) = M_i Rz(q) M_i^T, so joint i's origin is
 // M_{i-1}^T O_i Rot(axis_i, offset_i) M_i (M_0 = I) and the flange M_n^T T_last_joint_tip.
+// Under the URDF's own names (named_chain.h) nothing needs turning: the fixed joints stay as read
+// and movable joint i's origin is O_i without T_previous_parent, times Rot(axis_i, offset_i).
 #pragma once
 
 #include <string>
@@ -51,6 +53,10 @@ class UrdfModel : public RobotModelFromTemplate<UrdfModel> {
   bool JointFrames(const double* q, const double* params,
                    std::vector<Pose>* T_base_joint) const override;
   bool AsSerialChain(const double* params, SerialChain* chain) const override;
+  // The path from base_link to tip_link with the URDF's names, fixed joints, axes and limits, and
+  // each movable joint's origin calibrated: Trans(x, y, z) R_parent_joint RPY(roll, pitch, yaw)
+  // Rot(axis, offset).
+  bool AsNamedChain(const double* params, NamedChain* chain) const override;
   // The `urdf` config with the URDF's absolute path and `params` as its `calibrated:` values.
   std::string CalibratedConfig(const ConfigNode& config, const double* params) const override;
   // Replaces the nominal value of the parameter called `name`; false when there is none.

@@ -1,4 +1,5 @@
-// `cellmetry export RESULT --format urdf|ur|tf|robot`: what a robot cell can load, from a result.
+// `cellmetry export RESULT --format urdf|ur|tf|robot [--names model|ur]`: what a robot cell can
+// load, from a result.
 //
 //   urdf    one serial arm: base in the world, calibrated joint origins, flange, tools
 //           (urdf_export.h)
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "cellmetry/exports/calibrated_cell.h"
+#include "cellmetry/exports/robot_links.h"
 #include "cellmetry/registry/registry.h"
 
 namespace cellmetry {
@@ -29,8 +31,10 @@ const std::vector<std::string>& ExportFormatNames();
 ExportFormat ParseExportFormat(const std::string& name, const std::string& where);
 
 // The export's text. `robot`: the robot of urdf, ur and robot ("" = the result's only one);
-// tf exports every frame and takes none.
+// tf exports every frame and takes none, except with `naming` ur: the robot named so.
+// `naming` (robot_links.h) applies to urdf and tf; InputError located at "--names" when it is
+// ur for ur or robot.
 std::string ExportText(const CalibratedCell& cell, ExportFormat format, const std::string& robot,
-                       const Registry& registry);
+                       const Registry& registry, ExportNaming naming = ExportNaming::kModel);
 
 }  // namespace cellmetry

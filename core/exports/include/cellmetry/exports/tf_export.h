@@ -6,7 +6,9 @@
 //               --frame-id <parent> --child-frame-id <child>"/>
 //
 // metres and a unit quaternion (qw >= 0), every digit a double has; frame names as ros_names.h
-// says (world, <robot>_base, cameras, tools on <robot>_flange, the URDF export's flange link).
+// says (world, cameras, tools), a robot's base and flange as its URDF export names them
+// (robot_links.h: <robot>_base and <robot>_flange, a urdf robot's base_link and tip_link, or
+// base_link and tool0 under ur_description's names, base_link then placed at T_world_base Rz(pi)).
 // Each node is preceded by a comment with the frame's sigma (mm, rad about the parent's axes;
 // "held" where the job held it). With several robots the comment block at the end gives each
 // robot's base in every other's, with sigma propagated from both bases and their correlation
@@ -20,6 +22,8 @@
 
 namespace cellmetry {
 
-std::string TfLaunchExport(const CalibratedCell& cell);
+// `ur_robot`: the robot named as ur_description does (`--names ur`; "" = none): its base hangs
+// from the world as base_link, its tools from tool0.
+std::string TfLaunchExport(const CalibratedCell& cell, const std::string& ur_robot = "");
 
 }  // namespace cellmetry

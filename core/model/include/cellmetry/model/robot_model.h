@@ -25,8 +25,9 @@
 // user can act on.
 //
 // For exports (`cellmetry export`, core/exports), a model may also describe itself as a chain of
-// revolute joints (AsSerialChain, serial_chain.h: what URDF and vendors' kinematics files hold)
-// and write the robot config that rebuilds it at given parameter values (CalibratedConfig). The
+// revolute joints (AsSerialChain, serial_chain.h: what URDF and vendors' kinematics files hold),
+// with the names and frames of its own description when it has one (AsNamedChain), and write
+// the robot config that rebuilds it at given parameter values (CalibratedConfig). The
 // model knows its own geometry and config schema; the export knows the file formats; neither
 // names the other.
 #pragma once
@@ -41,6 +42,7 @@
 #include "cellmetry/basics/parameter.h"
 #include "cellmetry/basics/transform.h"
 #include "cellmetry/formats/config_node.h"
+#include "cellmetry/model/named_chain.h"
 #include "cellmetry/model/serial_chain.h"
 
 namespace cellmetry {
@@ -135,6 +137,12 @@ class RobotModel {
   // equals Forward at every q. False when the arm is not one (a delta arm's motors do not carry
   // each other): exports that need a chain (URDF, vendors' kinematics files) are then refused.
   virtual bool AsSerialChain(const double* /*params*/, SerialChain* /*chain*/) const {
+    return false;
+  }
+  // The model at `params` as its own description names and frames it (named_chain.h: a URDF's
+  // links and joints), whose NamedChainTipPose equals Forward at every q. False when the model
+  // has no names of its own: exports then name the joints and links after the robot.
+  virtual bool AsNamedChain(const double* /*params*/, NamedChain* /*chain*/) const {
     return false;
   }
   // The robot config (YAML text, the schema this model's plugin reads) that builds this model
