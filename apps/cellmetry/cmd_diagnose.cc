@@ -1,12 +1,14 @@
 // `cellmetry diagnose JOB.yaml`: the physics finder (diagnosis.h) on a workcell job.
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 #include <nlohmann/json.hpp>
 
 #include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/report/reports.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/basics/error.h"
@@ -50,6 +52,19 @@ std::string ScoreHeldOutSetups(const WorkcellJob& job, const Recording& recordin
   return line;
 }
 
+// What a diagnosis's checkpoint is keyed by: the job's text, its robots' model files, the
+// recording's files and the cameras left out. An edit to any of them starts over.
+std::string DiagnosisFingerprint(const std::string& job_path, const DiagnosisJob& job,
+                                 const Recording& recording,
+                                 const std::vector<std::string>& without) {
+  std::string inputs = FileFingerprint(job_path) + " " + FolderFingerprint(recording.folder);
+  for (const WorkcellRobot& robot : job.workcell.problem.robots) {
+    inputs += " " + std::to_string(std::hash<std::string>{}(robot.model_config));
+  }
+  for (const std::string& camera : without) inputs += " without " + camera;
+  return std::to_string(std::hash<std::string>{}(inputs));
+}
+
 }  // namespace
 
 void AddDiagnoseCommand(CLI::App& app, Context& context) {
@@ -86,9 +101,13 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
     const SolverMaker make_solver = [&] {
       return registry.CreateSolver(job.workcell.solver_type, *job.workcell.solver_config);
     };
+    // Finished rounds kept beside the output: an interrupted diagnosis resumes where it stopped.
+    const std::string checkpoint_path = folder + ".partial.json";
+    Checkpoint checkpoint(checkpoint_path, DiagnosisFingerprint(job_path, job, read, without));
     DiagnosisResult result =
         DiagnoseWorkcell(job.workcell.problem, recording, make_solver,
-                         JobCandidates(job, recording, registry), job.options, job_path);
+                         JobCandidates(job, recording, registry), job.options, job_path,
+                         &checkpoint);
     std::optional<Recording> other_setup;
     std::string held_out_line;
     if (job.workcell.held_out_setup) {
@@ -112,6 +131,7 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
       }
     });
     out.Commit();
+    std::filesystem::remove(checkpoint_path);
     std::printf("%s%s", DiagnosisReport(result).c_str(), held_out_line.c_str());
     std::printf("  written: %s/{report.txt,report.html,diagnosis.json,final_fit/}\n",
                 folder.c_str());

@@ -10,7 +10,7 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/basics/progress.h"
-#include "cellmetry/experiments/checkpoint.h"
+#include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/experiments/solver_compare.h"
 
 namespace cellmetry {

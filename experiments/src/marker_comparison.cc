@@ -6,7 +6,7 @@
 #include <random>
 #include <sstream>
 
-#include "cellmetry/experiments/checkpoint.h"
+#include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/formats/config_fields.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/imaging/target_pose.h"

@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "cellmetry/basics/progress.h"
-#include "cellmetry/experiments/checkpoint.h"
+#include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/solver_compare.h"
 

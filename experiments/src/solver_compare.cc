@@ -13,7 +13,7 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell.h"
-#include "cellmetry/experiments/checkpoint.h"
+#include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/formats/recording.h"
 
 namespace cellmetry {

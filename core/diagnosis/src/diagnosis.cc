@@ -17,6 +17,7 @@
 #include "cellmetry/basics/stage_clock.h"
 #include "cellmetry/basics/statistics.h"
 #include "cellmetry/cell/workcell.h"
+#include "diagnosis_checkpoint.h"
 #include "diagnosis_linear.h"
 #include "diagnosis_regressors.h"
 
@@ -461,7 +462,7 @@ class Diagnoser {
       effects.push_back(c.effect);
     }
     Progress::Note("linearizing the model with " + std::to_string(open.size()) +
-                   " candidates at zero");
+                   (open.size() == 1 ? " candidate" : " candidates") + " at zero");
     std::vector<Eigen::MatrixXd> signatures =
         CandidateColumns(current.spec, effects, recording_, data_, noise_,
                          current.result.estimate, s.base.r.size());
@@ -631,6 +632,14 @@ class Diagnoser {
     return a;
   }
 
+  // The fit a finished round ended with, for a round read back from a checkpoint: RefitBest's
+  // refit of `c` with TestChosen's folds, or (`frame`) TestFrame's fit.
+  Fitted Refit(const Fitted& current, const CandidateEffect& c, bool frame) const {
+    if (frame) return Fit(WarmWith(current, c), recording_, make_solver_, options_.folds);
+    return WithHeldOut(Fit(WarmWith(current, c), recording_, make_solver_, 0), recording_,
+                       make_solver_, options_.folds);
+  }
+
   // The strongest frame candidate (CandidateEffect::frame) of a round scored at `current`, if
   // its score test passes, refitted and accepted where its likelihood-ratio test passes too and
   // its size is plausible. A frame is one question the job's statements pose (is the world tag
@@ -715,10 +724,140 @@ bool Overlap(const CandidateEffect& a, const CandidateEffect& b) {
   return false;
 }
 
+namespace {
+
+// The candidate named `name` (a resumed round's accepted effect).
+const CandidateEffect& CandidateNamed(const std::vector<CandidateEffect>& candidates,
+                                      const std::string& name) {
+  for (const auto& c : candidates) {
+    if (c.effect.name == name) return c;
+  }
+  throw std::runtime_error("diagnosis checkpoint: no candidate " + name);
+}
+
+// What a diagnosis carries from round to round.
+struct RoundState {
+  Fitted current;              // the model so far, fitted
+  std::set<std::string> done;  // accepted or untestable
+};
+
+RoundRecord RecordOf(const DiagnosisRound& round, const DiagnosisResult& out,
+                     const RoundState& state, bool accepted) {
+  RoundRecord record;
+  record.round = round;
+  if (accepted) record.accepted = out.accepted.back();
+  record.untestable = out.untestable;
+  record.done.assign(state.done.begin(), state.done.end());
+  return record;
+}
+
+// Round `index` as it finished before, if it did and is of the kind asked (`frames`): its
+// record into `out` and `state`, its accepted effect refitted into the model. Returns the
+// record, or nothing when the round is to be run.
+std::optional<RoundRecord> ResumeRound(const Diagnoser& diagnoser, const RoundLog& log,
+                                       int index, bool frames,
+                                       const std::vector<CandidateEffect>& candidates,
+                                       RoundState* state, DiagnosisResult* out) {
+  std::optional<RoundRecord> record = log.Finished(index);
+  if (!record || record->round.frames != frames) return std::nullopt;
+  Progress::Note("round " + std::to_string(index) + ": finished before, read back");
+  out->untestable = record->untestable;
+  state->done.insert(record->done.begin(), record->done.end());
+  if (record->accepted) {
+    const CandidateEffect& c = CandidateNamed(candidates, record->accepted->name);
+    state->current = diagnoser.Refit(state->current, c, frames);
+    out->accepted.push_back(*record->accepted);
+  }
+  out->rounds.push_back(record->round);
+  return record;
+}
+
+// Rounds of the physics (step 5), each accepting the strongest candidate that passes every test,
+// until none does or `options.max_effects` are accepted.
+void RunPhysicsRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffect>& candidates,
+                      const DiagnosisOptions& options, RoundLog& log, RoundState* state,
+                      DiagnosisResult* out) {
+  // The rounds run whatever the omnibus chi-square says: one effect of SNR 6 among thousands of
+  // residual rows moves it by 36 against a spread of sqrt(2 * rows), so it has little power;
+  // the targeted tests have it. Rounds end when no candidate passes every test.
+  while (static_cast<int>(out->accepted.size()) < options.max_effects) {
+    const int index = static_cast<int>(out->rounds.size()) + 1;
+    if (const auto resumed = ResumeRound(diagnoser, log, index, false, candidates, state, out)) {
+      if (!resumed->accepted) break;
+      continue;
+    }
+    if (log.Finished(index)) break;  // the frames' step came next: this loop ended here before
+    Progress::Note("round " + std::to_string(index) + " (at most " +
+                   std::to_string(options.max_effects) + " effects): scoring " +
+                   std::to_string(candidates.size() - state->done.size()) + " candidate effects");
+    Fitted& current = state->current;
+    ScoredRound scored = diagnoser.Score(current, &state->done, &out->untestable);
+    if (scored.round.candidates.empty()) break;
+    Fitted best_fit;
+    const int best = diagnoser.RefitBest(current, &scored, &best_fit);
+    if (best < 0) break;  // only frames left
+    Fitted with_cv =
+        diagnoser.TestChosen(current, &scored, best, best_fit,
+                             options.max_effects - static_cast<int>(out->accepted.size()),
+                             17u + static_cast<unsigned>(out->rounds.size()));
+    const CandidateFinding& chosen = scored.round.candidates[best];
+    const bool accepted = chosen.accepted;
+    if (accepted) {
+      const CandidateEffect& c = *scored.testable[best];
+      scored.round.accepted = chosen.name;
+      out->accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
+      out->accepted.back().site_correlations = SiteCorrelations(scored, best);
+      out->accepted.back().stronger_implausible = StrongerImplausible(scored.round, chosen);
+      for (const auto& other : candidates) {  // its nested variants would repeat its parameters
+        if (Overlap(other, c)) state->done.insert(other.effect.name);
+      }
+      current = std::move(with_cv);
+    }
+    log.Keep(index, RecordOf(scored.round, *out, *state, accepted));
+    out->rounds.push_back(std::move(scored.round));
+    if (!accepted) break;
+  }
+}
+
+// The frames the job's statements determine, after the physics (they move no prediction).
+void RunFrameRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffect>& candidates,
+                    RoundLog& log, RoundState* state, DiagnosisResult* out) {
+  auto frame_open = [&] {
+    return std::any_of(candidates.begin(), candidates.end(), [&](const CandidateEffect& c) {
+      return c.frame && !state->done.count(c.effect.name);
+    });
+  };
+  while (frame_open()) {
+    const int index = static_cast<int>(out->rounds.size()) + 1;
+    if (ResumeRound(diagnoser, log, index, true, candidates, state, out)) continue;
+    Fitted& current = state->current;
+    ScoredRound scored =
+        diagnoser.Score(current, &state->done, &out->untestable, /*frames_only=*/true);
+    scored.round.frames = true;
+    Fitted with_cv;
+    const int tried = diagnoser.TestFrame(current, &scored, &with_cv);
+    if (tried < 0) break;
+    const CandidateFinding& chosen = scored.round.candidates[tried];
+    const CandidateEffect& c = *scored.testable[tried];
+    state->done.insert(c.effect.name);
+    if (chosen.accepted) {
+      scored.round.accepted = chosen.name;
+      out->accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
+      out->accepted.back().frame = true;
+      current = std::move(with_cv);
+    }
+    log.Keep(index, RecordOf(scored.round, *out, *state, chosen.accepted));
+    out->rounds.push_back(std::move(scored.round));
+  }
+}
+
+}  // namespace
+
 DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                  const SolverMaker& make_solver,
                                  const std::vector<CandidateEffect>& candidates,
-                                 const DiagnosisOptions& options, const std::string& origin) {
+                                 const DiagnosisOptions& options, const std::string& origin,
+                                 Checkpoint* checkpoint) {
   DiagnosisResult out;
   out.job = origin;
   const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
@@ -731,70 +870,20 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   const Diagnoser diagnoser(recording, make_solver, candidates, options, noise, data);
 
   Progress::Note("fitting the geometry alone");
-  Fitted current = Fit(spec, recording, make_solver, options.folds);
-  out.geometric = current.summary;
-  out.floor_rms_mm = FloorRms(current, recording);
+  RoundState state;
+  state.current = Fit(spec, recording, make_solver, options.folds);
+  out.geometric = state.current.summary;
+  out.floor_rms_mm = FloorRms(state.current, recording);
   {
-    const CandidateLinearization lin =
-        LinearizeWithCandidate(spec, recording, data, noise, current.result.estimate, false);
+    const CandidateLinearization lin = LinearizeWithCandidate(
+        spec, recording, data, noise, state.current.result.estimate, false);
     out.regressors = CorrelateRegressors(lin, recording, regressors);
     out.durbin_watson = DurbinWatsonByAxis(lin, recording);
   }
-  std::set<std::string> done;  // accepted or untestable
-  // The rounds run whatever the omnibus chi-square says: one effect of SNR 6 among thousands of
-  // residual rows moves it by 36 against a spread of sqrt(2 * rows), so it has little power;
-  // the targeted tests have it. Rounds end when no candidate passes every test.
-  while (static_cast<int>(out.accepted.size()) < options.max_effects) {
-    Progress::Note("round " + std::to_string(out.rounds.size() + 1) + ": scoring " +
-                   std::to_string(candidates.size() - done.size()) + " candidate effects");
-    ScoredRound scored = diagnoser.Score(current, &done, &out.untestable);
-    if (scored.round.candidates.empty()) break;
-    Fitted best_fit;
-    const int best = diagnoser.RefitBest(current, &scored, &best_fit);
-    if (best < 0) break;  // only frames left
-    Fitted with_cv =
-        diagnoser.TestChosen(current, &scored, best, best_fit,
-                             options.max_effects - static_cast<int>(out.accepted.size()),
-                             17u + static_cast<unsigned>(out.rounds.size()));
-    const CandidateFinding& chosen = scored.round.candidates[best];
-    const bool accepted = chosen.accepted;
-    if (accepted) {
-      const CandidateEffect& c = *scored.testable[best];
-      scored.round.accepted = chosen.name;
-      out.accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
-      out.accepted.back().site_correlations = SiteCorrelations(scored, best);
-      out.accepted.back().stronger_implausible = StrongerImplausible(scored.round, chosen);
-      for (const auto& other : candidates) {  // its nested variants would repeat its parameters
-        if (Overlap(other, c)) done.insert(other.effect.name);
-      }
-      current = std::move(with_cv);
-    }
-    out.rounds.push_back(std::move(scored.round));
-    if (!accepted) break;
-  }
-  // The frames the job's statements determine, after the physics (they move no prediction).
-  auto frame_open = [&] {
-    return std::any_of(candidates.begin(), candidates.end(), [&](const CandidateEffect& c) {
-      return c.frame && !done.count(c.effect.name);
-    });
-  };
-  while (frame_open()) {
-    ScoredRound scored = diagnoser.Score(current, &done, &out.untestable, /*frames_only=*/true);
-    scored.round.frames = true;
-    Fitted with_cv;
-    const int tried = diagnoser.TestFrame(current, &scored, &with_cv);
-    if (tried < 0) break;
-    const CandidateFinding& chosen = scored.round.candidates[tried];
-    const CandidateEffect& c = *scored.testable[tried];
-    done.insert(c.effect.name);
-    if (chosen.accepted) {
-      scored.round.accepted = chosen.name;
-      out.accepted.push_back(diagnoser.Describe(c, chosen, with_cv, current));
-      out.accepted.back().frame = true;
-      current = std::move(with_cv);
-    }
-    out.rounds.push_back(std::move(scored.round));
-  }
+  RoundLog log(checkpoint);
+  RunPhysicsRounds(diagnoser, candidates, options, log, &state, &out);
+  RunFrameRounds(diagnoser, candidates, log, &state, &out);
+  const Fitted& current = state.current;
   out.final = current.summary;
   out.final_fit = current.result;
   out.final_spec = current.spec;

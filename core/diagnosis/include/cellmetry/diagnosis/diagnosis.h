@@ -337,11 +337,17 @@ std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
 // accepted effect's role and group share. DiagnoseWorkcell calls it.
 void GroupFindings(const DiagnosisOptions& options, DiagnosisResult* result);
 
-// Raises InputError (naming `origin`) for too few poses or no noise floor.
+class Checkpoint;
+
+// Raises InputError (naming `origin`) for too few poses or no noise floor. With `checkpoint`,
+// each round is kept in it as it finishes and a round finished before is read back instead of
+// run again (the accepted effects refitted, one fit each): an interrupted diagnosis resumes with
+// the same answer. The checkpoint's fingerprint must cover every input (job and recording).
 DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& recording,
                                  const SolverMaker& make_solver,
                                  const std::vector<CandidateEffect>& candidates,
-                                 const DiagnosisOptions& options, const std::string& origin);
+                                 const DiagnosisOptions& options, const std::string& origin,
+                                 Checkpoint* checkpoint = nullptr);
 
 // The finding in words a robot engineer reads in ten seconds.
 std::string DiagnosisReport(const DiagnosisResult& result);

@@ -1,9 +1,13 @@
-// Finished pieces of a comparison, kept and read back (checkpoint.h).
-#include "cellmetry/experiments/checkpoint.h"
+// Finished pieces of long work, kept and read back (checkpoint.h).
+#include "cellmetry/formats/checkpoint.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <system_error>
+#include <vector>
 
 #include "cellmetry/formats/atomic_file.h"
 
@@ -14,6 +18,26 @@ std::string FileFingerprint(const std::string& path) {
   if (!in) return "";
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   return std::to_string(std::hash<std::string>{}(text));
+}
+
+std::string FolderFingerprint(const std::string& folder) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  fs::recursive_directory_iterator it(folder, error), end;
+  if (error) return "";
+  std::vector<std::string> entries;  // sorted below: the listing's order is the filesystem's
+  for (; it != end; it.increment(error)) {
+    if (error) return "";
+    if (!it->is_regular_file(error)) continue;
+    const auto size = it->file_size(error);
+    const auto time = it->last_write_time(error).time_since_epoch().count();
+    entries.push_back(fs::relative(it->path(), folder).generic_string() + " " +
+                      std::to_string(size) + " " + std::to_string(time));
+  }
+  std::sort(entries.begin(), entries.end());
+  std::string listing;
+  for (const std::string& entry : entries) listing += entry + "\n";
+  return std::to_string(std::hash<std::string>{}(listing));
 }
 
 Checkpoint::Checkpoint(std::string path, std::string fingerprint)
