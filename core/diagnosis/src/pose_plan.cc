@@ -199,20 +199,29 @@ Eigen::MatrixXd Rows(const Eigen::MatrixXd& J, const std::vector<int>& rows,
   return out;
 }
 
-// Share of a candidate's signature (its columns over `rows`) outside the geometry's span.
-double Unabsorbed(const Jacobian& jac, const std::vector<int>& rows,
-                  const std::vector<int>& candidate) {
-  const Eigen::MatrixXd Jc = Rows(jac.J, rows, candidate);
+// A set of rows with an orthonormal basis of the geometry's columns over them: what every
+// candidate's signature is projected against. Made once per row set (its QR is the plan's
+// largest cost: a real recording has tens of thousands of rows), not once per candidate.
+struct RowSpan {
+  RowSpan(const Jacobian& jac, std::vector<int> rows_in)
+      : rows(std::move(rows_in)), geometry(OrthonormalBasis(Rows(jac.J, rows, jac.geometry))) {}
+  std::vector<int> rows;
+  Eigen::MatrixXd geometry;
+};
+
+// Share of a candidate's signature (its columns over the span's rows) outside the geometry's
+// span.
+double Unabsorbed(const Jacobian& jac, const RowSpan& span, const std::vector<int>& candidate) {
+  const Eigen::MatrixXd Jc = Rows(jac.J, span.rows, candidate);
   if (Jc.norm() == 0.0) return 0.0;
-  const Eigen::MatrixXd Q = OrthonormalBasis(Rows(jac.J, rows, jac.geometry));
-  return ProjectOut(Q, Jc).norm() / Jc.norm();
+  return ProjectOut(span.geometry, Jc).norm() / Jc.norm();
 }
 
-// An orthonormal basis of what the geometry leaves of a candidate's signature over `rows`.
-Eigen::MatrixXd UnabsorbedBasis(const Jacobian& jac, const std::vector<int>& rows,
+// An orthonormal basis of what the geometry leaves of a candidate's signature over the span's
+// rows.
+Eigen::MatrixXd UnabsorbedBasis(const Jacobian& jac, const RowSpan& span,
                                 const std::vector<int>& candidate) {
-  const Eigen::MatrixXd Q = OrthonormalBasis(Rows(jac.J, rows, jac.geometry));
-  return OrthonormalBasis(ProjectOut(Q, Rows(jac.J, rows, candidate)));
+  return OrthonormalBasis(ProjectOut(span.geometry, Rows(jac.J, span.rows, candidate)));
 }
 
 // Each of `columns`' parameters' sigma at the floor from `rows`, fitted together (1e150 where
@@ -272,10 +281,11 @@ std::vector<int> ChooseDOptimal(const Jacobian& jac, const std::vector<int>& rec
 // The candidates to plan for: those named, or every one the recorded poses leave untestable
 // by absorption that the drawn poses could make testable.
 std::vector<int> Targets(const Jacobian& jac, const std::vector<CandidateEffect>& candidates,
-                         const std::vector<int>& recorded_rows, const std::vector<int>& draw_rows,
+                         const RowSpan& recorded, const std::vector<int>& draw_rows,
                          const PosePlanOptions& options) {
-  std::vector<int> every_row = recorded_rows;
+  std::vector<int> every_row = recorded.rows;
   every_row.insert(every_row.end(), draw_rows.begin(), draw_rows.end());
+  const RowSpan every(jac, std::move(every_row));
   std::vector<int> out;
   for (size_t c = 0; c < candidates.size(); ++c) {
     const auto& named = options.effects;
@@ -288,8 +298,8 @@ std::vector<int> Targets(const Jacobian& jac, const std::vector<CandidateEffect>
     if (Rows(jac.J, draw_rows, jac.candidate[c]).norm() == 0.0) continue;  // never acts
     // Absorbed by the free frames whatever the pose (a constant tilt of a board's estimates is
     // its carrier's rotation): no plan helps.
-    if (Unabsorbed(jac, every_row, jac.candidate[c]) < options.min_unabsorbed) continue;
-    if (Unabsorbed(jac, recorded_rows, jac.candidate[c]) < options.min_unabsorbed) {
+    if (Unabsorbed(jac, every, jac.candidate[c]) < options.min_unabsorbed) continue;
+    if (Unabsorbed(jac, recorded, jac.candidate[c]) < options.min_unabsorbed) {
       out.push_back(static_cast<int>(c));
     }
   }
@@ -300,14 +310,14 @@ std::vector<int> Targets(const Jacobian& jac, const std::vector<CandidateEffect>
 // and its parameters' sigma at the floor when fitted with the geometry (the finder's refit: an
 // absorbed candidate's sigma is the geometry's near-singular direction, large), before and after.
 PlannedEffect PlannedFor(const Jacobian& jac, const CandidateEffect& candidate,
-                         const std::vector<int>& own, const std::vector<int>& before_rows,
-                         const std::vector<int>& after_rows) {
+                         const std::vector<int>& own, const RowSpan& before_rows,
+                         const RowSpan& after_rows) {
   PlannedEffect e{candidate.effect.name, candidate.label, Unabsorbed(jac, before_rows, own),
                   Unabsorbed(jac, after_rows, own), {}};
   std::vector<int> columns = jac.geometry;
   columns.insert(columns.end(), own.begin(), own.end());
-  const Eigen::VectorXd before = SigmaAtFloor(jac, before_rows, columns);
-  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows, columns);
+  const Eigen::VectorXd before = SigmaAtFloor(jac, before_rows.rows, columns);
+  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows.rows, columns);
   const std::vector<Parameter>& parameters = candidate.effect.effect->parameters();
   for (size_t i = 0; i < own.size() && i < parameters.size(); ++i) {
     const Eigen::Index k = static_cast<Eigen::Index>(jac.geometry.size() + i);
@@ -322,8 +332,7 @@ PlannedEffect PlannedFor(const Jacobian& jac, const CandidateEffect& candidate,
 PlannedPair PlannedTogether(const Jacobian& jac, const CandidateEffect& a,
                             const std::vector<int>& a_columns, const CandidateEffect& b,
                             const std::vector<int>& b_columns,
-                            const std::vector<int>& before_rows,
-                            const std::vector<int>& after_rows) {
+                            const RowSpan& before_rows, const RowSpan& after_rows) {
   PlannedPair pair{a.label, b.label,
                    CanonicalCorrelation(UnabsorbedBasis(jac, before_rows, a_columns),
                                         UnabsorbedBasis(jac, before_rows, b_columns)),
@@ -333,8 +342,8 @@ PlannedPair PlannedTogether(const Jacobian& jac, const CandidateEffect& a,
   std::vector<int> columns = jac.geometry;
   columns.insert(columns.end(), a_columns.begin(), a_columns.end());
   columns.insert(columns.end(), b_columns.begin(), b_columns.end());
-  const Eigen::VectorXd before = SigmaAtFloor(jac, before_rows, columns);
-  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows, columns);
+  const Eigen::VectorXd before = SigmaAtFloor(jac, before_rows.rows, columns);
+  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows.rows, columns);
   Eigen::Index k = static_cast<Eigen::Index>(jac.geometry.size());
   const std::pair<const CandidateEffect*, const std::vector<int>*> members[] = {
       {&a, &a_columns}, {&b, &b_columns}};
@@ -397,7 +406,8 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
       all_draw_rows.push_back(r);
     }
   }
-  const std::vector<int> targets = Targets(jac, candidates, recorded_rows, all_draw_rows, options);
+  const RowSpan recorded(jac, recorded_rows);
+  const std::vector<int> targets = Targets(jac, candidates, recorded, all_draw_rows, options);
   std::vector<int> columns = jac.geometry;
   for (int c : targets) {
     columns.insert(columns.end(), jac.candidate[c].begin(), jac.candidate[c].end());
@@ -409,21 +419,21 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
     plan.poses.push_back(draws[k].pose);
     after_rows.insert(after_rows.end(), draw_rows[k].begin(), draw_rows[k].end());
   }
+  const RowSpan after(jac, after_rows);
   for (int c : targets) {
-    plan.effects.push_back(PlannedFor(jac, candidates[c], jac.candidate[c], recorded_rows,
-                                      after_rows));
+    plan.effects.push_back(PlannedFor(jac, candidates[c], jac.candidate[c], recorded, after));
   }
   for (size_t i = 0; i < targets.size() && !options.effects.empty(); ++i) {
     for (size_t k = i + 1; k < targets.size(); ++k) {
       plan.pairs.push_back(PlannedTogether(jac, candidates[targets[i]], jac.candidate[targets[i]],
                                            candidates[targets[k]], jac.candidate[targets[k]],
-                                           recorded_rows, after_rows));
+                                           recorded, after));
     }
   }
-  const Eigen::VectorXd before = SigmaAtFloor(jac, recorded_rows, jac.geometry);
-  const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows, jac.geometry);
+  const Eigen::VectorXd sigma_before = SigmaAtFloor(jac, recorded_rows, jac.geometry);
+  const Eigen::VectorXd sigma_after = SigmaAtFloor(jac, after_rows, jac.geometry);
   for (size_t i = 0; i < jac.geometry.size(); ++i) {
-    plan.sigma.push_back({jac.names[i], jac.units[i], before[i], after[i]});
+    plan.sigma.push_back({jac.names[i], jac.units[i], sigma_before[i], sigma_after[i]});
   }
   return plan;
 }
