@@ -1,6 +1,7 @@
 // Registers the effect library: joint_compliance, backlash, transmission_error, joint_scale,
 // thermal_drift, depth_bias, detection_bias, target_scale, camera_intrinsics, target_tilt,
-// world_frame, platform_tilt, ball_joint_clearance (one header each says its physics).
+// world_frame, platform_tilt, ball_joint_clearance (one header each says its physics), and the
+// physics finder's candidates among them (default_candidates.h).
 #include <memory>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "camera_intrinsics.h"
 #include "ball_joint_clearance.h"
 #include "cellmetry/registry/registry.h"
+#include "default_candidates.h"
 #include "depth_bias.h"
 #include "detection_bias.h"
 #include "joint_compliance.h"
@@ -324,4 +326,5 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                            "delta ball-joint play along the rod force: u_i.dp = -c_i s_i",
                            {arms}),
                       &fx::CreateClearance);
+  registry->AddCandidateOffer(&fx::OfferCandidates);
 }

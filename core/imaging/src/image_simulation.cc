@@ -52,7 +52,8 @@ std::vector<TargetMarker> ReadMarkers(const ConfigNode& images,
                                       Registry& registry) {
   if (images.Has("detector") == images.Has("targets")) {
     throw images.Error("give exactly one of 'detector:' (the one target's marker) or 'targets:'",
-                       "e.g. targets: {tool: {type: apriltag_board, ...}}");
+                       "e.g. targets: {tool: {type: <detector>, ...}}, a detector of " +
+                           Joined(registry.Names(PluginKind::kDetector)));
   }
   if (images.Has("detector")) {
     if (targets.size() != 1) {

@@ -90,6 +90,10 @@ void Registry::AddEffect(PluginInfo info, EffectFactory factory) {
   AddInfo(std::move(info));
 }
 
+void Registry::AddCandidateOffer(CandidateOffer offer) {
+  candidate_offers_.push_back(std::move(offer));
+}
+
 std::unique_ptr<Effect> Registry::CreateEffect(const std::string& type, const ConfigNode& config,
                                                const RobotModel& robot) const {
   return Find(effects_, "effect", type, config)(config, robot);

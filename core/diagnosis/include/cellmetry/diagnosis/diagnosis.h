@@ -65,13 +65,15 @@
 //      joint, which looks like the compliance, soaks it up): reported with the finding, not as
 //      physics. What is fitted does not change.
 //
-// Candidates (default): for every robot joint, joint_compliance, backlash, transmission_error
-// (harmonic 1, harmonic 2, and all of 1, 2 and the configured gear harmonics together) and
-// joint_scale, each on that joint alone;
+// Candidates (default): what the loaded effect plugins offer for the cell
+// (model/effect_candidates.h). The effect library offers, for every robot joint,
+// joint_compliance, backlash, transmission_error (harmonic 1, harmonic 2, and all of 1, 2 and
+// the configured gear harmonics together) and joint_scale, each on that joint alone;
 // thermal_drift (by temperature, or the warm-up model when the recording has only times);
 // per camera depth_bias (scale, tilt) and camera_intrinsics (focal, principal point, radial
 // distortion k1, each alone, and the whole lens: k1, k2, p1, p2); per target target_scale, and
-// target_tilt where its rotation is measured; world_frame where there is a world target.
+// target_tilt where its rotation is measured; world_frame where there is a world target
+// (plugins/effects/default_candidates.cc).
 #pragma once
 
 #include <map>
@@ -326,8 +328,10 @@ struct DiagnosisResult {
                                              // the report proposes
 };
 
-// The default candidate list for `spec`'s robots and `recording`'s cameras; compliance uses
-// `options.link_masses_kg` (empty: 1 kg per link), transmission `options.gear_harmonics`.
+// The default candidate list for `spec`'s robots and `recording`'s cameras: every candidate the
+// registry's effect plugins offer (Registry::candidate_offers), built by the registry; the
+// offers see `options.link_masses_kg` (empty: 1 kg per link), `options.gear_harmonics` and
+// `options.group_candidates`.
 std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
                                                const Recording& recording,
                                                const DiagnosisOptions& options,

@@ -38,6 +38,7 @@
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/model/detector.h"
 #include "cellmetry/model/effect.h"
+#include "cellmetry/model/effect_candidates.h"
 #include "cellmetry/model/robot_model.h"
 #include "cellmetry/estimation/solver.h"
 
@@ -45,7 +46,7 @@ namespace cellmetry {
 
 // Bumped whenever a plugin-facing header changes incompatibly; plugins built against another
 // version are refused with a message saying so.
-inline constexpr int kPluginAbiVersion = 8;  // 2: inverse kinematics, limits, detectors;
+inline constexpr int kPluginAbiVersion = 9;  // 2: inverse kinematics, limits, detectors;
                                              // 3: effects, joint offsets and frames
                                              // 4: serial chains and calibrated configs (exports)
                                              // 5: flange twists (RobotModel::ForwardWithTwists)
@@ -53,6 +54,8 @@ inline constexpr int kPluginAbiVersion = 8;  // 2: inverse kinematics, limits, d
                                              // 7: Solver::LimitThreads (Solver's layout)
                                              // 8: Parameter::convention, plausible_group and
                                              //    plausible_common (its layout)
+                                             // 9: effects offer diagnosis candidates
+                                             //    (Registry's layout)
 
 enum class PluginKind { kDetector, kRobotModel, kSolver, kEffect };
 std::string KindName(PluginKind kind);
@@ -94,6 +97,10 @@ class Registry {
   void AddSolver(PluginInfo info, SolverFactory factory);
   void AddDetector(PluginInfo info, DetectorFactory factory);
   void AddEffect(PluginInfo info, EffectFactory factory);
+  // An effect plugin's candidates for the physics finder (model/effect_candidates.h); called in
+  // the order the plugins registered them.
+  void AddCandidateOffer(CandidateOffer offer);
+  const std::vector<CandidateOffer>& candidate_offers() const { return candidate_offers_; }
 
   // Build a plugin object of `type`; raise InputError at `config` naming the known types if
   // `type` is not registered.
@@ -123,6 +130,7 @@ class Registry {
   std::map<std::string, SolverFactory> solvers_;
   std::map<std::string, DetectorFactory> detectors_;
   std::map<std::string, EffectFactory> effects_;
+  std::vector<CandidateOffer> candidate_offers_;
   std::set<std::string> loaded_libraries_;
   std::string loading_library_;
 };
