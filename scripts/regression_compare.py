@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Compares two folders written by `scripts/regression.sh record` (see there).
 
-Every file the steps wrote is compared after timings are masked: JSON keys and CSV or markdown
-columns whose name says time, and numbers followed by s / ms / per second in text. Exits 1 and
+Every file the steps wrote is compared after measurements of the run itself are masked: JSON keys
+and CSV or markdown columns whose name says time or resident memory, and numbers followed by s /
+ms / per second in text. Exits 1 and
 lists the files that differ (with the first differing line) if any does, 0 otherwise.
 
 JSON files are compared key by key: a key only the newer run has (a field added to a result) is
@@ -17,7 +18,8 @@ import re
 import sys
 
 TIMING_TEXT = re.compile(r"[-+]?\d+(\.\d+)?(e[-+]?\d+)?\s*(ms|s|µs|us|/s|frames/s|per second)\b")
-TIMING_KEY = re.compile(r"time|seconds|elapsed|duration|per_second|rate_hz", re.IGNORECASE)
+TIMING_KEY = re.compile(r"time|seconds|elapsed|duration|per_second|rate_hz|resident_mb",
+                        re.IGNORECASE)
 
 
 def mask_json(value):
