@@ -1,9 +1,11 @@
-// The physics finder's statistics against textbook values.
+// The physics finder's statistics against textbook values, and the small text helpers of
+// basics.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/basics/text.h"
 
 namespace cellmetry {
 namespace {
@@ -49,6 +51,15 @@ TEST(Statistics, MedianOfOddAndEvenCounts) {
   EXPECT_DOUBLE_EQ(Median({4.0, 1.0, 3.0, 2.0}), 2.5);  // the two middle values' mean
   EXPECT_DOUBLE_EQ(Median({-1.0}), -1.0);
   EXPECT_TRUE(std::isnan(Median({})));
+}
+
+TEST(Text, JoinAndMillimetres) {
+  EXPECT_EQ(Join({"x", "y", "z"}), "x, y, z");
+  EXPECT_EQ(Join({"a", "b"}, " / "), "a / b");
+  EXPECT_EQ(Join({}), "");
+  EXPECT_EQ(Mm(12.3456), "12.3 mm");
+  EXPECT_EQ(Mm(12.3456, 4), "12.35 mm");
+  EXPECT_EQ(Mm(0.00012), "0.00012 mm");
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"
+#include "cellmetry/basics/text.h"
 #include "cellmetry/cell/motion_check.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/robot_pairs.h"
@@ -722,9 +723,8 @@ WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProb
   const bool same = given && std::abs(given_mm - own_mm) <= 1e-3 * own_mm;
   const bool keep_given = given && given_mm <= own_mm * (1 + 1e-3);
   char line[480];
-  char number[32];
-  std::snprintf(number, sizeof number, "%.4g mm RMS", given_mm);
-  const std::string from_given = given ? number : "a failed fit (" + given_failure + ")";
+  const std::string from_given =
+      given ? Mm(given_mm, 4) + " RMS" : "a failed fit (" + given_failure + ")";
   std::snprintf(line, sizeof line,
                 "the job's start lies far from where the data put the frame (%s from the "
                 "closed-form start); fitted from both: the carried targets are predicted to "

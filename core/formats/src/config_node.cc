@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "cellmetry/basics/text.h"
 #include "cellmetry/formats/input_file.h"
 #include "cellmetry/formats/quoted_text.h"
 
@@ -28,12 +29,6 @@ size_t EditDistance(const std::string& a, const std::string& b) {
     }
   }
   return row[b.size()];
-}
-
-std::string Join(const std::vector<std::string>& words) {
-  std::string text;
-  for (const auto& w : words) text += (text.empty() ? "" : ", ") + w;
-  return text;
 }
 
 std::string Describe(const YAML::Node& node) {
