@@ -399,4 +399,11 @@ std::string ConfigNode::ResolvePath(const std::string& path) const {
   return (base / p).lexically_normal().string();
 }
 
+void CopyTextEntry(const ConfigNode& config, const std::string& key, std::ostream& out) {
+  if (!config.Has(key)) return;
+  YAML::Emitter text;
+  text << config[key].AsString();
+  out << key << ": " << text.c_str() << "\n";
+}
+
 }  // namespace cellmetry
