@@ -81,7 +81,7 @@ bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, No
   int total_rows = 0;
   for (const auto& row : rows) {
     auto& entry = sums[{row.camera, row.target}];
-    (row.kind == "position" ? entry.first : entry.second).Add(row.error);
+    (row.kind == ResidualKind::kPosition ? entry.first : entry.second).Add(row.error);
     total_rows += 3;
   }
   const double dof_correction =
@@ -154,7 +154,7 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     for (const auto& row : f.rows) {
       normalized_ss += row.normalized.squaredNorm();
       normalized_rows += 3;
-      if (row.kind != "position") continue;
+      if (row.kind != ResidualKind::kPosition) continue;
       out.total.Add(row.error);
       out.per_camera[row.camera].Add(row.error);
       fold.Add(row.error);
@@ -425,7 +425,8 @@ void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recordi
       }
     }
     if (rms == nullptr) {
-      auto& table = row.kind == "position" ? result->position_rms : result->rotation_rms;
+      auto& table =
+          row.kind == ResidualKind::kPosition ? result->position_rms : result->rotation_rms;
       rms = &table[row.camera + "/" + row.target];
       groups.push_back({&row, rms});
     }
@@ -813,7 +814,7 @@ RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResul
     const auto rows = ResidualRows(*AssembleWorkcell(cartesian, fresh, data, noise, estimate));
     int count = 0;
     for (const auto& row : rows) {
-      if (row.kind != "position" || !MeasuresARobot(fresh, row)) continue;
+      if (row.kind != ResidualKind::kPosition || !MeasuresARobot(fresh, row)) continue;
       rms.Add(row.error);
       if (mean) *mean += row.error.norm();
       if (max) *max = std::max(*max, row.error.norm());
