@@ -51,6 +51,22 @@ TEST(WilsonInterval95, MatchesTheScoreIntervalAndNeverLeavesZeroOne) {
   EXPECT_EQ(RunsToDecide(0.90, 0.90, 100), -1);  // at the target: no number of runs decides
 }
 
+// The three ways a comparison's table writes a figure, and an interval in each.
+TEST(FigureText, WritesEachStyleAsItsTableDoes) {
+  EXPECT_EQ(FigureText(12.3456), "12.3");
+  EXPECT_EQ(FigureText(0.000123), "1.23e-04");
+  EXPECT_EQ(FigureText(0.0), "0");
+  EXPECT_EQ(FigureText(12.3456, FigureStyle::kFourDecimals), "12.3456");
+  EXPECT_EQ(FigureText(0.000123, FigureStyle::kFourDecimals), "1.2e-04");
+  EXPECT_EQ(FigureText(12.3456, FigureStyle::kFourDigits), "12.35");
+  EXPECT_EQ(FigureText(INFINITY), "inf");
+  const MeanInterval m{2.0, 1.5, 2.5, 3};
+  EXPECT_EQ(IntervalText(m), "2 [1.5, 2.5]");
+  EXPECT_EQ(IntervalText(m, 1e3), "2e+03 [1.5e+03, 2.5e+03]");
+  EXPECT_EQ(IntervalText(m, 1.0, FigureStyle::kFourDecimals), "2.0000 [1.5000, 2.5000]");
+  EXPECT_EQ(IntervalText(std::vector<double>{}), "-");
+}
+
 // The physics suite's decisions: a case named 2 of 5 times is shown below 90 % with what was
 // named instead; 5 of 5 is undecided, not met; a wrong claim on a clean recording is counted.
 TEST(PhysicsSuiteRecommendations, SayMetMissedOrUndecidedWithWhatWouldDecide) {

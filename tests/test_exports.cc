@@ -493,6 +493,26 @@ TEST_F(Exports, BadInputIsOneLineAndExitCodeTwo) {
                               bad + "/garbage/result.json:", "not a cellmetry result");
 }
 
+// A result edited by hand is refused at the key that is wrong, by `export` and `evaluate` alike:
+// both read result.json through one reader (formats/workcell_result_file.h).
+TEST_F(Exports, AMalformedResultIsRefusedAtItsKey) {
+  const std::string bad = testing::TempDirForThisTest("exports_malformed");
+  nlohmann::json result = Json(ur3_result_);
+  result["frames"]["ur3.base"]["xyz_mm"][1] = "two";
+  testing::WriteText(bad + "/text/result.json", result.dump());
+  for (const std::string& command : {"export " + bad + "/text --format tf",
+                                     "evaluate " + bad + "/text " + bad + "/truth.yaml"}) {
+    testing::ExpectOneLineError(testing::RunCellmetry(command), bad + "/text/result.json:",
+                                "malformed result: frames.ur3.base.xyz_mm[1]: expected a number");
+  }
+  result = Json(ur3_result_);
+  result.erase("free_parameters");
+  testing::WriteText(bad + "/short/result.json", result.dump());
+  testing::ExpectOneLineError(testing::RunCellmetry("export " + bad + "/short --format tf"),
+                              bad + "/short/result.json:",
+                              "malformed result: no 'free_parameters'");
+}
+
 TEST_F(Exports, NeverReplacesAFileCellmetryDidNotWrite) {
   const std::string out = testing::TempDirForThisTest("exports_safety");
   const std::string file = out + "/robot.urdf";

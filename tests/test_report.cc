@@ -113,7 +113,7 @@ TEST(Report, ManyResidualRowsAreBinnedNotDropped) {
     row.sample = i;
     row.camera = o.camera;
     row.target = "tool";
-    row.kind = "position";
+    row.kind = ResidualKind::kPosition;
     row.error = {noise(), noise(), noise()};
     row.normalized = 3.4 * row.error;
     result.residuals.push_back(row);

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "cellmetry/formats/config_node.h"
+#include "support/model_derivatives.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -47,29 +48,19 @@ TEST(SerialMdh, JetDerivativesMatchCentralDifferences) {
     std::vector<double> q(6);
     for (double& v : q) v = angle(rng);
     for (int k = 0; k < n; ++k) {
-      std::vector<Jet> params(n);
-      for (int i = 0; i < n; ++i) params[i] = Jet(nominal[i]);
-      params[k].v[0] = 1.0;  // d/d(param k)
       Transform<Jet> T_jet;
-      ASSERT_TRUE(model->Forward(q.data(), params.data(), &T_jet));
-
-      const double h = model->parameters()[k].unit == "mm" ? 1e-4 : 1e-7;
-      std::vector<double> plus = nominal, minus = nominal;
-      plus[k] += h;
-      minus[k] -= h;
-      Pose T_plus, T_minus;
-      model->Forward(q.data(), plus.data(), &T_plus);
-      model->Forward(q.data(), minus.data(), &T_minus);
-      const Eigen::Vector3d dt = (T_plus.t - T_minus.t) / (2 * h);
-      const Eigen::Matrix3d dR = (T_plus.R - T_minus.R) / (2 * h);
+      ASSERT_TRUE(testing::JetByParameter(*model, q, nominal, k, &T_jet));
+      const testing::CentralDifference d =
+          testing::CentralDifferenceByParameter(*model, q, nominal, k);
       for (int r = 0; r < 3; ++r) {
-        EXPECT_NEAR(T_jet.t[r].v[0], dt[r], 1e-6 * (1 + std::abs(dt[r])))
+        EXPECT_NEAR(T_jet.t[r].v[0], d.dt[r], 1e-6 * (1 + std::abs(d.dt[r])))
             << model->parameters()[k].name;
         for (int c = 0; c < 3; ++c) {
-          EXPECT_NEAR(T_jet.R(r, c).v[0], dR(r, c), 1e-6) << model->parameters()[k].name;
+          EXPECT_NEAR(T_jet.R(r, c).v[0], d.dR(r, c), 1e-6) << model->parameters()[k].name;
         }
       }
-      EXPECT_NEAR(T_jet.t[0].a, T_plus.t[0] - h * dt[0], 1e-3);  // value part is the double FK
+      // The value part is the double forward kinematics.
+      EXPECT_NEAR(T_jet.t[0].a, d.T_plus.t[0] - d.h * d.dt[0], 1e-3);
     }
   }
 }
@@ -97,16 +88,10 @@ TEST(SerialMdh, FlangeTwistsMatchCentralDifferences) {
     ASSERT_EQ(closed.cols(), n);
     ASSERT_EQ(jets.cols(), n);
     for (int k = 0; k < n; ++k) {
-      const double h = model->parameters()[k].unit == "mm" ? 1e-4 : 1e-7;
-      std::vector<double> plus = params, minus = params;
-      plus[k] += h;
-      minus[k] -= h;
-      Pose T_plus, T_minus;
-      model->Forward(q.data(), plus.data(), &T_plus);
-      model->Forward(q.data(), minus.data(), &T_minus);
+      const testing::CentralDifference d =
+          testing::CentralDifferenceByParameter(*model, q, params, k);
       Eigen::Matrix<double, 6, 1> numeric;
-      numeric << (T_plus.t - T_minus.t) / (2 * h),
-          RotationError<double>(T_plus.R, T_minus.R) / (2 * h);
+      numeric << d.dt, d.w;
       for (int i = 0; i < 6; ++i) {
         const double tolerance = 1e-6 * (1 + std::abs(numeric[i]));
         EXPECT_NEAR(closed(i, k), numeric[i], tolerance) << model->parameters()[k].name << " " << i;

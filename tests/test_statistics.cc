@@ -1,9 +1,11 @@
-// The physics finder's statistics against textbook values.
+// The physics finder's statistics against textbook values, and the small text helpers of
+// basics.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/basics/text.h"
 
 namespace cellmetry {
 namespace {
@@ -49,6 +51,36 @@ TEST(Statistics, MedianOfOddAndEvenCounts) {
   EXPECT_DOUBLE_EQ(Median({4.0, 1.0, 3.0, 2.0}), 2.5);  // the two middle values' mean
   EXPECT_DOUBLE_EQ(Median({-1.0}), -1.0);
   EXPECT_TRUE(std::isnan(Median({})));
+}
+
+TEST(Statistics, UpperMedianTakesTheUpperMiddleInPlace) {
+  std::vector<double> odd = {3.0, 1.0, 2.0}, even = {4.0, 1.0, 3.0, 2.0}, none;
+  EXPECT_DOUBLE_EQ(UpperMedian(&odd), 2.0);
+  EXPECT_DOUBLE_EQ(UpperMedian(&even), 3.0);  // not the mean of 2 and 3
+  EXPECT_EQ(even.size(), 4u);                 // reordered, nothing dropped
+  EXPECT_TRUE(std::isnan(UpperMedian(&none)));
+}
+
+TEST(Statistics, CorrelationOfACovariance) {
+  Eigen::MatrixXd covariance(3, 3);
+  covariance << 4.0, 3.0, 0.0,  //
+      3.0, 9.0, 0.0,            //
+      0.0, 0.0, 0.0;            // the third entry has no spread
+  const Eigen::MatrixXd correlation = CorrelationOf(covariance);
+  EXPECT_DOUBLE_EQ(correlation(0, 0), 1.0);
+  EXPECT_DOUBLE_EQ(correlation(0, 1), 0.5);  // 3 / (2 * 3)
+  EXPECT_DOUBLE_EQ(correlation(1, 0), 0.5);
+  EXPECT_DOUBLE_EQ(correlation(2, 2), 1.0);
+  EXPECT_DOUBLE_EQ(correlation(0, 2), 0.0);
+}
+
+TEST(Text, JoinAndMillimetres) {
+  EXPECT_EQ(Join({"x", "y", "z"}), "x, y, z");
+  EXPECT_EQ(Join({"a", "b"}, " / "), "a / b");
+  EXPECT_EQ(Join({}), "");
+  EXPECT_EQ(Mm(12.3456), "12.3 mm");
+  EXPECT_EQ(Mm(12.3456, 4), "12.35 mm");
+  EXPECT_EQ(Mm(0.00012), "0.00012 mm");
 }
 
 }  // namespace

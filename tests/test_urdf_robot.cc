@@ -19,6 +19,7 @@
 #include "cellmetry/exports/calibrated_cell.h"
 #include "cellmetry/exports/exports.h"
 #include "cellmetry/formats/config_node.h"
+#include "support/model_derivatives.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -262,27 +263,16 @@ TEST(UrdfRobot, JetDerivativesMatchCentralDifferences) {
     Eigen::Matrix<double, 6, Eigen::Dynamic> twists;
     ASSERT_TRUE(model->ForwardWithTwists(q.data(), params.data(), &T_twists, &twists));
     for (int k = 0; k < n; ++k) {
-      std::vector<Jet> jets(n);
-      for (int i = 0; i < n; ++i) jets[i] = Jet(params[i]);
-      jets[k].v[0] = 1.0;
       Transform<Jet> T_jet;
-      ASSERT_TRUE(model->Forward(q.data(), jets.data(), &T_jet));
-      const double h = model->parameters()[k].unit == "mm" ? 1e-4 : 1e-7;
-      std::vector<double> plus = params, minus = params;
-      plus[k] += h;
-      minus[k] -= h;
-      Pose T_plus, T_minus;
-      model->Forward(q.data(), plus.data(), &T_plus);
-      model->Forward(q.data(), minus.data(), &T_minus);
-      const Eigen::Vector3d dt = (T_plus.t - T_minus.t) / (2 * h);
-      const Eigen::Matrix3d dR = (T_plus.R - T_minus.R) / (2 * h);
-      const Eigen::Vector3d w = RotationError<double>(T_plus.R, T_minus.R) / (2 * h);
+      ASSERT_TRUE(testing::JetByParameter(*model, q, params, k, &T_jet));
+      const testing::CentralDifference d =
+          testing::CentralDifferenceByParameter(*model, q, params, k);
       const std::string& name = model->parameters()[k].name;
       for (int r = 0; r < 3; ++r) {
-        EXPECT_NEAR(T_jet.t[r].v[0], dt[r], 1e-6 * (1 + std::abs(dt[r]))) << name;
-        EXPECT_NEAR(twists(r, k), dt[r], 1e-6 * (1 + std::abs(dt[r]))) << name;
-        EXPECT_NEAR(twists(3 + r, k), w[r], 1e-6 * (1 + std::abs(w[r]))) << name;
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(T_jet.R(r, c).v[0], dR(r, c), 1e-6) << name;
+        EXPECT_NEAR(T_jet.t[r].v[0], d.dt[r], 1e-6 * (1 + std::abs(d.dt[r]))) << name;
+        EXPECT_NEAR(twists(r, k), d.dt[r], 1e-6 * (1 + std::abs(d.dt[r]))) << name;
+        EXPECT_NEAR(twists(3 + r, k), d.w[r], 1e-6 * (1 + std::abs(d.w[r]))) << name;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(T_jet.R(r, c).v[0], d.dR(r, c), 1e-6) << name;
       }
     }
   }

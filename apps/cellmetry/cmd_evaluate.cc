@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
 
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/formats/workcell_result_file.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -25,15 +25,11 @@ void AddEvaluateCommand(CLI::App& app, Context& context) {
                                           !std::filesystem::is_directory(given)
                                       ? given.string()
                                       : (given / "result.json").string();
-    std::ifstream in(json_path);
-    if (!in) throw InputError({json_path, 0, 0}, "cannot open result", "Run the job first");
-    nlohmann::json result;
-    try {
-      in >> result;
-    } catch (const std::exception& e) {
-      throw InputError({json_path, 0, 0}, std::string("not a result file: ") + e.what(),
-                       "Give the folder written by `cellmetry run`");
+    // A result that is not there is a job not run yet.
+    if (!std::ifstream(json_path)) {
+      throw InputError({json_path, 0, 0}, "cannot open result", "Run the job first");
     }
+    const WorkcellResultFile result = ReadWorkcellResult(json_path);
     const WorkcellEvaluation evaluation =
         EvaluateWorkcell(result, ReadTruth(truth_path), truth_path);
     if (StopAfterCheck("nothing (evaluate prints)")) return;

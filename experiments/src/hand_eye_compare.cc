@@ -107,19 +107,6 @@ void Score(const Pose& found, const Pose& truth, double time_s, HandEyeCompareRo
   row->time_s.push_back(time_s);
 }
 
-std::string Number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, v != 0.0 && std::abs(v) < 1e-3 ? "%.2e" : "%.3g", v);
-  return text;
-}
-
-std::string IntervalText(const std::vector<double>& values, double scale = 1.0) {
-  if (values.empty()) return "-";
-  const MeanInterval m = TInterval95(values);
-  return Number(m.mean * scale) + " [" + Number(m.low * scale) + ", " + Number(m.high * scale) +
-         "]";
-}
-
 // One seed's scores, one entry per method in row order ({} where it gave no answer).
 nlohmann::json SeedJson(const std::vector<HandEyeCompareRow>& seed_rows) {
   nlohmann::json out = nlohmann::json::array();

@@ -1,4 +1,4 @@
-// 95 % intervals and the decisions drawn from them (intervals.h).
+// 95 % intervals, the decisions drawn from them, and how the tables write them (intervals.h).
 #include "cellmetry/experiments/intervals.h"
 
 #include <algorithm>
@@ -81,6 +81,33 @@ std::string RateText(const RateInterval& r) {
   std::snprintf(text, sizeof text, "%.0f %% [%.0f %%, %.0f %%] (%d/%d)", 100.0 * r.rate,
                 100.0 * r.low, 100.0 * r.high, r.k, r.n);
   return text;
+}
+
+std::string FigureText(double value, FigureStyle style) {
+  const bool small = value != 0.0 && std::abs(value) < 1e-3;
+  char text[48];
+  switch (style) {
+    case FigureStyle::kThreeDigits:
+      std::snprintf(text, sizeof text, small ? "%.2e" : "%.3g", value);
+      break;
+    case FigureStyle::kFourDecimals:
+      std::snprintf(text, sizeof text, small ? "%.1e" : "%.4f", value);
+      break;
+    case FigureStyle::kFourDigits:
+      std::snprintf(text, sizeof text, "%.4g", value);
+      break;
+  }
+  return text;
+}
+
+std::string IntervalText(const MeanInterval& m, double scale, FigureStyle style) {
+  return FigureText(m.mean * scale, style) + " [" + FigureText(m.low * scale, style) + ", " +
+         FigureText(m.high * scale, style) + "]";
+}
+
+std::string IntervalText(const std::vector<double>& values, double scale, FigureStyle style) {
+  if (values.empty()) return "-";
+  return IntervalText(TInterval95(values), scale, style);
 }
 
 }  // namespace cellmetry

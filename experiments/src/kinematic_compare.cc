@@ -10,25 +10,19 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/experiments/intervals.h"
 #include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/experiments/solver_compare.h"
 
 namespace cellmetry {
 namespace {
 
+// Table 7's figures: four decimals, an exponent below 1e-3.
+constexpr FigureStyle kTable7 = FigureStyle::kFourDecimals;
+
 // The report's words for the two residual forms.
 std::string FormulationName(ResidualForm form) {
   return form == ResidualForm::kJointSpace ? "inverse" : "forward";
-}
-
-std::string Number(double value) {
-  char text[32];
-  if (value != 0.0 && std::abs(value) < 1e-3) {
-    std::snprintf(text, sizeof(text), "%.1e", value);
-  } else {
-    std::snprintf(text, sizeof(text), "%.4f", value);
-  }
-  return text;
 }
 
 }  // namespace
@@ -233,12 +227,6 @@ std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registr
 
 namespace {
 
-std::string Interval(const std::vector<double>& values, double scale = 1.0) {
-  const MeanInterval m = TInterval95(values);
-  return Number(m.mean * scale) + " [" + Number(m.low * scale) + ", " + Number(m.high * scale) +
-         "]";
-}
-
 // Rows over seeds: (pose set, size, formulation, solver) -> that row's seeds, in table order.
 std::vector<std::vector<const CompareRow*>> BySeeds(const std::vector<CompareRow>& rows) {
   std::vector<std::vector<const CompareRow*>> groups;
@@ -292,10 +280,11 @@ std::string SeededMarkdown(const CompareSpec& spec, const std::vector<CompareRow
     char iter[64];
     std::snprintf(iter, sizeof iter, "%.1f, %d-%d", iterations, lo, hi);
     out << "| " << PoseSetName(r.pose_set) << " | " << r.size << " | "
-        << FormulationName(r.formulation) << " | " << r.solver << " | " << Interval(rms) << " | "
-        << Interval(mean) << " | " << Interval(max) << " | "
-        << (r.floor_rms_mm > 0 ? Interval(floor) : "-") << " | " << iter << " | "
-        << Interval(time, 1e3) << " | " << StopReasons(group) << " |\n";
+        << FormulationName(r.formulation) << " | " << r.solver << " | "
+        << IntervalText(rms, 1.0, kTable7) << " | " << IntervalText(mean, 1.0, kTable7) << " | "
+        << IntervalText(max, 1.0, kTable7) << " | "
+        << (r.floor_rms_mm > 0 ? IntervalText(floor, 1.0, kTable7) : "-") << " | " << iter
+        << " | " << IntervalText(time, 1e3, kTable7) << " | " << StopReasons(group) << " |\n";
   }
   out << "\nRecommendations (same: means within 1 %, or the 95 % t-interval of the per-seed "
          "differences contains 0; a tie is called a tie):\n\n";
@@ -349,10 +338,11 @@ std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<Comp
   for (const auto& r : rows) {
     out << "| " << PoseSetName(r.pose_set) << " | " << r.size << " | "
         << FormulationName(r.formulation) << " | " << r.solver << " | "
-        << Number(r.validation.mean_mm) << " | " << Number(r.validation.max_mm) << " | "
-        << Number(r.validation.rms_mm) << " | "
-        << (r.floor_rms_mm > 0 ? Number(r.floor_rms_mm) : "-") << " | " << r.iterations << " | "
-        << Number(r.time_s * 1e3) << " |\n";
+        << FigureText(r.validation.mean_mm, kTable7) << " | "
+        << FigureText(r.validation.max_mm, kTable7) << " | "
+        << FigureText(r.validation.rms_mm, kTable7) << " | "
+        << (r.floor_rms_mm > 0 ? FigureText(r.floor_rms_mm, kTable7) : "-") << " | "
+        << r.iterations << " | " << FigureText(r.time_s * 1e3, kTable7) << " |\n";
   }
   return out.str();
 }

@@ -9,6 +9,7 @@
 #include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/formats/config_fields.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/basics/statistics.h"
 #include "cellmetry/imaging/target_pose.h"
 
 namespace cellmetry {
@@ -145,8 +146,7 @@ MarkerRow CompareOne(const MarkerComparisonSpec& spec, const std::string& label,
   }
   row.positions = spec.positions;
   row.workspace_rms_mm = row.positions_found ? std::sqrt(sum2 / row.positions_found) : 0.0;
-  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-  row.ms_per_frame = ms.empty() ? 0.0 : ms[ms.size() / 2];
+  row.ms_per_frame = ms.empty() ? 0.0 : UpperMedian(&ms);
   return row;
 }
 

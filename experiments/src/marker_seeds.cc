@@ -1,22 +1,15 @@
 // The marker comparison over seeds, with intervals and a recommendation (marker_comparison.h).
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/experiments/intervals.h"
 #include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/solver_compare.h"
 
 namespace cellmetry {
 namespace {
-
-std::string Interval(const std::vector<double>& values) {
-  const MeanInterval m = TInterval95(values);
-  char text[96];
-  std::snprintf(text, sizeof text, "%.4g [%.4g, %.4g]", m.mean, m.low, m.high);
-  return text;
-}
 
 // One figure of one detector over the seeds.
 template <typename Figure>
@@ -112,9 +105,12 @@ std::string MarkerSeedsMarkdown(const MarkerComparisonSpec& spec,
       return r.positions > 0 ? 100.0 * r.positions_found / r.positions : 0.0;
     });
     const auto ms = Over(per_seed, d, [](const MarkerRow& r) { return r.ms_per_frame; });
-    out << "| " << per_seed.front()[d].label << " | " << Interval(depth) << " | "
-        << Interval(ratio) << " | " << Interval(bias) << " | " << Interval(rms) << " | "
-        << Interval(rate) << " | " << Interval(ms) << " |\n";
+    auto interval = [](const std::vector<double>& values) {
+      return IntervalText(values, 1.0, FigureStyle::kFourDigits);
+    };
+    out << "| " << per_seed.front()[d].label << " | " << interval(depth) << " | "
+        << interval(ratio) << " | " << interval(bias) << " | " << interval(rms) << " | "
+        << interval(rate) << " | " << interval(ms) << " |\n";
     Contender c{per_seed.front()[d].label, rms, {}};
     for (double v : ms) c.time_s.push_back(v / 1e3);
     contenders.push_back(c);

@@ -13,6 +13,7 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell.h"
+#include "cellmetry/experiments/intervals.h"
 #include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/formats/recording.h"
 
@@ -34,23 +35,6 @@ std::string StopReasonWords(const std::string& reason) {
 }
 
 namespace {
-
-// Three significant digits, "1.23e-05" when small.
-std::string Number(double v) {
-  char text[32];
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  if (v != 0.0 && std::abs(v) < 1e-3) {
-    std::snprintf(text, sizeof text, "%.2e", v);
-  } else {
-    std::snprintf(text, sizeof text, "%.3g", v);
-  }
-  return text;
-}
-
-std::string IntervalText(const MeanInterval& m, double scale = 1.0) {
-  return Number(m.mean * scale) + " [" + Number(m.low * scale) + ", " + Number(m.high * scale) +
-         "]";
-}
 
 // "1/4 the time" (the faster takes a quarter of the slower's time), "0.7x the time" when the
 // two are within a factor 1.5.

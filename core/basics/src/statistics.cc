@@ -1,5 +1,6 @@
-// Chi-square and normal tails, Durbin-Watson and Holm (statistics.h): Boost.Math's gamma_q for
-// the chi-square tail, Lentz's continued fraction for its logarithm where Q underflows.
+// Chi-square and normal tails, Durbin-Watson, Holm, medians and correlations (statistics.h):
+// Boost.Math's gamma_q for the chi-square tail, Lentz's continued fraction for its logarithm
+// where Q underflows.
 #include "cellmetry/basics/statistics.h"
 
 #include <algorithm>
@@ -86,6 +87,13 @@ double Median(std::vector<double> values) {
   return 0.5 * (*std::max_element(values.begin(), values.begin() + mid) + upper);
 }
 
+double UpperMedian(std::vector<double>* values) {
+  if (values->empty()) return std::numeric_limits<double>::quiet_NaN();
+  const size_t mid = values->size() / 2;
+  std::nth_element(values->begin(), values->begin() + mid, values->end());
+  return (*values)[mid];
+}
+
 MeanInterval TInterval95(const std::vector<double>& values) {
   MeanInterval m;
   m.n = static_cast<int>(values.size());
@@ -108,6 +116,19 @@ MeanInterval TInterval95(const std::vector<double>& values) {
   m.low = m.mean - t * s / std::sqrt(m.n);
   m.high = m.mean + t * s / std::sqrt(m.n);
   return m;
+}
+
+Eigen::MatrixXd CorrelationOf(const Eigen::MatrixXd& covariance) {
+  const Eigen::VectorXd sigma = covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  const Eigen::Index n = covariance.rows();
+  Eigen::MatrixXd correlation(n, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double d = sigma[i] * sigma[j];
+      correlation(i, j) = d > 0 ? covariance(i, j) / d : (i == j ? 1.0 : 0.0);
+    }
+  }
+  return correlation;
 }
 
 }  // namespace cellmetry

@@ -9,20 +9,18 @@
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/cell/truth.h"
+#include "cellmetry/formats/workcell_result_file.h"
 
 namespace cellmetry {
 namespace {
 
 const char* kAxes[3] = {"x", "y", "z"};
 
-Eigen::Vector3d Vec(const nlohmann::json& j) {
-  return Eigen::Vector3d(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
-}
-
-// A held entry's sigma is null: it was not estimated. Held entries keep sigma 0 here.
-Eigen::Vector3d SigmaOrZero(const nlohmann::json& j) {
+// A frame's sigma, translation (offset 0) or rotation (offset 3): a held entry has none, and
+// keeps sigma 0 here.
+Eigen::Vector3d SigmaOrZero(const CalibratedFrame& frame, int offset) {
   Eigen::Vector3d s;
-  for (int i = 0; i < 3; ++i) s[i] = j[i].is_null() ? 0.0 : j[i].get<double>();
+  for (int i = 0; i < 3; ++i) s[i] = frame.sigma[offset + i].value_or(0.0);
   return s;
 }
 
@@ -30,21 +28,20 @@ Eigen::Vector3d SigmaOrZero(const nlohmann::json& j) {
 // included (sigma 0), each with the name it is reported under ("ur3.base.rot_z").
 using ErrorsByParameter = std::map<std::string, EvaluatedQuantity>;
 
-void AddFrameErrors(const nlohmann::json& result, const WorkcellTruth& truth,
+void AddFrameErrors(const WorkcellResultFile& result, const WorkcellTruth& truth,
                     const std::string& truth_origin, std::vector<std::string>* order,
                     ErrorsByParameter* errors) {
-  for (const auto& [name, frame] : result.at("frames").items()) {
+  for (const CalibratedFrame& frame : result.frames) {
+    const std::string& name = frame.name;
     const auto it = truth.frames.find(name);
     if (it == truth.frames.end()) {
       throw InputError({truth_origin, 0, 0}, "the truth has no frame '" + name + "'",
                        "Evaluate a result against the truth of the same simulation");
     }
-    const Eigen::Vector3d dt = Vec(frame.at("xyz_mm")) - it->second.pose.t;
-    const Eigen::Vector3d rvec = Vec(frame.at("rvec_rad"));
-    const Eigen::Vector3d dr = RotationError<double>(RotationFromRvec(rvec.data()),
-                                                     it->second.pose.R);
-    const Eigen::Vector3d st = SigmaOrZero(frame.at("sigma_xyz_mm"));
-    const Eigen::Vector3d sr = SigmaOrZero(frame.at("sigma_rot_rad"));
+    const Eigen::Vector3d dt = frame.T_parent_frame.t - it->second.pose.t;
+    const Eigen::Vector3d dr = RotationError<double>(frame.T_parent_frame.R, it->second.pose.R);
+    const Eigen::Vector3d st = SigmaOrZero(frame, 0);
+    const Eigen::Vector3d sr = SigmaOrZero(frame, 3);
     for (int i = 0; i < 3; ++i) {
       const std::string axis = kAxes[i];
       order->push_back(name + "." + axis);
@@ -55,11 +52,11 @@ void AddFrameErrors(const nlohmann::json& result, const WorkcellTruth& truth,
   }
 }
 
-void AddModelErrors(const nlohmann::json& result, const WorkcellTruth& truth,
+void AddModelErrors(const WorkcellResultFile& result, const WorkcellTruth& truth,
                     const std::string& truth_origin, std::vector<std::string>* order,
                     ErrorsByParameter* errors) {
-  for (const auto& p : result.at("model_parameters")) {
-    const std::string name = p.at("name");
+  for (const FittedScalar& p : result.model_parameters) {
+    const std::string& name = p.name;
     const auto it = truth.model.find(name);
     // A block the simulation has no truth for at all (a nuisance effect the job added, such as
     // a detection bias) is not scored; a missing entry of a simulated block is an error.
@@ -72,26 +69,24 @@ void AddModelErrors(const nlohmann::json& result, const WorkcellTruth& truth,
       throw InputError({truth_origin, 0, 0}, "the truth has no model parameter '" + name + "'",
                        "Evaluate a result against the truth of the same simulation");
     }
-    const bool held = p.at("held").get<bool>();
     order->push_back(name);
-    (*errors)[name] = {name, p.at("unit"), p.at("value").get<double>() - it->second,
-                       held ? 0.0 : p.at("sigma").get<double>()};
+    (*errors)[name] = {name, p.unit, p.value - it->second,
+                       p.held ? 0.0 : p.sigma.value_or(0.0)};
   }
 }
 
 // Every robot in every other robot's base (robot_to_robot), against the truth's two bases.
-void AddRobotPairErrors(const nlohmann::json& result, const WorkcellTruth& truth,
+void AddRobotPairErrors(const WorkcellResultFile& result, const WorkcellTruth& truth,
                         std::vector<EvaluatedQuantity>* quantities) {
-  if (!result.contains("robot_to_robot")) return;
-  for (const auto& [name, pair] : result.at("robot_to_robot").items()) {
-    const auto a = truth.frames.find(pair.at("parent").get<std::string>());
-    const auto b = truth.frames.find(pair.at("frame").get<std::string>());
+  for (const ResultRobotPair& pair : result.robot_to_robot) {
+    const std::string& name = pair.key;
+    const auto a = truth.frames.find(pair.frame.parent);
+    const auto b = truth.frames.find(pair.frame.name);
     if (a == truth.frames.end() || b == truth.frames.end()) continue;  // bases scored above
     const Pose true_ab = a->second.pose.inverse() * b->second.pose;
-    const Eigen::Vector3d dt = Vec(pair.at("xyz_mm")) - true_ab.t;
-    const Eigen::Vector3d rvec = Vec(pair.at("rvec_rad"));
-    const Eigen::Vector3d dr = RotationError<double>(RotationFromRvec(rvec.data()), true_ab.R);
-    const Eigen::Vector3d st = Vec(pair.at("sigma_xyz_mm")), sr = Vec(pair.at("sigma_rot_rad"));
+    const Eigen::Vector3d dt = pair.frame.T_parent_frame.t - true_ab.t;
+    const Eigen::Vector3d dr = RotationError<double>(pair.frame.T_parent_frame.R, true_ab.R);
+    const Eigen::Vector3d st = SigmaOrZero(pair.frame, 0), sr = SigmaOrZero(pair.frame, 3);
     for (int i = 0; i < 3; ++i) {
       if (st[i] > 0) quantities->push_back({name + "." + kAxes[i], "mm", dt[i], st[i]});
       if (sr[i] > 0) quantities->push_back({name + ".rot_" + kAxes[i], "rad", dr[i], sr[i]});
@@ -110,16 +105,15 @@ std::string CombinationName(const std::string& partner, double ratio, const std:
 // error moved into its partners along that direction (estimation_quality.h). What the data
 // determines is partner - ratio * held, whose sigma is the partner's (the held one is fixed).
 // The partner's own row is then a gauge artefact: kept, but marked and left out of the maxima.
-void AddGaugeCombinations(const nlohmann::json& result, const ErrorsByParameter& errors,
+void AddGaugeCombinations(const WorkcellResultFile& result, const ErrorsByParameter& errors,
                           WorkcellEvaluation* evaluation) {
-  if (!result.contains("unidentifiable")) return;
-  for (const auto& held : result.at("unidentifiable")) {
-    const auto a = errors.find(held.at("name").get<std::string>());
-    if (a == errors.end() || !held.contains("moves_with")) continue;
-    for (const auto& partner : held.at("moves_with")) {
-      const auto b = errors.find(partner.at("name").get<std::string>());
+  for (const ResultUnidentifiable& held : result.unidentifiable) {
+    const auto a = errors.find(held.name);
+    if (a == errors.end()) continue;
+    for (const ResultUnidentifiable::Partner& partner : held.moves_with) {
+      const auto b = errors.find(partner.name);
       if (b == errors.end() || !(b->second.sigma > 0)) continue;
-      const double ratio = partner.at("ratio").get<double>();
+      const double ratio = partner.ratio;
       for (auto& q : evaluation->quantities) {
         if (q.name == b->second.name) q.in_gauge = true;
       }
@@ -134,7 +128,7 @@ void AddGaugeCombinations(const nlohmann::json& result, const ErrorsByParameter&
 
 }  // namespace
 
-WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const WorkcellTruth& truth,
+WorkcellEvaluation EvaluateWorkcell(const WorkcellResultFile& result, const WorkcellTruth& truth,
                                     const std::string& truth_origin) {
   std::vector<std::string> order;
   ErrorsByParameter errors;
@@ -155,6 +149,12 @@ WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const Workcell
                                              std::abs(q.normalized()));
   }
   return evaluation;
+}
+
+WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const WorkcellTruth& truth,
+                                    const std::string& truth_origin) {
+  return EvaluateWorkcell(ParseWorkcellResult(result.dump(), "result.json"), truth,
+                          truth_origin);
 }
 
 }  // namespace cellmetry

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "cellmetry/basics/error.h"
+#include "cellmetry/basics/statistics.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_data.h"
@@ -197,8 +198,7 @@ Uncertainty JointUncertainty(const Uncertainty& registration,
   for (const FreeParameter& f : columns) joint.names.push_back(f.name);
   joint.covariance = S;
   joint.sigma = S.diagonal().cwiseMax(0.0).cwiseSqrt();
-  const Eigen::VectorXd inverse = joint.sigma.cwiseMax(1e-300).cwiseInverse();
-  joint.correlation = inverse.asDiagonal() * S * inverse.asDiagonal();
+  joint.correlation = CorrelationOf(S);
   joint.chi2 = registration.chi2;
   joint.dof = registration.dof;
   joint.reduced_chi2 = registration.reduced_chi2;
@@ -292,8 +292,7 @@ void Summarize(HeldOutSetupScore* score) {
   score->rms_mm = std::sqrt(sum2 / n);
   score->mean_normalized = normalized / n;
   score->within_95 = within / n;
-  std::nth_element(sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end());
-  score->median_sigma_mm = sigmas[sigmas.size() / 2];
+  score->median_sigma_mm = UpperMedian(&sigmas);
 }
 
 }  // namespace

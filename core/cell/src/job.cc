@@ -4,24 +4,15 @@
 #include <algorithm>
 
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "angle_unit_check.h"
 #include "length_scale_check.h"
+#include "robot_config.h"
 
 namespace cellmetry {
 namespace {
-
-// A file's whole text (the robot config a result records; it was just read, so it is there).
-std::string ReadTextFile(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // `free_model: [names] | all`: which of the model's parameters the job identifies.
 void ReadFreeModel(const ConfigNode& free, const std::string& type, WorkcellRobot* robot) {
@@ -130,19 +121,13 @@ WorkcellRobot ReadRobot(const std::string& name, const ConfigNode& node, bool wo
   node.ExpectKeys({"model", "base", "tools", "cameras", "free_model", "effects"});
   WorkcellRobot robot;
   robot.name = name;
-  robot.model_file = node.ResolvePath(node["model"].AsString());
-  std::error_code unreadable;  // a name too long for the file system is "not found", not a throw
-  if (!std::filesystem::exists(robot.model_file, unreadable)) {
-    throw node["model"].Error("robot config '" + robot.model_file + "' not found",
-                              "Give a path relative to the job file");
-  }
-  const ConfigNode model_config = ConfigNode::LoadFile(robot.model_file);
-  robot.model_config = ReadTextFile(robot.model_file);
-  const std::string type = model_config["type"].AsString();
-  robot.model = registry.CreateRobotModel(type, model_config);
+  const RobotConfig config = ReadRobotConfig(node, registry);
+  robot.model_file = config.file;
+  robot.model_config = config.text;
+  robot.model = config.model;
   robot.model_parameters = robot.model->parameters();
   for (auto& p : robot.model_parameters) p.fixed = true;  // the job frees what it identifies
-  if (node.Has("free_model")) ReadFreeModel(node["free_model"], type, &robot);
+  if (node.Has("free_model")) ReadFreeModel(node["free_model"], config.type, &robot);
   ReadBase(node, world_is_base, &robot);
   if (!node.Has("tools") && !node.Has("cameras")) {
     throw node.Error("robot '" + name + "' has nothing on its flange to identify",

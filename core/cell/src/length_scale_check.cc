@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/basics/text.h"
 #include "cellmetry/formats/config_node.h"
 
 namespace cellmetry {
@@ -23,12 +24,6 @@ double Spread(const std::vector<Eigen::Vector3d>& points) {
   double sum = 0.0;
   for (const auto& p : points) sum += (p - mean).squaredNorm();
   return std::sqrt(sum / static_cast<double>(points.size()));
-}
-
-std::string Mm(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.3g mm", value);
-  return text;
 }
 
 // Where `file` (a recording.yaml or a robot config) says its length unit, and what it says;

@@ -30,8 +30,8 @@ struct TestedRow {
 
 // The ResidualRow of a result as the test reads it.
 TestedRow Tested(const ResidualRow& row) {
-  return {&row.camera, &row.target, row.kind == "rotation", row.observation, row.sample,
-          row.normalized.squaredNorm()};
+  return {&row.camera, &row.target, row.kind == ResidualKind::kRotation, row.observation,
+          row.sample, row.normalized.squaredNorm()};
 }
 
 // Each row's group scale (outliers.h); `row_at(i)` gives row i as a TestedRow.

@@ -35,7 +35,7 @@ std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled, const Linear
     row.pose = info.pose;
     row.camera = info.camera;
     row.target = info.target;
-    row.kind = info.kind == ResidualInfo::Kind::kPosition ? "position" : "rotation";
+    row.kind = info.kind;
     row.normalized = r.segment<3>(problem.residual_rows()[b]);
     row.error = row.normalized.cwiseProduct(info.sigma);
     rows.push_back(std::move(row));

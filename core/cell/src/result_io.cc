@@ -382,9 +382,9 @@ std::string WorkcellResidualsCsv(const WorkcellResult& result) {
   out.precision(9);
   for (const auto& row : result.residuals) {
     out << row.observation << "," << row.sample << "," << row.pose << "," << row.camera << ","
-        << row.target << "," << row.kind << "," << row.error.x() << "," << row.error.y() << ","
-        << row.error.z() << "," << row.normalized.x() << "," << row.normalized.y() << ","
-        << row.normalized.z() << "\n";
+        << row.target << "," << ResidualKindName(row.kind) << "," << row.error.x() << ","
+        << row.error.y() << "," << row.error.z() << "," << row.normalized.x() << ","
+        << row.normalized.y() << "," << row.normalized.z() << "\n";
   }
   return out.str();
 }

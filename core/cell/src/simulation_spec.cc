@@ -7,6 +7,7 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/formats/config_fields.h"
+#include "robot_config.h"
 
 namespace cellmetry {
 namespace {
@@ -135,8 +136,7 @@ SimulatedRobot ReadRobot(const std::string& name, const ConfigNode& node, Regist
                    "payloads_kg", "effects"});
   SimulatedRobot robot;
   robot.name = name;
-  const ConfigNode config = ConfigNode::LoadFile(node.ResolvePath(node["model"].AsString()));
-  robot.model = registry.CreateRobotModel(config["type"].AsString(), config);
+  robot.model = ReadRobotConfig(node, registry).model;
   for (const auto& p : robot.model->parameters()) robot.nominal_values.push_back(p.nominal);
   robot.model_values = robot.nominal_values;
   if (node.Has("model_errors")) {

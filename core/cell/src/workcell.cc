@@ -14,6 +14,7 @@
 #include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"
+#include "cellmetry/basics/text.h"
 #include "cellmetry/cell/motion_check.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/robot_pairs.h"
@@ -80,7 +81,7 @@ bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, No
   int total_rows = 0;
   for (const auto& row : rows) {
     auto& entry = sums[{row.camera, row.target}];
-    (row.kind == "position" ? entry.first : entry.second).Add(row.error);
+    (row.kind == ResidualKind::kPosition ? entry.first : entry.second).Add(row.error);
     total_rows += 3;
   }
   const double dof_correction =
@@ -153,7 +154,7 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     for (const auto& row : f.rows) {
       normalized_ss += row.normalized.squaredNorm();
       normalized_rows += 3;
-      if (row.kind != "position") continue;
+      if (row.kind != ResidualKind::kPosition) continue;
       out.total.Add(row.error);
       out.per_camera[row.camera].Add(row.error);
       fold.Add(row.error);
@@ -424,7 +425,8 @@ void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recordi
       }
     }
     if (rms == nullptr) {
-      auto& table = row.kind == "position" ? result->position_rms : result->rotation_rms;
+      auto& table =
+          row.kind == ResidualKind::kPosition ? result->position_rms : result->rotation_rms;
       rms = &table[row.camera + "/" + row.target];
       groups.push_back({&row, rms});
     }
@@ -722,9 +724,8 @@ WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProb
   const bool same = given && std::abs(given_mm - own_mm) <= 1e-3 * own_mm;
   const bool keep_given = given && given_mm <= own_mm * (1 + 1e-3);
   char line[480];
-  char number[32];
-  std::snprintf(number, sizeof number, "%.4g mm RMS", given_mm);
-  const std::string from_given = given ? number : "a failed fit (" + given_failure + ")";
+  const std::string from_given =
+      given ? Mm(given_mm, 4) + " RMS" : "a failed fit (" + given_failure + ")";
   std::snprintf(line, sizeof line,
                 "the job's start lies far from where the data put the frame (%s from the "
                 "closed-form start); fitted from both: the carried targets are predicted to "
@@ -813,7 +814,7 @@ RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResul
     const auto rows = ResidualRows(*AssembleWorkcell(cartesian, fresh, data, noise, estimate));
     int count = 0;
     for (const auto& row : rows) {
-      if (row.kind != "position" || !MeasuresARobot(fresh, row)) continue;
+      if (row.kind != ResidualKind::kPosition || !MeasuresARobot(fresh, row)) continue;
       rms.Add(row.error);
       if (mean) *mean += row.error.norm();
       if (max) *max = std::max(*max, row.error.norm());

@@ -53,7 +53,7 @@ Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
   for (const auto& row : f.result.residuals) {
     f.summary.chi2 += row.normalized.squaredNorm();
     rows += 3;
-    if (row.kind == "position" && recording.IsCarried(row.target)) tool.Add(row.error);
+    if (row.kind == ResidualKind::kPosition && recording.IsCarried(row.target)) tool.Add(row.error);
   }
   tool.Finish();
   for (const WorkcellRobot& robot : spec.robots) {  // a level base's tilt over its sigma
@@ -169,7 +169,7 @@ void CheckInputs(const NoiseModel& noise, const Recording& recording,
 double FloorRms(const Fitted& fit, const Recording& recording) {
   ResidualRms floor;
   for (const auto& row : fit.result.residuals) {
-    if (row.kind != "position" || !recording.IsCarried(row.target)) continue;
+    if (row.kind != ResidualKind::kPosition || !recording.IsCarried(row.target)) continue;
     const Eigen::Vector3d sigma = row.error.cwiseQuotient(row.normalized);
     floor.Add(sigma.unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; }));
   }
@@ -203,10 +203,10 @@ std::vector<SignaturePoint> Signature(const CandidateLinearization& lin,
                                       const WorkcellResult& after) {
   std::map<int, Eigen::Vector3d> error_before, error_after;
   for (const auto& row : before.residuals) {
-    if (row.kind == "position") error_before[row.observation] = row.error;
+    if (row.kind == ResidualKind::kPosition) error_before[row.observation] = row.error;
   }
   for (const auto& row : after.residuals) {
-    if (row.kind == "position") error_after[row.observation] = row.error;
+    if (row.kind == ResidualKind::kPosition) error_after[row.observation] = row.error;
   }
   const Eigen::VectorXd whitened = lin.J_candidate * theta;
   std::vector<SignaturePoint> points;

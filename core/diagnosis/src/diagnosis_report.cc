@@ -4,17 +4,12 @@
 #include <sstream>
 #include <nlohmann/json.hpp>
 
+#include "cellmetry/basics/text.h"
 #include "cellmetry/diagnosis/diagnosis.h"
 #include "cellmetry/formats/fixed_number.h"
 
 namespace cellmetry {
 namespace {
-
-std::string Mm(double v) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.3g mm", v);
-  return b;
-}
 
 // A failed test (CandidateFinding::failed) in words.
 std::string Why(const CandidateFinding& f, const std::string& test) {

@@ -2,6 +2,7 @@
 #include "cellmetry/exports/exports.h"
 
 #include "cellmetry/basics/error.h"
+#include "cellmetry/basics/text.h"
 #include "cellmetry/exports/robot_config_export.h"
 #include "cellmetry/exports/tf_export.h"
 #include "cellmetry/exports/ur_kinematics_export.h"
@@ -19,9 +20,8 @@ ExportFormat ParseExportFormat(const std::string& name, const std::string& where
   for (size_t i = 0; i < names.size(); ++i) {
     if (names[i] == name) return static_cast<ExportFormat>(i);
   }
-  std::string known;
-  for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
-  throw InputError({where, 0, 0}, "unknown export format '" + name + "'", "Give one of: " + known);
+  throw InputError({where, 0, 0}, "unknown export format '" + name + "'",
+                   "Give one of: " + Join(names));
 }
 
 std::string ExportText(const CalibratedCell& cell, ExportFormat format, const std::string& robot,

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "cellmetry/basics/text.h"
 #include "cellmetry/formats/input_file.h"
 #include "cellmetry/formats/quoted_text.h"
 
@@ -28,12 +29,6 @@ size_t EditDistance(const std::string& a, const std::string& b) {
     }
   }
   return row[b.size()];
-}
-
-std::string Join(const std::vector<std::string>& words) {
-  std::string text;
-  for (const auto& w : words) text += (text.empty() ? "" : ", ") + w;
-  return text;
 }
 
 std::string Describe(const YAML::Node& node) {
@@ -402,6 +397,13 @@ std::string ConfigNode::ResolvePath(const std::string& path) const {
   if (p.is_absolute() || file_.empty()) return p.lexically_normal().string();
   const std::filesystem::path base = std::filesystem::path(file_).parent_path();
   return (base / p).lexically_normal().string();
+}
+
+void CopyTextEntry(const ConfigNode& config, const std::string& key, std::ostream& out) {
+  if (!config.Has(key)) return;
+  YAML::Emitter text;
+  text << config[key].AsString();
+  out << key << ": " << text.c_str() << "\n";
 }
 
 }  // namespace cellmetry

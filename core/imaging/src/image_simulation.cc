@@ -11,6 +11,7 @@
 
 #include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/basics/text.h"
 
 namespace cellmetry {
 namespace {
@@ -41,23 +42,17 @@ bool Contains(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-std::string Joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
 std::vector<TargetMarker> ReadMarkers(const ConfigNode& images,
                                       const std::vector<std::string>& targets,
                                       Registry& registry) {
   if (images.Has("detector") == images.Has("targets")) {
     throw images.Error("give exactly one of 'detector:' (the one target's marker) or 'targets:'",
                        "e.g. targets: {tool: {type: <detector>, ...}}, a detector of " +
-                           Joined(registry.Names(PluginKind::kDetector)));
+                           Join(registry.Names(PluginKind::kDetector)));
   }
   if (images.Has("detector")) {
     if (targets.size() != 1) {
-      throw images["detector"].Error("this simulation has targets " + Joined(targets),
+      throw images["detector"].Error("this simulation has targets " + Join(targets),
                                      "Say which marker each carries under 'targets:'");
     }
     return {ReadTargetMarker(targets[0], images["detector"], registry)};
@@ -67,7 +62,7 @@ std::vector<TargetMarker> ReadMarkers(const ConfigNode& images,
   for (const auto& target : node.Keys()) {
     if (!Contains(targets, target)) {
       throw node[target].Error("no target '" + target + "' in this simulation",
-                               "Its targets are: " + Joined(targets));
+                               "Its targets are: " + Join(targets));
     }
     markers.push_back(ReadTargetMarker(target, node[target], registry));
   }
@@ -85,7 +80,7 @@ std::map<std::string, ImagingCamera> ReadCameras(const ConfigNode& images,
     for (const auto& name : node.Keys()) {
       if (!Contains(cameras, name)) {
         throw node[name].Error("no camera '" + name + "' in this simulation",
-                               "Its cameras are: " + Joined(cameras));
+                               "Its cameras are: " + Join(cameras));
       }
       node[name].ExpectKeys({"stereo", "mono"});
       out[name] = ReadImagingCamera(node[name]);

@@ -4,13 +4,9 @@
 #include <cmath>
 #include <tuple>
 
-namespace cellmetry::import_keys {
+#include "cellmetry/basics/text.h"
 
-std::string JoinWords(const std::vector<std::string>& words) {
-  std::string text;
-  for (const auto& w : words) text += (text.empty() ? "" : ", ") + w;
-  return text;
-}
+namespace cellmetry::import_keys {
 
 std::string OneOf(const ConfigNode& node, const std::vector<std::string>& words,
                   const std::string& what) {
@@ -21,7 +17,7 @@ std::string OneOf(const ConfigNode& node, const std::vector<std::string>& words,
   const std::string nearest = NearestWord(value, words);
   throw node.Error("unknown " + what + " '" + value + "'",
                    (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") + "Known: " +
-                       JoinWords(words));
+                       Join(words));
 }
 
 ConfigNode Required(const ConfigNode& node, const std::string& key, const std::string& hint) {
@@ -66,8 +62,8 @@ ColumnRef ColumnOfMap(const ConfigNode& node, const std::string& hint) {
 std::vector<ColumnRef> Columns(const ConfigNode& node, const std::vector<std::string>& names) {
   if (!node.IsSequence() || node.Elements().size() != names.size()) {
     throw node.Error("expected " + std::to_string(names.size()) + " column names",
-                     "List the columns of " + JoinWords(names) + ", in this order: [" +
-                         JoinWords(names) + "]");
+                     "List the columns of " + Join(names) + ", in this order: [" +
+                         Join(names) + "]");
   }
   std::vector<ColumnRef> columns;
   for (const auto& element : node.Elements()) columns.push_back(Column(element));

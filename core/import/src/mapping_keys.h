@@ -13,9 +13,6 @@
 
 namespace cellmetry::import_keys {
 
-// "a, b, c".
-std::string JoinWords(const std::vector<std::string>& words);
-
 // A word from a fixed list, refused with the nearest one and the whole list.
 std::string OneOf(const ConfigNode& node, const std::vector<std::string>& words,
                   const std::string& what);

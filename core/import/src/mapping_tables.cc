@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <set>
 
+#include "cellmetry/basics/text.h"
 #include "mapping_keys.h"
 
 namespace cellmetry::import_keys {
@@ -113,7 +114,7 @@ void ReadJoin(const ConfigNode& join, ImportMapping* m) {
       const std::string nearest = NearestWord(key, names);
       throw columns[key].Error("'" + key + "' is not under tables:",
                                (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") +
-                                   "Tables: " + JoinWords(names));
+                                   "Tables: " + Join(names));
     }
   }
   for (const auto& table : m->tables) {

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/basics/text.h"
 #include "cellmetry/formats/csv_table.h"
 
 #include "cellmetry/report/html_page.h"
@@ -220,9 +221,7 @@ std::string CompareReportHtml(const std::string& csv, const std::string& markdow
   }
   page.EndGrid();
   if (!skipped.empty()) {
-    std::string list;
-    for (const auto& s : skipped) list += (list.empty() ? "" : ", ") + s;
-    page.Note("Not plotted: " + list + ".");
+    page.Note("Not plotted: " + Join(skipped) + ".");
   }
   page.Section("Comparison", "comparison");
   AddMarkdown(markdown, &page);

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <map>
 
+#include "cellmetry/basics/text.h"
 #include "cellmetry/report/html_page.h"
 #include "cellmetry/report/plots.h"
 #include "cellmetry/report/reports.h"
@@ -10,12 +11,6 @@ namespace cellmetry::report {
 namespace {
 
 const char* kAxis[3] = {"x", "y", "depth"};
-
-std::string Join(const std::vector<std::string>& items) {
-  std::string out;
-  for (const auto& s : items) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
 
 void FitRow(const std::string& name, const FitSummary& f,
             std::vector<std::vector<std::string>>* rows) {

@@ -54,7 +54,7 @@ void HeldOutSection(const WorkcellResult& r, const Recording& recording, HtmlPag
   std::map<std::string, ResidualRms> fitted;
   ResidualRms all;
   for (const auto& row : r.residuals) {
-    if (row.kind != "position") continue;
+    if (row.kind != ResidualKind::kPosition) continue;
     auto t = recording.targets.find(row.target);
     if (t != recording.targets.end() && t->second == kWorldCarrier) continue;
     fitted[row.camera].Add(row.error);

@@ -10,7 +10,7 @@ namespace {
 
 const char* kAxis[3] = {"x", "y", "depth"};
 
-bool IsPosition(const ResidualRow& row) { return row.kind == "position"; }
+bool IsPosition(const ResidualRow& row) { return row.kind == ResidualKind::kPosition; }
 
 // Residual rows by camera, then by target (a series per target).
 template <typename Fn>

@@ -5,27 +5,15 @@
 //   detector: {type: apriltag_board, family: tag36h11, tags_x: 2, tags_y: 2, tag_size_mm: 20,
 //              spacing_mm: 6, cube_mm: 60, cube_faces: {+x: 0, +y: 4, -x: 8, -y: 12, +z: 16}}
 #include <algorithm>
-#include <cstdio>
 #include <set>
 #include <string>
 
 #include "apriltag_detector.h"
+#include "cellmetry/basics/text.h"
 #include "cellmetry/registry/registry.h"
 
 namespace cellmetry::apriltag_board {
 namespace {
-
-std::string Joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& name : names) out += (out.empty() ? "" : ", ") + name;
-  return out;
-}
-
-std::string Mm(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.4g mm", value);
-  return text;
-}
 
 FamilyPtr ReadFamily(const ConfigNode& config, std::string* name) {
   *name = config.GetString("family", "tag36h11");
@@ -34,7 +22,7 @@ FamilyPtr ReadFamily(const ConfigNode& config, std::string* name) {
     const std::string nearest = NearestWord(*name, FamilyNames());
     throw config["family"].Error("unknown AprilTag family '" + *name + "'",
                                  (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") +
-                                     "Known families: " + Joined(FamilyNames()));
+                                     "Known families: " + Join(FamilyNames()));
   }
   return family;
 }
@@ -68,14 +56,16 @@ void ReadGrid(const ConfigNode& config, const apriltag_family_t& family, TagBoar
   if (b->tags_x * b->tags_y > 1 && !config.Has("spacing_mm")) {
     throw config.Error(
         "a grid of several tags needs spacing_mm",
-        "Give the gap between neighbouring tags' detection squares, at least " + Mm(min_spacing));
+        "Give the gap between neighbouring tags' detection squares, at least " +
+            Mm(min_spacing, 4));
   }
   b->spacing_mm = config.GetDouble("spacing_mm", min_spacing);
   if (b->spacing_mm < min_spacing - 1e-9) {
     throw config["spacing_mm"].Error(
         "neighbouring " + std::string(family.name) + " tags would overlap",
         "A printed tag reaches " + std::to_string(b->outer_cells()) +
-            " cell(s) beyond its detection square: spacing_mm must be at least " + Mm(min_spacing));
+            " cell(s) beyond its detection square: spacing_mm must be at least " +
+            Mm(min_spacing, 4));
   }
 }
 
@@ -93,8 +83,9 @@ void ReadCube(const ConfigNode& config, const apriltag_family_t& family,
   const double printed_w = b->grid_width_mm() + 2 * b->outer_cells() * b->cell_mm();
   const double printed_h = b->grid_height_mm() + 2 * b->outer_cells() * b->cell_mm();
   if (printed_w > b->cube_mm + 1e-9 || printed_h > b->cube_mm + 1e-9) {
-    throw config["cube_mm"].Error("a face's grid (" + Mm(printed_w) + " x " + Mm(printed_h) +
-                                      " printed) does not fit on a " + Mm(b->cube_mm) + " cube",
+    throw config["cube_mm"].Error("a face's grid (" + Mm(printed_w, 4) + " x " +
+                                      Mm(printed_h, 4) + " printed) does not fit on a " +
+                                      Mm(b->cube_mm, 4) + " cube",
                                   "Use a larger cube, smaller tags or fewer tags per face");
   }
   const ConfigNode faces = config["cube_faces"];

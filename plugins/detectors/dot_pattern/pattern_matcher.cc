@@ -10,19 +10,12 @@
 #include <numeric>
 #include <sstream>
 
+#include "cellmetry/basics/statistics.h"
 #include "diamond_layout.h"
 #include "homography.h"
 
 namespace cellmetry::dot {
 namespace {
-
-double Median(std::vector<double> v) {
-  const size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  double m = v[mid];
-  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + mid));
-  return m;
-}
 
 std::string Where(const Eigen::Vector2d& p) {
   std::ostringstream s;

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <utility>
 
+#include "cellmetry/basics/text.h"
+
 namespace cellmetry::fiducial {
 namespace {
 
@@ -37,12 +39,6 @@ const std::vector<std::pair<std::string, PREDEFINED_DICTIONARY_NAME>>& Table() {
   return table;
 }
 
-std::string Joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& name : names) out += (out.empty() ? "" : ", ") + name;
-  return out;
-}
-
 }  // namespace
 
 const std::vector<std::string>& DictionaryNames() {
@@ -62,7 +58,7 @@ cv::Ptr<cv::aruco::Dictionary> PredefinedDictionary(const ConfigNode& node) {
   const std::string nearest = NearestWord(name, DictionaryNames());
   throw node.Error("unknown ArUco dictionary '" + name + "'",
                    (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") +
-                       "Known dictionaries: " + Joined(DictionaryNames()) +
+                       "Known dictionaries: " + Join(DictionaryNames()) +
                        "; or give dictionary_file: with a custom one");
 }
 

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "cellmetry/basics/statistics.h"
+
 namespace cellmetry::fiducial {
 namespace {
 
@@ -127,11 +129,6 @@ struct SideScratch {
   std::vector<double> widths, shifts, residual, sorted;
 };
 
-double Median(std::vector<double>* values) {
-  std::nth_element(values->begin(), values->begin() + values->size() / 2, values->end());
-  return (*values)[values->size() / 2];
-}
-
 // `line` once more without the points far off it (a speck of dirt, a neighbour's edge): beyond 3
 // robust sigmas (1.4826 median absolute residual) and kMinOutlier. When no residual exceeds
 // kMinOutlier nothing can go, and the median (the costliest step of a side) is skipped.
@@ -145,7 +142,7 @@ bool Refit(SideScratch* x, Line* line) {
   }
   if (largest <= kMinOutlier) return true;
   x->sorted = x->residual;
-  const double limit = std::max(kMinOutlier, 3.0 * 1.4826 * Median(&x->sorted));
+  const double limit = std::max(kMinOutlier, 3.0 * 1.4826 * UpperMedian(&x->sorted));
   x->kept.clear();
   for (size_t i = 0; i < x->points.size(); ++i) {
     if (x->residual[i] <= limit) x->kept.push_back(x->points[i]);
@@ -185,8 +182,8 @@ bool SideLine(const ImageView& im, const Eigen::Vector2d& p0, const Eigen::Vecto
     x.shifts.push_back(cut_shift * cos);
   }
   if (static_cast<int>(x.points.size()) < kMinPoints) return false;
-  if (sigma != nullptr) *sigma = Median(&x.widths);
-  if (shift != nullptr) *shift = Median(&x.shifts);
+  if (sigma != nullptr) *sigma = UpperMedian(&x.widths);
+  if (shift != nullptr) *shift = UpperMedian(&x.shifts);
   *line = Fit(x.points);
   return Refit(&x, line);
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "cellmetry/formats/config_node.h"
 #include "cellmetry/formats/exact_number.h"
 
 namespace cellmetry::delta {
@@ -95,12 +96,8 @@ std::string DeltaModel::InverseFailure(const double* position, const double* par
 std::string DeltaModel::CalibratedConfig(const ConfigNode& config, const double* params) const {
   std::ostringstream out;
   out << "type: delta\n";
-  for (const std::string key : {"name", "description"}) {
-    if (!config.Has(key)) continue;
-    YAML::Emitter text;
-    text << config[key].AsString();
-    out << key << ": " << text.c_str() << "\n";
-  }
+  CopyTextEntry(config, "name", out);
+  CopyTextEntry(config, "description", out);
   out << "units: {length: mm, angle: rad}\n"
       << "arms:                   # arm i turned (i-1)*120 deg about z\n";
   for (int i = 0; i < kArms; ++i) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "cellmetry/formats/config_node.h"
 #include "cellmetry/formats/exact_number.h"
 
 namespace cellmetry::serial_mdh {
@@ -130,24 +131,12 @@ bool SerialMdhModel::AsSerialChain(const double* params, SerialChain* chain) con
   return true;
 }
 
-namespace {
-
-// `key: value` of a string the config had, quoted as YAML needs; nothing when it had none.
-void CopyText(const ConfigNode& config, const std::string& key, std::ostream& out) {
-  if (!config.Has(key)) return;
-  YAML::Emitter text;
-  text << config[key].AsString();
-  out << key << ": " << text.c_str() << "\n";
-}
-
-}  // namespace
-
 std::string SerialMdhModel::CalibratedConfig(const ConfigNode& config,
                                              const double* params) const {
   std::ostringstream out;
   out << "type: serial_mdh\n";
-  CopyText(config, "name", out);
-  CopyText(config, "description", out);
+  CopyTextEntry(config, "name", out);
+  CopyTextEntry(config, "description", out);
   out << "units: {length: mm, angle: rad}\n"
       << "joints:                 # Craig's alpha_{i-1}, a_{i-1} on joint i's row; Hayati beta\n";
   for (size_t i = 0; i < joints_.size(); ++i) {

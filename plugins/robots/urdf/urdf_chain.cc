@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "cellmetry/basics/text.h"
+
 namespace cellmetry::urdf_robot {
 
 namespace {
@@ -50,11 +52,9 @@ urdf::LinkConstSharedPtr FindLink(const urdf::ModelInterface& model, const Confi
   if (link) return link;
   const std::vector<std::string> names = LinkNames(model);
   const std::string nearest = NearestWord(name, names);
-  std::string list;
-  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
   throw config[key].Error("no link '" + name + "' in " + file,
                           (nearest.empty() ? std::string() : "Did you mean '" + nearest + "'? ") +
-                              "Its links: " + list);
+                              "Its links: " + Join(names));
 }
 
 std::string TypeName(int type) {

@@ -3,6 +3,7 @@
 
 #include <sstream>
 
+#include "cellmetry/formats/config_node.h"
 #include "cellmetry/formats/exact_number.h"
 #include "urdf_conventions.h"
 
@@ -106,28 +107,16 @@ bool UrdfModel::SetNominal(const std::string& name, double value) {
   return true;
 }
 
-namespace {
-
-// `key: value` of a string the config had, quoted as YAML needs; nothing when it had none.
-void CopyText(const ConfigNode& config, const std::string& key, std::ostream& out) {
-  if (!config.Has(key)) return;
-  YAML::Emitter text;
-  text << config[key].AsString();
-  out << key << ": " << text.c_str() << "\n";
-}
-
-}  // namespace
-
 std::string UrdfModel::CalibratedConfig(const ConfigNode& config, const double* params) const {
   std::ostringstream out;
   out << "type: urdf\n";
-  CopyText(config, "name", out);
-  CopyText(config, "description", out);
+  CopyTextEntry(config, "name", out);
+  CopyTextEntry(config, "description", out);
   YAML::Emitter file;
   file << chain_.file;
   out << "file: " << file.c_str() << "   # the URDF the calibration ran on, unchanged\n";
-  CopyText(config, "base_link", out);
-  CopyText(config, "tip_link", out);
+  CopyTextEntry(config, "base_link", out);
+  CopyTextEntry(config, "tip_link", out);
   out << "calibrated:   # replace the URDF's joint origins (mm) and zero turns and offsets (rad)\n";
   for (size_t k = 0; k < parameters_.size(); ++k) {
     YAML::Emitter name;

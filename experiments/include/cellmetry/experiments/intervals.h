@@ -3,7 +3,9 @@
 // A comparison is repeated over seeds; a figure without its interval cannot tell a difference
 // from the seed's luck. Means get a Student-t interval, rates (k of n runs right) a Wilson score
 // interval; a target is met when the whole interval clears it, missed when the whole interval
-// falls short, and undecided otherwise, with the number of runs that would decide it.
+// falls short, and undecided otherwise, with the number of runs that would decide it. Every
+// comparison's table writes its figures and intervals the same few ways (FigureText,
+// IntervalText).
 #pragma once
 
 #include <string>
@@ -53,5 +55,21 @@ int RunsToDecide(double rate, double target, int runs_so_far);
 
 // "87 % [81 %, 92 %] (109/125)".
 std::string RateText(const RateInterval& r);
+
+// How a comparison's table writes a figure.
+enum class FigureStyle {
+  kThreeDigits,   // 3 significant digits ("0.0123", "152"); "1.23e-05" below 1e-3 (not 0)
+  kFourDecimals,  // 4 decimals ("12.3457"); "1.2e-05" below 1e-3 (not 0)
+  kFourDigits,    // 4 significant digits ("12.35", "0.0001235")
+};
+std::string FigureText(double value, FigureStyle style = FigureStyle::kThreeDigits);
+
+// "1.23 [1.1, 1.36]": a mean and its 95 % interval, each times `scale` (1e3: seconds as ms) and
+// written as FigureText.
+std::string IntervalText(const MeanInterval& m, double scale = 1.0,
+                         FigureStyle style = FigureStyle::kThreeDigits);
+// The same for TInterval95(values); "-" for no values.
+std::string IntervalText(const std::vector<double>& values, double scale = 1.0,
+                         FigureStyle style = FigureStyle::kThreeDigits);
 
 }  // namespace cellmetry

@@ -1,9 +1,11 @@
 // Small statistics the physics finder and the comparisons need: tail probabilities of the
-// chi-square and normal distributions, the Durbin-Watson statistic, the Holm correction, a
-// median, and a mean's 95 % Student-t interval.
+// chi-square and normal distributions, the Durbin-Watson statistic, the Holm correction,
+// medians, a mean's 95 % Student-t interval, and a covariance's correlation matrix.
 #pragma once
 
 #include <vector>
+
+#include <Eigen/Core>
 
 namespace cellmetry {
 
@@ -34,6 +36,11 @@ std::vector<double> HolmAdjusted(const std::vector<double>& p);
 // no values.
 double Median(std::vector<double> values);
 
+// The upper of the two middle values of an even count (the middle value of an odd one), found
+// in place: `values` is reordered, not copied, for the hot paths that reuse one scratch vector.
+// NaN for no values.
+double UpperMedian(std::vector<double>* values);
+
 // A mean and its two-sided 95 % Student-t interval, mean +- t(0.975, n-1) s / sqrt(n); with
 // fewer than two values the interval is unbounded (nothing can be told apart).
 struct MeanInterval {
@@ -43,5 +50,10 @@ struct MeanInterval {
   int n = 0;
 };
 MeanInterval TInterval95(const std::vector<double>& values);
+
+// The correlation matrix of a covariance: C(i, j) / (sigma_i sigma_j) with sigma the square
+// roots of the diagonal (negative round-off taken as 0). An entry without spread (sigma 0) is
+// uncorrelated with the others and fully with itself: 0 off the diagonal, 1 on it.
+Eigen::MatrixXd CorrelationOf(const Eigen::MatrixXd& covariance);
 
 }  // namespace cellmetry

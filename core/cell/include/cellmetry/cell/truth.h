@@ -4,9 +4,9 @@
 //              frames: {<name>: {parent, xyz, rvec}}      # same names as result.yaml
 //              model:  {<robot>.model.<param>: value}
 //
-// EvaluateWorkcell (evaluation.cc) reads a result.json (result_io.h) and gives each estimate's
-// error in its unit and in its own sigma; where parameters were in a gauge, the error of the
-// combination the data determined.
+// EvaluateWorkcell (evaluation.cc) takes a result.json as ReadWorkcellResult reads it
+// (formats/workcell_result_file.h) and gives each estimate's error in its unit and in its own
+// sigma; where parameters were in a gauge, the error of the combination the data determined.
 #pragma once
 
 #include <cmath>
@@ -17,6 +17,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/formats/workcell_result_file.h"
 
 namespace cellmetry {
 
@@ -57,8 +58,11 @@ struct WorkcellEvaluation {
   double max_abs_normalized = 0.0;
 };
 
-// `result` is result.json (result_io.h); frames and model parameters absent from the truth are
-// an InputError naming `truth_origin`.
+// `result` is result.json read back (ReadWorkcellResult); frames and model parameters absent
+// from the truth are an InputError naming `truth_origin`.
+WorkcellEvaluation EvaluateWorkcell(const WorkcellResultFile& result, const WorkcellTruth& truth,
+                                    const std::string& truth_origin);
+// The same for a result held in memory as WorkcellResultJson (result_io.h) gives it.
 WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const WorkcellTruth& truth,
                                     const std::string& truth_origin);
 

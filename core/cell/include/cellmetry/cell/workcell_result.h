@@ -89,16 +89,29 @@ struct Outlier {
   double threshold = 0.0;  // the test's chi-square quantile it exceeded
 };
 
+// What a residual row measures: a position (mm) or a rotation (rad), as the Problem's blocks say.
+using ResidualKind = ResidualInfo::Kind;
+
 struct ResidualRow {
   int observation = 0;
   int sample = 0;
   int pose = 0;
   std::string camera;
   std::string target;
-  std::string kind;               // "position" (mm) or "rotation" (rad)
+  ResidualKind kind = ResidualKind::kPosition;  // kPosition (mm) or kRotation (rad)
   Eigen::Vector3d error;          // prediction - measurement, camera axes
   Eigen::Vector3d normalized;     // error / sigma
 };
+
+// "position", "rotation" or "prior": a kind as residuals.csv and the reports write it.
+inline const char* ResidualKindName(ResidualKind kind) {
+  switch (kind) {
+    case ResidualKind::kPosition: return "position";
+    case ResidualKind::kRotation: return "rotation";
+    case ResidualKind::kPrior: return "prior";
+  }
+  return "position";
+}
 
 struct HeldOut {
   int folds = 0;

@@ -1,6 +1,7 @@
-// CalibratedCell: what `cellmetry export` reads from a result folder (result.json,
-// cellmetry-result/1): every identified frame with its sigma, and each robot's model rebuilt
-// through the registry at the fitted values.
+// CalibratedCell: what `cellmetry export` and `cellmetry compensate` read from a result folder
+// (result.json, read by ReadWorkcellResult, formats/workcell_result_file.h): every identified
+// frame with its sigma, and each robot's model rebuilt through the registry at the fitted
+// values.
 //
 // A robot's model comes from the robot config the result recorded (`robots.<name>.model_config`,
 // the file's text at the time of the run) and every parameter's value at the answer
@@ -23,29 +24,15 @@
 
 #include "cellmetry/basics/transform.h"
 #include "cellmetry/formats/config_node.h"
+#include "cellmetry/formats/workcell_result_file.h"
 #include "cellmetry/model/effect.h"
 #include "cellmetry/model/robot_model.h"
 #include "cellmetry/registry/registry.h"
 
 namespace cellmetry {
 
-// A frame of the result: T_parent_name with the sigma of its translation (mm) and of small
-// rotations about the parent's axes (rad); a held entry has no sigma.
-struct CalibratedFrame {
-  std::string name;    // "ur3.base", "tool", "cam1"
-  std::string parent;  // "world" or "<robot>.flange"
-  Pose T_parent_frame;
-  std::array<std::optional<double>, 6> sigma;  // x y z (mm), rx ry rz (rad); empty = held
-};
-
-// A scalar the fit reports beside the frames: a model parameter ("ur3.model.j2.d") or an
-// effect's ("ur3.joint_compliance.k2", "camera.depth_bias.scale").
-struct FittedScalar {
-  std::string name;
-  std::string unit;
-  double value = 0.0;
-  std::optional<double> sigma;  // empty: held (not identifiable)
-};
+// CalibratedFrame (a frame with its sigma) and FittedScalar (a model or effect parameter with
+// its sigma) are result.json's own (workcell_result_file.h).
 
 struct CalibratedRobot {
   std::string name;                        // as in the recording

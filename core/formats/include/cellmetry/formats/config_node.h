@@ -15,6 +15,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <iosfwd>
 #include <memory>
 #include <optional>
 #include <string>
@@ -100,5 +101,11 @@ class ConfigNode {
 
 // The candidate nearest to `word` by edit distance, or "" when none is close enough to suggest.
 std::string NearestWord(const std::string& word, const std::vector<std::string>& candidates);
+
+// The line `key: value` for the string `config` has under `key`, quoted as YAML needs (a value
+// with a colon or a quote stays one string), written to `out`; nothing when `config` has no
+// `key`. What a robot model's CalibratedConfig copies from the config it was built from (its
+// name and description).
+void CopyTextEntry(const ConfigNode& config, const std::string& key, std::ostream& out);
 
 }  // namespace cellmetry
