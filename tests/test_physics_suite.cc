@@ -67,6 +67,28 @@ TEST(PhysicsSuite, InterruptedSuiteResumesFromItsCheckpoint) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/doc.md.partial.json"));
 }
 
+// Stopped after the first seed of every case (the suite runs seed by seed over the cases, so
+// that its rate after the first tenth holds for the rest): the resumed suite reads each case's
+// first seed back and runs only the second.
+TEST(PhysicsSuite, InterruptedSuiteResumesWithinACaseAtTheSeedItReached) {
+  const std::string dir = testing::TempDirForThisTest("suite_resume_seeds");
+  testing::WriteText(dir + "/suite.yaml", SuiteYaml("2"));
+  const PhysicsSuiteSpec spec = LoadPhysicsSuite(dir + "/suite.yaml");
+  testing::WriteText(
+      dir + "/doc.md.partial.json",
+      R"({"delta/clean/2/6.000": {"magnitude": 0, "runs": [{"named": "none", "failed": "",
+          "held_out_over_floor": 0.97, "seconds": 2.0}]},
+          "delta/arm 1 skew/2/6.000": {"magnitude": 5e-4, "runs": [{"named": "delta.tilt_arm1",
+          "failed": "", "held_out_over_floor": 0.99, "seconds": 2.5}]}})");
+  const auto results = RunPhysicsSuite(spec, testing::Plugins());
+  ASSERT_EQ(results.size(), 2u);
+  for (const auto& result : results) ASSERT_EQ(result.runs.size(), 2u) << result.spec.name;
+  EXPECT_DOUBLE_EQ(results[0].runs[0].seconds, 2.0);  // read back
+  EXPECT_DOUBLE_EQ(results[1].runs[0].seconds, 2.5);
+  EXPECT_DOUBLE_EQ(results[1].magnitude, 5e-4);  // the second seed ran at the kept size
+  EXPECT_NE(results[1].runs[1].seconds, 2.5);    // run, not copied
+}
+
 // A case's runs are its seeds: each must draw its own noise, or five runs are one run counted
 // five times (the merged simulator once read the noise seed from elsewhere, and every case came
 // out 5/5 or 0/5).

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -118,9 +119,10 @@ std::string FailedTests(const CandidateFinding& f) {
   return failed;
 }
 
-SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
-                        const WorkcellSimulationSpec& base, const DiagnosisJob& job,
-                        const SuiteCase& c, Registry& registry, Progress* progress) {
+// A case's size for the suite's SNR and the oracle's choice at it: what every seed shares.
+SuiteCaseResult SetUpCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
+                          const WorkcellSimulationSpec& base, const DiagnosisJob& job,
+                          const SuiteCase& c, Registry& registry) {
   SuiteCaseResult result;
   result.cell = cell.name;
   result.spec = c;
@@ -129,39 +131,42 @@ SuiteCaseResult RunCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
   if (has_physics && c.expect != "unexplained" && result.magnitude > 0) {
     result.oracle = CaseOracle(base, job, c, result.magnitude, registry);
   }
-  for (int seed = 1; seed <= suite.seeds; ++seed) {
-    const auto start = std::chrono::steady_clock::now();
-    const WorkcellSimulationSpec spec =
-        CaseSimulation(base, c, result.magnitude, 1000u + seed, true, registry);
-    const Recording recording = SimulateWorkcell(spec, nullptr);
-    WorkcellProblem problem = job.workcell.problem;
-    problem.leave_one_camera_out = false;  // the suite scores names, not each camera
-    const DiagnosisResult d =
-        DiagnoseWorkcell(problem, recording, MakerOf(job.workcell, registry),
-                         JobCandidates(job, recording, registry), job.options, cell.job);
-    SuiteRun run;
-    run.named = !d.accepted.empty()      ? d.accepted.front().name
-                : !d.unexplained.empty() ? "unexplained"
-                                         : "none";
-    if (!d.accepted.empty()) {
-      run.aliases = d.accepted.front().alias_names;
-      run.group = d.accepted.front().group;
-    }
-    if (d.accepted.empty()) run.tied = TiedCandidates(d);
-    run.held_out_over_floor = d.final.held_out_rms_mm / d.floor_rms_mm;
-    for (const auto& f : d.rounds.empty() ? std::vector<CandidateFinding>{}
-                                          : d.rounds.back().candidates) {
-      if (!f.failed.empty()) run.failed = FailedTests(f);
-    }
-    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    result.runs.push_back(run);
-    progress->Advance();
-  }
   return result;
 }
 
-// The checkpoint of finished cases (<output>.partial.json), keyed so that a changed suite does
-// not reuse stale cases.
+// One seed of a case: a recording simulated with its hidden physics, diagnosed.
+SuiteRun RunSeed(const SuiteCell& cell, const WorkcellSimulationSpec& base,
+                 const DiagnosisJob& job, const SuiteCaseResult& set_up, int seed,
+                 Registry& registry) {
+  const auto start = std::chrono::steady_clock::now();
+  const WorkcellSimulationSpec spec =
+      CaseSimulation(base, set_up.spec, set_up.magnitude, 1000u + seed, true, registry);
+  const Recording recording = SimulateWorkcell(spec, nullptr);
+  WorkcellProblem problem = job.workcell.problem;
+  problem.leave_one_camera_out = false;  // the suite scores names, not each camera
+  const DiagnosisResult d =
+      DiagnoseWorkcell(problem, recording, MakerOf(job.workcell, registry),
+                       JobCandidates(job, recording, registry), job.options, cell.job);
+  SuiteRun run;
+  run.named = !d.accepted.empty()      ? d.accepted.front().name
+              : !d.unexplained.empty() ? "unexplained"
+                                       : "none";
+  if (!d.accepted.empty()) {
+    run.aliases = d.accepted.front().alias_names;
+    run.group = d.accepted.front().group;
+  }
+  if (d.accepted.empty()) run.tied = TiedCandidates(d);
+  run.held_out_over_floor = d.final.held_out_rms_mm / d.floor_rms_mm;
+  for (const auto& f : d.rounds.empty() ? std::vector<CandidateFinding>{}
+                                        : d.rounds.back().candidates) {
+    if (!f.failed.empty()) run.failed = FailedTests(f);
+  }
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return run;
+}
+
+// The checkpoint of each case's finished seeds (<output>.partial.json), keyed so that a changed
+// suite does not reuse stale cases.
 std::string CheckpointPath(const PhysicsSuiteSpec& suite) { return suite.output + ".partial.json"; }
 
 std::string CaseKey(const PhysicsSuiteSpec& suite, const SuiteCell& cell, const SuiteCase& c) {
@@ -283,28 +288,52 @@ PhysicsSuiteSpec LoadPhysicsSuite(const std::string& path) {
 }
 
 std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& suite, Registry& registry) {
-  int runs = 0;
-  for (const auto& cell : suite.cells) runs += static_cast<int>(cell.cases.size()) * suite.seeds;
-  Progress progress("physics suite runs", runs);
-  nlohmann::json done = ReadCheckpoint(suite);
-  std::vector<SuiteCaseResult> results;
+  struct CaseState {
+    const SuiteCell* cell;
+    const SuiteCase* c;
+    size_t cell_index;
+    std::string key;
+    std::optional<SuiteCaseResult> result;  // once set up: its size, oracle and seeds run
+  };
+  std::vector<WorkcellSimulationSpec> bases;
+  std::vector<DiagnosisJob> jobs;
+  std::vector<CaseState> cases;
+  const nlohmann::json kept = ReadCheckpoint(suite);
+  int resumed = 0;
   for (const auto& cell : suite.cells) {
-    const WorkcellSimulationSpec base =
-        LoadWorkcellSimulation(cell.simulation, registry, ReadConcealedDisturbance);
-    const DiagnosisJob job = LoadDiagnosisJob(cell.job, registry, /*recording_must_exist=*/false);
+    bases.push_back(LoadWorkcellSimulation(cell.simulation, registry, ReadConcealedDisturbance));
+    jobs.push_back(LoadDiagnosisJob(cell.job, registry, /*recording_must_exist=*/false));
     for (const auto& c : cell.cases) {
-      const std::string key = CaseKey(suite, cell, c);
-      if (done.contains(key)) {
-        Progress::Note("resuming: " + cell.name + " / " + c.name + " done before");
-        results.push_back(FromJson(done[key], cell.name, c));
-        progress.Resume(suite.seeds);
-        continue;
+      CaseState state{&cell, &c, bases.size() - 1, CaseKey(suite, cell, c), std::nullopt};
+      if (kept.contains(state.key)) {
+        state.result = FromJson(kept[state.key], cell.name, c);
+        resumed += static_cast<int>(state.result->runs.size());
       }
-      results.push_back(RunCase(suite, cell, base, job, c, registry, &progress));
-      done[key] = ToJson(results.back());
+      cases.push_back(std::move(state));
+    }
+  }
+  Progress progress("physics suite runs", static_cast<int>(cases.size()) * suite.seeds);
+  if (resumed > 0) Progress::Note("resuming: " + std::to_string(resumed) + " runs done before");
+  progress.Resume(resumed);
+  nlohmann::json done = kept;
+  // Seed by seed over every case: each tenth of a ten-seed suite is one seed of every case, so
+  // the rate so far predicts the rest (the cases' diagnoses differ in cost several times over).
+  for (int seed = 1; seed <= suite.seeds; ++seed) {
+    for (CaseState& state : cases) {
+      const size_t cell = state.cell_index;
+      if (!state.result) {
+        state.result = SetUpCase(suite, *state.cell, bases[cell], jobs[cell], *state.c, registry);
+      }
+      if (static_cast<int>(state.result->runs.size()) >= seed) continue;  // done before
+      state.result->runs.push_back(
+          RunSeed(*state.cell, bases[cell], jobs[cell], *state.result, seed, registry));
+      progress.Advance();
+      done[state.key] = ToJson(*state.result);
       AtomicWriteFile(CheckpointPath(suite), done.dump(1));
     }
   }
+  std::vector<SuiteCaseResult> results;
+  for (CaseState& state : cases) results.push_back(std::move(*state.result));
   return results;
 }
 
