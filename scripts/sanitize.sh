@@ -10,14 +10,11 @@ cd "$(dirname "$0")/.."
 build=${CELLMETRY_ASAN_BUILD:-build-asan}
 launcher=()
 if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
-cxx=$(command -v clang++-14 || command -v clang++)
-# -O0: the sanitizers see the code as written, and the build takes half the compiler time of
-# -O1 (23.5 -> 12.3 s for workcell_initial.cc, 32 -> 19 s for diagnosis_linear.cc), which CI's
-# 30 minutes need; the instrumented suites and fuzzers run slower for it.
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="$cxx" \
-  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O0 -gline-tables-only -DNDEBUG" \
-  -DCELLMETRY_FUZZ=ON -DCELLMETRY_BUILD_BENCHMARKS=OFF -DCELLMETRY_TEST_TIMEOUT=7200 \
-  "${launcher[@]}" >/dev/null
+launcher+=("-DCMAKE_COMPILE_WARNING_AS_ERROR=$([ -n "${CELLMETRY_WERROR:-}" ] && echo ON || echo OFF)")
+# CMakePresets.json's "asan": clang, -O0 (the sanitizers see the code as written, and the build
+# takes half the compiler time of -O1: 23.5 -> 12.3 s for workcell_initial.cc, which CI needs;
+# the instrumented suites and fuzzers run slower for it), the fuzz harnesses in the same tree.
+cmake --preset asan -B "$build" "${launcher[@]}" >/dev/null
 if [ "${1:-}" = "--configure" ]; then exit 0; fi
 # Leaks are not checked: plugins stay loaded (dlopen without dlclose) and TBB's and OpenCV's
 # thread pools live to exit; every other ASan and UBSan report fails the test.

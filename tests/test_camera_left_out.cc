@@ -170,7 +170,9 @@ TEST(GaugePrior, OneCameraTakesTheWorldBoardsSizeFromItsPlausibleSize) {
   }
   // The prior's sigma is a stated input: the chi-square scale does not widen it.
   for (const auto& s : r.model_parameters) {
-    if (s.name == "camera.target_scale.world.scale") EXPECT_NEAR(s.sigma, 0.01, 1e-6);
+    if (s.name == "camera.target_scale.world.scale") {
+      EXPECT_NEAR(s.sigma, 0.01, 1e-6);
+    }
   }
   EXPECT_THAT(WorkcellSummary(r),
               ::testing::HasSubstr("not determined by this data: camera.target_scale.world.scale, "

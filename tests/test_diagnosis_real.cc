@@ -62,7 +62,7 @@ TEST(DiagnosisOnRealData, NamesExperimentAsCameraSidePhysicsAndPlacesTheBase) {
 }
 
 TEST(DiagnosisOnRealData, ExperimentAsSingleCamerasPlaceTheBaseWithinThreeSigma) {
-  for (const std::string& kept : {"cam1", "cam2", "cam3"}) {
+  for (const std::string kept : {"cam1", "cam2", "cam3"}) {
     std::set<std::string> unused = {"cam1", "cam2", "cam3"};
     unused.erase(kept);
     const FrameEstimate& base = Base(DiagnoseExpA(unused));

@@ -104,8 +104,12 @@ struct Measured {
 // A problem measuring one block {m, b} through `ys` (each its own pose, in capture order), b
 // measured by nothing.
 void AddMeasurements(Problem* problem, const std::vector<double>& ys, double sigma) {
-  Parameter m{"m", "mm", 0.0};
-  Parameter b{"b", "mm", 0.0};
+  Parameter m;
+  m.name = "m";
+  m.unit = "mm";
+  Parameter b;
+  b.name = "b";
+  b.unit = "mm";
   const int block = problem->AddBlock("x", {m, b});
   for (size_t k = 0; k < ys.size(); ++k) {
     ResidualInfo info;
