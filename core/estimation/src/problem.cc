@@ -203,7 +203,6 @@ void Problem::AddFreeColumnsAndPriors() {
       AppendRow(prior_costs_.back().get(), nullptr, *InternBlocks({static_cast<int>(b)}));
       ResidualInfo info;
       info.kind = ResidualInfo::Kind::kPrior;
-      info.target = block.name + "." + p.name;
       info.sigma = Eigen::Vector3d::Constant(*p.prior_sigma);
       infos_.push_back(info);
     }

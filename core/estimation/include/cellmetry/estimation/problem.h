@@ -30,16 +30,12 @@
 
 namespace cellmetry {
 
-// What one residual block measures, for statistics and the residual CSV.
+// How one residual block is weighed, for statistics: its kind, and the sigma each row was
+// divided by (mm for positions, rad for rotations, the entry's unit for priors). What a block
+// measured is the caller's to keep.
 struct ResidualInfo {
   enum class Kind { kPosition, kRotation, kPrior };
   Kind kind = Kind::kPosition;
-  int observation = -1;  // index into the recording's observations (-1 for priors)
-  int sample = -1;
-  int pose = -1;
-  std::string camera;
-  std::string target;
-  // The sigma each row was divided by (mm for positions, rad for rotations and priors' unit).
   Eigen::Vector3d sigma = Eigen::Vector3d::Ones();
 };
 
