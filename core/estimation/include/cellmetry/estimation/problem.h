@@ -26,6 +26,7 @@
 #include "cellmetry/basics/parameter.h"
 #include "cellmetry/basics/transform.h"
 #include "cellmetry/estimation/gram_rows.h"
+#include "cellmetry/estimation/normal_equations.h"
 #include "cellmetry/estimation/r_factor.h"
 
 namespace cellmetry {
@@ -40,22 +41,6 @@ struct ResidualInfo {
 };
 
 enum class RobustLossKind { kNone, kHuber, kCauchy };
-
-// The Gauss-Newton normal equations of a Problem's robust cost at its current values
-// (Problem::EvaluateNormalEquations), over FreeValues():
-//   cost = 1/2 sum_b rho_b(s_b),   s_b = |r_b|^2
-//   gradient = sum_b w_b J_b^T r_b,   hessian = sum_b J_b^T (w_b I + c_b r_b r_b^T) J_b
-// for each residual block b, w_b = rho_b'(s_b) and c_b = 2 rho_b''(s_b) of its robust loss rho_b
-// (the identity where it has none: w_b = 1, c_b = 0, and the hessian is J^T J). c_b is 0 where
-// w_b + c_b s_b <= 0 (a block far out on a redescending loss), so the hessian stays positive
-// semi-definite (Triggs et al. 2000, "Bundle adjustment: a modern synthesis", sec. 4.3; Ceres
-// keeps the term only where rho'' > 0, which a Cauchy or Huber loss never has: with it the
-// reweighted solve of exp_a takes 6 iterations instead of 8).
-struct NormalEquations {
-  double cost = 0.0;
-  Eigen::VectorXd gradient;
-  Eigen::MatrixXd hessian;
-};
 
 struct FreeParameter {
   int block = 0;
@@ -153,7 +138,7 @@ class Problem {
   // them. Every residual has its row; rows of the blocks not evaluated are empty.
   bool EvaluateSparseColumns(const std::vector<int>& blocks, SparseJacobian* jacobian,
                              std::vector<int>* columns) const;
-  // The normal equations above, accumulated block by block on every core without storing J
+  // The normal equations (normal_equations.h), accumulated block by block on every core without storing J
   // (normal_equations.cc): for a cell's few dozen free parameters and tens of thousands of
   // blocks, what an iteration of a reweighted fit needs at a fraction of a sparse J's cost.
   // The sum's order is fixed (the same bits on every run). False if a cost function failed.
