@@ -119,7 +119,7 @@ TEST_F(DiagnosisLinear, CompressedBootstrapIncludesWhatTheRowsInclude) {
     if (J.norm() > 0.0) acting.push_back(J);
   }
   std::vector<int> row_pose;
-  for (const auto& info : base.rows) row_pose.push_back(info.pose);
+  for (const auto& row : base.rows) row_pose.push_back(row.label.pose);
   const double penalty = std::log(60.0);
   const auto compressed =
       BootstrapInclusions(base.r, base.J_model, acting, row_pose, 30, penalty, 4, 17u);

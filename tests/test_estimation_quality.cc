@@ -101,8 +101,8 @@ struct Measured {
   }
 };
 
-// A problem measuring one block {m, b} through `ys` (each its own pose, in capture order), b
-// measured by nothing.
+// A problem measuring one block {m, b} through `ys` (residual block k: the k-th pose, in capture
+// order), b measured by nothing.
 void AddMeasurements(Problem* problem, const std::vector<double>& ys, double sigma) {
   Parameter m;
   m.name = "m";
@@ -113,8 +113,6 @@ void AddMeasurements(Problem* problem, const std::vector<double>& ys, double sig
   const int block = problem->AddBlock("x", {m, b});
   for (size_t k = 0; k < ys.size(); ++k) {
     ResidualInfo info;
-    info.pose = static_cast<int>(k);
-    info.sample = static_cast<int>(k);
     info.sigma = Eigen::Vector3d::Constant(sigma);
     problem->AddResidual(
         std::make_unique<ceres::AutoDiffCostFunction<Measured, 1, 2>>(new Measured{ys[k], sigma}),
@@ -145,8 +143,10 @@ TEST(SerialClusterRobust, NeighbouringErrorsWidenSigmaByTheirLongRunVariance) {
     solver->Solve(problem);
     const Linearization at = Linearize(problem);
     const Uncertainty model = ComputeUncertainty(problem, at);
-    std::vector<int> clusters;
-    for (const auto& info : problem.residual_infos()) clusters.push_back(info.pose);
+    std::vector<int> clusters;  // each measurement its own pose, in capture order
+    for (size_t k = 0; k < problem.residual_infos().size(); ++k) {
+      clusters.push_back(static_cast<int>(k));
+    }
     const ClusterRobust serial = SerialClusterRobustCovariance(problem, at, clusters, model);
     const double ratio = std::sqrt(serial.covariance(0, 0)) / model.sigma[0];
     if (rho == 0.0) {

@@ -227,9 +227,9 @@ TEST_F(Outliers, AProblemsBlocksAreTestedAsTheRowsMadeFromThem) {
   ASSERT_TRUE(problem.EvaluateSparse(&whitened, nullptr));
   const std::vector<ResidualRow> rows = ResidualRows(*assembled, nullptr);  // residuals.csv's
   ASSERT_GT(rows.size(), 100u);
-  EXPECT_EQ(RobustScales(problem, whitened), RobustScales(rows));
+  EXPECT_EQ(RobustScales(*assembled, whitened), RobustScales(rows));
   const std::vector<Outlier> from_rows = FindOutliers(rows, corrupted);
-  const std::vector<Outlier> from_problem = FindOutliers(problem, whitened, corrupted);
+  const std::vector<Outlier> from_problem = FindOutliers(*assembled, whitened, corrupted);
   ASSERT_FALSE(from_rows.empty());
   ASSERT_EQ(from_problem.size(), from_rows.size());
   for (size_t i = 0; i < from_rows.size(); ++i) {

@@ -171,8 +171,12 @@ TEST(SparsePath, GramRowsHaveTheJacobiansGramMatrix) {
     for (size_t b = 0; b < at.gram.row_of_block.size(); ++b) {
       const int row = at.gram.row_of_block[b];
       ASSERT_GE(row, 0);
-      EXPECT_EQ(solved.assembled->problem.residual_infos()[b].camera,
-                solved.assembled->problem.residual_infos()[at.gram.block[row]].camera);
+      const MeasurementLabel* label = solved.assembled->LabelOf(b);
+      const MeasurementLabel* stands_for = solved.assembled->LabelOf(at.gram.block[row]);
+      ASSERT_EQ(label == nullptr, stands_for == nullptr);
+      if (label) {
+        EXPECT_EQ(label->camera, stands_for->camera);
+      }
     }
     // Asked alone (J never stored, as the identifiability check before a solve asks), the
     // same rows to the bit.

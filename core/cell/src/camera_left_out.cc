@@ -178,8 +178,8 @@ std::vector<Eigen::VectorXd> DataVariances(const WorkcellProblem& spec,
   for (size_t c = 0; c < cameras.size(); ++c) {
     groups.push_back({static_cast<int>(c), AddedPriors(refits[c].result, all)});
   }
-  return LeftOutDifferenceVariance(problem, at, CameraGroups(problem, cameras),
-                                   PoseClustersInCaptureOrder(problem), all.uncertainty, groups,
+  return LeftOutDifferenceVariance(problem, at, CameraGroups(*fitted, cameras),
+                                   PoseClustersInCaptureOrder(*fitted), all.uncertainty, groups,
                                    spec.identifiability_tolerance);
 }
 

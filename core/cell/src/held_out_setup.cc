@@ -94,17 +94,20 @@ struct PositionRow {
   Eigen::Vector3d sigma_mm;
 };
 
-std::vector<PositionRow> CarriedPositionRows(const Problem& problem, const Eigen::VectorXd& r,
+std::vector<PositionRow> CarriedPositionRows(const AssembledWorkcell& assembled,
+                                             const Eigen::VectorXd& r,
                                              const Recording& recording) {
   std::vector<PositionRow> rows;
+  const Problem& problem = assembled.problem;
   const auto& infos = problem.residual_infos();
-  for (size_t b = 0; b < infos.size(); ++b) {
+  for (size_t b = 0; b < assembled.labels.size(); ++b) {
     const ResidualInfo& info = infos[b];
-    if (info.kind != ResidualInfo::Kind::kPosition || !recording.IsCarried(info.target)) {
+    const MeasurementLabel& label = assembled.labels[b];
+    if (info.kind != ResidualInfo::Kind::kPosition || !recording.IsCarried(label.target)) {
       continue;
     }
     const int row = problem.residual_rows()[b];
-    rows.push_back({info.sample, info.camera, info.target,
+    rows.push_back({label.sample, label.camera, label.target,
                     r.segment<3>(row).cwiseProduct(info.sigma), row, info.sigma});
   }
   return rows;
@@ -130,7 +133,7 @@ std::vector<PositionRow> ScoredRows(const WorkcellProblem& spec, const Recording
                      "the calibrated model cannot place a held-out pose",
                      "Check that the held-out recording is of the same robot and joints");
   }
-  return CarriedPositionRows(assembled->problem, r, recording);
+  return CarriedPositionRows(*assembled, r, recording);
 }
 
 // The calibration's covariance of the entries `names` (result.uncertainty order), each scaled
@@ -261,7 +264,7 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
   const Eigen::MatrixXd S = JointCovariance(J, dispersion, is_theta,
                                             CalibratedCovariance(result.uncertainty, theta_names));
   *joint = JointUncertainty(registered.uncertainty, free_columns, S);
-  for (const PositionRow& row : CarriedPositionRows(on_scored->problem, r_scored, held_out)) {
+  for (const PositionRow& row : CarriedPositionRows(*on_scored, r_scored, held_out)) {
     const Eigen::MatrixXd G_p = row.sigma_mm.asDiagonal() * G.middleRows(row.row, 3);
     HeldOutPoint point{row.sample, row.camera, row.target, row.error_mm, {}, 0.0};
     point.covariance_mm2 = G_p * S * G_p.transpose();

@@ -110,22 +110,22 @@ std::vector<Outlier> OutliersOf(size_t num_rows, const RowAt& row_at, const Reco
   return out;
 }
 
-// A problem's measurement blocks with their whitened residuals as TestedRows (not the result's
-// rows: workcell.cc's MeasurementRows makes those).
+// An assembled workcell's measurement blocks with their whitened residuals as TestedRows (not
+// the result's rows: workcell.cc's MeasurementRows makes those).
 struct ProblemRows {
-  ProblemRows(const Problem& problem, const Eigen::VectorXd& whitened)
-      : infos(problem.residual_infos()), first_row(problem.residual_rows()), r(whitened) {
-    for (const ResidualInfo& info : infos) {
-      if (info.kind == ResidualInfo::Kind::kPrior) break;  // priors come last
-      ++count;
-    }
-  }
+  ProblemRows(const AssembledWorkcell& assembled, const Eigen::VectorXd& whitened)
+      : infos(assembled.problem.residual_infos()),
+        labels(assembled.labels),
+        first_row(assembled.problem.residual_rows()),
+        r(whitened),
+        count(assembled.labels.size()) {}
   TestedRow operator()(size_t b) const {
-    const ResidualInfo& info = infos[b];
-    return {&info.camera, &info.target, info.kind == ResidualInfo::Kind::kRotation,
-            info.observation, info.sample, r.segment<3>(first_row[b]).squaredNorm()};
+    const MeasurementLabel& label = labels[b];
+    return {&label.camera, &label.target, infos[b].kind == ResidualInfo::Kind::kRotation,
+            label.observation, label.sample, r.segment<3>(first_row[b]).squaredNorm()};
   }
   const std::vector<ResidualInfo>& infos;
+  const std::vector<MeasurementLabel>& labels;
   const std::vector<int>& first_row;
   const Eigen::VectorXd& r;
   size_t count = 0;
@@ -137,8 +137,9 @@ std::vector<double> RobustScales(const std::vector<ResidualRow>& rows) {
   return ScalesOf(rows.size(), [&](size_t i) { return Tested(rows[i]); });
 }
 
-std::vector<double> RobustScales(const Problem& problem, const Eigen::VectorXd& whitened) {
-  const ProblemRows rows(problem, whitened);
+std::vector<double> RobustScales(const AssembledWorkcell& assembled,
+                                 const Eigen::VectorXd& whitened) {
+  const ProblemRows rows(assembled, whitened);
   return ScalesOf(rows.count, rows);
 }
 
@@ -147,9 +148,10 @@ std::vector<Outlier> FindOutliers(const std::vector<ResidualRow>& rows, const Re
   return OutliersOf(rows.size(), [&](size_t i) { return Tested(rows[i]); }, recording, alpha);
 }
 
-std::vector<Outlier> FindOutliers(const Problem& problem, const Eigen::VectorXd& whitened,
-                                  const Recording& recording, double alpha) {
-  const ProblemRows rows(problem, whitened);
+std::vector<Outlier> FindOutliers(const AssembledWorkcell& assembled,
+                                  const Eigen::VectorXd& whitened, const Recording& recording,
+                                  double alpha) {
+  const ProblemRows rows(assembled, whitened);
   return OutliersOf(rows.count, rows, recording, alpha);
 }
 

@@ -25,16 +25,16 @@ std::vector<ResidualRow> ResidualRows(AssembledWorkcell& assembled, const Linear
   const Eigen::VectorXd r = WhitenedResiduals(problem, at);
   std::vector<ResidualRow> rows;
   const auto& infos = problem.residual_infos();
-  rows.reserve(infos.size());
-  for (size_t b = 0; b < infos.size(); ++b) {
+  rows.reserve(assembled.labels.size());
+  for (size_t b = 0; b < assembled.labels.size(); ++b) {  // the priors after them measure nothing
     const ResidualInfo& info = infos[b];
-    if (info.kind == ResidualInfo::Kind::kPrior) continue;
+    const MeasurementLabel& label = assembled.labels[b];
     ResidualRow row;
-    row.observation = info.observation;
-    row.sample = info.sample;
-    row.pose = info.pose;
-    row.camera = info.camera;
-    row.target = info.target;
+    row.observation = label.observation;
+    row.sample = label.sample;
+    row.pose = label.pose;
+    row.camera = label.camera;
+    row.target = label.target;
     row.kind = info.kind;
     row.normalized = r.segment<3>(problem.residual_rows()[b]);
     row.error = row.normalized.cwiseProduct(info.sigma);

@@ -16,8 +16,10 @@ namespace {
 
 // Sets the loss of each measurement block at `width` robust sigma of its group, at the whitened
 // residuals `whitened` of the problem's current values.
-void SetLossFromScale(const Eigen::VectorXd& whitened, double width, Problem* problem) {
-  const std::vector<double> scale = RobustScales(*problem, whitened);
+void SetLossFromScale(const Eigen::VectorXd& whitened, double width,
+                      AssembledWorkcell* assembled) {
+  Problem* problem = &assembled->problem;
+  const std::vector<double> scale = RobustScales(*assembled, whitened);
   std::vector<double> loss_scale(scale.size());
   for (size_t i = 0; i < scale.size(); ++i) loss_scale[i] = width * std::sqrt(scale[i]);
   problem->SetWhitenedRobustLoss(RobustLossKind::kCauchy, std::move(loss_scale));
@@ -87,14 +89,16 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
     fit.at_answer = std::move(plain.at_answer);
     if (kept && options.at_least_squares_answer) options.at_least_squares_answer(ls.get());
     const BlockStates least_squares = Snapshot(problem);
-    SetLossFromScale(WhitenedResiduals(problem, &fit.at_answer), options.cauchy_width, &problem);
+    SetLossFromScale(WhitenedResiduals(problem, &fit.at_answer), options.cauchy_width,
+                     fit.assembled.get());
     if (!SolveByReweighting(&problem).converged) {
       // Far from the robust answer (least squares dragged off by gross errors, or not
       // converged): the job's solver takes over from where the reweighting stopped.
       SolveHoldingUnidentifiable(&problem, spec.identifiability_tolerance, held, make_solver,
                                  /*warm_start=*/true);
     }
-    out.outliers = FindOutliers(problem, WhitenedResiduals(problem), recording, options.alpha);
+    out.outliers =
+        FindOutliers(*fit.assembled, WhitenedResiduals(problem), recording, options.alpha);
     Restore(least_squares, &problem);
   } catch (const InputError& e) {
     Progress::Note(std::string("the robust first fit failed (") + e.what() +

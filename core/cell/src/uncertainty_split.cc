@@ -10,32 +10,37 @@
 
 namespace cellmetry {
 
-std::vector<int> PoseClustersInCaptureOrder(const Problem& problem) {
+std::vector<int> PoseClustersInCaptureOrder(const AssembledWorkcell& assembled) {
   std::map<int, int> first_sample;  // pose -> the first sample that shows it
-  for (const auto& info : problem.residual_infos()) {
-    if (info.kind == ResidualInfo::Kind::kPrior) continue;
-    const auto [it, added] = first_sample.emplace(info.pose, info.sample);
-    if (!added) it->second = std::min(it->second, info.sample);
+  for (const MeasurementLabel& label : assembled.labels) {
+    const auto [it, added] = first_sample.emplace(label.pose, label.sample);
+    if (!added) it->second = std::min(it->second, label.sample);
   }
   std::vector<std::pair<int, int>> order;  // (first sample, pose)
   for (const auto& [pose, sample] : first_sample) order.push_back({sample, pose});
   std::sort(order.begin(), order.end());
   std::map<int, int> rank;
   for (size_t i = 0; i < order.size(); ++i) rank[order[i].second] = static_cast<int>(i);
+  const size_t num_blocks = assembled.problem.residual_infos().size();
   std::vector<int> clusters;
-  for (const auto& info : problem.residual_infos()) {
-    clusters.push_back(info.kind == ResidualInfo::Kind::kPrior ? -1 : rank.at(info.pose));
+  clusters.reserve(num_blocks);
+  for (size_t b = 0; b < num_blocks; ++b) {
+    const MeasurementLabel* label = assembled.LabelOf(b);
+    clusters.push_back(label ? rank.at(label->pose) : -1);
   }
   return clusters;
 }
 
-std::vector<int> CameraGroups(const Problem& problem, const std::vector<std::string>& cameras) {
+std::vector<int> CameraGroups(const AssembledWorkcell& assembled,
+                              const std::vector<std::string>& cameras) {
+  const size_t num_blocks = assembled.problem.residual_infos().size();
   std::vector<int> groups;
-  for (const auto& info : problem.residual_infos()) {
-    const auto it = std::find(cameras.begin(), cameras.end(), info.camera);
-    groups.push_back(info.kind == ResidualInfo::Kind::kPrior || it == cameras.end()
-                         ? -1
-                         : static_cast<int>(it - cameras.begin()));
+  groups.reserve(num_blocks);
+  for (size_t b = 0; b < num_blocks; ++b) {
+    const MeasurementLabel* label = assembled.LabelOf(b);
+    const auto it =
+        label ? std::find(cameras.begin(), cameras.end(), label->camera) : cameras.end();
+    groups.push_back(it == cameras.end() ? -1 : static_cast<int>(it - cameras.begin()));
   }
   return groups;
 }
@@ -50,11 +55,11 @@ void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,
   std::future<std::vector<Eigen::VectorXd>> jackknife = std::async(
       cameras.empty() ? std::launch::deferred : std::launch::async, [&] {
         if (cameras.empty()) return std::vector<Eigen::VectorXd>{};
-        return LinearizedJackknife(problem, at, CameraGroups(problem, cameras),
+        return LinearizedJackknife(problem, at, CameraGroups(fitted, cameras),
                                    spec.identifiability_tolerance);
       });
   const ClusterRobust cluster =
-      SerialClusterRobustCovariance(problem, at, PoseClustersInCaptureOrder(problem), *u);
+      SerialClusterRobustCovariance(problem, at, PoseClustersInCaptureOrder(fitted), *u);
   const auto deviations = jackknife.get();
   CombineUncertainty(cluster.covariance,
                      deviations.size() >= 2 ? JackknifeSpread(deviations) : Jackknife{}, u);

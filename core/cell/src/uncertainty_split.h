@@ -22,14 +22,15 @@
 
 namespace cellmetry {
 
-// The pose of each residual block of `problem` (ResidualInfo order) as its rank in capture
-// order (the first sample that shows it), so that neighbouring clusters are neighbouring views;
-// -1 for priors (clusters of their own).
-std::vector<int> PoseClustersInCaptureOrder(const Problem& problem);
+// The pose of each residual block of `assembled`'s problem (its block order) as its rank in
+// capture order (the first sample that shows it), so that neighbouring clusters are
+// neighbouring views; -1 for priors (clusters of their own).
+std::vector<int> PoseClustersInCaptureOrder(const AssembledWorkcell& assembled);
 
-// Each residual block's camera as its index in `cameras` (ResidualInfo order); -1 for priors
-// and cameras not listed (kept in every estimate).
-std::vector<int> CameraGroups(const Problem& problem, const std::vector<std::string>& cameras);
+// Each residual block's camera as its index in `cameras` (the problem's block order); -1 for
+// priors and cameras not listed (kept in every estimate).
+std::vector<int> CameraGroups(const AssembledWorkcell& assembled,
+                              const std::vector<std::string>& cameras);
 
 // `at` is the fitted problem's linearization at `answer`, from which `u` was computed.
 void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,

@@ -117,18 +117,31 @@ std::vector<int> BlockSizes(const Problem& problem, const std::vector<int>& bloc
   return sizes;
 }
 
-ResidualInfo InfoFor(const Recording& recording, int observation, ResidualInfo::Kind kind,
-                     const Eigen::Vector3d& sigma) {
+MeasurementLabel LabelFor(const Recording& recording, int observation) {
   const Observation& obs = recording.observations[observation];
+  MeasurementLabel label;
+  label.observation = observation;
+  label.sample = obs.sample;
+  label.pose = recording.samples[recording.SampleIndex(obs.sample)].pose;
+  label.camera = obs.camera;
+  label.target = obs.target;
+  return label;
+}
+
+// A residual block measuring `observation` of `recording`, weighed by `sigma`, and its label:
+// out->labels stays parallel to the problem's measurement blocks.
+void AddMeasurement(const Recording& recording, int observation, ResidualInfo::Kind kind,
+                    const Eigen::Vector3d& sigma, std::unique_ptr<ceres::CostFunction> cost,
+                    std::vector<int> blocks, AssembledWorkcell* out) {
   ResidualInfo info;
   info.kind = kind;
-  info.observation = observation;
-  info.sample = obs.sample;
-  info.pose = recording.samples[recording.SampleIndex(obs.sample)].pose;
-  info.camera = obs.camera;
-  info.target = obs.target;
   info.sigma = sigma;
-  return info;
+  out->problem.AddResidual(std::move(cost), std::move(blocks), info);
+  out->labels.push_back(LabelFor(recording, observation));
+}
+
+ResidualInfo::Kind KindOf(bool position) {
+  return position ? ResidualInfo::Kind::kPosition : ResidualInfo::Kind::kRotation;
 }
 
 // Each capture's forward kinematics, shared by every block that reads it (forward_memo.h): by
@@ -437,10 +450,7 @@ void AddEyeInHandResiduals(const Recording& recording, const ToolMeasurement& m,
                                       out->R_ref.at(blocks[0]), out->R_ref.at(blocks[1]),
                                       robot.model.get(), recording.samples[m.sample_index].q,
                                       out->problem, blocks);
-    out->problem.AddResidual(
-        std::move(cost), blocks,
-        InfoFor(recording, m.observation,
-                position ? ResidualInfo::Kind::kPosition : ResidualInfo::Kind::kRotation, s));
+    AddMeasurement(recording, m.observation, KindOf(position), s, std::move(cost), blocks, out);
   }
 }
 
@@ -495,9 +505,9 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     if (spec.residual == ResidualForm::kJointSpace) {
       std::vector<int> blocks = c.blocks;
       auto cost = JointSpaceCost(c, out, RowPositionSigma(sigma, obs), &blocks);
-      out->problem.AddResidual(std::move(cost), blocks,
-                               InfoFor(recording, m.observation, ResidualInfo::Kind::kPosition,
-                                       Eigen::Vector3d::Ones()));  // rows: whitened joint errors
+      AddMeasurement(recording, m.observation, ResidualInfo::Kind::kPosition,
+                     Eigen::Vector3d::Ones(),  // its rows: whitened joint errors
+                     std::move(cost), blocks, out);
       continue;
     }
     std::vector<Compared> compared = {Compared::kPosition};
@@ -508,10 +518,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
       const Eigen::Vector3d s = position ? RowPositionSigma(sigma, obs) : sigma.rotation_rad;
       std::vector<int> blocks = c.blocks;
       auto cost = ToolCost(c, out, TargetComparison(what, observed, s), &blocks);
-      out->problem.AddResidual(
-          std::move(cost), blocks,
-          InfoFor(recording, m.observation,
-                  position ? ResidualInfo::Kind::kPosition : ResidualInfo::Kind::kRotation, s));
+      AddMeasurement(recording, m.observation, KindOf(position), s, std::move(cost), blocks, out);
     }
   }
 }
@@ -572,10 +579,7 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
         if (first == nullptr) first = chain_cost.get();
         cost = std::move(chain_cost);
       }
-      out->problem.AddResidual(
-          std::move(cost), blocks,
-          InfoFor(recording, index,
-                  position ? ResidualInfo::Kind::kPosition : ResidualInfo::Kind::kRotation, s));
+      AddMeasurement(recording, index, KindOf(position), s, std::move(cost), blocks, out);
     }
   }
 }
@@ -593,8 +597,10 @@ std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
   // At most this many measurement blocks (fewer for a subset of poses).
   const size_t per_tool = 2;  // position, and the rotation where fitted (eye in hand: always)
   const size_t world = spec.camera_model == CameraModel::kStaticCameras ? 2 : 0;
-  out->problem.ReserveResiduals(
-      static_cast<int>(per_tool * data.tools.size() + world * data.world_observations.size()));
+  const size_t measurements =
+      per_tool * data.tools.size() + world * data.world_observations.size();
+  out->problem.ReserveResiduals(static_cast<int>(measurements));
+  out->labels.reserve(measurements);
   AddToolResiduals(spec, recording, data, noise, start, poses, out.get());
   if (spec.camera_model == CameraModel::kStaticCameras) {
     AddWorldResiduals(spec, recording, data, noise, poses, out.get());

@@ -183,12 +183,13 @@ double PeakMm(const CandidateLinearization& lin, const Recording& recording,
   const Eigen::VectorXd whitened = lin.J_candidate * theta;
   std::map<int, Eigen::Vector3d> per_observation;
   for (Eigen::Index i = 0; i < whitened.size(); ++i) {
-    const ResidualInfo& info = lin.rows[i];
-    if (info.kind != ResidualInfo::Kind::kPosition || info.observation < 0 ||
-        !recording.IsCarried(info.target)) {
+    const CandidateRow& info = lin.rows[i];
+    if (info.kind != ResidualInfo::Kind::kPosition || info.label.observation < 0 ||
+        !recording.IsCarried(info.label.target)) {
       continue;
     }
-    auto& d = per_observation.try_emplace(info.observation, Eigen::Vector3d::Zero()).first->second;
+    auto& d = per_observation.try_emplace(info.label.observation, Eigen::Vector3d::Zero())
+                  .first->second;
     d[lin.row_axis[i]] = whitened[i] * info.sigma[lin.row_axis[i]];
   }
   double peak = 0.0;
@@ -211,14 +212,14 @@ std::vector<SignaturePoint> Signature(const CandidateLinearization& lin,
   const Eigen::VectorXd whitened = lin.J_candidate * theta;
   std::vector<SignaturePoint> points;
   for (Eigen::Index i = 0; i < whitened.size(); ++i) {
-    const ResidualInfo& info = lin.rows[i];
-    if (info.kind != ResidualInfo::Kind::kPosition || info.observation < 0) continue;
+    const CandidateRow& info = lin.rows[i];
+    if (info.kind != ResidualInfo::Kind::kPosition || info.label.observation < 0) continue;
     const int axis = lin.row_axis[i];
     const double predicted = whitened[i] * info.sigma[axis];
-    const auto b = error_before.find(info.observation);
-    const auto a = error_after.find(info.observation);
+    const auto b = error_before.find(info.label.observation);
+    const auto a = error_after.find(info.label.observation);
     if (std::abs(predicted) < 1e-9 || b == error_before.end() || a == error_after.end()) continue;
-    points.push_back({info.camera, axis, predicted, b->second[axis], a->second[axis]});
+    points.push_back({info.label.camera, axis, predicted, b->second[axis], a->second[axis]});
   }
   return points;
 }
@@ -250,7 +251,7 @@ std::string Unusual(const std::vector<Parameter>& parameters, const std::vector<
 
 std::vector<int> RowPoses(const CandidateLinearization& lin) {
   std::vector<int> poses;
-  for (const auto& info : lin.rows) poses.push_back(info.pose);
+  for (const auto& row : lin.rows) poses.push_back(row.label.pose);
   return poses;
 }
 

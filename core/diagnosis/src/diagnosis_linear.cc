@@ -46,8 +46,12 @@ CandidateLinearization LinearizeWithCandidate(const WorkcellProblem& spec,
   for (size_t b = 0; b < infos.size(); ++b) {
     const int rows = (b + 1 < infos.size() ? first_row[b + 1] : static_cast<int>(J.rows())) -
                      first_row[b];
+    const MeasurementLabel* label = assembled->LabelOf(b);
     for (int k = 0; k < rows; ++k) {
-      out.rows[first_row[b] + k] = infos[b];
+      CandidateRow& row = out.rows[first_row[b] + k];
+      row.kind = infos[b].kind;
+      row.sigma = infos[b].sigma;
+      if (label) row.label = *label;
       out.row_axis[first_row[b] + k] = k;
     }
   }

@@ -20,11 +20,19 @@
 
 namespace cellmetry {
 
+// What one residual row is: its block's kind and sigma (the problem's ResidualInfo) and what
+// it measured (the assembly's label; a prior's is the default, observation and pose -1).
+struct CandidateRow {
+  ResidualInfo::Kind kind = ResidualInfo::Kind::kPrior;
+  Eigen::Vector3d sigma = Eigen::Vector3d::Ones();
+  MeasurementLabel label;
+};
+
 struct CandidateLinearization {
   Eigen::VectorXd r;               // whitened residuals at the estimate
   Eigen::MatrixXd J_model;         // columns of the current model's free parameters
   Eigen::MatrixXd J_candidate;     // columns of the candidate's parameters (none: 0 columns)
-  std::vector<ResidualInfo> rows;  // per residual row: its block's info (kind, sample, camera)
+  std::vector<CandidateRow> rows;  // per residual row: its block's
   std::vector<int> row_axis;       // 0, 1, 2: the camera axis of the row
 };
 

@@ -26,9 +26,9 @@ bool Varies(const std::vector<double>& values) {
 // The rows of carried targets' position residuals.
 bool IsToolPositionRow(const CandidateLinearization& lin, const Recording& recording,
                        Eigen::Index i) {
-  const ResidualInfo& info = lin.rows[i];
-  return info.kind == ResidualInfo::Kind::kPosition && info.observation >= 0 &&
-         recording.IsCarried(info.target);
+  const CandidateRow& info = lin.rows[i];
+  return info.kind == ResidualInfo::Kind::kPosition && info.label.observation >= 0 &&
+         recording.IsCarried(info.label.target);
 }
 
 }  // namespace
@@ -88,7 +88,7 @@ namespace {
 // The value of regressor k (sample regressors, then measured depth, image x, image y) on a row.
 double RowValue(const CandidateLinearization& lin, const Recording& recording,
                 const std::vector<Regressor>& regressors, size_t k, Eigen::Index row) {
-  const Observation& obs = recording.observations[lin.rows[row].observation];
+  const Observation& obs = recording.observations[lin.rows[row].label.observation];
   if (k < regressors.size()) return regressors[k].per_sample[recording.SampleIndex(obs.sample)];
   if (k == regressors.size()) return obs.position_mm.z();
   return obs.position_mm[k - regressors.size() - 1] / obs.position_mm.z();
@@ -151,9 +151,9 @@ std::vector<RegressorFinding> CorrelateRegressors(const CandidateLinearization& 
     std::vector<Eigen::Index> rows[3];
     for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
       const bool position = lin.rows[i].kind == ResidualInfo::Kind::kPosition &&
-                            lin.rows[i].observation >= 0;
+                            lin.rows[i].label.observation >= 0;
       if (scope.empty() ? IsToolPositionRow(lin, recording, i)
-                        : position && lin.rows[i].camera == scope) {
+                        : position && lin.rows[i].label.camera == scope) {
         rows[lin.row_axis[i]].push_back(i);
       }
     }
@@ -202,7 +202,7 @@ std::map<std::string, double> DurbinWatsonByAxis(const CandidateLinearization& l
     std::vector<std::pair<int, double>> ordered;  // (sample index, residual)
     for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
       if (lin.row_axis[i] != axis || !IsToolPositionRow(lin, recording, i)) continue;
-      ordered.push_back({recording.SampleIndex(lin.rows[i].sample), lin.r[i]});
+      ordered.push_back({recording.SampleIndex(lin.rows[i].label.sample), lin.r[i]});
     }
     if (ordered.size() < 3) continue;
     std::stable_sort(ordered.begin(), ordered.end(),

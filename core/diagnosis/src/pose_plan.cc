@@ -179,12 +179,12 @@ Jacobian Linearized(const WorkcellProblem& spec, const Recording& recording,
     out.names.push_back(f.name);
     out.units.push_back(f.unit);
   }
-  const auto& infos = problem.residual_infos();
   const auto& first = problem.residual_rows();
   out.row_pose.assign(out.J.rows(), -1);
-  for (size_t b = 0; b < infos.size(); ++b) {
-    const int end = b + 1 < infos.size() ? first[b + 1] : static_cast<int>(out.J.rows());
-    const int pose = infos[b].kind == ResidualInfo::Kind::kPrior ? -1 : infos[b].pose;
+  for (size_t b = 0; b < first.size(); ++b) {
+    const int end = b + 1 < first.size() ? first[b + 1] : static_cast<int>(out.J.rows());
+    const MeasurementLabel* label = assembled->LabelOf(b);
+    const int pose = label ? label->pose : -1;
     for (int r = first[b]; r < end; ++r) out.row_pose[r] = pose;
   }
   return out;

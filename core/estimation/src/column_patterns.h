@@ -1,8 +1,8 @@
 // Rows (or residual blocks) grouped by the list of columns they touch (internal to the
 // estimation layer). A Jacobian's rows come in few patterns -- every observation of one tool by
 // one camera touches the same base, tool and camera columns -- and both the R factor
-// (r_factor.cc) and the normal equations (normal_equations.cc, through BuildSparseLayout) work
-// on each pattern's rows densely.
+// (r_factor.cc) and the normal equations (normal_equations_evaluator.h, through the column
+// groups of evaluation_layout.h) work on each pattern's rows densely.
 #pragma once
 
 #include <algorithm>

@@ -6,10 +6,10 @@
 // to Ceres as one block of 3 x n rows, the chain is evaluated once and each capture adds only its
 // comparison: r_i = Compare_i(Predict(x)), J_i = D_i A. The rows, their Jacobian and therefore
 // 0.5 |r|^2 are those of the n blocks; only their order in Ceres's Jacobian differs, which
-// Problem::Evaluate undoes.
+// Problem::Evaluate (ceres_adapter.h) undoes.
 //
-// A unit (up to 256 members, prediction_units.cc) is given in pieces of at most 64 members
-// (problem_ceres.cc): Ceres evaluates each block on one thread, and a static camera's world-tag
+// A unit (up to 256 members, evaluation_layout.h) is given in pieces of at most 64 members
+// (ceres_adapter.cc): Ceres evaluates each block on one thread, and a static camera's world-tag
 // units of 256 views, 768 rows each, left its two threads unevenly loaded.
 //
 // Only where no member carries a robust loss: Ceres applies a loss to a block's whole squared

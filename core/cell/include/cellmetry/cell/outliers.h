@@ -31,8 +31,8 @@
 
 #include <Eigen/Core>
 
+#include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_result.h"
-#include "cellmetry/estimation/problem.h"
 #include "cellmetry/formats/recording.h"
 
 namespace cellmetry {
@@ -46,13 +46,16 @@ std::vector<double> RobustScales(const std::vector<ResidualRow>& rows);
 std::vector<Outlier> FindOutliers(const std::vector<ResidualRow>& rows, const Recording& recording,
                                   double alpha = 0.01);
 
-// The same two over a problem's measurement blocks (its priors are not tested) and its whitened
-// residuals `whitened` (Problem::EvaluateSparse's, or a linearization's), without making the
-// result's rows: on exp_a the 45,000 rows took 2.5 ms to make, each time the robust first fit
-// (robust_first_fit.h) read them. Scales in the problem's block order.
-std::vector<double> RobustScales(const Problem& problem, const Eigen::VectorXd& whitened);
-std::vector<Outlier> FindOutliers(const Problem& problem, const Eigen::VectorXd& whitened,
-                                  const Recording& recording, double alpha = 0.01);
+// The same two over an assembled workcell's measurement blocks (its problem's priors are not
+// tested) and its problem's whitened residuals `whitened` (Problem::EvaluateSparse's, or a
+// linearization's), without making the result's rows: on exp_a the 45,000 rows took 2.5 ms to
+// make, each time the robust first fit (robust_first_fit.h) read them. Scales in the problem's
+// block order.
+std::vector<double> RobustScales(const AssembledWorkcell& assembled,
+                                 const Eigen::VectorXd& whitened);
+std::vector<Outlier> FindOutliers(const AssembledWorkcell& assembled,
+                                  const Eigen::VectorXd& whitened, const Recording& recording,
+                                  double alpha = 0.01);
 
 // `recording` without the observations `outliers` name (by line, else by sample, camera, target).
 Recording WithoutOutliers(const Recording& recording, const std::vector<Outlier>& outliers);

@@ -29,7 +29,7 @@
 
 namespace cellmetry {
 
-// `cluster_of_block[b]` for each residual block of `problem` (ResidualInfo order); blocks with a
+// `cluster_of_block[b]` for each residual block of `problem` (its block order); blocks with a
 // negative cluster (priors) are clusters of their own. `at` is the problem's linearization and
 // `model` ComputeUncertainty's answer from it. Returns the covariance over the free parameters,
 // in their units.
@@ -67,7 +67,7 @@ struct Jackknife {
 };
 Jackknife JackknifeSpread(const std::vector<Eigen::VectorXd>& values);
 
-// For each group g = 0, 1, ... of residual blocks (`group_of_block`, ResidualInfo order;
+// For each group g = 0, 1, ... of residual blocks (`group_of_block`, block order;
 // negative: in no group, always kept), the deviation d from the answer `at` that minimizes
 // |J_{-g} d + r_{-g}|^2 without g's rows. Columns the remaining rows cannot determine
 // (FindDegenerateColumns at `tolerance`: a left-out camera's own pose, or what only it saw) are

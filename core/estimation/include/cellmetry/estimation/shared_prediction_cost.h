@@ -9,10 +9,11 @@
 //
 // so the block's Jacobian is D A. Blocks whose costs return the same prediction_key() over the
 // same parameter blocks share Predict: the Problem evaluates it once for all of them and sums
-// their rows as A^T (sum_i D_i^T W_i D_i) A (normal_equations.cc), each with its own robust
-// loss, which is the same sum as block by block in another order. What the "tangent" is belongs
-// to the cost (a position's 3 coordinates; a rotation's small-angle vector), provided Compare's D
-// and Predict's A agree on it. Evaluate() is the plain block for everything else (Ceres).
+// their rows as A^T (sum_i D_i^T W_i D_i) A (src/normal_equations_evaluator.h), each with its
+// own robust loss, which is the same sum as block by block in another order. What the "tangent"
+// is belongs to the cost (a position's 3 coordinates; a rotation's small-angle vector), provided
+// Compare's D and Predict's A agree on it. Evaluate() is the plain block for everything else
+// (Ceres).
 #pragma once
 
 #include <ceres/cost_function.h>

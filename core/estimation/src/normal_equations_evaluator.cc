@@ -1,26 +1,22 @@
-// Problem::EvaluateNormalEquations (problem.h): J^T W J and J^T W r summed block by block.
-//
-// Each residual block's rows share its free columns (BuildSparseLayout's entries, in column
-// order), so the block's k columns give a k x k outer product, summed densely with the other
-// blocks of its column group and added to the n x n sum at those columns once per range: the
-// rows times k^2, never the m x n Jacobian. Blocks that share a prediction are summed through
-// it (SharedSums below). The blocks are split into fixed chunks (Build's) summed in a fixed
-// tree (tbb::parallel_deterministic_reduce), so the result's bits do not depend on the threads'
-// timing: a fit reweighted with it answers the same on every run.
+// NormalEquationsEvaluator (normal_equations_evaluator.h): J^T W J and J^T W r summed block by
+// block, units of shared predictions through their prediction, chunks in a fixed tree
+// (tbb::parallel_deterministic_reduce).
+#include "normal_equations_evaluator.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <vector>
 
-#include "cellmetry/estimation/problem.h"
+#include "block_evaluator.h"
 #include "cellmetry/estimation/shared_prediction_cost.h"
-#include "problem_blocks.h"
+#include "evaluation_layout.h"
 
 namespace cellmetry {
-// Not anonymous: Problem::NormalEquationsRange below holds them.
-namespace normal_equations_sums {
+namespace {
 
 // One range's sums, the upper triangle of the Hessian only (mirrored at the end).
 struct PartialSums {
@@ -152,89 +148,94 @@ void ScatterGroup(const std::vector<int>& columns, GroupSums* group, PartialSums
   group->touched = false;
 }
 
-}  // namespace normal_equations_sums
-
-using namespace normal_equations_sums;  // NOLINT: this file's own helpers
-
-// One range of units summed into `sums`, with buffers reused from block to block.
-struct Problem::NormalEquationsRange {
-  NormalEquationsRange(const Problem& problem, PartialSums* sums)
-      : problem(problem), sums(sums), groups(problem.group_columns_.size()) {}
-  ~NormalEquationsRange() {
-    for (size_t g = 0; g < groups.size(); ++g) {
-      if (groups[g].touched) ScatterGroup(problem.group_columns_[g], &groups[g], sums);
+// One range of units summed into `sums`, with buffers reused from block to block; each column
+// group's sums are scattered into `sums` when the range goes.
+class RangeSums {
+ public:
+  RangeSums(const BlockRegistry& registry, PartialSums* sums)
+      : registry_(registry),
+        layout_(registry.layout()),
+        sums_(sums),
+        block_(registry),
+        groups_(layout_.group_columns.size()) {}
+  ~RangeSums() {
+    for (size_t g = 0; g < groups_.size(); ++g) {
+      if (groups_[g].touched) ScatterGroup(layout_.group_columns[g], &groups_[g], sums_);
     }
   }
+  RangeSums(const RangeSums&) = delete;
+  RangeSums& operator=(const RangeSums&) = delete;
+
   bool AddUnit(int u) {
-    return problem.SharesPrediction(u) ? AddSharedPrediction(u)
-                                       : AddBlock(problem.unit_blocks_[problem.unit_start_[u]]);
+    return layout_.SharesPrediction(u) ? AddSharedPrediction(u) : AddBlock(layout_.first_block(u));
   }
 
+ private:
   // Residual block k evaluated and added with its loss's weights.
   bool AddBlock(int k) {
-    problem.AskFreeSlots(k, &scratch);
-    if (!problem.EvaluateBlock(k, true, &scratch)) return false;
-    const int num_rows = static_cast<int>(scratch.residuals.size());
-    const Eigen::Map<const Eigen::VectorXd> r(scratch.residuals.data(), num_rows);
-    const BlockWeight weight = Weigh(problem.evaluation_losses_[k], r.squaredNorm());
-    sums->cost += 0.5 * weight.rho;
-    const int width = Gather(k, num_rows);
+    block_.AskFreeSlots(k);
+    if (!block_.Evaluate(k, true)) return false;
+    const std::vector<double>& residuals = block_.residuals();
+    const int num_rows = static_cast<int>(residuals.size());
+    const Eigen::Map<const Eigen::VectorXd> r(residuals.data(), num_rows);
+    const BlockWeight weight = Weigh(registry_.loss(k), r.squaredNorm());
+    sums_->cost += 0.5 * weight.rho;
+    const int width = block_.GatherFreeColumns(k, num_rows, &gathered_);
     if (width == 0 || (weight.w == 0.0 && weight.c == 0.0)) return true;
-    AddWeightedBlock(gathered.data(), scratch.residuals.data(), num_rows, width, weight, &jr,
-                     &groups[problem.column_group_[k]]);
+    AddWeightedBlock(gathered_.data(), residuals.data(), num_rows, width, weight, &jr_,
+                     &groups_[layout_.column_group[k]]);
     return true;
   }
 
   // Unit u's prediction evaluated once, each of its blocks compared with it (SharedSums).
   bool AddSharedPrediction(int u) {
-    const int first = problem.unit_blocks_[problem.unit_start_[u]];
-    problem.AskFreeSlots(first, &scratch);
+    const int first = layout_.first_block(u);
+    block_.AskFreeSlots(first);
     Pose prediction;
-    if (!problem.PredictBlock(first, &scratch, &prediction)) return false;
+    if (!block_.Predict(first, &prediction)) return false;
     SharedSums shared;
     Eigen::Vector3d r;
     Eigen::Matrix3d D;
-    for (int i = problem.unit_start_[u]; i < problem.unit_start_[u + 1]; ++i) {
-      const int k = problem.unit_blocks_[i];
-      static_cast<const SharedPredictionCost*>(problem.evaluation_order_[k].first)
-          ->Compare(prediction, r.data(), &D);
-      const BlockWeight weight = Weigh(problem.evaluation_losses_[k], r.squaredNorm());
-      sums->cost += 0.5 * weight.rho;
+    for (int i = layout_.unit_start[u]; i < layout_.unit_start[u + 1]; ++i) {
+      const int k = layout_.unit_blocks[i];
+      const auto* cost = static_cast<const SharedPredictionCost*>(registry_.cost(k));
+      cost->Compare(prediction, r.data(), &D);
+      const BlockWeight weight = Weigh(registry_.loss(k), r.squaredNorm());
+      sums_->cost += 0.5 * weight.rho;
       if (weight.w != 0.0 || weight.c != 0.0) shared.Add(r, D, weight);
     }
-    const int width = Gather(first, 3);
+    const int width = block_.GatherFreeColumns(first, 3, &gathered_);
     if (width > 0) {
-      AddSharedUnit(gathered.data(), shared, width, &jr, &groups[problem.column_group_[first]]);
+      AddSharedUnit(gathered_.data(), shared, width, &jr_, &groups_[layout_.column_group[first]]);
     }
     return true;
   }
 
-  // Block k's Jacobian rows at its free columns into `gathered`; returns their number.
-  int Gather(int k, int num_rows) {
-    return problem.GatherFreeColumns(k, num_rows, scratch, &gathered);
-  }
-
-  const Problem& problem;
-  PartialSums* sums;
-  BlockEvaluation scratch;
-  std::vector<GroupSums> groups;
-  std::vector<double> gathered;  // a block's rows x its free columns, row-major
-  std::vector<double> jr;        // J^T r of a block, or M A of a unit
+  const BlockRegistry& registry_;
+  const EvaluationLayout& layout_;
+  PartialSums* sums_;
+  BlockEvaluator block_;
+  std::vector<GroupSums> groups_;
+  std::vector<double> gathered_;  // a block's rows x its free columns, row-major
+  std::vector<double> jr_;        // J^T r of a block, or M A of a unit
 };
 
-bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
-  const int n = num_free();
+}  // namespace
+
+bool NormalEquationsEvaluator::Evaluate(NormalEquations* out) const {
+  const EvaluationLayout& layout = registry_.layout();
+  const int n = registry_.num_free();
   std::atomic<bool> valid{true};
-  // Each chunk of units (problem.h) summed on its own, the chunks' sums added in a fixed tree.
+  // Each chunk of units summed on its own, the chunks' sums added in a fixed tree.
   auto add_chunks = [&](const tbb::blocked_range<int>& chunks, PartialSums* sums) {
-    NormalEquationsRange pass(*this, sums);  // scattered into `sums` when it goes
-    for (int u = chunk_start_[chunks.begin()]; u != chunk_start_[chunks.end()] && valid; ++u) {
-      if (!pass.AddUnit(u)) valid = false;
+    RangeSums range(registry_, sums);  // scattered into `sums` when it goes
+    const int end = layout.chunk_start[chunks.end()];
+    for (int u = layout.chunk_start[chunks.begin()]; u != end && valid; ++u) {
+      if (!range.AddUnit(u)) valid = false;
     }
   };
-  const int num_chunks = static_cast<int>(chunk_start_.size()) - 1;
   const PartialSums total = tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<int>(0, num_chunks, 1), PartialSums(n),
+      tbb::blocked_range<int>(0, layout.num_chunks(), 1), PartialSums(n),
       [&](const tbb::blocked_range<int>& chunks, PartialSums sums) {
         add_chunks(chunks, &sums);
         return sums;
