@@ -10,6 +10,8 @@
 //                                       (`free_model: all`)
 //   BM_DiagnoseExpA                     `cellmetry diagnose configs/jobs/vsb_exp_a_diagnose.yaml`
 //                                       (three cameras, 250 poses x 10 captures)
+//   BM_PlanExpA                         `cellmetry plan` on the same job: the pose choice after
+//                                       the identification (which is left out of the time)
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -17,7 +19,9 @@
 
 #include "bench_support.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/diagnosis/pose_plan.h"
 #include "cellmetry/cell/camera_left_out.h"
+#include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
 
 namespace cellmetry {
@@ -85,16 +89,45 @@ BENCHMARK_CAPTURE(BM_Diagnose250Poses, every_mdh_free, std::string("rivals"), tr
     ->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
 
 // Experiment A's recording, read and stripped of unused cameras as cmd_diagnose.cc does.
+Recording ExpARecording(const DiagnosisJob& job) {
+  const Recording read = ReadRecording(job.workcell.recording);
+  ValidateJobAgainstRecording(job.workcell, read);
+  return WithoutCameras(read, UnusedCameras(job.workcell.problem));
+}
+
 void BM_DiagnoseExpA(benchmark::State& state) {
   Registry& registry = bench::Plugins();
   const DiagnosisJob job =
       LoadDiagnosisJob(bench::Source("configs/jobs/vsb_exp_a_diagnose.yaml"), registry);
-  const Recording read = ReadRecording(job.workcell.recording);
-  ValidateJobAgainstRecording(job.workcell, read);
-  const Recording recording = WithoutCameras(read, UnusedCameras(job.workcell.problem));
-  TimeDiagnosis(state, job, recording);
+  TimeDiagnosis(state, job, ExpARecording(job));
 }
 BENCHMARK(BM_DiagnoseExpA)
+    ->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
+
+// PlanPoses as cmd_plan.cc calls it: every candidate the recorded poses leave untestable, the
+// default pose count and draws; the identification it starts from made once, outside the time.
+void BM_PlanExpA(benchmark::State& state) {
+  Registry& registry = bench::Plugins();
+  const DiagnosisJob job =
+      LoadDiagnosisJob(bench::Source("configs/jobs/vsb_exp_a_diagnose.yaml"), registry);
+  const Recording recording = ExpARecording(job);
+  const SolverMaker make_solver = [&] {
+    return registry.CreateSolver(job.workcell.solver_type, *job.workcell.solver_config);
+  };
+  const auto candidates = JobCandidates(job, recording, registry);
+  WorkcellProblem problem = job.workcell.problem;
+  problem.folds = 0;
+  problem.leave_one_camera_out = false;
+  const WorkcellResult fitted = IdentifyWorkcell(problem, recording, make_solver);
+  const PosePlanOptions options;
+  int chosen = 0;
+  for (auto _ : state) {
+    const PosePlan plan = PlanPoses(problem, recording, fitted, candidates, options);
+    chosen = static_cast<int>(plan.poses.size());
+  }
+  state.counters["poses"] = chosen;
+}
+BENCHMARK(BM_PlanExpA)
     ->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
 
 }  // namespace

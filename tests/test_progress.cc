@@ -63,5 +63,30 @@ TEST(Progress, ResumedStepsAreSaidAndLeftOutOfTheRate) {
   EXPECT_NE(text.find("cases 2/4 (0.0 s) stopped"), std::string::npos) << text;
 }
 
+// A diagnosis's shape: steps said as they begin, the total the most the work can take until it
+// stops sooner, and the time left said as at most.
+TEST(Progress, WorkThatMayStopSoonerSaysItsStepsAndAnUpperBound) {
+  Progress::SetQuiet(false);
+  ::testing::internal::CaptureStderr();
+  {
+    Progress rounds("round", 5, Progress::Length::kAtMost);
+    rounds.Begin("scoring 70 candidates");
+    rounds.Advance();
+    rounds.Begin("scoring 54 candidates");
+    rounds.Advance();
+    rounds.SetTotal(2);  // the second round accepted nothing
+  }
+  const std::string text = ::testing::internal::GetCapturedStderr();
+  Progress::SetQuiet(true);
+  EXPECT_NE(text.find("round 0 of at most 5: scoring 70 candidates (0.0 s)\n"),
+            std::string::npos) << text;
+  EXPECT_NE(text.find("round 1 of at most 5: scoring 54 candidates ("), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("at most about"), std::string::npos) << text;
+  EXPECT_EQ(Count(text, "round 2/2"), 1) << text;  // the last line, once, not "stopped"
+  EXPECT_EQ(Count(text, "done"), 1) << text;
+  EXPECT_EQ(Count(text, "\n"), 3) << text;  // a line a step as it begins, and the end
+}
+
 }  // namespace
 }  // namespace cellmetry

@@ -774,23 +774,27 @@ std::optional<RoundRecord> ResumeRound(const Diagnoser& diagnoser, const RoundLo
 }
 
 // Rounds of the physics (step 5), each accepting the strongest candidate that passes every test,
-// until none does or `options.max_effects` are accepted.
-void RunPhysicsRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffect>& candidates,
-                      const DiagnosisOptions& options, RoundLog& log, RoundState* state,
-                      DiagnosisResult* out) {
+// until none does or `options.max_effects` are accepted. Returns the rounds run or read back,
+// each a step of `progress`.
+int RunPhysicsRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffect>& candidates,
+                     const DiagnosisOptions& options, RoundLog& log, RoundState* state,
+                     Progress* progress, DiagnosisResult* out) {
+  int steps = 0;
   // The rounds run whatever the omnibus chi-square says: one effect of SNR 6 among thousands of
   // residual rows moves it by 36 against a spread of sqrt(2 * rows), so it has little power;
   // the targeted tests have it. Rounds end when no candidate passes every test.
   while (static_cast<int>(out->accepted.size()) < options.max_effects) {
     const int index = static_cast<int>(out->rounds.size()) + 1;
     if (const auto resumed = ResumeRound(diagnoser, log, index, false, candidates, state, out)) {
+      progress->Resume(1);
+      ++steps;
       if (!resumed->accepted) break;
       continue;
     }
     if (log.Finished(index)) break;  // the frames' step came next: this loop ended here before
-    Progress::Note("round " + std::to_string(index) + " (at most " +
-                   std::to_string(options.max_effects) + " effects): scoring " +
-                   std::to_string(candidates.size() - state->done.size()) + " candidate effects");
+    progress->Begin("round " + std::to_string(index) + ", scoring " +
+                    std::to_string(candidates.size() - state->done.size()) +
+                    " candidate effects");
     Fitted& current = state->current;
     ScoredRound scored = diagnoser.Score(current, &state->done, &out->untestable);
     if (scored.round.candidates.empty()) break;
@@ -816,13 +820,18 @@ void RunPhysicsRounds(const Diagnoser& diagnoser, const std::vector<CandidateEff
     }
     log.Keep(index, RecordOf(scored.round, *out, *state, accepted));
     out->rounds.push_back(std::move(scored.round));
+    progress->Advance();
+    ++steps;
     if (!accepted) break;
   }
+  return steps;
 }
 
-// The frames the job's statements determine, after the physics (they move no prediction).
-void RunFrameRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffect>& candidates,
-                    RoundLog& log, RoundState* state, DiagnosisResult* out) {
+// The frames the job's statements determine, after the physics (they move no prediction), one a
+// round. Returns the rounds run or read back, each a step of `progress`.
+int RunFrameRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffect>& candidates,
+                   RoundLog& log, RoundState* state, Progress* progress, DiagnosisResult* out) {
+  int steps = 0;
   auto frame_open = [&] {
     return std::any_of(candidates.begin(), candidates.end(), [&](const CandidateEffect& c) {
       return c.frame && !state->done.count(c.effect.name);
@@ -830,7 +839,12 @@ void RunFrameRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffec
   };
   while (frame_open()) {
     const int index = static_cast<int>(out->rounds.size()) + 1;
-    if (ResumeRound(diagnoser, log, index, true, candidates, state, out)) continue;
+    if (ResumeRound(diagnoser, log, index, true, candidates, state, out)) {
+      progress->Resume(1);
+      ++steps;
+      continue;
+    }
+    progress->Begin("round " + std::to_string(index) + ", a frame the job's statements determine");
     Fitted& current = state->current;
     ScoredRound scored =
         diagnoser.Score(current, &state->done, &out->untestable, /*frames_only=*/true);
@@ -849,7 +863,10 @@ void RunFrameRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffec
     }
     log.Keep(index, RecordOf(scored.round, *out, *state, chosen.accepted));
     out->rounds.push_back(std::move(scored.round));
+    progress->Advance();
+    ++steps;
   }
+  return steps;
 }
 
 }  // namespace
@@ -870,9 +887,12 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
       recording, data.facts, options.link_masses_kg, spec.gravity_base);
   const Diagnoser diagnoser(recording, make_solver, candidates, options, noise, data);
 
-  Progress::Note("fitting the geometry alone");
   RoundState state;
-  state.current = Fit(spec, recording, make_solver, options.folds);
+  {
+    Progress geometry("fitting the geometry alone", 1);
+    state.current = Fit(spec, recording, make_solver, options.folds);
+    geometry.Advance();
+  }
   out.geometric = state.current.summary;
   out.floor_rms_mm = FloorRms(state.current, recording);
   {
@@ -881,22 +901,33 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     out.regressors = CorrelateRegressors(lin, recording, regressors);
     out.durbin_watson = DurbinWatsonByAxis(lin, recording);
   }
+  // The rounds of the physics and of the frames, and the final fit without each camera, each a
+  // step of about a round's time; the physics' rounds end sooner where one accepts nothing.
+  const int frame_rounds = static_cast<int>(
+      std::count_if(candidates.begin(), candidates.end(), [](const auto& c) { return c.frame; }));
+  const int last_steps = spec.leave_one_camera_out ? 1 : 0;
+  Progress progress("diagnosis step", options.max_effects + frame_rounds + last_steps,
+                    Progress::Length::kAtMost);
   RoundLog log(checkpoint);
-  RunPhysicsRounds(diagnoser, candidates, options, log, &state, &out);
-  RunFrameRounds(diagnoser, candidates, log, &state, &out);
+  const int physics_steps =
+      RunPhysicsRounds(diagnoser, candidates, options, log, &state, &progress, &out);
+  progress.SetTotal(physics_steps + frame_rounds + last_steps);
+  const int frame_steps = RunFrameRounds(diagnoser, candidates, log, &state, &progress, &out);
+  progress.SetTotal(physics_steps + frame_steps + last_steps);
   const Fitted& current = state.current;
   out.final = current.summary;
   out.final_fit = current.result;
   out.final_spec = current.spec;
   if (spec.leave_one_camera_out) {
     // The final fit as `cellmetry run` reports it: each camera left out in turn too.
-    Progress::Note("identifying the final model without each camera in turn");
+    progress.Begin("identifying the final model without each camera in turn");
     // Its cross-validation is the current fit's (the same model on the same data).
     WorkcellProblem final_spec = current.spec;
     final_spec.leave_one_camera_out = true;
     final_spec.folds = 0;
     out.final_fit = IdentifyWorkcell(final_spec, recording, make_solver);
     out.final_fit.held_out = current.result.held_out;
+    progress.Advance();
   }
   GroupFindings(options, &out);
   // Without an accepted effect the model is the geometry, whose findings are already known.

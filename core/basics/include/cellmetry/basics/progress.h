@@ -8,6 +8,11 @@
 // cross-validation inside a comparison's seeds) and the notes made meanwhile are detail, shown
 // with SetVerbose(true) (`cellmetry --verbose`). Steps resumed from a checkpoint count as done
 // but not in the rate, so the time left is the work's, not the checkpoint's.
+//
+// Work whose length its data decide (a diagnosis, whose rounds end when no candidate passes)
+// is made with Length::kAtMost: the total is the most it can take, the time left is said as at
+// most that, and SetTotal lowers the total once the work knows it stops sooner. Few long steps
+// say what each does as it starts (Begin), whatever the 0.5 s limit.
 #pragma once
 
 #include <chrono>
@@ -17,9 +22,16 @@ namespace cellmetry {
 
 class Progress {
  public:
-  Progress(std::string task, int total);
+  enum class Length { kExact, kAtMost };
+
+  Progress(std::string task, int total, Length length = Length::kExact);
   ~Progress();
   void Advance(int steps = 1);
+  // Says the step starting now: "<task> k/n: <what> (t s, about T s left)", k the steps done.
+  void Begin(const std::string& what);
+  // The total as the work now knows it (kAtMost: no more than it was); the last line when the
+  // steps done reach it.
+  void SetTotal(int total);
   // Steps finished before (read from a checkpoint): done, and left out of the rate.
   void Resume(int steps);
 
@@ -30,15 +42,19 @@ class Progress {
   static void Note(const std::string& text);
 
  private:
-  void Print(bool final);
+  void Print(bool final, const std::string& what = "");
 
   std::string task_;
   int total_;
+  Length length_;
   int done_ = 0;
   int resumed_ = 0;
   bool outermost_ = true;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_print_;
+  std::chrono::steady_clock::time_point step_start_;  // the last step's end: the next's start
+  double resumed_seconds_ = 0.0;                       // spent reading resumed steps back
+  bool begun_ = false;                                 // steps said by Begin
 };
 
 }  // namespace cellmetry
