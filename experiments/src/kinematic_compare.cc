@@ -190,8 +190,12 @@ std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registr
   const int per_draw = static_cast<int>(spec.formulations.size() * spec.solvers.size());
   Checkpoint done(checkpoint, FileFingerprint(spec.file));
   std::vector<CompareRow> rows;
-  Progress progress("comparison row", static_cast<int>(spec.pose_sets.size() * spec.sizes.size()) *
-                                          per_draw * spec.seeds);
+  // Counted in poses fitted, not rows: a draw's time grows about in proportion to its poses,
+  // so a count of rows, the small sizes run first, would promise the end too soon.
+  int total_poses = 0;
+  for (int size : spec.sizes) total_poses += size;
+  Progress progress("comparison poses fitted", static_cast<int>(spec.pose_sets.size()) *
+                                                   total_poses * per_draw * spec.seeds);
   for (PoseSet set : spec.pose_sets) {
     for (int size : spec.sizes) {
       for (int seed = 0; seed < spec.seeds; ++seed) {
@@ -201,11 +205,11 @@ std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registr
         std::vector<CompareRow> draw_rows(per_draw);
         if (piece != nullptr && piece->size() == draw_rows.size()) {
           for (size_t i = 0; i < draw_rows.size(); ++i) ReadScores((*piece)[i], &draw_rows[i]);
-          progress.Resume(per_draw);
+          progress.Resume(size * per_draw);
         } else {
           draw_rows = RunOneDraw(spec, registry, set, size, seed, validation);
           done.Put(key, RowsJson(draw_rows));
-          progress.Advance(per_draw);
+          progress.Advance(size * per_draw);
         }
         size_t i = 0;
         for (ResidualForm formulation : spec.formulations) {
