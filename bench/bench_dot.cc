@@ -4,7 +4,7 @@
 //  BM_Dot/detect          the `dot` plugin's Detect(): one 10 mm dot, 8 poses at 300..600 mm
 //  BM_DotPattern/detect   the `dot_pattern` plugin's Detect(): the 13-dot diamond (6 mm dots,
 //                         12 mm pitch), the same poses
-// The target: BM_Dot/detect >= 200 frames/s (<= 5 ms per frame).
+// Target: BM_Dot/detect >= 200 frames/s (<= 5 ms per frame).
 //   build/bin/bench_dot --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 

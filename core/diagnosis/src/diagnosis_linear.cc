@@ -63,8 +63,8 @@ namespace {
 // Candidates evaluated together: as many as a pass's sparse Jacobian holds within
 // kEntriesPerPass entries (12 bytes each: 200 MB), at least one pass of Jets. A cell's effect
 // costs (EffectChainCost) carry Jets over every effect of their chain whichever are asked for,
-// so each pass costs what the whole chain costs: on experiment A's 64 candidates one pass per
-// eight columns spent 8 s in passes that each redid all of them. An automatic-differentiation
+// so each pass costs what the whole chain costs: many narrow passes would each redo all of
+// them. An automatic-differentiation
 // cost evaluates its chain once per kJetStride parameters asked for, in any grouping. Either
 // way a column's entries are the same numbers in any pass.
 constexpr Eigen::Index kEntriesPerPass = Eigen::Index(1) << 24;

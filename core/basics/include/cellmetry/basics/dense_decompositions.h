@@ -1,7 +1,7 @@
 // Eigen's dense decompositions of a dynamic-size double matrix, compiled once for the library.
 //
-// Instantiating Eigen::BDCSVD<MatrixXd> costs about 25 s of compiler time, JacobiSVD 7 s and each
-// QR about 5 s, in every translation unit that uses one (measured with GCC 12 at -O2). Include this
+// Instantiating Eigen::BDCSVD<MatrixXd>, JacobiSVD or a QR costs seconds of compiler time in every
+// translation unit that uses one (BDCSVD the most, tens of seconds with GCC at -O2). Include this
 // header instead of <Eigen/SVD> or <Eigen/QR>: its extern declarations keep the user from
 // instantiating them again, and dense_decompositions.cc instantiates them for everyone. Use the
 // classes exactly as Eigen documents them; only these four matrix types are covered.

@@ -48,8 +48,8 @@ std::vector<Outlier> FindOutliers(const std::vector<ResidualRow>& rows, const Re
 
 // The same two over an assembled workcell's measurement blocks (its problem's priors are not
 // tested) and its problem's whitened residuals `whitened` (Problem::EvaluateSparse's, or a
-// linearization's), without making the result's rows: on exp_a the 45,000 rows took 2.5 ms to
-// make, each time the robust first fit (robust_first_fit.h) read them. Scales in the problem's
+// linearization's), without making the result's rows, which the robust first fit
+// (robust_first_fit.h) would otherwise make again at each of its reads. Scales in the problem's
 // block order.
 std::vector<double> RobustScales(const AssembledWorkcell& assembled,
                                  const Eigen::VectorXd& whitened);

@@ -13,9 +13,8 @@
 // sequential QR", SIAM J. Sci. Comput. 34(1), section on TSQR) whose tree follows the
 // Jacobian's structure. Orthogonal transformations only: as accurate as a dense Householder QR
 // of J (the normal equations J^T J would square the condition number). The cost is the rows
-// times their own width squared, not m n^2, and the memory O(n^2) beyond J's nonzeros: on the
-// factory cell (240,000 x 138) 12-14 ms on two cores where SuiteSparseQR's multifrontal QR takes
-// 0.74 s and a dense QR 3.0 s (BM_RFactor in bench_scale, docs/benchmarks.md).
+// times their own width squared, not m n^2, and the memory O(n^2) beyond J's nonzeros; against
+// SuiteSparseQR's multifrontal QR and a dense QR: BM_RFactor in bench_scale (docs/benchmarks.md).
 #pragma once
 
 #include <Eigen/Core>
