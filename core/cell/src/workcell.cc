@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <future>
 #include <mutex>
 #include <random>
 
@@ -23,6 +22,7 @@
 #include "camera_left_out_fit.h"
 #include "far_start.h"
 #include "fit_once.h"
+#include "input_link_schedule.h"
 #include "input_uncertainty.h"
 #include "residual_rows.h"
 #include "robust_first_fit.h"
@@ -326,46 +326,52 @@ void CheckEnoughData(const Recording& recording, const Fit& fit) {
                    "Record more poses, or free fewer parameters");
 }
 
-// Whether a link of `spec`'s inputs has anything to do: one on another thread, taking a core.
-bool LinksOnAnotherThread(const WorkcellProblem& spec) { return !spec.uncertain_inputs.empty(); }
-
-// The uncertain inputs' link (input_uncertainty.h) on another thread: assembled at `start`
-// from now, linked at the answer `answer` brings. `spec`, `recording`, `data` and `noise` must
-// outlive the future; a broken promise of an answer ends it (std::future_error, kept in it).
-std::future<InputLink> LinkInputsWhenAnswered(const WorkcellProblem& spec,
-                                              const Recording& recording,
-                                              const WorkcellData& data, const NoiseModel& noise,
-                                              const WorkcellEstimate& start,
-                                              std::future<FitAnswer> answer) {
-  if (!LinksOnAnotherThread(spec)) {
-    return std::async(std::launch::deferred, [] { return InputLink{}; });
-  }
-  return std::async(std::launch::async, [&spec, &recording, &data, &noise, start,
-                                         answer = std::move(answer)]() mutable {
-    InputLinker linker(spec, recording, data, noise, start);
-    return linker.LinkAt(answer.get());
-  });
+// The robust first fit (robust_first_fit.h) with the uncertain inputs' link started at its
+// least-squares start, in its LeastSquaresFit's schedule: that fit's answer is the plain fit's
+// when nothing is left out (the usual case), so the link is assembled beside the fit's own
+// assembly and solve, and linked at that answer alongside the Cauchy step and the test. Not
+// where a sigma is unknown: FitWithSigma then solves again with sigma from this fit's
+// residuals and links the inputs at that answer, and a link here would only take the other
+// core from the fit (sim_b).
+RobustFirstFit FindOutliersLinkingInputs(const WorkcellProblem& spec, const Recording& recording,
+                                         const SolverMaker& make_solver) {
+  RobustFirstFitOptions options;
+  options.at_least_squares_start = [&recording](LeastSquaresFit* ls) {
+    if (ls->inputs.noise.has_unknown()) return false;
+    return ls->input_link.Start(ls->spec, recording, ls->inputs.data, ls->inputs.noise,
+                                ls->inputs.start);
+  };
+  options.at_least_squares_answer = [](LeastSquaresFit* ls) {
+    if (ls->input_link.started()) ls->input_link.Answer(AnswerOf(*ls->fit.assembled));
+  };
+  return FindOutliersByRobustFit(spec, recording, make_solver, options);
 }
 
-// The same at `fit`'s answer, read now: assembled at the start `fit` was.
-std::future<InputLink> LinkInputsAlongside(const WorkcellProblem& spec, const Recording& recording,
-                                           const WorkcellData& data, const NoiseModel& noise,
-                                           const Fit& fit) {
-  std::promise<FitAnswer> answer;
-  answer.set_value(AnswerOf(*fit.assembled));
-  return LinkInputsWhenAnswered(spec, recording, data, noise,
-                                ReferenceEstimate(spec, *fit.assembled), answer.get_future());
+// The uncertain inputs' link of `fit`, in `input_link`: where neither the refit started it
+// (FitWithSigma) nor the robust first fit at this very answer (`solved`, whose link is taken),
+// started now at `fit`'s answer, read now, and assembled at the start `fit` was.
+void LinkInputsAtTheAnswer(const WorkcellProblem& spec, const Recording& recording,
+                           const WorkcellData& data, const NoiseModel& noise, const Fit& fit,
+                           LeastSquaresFit* solved, InputLinkSchedule* input_link) {
+  if (input_link->started()) return;
+  if (solved && solved->input_link.started()) {
+    *input_link = std::move(solved->input_link);
+    return;
+  }
+  input_link->Answer(AnswerOf(*fit.assembled));
+  input_link->Start(spec, recording, data, noise, ReferenceEstimate(spec, *fit.assembled));
 }
 
 // Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
 // (variance component estimation), holding what the first fit found unidentifiable. `solved`:
 // that first fit done already (LeastSquaresFit), taken instead of solving. Where it solves
-// again, the uncertain inputs' link (input_uncertainty.h) is assembled at that refit's start on
-// the other core while the refit solves, and linked at its answer: `input_link` gets it (left
-// as it is otherwise). `spec`, `recording`, `data` and `noise` must outlive that future.
+// again, the uncertain inputs' link is started in `input_link` at that refit's start, assembled
+// on the other core while the refit solves on the cores left, and answered with the refit's
+// answer (`input_link` is left as it is otherwise). `spec`, `recording`, `data` and `noise`
+// are what that link reads (input_link_schedule.h).
 Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
                  const WorkcellEstimate& start, const SolverMaker& make_solver,
-                 NoiseModel* noise, Fit* solved, std::future<InputLink>* input_link) {
+                 NoiseModel* noise, Fit* solved, InputLinkSchedule* input_link) {
   Fit fit = solved ? std::move(*solved)
                    : FitOnce(spec, recording, data, *noise, start, {}, {},
                              FirstFitSolver(*noise, make_solver));
@@ -381,17 +387,15 @@ Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const 
   }
   std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
   const SolverSummary first_summary = fit.summary;
-  // A refit given up before its answer breaks this promise, which ends the link.
-  std::promise<FitAnswer> refit_answer;
-  *input_link = LinkInputsWhenAnswered(spec, recording, data, *noise, first,
-                                       refit_answer.get_future());
+  // A refit given up before its answer leaves the link unanswered, which ends it
+  // (input_link_schedule.h).
+  const bool link_beside = input_link->Start(spec, recording, data, *noise, first);
   // Warm: from the first fit's answer with what it held, so the identifiability check before
   // the solve is skipped; a near-degeneracy the new row weights make shows in the check at the
   // answer, which holds it and solves again (SolveHoldingUnidentifiable).
   fit = FitOnce(spec, recording, data, *noise, first, {}, HeldOf(held_first),
-                LinksOnAnotherThread(spec) ? LeavingOneCore(make_solver) : make_solver,
-                /*warm_start=*/true);
-  refit_answer.set_value(AnswerOf(*fit.assembled));
+                link_beside ? LeavingOneCore(make_solver) : make_solver, /*warm_start=*/true);
+  input_link->Answer(AnswerOf(*fit.assembled));
   // One solve in the report: iterations and time add up; the refit keeps the first's findings.
   fit.summary.iterations += first_summary.iterations;
   fit.summary.evaluations += first_summary.evaluations;
@@ -534,25 +538,18 @@ void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording
 // would evaluate the problem: then after the covariance, which throws for it anyway.
 void AddCovarianceAndResiduals(const WorkcellProblem& spec, const Recording& recording,
                                const WorkcellData& data, const Fit& fit,
-                               const Linearization& at_answer,
-                               std::future<InputLink>* input_link, StageClock* clock,
-                               WorkcellResult* result) {
-  std::future<void> residual_statistics = std::async(
-      at_answer.valid ? std::launch::async : std::launch::deferred,
-      [&] { AddResidualStatistics(spec, recording, data, fit, at_answer, result); });
-  try {
-    result->uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
-    result->strong_correlations = StrongCorrelations(result->uncertainty);
-    SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result->uncertainty);
-    clock->Lap("covariance");
-    residual_statistics.get();  // rethrows what it threw
-    clock->Lap("residual_statistics");  // what was left of it after the covariance
-  } catch (...) {
-    // Both read `data`, `fit` and `result->noise`: finished before they go.
-    if (residual_statistics.valid()) residual_statistics.wait();
-    input_link->wait();
-    throw;
-  }
+                               const Linearization& at_answer, InputLinkSchedule* input_link,
+                               StageClock* clock, WorkcellResult* result) {
+  input_link->RunAlongside(
+      [&] {
+        result->uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
+        result->strong_correlations = StrongCorrelations(result->uncertainty);
+        SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result->uncertainty);
+        clock->Lap("covariance");
+      },
+      [&] { AddResidualStatistics(spec, recording, data, fit, at_answer, result); },
+      /*alongside_on_another_core=*/at_answer.valid);
+  clock->Lap("residual_statistics");  // what was left of it after the covariance
 }
 
 }  // namespace
@@ -582,24 +579,20 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
                  " residual)");
   // How the answer leans on the uncertain inputs needs only the answer: worked out on the other
   // core while this one finds the fit's own uncertainty and residuals; where sigma is refitted,
-  // assembled during that refit already (FitWithSigma).
-  std::future<InputLink> input_link;
+  // assembled during that refit already (FitWithSigma). After what it reads: it goes first.
+  InputLinkSchedule input_link;
   Fit fit = FitWithSigma(spec, recording, data, result.start, make_solver, &result.noise,
                          solved ? &solved->fit : nullptr, &input_link);
   result.solver = fit.summary;
   result.unidentifiable = fit.unidentifiable;
   result.estimate = ReadEstimate(spec, *fit.assembled);
   clock.Lap("solve");
-  if (!input_link.valid()) {
-    input_link = solved && solved->input_link.valid()
-                     ? std::move(solved->input_link)  // started at this very answer
-                     : LinkInputsAlongside(spec, recording, data, result.noise, fit);
-  }
+  LinkInputsAtTheAnswer(spec, recording, data, result.noise, fit, solved.get(), &input_link);
   // The solve's last identifiability check linearized here already (with its R factor).
   const Linearization at_answer =
       fit.at_answer.valid ? std::move(fit.at_answer) : Linearize(fit.assembled->problem);
   AddCovarianceAndResiduals(spec, recording, data, fit, at_answer, &input_link, &clock, &result);
-  AddInputUncertainty(input_link.get(), &result.uncertainty);  // rethrows what it threw
+  AddInputUncertainty(input_link.Take(), &result.uncertainty);  // rethrows what the link threw
   const HeldParameters held = HeldOf(result.unidentifiable);
   Describe(spec, *fit.assembled, held.held, &result);
   result.robot_to_robot = RobotToRobot(result);
@@ -749,24 +742,7 @@ WorkcellResult IdentifyFromStart(const WorkcellProblem& spec, const Recording& r
   std::vector<Outlier> outliers;
   std::unique_ptr<LeastSquaresFit> solved;  // the plain fit's first solve, when it is
   if (spec.outlier_test == OutlierTest::kRobust) {
-    RobustFirstFitOptions options;
-    // Its least-squares answer is the plain fit's when nothing is left out (the usual case):
-    // the inputs' link is assembled at its start from now, beside the fit's own assembly and
-    // solve, and linked at that answer alongside the Cauchy step and the test. Not where a
-    // sigma is unknown: FitWithSigma then solves again with sigma from this fit's residuals
-    // and links the inputs at that answer, and a link here would only take the other core
-    // from the fit (sim_b).
-    options.at_least_squares_start = [&recording](LeastSquaresFit* ls) {
-      if (ls->inputs.noise.has_unknown()) return false;
-      ls->input_link =
-          LinkInputsWhenAnswered(ls->spec, recording, ls->inputs.data, ls->inputs.noise,
-                                 ls->inputs.start, ls->answer_for_link.get_future());
-      return LinksOnAnotherThread(ls->spec);
-    };
-    options.at_least_squares_answer = [](LeastSquaresFit* ls) {
-      if (ls->input_link.valid()) ls->answer_for_link.set_value(AnswerOf(*ls->fit.assembled));
-    };
-    RobustFirstFit robust = FindOutliersByRobustFit(spec, recording, make_solver, options);
+    RobustFirstFit robust = FindOutliersLinkingInputs(spec, recording, make_solver);
     outliers = std::move(robust.outliers);
     if (outliers.empty()) solved = std::move(robust.least_squares);
     clock.Lap("robust_first_fit");
