@@ -5,16 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <optional>
 #include <mutex>
 #include <random>
 
 #include "cellmetry/basics/error.h"
-#include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"
-#include "cellmetry/basics/text.h"
-#include "cellmetry/cell/motion_check.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/robot_pairs.h"
 #include "cellmetry/cell/workcell_assembly.h"
@@ -27,6 +24,7 @@
 #include "residual_rows.h"
 #include "robust_first_fit.h"
 #include "uncertainty_split.h"
+#include "workcell_warnings.h"
 
 namespace cellmetry {
 
@@ -277,14 +275,6 @@ void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
                             robot.model_parameters};
     for (size_t i = 0; i < record.parameters.size(); ++i) record.parameters[i].nominal = values[i];
     result->robot_models.push_back(std::move(record));
-    const bool model_free = std::any_of(robot.model_parameters.begin(),
-                                        robot.model_parameters.end(),
-                                        [](const Parameter& p) { return !p.fixed; });
-    if (model_free) {
-      for (const auto& w : robot.model->Warnings(robot.model_parameters)) {
-        result->warnings.push_back(robot.name + ": " + w);
-      }
-    }
   }
   for (const auto& [camera, pose] : e.T_world_cam) {
     result->frames.push_back(MakeFrame(camera, "world", pose, u, undetermined));
@@ -440,84 +430,6 @@ void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recordi
   for (auto& [key, rms] : result->rotation_rms) rms.Finish();
 }
 
-// A job's effect fitted beyond the size its physics plausibly has (JudgePlausibility), or below
-// zero by more than three sigma where its physics cannot be negative (plausible_nonnegative;
-// within three sigma it is zero and noise): the fit may be using it for something else with its
-// signature, so the user is told before a robot controller is.
-void AddImplausibleEffectWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
-  const char* look_alikes = "the fit uses it for something else with the same signature; "
-                            "docs/physics.md lists look-alikes";
-  for (const WorkcellEffect& effect : spec.effects) {
-    std::vector<Parameter> fitted;
-    std::vector<double> values, sigmas;
-    for (const Parameter& p : effect.effect->parameters()) {
-      for (const ScalarEstimate& s : result->model_parameters) {
-        if (s.name != effect.name + "." + p.name || s.held) continue;
-        fitted.push_back(p);
-        values.push_back(s.value);
-        sigmas.push_back(s.sigma);
-      }
-    }
-    std::vector<double> margins;
-    for (double sigma : sigmas) margins.push_back(3 * sigma);
-    for (const PlausibilityFinding& f : JudgePlausibility(fitted, values, margins)) {
-      const std::string what = PlausibilityText(fitted, values, f, effect.name + ".");
-      char sigma[64];
-      std::snprintf(sigma, sizeof sigma, " (+- %.2g)", sigmas[f.index]);
-      result->warnings.push_back(
-          f.kind == Plausibility::kBelowZero
-              ? what + sigma + ": " + look_alikes
-              : "beyond the size its physics plausibly has: " + what + sigma +
-                    "; either that physics is larger here than expected, or " + look_alikes);
-    }
-  }
-}
-
-// A carried target whose rotation the job frees but does not fit (use_tool_rotation: false):
-// held as unidentifiable, which the estimation can explain only as "no measurement depends on
-// it", while the recording may well measure it.
-void AddUnfittedToolRotationWarning(const WorkcellProblem& spec, WorkcellResult* result) {
-  if (spec.use_tool_rotation) return;
-  std::string targets;
-  for (const WorkcellRobot& robot : spec.robots) {
-    for (const WorkcellTool& tool : robot.tools) {
-      if (tool.is_camera()) continue;  // eye in hand: its rotations are always fitted
-      const std::array<bool, 6>& free = tool.flange_tool.free;
-      if (free[3] || free[4] || free[5]) targets += (targets.empty() ? "" : ", ") + tool.target;
-    }
-  }
-  if (targets.empty()) return;
-  result->warnings.push_back(
-      "the job frees the rotation of " + targets + ", but fits the carried targets' positions "
-      "only (use_tool_rotation: false), so the rotation was held at its nominal value: set "
-      "use_tool_rotation: true to fit the rotations the recording measures, or free [x, y, z]");
-}
-
-void AddWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
-  if (!result->solver.converged) {
-    result->warnings.push_back(
-        "the solver stopped before converging (" + result->solver.stop_reason +
-        "): the answer may not be the best fit; raise the solver's max_iterations, or give "
-        "starts nearer the truth");
-  }
-  AddUnfittedToolRotationWarning(spec, result);
-  result->weakly_identified = WeaklyIdentified(result->uncertainty, spec.weak_vif);
-  if (!result->weakly_identified.empty()) {
-    std::string names;
-    for (const auto& w : result->weakly_identified) names += (names.empty() ? "" : ", ") + w.name;
-    result->warnings.push_back("this data barely identifies " + names +
-                               ": they move together; record poses that vary them "
-                               "independently (other heights, the workspace's edges)");
-  }
-  AddImplausibleEffectWarnings(spec, result);
-  if (result->uncertainty.reduced_chi2 > 4.0) {
-    result->warnings.push_back(
-        "residuals are " +
-        std::to_string(std::sqrt(result->uncertainty.reduced_chi2)).substr(0, 4) +
-        "x the stated noise: the model leaves something out; uncertainties were scaled up");
-  }
-}
-
 // The held-out RMS of the other camera model (compare_camera_models).
 void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording,
                          const SolverMaker& make_solver, WorkcellResult* result) {
@@ -595,6 +507,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   AddInputUncertainty(input_link.Take(), &result.uncertainty);  // rethrows what the link threw
   const HeldParameters held = HeldOf(result.unidentifiable);
   Describe(spec, *fit.assembled, held.held, &result);
+  AddModelWarnings(spec, &result);
   result.robot_to_robot = RobotToRobot(result);
   clock.Lap("input_uncertainty");
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,
@@ -605,9 +518,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
     clock.Lap("camera_models");
   }
   AddWarnings(spec, &result);
-  for (std::string& still : StillJoints(spec, recording, data)) {
-    result.warnings.push_back(std::move(still));
-  }
+  AddStillJointWarnings(spec, recording, data, &result);
   result.stages = clock.stages();
   return result;
 }
@@ -631,19 +542,7 @@ void AddCamerasLeftOut(const WorkcellProblem& spec, const Recording& recording,
   StageClock clock;
   result->cameras_left_out = LeaveEachCameraOut(spec, recording, *result, make_solver);
   if (result->cameras_left_out.empty()) return;  // fewer than two cameras: nothing was left out
-  for (const CameraLeftOut& c : result->cameras_left_out) {
-    if (!c.error.empty()) {
-      result->warnings.push_back("without " + c.camera + " the cell cannot be identified (" +
-                                 c.error + "): nothing checks what it alone determines");
-    } else if (c.flagged()) {
-      char sigmas[32];
-      std::snprintf(sigmas, sizeof sigmas, "%.1f", c.worst_sigmas);
-      result->warnings.push_back(
-          "without " + c.camera + " " + c.worst + " moves by " + sigmas + " sigma of the "
-          "difference: " + c.camera + " disagrees with the other cameras beyond the "
-          "uncertainty (its intrinsics, its mount or the model's camera-side physics)");
-    }
-  }
+  AddCameraLeftOutWarnings(result);
   clock.Lap("cameras_left_out");
   result->stages.insert(result->stages.end(), clock.stages().begin(), clock.stages().end());
 }
@@ -680,17 +579,6 @@ WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& re
 
 namespace {
 
-std::string FarStartWords(const std::vector<FarStart>& far) {
-  std::string words;
-  for (const FarStart& f : far) {
-    char line[160];
-    std::snprintf(line, sizeof line, "%s's %.0f mm and %.2f rad", f.frame.c_str(), f.distance_mm,
-                  f.angle_rad);
-    words += (words.empty() ? "" : ", ") + std::string(line);
-  }
-  return words;
-}
-
 // Both fits, scored by how well each predicts the carried targets of the recording (the same
 // rows for both, whatever each left out as outliers): the better kept, the choice a warning.
 WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProblem& closed,
@@ -711,24 +599,13 @@ WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProb
     return *given;  // the closed form's fit fails where the given start's holds
   }
   const double own_mm = ScoreOnRecording(closed, *own, recording).after.norm;
-  const double given_mm =
-      given ? ScoreOnRecording(spec, *given, recording).after.norm : INFINITY;
+  std::optional<double> given_mm;
+  if (given) given_mm = ScoreOnRecording(spec, *given, recording).after.norm;
   // The same answer to a part in a thousand: the start was far but harmless.
-  const bool same = given && std::abs(given_mm - own_mm) <= 1e-3 * own_mm;
-  const bool keep_given = given && given_mm <= own_mm * (1 + 1e-3);
-  char line[480];
-  const std::string from_given =
-      given ? Mm(given_mm, 4) + " RMS" : "a failed fit (" + given_failure + ")";
-  std::snprintf(line, sizeof line,
-                "the job's start lies far from where the data put the frame (%s from the "
-                "closed-form start); fitted from both: the carried targets are predicted to "
-                "%s from the given start, %.4g mm RMS from the data's own: %s",
-                FarStartWords(far).c_str(), from_given.c_str(), own_mm,
-                same        ? "the same answer, kept"
-                : keep_given ? "the given start's answer kept"
-                             : "the data's answer kept. Check the start in the job");
+  const bool same = given && std::abs(*given_mm - own_mm) <= 1e-3 * own_mm;
+  const bool keep_given = given && *given_mm <= own_mm * (1 + 1e-3);
   WorkcellResult& kept = keep_given ? *given : *own;
-  kept.warnings.push_back(line);
+  AddFarStartWarning(far, given_mm, given_failure, own_mm, same, keep_given, &kept);
   return kept;
 }
 
