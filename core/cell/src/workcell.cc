@@ -1,13 +1,9 @@
 // The workcell identification (workcell.h): fit, sigma, uncertainty, residuals, held-out.
 #include "cellmetry/cell/workcell.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <mutex>
-#include <random>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
@@ -15,196 +11,24 @@
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/robot_pairs.h"
 #include "cellmetry/cell/workcell_assembly.h"
-#include "cellmetry/estimation/reweighted_solve.h"
 #include "camera_left_out_fit.h"
 #include "far_start.h"
 #include "fit_once.h"
 #include "input_link_schedule.h"
 #include "input_uncertainty.h"
 #include "residual_rows.h"
-#include "robust_first_fit.h"
 #include "uncertainty_split.h"
 #include "workcell_description.h"
+#include "workcell_fit.h"
 #include "workcell_warnings.h"
 
 namespace cellmetry {
-
-Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
-            const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
-            HeldParameters held, const SolverMaker& make_solver, bool warm_start) {
-  Fit fit;
-  fit.assembled = AssembleWorkcell(spec, recording, data, noise, start, poses);
-  fit.free_as_asked = fit.assembled->problem.num_free();
-  IdentifiedSolve solved =
-      SolveHoldingUnidentifiable(&fit.assembled->problem, spec.identifiability_tolerance,
-                                 std::move(held), make_solver, warm_start);
-  fit.summary = solved.summary;
-  fit.unidentifiable = std::move(solved.unidentifiable);
-  fit.at_answer = std::move(solved.at_answer);
-  return fit;
-}
-
-SolverMaker FirstFitSolver(const NoiseModel& noise, const SolverMaker& job_solver) {
-  if (!noise.has_unknown()) return job_solver;
-  ReweightedSolveOptions options;
-  options.decrement_tolerance = 1e-10;
-  return ReweightedSolver(options);
-}
-
-namespace {
-
-// A row that measures a robot: a target it carries, or the world target as a camera riding on
-// it sees it (eye in hand).
-bool MeasuresARobot(const Recording& recording, const ResidualRow& row) {
-  return recording.IsCarried(row.target) || recording.camera_mounts.count(row.camera) > 0;
-}
-
-// Prediction - measurement rows at `estimate`, in the measurement's units (mm / rad), whatever
-// residual form the fit used: a joint-space fit's rows are whitened joint errors, so its
-// measurements are compared again in the camera frame.
-std::vector<ResidualRow> MeasurementRows(const WorkcellProblem& spec, const Recording& recording,
-                                         const WorkcellData& data, const NoiseModel& noise,
-                                         const WorkcellEstimate& estimate,
-                                         const std::set<int>& poses, AssembledWorkcell* fitted,
-                                         const Linearization* at = nullptr) {
-  if (spec.residual == ResidualForm::kCartesian && fitted) return ResidualRows(*fitted, at);
-  WorkcellProblem cartesian = spec;
-  cartesian.residual = ResidualForm::kCartesian;
-  auto assembled = AssembleWorkcell(cartesian, recording, data, noise, estimate, poses);
-  return ResidualRows(*assembled);
-}
-
-// Replaces "unknown" sigma by the residual RMS per axis, corrected for the fitted parameters.
-bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, NoiseModel* noise) {
-  std::map<NoiseKey, std::pair<ResidualRms, ResidualRms>> sums;  // position, rotation
-  int total_rows = 0;
-  for (const auto& row : rows) {
-    auto& entry = sums[{row.camera, row.target}];
-    (row.kind == ResidualKind::kPosition ? entry.first : entry.second).Add(row.error);
-    total_rows += 3;
-  }
-  const double dof_correction =
-      total_rows > num_free ? std::sqrt(double(total_rows) / (total_rows - num_free)) : 1.0;
-  bool changed = false;
-  for (auto& [key, target_noise] : noise->entries) {
-    if (target_noise.source != "unknown" || !sums.count(key)) continue;
-    auto& [position, rotation] = sums[key];
-    position.Finish();
-    rotation.Finish();
-    if (position.count > 0) {
-      // Rows that carry their own covariance: sigma is what is left beside it.
-      const Eigen::Vector3d scatter_mm2 = (position.axis * dof_correction).cwiseAbs2();
-      target_noise.position_mm =
-          (scatter_mm2 - target_noise.mean_row_variance_mm2).cwiseMax(1e-12).cwiseSqrt();
-    }
-    if (rotation.count > 0) {
-      target_noise.rotation_rad = (rotation.axis * dof_correction).cwiseMax(1e-9);
-    }
-    target_noise.source = target_noise.per_row
-                              ? "residuals of a first fit, beside each row's own uncertainty"
-                              : "residuals of a first fit";
-    changed = true;
-  }
-  return changed;
-}
-
-}  // namespace
-
-HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
-                      const WorkcellData& data, const NoiseModel& noise,
-                      const WorkcellEstimate& answer, const HeldParameters& held,
-                      const SolverMaker& make_solver) {
-  HeldOut out;
-  std::vector<int> poses;
-  for (const auto& m : data.tools) poses.push_back(recording.samples[m.sample_index].pose);
-  std::sort(poses.begin(), poses.end());
-  poses.erase(std::unique(poses.begin(), poses.end()), poses.end());
-  const int folds = std::min<int>(spec.folds, static_cast<int>(poses.size()));
-  if (folds < 2) return out;
-  std::mt19937 rng(spec.seed);
-  std::shuffle(poses.begin(), poses.end(), rng);
-  out.folds = folds;
-  // The folds side by side (each fit's own threads leave its serial parts to overlap), then
-  // summed in fold order, so that the answer does not depend on which finished first.
-  struct FoldRows {
-    std::vector<ResidualRow> rows;  // the held-out carried-target rows
-  };
-  std::vector<FoldRows> fold_rows(folds);
-  Progress progress("cross-validation (" + CameraModelName(spec.camera_model) + ") fold", folds);
-  std::mutex progress_mutex;
-  tbb::parallel_for(0, folds, [&](int f) {
-    std::set<int> train, test;
-    for (size_t i = 0; i < poses.size(); ++i) {
-      (static_cast<int>(i) % folds == f ? test : train).insert(poses[i]);
-    }
-    Fit fit = FitOnce(spec, recording, data, noise, answer, train, held, make_solver,
-                      /*warm_start=*/true);
-    const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
-    for (auto& row : MeasurementRows(spec, recording, data, noise, trained, test, nullptr)) {
-      if (MeasuresARobot(recording, row)) fold_rows[f].rows.push_back(std::move(row));
-    }
-    const std::lock_guard<std::mutex> lock(progress_mutex);
-    progress.Advance();
-  });
-  for (const FoldRows& f : fold_rows) {
-    ResidualRms fold;
-    double normalized_ss = 0.0;  // every carried-target row the fit uses: rotations too, where
-    int normalized_rows = 0;     // an effect may show most (a delta platform's tilt)
-    for (const auto& row : f.rows) {
-      normalized_ss += row.normalized.squaredNorm();
-      normalized_rows += 3;
-      if (row.kind != ResidualKind::kPosition) continue;
-      out.total.Add(row.error);
-      out.per_camera[row.camera].Add(row.error);
-      fold.Add(row.error);
-    }
-    out.per_fold_normalized_rms.push_back(
-        normalized_rows > 0 ? std::sqrt(normalized_ss / normalized_rows) : 0.0);
-    fold.Finish();
-    out.per_fold.push_back(fold);
-  }
-  out.total.Finish();
-  for (auto& [camera, rms] : out.per_camera) rms.Finish();
-  return out;
-}
 
 std::string CameraModelName(CameraModel model) {
   return model == CameraModel::kStaticCameras ? "static_cameras" : "per_frame";
 }
 
 namespace {
-
-// More measured rows than the free parameters the job asked for, or the fit is not a fit (held
-// unidentifiable parameters do not count: with too few rows, every direction is one).
-void CheckEnoughData(const Recording& recording, const Fit& fit) {
-  const int rows = fit.assembled->problem.num_residuals();
-  if (rows >= fit.free_as_asked) return;
-  throw InputError({recording.folder + "/observations.csv", 0, 0},
-                   "the recording gives " + std::to_string(rows) + " measured values for " +
-                       std::to_string(fit.free_as_asked) + " free parameters",
-                   "Record more poses, or free fewer parameters");
-}
-
-// The robust first fit (robust_first_fit.h) with the uncertain inputs' link started at its
-// least-squares start, in its LeastSquaresFit's schedule: that fit's answer is the plain fit's
-// when nothing is left out (the usual case), so the link is assembled beside the fit's own
-// assembly and solve, and linked at that answer alongside the Cauchy step and the test. Not
-// where a sigma is unknown: FitWithSigma then solves again with sigma from this fit's
-// residuals and links the inputs at that answer, and a link here would only take the other
-// core from the fit (sim_b).
-RobustFirstFit FindOutliersLinkingInputs(const WorkcellProblem& spec, const Recording& recording,
-                                         const SolverMaker& make_solver) {
-  RobustFirstFitOptions options;
-  options.at_least_squares_start = [&recording](LeastSquaresFit* ls) {
-    if (ls->inputs.noise.has_unknown()) return false;
-    return ls->input_link.Start(ls->spec, recording, ls->inputs.data, ls->inputs.noise,
-                                ls->inputs.start);
-  };
-  options.at_least_squares_answer = [](LeastSquaresFit* ls) {
-    if (ls->input_link.started()) ls->input_link.Answer(AnswerOf(*ls->fit.assembled));
-  };
-  return FindOutliersByRobustFit(spec, recording, make_solver, options);
-}
 
 // The uncertain inputs' link of `fit`, in `input_link`: where neither the refit started it
 // (FitWithSigma) nor the robust first fit at this very answer (`solved`, whose link is taken),
@@ -219,84 +43,6 @@ void LinkInputsAtTheAnswer(const WorkcellProblem& spec, const Recording& recordi
   }
   input_link->Answer(AnswerOf(*fit.assembled));
   input_link->Start(spec, recording, data, noise, ReferenceEstimate(spec, *fit.assembled));
-}
-
-// Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
-// (variance component estimation), holding what the first fit found unidentifiable. `solved`:
-// that first fit done already (LeastSquaresFit), taken instead of solving. Where it solves
-// again, the uncertain inputs' link is started in `input_link` at that refit's start, assembled
-// on the other core while the refit solves on the cores left, and answered with the refit's
-// answer (`input_link` is left as it is otherwise). `spec`, `recording`, `data` and `noise`
-// are what that link reads (input_link_schedule.h).
-Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
-                 const WorkcellEstimate& start, const SolverMaker& make_solver,
-                 NoiseModel* noise, Fit* solved, InputLinkSchedule* input_link) {
-  Fit fit = solved ? std::move(*solved)
-                   : FitOnce(spec, recording, data, *noise, start, {}, {},
-                             FirstFitSolver(*noise, make_solver));
-  CheckEnoughData(recording, fit);
-  if (!noise->has_unknown()) return fit;  // every sigma is known: nothing to re-estimate
-  const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
-  const auto rows = MeasurementRows(spec, recording, data, *noise, first, {}, fit.assembled.get(),
-                                    &fit.at_answer);
-  // Solved again by the job's solver also where no sigma could be estimated (an unknown one
-  // with no rows): the first fit's answer was the core's (FirstFitSolver).
-  if (EstimateUnknownSigma(rows, fit.assembled->problem.num_free(), noise)) {
-    Progress::Note("refitting with sigma estimated from the residuals");
-  }
-  std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
-  const SolverSummary first_summary = fit.summary;
-  // A refit given up before its answer leaves the link unanswered, which ends it
-  // (input_link_schedule.h).
-  const bool link_beside = input_link->Start(spec, recording, data, *noise, first);
-  // Warm: from the first fit's answer with what it held, so the identifiability check before
-  // the solve is skipped; a near-degeneracy the new row weights make shows in the check at the
-  // answer, which holds it and solves again (SolveHoldingUnidentifiable).
-  fit = FitOnce(spec, recording, data, *noise, first, {}, HeldOf(held_first),
-                link_beside ? LeavingOneCore(make_solver) : make_solver, /*warm_start=*/true);
-  input_link->Answer(AnswerOf(*fit.assembled));
-  // One solve in the report: iterations and time add up; the refit keeps the first's findings.
-  fit.summary.iterations += first_summary.iterations;
-  fit.summary.evaluations += first_summary.evaluations;
-  fit.summary.time_s += first_summary.time_s;
-  held_first.insert(held_first.end(), fit.unidentifiable.begin(), fit.unidentifiable.end());
-  fit.unidentifiable = held_first;
-  return fit;
-}
-
-// Residual rows and their RMS per camera and target, in the measurement's units.
-// `at`: the fit's linearization at its answer, whose residuals are taken (ResidualRows).
-void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recording,
-                           const WorkcellData& data, const Fit& fit, const Linearization& at,
-                           WorkcellResult* result) {
-  result->residuals = MeasurementRows(spec, recording, data, result->noise, result->estimate, {},
-                                      fit.assembled.get(), &at);
-  // Each row's table looked up among the few met so far (a camera and target's positions and
-  // rotations): a name made and found in a map per row was half of this on exp_a.
-  struct Group {
-    const ResidualRow* first;
-    ResidualRms* rms;
-  };
-  std::vector<Group> groups;
-  for (const auto& row : result->residuals) {
-    ResidualRms* rms = nullptr;
-    for (const Group& group : groups) {
-      if (group.first->camera == row.camera && group.first->target == row.target &&
-          group.first->kind == row.kind) {
-        rms = group.rms;
-        break;
-      }
-    }
-    if (rms == nullptr) {
-      auto& table =
-          row.kind == ResidualKind::kPosition ? result->position_rms : result->rotation_rms;
-      rms = &table[row.camera + "/" + row.target];
-      groups.push_back({&row, rms});
-    }
-    rms->Add(row.error);
-  }
-  for (auto& [key, rms] : result->position_rms) rms.Finish();
-  for (auto& [key, rms] : result->rotation_rms) rms.Finish();
 }
 
 // The held-out RMS of the other camera model (compare_camera_models).
