@@ -1,4 +1,10 @@
-// The workcell identification (workcell.h): fit, sigma, uncertainty, residuals, held-out.
+// The workcell identification (workcell.h) as the sequence of its stages. What a stage does is
+// in workcell_fit.cc, workcell_description.cc and workcell_warnings.cc; what runs on the other
+// core meanwhile, in input_link_schedule.h. Each function comes before its callers:
+// IdentifyOnce identifies a recording as it is (the fit with sigma, covariance and residuals,
+// the inputs' part, the description, cross-validation, warnings); IdentifyFromStart leaves
+// outliers out around it and each camera out after it; IdentifyWorkcell picks the cameras and
+// the starts.
 #include "cellmetry/cell/workcell.h"
 
 #include <algorithm>
@@ -28,7 +34,26 @@ std::string CameraModelName(CameraModel model) {
   return model == CameraModel::kStaticCameras ? "static_cameras" : "per_frame";
 }
 
+std::string ResidualFormName(ResidualForm form) {
+  return form == ResidualForm::kCartesian ? "cartesian" : "joint_space";
+}
+
 namespace {
+
+// What the fit starts from, as the result reports it.
+void RecordFitInputs(const FitInputs& inputs, WorkcellResult* result) {
+  result->skipped = inputs.data.skipped;
+  result->repeatability = inputs.repeatability;
+  result->noise = inputs.noise;
+  result->start = inputs.start;
+}
+
+// The fit's answer, as the result reports it.
+void RecordFitAnswer(const WorkcellProblem& spec, const Fit& fit, WorkcellResult* result) {
+  result->solver = fit.summary;
+  result->unidentifiable = fit.unidentifiable;
+  result->estimate = ReadEstimate(spec, *fit.assembled);
+}
 
 // The uncertain inputs' link of `fit`, in `input_link`: where neither the refit started it
 // (FitWithSigma) nor the robust first fit at this very answer (`solved`, whose link is taken),
@@ -43,20 +68,6 @@ void LinkInputsAtTheAnswer(const WorkcellProblem& spec, const Recording& recordi
   }
   input_link->Answer(AnswerOf(*fit.assembled));
   input_link->Start(spec, recording, data, noise, ReferenceEstimate(spec, *fit.assembled));
-}
-
-// The held-out RMS of the other camera model (compare_camera_models).
-void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording,
-                         const SolverMaker& make_solver, WorkcellResult* result) {
-  WorkcellProblem other = spec;
-  other.compare_camera_models = false;
-  other.outlier_test = OutlierTest::kPlain;  // `recording` is already without the robust fit's
-  other.camera_model = spec.camera_model == CameraModel::kStaticCameras
-                           ? CameraModel::kPerFrame
-                           : CameraModel::kStaticCameras;
-  Progress::Note("comparing with the " + CameraModelName(other.camera_model) + " model");
-  result->other_models[CameraModelName(other.camera_model)] =
-      IdentifyWorkcell(other, recording, make_solver).held_out;
 }
 
 // The fit's covariance (split into its parts) and its residual statistics. The residual rows
@@ -79,11 +90,23 @@ void AddCovarianceAndResiduals(const WorkcellProblem& spec, const Recording& rec
   clock->Lap("residual_statistics");  // what was left of it after the covariance
 }
 
-}  // namespace
+// The held-out RMS of the other camera model (compare_camera_models).
+void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording,
+                         const SolverMaker& make_solver, WorkcellResult* result) {
+  WorkcellProblem other = spec;
+  other.compare_camera_models = false;
+  other.outlier_test = OutlierTest::kPlain;  // `recording` is already without the robust fit's
+  other.camera_model = spec.camera_model == CameraModel::kStaticCameras
+                           ? CameraModel::kPerFrame
+                           : CameraModel::kStaticCameras;
+  Progress::Note("comparing with the " + CameraModelName(other.camera_model) + " model");
+  result->other_models[CameraModelName(other.camera_model)] =
+      IdentifyWorkcell(other, recording, make_solver).held_out;
+}
 
 // One identification on `recording` as it is. `solved`: the robust first fit's least-squares
 // fit of this very recording (a Cartesian job), which is the plain fit's first solve: its data,
-// noise, start and answer are taken, not made again.
+// noise, start, answer and inputs' link are taken, not made again.
 WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& recording,
                             const SolverMaker& make_solver,
                             std::unique_ptr<LeastSquaresFit> solved = nullptr) {
@@ -95,10 +118,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   if (!solved) prepared = PrepareFitInputs(spec, recording);
   const FitInputs& inputs = solved ? solved->inputs : prepared;
   const WorkcellData& data = inputs.data;
-  result.skipped = data.skipped;
-  result.repeatability = inputs.repeatability;
-  result.noise = inputs.noise;
-  result.start = inputs.start;
+  RecordFitInputs(inputs, &result);
   clock.Lap("start");
 
   Progress::Note("fitting " + std::to_string(data.tools.size()) + " target observations (" +
@@ -110,9 +130,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   InputLinkSchedule input_link;
   Fit fit = FitWithSigma(spec, recording, data, result.start, make_solver, &result.noise,
                          solved ? &solved->fit : nullptr, &input_link);
-  result.solver = fit.summary;
-  result.unidentifiable = fit.unidentifiable;
-  result.estimate = ReadEstimate(spec, *fit.assembled);
+  RecordFitAnswer(spec, fit, &result);
   clock.Lap("solve");
   LinkInputsAtTheAnswer(spec, recording, data, result.noise, fit, solved.get(), &input_link);
   // The solve's last identifiability check linearized here already (with its R factor).
@@ -138,15 +156,25 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   return result;
 }
 
-namespace {
-
-// `spec` without the cameras it does not use (what IdentifyWorkcell then fits).
-WorkcellProblem WithoutUnusedCameras(const WorkcellProblem& spec) {
-  WorkcellProblem out = spec;
-  for (auto it = out.cameras.begin(); it != out.cameras.end();) {
-    it = it->second.use ? std::next(it) : out.cameras.erase(it);
+// The outlier test on the plain fit's own rows (outliers.h): what fails it is left out of
+// `kept` (and added to `outliers`) and the cell identified again, twice at most (what the first
+// ones masked shows in the second pass); each pass's stages are numbered by it.
+void IdentifyWithoutPlainOutliers(const WorkcellProblem& spec, const SolverMaker& make_solver,
+                                  Recording* kept, std::vector<Outlier>* outliers,
+                                  WorkcellResult* result) {
+  const int passes = spec.outlier_test == OutlierTest::kOff ? 0 : 2;
+  for (int pass = 0; pass < passes; ++pass) {
+    const std::vector<Outlier> found = FindOutliers(result->residuals, *kept);
+    if (found.empty()) break;
+    Progress::Note(std::to_string(found.size()) + " residual rows fail the outlier test; "
+                   "identifying again without their observations");
+    outliers->insert(outliers->end(), found.begin(), found.end());
+    *kept = WithoutOutliers(*kept, found);
+    std::vector<StageTime> stages = std::move(result->stages);
+    *result = IdentifyOnce(spec, *kept, make_solver);
+    for (StageTime& stage : result->stages) stage.pass = pass + 1;
+    result->stages.insert(result->stages.begin(), stages.begin(), stages.end());
   }
-  return out;
 }
 
 // The cell without each camera in turn, against `result` (fitted on `recording`), and a warning
@@ -162,40 +190,41 @@ void AddCamerasLeftOut(const WorkcellProblem& spec, const Recording& recording,
   result->stages.insert(result->stages.end(), clock.stages().begin(), clock.stages().end());
 }
 
-}  // namespace
-
-namespace {
-
 // The identification from the job's starts (or the closed form where it gives none).
 WorkcellResult IdentifyFromStart(const WorkcellProblem& spec, const Recording& recording,
-                                 const SolverMaker& make_solver);
-// The identification from the job's far starts and from the closed form's, the better kept.
-WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProblem& closed,
-                                 const std::vector<FarStart>& far, const Recording& recording,
-                                 const SolverMaker& make_solver);
-
-}  // namespace
-
-WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
-                                const SolverMaker& make_solver) {
-  const std::set<std::string> unused = UnusedCameras(spec);
-  if (!unused.empty()) {
-    const Recording used = WithoutCameras(recording, unused);
-    WorkcellResult result = IdentifyWorkcell(WithoutUnusedCameras(spec), used, make_solver);
-    NumberByOriginal(recording, used, &result.residuals);
-    result.unused_cameras.assign(unused.begin(), unused.end());
-    return result;
+                                 const SolverMaker& make_solver) {
+  // Gross outliers (outliers.h): those a robust first fit finds are left out before the plain
+  // fit; then what the plain fit's own residuals show, left out and the cell identified again
+  // (IdentifyWithoutPlainOutliers). Clean data: the plain answer, untouched.
+  StageClock clock;
+  std::vector<Outlier> outliers;
+  std::unique_ptr<LeastSquaresFit> solved;  // the plain fit's first solve, when it is
+  if (spec.outlier_test == OutlierTest::kRobust) {
+    RobustFirstFit robust = FindOutliersLinkingInputs(spec, recording, make_solver);
+    outliers = std::move(robust.outliers);
+    if (outliers.empty()) solved = std::move(robust.least_squares);
+    clock.Lap("robust_first_fit");
   }
-  WorkcellProblem without_starts;
-  const std::vector<FarStart> far = FarStarts(spec, recording, &without_starts);
-  if (far.empty()) return IdentifyFromStart(spec, recording, make_solver);
-  return BetterOfTwoStarts(spec, without_starts, far, recording, make_solver);
+  if (!outliers.empty()) {
+    Progress::Note(std::to_string(outliers.size()) + " residual rows of a robust fit fail the "
+                   "outlier test; fitting without their observations");
+  }
+  Recording kept = outliers.empty() ? Recording{} : WithoutOutliers(recording, outliers);
+  const Recording& first = outliers.empty() ? recording : kept;
+  WorkcellResult result = IdentifyOnce(spec, first, make_solver, std::move(solved));
+  result.stages.insert(result.stages.begin(), clock.stages().begin(), clock.stages().end());
+  if (outliers.empty()) kept = recording;
+  IdentifyWithoutPlainOutliers(spec, make_solver, &kept, &outliers, &result);
+  result.outliers = outliers;
+  AddCamerasLeftOut(spec, kept, make_solver, &result);
+  if (!outliers.empty()) NumberByOriginal(recording, kept, &result.residuals);
+  return result;
 }
 
-namespace {
-
-// Both fits, scored by how well each predicts the carried targets of the recording (the same
-// rows for both, whatever each left out as outliers): the better kept, the choice a warning.
+// The identification from the job's far starts and from the closed form's (`closed`, the job
+// without its starts), both scored by how well each predicts the carried targets of the
+// recording (the same rows for both, whatever each left out as outliers): the better kept, the
+// choice a warning.
 WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProblem& closed,
                                  const std::vector<FarStart>& far, const Recording& recording,
                                  const SolverMaker& make_solver) {
@@ -224,50 +253,32 @@ WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProb
   return kept;
 }
 
-WorkcellResult IdentifyFromStart(const WorkcellProblem& spec, const Recording& recording,
-                                 const SolverMaker& make_solver) {
-  // Gross outliers (outliers.h): those a robust first fit finds are left out before the plain
-  // fit; then what the plain fit's own residuals show, left out and the cell identified again,
-  // twice at most (what the first ones masked shows in the second pass). Clean data: the plain
-  // answer, untouched.
-  StageClock clock;
-  std::vector<Outlier> outliers;
-  std::unique_ptr<LeastSquaresFit> solved;  // the plain fit's first solve, when it is
-  if (spec.outlier_test == OutlierTest::kRobust) {
-    RobustFirstFit robust = FindOutliersLinkingInputs(spec, recording, make_solver);
-    outliers = std::move(robust.outliers);
-    if (outliers.empty()) solved = std::move(robust.least_squares);
-    clock.Lap("robust_first_fit");
+// `spec` without the cameras it does not use (what IdentifyWorkcell then fits).
+WorkcellProblem WithoutUnusedCameras(const WorkcellProblem& spec) {
+  WorkcellProblem out = spec;
+  for (auto it = out.cameras.begin(); it != out.cameras.end();) {
+    it = it->second.use ? std::next(it) : out.cameras.erase(it);
   }
-  if (!outliers.empty()) {
-    Progress::Note(std::to_string(outliers.size()) + " residual rows of a robust fit fail the "
-                   "outlier test; fitting without their observations");
-  }
-  Recording kept = outliers.empty() ? Recording{} : WithoutOutliers(recording, outliers);
-  const Recording& first = outliers.empty() ? recording : kept;
-  WorkcellResult result = IdentifyOnce(spec, first, make_solver, std::move(solved));
-  result.stages.insert(result.stages.begin(), clock.stages().begin(), clock.stages().end());
-  if (outliers.empty()) kept = recording;
-  const int passes = spec.outlier_test == OutlierTest::kOff ? 0 : 2;
-  for (int pass = 0; pass < passes; ++pass) {
-    const std::vector<Outlier> found = FindOutliers(result.residuals, kept);
-    if (found.empty()) break;
-    Progress::Note(std::to_string(found.size()) + " residual rows fail the outlier test; "
-                   "identifying again without their observations");
-    outliers.insert(outliers.end(), found.begin(), found.end());
-    kept = WithoutOutliers(kept, found);
-    std::vector<StageTime> stages = std::move(result.stages);
-    result = IdentifyOnce(spec, kept, make_solver);
-    for (StageTime& stage : result.stages) stage.pass = pass + 1;
-    result.stages.insert(result.stages.begin(), stages.begin(), stages.end());
-  }
-  result.outliers = outliers;
-  AddCamerasLeftOut(spec, kept, make_solver, &result);
-  if (!outliers.empty()) NumberByOriginal(recording, kept, &result.residuals);
-  return result;
+  return out;
 }
 
 }  // namespace
+
+WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
+                                const SolverMaker& make_solver) {
+  const std::set<std::string> unused = UnusedCameras(spec);
+  if (!unused.empty()) {
+    const Recording used = WithoutCameras(recording, unused);
+    WorkcellResult result = IdentifyWorkcell(WithoutUnusedCameras(spec), used, make_solver);
+    NumberByOriginal(recording, used, &result.residuals);
+    result.unused_cameras.assign(unused.begin(), unused.end());
+    return result;
+  }
+  WorkcellProblem without_starts;
+  const std::vector<FarStart> far = FarStarts(spec, recording, &without_starts);
+  if (far.empty()) return IdentifyFromStart(spec, recording, make_solver);
+  return BetterOfTwoStarts(spec, without_starts, far, recording, make_solver);
+}
 
 RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResult& result,
                                 const Recording& fresh) {
@@ -295,10 +306,6 @@ RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResul
   score.before = rms_at(result.start, nullptr, nullptr);
   score.after = rms_at(result.estimate, &score.mean_after_mm, &score.max_after_mm);
   return score;
-}
-
-std::string ResidualFormName(ResidualForm form) {
-  return form == ResidualForm::kCartesian ? "cartesian" : "joint_space";
 }
 
 }  // namespace cellmetry
