@@ -15,7 +15,8 @@
 //   have.
 //
 // Which core runs what. The link's thread takes the other core from Start() until the link is
-// made; Start() says whether there is such a thread (there is none when the job has no
+// assembled, and again from Answer() until it is linked (assembled before the answer comes, it
+// waits idle). Start() says whether there is such a thread (there is none when the job has no
 // uncertain inputs: the link is then empty, made by Take()), so that a solve meanwhile leaves
 // that core to it (LeavingOneCore). RunAlongside's `alongside` takes another core too, beside
 // a link not yet done; told it has none (`alongside_on_another_core` false), it runs on this
@@ -40,7 +41,7 @@
 // `here`) and the link's thread has ended, because both read what the exception is about to
 // unwind; where both throw, `here`'s goes on.
 //
-// Usage, as IdentifyOnce does it:
+// Usage, in the order the identification's stages call it:
 //
 //   InputLinkSchedule input_link;                     // after what the link reads
 //   const bool beside = input_link.Start(spec, recording, data, noise, start);
