@@ -1,6 +1,7 @@
 // A job's effect fitted beyond the size its physics plausibly has is a warning of the run
-// (workcell.cc, AddImplausibleEffectWarnings): a board printed 5 % off is fitted at 5 % (beyond
-// target_scale's plausible 2 %) and the run says so, naming the parameter; at 0.5 % it does not.
+// (workcell_warnings.cc, AddImplausibleEffectWarnings): a board printed 5 % off is fitted at
+// 5 % (beyond target_scale's plausible 2 %) and the run says so, naming the parameter; at 0.5 %
+// it does not.
 // So is a compliance fitted well below zero (a joint giving against gravity), and not one at +.
 #include <gtest/gtest.h>
 

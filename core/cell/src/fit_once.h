@@ -1,8 +1,8 @@
 // One fit of a cell (internal to the cell layer): assemble on some poses, hold what the data
-// cannot determine, solve. workcell.cc defines it; the uncertainty split refits with it.
+// cannot determine, solve. workcell_fit.cc defines it; the fit with sigma and each fold of the
+// cross-validation are made of it.
 #pragma once
 
-#include <future>
 #include <memory>
 #include <set>
 #include <string>
@@ -10,7 +10,7 @@
 
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/estimation/estimation_quality.h"
-#include "input_uncertainty.h"
+#include "input_link_schedule.h"
 
 namespace cellmetry {
 
@@ -47,13 +47,12 @@ struct LeastSquaresFit {
   Fit fit;
   // How the answer leans on the job's uncertain inputs (input_uncertainty.h), worked out on
   // another core: assembled from the moment the start is known, beside this fit's own assembly
-  // and solve, and linked at the answer `answer_for_link` brings, while the robust fit's Cauchy
-  // step and outlier test run (IdentifyWorkcell starts it): IdentifyOnce takes it when it takes
-  // this fit unchanged. After what it reads, so it is waited for before that goes.
-  std::future<InputLink> input_link;
-  // The answer, given once the least-squares solve is done. Last, so that a fit given up before
-  // its answer breaks the promise (the link then ends) before the link is waited for.
-  std::promise<FitAnswer> answer_for_link;
+  // and solve, and linked at the fit's answer while the robust fit's Cauchy step and outlier
+  // test run (FindOutliersLinkingInputs starts and answers it): IdentifyOnce takes it when it
+  // takes this fit unchanged. After what it reads, so that it goes first: a fit given up before
+  // its answer ends the link, which is waited for before `spec` and `inputs` go
+  // (input_link_schedule.h).
+  InputLinkSchedule input_link;
 };
 
 // The solver of a cell's first fit: where a sigma is unknown, that fit's answer is read only for

@@ -7,9 +7,9 @@
 // Two steps. The link, the costly one: the cell assembled again with its inputs free
 // (InputLinker), then one pass of normal equations at the fit's answer (InputLinker::LinkAt).
 // The assembly needs only the fit's start, so it runs on another thread from the moment the start
-// is known (workcell.cc: beside the robust first fit's own assembly and solve, whose answer it is
-// linked at), the pass from the moment the answer is. AddInputUncertainty then needs the fit's
-// covariance.
+// is known (input_link_schedule.h: beside the robust first fit's own assembly and solve, whose
+// answer it is linked at), the pass from the moment the answer is. AddInputUncertainty then needs
+// the fit's covariance.
 //
 // The link is assembled at the fit's start, so its frames turn about the same reference rotations
 // (frame_block.h) and its columns are the fit's own parameters at the fit's own values: the

@@ -111,7 +111,7 @@ std::vector<Outlier> OutliersOf(size_t num_rows, const RowAt& row_at, const Reco
 }
 
 // An assembled workcell's measurement blocks with their whitened residuals as TestedRows (not
-// the result's rows: workcell.cc's MeasurementRows makes those).
+// the result's rows: workcell_fit.cc's MeasurementRows makes those).
 struct ProblemRows {
   ProblemRows(const AssembledWorkcell& assembled, const Eigen::VectorXd& whitened)
       : infos(assembled.problem.residual_infos()),

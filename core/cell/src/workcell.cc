@@ -1,517 +1,93 @@
-// The workcell identification (workcell.h): fit, sigma, uncertainty, residuals, held-out.
+// The workcell identification (workcell.h) as the sequence of its stages. What a stage does is
+// in workcell_fit.cc, workcell_description.cc and workcell_warnings.cc; what runs on the other
+// core meanwhile, in input_link_schedule.h. Each function comes before its callers:
+// IdentifyOnce identifies a recording as it is (the fit with sigma, covariance and residuals,
+// the inputs' part, the description, cross-validation, warnings); IdentifyFromStart leaves
+// outliers out around it and each camera out after it; IdentifyWorkcell picks the cameras and
+// the starts.
 #include "cellmetry/cell/workcell.h"
-
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <future>
-#include <mutex>
-#include <random>
+#include <optional>
 
 #include "cellmetry/basics/error.h"
-#include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"
-#include "cellmetry/basics/text.h"
-#include "cellmetry/cell/motion_check.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/robot_pairs.h"
 #include "cellmetry/cell/workcell_assembly.h"
-#include "cellmetry/estimation/reweighted_solve.h"
 #include "camera_left_out_fit.h"
 #include "far_start.h"
 #include "fit_once.h"
+#include "input_link_schedule.h"
 #include "input_uncertainty.h"
 #include "residual_rows.h"
-#include "robust_first_fit.h"
 #include "uncertainty_split.h"
+#include "workcell_description.h"
+#include "workcell_fit.h"
+#include "workcell_warnings.h"
 
 namespace cellmetry {
-
-Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
-            const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
-            HeldParameters held, const SolverMaker& make_solver, bool warm_start) {
-  Fit fit;
-  fit.assembled = AssembleWorkcell(spec, recording, data, noise, start, poses);
-  fit.free_as_asked = fit.assembled->problem.num_free();
-  IdentifiedSolve solved =
-      SolveHoldingUnidentifiable(&fit.assembled->problem, spec.identifiability_tolerance,
-                                 std::move(held), make_solver, warm_start);
-  fit.summary = solved.summary;
-  fit.unidentifiable = std::move(solved.unidentifiable);
-  fit.at_answer = std::move(solved.at_answer);
-  return fit;
-}
-
-SolverMaker FirstFitSolver(const NoiseModel& noise, const SolverMaker& job_solver) {
-  if (!noise.has_unknown()) return job_solver;
-  ReweightedSolveOptions options;
-  options.decrement_tolerance = 1e-10;
-  return ReweightedSolver(options);
-}
-
-namespace {
-
-// A row that measures a robot: a target it carries, or the world target as a camera riding on
-// it sees it (eye in hand).
-bool MeasuresARobot(const Recording& recording, const ResidualRow& row) {
-  return recording.IsCarried(row.target) || recording.camera_mounts.count(row.camera) > 0;
-}
-
-// Prediction - measurement rows at `estimate`, in the measurement's units (mm / rad), whatever
-// residual form the fit used: a joint-space fit's rows are whitened joint errors, so its
-// measurements are compared again in the camera frame.
-std::vector<ResidualRow> MeasurementRows(const WorkcellProblem& spec, const Recording& recording,
-                                         const WorkcellData& data, const NoiseModel& noise,
-                                         const WorkcellEstimate& estimate,
-                                         const std::set<int>& poses, AssembledWorkcell* fitted,
-                                         const Linearization* at = nullptr) {
-  if (spec.residual == ResidualForm::kCartesian && fitted) return ResidualRows(*fitted, at);
-  WorkcellProblem cartesian = spec;
-  cartesian.residual = ResidualForm::kCartesian;
-  auto assembled = AssembleWorkcell(cartesian, recording, data, noise, estimate, poses);
-  return ResidualRows(*assembled);
-}
-
-// Replaces "unknown" sigma by the residual RMS per axis, corrected for the fitted parameters.
-bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, NoiseModel* noise) {
-  std::map<NoiseKey, std::pair<ResidualRms, ResidualRms>> sums;  // position, rotation
-  int total_rows = 0;
-  for (const auto& row : rows) {
-    auto& entry = sums[{row.camera, row.target}];
-    (row.kind == ResidualKind::kPosition ? entry.first : entry.second).Add(row.error);
-    total_rows += 3;
-  }
-  const double dof_correction =
-      total_rows > num_free ? std::sqrt(double(total_rows) / (total_rows - num_free)) : 1.0;
-  bool changed = false;
-  for (auto& [key, target_noise] : noise->entries) {
-    if (target_noise.source != "unknown" || !sums.count(key)) continue;
-    auto& [position, rotation] = sums[key];
-    position.Finish();
-    rotation.Finish();
-    if (position.count > 0) {
-      // Rows that carry their own covariance: sigma is what is left beside it.
-      const Eigen::Vector3d scatter_mm2 = (position.axis * dof_correction).cwiseAbs2();
-      target_noise.position_mm =
-          (scatter_mm2 - target_noise.mean_row_variance_mm2).cwiseMax(1e-12).cwiseSqrt();
-    }
-    if (rotation.count > 0) {
-      target_noise.rotation_rad = (rotation.axis * dof_correction).cwiseMax(1e-9);
-    }
-    target_noise.source = target_noise.per_row
-                              ? "residuals of a first fit, beside each row's own uncertainty"
-                              : "residuals of a first fit";
-    changed = true;
-  }
-  return changed;
-}
-
-}  // namespace
-
-HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
-                      const WorkcellData& data, const NoiseModel& noise,
-                      const WorkcellEstimate& answer, const HeldParameters& held,
-                      const SolverMaker& make_solver) {
-  HeldOut out;
-  std::vector<int> poses;
-  for (const auto& m : data.tools) poses.push_back(recording.samples[m.sample_index].pose);
-  std::sort(poses.begin(), poses.end());
-  poses.erase(std::unique(poses.begin(), poses.end()), poses.end());
-  const int folds = std::min<int>(spec.folds, static_cast<int>(poses.size()));
-  if (folds < 2) return out;
-  std::mt19937 rng(spec.seed);
-  std::shuffle(poses.begin(), poses.end(), rng);
-  out.folds = folds;
-  // The folds side by side (each fit's own threads leave its serial parts to overlap), then
-  // summed in fold order, so that the answer does not depend on which finished first.
-  struct FoldRows {
-    std::vector<ResidualRow> rows;  // the held-out carried-target rows
-  };
-  std::vector<FoldRows> fold_rows(folds);
-  Progress progress("cross-validation (" + CameraModelName(spec.camera_model) + ") fold", folds);
-  std::mutex progress_mutex;
-  tbb::parallel_for(0, folds, [&](int f) {
-    std::set<int> train, test;
-    for (size_t i = 0; i < poses.size(); ++i) {
-      (static_cast<int>(i) % folds == f ? test : train).insert(poses[i]);
-    }
-    Fit fit = FitOnce(spec, recording, data, noise, answer, train, held, make_solver,
-                      /*warm_start=*/true);
-    const WorkcellEstimate trained = ReadEstimate(spec, *fit.assembled);
-    for (auto& row : MeasurementRows(spec, recording, data, noise, trained, test, nullptr)) {
-      if (MeasuresARobot(recording, row)) fold_rows[f].rows.push_back(std::move(row));
-    }
-    const std::lock_guard<std::mutex> lock(progress_mutex);
-    progress.Advance();
-  });
-  for (const FoldRows& f : fold_rows) {
-    ResidualRms fold;
-    double normalized_ss = 0.0;  // every carried-target row the fit uses: rotations too, where
-    int normalized_rows = 0;     // an effect may show most (a delta platform's tilt)
-    for (const auto& row : f.rows) {
-      normalized_ss += row.normalized.squaredNorm();
-      normalized_rows += 3;
-      if (row.kind != ResidualKind::kPosition) continue;
-      out.total.Add(row.error);
-      out.per_camera[row.camera].Add(row.error);
-      fold.Add(row.error);
-    }
-    out.per_fold_normalized_rms.push_back(
-        normalized_rows > 0 ? std::sqrt(normalized_ss / normalized_rows) : 0.0);
-    fold.Finish();
-    out.per_fold.push_back(fold);
-  }
-  out.total.Finish();
-  for (auto& [camera, rms] : out.per_camera) rms.Finish();
-  return out;
-}
-
-namespace {
-
-// The total sigma of a free parameter and its parts; all zero where it is not free.
-struct SigmaOf {
-  double total = 0.0, statistical = 0.0, systematic = 0.0, inputs = 0.0;
-  bool free = false;
-};
-
-SigmaOf Sigma(const Uncertainty& u, const std::string& name) {
-  const auto it = std::find(u.names.begin(), u.names.end(), name);
-  if (it == u.names.end()) return {};
-  const auto i = it - u.names.begin();
-  SigmaOf s;
-  s.total = s.statistical = u.sigma[i];
-  s.free = true;
-  if (u.sigma_statistical.size() == u.sigma.size()) s.statistical = u.sigma_statistical[i];
-  if (u.sigma_systematic.size() == u.sigma.size()) s.systematic = u.sigma_systematic[i];
-  if (u.sigma_inputs.size() == u.sigma.size()) s.inputs = u.sigma_inputs[i];
-  return s;
-}
-
-// The parameters whose values a hold decides: each held parameter with partners (no gauge prior
-// on it), and those partners.
-std::set<std::string> Undetermined(const std::vector<UnidentifiableParameter>& unidentifiable) {
-  std::set<std::string> names;
-  for (const auto& u : unidentifiable) {
-    if (u.prior_sigma > 0.0 || u.moves_with.empty() || !u.convention.empty()) continue;
-    names.insert(u.name);
-    for (const auto& partner : u.moves_with) names.insert(partner.name);
-  }
-  return names;
-}
-
-FrameEstimate MakeFrame(const std::string& name, const std::string& parent, const Pose& pose,
-                        const Uncertainty& u, const std::set<std::string>& undetermined) {
-  FrameEstimate frame;
-  frame.name = name;
-  frame.parent = parent;
-  frame.pose = pose;
-  for (int i = 0; i < 6; ++i) {
-    const SigmaOf sigma = Sigma(u, name + "." + kFrameParameterNames[i]);
-    (i < 3 ? frame.sigma_mm[i] : frame.sigma_rad[i - 3]) = sigma.total;
-    frame.sigma_statistical[i] = sigma.statistical;
-    frame.sigma_systematic[i] = sigma.systematic;
-    frame.sigma_inputs[i] = sigma.inputs;
-    frame.held[i] = !sigma.free;
-    frame.undetermined[i] = undetermined.count(name + "." + kFrameParameterNames[i]) > 0;
-  }
-  return frame;
-}
-
-const char* StageName(const Effect& effect) {
-  switch (effect.stage()) {
-    case EffectStage::kJoint: return "joint";
-    case EffectStage::kFlange: return "flange";
-    case EffectStage::kMeasurement: return "measurement";
-  }
-  return "";
-}
-
-// A model or effect parameter's estimate.
-ScalarEstimate MakeScalar(const std::string& name, const std::string& unit, double nominal,
-                          double value, const Uncertainty& u, const std::set<std::string>& held,
-                          const std::set<std::string>& undetermined,
-                          const std::vector<UnidentifiableParameter>& unidentifiable = {}) {
-  ScalarEstimate s;
-  s.name = name;
-  s.unit = unit;
-  s.nominal = nominal;
-  s.value = value;
-  s.held = held.count(name) > 0;
-  const SigmaOf sigma = Sigma(u, name);
-  s.sigma = sigma.total;
-  s.sigma_statistical = sigma.statistical;
-  s.sigma_systematic = sigma.systematic;
-  s.sigma_inputs = sigma.inputs;
-  s.undetermined = undetermined.count(name) > 0;
-  for (const UnidentifiableParameter& p : unidentifiable) {
-    if (p.name == name) s.convention = p.convention;
-  }
-  return s;
-}
-
-void Describe(const WorkcellProblem& spec, AssembledWorkcell& assembled,
-              const std::set<std::string>& held, WorkcellResult* result) {
-  const Uncertainty& u = result->uncertainty;
-  const std::set<std::string> undetermined = Undetermined(result->unidentifiable);
-  const WorkcellEstimate& e = result->estimate;
-  for (size_t r = 0; r < spec.robots.size(); ++r) {
-    const auto& robot = spec.robots[r];
-    result->frames.push_back(MakeFrame(robot.name + ".base", "world",
-                                       e.T_world_base.at(robot.name), u, undetermined));
-    for (const auto& tool : robot.tools) {
-      result->frames.push_back(MakeFrame(tool.target, robot.name + ".flange",
-                                         e.T_flange_target.at(tool.target), u, undetermined));
-    }
-    const auto& values = e.model.at(robot.name);
-    for (size_t i = 0; i < robot.model_parameters.size(); ++i) {
-      const Parameter& p = robot.model_parameters[i];
-      if (p.fixed) continue;
-      result->model_parameters.push_back(
-          MakeScalar(robot.name + ".model." + p.name, p.unit, p.nominal, values[i], u, held,
-                     undetermined, result->unidentifiable));
-    }
-    RobotModelRecord record{robot.name, robot.model_file, robot.model_config,
-                            robot.model_parameters};
-    for (size_t i = 0; i < record.parameters.size(); ++i) record.parameters[i].nominal = values[i];
-    result->robot_models.push_back(std::move(record));
-    const bool model_free = std::any_of(robot.model_parameters.begin(),
-                                        robot.model_parameters.end(),
-                                        [](const Parameter& p) { return !p.fixed; });
-    if (model_free) {
-      for (const auto& w : robot.model->Warnings(robot.model_parameters)) {
-        result->warnings.push_back(robot.name + ": " + w);
-      }
-    }
-  }
-  for (const auto& [camera, pose] : e.T_world_cam) {
-    result->frames.push_back(MakeFrame(camera, "world", pose, u, undetermined));
-  }
-  result->gravity_base = spec.gravity_base;
-  for (const WorkcellEffect& effect : spec.effects) {
-    result->effect_models.push_back({effect.name, effect.robot, "", StageName(*effect.effect),
-                                     effect.config});
-    if (!effect.config.empty()) {
-      result->effect_models.back().type =
-          ConfigNode::LoadString(effect.config, effect.name)["type"].AsString();
-    }
-    const auto& params = effect.effect->parameters();
-    const auto& values = e.effects.at(effect.name);
-    for (size_t i = 0; i < params.size(); ++i) {
-      result->model_parameters.push_back(MakeScalar(effect.name + "." + params[i].name,
-                                                    params[i].unit, 0.0, values[i], u, held,
-                                                    undetermined));
-    }
-  }
-}
-
-}  // namespace
 
 std::string CameraModelName(CameraModel model) {
   return model == CameraModel::kStaticCameras ? "static_cameras" : "per_frame";
 }
 
+std::string ResidualFormName(ResidualForm form) {
+  return form == ResidualForm::kCartesian ? "cartesian" : "joint_space";
+}
+
 namespace {
 
-// More measured rows than the free parameters the job asked for, or the fit is not a fit (held
-// unidentifiable parameters do not count: with too few rows, every direction is one).
-void CheckEnoughData(const Recording& recording, const Fit& fit) {
-  const int rows = fit.assembled->problem.num_residuals();
-  if (rows >= fit.free_as_asked) return;
-  throw InputError({recording.folder + "/observations.csv", 0, 0},
-                   "the recording gives " + std::to_string(rows) + " measured values for " +
-                       std::to_string(fit.free_as_asked) + " free parameters",
-                   "Record more poses, or free fewer parameters");
+// What the fit starts from, as the result reports it.
+void RecordFitInputs(const FitInputs& inputs, WorkcellResult* result) {
+  result->skipped = inputs.data.skipped;
+  result->repeatability = inputs.repeatability;
+  result->noise = inputs.noise;
+  result->start = inputs.start;
 }
 
-// Whether a link of `spec`'s inputs has anything to do: one on another thread, taking a core.
-bool LinksOnAnotherThread(const WorkcellProblem& spec) { return !spec.uncertain_inputs.empty(); }
-
-// The uncertain inputs' link (input_uncertainty.h) on another thread: assembled at `start`
-// from now, linked at the answer `answer` brings. `spec`, `recording`, `data` and `noise` must
-// outlive the future; a broken promise of an answer ends it (std::future_error, kept in it).
-std::future<InputLink> LinkInputsWhenAnswered(const WorkcellProblem& spec,
-                                              const Recording& recording,
-                                              const WorkcellData& data, const NoiseModel& noise,
-                                              const WorkcellEstimate& start,
-                                              std::future<FitAnswer> answer) {
-  if (!LinksOnAnotherThread(spec)) {
-    return std::async(std::launch::deferred, [] { return InputLink{}; });
-  }
-  return std::async(std::launch::async, [&spec, &recording, &data, &noise, start,
-                                         answer = std::move(answer)]() mutable {
-    InputLinker linker(spec, recording, data, noise, start);
-    return linker.LinkAt(answer.get());
-  });
+// The fit's answer, as the result reports it.
+void RecordFitAnswer(const WorkcellProblem& spec, const Fit& fit, WorkcellResult* result) {
+  result->solver = fit.summary;
+  result->unidentifiable = fit.unidentifiable;
+  result->estimate = ReadEstimate(spec, *fit.assembled);
 }
 
-// The same at `fit`'s answer, read now: assembled at the start `fit` was.
-std::future<InputLink> LinkInputsAlongside(const WorkcellProblem& spec, const Recording& recording,
-                                           const WorkcellData& data, const NoiseModel& noise,
-                                           const Fit& fit) {
-  std::promise<FitAnswer> answer;
-  answer.set_value(AnswerOf(*fit.assembled));
-  return LinkInputsWhenAnswered(spec, recording, data, noise,
-                                ReferenceEstimate(spec, *fit.assembled), answer.get_future());
+// The uncertain inputs' link of `fit`, in `input_link`: where neither the refit started it
+// (FitWithSigma) nor the robust first fit at this very answer (`solved`, whose link is taken),
+// started now at `fit`'s answer, read now, and assembled at the start `fit` was.
+void LinkInputsAtTheAnswer(const WorkcellProblem& spec, const Recording& recording,
+                           const WorkcellData& data, const NoiseModel& noise, const Fit& fit,
+                           LeastSquaresFit* solved, InputLinkSchedule* input_link) {
+  if (input_link->started()) return;
+  if (solved && solved->input_link.started()) {
+    *input_link = std::move(solved->input_link);
+    return;
+  }
+  input_link->Answer(AnswerOf(*fit.assembled));
+  input_link->Start(spec, recording, data, noise, ReferenceEstimate(spec, *fit.assembled));
 }
 
-// Solves; where sigma is unknown, estimates it from the first fit's residuals and solves again
-// (variance component estimation), holding what the first fit found unidentifiable. `solved`:
-// that first fit done already (LeastSquaresFit), taken instead of solving. Where it solves
-// again, the uncertain inputs' link (input_uncertainty.h) is assembled at that refit's start on
-// the other core while the refit solves, and linked at its answer: `input_link` gets it (left
-// as it is otherwise). `spec`, `recording`, `data` and `noise` must outlive that future.
-Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
-                 const WorkcellEstimate& start, const SolverMaker& make_solver,
-                 NoiseModel* noise, Fit* solved, std::future<InputLink>* input_link) {
-  Fit fit = solved ? std::move(*solved)
-                   : FitOnce(spec, recording, data, *noise, start, {}, {},
-                             FirstFitSolver(*noise, make_solver));
-  CheckEnoughData(recording, fit);
-  if (!noise->has_unknown()) return fit;  // every sigma is known: nothing to re-estimate
-  const WorkcellEstimate first = ReadEstimate(spec, *fit.assembled);
-  const auto rows = MeasurementRows(spec, recording, data, *noise, first, {}, fit.assembled.get(),
-                                    &fit.at_answer);
-  // Solved again by the job's solver also where no sigma could be estimated (an unknown one
-  // with no rows): the first fit's answer was the core's (FirstFitSolver).
-  if (EstimateUnknownSigma(rows, fit.assembled->problem.num_free(), noise)) {
-    Progress::Note("refitting with sigma estimated from the residuals");
-  }
-  std::vector<UnidentifiableParameter> held_first = fit.unidentifiable;
-  const SolverSummary first_summary = fit.summary;
-  // A refit given up before its answer breaks this promise, which ends the link.
-  std::promise<FitAnswer> refit_answer;
-  *input_link = LinkInputsWhenAnswered(spec, recording, data, *noise, first,
-                                       refit_answer.get_future());
-  // Warm: from the first fit's answer with what it held, so the identifiability check before
-  // the solve is skipped; a near-degeneracy the new row weights make shows in the check at the
-  // answer, which holds it and solves again (SolveHoldingUnidentifiable).
-  fit = FitOnce(spec, recording, data, *noise, first, {}, HeldOf(held_first),
-                LinksOnAnotherThread(spec) ? LeavingOneCore(make_solver) : make_solver,
-                /*warm_start=*/true);
-  refit_answer.set_value(AnswerOf(*fit.assembled));
-  // One solve in the report: iterations and time add up; the refit keeps the first's findings.
-  fit.summary.iterations += first_summary.iterations;
-  fit.summary.evaluations += first_summary.evaluations;
-  fit.summary.time_s += first_summary.time_s;
-  held_first.insert(held_first.end(), fit.unidentifiable.begin(), fit.unidentifiable.end());
-  fit.unidentifiable = held_first;
-  return fit;
-}
-
-// Residual rows and their RMS per camera and target, in the measurement's units.
-// `at`: the fit's linearization at its answer, whose residuals are taken (ResidualRows).
-void AddResidualStatistics(const WorkcellProblem& spec, const Recording& recording,
-                           const WorkcellData& data, const Fit& fit, const Linearization& at,
-                           WorkcellResult* result) {
-  result->residuals = MeasurementRows(spec, recording, data, result->noise, result->estimate, {},
-                                      fit.assembled.get(), &at);
-  // Each row's table looked up among the few met so far (a camera and target's positions and
-  // rotations): a name made and found in a map per row was half of this on exp_a.
-  struct Group {
-    const ResidualRow* first;
-    ResidualRms* rms;
-  };
-  std::vector<Group> groups;
-  for (const auto& row : result->residuals) {
-    ResidualRms* rms = nullptr;
-    for (const Group& group : groups) {
-      if (group.first->camera == row.camera && group.first->target == row.target &&
-          group.first->kind == row.kind) {
-        rms = group.rms;
-        break;
-      }
-    }
-    if (rms == nullptr) {
-      auto& table =
-          row.kind == ResidualKind::kPosition ? result->position_rms : result->rotation_rms;
-      rms = &table[row.camera + "/" + row.target];
-      groups.push_back({&row, rms});
-    }
-    rms->Add(row.error);
-  }
-  for (auto& [key, rms] : result->position_rms) rms.Finish();
-  for (auto& [key, rms] : result->rotation_rms) rms.Finish();
-}
-
-// A job's effect fitted beyond the size its physics plausibly has (JudgePlausibility), or below
-// zero by more than three sigma where its physics cannot be negative (plausible_nonnegative;
-// within three sigma it is zero and noise): the fit may be using it for something else with its
-// signature, so the user is told before a robot controller is.
-void AddImplausibleEffectWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
-  const char* look_alikes = "the fit uses it for something else with the same signature; "
-                            "docs/physics.md lists look-alikes";
-  for (const WorkcellEffect& effect : spec.effects) {
-    std::vector<Parameter> fitted;
-    std::vector<double> values, sigmas;
-    for (const Parameter& p : effect.effect->parameters()) {
-      for (const ScalarEstimate& s : result->model_parameters) {
-        if (s.name != effect.name + "." + p.name || s.held) continue;
-        fitted.push_back(p);
-        values.push_back(s.value);
-        sigmas.push_back(s.sigma);
-      }
-    }
-    std::vector<double> margins;
-    for (double sigma : sigmas) margins.push_back(3 * sigma);
-    for (const PlausibilityFinding& f : JudgePlausibility(fitted, values, margins)) {
-      const std::string what = PlausibilityText(fitted, values, f, effect.name + ".");
-      char sigma[64];
-      std::snprintf(sigma, sizeof sigma, " (+- %.2g)", sigmas[f.index]);
-      result->warnings.push_back(
-          f.kind == Plausibility::kBelowZero
-              ? what + sigma + ": " + look_alikes
-              : "beyond the size its physics plausibly has: " + what + sigma +
-                    "; either that physics is larger here than expected, or " + look_alikes);
-    }
-  }
-}
-
-// A carried target whose rotation the job frees but does not fit (use_tool_rotation: false):
-// held as unidentifiable, which the estimation can explain only as "no measurement depends on
-// it", while the recording may well measure it.
-void AddUnfittedToolRotationWarning(const WorkcellProblem& spec, WorkcellResult* result) {
-  if (spec.use_tool_rotation) return;
-  std::string targets;
-  for (const WorkcellRobot& robot : spec.robots) {
-    for (const WorkcellTool& tool : robot.tools) {
-      if (tool.is_camera()) continue;  // eye in hand: its rotations are always fitted
-      const std::array<bool, 6>& free = tool.flange_tool.free;
-      if (free[3] || free[4] || free[5]) targets += (targets.empty() ? "" : ", ") + tool.target;
-    }
-  }
-  if (targets.empty()) return;
-  result->warnings.push_back(
-      "the job frees the rotation of " + targets + ", but fits the carried targets' positions "
-      "only (use_tool_rotation: false), so the rotation was held at its nominal value: set "
-      "use_tool_rotation: true to fit the rotations the recording measures, or free [x, y, z]");
-}
-
-void AddWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
-  if (!result->solver.converged) {
-    result->warnings.push_back(
-        "the solver stopped before converging (" + result->solver.stop_reason +
-        "): the answer may not be the best fit; raise the solver's max_iterations, or give "
-        "starts nearer the truth");
-  }
-  AddUnfittedToolRotationWarning(spec, result);
-  result->weakly_identified = WeaklyIdentified(result->uncertainty, spec.weak_vif);
-  if (!result->weakly_identified.empty()) {
-    std::string names;
-    for (const auto& w : result->weakly_identified) names += (names.empty() ? "" : ", ") + w.name;
-    result->warnings.push_back("this data barely identifies " + names +
-                               ": they move together; record poses that vary them "
-                               "independently (other heights, the workspace's edges)");
-  }
-  AddImplausibleEffectWarnings(spec, result);
-  if (result->uncertainty.reduced_chi2 > 4.0) {
-    result->warnings.push_back(
-        "residuals are " +
-        std::to_string(std::sqrt(result->uncertainty.reduced_chi2)).substr(0, 4) +
-        "x the stated noise: the model leaves something out; uncertainties were scaled up");
-  }
+// The fit's covariance (split into its parts) and its residual statistics. The residual rows
+// read the answer's residuals and nothing else the covariance reads or writes: made on another
+// core meanwhile (the inputs' link is done by then on exp_a). Without a valid linearization they
+// would evaluate the problem: then after the covariance, which throws for it anyway.
+void AddCovarianceAndResiduals(const WorkcellProblem& spec, const Recording& recording,
+                               const WorkcellData& data, const Fit& fit,
+                               const Linearization& at_answer, InputLinkSchedule* input_link,
+                               StageClock* clock, WorkcellResult* result) {
+  input_link->RunAlongside(
+      [&] {
+        result->uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
+        result->strong_correlations = StrongCorrelations(result->uncertainty);
+        SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result->uncertainty);
+        clock->Lap("covariance");
+      },
+      [&] { AddResidualStatistics(spec, recording, data, fit, at_answer, result); },
+      /*alongside_on_another_core=*/at_answer.valid);
+  clock->Lap("residual_statistics");  // what was left of it after the covariance
 }
 
 // The held-out RMS of the other camera model (compare_camera_models).
@@ -528,38 +104,9 @@ void CompareCameraModels(const WorkcellProblem& spec, const Recording& recording
       IdentifyWorkcell(other, recording, make_solver).held_out;
 }
 
-// The fit's covariance (split into its parts) and its residual statistics. The residual rows
-// read the answer's residuals and nothing else the covariance reads or writes: made on another
-// core meanwhile (the inputs' link is done by then on exp_a). Without a valid linearization they
-// would evaluate the problem: then after the covariance, which throws for it anyway.
-void AddCovarianceAndResiduals(const WorkcellProblem& spec, const Recording& recording,
-                               const WorkcellData& data, const Fit& fit,
-                               const Linearization& at_answer,
-                               std::future<InputLink>* input_link, StageClock* clock,
-                               WorkcellResult* result) {
-  std::future<void> residual_statistics = std::async(
-      at_answer.valid ? std::launch::async : std::launch::deferred,
-      [&] { AddResidualStatistics(spec, recording, data, fit, at_answer, result); });
-  try {
-    result->uncertainty = ComputeUncertainty(fit.assembled->problem, at_answer);
-    result->strong_correlations = StrongCorrelations(result->uncertainty);
-    SplitUncertainty(spec, recording, *fit.assembled, at_answer, &result->uncertainty);
-    clock->Lap("covariance");
-    residual_statistics.get();  // rethrows what it threw
-    clock->Lap("residual_statistics");  // what was left of it after the covariance
-  } catch (...) {
-    // Both read `data`, `fit` and `result->noise`: finished before they go.
-    if (residual_statistics.valid()) residual_statistics.wait();
-    input_link->wait();
-    throw;
-  }
-}
-
-}  // namespace
-
 // One identification on `recording` as it is. `solved`: the robust first fit's least-squares
 // fit of this very recording (a Cartesian job), which is the plain fit's first solve: its data,
-// noise, start and answer are taken, not made again.
+// noise, start, answer and inputs' link are taken, not made again.
 WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& recording,
                             const SolverMaker& make_solver,
                             std::unique_ptr<LeastSquaresFit> solved = nullptr) {
@@ -571,10 +118,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   if (!solved) prepared = PrepareFitInputs(spec, recording);
   const FitInputs& inputs = solved ? solved->inputs : prepared;
   const WorkcellData& data = inputs.data;
-  result.skipped = data.skipped;
-  result.repeatability = inputs.repeatability;
-  result.noise = inputs.noise;
-  result.start = inputs.start;
+  RecordFitInputs(inputs, &result);
   clock.Lap("start");
 
   Progress::Note("fitting " + std::to_string(data.tools.size()) + " target observations (" +
@@ -582,26 +126,21 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
                  " residual)");
   // How the answer leans on the uncertain inputs needs only the answer: worked out on the other
   // core while this one finds the fit's own uncertainty and residuals; where sigma is refitted,
-  // assembled during that refit already (FitWithSigma).
-  std::future<InputLink> input_link;
+  // assembled during that refit already (FitWithSigma). After what it reads: it goes first.
+  InputLinkSchedule input_link;
   Fit fit = FitWithSigma(spec, recording, data, result.start, make_solver, &result.noise,
                          solved ? &solved->fit : nullptr, &input_link);
-  result.solver = fit.summary;
-  result.unidentifiable = fit.unidentifiable;
-  result.estimate = ReadEstimate(spec, *fit.assembled);
+  RecordFitAnswer(spec, fit, &result);
   clock.Lap("solve");
-  if (!input_link.valid()) {
-    input_link = solved && solved->input_link.valid()
-                     ? std::move(solved->input_link)  // started at this very answer
-                     : LinkInputsAlongside(spec, recording, data, result.noise, fit);
-  }
+  LinkInputsAtTheAnswer(spec, recording, data, result.noise, fit, solved.get(), &input_link);
   // The solve's last identifiability check linearized here already (with its R factor).
   const Linearization at_answer =
       fit.at_answer.valid ? std::move(fit.at_answer) : Linearize(fit.assembled->problem);
   AddCovarianceAndResiduals(spec, recording, data, fit, at_answer, &input_link, &clock, &result);
-  AddInputUncertainty(input_link.get(), &result.uncertainty);  // rethrows what it threw
+  AddInputUncertainty(input_link.Take(), &result.uncertainty);  // rethrows what the link threw
   const HeldParameters held = HeldOf(result.unidentifiable);
-  Describe(spec, *fit.assembled, held.held, &result);
+  DescribeEstimate(spec, held.held, &result);
+  AddModelWarnings(spec, &result);
   result.robot_to_robot = RobotToRobot(result);
   clock.Lap("input_uncertainty");
   result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,
@@ -612,22 +151,30 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
     clock.Lap("camera_models");
   }
   AddWarnings(spec, &result);
-  for (std::string& still : StillJoints(spec, recording, data)) {
-    result.warnings.push_back(std::move(still));
-  }
+  AddStillJointWarnings(spec, recording, data, &result);
   result.stages = clock.stages();
   return result;
 }
 
-namespace {
-
-// `spec` without the cameras it does not use (what IdentifyWorkcell then fits).
-WorkcellProblem WithoutUnusedCameras(const WorkcellProblem& spec) {
-  WorkcellProblem out = spec;
-  for (auto it = out.cameras.begin(); it != out.cameras.end();) {
-    it = it->second.use ? std::next(it) : out.cameras.erase(it);
+// The outlier test on the plain fit's own rows (outliers.h): what fails it is left out of
+// `kept` (and added to `outliers`) and the cell identified again, twice at most (what the first
+// ones masked shows in the second pass); each pass's stages are numbered by it.
+void IdentifyWithoutPlainOutliers(const WorkcellProblem& spec, const SolverMaker& make_solver,
+                                  Recording* kept, std::vector<Outlier>* outliers,
+                                  WorkcellResult* result) {
+  const int passes = spec.outlier_test == OutlierTest::kOff ? 0 : 2;
+  for (int pass = 0; pass < passes; ++pass) {
+    const std::vector<Outlier> found = FindOutliers(result->residuals, *kept);
+    if (found.empty()) break;
+    Progress::Note(std::to_string(found.size()) + " residual rows fail the outlier test; "
+                   "identifying again without their observations");
+    outliers->insert(outliers->end(), found.begin(), found.end());
+    *kept = WithoutOutliers(*kept, found);
+    std::vector<StageTime> stages = std::move(result->stages);
+    *result = IdentifyOnce(spec, *kept, make_solver);
+    for (StageTime& stage : result->stages) stage.pass = pass + 1;
+    result->stages.insert(result->stages.begin(), stages.begin(), stages.end());
   }
-  return out;
 }
 
 // The cell without each camera in turn, against `result` (fitted on `recording`), and a warning
@@ -638,68 +185,46 @@ void AddCamerasLeftOut(const WorkcellProblem& spec, const Recording& recording,
   StageClock clock;
   result->cameras_left_out = LeaveEachCameraOut(spec, recording, *result, make_solver);
   if (result->cameras_left_out.empty()) return;  // fewer than two cameras: nothing was left out
-  for (const CameraLeftOut& c : result->cameras_left_out) {
-    if (!c.error.empty()) {
-      result->warnings.push_back("without " + c.camera + " the cell cannot be identified (" +
-                                 c.error + "): nothing checks what it alone determines");
-    } else if (c.flagged()) {
-      char sigmas[32];
-      std::snprintf(sigmas, sizeof sigmas, "%.1f", c.worst_sigmas);
-      result->warnings.push_back(
-          "without " + c.camera + " " + c.worst + " moves by " + sigmas + " sigma of the "
-          "difference: " + c.camera + " disagrees with the other cameras beyond the "
-          "uncertainty (its intrinsics, its mount or the model's camera-side physics)");
-    }
-  }
+  AddCameraLeftOutWarnings(result);
   clock.Lap("cameras_left_out");
   result->stages.insert(result->stages.end(), clock.stages().begin(), clock.stages().end());
 }
 
-}  // namespace
-
-namespace {
-
 // The identification from the job's starts (or the closed form where it gives none).
 WorkcellResult IdentifyFromStart(const WorkcellProblem& spec, const Recording& recording,
-                                 const SolverMaker& make_solver);
-// The identification from the job's far starts and from the closed form's, the better kept.
-WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProblem& closed,
-                                 const std::vector<FarStart>& far, const Recording& recording,
-                                 const SolverMaker& make_solver);
-
-}  // namespace
-
-WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
-                                const SolverMaker& make_solver) {
-  const std::set<std::string> unused = UnusedCameras(spec);
-  if (!unused.empty()) {
-    const Recording used = WithoutCameras(recording, unused);
-    WorkcellResult result = IdentifyWorkcell(WithoutUnusedCameras(spec), used, make_solver);
-    NumberByOriginal(recording, used, &result.residuals);
-    result.unused_cameras.assign(unused.begin(), unused.end());
-    return result;
+                                 const SolverMaker& make_solver) {
+  // Gross outliers (outliers.h): those a robust first fit finds are left out before the plain
+  // fit; then what the plain fit's own residuals show, left out and the cell identified again
+  // (IdentifyWithoutPlainOutliers). Clean data: the plain answer, untouched.
+  StageClock clock;
+  std::vector<Outlier> outliers;
+  std::unique_ptr<LeastSquaresFit> solved;  // the plain fit's first solve, when it is
+  if (spec.outlier_test == OutlierTest::kRobust) {
+    RobustFirstFit robust = FindOutliersLinkingInputs(spec, recording, make_solver);
+    outliers = std::move(robust.outliers);
+    if (outliers.empty()) solved = std::move(robust.least_squares);
+    clock.Lap("robust_first_fit");
   }
-  WorkcellProblem without_starts;
-  const std::vector<FarStart> far = FarStarts(spec, recording, &without_starts);
-  if (far.empty()) return IdentifyFromStart(spec, recording, make_solver);
-  return BetterOfTwoStarts(spec, without_starts, far, recording, make_solver);
+  if (!outliers.empty()) {
+    Progress::Note(std::to_string(outliers.size()) + " residual rows of a robust fit fail the "
+                   "outlier test; fitting without their observations");
+  }
+  Recording kept = outliers.empty() ? Recording{} : WithoutOutliers(recording, outliers);
+  const Recording& first = outliers.empty() ? recording : kept;
+  WorkcellResult result = IdentifyOnce(spec, first, make_solver, std::move(solved));
+  result.stages.insert(result.stages.begin(), clock.stages().begin(), clock.stages().end());
+  if (outliers.empty()) kept = recording;
+  IdentifyWithoutPlainOutliers(spec, make_solver, &kept, &outliers, &result);
+  result.outliers = outliers;
+  AddCamerasLeftOut(spec, kept, make_solver, &result);
+  if (!outliers.empty()) NumberByOriginal(recording, kept, &result.residuals);
+  return result;
 }
 
-namespace {
-
-std::string FarStartWords(const std::vector<FarStart>& far) {
-  std::string words;
-  for (const FarStart& f : far) {
-    char line[160];
-    std::snprintf(line, sizeof line, "%s's %.0f mm and %.2f rad", f.frame.c_str(), f.distance_mm,
-                  f.angle_rad);
-    words += (words.empty() ? "" : ", ") + std::string(line);
-  }
-  return words;
-}
-
-// Both fits, scored by how well each predicts the carried targets of the recording (the same
-// rows for both, whatever each left out as outliers): the better kept, the choice a warning.
+// The identification from the job's far starts and from the closed form's (`closed`, the job
+// without its starts), both scored by how well each predicts the carried targets of the
+// recording (the same rows for both, whatever each left out as outliers): the better kept, the
+// choice a warning.
 WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProblem& closed,
                                  const std::vector<FarStart>& far, const Recording& recording,
                                  const SolverMaker& make_solver) {
@@ -718,88 +243,42 @@ WorkcellResult BetterOfTwoStarts(const WorkcellProblem& spec, const WorkcellProb
     return *given;  // the closed form's fit fails where the given start's holds
   }
   const double own_mm = ScoreOnRecording(closed, *own, recording).after.norm;
-  const double given_mm =
-      given ? ScoreOnRecording(spec, *given, recording).after.norm : INFINITY;
+  std::optional<double> given_mm;
+  if (given) given_mm = ScoreOnRecording(spec, *given, recording).after.norm;
   // The same answer to a part in a thousand: the start was far but harmless.
-  const bool same = given && std::abs(given_mm - own_mm) <= 1e-3 * own_mm;
-  const bool keep_given = given && given_mm <= own_mm * (1 + 1e-3);
-  char line[480];
-  const std::string from_given =
-      given ? Mm(given_mm, 4) + " RMS" : "a failed fit (" + given_failure + ")";
-  std::snprintf(line, sizeof line,
-                "the job's start lies far from where the data put the frame (%s from the "
-                "closed-form start); fitted from both: the carried targets are predicted to "
-                "%s from the given start, %.4g mm RMS from the data's own: %s",
-                FarStartWords(far).c_str(), from_given.c_str(), own_mm,
-                same        ? "the same answer, kept"
-                : keep_given ? "the given start's answer kept"
-                             : "the data's answer kept. Check the start in the job");
+  const bool same = given && std::abs(*given_mm - own_mm) <= 1e-3 * own_mm;
+  const bool keep_given = given && *given_mm <= own_mm * (1 + 1e-3);
   WorkcellResult& kept = keep_given ? *given : *own;
-  kept.warnings.push_back(line);
+  AddFarStartWarning(far, given_mm, given_failure, own_mm, same, keep_given, &kept);
   return kept;
 }
 
-WorkcellResult IdentifyFromStart(const WorkcellProblem& spec, const Recording& recording,
-                                 const SolverMaker& make_solver) {
-  // Gross outliers (outliers.h): those a robust first fit finds are left out before the plain
-  // fit; then what the plain fit's own residuals show, left out and the cell identified again,
-  // twice at most (what the first ones masked shows in the second pass). Clean data: the plain
-  // answer, untouched.
-  StageClock clock;
-  std::vector<Outlier> outliers;
-  std::unique_ptr<LeastSquaresFit> solved;  // the plain fit's first solve, when it is
-  if (spec.outlier_test == OutlierTest::kRobust) {
-    RobustFirstFitOptions options;
-    // Its least-squares answer is the plain fit's when nothing is left out (the usual case):
-    // the inputs' link is assembled at its start from now, beside the fit's own assembly and
-    // solve, and linked at that answer alongside the Cauchy step and the test. Not where a
-    // sigma is unknown: FitWithSigma then solves again with sigma from this fit's residuals
-    // and links the inputs at that answer, and a link here would only take the other core
-    // from the fit (sim_b).
-    options.at_least_squares_start = [&recording](LeastSquaresFit* ls) {
-      if (ls->inputs.noise.has_unknown()) return false;
-      ls->input_link =
-          LinkInputsWhenAnswered(ls->spec, recording, ls->inputs.data, ls->inputs.noise,
-                                 ls->inputs.start, ls->answer_for_link.get_future());
-      return LinksOnAnotherThread(ls->spec);
-    };
-    options.at_least_squares_answer = [](LeastSquaresFit* ls) {
-      if (ls->input_link.valid()) ls->answer_for_link.set_value(AnswerOf(*ls->fit.assembled));
-    };
-    RobustFirstFit robust = FindOutliersByRobustFit(spec, recording, make_solver, options);
-    outliers = std::move(robust.outliers);
-    if (outliers.empty()) solved = std::move(robust.least_squares);
-    clock.Lap("robust_first_fit");
+// `spec` without the cameras it does not use (what IdentifyWorkcell then fits).
+WorkcellProblem WithoutUnusedCameras(const WorkcellProblem& spec) {
+  WorkcellProblem out = spec;
+  for (auto it = out.cameras.begin(); it != out.cameras.end();) {
+    it = it->second.use ? std::next(it) : out.cameras.erase(it);
   }
-  if (!outliers.empty()) {
-    Progress::Note(std::to_string(outliers.size()) + " residual rows of a robust fit fail the "
-                   "outlier test; fitting without their observations");
-  }
-  Recording kept = outliers.empty() ? Recording{} : WithoutOutliers(recording, outliers);
-  const Recording& first = outliers.empty() ? recording : kept;
-  WorkcellResult result = IdentifyOnce(spec, first, make_solver, std::move(solved));
-  result.stages.insert(result.stages.begin(), clock.stages().begin(), clock.stages().end());
-  if (outliers.empty()) kept = recording;
-  const int passes = spec.outlier_test == OutlierTest::kOff ? 0 : 2;
-  for (int pass = 0; pass < passes; ++pass) {
-    const std::vector<Outlier> found = FindOutliers(result.residuals, kept);
-    if (found.empty()) break;
-    Progress::Note(std::to_string(found.size()) + " residual rows fail the outlier test; "
-                   "identifying again without their observations");
-    outliers.insert(outliers.end(), found.begin(), found.end());
-    kept = WithoutOutliers(kept, found);
-    std::vector<StageTime> stages = std::move(result.stages);
-    result = IdentifyOnce(spec, kept, make_solver);
-    for (StageTime& stage : result.stages) stage.pass = pass + 1;
-    result.stages.insert(result.stages.begin(), stages.begin(), stages.end());
-  }
-  result.outliers = outliers;
-  AddCamerasLeftOut(spec, kept, make_solver, &result);
-  if (!outliers.empty()) NumberByOriginal(recording, kept, &result.residuals);
-  return result;
+  return out;
 }
 
 }  // namespace
+
+WorkcellResult IdentifyWorkcell(const WorkcellProblem& spec, const Recording& recording,
+                                const SolverMaker& make_solver) {
+  const std::set<std::string> unused = UnusedCameras(spec);
+  if (!unused.empty()) {
+    const Recording used = WithoutCameras(recording, unused);
+    WorkcellResult result = IdentifyWorkcell(WithoutUnusedCameras(spec), used, make_solver);
+    NumberByOriginal(recording, used, &result.residuals);
+    result.unused_cameras.assign(unused.begin(), unused.end());
+    return result;
+  }
+  WorkcellProblem without_starts;
+  const std::vector<FarStart> far = FarStarts(spec, recording, &without_starts);
+  if (far.empty()) return IdentifyFromStart(spec, recording, make_solver);
+  return BetterOfTwoStarts(spec, without_starts, far, recording, make_solver);
+}
 
 RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResult& result,
                                 const Recording& fresh) {
@@ -827,10 +306,6 @@ RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResul
   score.before = rms_at(result.start, nullptr, nullptr);
   score.after = rms_at(result.estimate, &score.mean_after_mm, &score.max_after_mm);
   return score;
-}
-
-std::string ResidualFormName(ResidualForm form) {
-  return form == ResidualForm::kCartesian ? "cartesian" : "joint_space";
 }
 
 }  // namespace cellmetry
