@@ -102,12 +102,12 @@ Eigen::VectorXd DenseSigma(Problem& problem, double scale) {
   information /= scale;
   information.diagonal() += scaled_prior;
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(information, Eigen::ComputeThinV);
-  const Eigen::VectorXd s = svd.singularValues();
+  const Eigen::VectorXd& s = svd.singularValues();
   Eigen::VectorXd inv_s = Eigen::VectorXd::Zero(s.size());
   for (Eigen::Index i = 0; i < s.size(); ++i) {
     if (s[i] > 1e-28 * s[0]) inv_s[i] = 1.0 / s[i];
   }
-  const Eigen::MatrixXd V = svd.matrixV();
+  const Eigen::MatrixXd& V = svd.matrixV();
   const Eigen::VectorXd scaled_variance = (V * inv_s.asDiagonal() * V.transpose()).diagonal();
   return scaled_variance.cwiseSqrt().cwiseQuotient(norms);
 }

@@ -71,7 +71,7 @@ std::optional<Pose> SolveHandEye(const std::vector<Pose>& A, const std::vector<P
     M += RvecFromRotation(B[k].R) * RvecFromRotation(A[k].R).transpose();
   }
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Vector3d s = svd.singularValues();
+  const Eigen::Vector3d& s = svd.singularValues();
   // Two independent axes determine R_X (the third follows); one does not.
   if (!(s[1] > 1e-6 * s[0])) return std::nullopt;
   Eigen::Matrix3d D = Eigen::Matrix3d::Identity();

@@ -163,7 +163,7 @@ Eigen::MatrixXd CalibratedCovariance(const Uncertainty& u, const std::vector<std
 
 Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& symmetric) {
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(symmetric);
-  const Eigen::VectorXd values = eig.eigenvalues();
+  const Eigen::VectorXd& values = eig.eigenvalues();
   const double largest = values.size() > 0 ? values.maxCoeff() : 0.0;
   Eigen::VectorXd inverse = Eigen::VectorXd::Zero(values.size());
   for (Eigen::Index i = 0; i < values.size(); ++i) {

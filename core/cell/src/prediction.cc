@@ -104,7 +104,7 @@ double PredictionErrorFloorMm(const WorkcellProblem& problem, const Recording& d
   // F^-1 through the SVD of J (a pseudo-inverse where F is singular: those directions do not
   // change any prediction, or they would have been found unidentifiable).
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeThinV);
-  const Eigen::VectorXd s = svd.singularValues();
+  const Eigen::VectorXd& s = svd.singularValues();
   Eigen::VectorXd inv_s = Eigen::VectorXd::Zero(s.size());
   for (Eigen::Index i = 0; i < s.size(); ++i) {
     if (s[i] > 1e-12 * s[0]) inv_s[i] = 1.0 / s[i];

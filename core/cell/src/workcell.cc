@@ -30,14 +30,6 @@
 
 namespace cellmetry {
 
-std::string CameraModelName(CameraModel model) {
-  return model == CameraModel::kStaticCameras ? "static_cameras" : "per_frame";
-}
-
-std::string ResidualFormName(ResidualForm form) {
-  return form == ResidualForm::kCartesian ? "cartesian" : "joint_space";
-}
-
 namespace {
 
 // What the fit starts from, as the result reports it.

@@ -132,11 +132,11 @@ MeasurementLabel LabelFor(const Recording& recording, int observation) {
 // out->labels stays parallel to the problem's measurement blocks.
 void AddMeasurement(const Recording& recording, int observation, ResidualInfo::Kind kind,
                     const Eigen::Vector3d& sigma, std::unique_ptr<ceres::CostFunction> cost,
-                    std::vector<int> blocks, AssembledWorkcell* out) {
+                    const std::vector<int>& blocks, AssembledWorkcell* out) {
   ResidualInfo info;
   info.kind = kind;
   info.sigma = sigma;
-  out->problem.AddResidual(std::move(cost), std::move(blocks), info);
+  out->problem.AddResidual(std::move(cost), blocks, info);
   out->labels.push_back(LabelFor(recording, observation));
 }
 

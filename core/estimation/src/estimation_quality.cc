@@ -39,7 +39,7 @@ int ConventionColumn(const Eigen::BDCSVD<Eigen::MatrixXd>& svd, double tolerance
                      const std::vector<int>& active, const std::vector<bool>& convention,
                      Eigen::VectorXd* direction) {
   constexpr double kShare = 0.1;  // as a partner: held, it leaves the others determined
-  const Eigen::VectorXd s = svd.singularValues();
+  const Eigen::VectorXd& s = svd.singularValues();
   Eigen::Index dimension = 0;
   while (dimension < s.size() && s[s.size() - 1 - dimension] < tolerance * s[0]) ++dimension;
   const Eigen::MatrixXd null = svd.matrixV().rightCols(dimension);
@@ -75,7 +75,7 @@ std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
   }
   while (active.size() > 1) {
     const auto svd = ScaledSvd(R, active, norms);
-    const Eigen::VectorXd s = svd.singularValues();
+    const Eigen::VectorXd& s = svd.singularValues();
     const Eigen::Index last = s.size() - 1;
     if (s[last] >= tolerance * s[0]) break;
     Eigen::VectorXd v = svd.matrixV().col(last);
@@ -344,7 +344,7 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   Eigen::MatrixXd factored;  // J's R factor where `at` has none yet
   const Eigen::MatrixXd& R = at.r_factor.size() > 0 ? at.r_factor : (factored = RFactor(gram));
   const auto svd = ScaledSvd(R, every, norms);
-  const Eigen::VectorXd s = svd.singularValues();
+  const Eigen::VectorXd& s = svd.singularValues();
   u.condition_number = s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
   for (Eigen::Index i = 0; i < s.size(); ++i) {

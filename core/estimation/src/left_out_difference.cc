@@ -90,7 +90,7 @@ Eigen::MatrixXd DeterminedInverse(const Eigen::MatrixXd& A, const Eigen::VectorX
     }
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(scaled);
-  const Eigen::VectorXd lambda = eigen.eigenvalues();
+  const Eigen::VectorXd& lambda = eigen.eigenvalues();
   const double largest = lambda.maxCoeff();
   Eigen::VectorXd inverse_lambda = Eigen::VectorXd::Zero(m);
   Eigen::VectorXd weak = Eigen::VectorXd::Zero(m);  // each column's share of dropped directions

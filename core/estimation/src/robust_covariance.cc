@@ -309,7 +309,7 @@ Eigen::VectorXd GaussNewtonStep(const Eigen::MatrixXd& R, const Eigen::VectorXd&
     scaled_gradient[k] = gradient[columns[k]] / norms[columns[k]];
   }
   const Eigen::BDCSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinV);
-  const Eigen::VectorXd s = svd.singularValues();
+  const Eigen::VectorXd& s = svd.singularValues();
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
   for (Eigen::Index i = 0; i < s.size(); ++i) {
     if (s[i] > 1e-14 * s[0]) inv_s2[i] = 1.0 / (s[i] * s[i]);

@@ -194,7 +194,7 @@ ConfigNode ConfigNode::LoadString(const std::string& text, const std::string& or
 }
 
 ConfigNode::ConfigNode(YAML::Node node, std::string file, std::string key_path)
-    : node_(std::move(node)), file_(std::move(file)), key_path_(std::move(key_path)) {}
+    : node_(node), file_(std::move(file)), key_path_(std::move(key_path)) {}
 
 SourceLocation ConfigNode::location() const {
   const YAML::Mark mark = node_ ? node_.Mark() : YAML::Mark::null_mark();

@@ -200,7 +200,8 @@ bool Intersect(const Line& a, const Line& b, Eigen::Vector2d* point) {
 // Distance from side i's line to the opposite side's ends, over `cells`: a bit cell measured
 // across side i (perspective makes it differ from side to side).
 double CellAcross(const Quad& q, int i, int cells) {
-  const Eigen::Vector2d p0 = q[i], p1 = q[(i + 1) % 4];
+  const Eigen::Vector2d& p0 = q[i];
+  const Eigen::Vector2d& p1 = q[(i + 1) % 4];
   const Eigen::Vector2d d = (p1 - p0).normalized(), normal(-d.y(), d.x());
   const double h = std::min(std::abs((q[(i + 2) % 4] - p0).dot(normal)),
                             std::abs((q[(i + 3) % 4] - p0).dot(normal)));
@@ -217,7 +218,8 @@ EdgeRefinement OnePass(const ImageView& im, int cells, double clear_cells, doubl
   if (sigma != nullptr) *sigma = 0.0;
   if (shift != nullptr) *shift = 0.0;
   for (int i = 0; i < 4; ++i) {
-    const Eigen::Vector2d p0 = in[i], p1 = in[(i + 1) % 4];
+    const Eigen::Vector2d& p0 = in[i];
+    const Eigen::Vector2d& p1 = in[(i + 1) % 4];
     const double band = std::min(kMaxBand, clear_cells * CellAcross(in, i, cells) - reach);
     if (band < std::max(kMinBand, reach)) return EdgeRefinement::kTooSmall;  // no room for a ramp
     // Near a corner the neighbouring side enters the scan: skip until it is `reach` away. A scan

@@ -34,7 +34,7 @@ Eigen::VectorXd PseudoInverseStep(const Eigen::MatrixXd& J, const Eigen::VectorX
   const Eigen::VectorXd qtr = (qr.householderQ().transpose() * r).head(n);
   const Eigen::MatrixXd R = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::VectorXd s = svd.singularValues();
+  const Eigen::VectorXd& s = svd.singularValues();
   Eigen::VectorXd inv = Eigen::VectorXd::Zero(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     if (s[i] > rcond * s[0]) inv[i] = 1.0 / s[i];

@@ -32,7 +32,8 @@ struct PinholeCamera {
   template <typename T>
   Vector2<T> Distort(const Vector2<T>& n) const {
     const auto& [k1, k2, p1, p2, k3] = distortion;
-    const T x = n.x(), y = n.y();
+    const T& x = n.x();
+    const T& y = n.y();
     const T r2 = x * x + y * y;
     const T radial = T(1) + r2 * (T(k1) + r2 * (T(k2) + r2 * T(k3)));
     return Vector2<T>(x * radial + T(2 * p1) * x * y + T(p2) * (r2 + T(2) * x * x),

@@ -52,7 +52,7 @@ const char* SeriesColor(int index);
 
 class SvgPlot {
  public:
-  SvgPlot(std::string kind, double width = 380, double height = 250);
+  explicit SvgPlot(std::string kind, double width = 380, double height = 250);
 
   void SetX(Range range, std::string label);
   void SetY(Range range, std::string label);
