@@ -26,8 +26,8 @@ struct Scenario {
   WorkcellSimulationSpec truth;
   Recording recording;
   std::vector<std::vector<double>> validation;
-  double lm_forward_cost = 0.0;   // LM's minimum, the target for Adam
-  double lm_forward_s = 0.0;      // LM's time (median of 9), for Adam's ratio
+  double lm_forward_cost = 0.0;  // LM's minimum, the target for Adam
+  double lm_forward_s = 0.0;     // LM's time (median of 9), for Adam's ratio
 };
 
 // Only R - r is identifiable: hold r, as configs/jobs/delta_calibration.yaml does.
@@ -93,8 +93,8 @@ void BM_DeltaCalibrate(benchmark::State& state, ResidualForm residual, std::stri
   state.counters["iterations"] = result.solver.iterations;
   state.counters["val_rms_um"] =
       1e3 * ComparePredictions(*s.spec.robots.front().model, result.estimate,
-                               TruthEstimate(s.truth), {"delta", "marker", "stereo"},
-                               s.validation).rms_mm;
+                               TruthEstimate(s.truth), {"delta", "marker", "stereo"}, s.validation)
+                .rms_mm;
 }
 
 BENCHMARK_CAPTURE(BM_DeltaCalibrate, lm_forward, ResidualForm::kCartesian,

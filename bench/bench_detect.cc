@@ -7,10 +7,10 @@
 
 #include <filesystem>
 
+#include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/imaging/detection.h"
 #include "cellmetry/imaging/image_simulation.h"
-#include "cellmetry/cell/workcell_simulation.h"
-#include "cellmetry/basics/progress.h"
 
 namespace cellmetry {
 namespace {
@@ -61,8 +61,13 @@ void BM_Detect(benchmark::State& state) {
   state.counters["frames_per_s"] =
       benchmark::Counter(frames, benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_Detect)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)
-    ->UseRealTime()->Iterations(3);
+BENCHMARK(BM_Detect)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgName("threads")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
 
 }  // namespace
 }  // namespace cellmetry

@@ -17,12 +17,12 @@
 #include <random>
 #include <string>
 
-#include "bench_support.h"
-#include "cellmetry/diagnosis/diagnosis_job.h"
-#include "cellmetry/diagnosis/pose_plan.h"
 #include "cellmetry/cell/camera_left_out.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/diagnosis/pose_plan.h"
+#include "bench_support.h"
 
 namespace cellmetry {
 namespace {
@@ -66,7 +66,8 @@ void BM_Diagnose250Poses(benchmark::State& state, const std::string& selection_t
   compliance.effect = registry.CreateEffect(
       "joint_compliance",
       ConfigNode::LoadString("{type: joint_compliance, joints: [2], "
-                             "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}", "bench"),
+                             "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}",
+                             "bench"),
       *spec.robots[0].model);
   compliance.values = {1e-5};
   spec.robots[0].effects.push_back(compliance);
@@ -82,11 +83,20 @@ void BM_Diagnose250Poses(benchmark::State& state, const std::string& selection_t
   TimeDiagnosis(state, job, recording);
 }
 BENCHMARK_CAPTURE(BM_Diagnose250Poses, rivals, std::string("rivals"), false)
-    ->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
 BENCHMARK_CAPTURE(BM_Diagnose250Poses, bootstrap, std::string("bootstrap"), false)
-    ->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
 BENCHMARK_CAPTURE(BM_Diagnose250Poses, every_mdh_free, std::string("rivals"), true)
-    ->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
 
 // Experiment A's recording, read and stripped of unused cameras as cmd_diagnose.cc does.
 Recording ExpARecording(const DiagnosisJob& job) {
@@ -102,7 +112,10 @@ void BM_DiagnoseExpA(benchmark::State& state) {
   TimeDiagnosis(state, job, ExpARecording(job));
 }
 BENCHMARK(BM_DiagnoseExpA)
-    ->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
 
 // PlanPoses as cmd_plan.cc calls it: every candidate the recorded poses leave untestable, the
 // default pose count and draws; the identification it starts from made once, outside the time.
@@ -128,7 +141,10 @@ void BM_PlanExpA(benchmark::State& state) {
   state.counters["poses"] = chosen;
 }
 BENCHMARK(BM_PlanExpA)
-    ->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
 
 }  // namespace
 }  // namespace cellmetry

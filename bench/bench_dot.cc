@@ -11,9 +11,9 @@
 #include <random>
 
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/imaging/render.h"
 #include "cellmetry/registry/registry.h"
 #include "bench_support.h"
-#include "cellmetry/imaging/render.h"
 
 namespace cellmetry {
 namespace {

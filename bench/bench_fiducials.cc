@@ -28,10 +28,10 @@
 
 #include <random>
 
-#include "bench_support.h"
 #include "cellmetry/basics/progress.h"
-#include "cellmetry/registry/registry.h"
 #include "cellmetry/imaging/render.h"
+#include "cellmetry/registry/registry.h"
+#include "bench_support.h"
 
 namespace cellmetry {
 namespace {

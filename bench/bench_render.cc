@@ -15,8 +15,8 @@
 
 #include <random>
 
-#include "bench_support.h"
 #include "cellmetry/imaging/render.h"
+#include "bench_support.h"
 
 namespace cellmetry {
 namespace {
@@ -29,8 +29,7 @@ struct Scene {
 const Scene& PatternAt400mm() {
   static const Scene scene = [] {
     const std::unique_ptr<Detector> detector = bench::MakeDetector("{type: dot_pattern}");
-    const Eigen::Matrix3d R =
-        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
     return Scene{detector->Faces(20.0), Pose{R, Eigen::Vector3d(12.5, 9.3, 400.0)}};
   }();
   return scene;
@@ -45,7 +44,9 @@ void BM_RenderIdeal(benchmark::State& state, double k1) {
         RenderIdeal(camera, {{scene.T_cam_target, &scene.faces}}, RenderOptions()));
   }
 }
-BENCHMARK_CAPTURE(BM_RenderIdeal, ideal, 0.0)->Name("BM_Render/ideal")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RenderIdeal, ideal, 0.0)
+    ->Name("BM_Render/ideal")
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RenderIdeal, ideal_newton, 1e-12)
     ->Name("BM_Render/ideal_newton")
     ->Unit(benchmark::kMillisecond);

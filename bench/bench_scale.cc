@@ -29,8 +29,6 @@
 
 #include <malloc.h>
 
-#include "bench_support.h"
-#include "spqr_r_factor.h"
 #include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell.h"
@@ -39,6 +37,8 @@
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/estimation/estimation_quality.h"
 #include "cellmetry/estimation/noise_model.h"
+#include "bench_support.h"
+#include "spqr_r_factor.h"
 
 namespace cellmetry {
 namespace {
@@ -51,7 +51,8 @@ std::string SimulationYaml(const CellSize& size) {
   std::ostringstream yaml;
   yaml << "simulation: workcell\nseed: 15\nrepeats: 1\nrobots:\n";
   for (int r = 0; r < size.robots; ++r) {
-    yaml << "  ur3_" << r << ":\n    model: " << bench::Source("configs/robots/ur3_vsb2020.yaml") << "\n"
+    yaml << "  ur3_" << r << ":\n    model: " << bench::Source("configs/robots/ur3_vsb2020.yaml")
+         << "\n"
          << "    base: {xyz: [" << 1000 * (r % 5) << ", " << 1200 * (r / 5) << ", 0], rvec: [0, 0, "
          << 0.3 * r << "]}\n"
          << "    tools: {tool_" << r << ": {xyz: [0.5, -0.3, 66]}}\n"
@@ -86,9 +87,7 @@ std::string JobYaml(const CellSize& size, const std::string& recording) {
   return yaml.str();
 }
 
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
+void WriteText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
 struct Cell {
   WorkcellJob job;
@@ -183,8 +182,8 @@ void BM_CrossValidation(benchmark::State& state) {
   const WorkcellData data = PrepareWorkcellData(spec, cell.recording);
   ResetPeakMemory();
   for (auto _ : state) {
-    const HeldOut held_out = CrossValidate(spec, cell.recording, data, answer.noise,
-                                           answer.estimate, {}, CeresLm());
+    const HeldOut held_out =
+        CrossValidate(spec, cell.recording, data, answer.noise, answer.estimate, {}, CeresLm());
     benchmark::DoNotOptimize(held_out.total.norm);
   }
   Count(state, size);
@@ -271,17 +270,18 @@ void BM_RFactor(benchmark::State& state, RMethod method) {
 }
 BENCHMARK_CAPTURE(BM_RFactor, grouped, RMethod::kGrouped)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RFactor, suitesparse, RMethod::kSuiteSparse)
-    ->Unit(benchmark::kMillisecond)->Iterations(3);
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 BENCHMARK_CAPTURE(BM_RFactor, dense, RMethod::kDense)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // Robots, cameras, poses: from 1,000 to 160,000 observations.
 void Sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"robots", "cameras", "poses"});
-  b->Args({1, 2, 250});     //   1,000
-  b->Args({2, 4, 250});     //   4,000
-  b->Args({5, 4, 500});     //  20,000
-  b->Args({10, 8, 500});    //  80,000: the factory cell
-  b->Args({10, 8, 1000});   // 160,000
+  b->Args({1, 2, 250});    //   1,000
+  b->Args({2, 4, 250});    //   4,000
+  b->Args({5, 4, 500});    //  20,000
+  b->Args({10, 8, 500});   //  80,000: the factory cell
+  b->Args({10, 8, 1000});  // 160,000
 }
 
 BENCHMARK(BM_Run)->Apply(Sizes)->Unit(benchmark::kMillisecond)->Iterations(1);
@@ -290,8 +290,8 @@ BENCHMARK(BM_Run)->Apply(Sizes)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Run)
     ->Name("BM_LargeCell")
     ->ArgNames({"robots", "cameras", "poses"})
-    ->Args({20, 16, 2000})   // 1,280,000
-    ->Args({40, 16, 2000})   // 2,560,000
+    ->Args({20, 16, 2000})  // 1,280,000
+    ->Args({40, 16, 2000})  // 2,560,000
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 BENCHMARK(BM_CrossValidation)->Apply(Sizes)->Unit(benchmark::kMillisecond)->Iterations(1);

@@ -12,19 +12,19 @@
 //  BM_Solve/<solver>   the same assembled sim_b problem from the closed-form start, each solver
 //  BM_Solve/exp_a_<solver>   exp_a's assembled problem from the closed-form start
 //  BM_PrepareData/exp_a, BM_Repeatability/exp_a, BM_ClosedFormStart/exp_a, BM_Assemble/exp_a
-//                      an identification's first stages alone; BM_NormalEquations, BM_SparseJacobian, BM_RFactor: one
-//                      evaluation of exp_a's problem
+//                      an identification's first stages alone; BM_NormalEquations,
+//                      BM_SparseJacobian, BM_RFactor: one evaluation of exp_a's problem
 #include <benchmark/benchmark.h>
 
 #include <map>
 #include <string>
 
-#include "cellmetry/cell/job.h"
-#include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_initial.h"
+#include "cellmetry/estimation/noise_model.h"
 
 namespace cellmetry {
 namespace {
@@ -41,8 +41,8 @@ const Loaded& Load(const std::string& job_file) {
     Progress::SetQuiet(true);
     Registry::Global().LoadFolder(CELLMETRY_PLUGIN_DIR);
     Loaded loaded;
-    loaded.job = LoadWorkcellJob(std::string(CELLMETRY_SOURCE_DIR) + "/" + job_file,
-                                 Registry::Global());
+    loaded.job =
+        LoadWorkcellJob(std::string(CELLMETRY_SOURCE_DIR) + "/" + job_file, Registry::Global());
     loaded.job.problem.folds = 0;
     loaded.job.problem.compare_camera_models = false;
     loaded.recording = ReadRecording(loaded.job.recording);
@@ -86,8 +86,8 @@ BENCHMARK_CAPTURE(BM_Identify, exp_a_cameras_left_out, std::string("configs/jobs
 
 // The same with the outlier test on the plain fit only (outliers: plain): what the robust first
 // fit costs (outliers.h).
-BENCHMARK_CAPTURE(BM_Identify, sim_b_plain_outlier_test,
-                  std::string("configs/jobs/vsb_sim_b.yaml"), OutlierTest::kPlain)
+BENCHMARK_CAPTURE(BM_Identify, sim_b_plain_outlier_test, std::string("configs/jobs/vsb_sim_b.yaml"),
+                  OutlierTest::kPlain)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Identify, exp_a_plain_outlier_test,
                   std::string("configs/jobs/vsb_exp_a_geometry.yaml"), OutlierTest::kPlain)
@@ -97,9 +97,8 @@ BENCHMARK_CAPTURE(BM_Identify, exp_a_plain_outlier_test,
 BENCHMARK_CAPTURE(BM_Identify, sim_b_normal_lm, std::string("configs/jobs/vsb_sim_b.yaml"),
                   OutlierTest::kRobust, std::string("normal_lm"))
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Identify, exp_a_normal_lm,
-                  std::string("configs/jobs/vsb_exp_a_geometry.yaml"), OutlierTest::kRobust,
-                  std::string("normal_lm"))
+BENCHMARK_CAPTURE(BM_Identify, exp_a_normal_lm, std::string("configs/jobs/vsb_exp_a_geometry.yaml"),
+                  OutlierTest::kRobust, std::string("normal_lm"))
     ->Unit(benchmark::kMillisecond);
 
 // One evaluation of exp_a's assembled problem at the closed-form start: the normal equations

@@ -32,9 +32,9 @@ inline Eigen::MatrixXd SuiteSparseRFactor(const SparseJacobian& J) {
   cholmod_l_start(&common);
   cholmod_sparse* sparse_R = nullptr;
   SuiteSparse_long* permutation = nullptr;
-  const SuiteSparse_long rank = SuiteSparseQR<double>(
-      SPQR_ORDERING_COLAMD, SPQR_NO_TOL, static_cast<SuiteSparse_long>(n), &A, &sparse_R,
-      &permutation, &common);
+  const SuiteSparse_long rank =
+      SuiteSparseQR<double>(SPQR_ORDERING_COLAMD, SPQR_NO_TOL, static_cast<SuiteSparse_long>(n), &A,
+                            &sparse_R, &permutation, &common);
   if (rank < 0 || sparse_R == nullptr) throw std::runtime_error("SuiteSparseQR failed");
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(n, n);
   const auto* p = static_cast<const SuiteSparse_long*>(sparse_R->p);

@@ -55,9 +55,8 @@ std::string HeadLines(const std::string& path, int lines) {
 }
 
 void Violation(const char* type, const char* what) {
-  std::fprintf(stderr,
-               "\ncontract violated: an exception other than InputError escaped: %s: %s\n", type,
-               what);
+  std::fprintf(stderr, "\ncontract violated: an exception other than InputError escaped: %s: %s\n",
+               type, what);
   std::abort();
 }
 

@@ -25,6 +25,7 @@ void Walk(const cellmetry::ConfigNode& node) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  cellmetry::fuzz::CheckContract([&] { Walk(cellmetry::ConfigNode::LoadString(text, "file.yaml")); });
+  cellmetry::fuzz::CheckContract(
+      [&] { Walk(cellmetry::ConfigNode::LoadString(text, "file.yaml")); });
   return 0;
 }

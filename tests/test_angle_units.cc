@@ -33,8 +33,7 @@ TEST(AngleUnits, RobotConfigInRadiansDeclaredAsDegreesIsRefusedAtItsUnitsLine) {
   const Recording recording = ReadRecording(testing::Source("tests/data/vsb/sim_b"));
   // As written: no complaint.
   EXPECT_NO_THROW(ValidateJobAgainstRecording(SimBWithRobot(dir, ur3), recording));
-  const WorkcellJob job =
-      SimBWithRobot(dir, testing::ReplaceOnce(ur3, "angle: rad", "angle: deg"));
+  const WorkcellJob job = SimBWithRobot(dir, testing::ReplaceOnce(ur3, "angle: rad", "angle: deg"));
   try {
     ValidateJobAgainstRecording(job, recording);
     FAIL() << "a robot config's radians read as degrees were fitted";
@@ -56,8 +55,9 @@ TEST(AngleUnits, QuaternionColumnsInTheOtherOrderAreRefusedAtTheMappingsOrder) {
   std::string mapping = testing::ReadText(testing::Source("configs/import/astl_calibration.yaml"));
   mapping = testing::ReplaceOnce(mapping, "order: wxyz", "order: xyzw");
   for (const char* table : {"joints_deg.csv", "leica.csv"}) {
-    mapping = testing::ReplaceOnce(mapping, std::string("../../tests/data/astl/calibration/") + table,
-                                   testing::Source("tests/data/astl/calibration/") + table);
+    mapping =
+        testing::ReplaceOnce(mapping, std::string("../../tests/data/astl/calibration/") + table,
+                             testing::Source("tests/data/astl/calibration/") + table);
   }
   testing::WriteText(dir + "/map.yaml", mapping);
   ASSERT_EQ(testing::RunCellmetry("import " + dir + "/map.yaml -o " + dir + "/rec").exit_code, 0);
@@ -89,17 +89,20 @@ TEST(AngleUnits, EulerAnglesReadInTheOtherConventionAreRefusedAtTheMappingsAxes)
       "table: " + testing::Source("configs/import/vsb_exp_a_excerpt.csv"));
   std::string job = testing::ReadText(testing::Source("configs/jobs/vsb_exp_a_excerpt.yaml"));
   job = job.substr(0, job.find("validation:"));  // no cross-validation
-  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   // The tool's rotation declared as `declared`; the job on its import, written to `dir`.
   const auto import_as = [&](const std::string& name, const std::string& declared) {
-    const std::string tool = "convention: euler, order: XYZ, axes: intrinsic,\n"
-                             "               columns: [tool";
+    const std::string tool =
+        "convention: euler, order: XYZ, axes: intrinsic,\n"
+        "               columns: [tool";
     testing::WriteText(dir + "/" + name + ".yaml",
-                       testing::ReplaceOnce(as_written, tool, declared + ",\n"
-                                                              "               columns: [tool"));
+                       testing::ReplaceOnce(as_written, tool,
+                                            declared + ",\n"
+                                                       "               columns: [tool"));
     const std::string recording = dir + "/rec_" + name;
-    EXPECT_EQ(testing::RunCellmetry("import " + dir + "/" + name + ".yaml -o " + recording)
-                  .exit_code, 0);
+    EXPECT_EQ(
+        testing::RunCellmetry("import " + dir + "/" + name + ".yaml -o " + recording).exit_code, 0);
     testing::WriteText(dir + "/job_" + name + ".yaml",
                        testing::ReplaceOnce(job, "recording: ../../results/vsb_exp_a_excerpt\n",
                                             "recording: " + recording + "\n"));

@@ -5,9 +5,9 @@
 
 #include <random>
 
-#include "base_fit_sums.h"
 #include "cellmetry/basics/rigid_fit.h"
 #include "cellmetry/basics/transform.h"
+#include "base_fit_sums.h"
 
 namespace cellmetry {
 namespace {
@@ -110,8 +110,7 @@ TEST(BaseFitSums, NoPoseWhereThePointsSpanNoPlane) {
     on_a_line[i].T_base_flange.R = Eigen::Matrix3d::Identity();
     on_a_line[i].T_base_flange.t = Eigen::Vector3d(0.0, 0.0, 10.0 * static_cast<double>(i));
   }
-  const std::vector<Eigen::Vector3d> at_origin = {Eigen::Vector3d::Zero(),
-                                                  Eigen::Vector3d::Zero()};
+  const std::vector<Eigen::Vector3d> at_origin = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   EXPECT_FALSE(BaseFitSums(on_a_line, 2).Fit(at_origin).has_value());
   EXPECT_FALSE(ByRigidFit(on_a_line, at_origin).has_value());
 }

@@ -129,8 +129,8 @@ TEST(CheckerboardDetector, OptionVariantsOnRenderedViews) {
   const auto d = MakeDetector(kCheckerboard);
   const auto poses = TestPoses(*d, d->Faces(10.0));
   for (const char* variant : {"accuracy: false", "normalize_image: true", "exhaustive: true"}) {
-    const auto v = MakeDetector(std::string(kCheckerboard).substr(0, sizeof(kCheckerboard) - 2) + ", " +
-                        variant + "}");
+    const auto v = MakeDetector(std::string(kCheckerboard).substr(0, sizeof(kCheckerboard) - 2) +
+                                ", " + variant + "}");
     Print(std::string("checkerboard 9x6 (") + variant + ")", Measure(*v, poses, 1));
   }
 }
@@ -150,7 +150,8 @@ TEST(CharucoDetector, PoseOnRenderedViewsMatchesTruth) {
 // Without the plugin's last cornerSubPix: OpenCV's corners, its 0.5 px shift taken off (printed).
 TEST(CharucoDetector, OpenCvCornersOnRenderedViews) {
   const auto d = MakeDetector(kCharuco);
-  const auto v = MakeDetector(std::string(kCharuco).substr(0, sizeof(kCharuco) - 2) + ", subpix: false}");
+  const auto v =
+      MakeDetector(std::string(kCharuco).substr(0, sizeof(kCharuco) - 2) + ", subpix: false}");
   Print("charuco 7x5 (subpix: false)", Measure(*v, TestPoses(*d, d->Faces(10.0)), 2));
 }
 
@@ -412,8 +413,8 @@ TEST(BoardBadInput, BlankImageFailsInWords) {
 
 // Markers of another board in view are not this board's corners, and the failure says so.
 TEST(BoardBadInput, OtherMarkersAreNamed) {
-  const auto printed =
-      MakeDetector("{type: aruco, dictionary: DICT_5X5_100, marker_length_mm: 40, marker_ids: [60]}");
+  const auto printed = MakeDetector(
+      "{type: aruco, dictionary: DICT_5X5_100, marker_length_mm: 40, marker_ids: [60]}");
   const auto faces = printed->Faces(10.0);
   std::mt19937 rng(4);
   const GrayImage image =

@@ -33,9 +33,8 @@ std::string RosMatrix(const std::string& name, int rows, int cols, const double*
 std::string RosCameraInfoYaml(const cv::Mat& K, const cv::Mat& D, const cv::Mat& R,
                               const cv::Mat& P, const std::string& model = "plumb_bob") {
   return "image_width: 1280\nimage_height: 800\ncamera_name: narrow_stereo/left\n" +
-         RosMatrix("camera_matrix", 3, 3, K.ptr<double>()) + "distortion_model: " + model +
-         "\n" + RosMatrix("distortion_coefficients", 1, static_cast<int>(D.total()),
-                          D.ptr<double>()) +
+         RosMatrix("camera_matrix", 3, 3, K.ptr<double>()) + "distortion_model: " + model + "\n" +
+         RosMatrix("distortion_coefficients", 1, static_cast<int>(D.total()), D.ptr<double>()) +
          RosMatrix("rectification_matrix", 3, 3, R.ptr<double>()) +
          RosMatrix("projection_matrix", 3, 4, P.ptr<double>());
 }

@@ -29,7 +29,9 @@ std::string ThreeCameraSimulation(unsigned seed, const std::string& effects = ""
          testing::Source("configs/robots/ur3_vsb2020.yaml") +
          "\n    base: {xyz: [431, 555, -460], rvec: [0, 0, -0.0177]}\n"
          "    tools:\n      tool: {xyz: [0, 0.5, 66], rvec: [0, 0, 0]}\n"
-         "    poses: {from_recording: " + testing::Source("tests/data/vsb/sim_b") + "}\n"
+         "    poses: {from_recording: " +
+         testing::Source("tests/data/vsb/sim_b") +
+         "}\n"
          "cameras:\n"
          "  cam1: {xyz: [745, 290, 986], rvec: [-2.6081, -1.2675, 0.5875]}\n"
          "  cam2: {xyz: [120, 1258, 739], rvec: [1.6523, 1.8133, -0.4370]}\n"
@@ -56,10 +58,12 @@ Simulated Simulate(const std::string& dir, const std::string& yaml) {
 WorkcellJob Job(const std::string& dir, const std::string& base = "{free: all}",
                 const std::string& extra = "") {
   testing::WriteText(dir + "/job.yaml",
-                     "job: workcell\nrecording: " + dir + "\noutput: " + dir + "/fit\n"
-                     "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
-                     "\n    base: " + base + "\n    tools:\n      tool: {free: [x, y, z]}\n" +
-                     extra + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
+                     "job: workcell\nrecording: " + dir + "\noutput: " + dir +
+                         "/fit\n"
+                         "robots:\n  ur3:\n    model: " +
+                         testing::Source("configs/robots/ur3_vsb2020.yaml") +
+                         "\n    base: " + base + "\n    tools:\n      tool: {free: [x, y, z]}\n" +
+                         extra + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
   return LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(), /*recording_must_exist=*/false);
 }
 
@@ -102,9 +106,10 @@ TEST(CameraLeftOut, DifferencesAreStandardNormalWhereTheModelIsRight) {
 TEST(CameraLeftOut, ACameraWithAConcealedPrincipalPointIsFlagged) {
   const std::string dir = testing::TempDirForThisTest("loco_principal");
   const Simulated sim = Simulate(
-      dir, ThreeCameraSimulation(3, "effects:\n  - {effect: {type: camera_intrinsics, cameras: "
-                                    "[cam2], terms: [principal]}, values: {cam2.principal_x: "
-                                    "0.015}}\n"));
+      dir, ThreeCameraSimulation(3,
+                                 "effects:\n  - {effect: {type: camera_intrinsics, cameras: "
+                                 "[cam2], terms: [principal]}, values: {cam2.principal_x: "
+                                 "0.015}}\n"));
   const WorkcellResult r = testing::Identify(Job(dir), sim.recording);
   ASSERT_EQ(r.cameras_left_out.size(), 3u);
   const CameraLeftOut& without_cam2 = r.cameras_left_out[1];
@@ -146,13 +151,13 @@ TEST(CameraLeftOut, ACameraTheJobDoesNotUseIsLeftOutWhole) {
 // prior, sigma carries it, and the truth (the world board printed 1 % large) is inside 3 sigma.
 TEST(GaugePrior, OneCameraTakesTheWorldBoardsSizeFromItsPlausibleSize) {
   const std::string dir = testing::TempDirForThisTest("gauge_prior");
-  const Simulated sim = Simulate(
-      dir, ThreeCameraSimulation(5, "effects:\n  - {effect: {type: target_scale, targets: "
-                                    "[world]}, values: {world.scale: 0.01}}\n"));
-  const WorkcellJob job =
-      Job(dir, "{free: all}",
-          "cameras:\n  cam2: {use: false}\n  cam3: {use: false}\n"
-          "effects:\n  - {type: target_scale, targets: [tool, world]}\n");
+  const Simulated sim =
+      Simulate(dir, ThreeCameraSimulation(5,
+                                          "effects:\n  - {effect: {type: target_scale, targets: "
+                                          "[world]}, values: {world.scale: 0.01}}\n"));
+  const WorkcellJob job = Job(dir, "{free: all}",
+                              "cameras:\n  cam2: {use: false}\n  cam3: {use: false}\n"
+                              "effects:\n  - {type: target_scale, targets: [tool, world]}\n");
   const WorkcellResult r = testing::Identify(job, sim.recording);
   bool world_scale = false;
   for (const auto& u : r.unidentifiable) {
@@ -231,12 +236,13 @@ TEST(GaugePrior, AConventionIsHeldAndSaidAndItsPartnersKeepTheirSigma) {
 // the tag's tilt is determined, with the prior's sigma reaching it, and the truth inside 3 sigma.
 TEST(LevelPrior, DeterminesATiltedWorldTagWithItsSigma) {
   const std::string dir = testing::TempDirForThisTest("level");
-  const std::string yaml = ThreeCameraSimulation(7, "effects:\n  - {effect: {type: world_frame}, "
-                                              "values: {world_frame.tilt_x: 0.005, "
-                                              "world_frame.tilt_y: -0.004}}\n");
+  const std::string yaml = ThreeCameraSimulation(7,
+                                                 "effects:\n  - {effect: {type: world_frame}, "
+                                                 "values: {world_frame.tilt_x: 0.005, "
+                                                 "world_frame.tilt_y: -0.004}}\n");
   const Simulated sim = Simulate(dir, yaml);
-  const WorkcellJob job = Job(dir, "{free: all, level: {sigma_rad: 0.003}}",
-                              "effects:\n  - {type: world_frame}\n");
+  const WorkcellJob job =
+      Job(dir, "{free: all, level: {sigma_rad: 0.003}}", "effects:\n  - {type: world_frame}\n");
   ASSERT_TRUE(job.problem.robots[0].level_sigma_rad.has_value());
   const WorkcellResult r = testing::Identify(job, sim.recording);
   EXPECT_TRUE(r.unidentifiable.empty()) << r.unidentifiable.front().name;

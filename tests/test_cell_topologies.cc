@@ -39,9 +39,8 @@ std::string Name(const Topology& t) {
   std::ostringstream name;
   name << t.robots << (t.robots == 1 ? " robot, " : " robots, ") << t.cameras
        << (t.cameras == 1 ? " camera, " : " cameras, ")
-       << (t.world_target ? "world target" : "no world target")
-       << (t.starts ? ", starts" : "") << (t.tool_rotation ? ", tool rotation" : "")
-       << (t.wrist ? ", camera on the robot" : "");
+       << (t.world_target ? "world target" : "no world target") << (t.starts ? ", starts" : "")
+       << (t.tool_rotation ? ", tool rotation" : "") << (t.wrist ? ", camera on the robot" : "");
   return name.str();
 }
 
@@ -85,8 +84,7 @@ std::string Simulation(const Topology& t) {
 std::string Job(const Topology& t, const std::string& dir) {
   std::string yaml = "job: workcell\nrecording: " + dir + "/rec\noutput: " + dir + "/fit\n" +
                      "world_target: " + (t.world_target ? "world" : "none") + "\n" +
-                     "use_tool_rotation: " + (t.tool_rotation ? "true" : "false") +
-                     "\nrobots:\n";
+                     "use_tool_rotation: " + (t.tool_rotation ? "true" : "false") + "\nrobots:\n";
   for (int r = 0; r < t.robots; ++r) {
     const std::string i = std::to_string(r);
     std::string base = "{free: all}";
@@ -95,8 +93,8 @@ std::string Job(const Topology& t, const std::string& dir) {
       base = "{free: all, start: {xyz: [880, 130, 20], rvec: [0, 0.02, 1.97]}}";
     }
     yaml += "  ur3_" + i + ":\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
-            "\n    base: " + base + "\n    tools:\n      tool_" + i + ": {free: " +
-            (t.tool_rotation ? "all" : "[x, y, z]") + "}\n";
+            "\n    base: " + base + "\n    tools:\n      tool_" + i +
+            ": {free: " + (t.tool_rotation ? "all" : "[x, y, z]") + "}\n";
     if (t.wrist && r == 0) {
       yaml += "    cameras:\n      wrist: " + std::string(t.starts ? kWristStart : "{free: all}") +
               "\n";
@@ -142,51 +140,51 @@ TEST(CellTopologies, EveryCellIdentifiesItsTruthOrIsRefusedInWords) {
       for (bool world_target : {true, false}) {
         for (bool starts : {false, true}) {
           for (bool tool_rotation : {true, false}) {
-           for (bool wrist : {false, true}) {
-            const Topology t{robots, cameras, world_target, starts, tool_rotation, wrist};
-            SCOPED_TRACE(Name(t));
-            const std::string dir = testing::TempDirForThisTest(
-                "cell_topologies/" + std::to_string(robots) + std::to_string(cameras) +
-                std::to_string(world_target) + std::to_string(starts) +
-                std::to_string(tool_rotation) + std::to_string(wrist));
-            testing::WriteText(dir + "/sim.yaml", Simulation(t));
-            const WorkcellSimulationSpec spec =
-                LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
-            const Recording recording = SimulateWorkcell(spec, nullptr);
-            testing::WriteText(dir + "/job.yaml", Job(t, dir));
-            try {
-              const WorkcellJob job = LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(),
-                                                      /*recording_must_exist=*/false);
-              ValidateJobAgainstRecording(job, recording);
-              const WorkcellResult result = testing::Identify(job, recording);
-              ++identified;
-              std::vector<double> cell;
-              for (const auto& robot : spec.robots) {
-                AddDeviations(testing::Frame(result, robot.name + ".base"), robot.T_world_base,
-                              &cell);
-                for (const auto& [target, T_flange_target] : robot.T_flange_target) {
-                  AddDeviations(testing::Frame(result, target), T_flange_target, &cell);
+            for (bool wrist : {false, true}) {
+              const Topology t{robots, cameras, world_target, starts, tool_rotation, wrist};
+              SCOPED_TRACE(Name(t));
+              const std::string dir = testing::TempDirForThisTest(
+                  "cell_topologies/" + std::to_string(robots) + std::to_string(cameras) +
+                  std::to_string(world_target) + std::to_string(starts) +
+                  std::to_string(tool_rotation) + std::to_string(wrist));
+              testing::WriteText(dir + "/sim.yaml", Simulation(t));
+              const WorkcellSimulationSpec spec =
+                  LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
+              const Recording recording = SimulateWorkcell(spec, nullptr);
+              testing::WriteText(dir + "/job.yaml", Job(t, dir));
+              try {
+                const WorkcellJob job = LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(),
+                                                        /*recording_must_exist=*/false);
+                ValidateJobAgainstRecording(job, recording);
+                const WorkcellResult result = testing::Identify(job, recording);
+                ++identified;
+                std::vector<double> cell;
+                for (const auto& robot : spec.robots) {
+                  AddDeviations(testing::Frame(result, robot.name + ".base"), robot.T_world_base,
+                                &cell);
+                  for (const auto& [target, T_flange_target] : robot.T_flange_target) {
+                    AddDeviations(testing::Frame(result, target), T_flange_target, &cell);
+                  }
+                  for (const auto& [camera, T_flange_camera] : robot.T_flange_camera) {
+                    const size_t before = cell.size();
+                    AddDeviations(testing::Frame(result, robot.name + "." + camera),
+                                  T_flange_camera, &cell);
+                    wrist_deviations.insert(wrist_deviations.end(), cell.begin() + before,
+                                            cell.end());
+                  }
                 }
-                for (const auto& [camera, T_flange_camera] : robot.T_flange_camera) {
-                  const size_t before = cell.size();
-                  AddDeviations(testing::Frame(result, robot.name + "." + camera),
-                                T_flange_camera, &cell);
-                  wrist_deviations.insert(wrist_deviations.end(), cell.begin() + before,
-                                          cell.end());
+                for (const auto& [camera, T_world_cam] : spec.T_world_cam) {
+                  AddDeviations(testing::Frame(result, camera), T_world_cam, &cell);
                 }
+                for (double d : cell) EXPECT_LT(d, 4.5) << "a coordinate " << d << " sigma off";
+                deviations.insert(deviations.end(), cell.begin(), cell.end());
+              } catch (const InputError& e) {
+                ++refused;
+                EXPECT_FALSE(e.hint().empty()) << "refused without what to do: " << e.message();
+                // Only a camera on the flange without the board it needs as the world.
+                if (!(wrist && !world_target)) refusals += Name(t) + ": " + e.message() + "\n";
               }
-              for (const auto& [camera, T_world_cam] : spec.T_world_cam) {
-                AddDeviations(testing::Frame(result, camera), T_world_cam, &cell);
-              }
-              for (double d : cell) EXPECT_LT(d, 4.5) << "a coordinate " << d << " sigma off";
-              deviations.insert(deviations.end(), cell.begin(), cell.end());
-            } catch (const InputError& e) {
-              ++refused;
-              EXPECT_FALSE(e.hint().empty()) << "refused without what to do: " << e.message();
-              // Only a camera on the flange without the board it needs as the world.
-              if (!(wrist && !world_target)) refusals += Name(t) + ": " + e.message() + "\n";
             }
-           }
           }
         }
       }
@@ -208,8 +206,7 @@ TEST(CellTopologies, EveryCellIdentifiesItsTruthOrIsRefusedInWords) {
   EXPECT_GT(rms, 0.8);
   EXPECT_LT(rms, 1.25);
   std::cerr << identified << " cells identified, " << deviations.size()
-            << " coordinates checked: RMS " << rms << " sigma, " << beyond
-            << " beyond 3 sigma\n";
+            << " coordinates checked: RMS " << rms << " sigma, " << beyond << " beyond 3 sigma\n";
   double wrist_squares = 0.0, wrist_max = 0.0;
   for (double d : wrist_deviations) {
     wrist_squares += d * d;

@@ -11,8 +11,8 @@
 #include "cellmetry/basics/so3_jacobians.h"
 #include "chain_cost.h"
 #include "effect_chain_cost.h"
-#include "whole_chain_jets.h"
 #include "support/test_support.h"
+#include "whole_chain_jets.h"
 
 namespace cellmetry {
 namespace {
@@ -21,8 +21,7 @@ constexpr double kStep = 1e-6;
 
 // d residual / d *value of a three-row cost by central differences, *value restored after.
 std::array<double, 3> CentralDifference(const ceres::CostFunction& cost,
-                                        const std::vector<const double*>& params,
-                                        double* value) {
+                                        const std::vector<const double*>& params, double* value) {
   double plus[3], minus[3];
   const double saved = *value;
   *value = saved + kStep;
@@ -100,8 +99,7 @@ TEST(So3Jacobians, RotationErrorAndInverseJacobianAreTheSeparateForms) {
       const Eigen::Vector3d separate = RotationError<double>(R_a, R_b);
       EXPECT_LT((fused - separate).norm(), 1e-13 * std::max(1.0, angle)) << "angle " << angle;
       EXPECT_LT((fused - phi).norm(), 1e-12 * std::max(1.0, angle)) << "angle " << angle;
-      EXPECT_LT((fused_inverse - InverseLeftJacobian(separate)).norm(), 1e-11)
-          << "angle " << angle;
+      EXPECT_LT((fused_inverse - InverseLeftJacobian(separate)).norm(), 1e-11) << "angle " << angle;
     }
   }
 }
@@ -138,9 +136,8 @@ TEST_P(ChainCostTest, JacobianMatchesCentralDifferences) {
     const Pose T_cam_world = c.blocks.camera
                                  ? FrameFromBlock(values[k++].data(), refs.world_cam).inverse()
                                  : T_cam_world_fixed;
-    const Pose predicted = c.blocks.base ? T_cam_world * T_world_base * T_base_flange *
-                                               T_flange_target
-                                         : T_cam_world;
+    const Pose predicted =
+        c.blocks.base ? T_cam_world * T_world_base * T_base_flange * T_flange_target : T_cam_world;
     const Eigen::Vector3d turn = RandomVector(rng, 0.2);
     const Pose measured{RotationFromRvec(turn.data()) * predicted.R,
                         predicted.t + RandomVector(rng, 5.0)};
@@ -169,14 +166,13 @@ TEST_P(ChainCostTest, JacobianMatchesCentralDifferences) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllChains, ChainCostTest,
-    ::testing::Values(ChainCase{{true, true, true}, Compared::kPosition},
-                      ChainCase{{true, true, true}, Compared::kRotation},
-                      ChainCase{{true, true, false}, Compared::kPosition},
-                      ChainCase{{true, true, false}, Compared::kRotation},
-                      ChainCase{{false, false, true}, Compared::kPosition},
-                      ChainCase{{false, false, true}, Compared::kRotation}));
+INSTANTIATE_TEST_SUITE_P(AllChains, ChainCostTest,
+                         ::testing::Values(ChainCase{{true, true, true}, Compared::kPosition},
+                                           ChainCase{{true, true, true}, Compared::kRotation},
+                                           ChainCase{{true, true, false}, Compared::kPosition},
+                                           ChainCase{{true, true, false}, Compared::kRotation},
+                                           ChainCase{{false, false, true}, Compared::kPosition},
+                                           ChainCase{{false, false, true}, Compared::kRotation}));
 
 // EffectChainCost (effect_chain_cost.h): a UR3 chain with measurement effects (a target's
 // printed scale, a camera's focal length, principal point and distortion), and for a carried
@@ -214,8 +210,8 @@ TEST_P(EffectChainCostTest, JacobianMatchesCentralDifferencesAndTheJets) {
   const auto thermal = MakeEffect("{type: thermal_drift}", *ur3);
   std::vector<const Effect*> effects = {scale.get(), intrinsics.get()};
   if (c.robot) {
-    effects = {compliance.get(), scale.get(), thermal.get(), backlash.get(), intrinsics.get(),
-               gear.get()};
+    effects = {compliance.get(), scale.get(),      thermal.get(),
+               backlash.get(),   intrinsics.get(), gear.get()};
   }
   std::vector<int> effect_sizes;
   for (const Effect* e : effects) effect_sizes.push_back(int(e->parameters().size()));
@@ -285,8 +281,8 @@ TEST_P(EffectChainCostTest, JacobianMatchesCentralDifferencesAndTheJets) {
                         predicted.t + RandomVector(rng, 5.0)};
     const TargetComparison comparison(c.compared, measured, Eigen::Vector3d(0.5, 0.7, 2.0));
 
-    EffectChainCost cost(comparison, refs, c.robot ? ur3.get() : nullptr, context,
-                         c.static_camera, T_cam_world_measured, effects, effect_sizes);
+    EffectChainCost cost(comparison, refs, c.robot ? ur3.get() : nullptr, context, c.static_camera,
+                         T_cam_world_measured, effects, effect_sizes);
     std::unique_ptr<ceres::CostFunction> jets;
     if (c.robot) {
       jets.reset(new ceres::DynamicAutoDiffCostFunction<EffectChainResidual, kJetStride>(
@@ -371,14 +367,13 @@ TEST_P(EffectChainCostTest, JacobianMatchesCentralDifferencesAndTheJets) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllChains, EffectChainCostTest,
-    ::testing::Values(EffectChainCase{true, true, Compared::kPosition},
-                      EffectChainCase{true, true, Compared::kRotation},
-                      EffectChainCase{true, false, Compared::kPosition},
-                      EffectChainCase{true, false, Compared::kRotation},
-                      EffectChainCase{false, true, Compared::kPosition},
-                      EffectChainCase{false, true, Compared::kRotation}));
+INSTANTIATE_TEST_SUITE_P(AllChains, EffectChainCostTest,
+                         ::testing::Values(EffectChainCase{true, true, Compared::kPosition},
+                                           EffectChainCase{true, true, Compared::kRotation},
+                                           EffectChainCase{true, false, Compared::kPosition},
+                                           EffectChainCase{true, false, Compared::kRotation},
+                                           EffectChainCase{false, true, Compared::kPosition},
+                                           EffectChainCase{false, true, Compared::kRotation}));
 
 }  // namespace
 }  // namespace cellmetry

@@ -5,8 +5,8 @@
 
 #include <filesystem>
 
-#include "cellmetry/experiments/kinematic_compare.h"
 #include "cellmetry/experiments/intervals.h"
+#include "cellmetry/experiments/kinematic_compare.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/physics_suite.h"
 #include "cellmetry/experiments/solver_compare.h"
@@ -120,7 +120,7 @@ TEST(Recommendation, CallsATieATie) {
       {"b", {1.04, 1.02, 0.97, 1.08, 0.91}, {0.011, 0.010, 0.010, 0.012, 0.009}}};
   const std::string line = Recommendation("q", c, "mm");
   EXPECT_THAT(line, HasSubstr("q: tie: "));
-  EXPECT_THAT(line, HasSubstr("a")) ;
+  EXPECT_THAT(line, HasSubstr("a"));
   EXPECT_THAT(line, HasSubstr("b"));
   EXPECT_THAT(line, Not(HasSubstr("more accurate")));
 }
@@ -164,9 +164,8 @@ TEST(StopReasonWords, CountsReasonsNotTheirPerRunFigures) {
 
 // Round-off of a noise-free fit (1e-13 mm) is no difference, however consistent.
 TEST(Recommendation, DifferencesBelowTheResolutionAreTies) {
-  const std::vector<Contender> c = {
-      {"lm", {5.1e-13, 5.3e-13, 5.2e-13}, {0.001, 0.001, 0.001}},
-      {"pinv", {2.1e-13, 2.3e-13, 2.2e-13}, {0.001, 0.001, 0.001}}};
+  const std::vector<Contender> c = {{"lm", {5.1e-13, 5.3e-13, 5.2e-13}, {0.001, 0.001, 0.001}},
+                                    {"pinv", {2.1e-13, 2.3e-13, 2.2e-13}, {0.001, 0.001, 0.001}}};
   EXPECT_THAT(Recommendation("q", c, "mm"), HasSubstr("q: tie: "));
 }
 
@@ -175,7 +174,9 @@ TEST(KinematicCompare, SeedsRepeatEveryRowAndKeepSeedZero) {
   const std::string dir = testing::TempDirForThisTest("compare_solvers");
   const std::string text =
       "compare: kinematic\n"
-      "simulation: " + testing::Source("configs/compare/delta_table7_simulation.yaml") + "\n"
+      "simulation: " +
+      testing::Source("configs/compare/delta_table7_simulation.yaml") +
+      "\n"
       "pose_sets: [uniform_workspace]\nsizes: [24]\nformulations: [forward]\n"
       "solvers: {lm: {type: ceres_lm}, pinv: {type: jacobian_pinv}}\n"
       "validation_points: 20\n";
@@ -230,12 +231,16 @@ TEST(CompareSolvers, EndToEndOnASmallSpec) {
   const std::string dir = testing::TempDirForThisTest("compare_solvers");
   testing::WriteText(dir + "/spec.yaml",
                      "compare: solvers\n"
-                     "job: " + testing::Source("configs/jobs/vsb_sim_b.yaml") + "\n"
-                     "simulation: " + testing::Source("configs/simulations/ur3_two_cameras.yaml") +
+                     "job: " +
+                         testing::Source("configs/jobs/vsb_sim_b.yaml") +
                          "\n"
-                     "solvers: {ceres_lm: {type: ceres_lm}, pinv: {type: jacobian_pinv}}\n"
-                     "seeds: 3\n"
-                     "output: " + dir + "/out\n");
+                         "simulation: " +
+                         testing::Source("configs/simulations/ur3_two_cameras.yaml") +
+                         "\n"
+                         "solvers: {ceres_lm: {type: ceres_lm}, pinv: {type: jacobian_pinv}}\n"
+                         "seeds: 3\n"
+                         "output: " +
+                         dir + "/out\n");
   const auto r = testing::RunCellmetry("compare " + dir + "/spec.yaml");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string table = testing::ReadText(dir + "/out/table.md");

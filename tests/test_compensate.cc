@@ -35,8 +35,8 @@ std::string Sim(const std::string& dir, const std::string& name, const std::stri
                 const std::string& model_errors) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/" + name));
   const std::string config = name.rfind("ur3", 0) == 0 ? "ur3_vsb2020.yaml" : "delta.yaml";
-  sim = testing::ReplaceOnce(sim, "../robots/" + config,
-                             testing::Source("configs/robots/" + config));
+  sim =
+      testing::ReplaceOnce(sim, "../robots/" + config, testing::Source("configs/robots/" + config));
   sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");
   sim = testing::ReplaceOnce(sim, robot_line,
                              robot_line + "    model_errors: " + model_errors + "\n");
@@ -241,8 +241,8 @@ double Sag(const std::vector<Pose>& reached, int per_pose) {
 
 Outcome Measure(const FittedCell& cell, const std::vector<CompensationTarget>& targets,
                 int per_pose) {
-  const auto commands = Compensate(cell.chain, targets, cell.calibrated.covariance,
-                                   CompensationOptions{});
+  const auto commands =
+      Compensate(cell.chain, targets, cell.calibrated.covariance, CompensationOptions{});
   std::vector<std::vector<double>> q;
   Outcome out{};
   for (const auto& c : commands) {
@@ -265,13 +265,14 @@ Outcome Measure(const FittedCell& cell, const std::vector<CompensationTarget>& t
   out.geometry_only_rms_mm = Rms(PositionErrors(targets, geometry_only));
   out.geometry_only_sag_mm = Sag(geometry_only, per_pose);
   out.nominal_rms_mm = Rms(PositionErrors(
-      targets, TrueToolPoses(cell, CommandsOn(NominalChain(cell.chain), targets, commands),
-                             payloads)));
-  std::printf("compensated %.4f mm (worst %.2f sigma), geometry only %.4f mm, nominal %.4f mm, "
-              "mean sigma %.4f mm, noise floor %.3f mm; payload sag compensated %.4f mm, "
-              "geometry only %.4f mm\n", out.compensated_rms_mm, out.worst_in_sigma,
-              out.geometry_only_rms_mm, out.nominal_rms_mm, out.mean_sigma_mm,
-              cell.noise_floor_mm, out.compensated_sag_mm, out.geometry_only_sag_mm);
+      targets,
+      TrueToolPoses(cell, CommandsOn(NominalChain(cell.chain), targets, commands), payloads)));
+  std::printf(
+      "compensated %.4f mm (worst %.2f sigma), geometry only %.4f mm, nominal %.4f mm, "
+      "mean sigma %.4f mm, noise floor %.3f mm; payload sag compensated %.4f mm, "
+      "geometry only %.4f mm\n",
+      out.compensated_rms_mm, out.worst_in_sigma, out.geometry_only_rms_mm, out.nominal_rms_mm,
+      out.mean_sigma_mm, cell.noise_floor_mm, out.compensated_sag_mm, out.geometry_only_sag_mm);
   return out;
 }
 
@@ -300,8 +301,8 @@ TEST(Compensate, DeltaCommandsReachTheirTargetsUnderConcealedBacklashAndGeometry
   ASSERT_EQ(cell.chain.effects.size(), 1u);
   const std::string dir = testing::TempDirForThisTest("compensate");
   // Positions in random order: every motor comes at them from either side.
-  const auto targets = MakeTargets(cell, dir + "/targets.csv", {-0.3, -0.3, -0.3},
-                                   {1.1, 1.1, 1.1}, {0}, 24);
+  const auto targets =
+      MakeTargets(cell, dir + "/targets.csv", {-0.3, -0.3, -0.3}, {1.1, 1.1, 1.1}, {0}, 24);
   const Outcome o = Measure(cell, targets, 1);
   EXPECT_LT(o.worst_in_sigma, 4.0);
   EXPECT_LT(o.compensated_rms_mm, 0.5 * cell.noise_floor_mm);
@@ -376,14 +377,14 @@ double JacobianMismatch(const CompensationChain& chain, const std::vector<double
 
 TEST(CompensateJacobian, MatchesCentralDifferencesForEffectsThatDoNotReadTheJoints) {
   const CommandContext context{{1, -1, 1, -1, 1, -1}, 1.0, 30.0, NAN};
-  const auto ur3 = MemoryChain("ur3_vsb2020.yaml", {"{type: backlash, joints: [2, 3]}",
-                                            "{type: thermal_drift}"},
-                               {{0.002, 0.003}, {1.2e-5}});
+  const auto ur3 =
+      MemoryChain("ur3_vsb2020.yaml", {"{type: backlash, joints: [2, 3]}", "{type: thermal_drift}"},
+                  {{0.002, 0.003}, {1.2e-5}});
   EXPECT_LT(JacobianMismatch(ur3, {-3, 2.6, -2, -3, 0.5, -3}, {3, 4, -0.4, 3, 2.6, 3}, context),
             1e-7);
-  const auto delta = MemoryChain("delta.yaml", {"{type: backlash, joints: [1, 3]}",
-                                                "{type: thermal_drift}"},
-                                 {{0.002, 0.003}, {1.2e-5}});
+  const auto delta =
+      MemoryChain("delta.yaml", {"{type: backlash, joints: [1, 3]}", "{type: thermal_drift}"},
+                  {{0.002, 0.003}, {1.2e-5}});
   EXPECT_LT(JacobianMismatch(delta, {-0.3, -0.3, -0.3}, {1.1, 1.1, 1.1}, context), 1e-7);
 }
 
@@ -391,9 +392,10 @@ TEST(CompensateJacobian, LeavesOutOnlyTheComplianceContextShareItDocuments) {
   // Joint 3's compliance reads the gravity torque at q in double: its derivative is held out,
   // a share of the order of the compliance times the torque's rate (compensation_chain.h).
   const CommandContext context{{}, 3.0, NAN, NAN};
-  const auto ur3 = MemoryChain(
-      "ur3_vsb2020.yaml", {"{type: joint_compliance, joints: [3], "
-                   "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}"}, {{4e-5}});
+  const auto ur3 = MemoryChain("ur3_vsb2020.yaml",
+                               {"{type: joint_compliance, joints: [3], "
+                                "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}"},
+                               {{4e-5}});
   const double mismatch =
       JacobianMismatch(ur3, {-3, 2.6, -2, -3, 0.5, -3}, {3, 4, -0.4, 3, 2.6, 3}, context);
   std::printf("compliance: Jacobian vs central differences %.2g of its largest entry\n", mismatch);
@@ -419,7 +421,8 @@ void ExpectPropagatedDerivative(const CompensationChain& chain, const std::vecto
   numeric << (a.t - b.t) / (2 * h), RotationError(a.R, b.R) / (2 * h);
   const Eigen::Matrix<double, 6, 1> propagated = sigma->diagonal().cwiseSqrt();
   EXPECT_LT((propagated - numeric.cwiseAbs()).cwiseAbs().maxCoeff(),
-            1e-6 * std::max(1.0, numeric.cwiseAbs().maxCoeff())) << name;
+            1e-6 * std::max(1.0, numeric.cwiseAbs().maxCoeff()))
+      << name;
 }
 
 TEST(CompensateSigma, PropagatesThroughExactDerivatives) {
@@ -503,8 +506,8 @@ TEST(CompensateRefuses, TargetsOutOfReachOrPastJointLimitsInWords) {
 TEST(CompensateRefuses, JointTargetsAreReachedAsTheNominalArmWouldReachThem) {
   // A joint target on an arm that is its nominal self needs no change, and says so.
   const auto ur3 = MemoryChain("ur3_vsb2020.yaml", {}, {});
-  const auto c = CompensateRow(ur3, "q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad",
-                               "0.3,3.2,-1.1,0.4,1.6,-0.7");
+  const auto c =
+      CompensateRow(ur3, "q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad", "0.3,3.2,-1.1,0.4,1.6,-0.7");
   ASSERT_FALSE(c.refused) << c.reason;
   const std::vector<double> expected = {0.3, 3.2, -1.1, 0.4, 1.6, -0.7};
   for (int j = 0; j < 6; ++j) EXPECT_NEAR(c.q_rad[j], expected[j], 1e-12);
@@ -518,10 +521,12 @@ TEST(CompensateCli, RefusedTargetsExitThreeAndAreListed) {
   const std::string dir = testing::TempDirForThisTest("compensate");
   testing::WriteText(dir + "/targets.csv",
                      "id,x_mm,y_mm,z_mm\n"
-                     "good," + DeltaRow(cell.chain, {0.4, 0.5, 0.6}) + "\n"
-                     "far,0,0,-1000\n");
-  const std::string args = "compensate " + cell.result_folder + " " + dir + "/targets.csv -o " +
-                           dir + "/commands.csv";
+                     "good," +
+                         DeltaRow(cell.chain, {0.4, 0.5, 0.6}) +
+                         "\n"
+                         "far,0,0,-1000\n");
+  const std::string args =
+      "compensate " + cell.result_folder + " " + dir + "/targets.csv -o " + dir + "/commands.csv";
   auto r = testing::RunCellmetry(args);
   EXPECT_EQ(r.exit_code, 3) << r.output;
   EXPECT_THAT(r.output, HasSubstr(dir + "/targets.csv:3: target 'far' refused: out of reach"));
@@ -546,9 +551,10 @@ TEST(CompensateTargets, RotationsAreRefusedForAnArmThatCannotTurnItsTool) {
   EXPECT_EQ(FormatLocation(e.where()), path + ":1: ");
   EXPECT_THAT(e.message(), HasSubstr("the robot has 3 joints: it cannot turn its tool at will"));
   // Six joints take them; a row may leave its rotation out, or be a joint target.
-  testing::WriteText(path, "x_mm,y_mm,z_mm,rx_rad,ry_rad,rz_rad,q1_rad,q2_rad,q3_rad,q4_rad,"
-                           "q5_rad,q6_rad\n1,2,3,0,0,0.1,,,,,,\n1,2,3,,,,,,,,,\n"
-                           ",,,,,,1,2,3,4,5,6\n");
+  testing::WriteText(path,
+                     "x_mm,y_mm,z_mm,rx_rad,ry_rad,rz_rad,q1_rad,q2_rad,q3_rad,q4_rad,"
+                     "q5_rad,q6_rad\n1,2,3,0,0,0.1,,,,,,\n1,2,3,,,,,,,,,\n"
+                     ",,,,,,1,2,3,4,5,6\n");
   const auto targets = ReadCompensationTargets(path, 6);
   ASSERT_EQ(targets.size(), 3u);
   EXPECT_EQ(targets[0].kind, CompensationTarget::Kind::kPose);

@@ -72,8 +72,7 @@ TEST(ConfigNode, TextWhereANumberIsExpectedNamesTheKeyPath) {
   EXPECT_EQ(as_int.where().column, 10);
   EXPECT_FALSE(as_int.hint().empty());
 
-  const InputError as_double =
-      CatchInputError([&] { root["validation"].GetDouble("sigma", 1.0); });
+  const InputError as_double = CatchInputError([&] { root["validation"].GetDouble("sigma", 1.0); });
   EXPECT_THAT(as_double.message(), HasSubstr("validation.sigma"));
   EXPECT_THAT(as_double.message(), HasSubstr("expected a number"));
   EXPECT_EQ(as_double.where().line, 3);
@@ -144,8 +143,8 @@ TEST(ConfigNode, YamlSyntaxErrorIsLocated) {
 
 TEST(ConfigNode, ResolvePathIsRelativeToTheFilesFolder) {
   std::string path;
-  const ConfigNode root = LoadText("resolve", "robots:\n  ur3:\n    model: ../robots/ur3_vsb2020.yaml\n",
-                                   &path);
+  const ConfigNode root =
+      LoadText("resolve", "robots:\n  ur3:\n    model: ../robots/ur3_vsb2020.yaml\n", &path);
   const std::string folder = std::filesystem::path(path).parent_path().string();
   const std::string parent = std::filesystem::path(folder).parent_path().string();
   const ConfigNode ur3 = root["robots"]["ur3"];

@@ -187,8 +187,8 @@ TEST(Delta, ConfigWithTwoArmsIsRejected) {
       "type: delta\narms:\n  - {R: 150, r: 40, L: 250, l: 600}\n  - {R: 150, r: 40, L: 250, l: "
       "600}\n",
       "delta.yaml");
-  const InputError e = testing::CatchInputError(
-      [&] { testing::Plugins().CreateRobotModel("delta", config); });
+  const InputError e =
+      testing::CatchInputError([&] { testing::Plugins().CreateRobotModel("delta", config); });
   EXPECT_THAT(e.what(), HasSubstr("a delta arm has 3 arms, this lists 2"));
 }
 

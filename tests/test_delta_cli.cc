@@ -30,14 +30,16 @@ class DeltaBadInput : public ::testing::Test {
                        "world_target: none\n"
                        "robots:\n"
                        "  delta:\n"
-                       "    model: " + robot_ + "\n"
-                       "    errors: {dimensions_mm: 1.0, homing_increments: 5}\n"
-                       "    tools: {marker: {measures: position}}\n"
-                       "    poses: {set: uniform_workspace, count: 40}\n"
-                       "cameras:\n"
-                       "  stereo: {xyz: [0, 250, -150], rvec: [3.0, 0, 0],\n"
-                       "           errors: {mm: 1.0, rad: 0.01}}\n"
-                       "noise: {position_mm: [0.013, 0.012, 0.058]}\n");
+                       "    model: " +
+                           robot_ +
+                           "\n"
+                           "    errors: {dimensions_mm: 1.0, homing_increments: 5}\n"
+                           "    tools: {marker: {measures: position}}\n"
+                           "    poses: {set: uniform_workspace, count: 40}\n"
+                           "cameras:\n"
+                           "  stereo: {xyz: [0, 250, -150], rvec: [3.0, 0, 0],\n"
+                           "           errors: {mm: 1.0, rad: 0.01}}\n"
+                           "noise: {position_mm: [0.013, 0.012, 0.058]}\n");
     const auto sim = testing::RunCellmetry("simulate " + dir_ + "/sim.yaml -o " + recording_);
     ASSERT_EQ(sim.exit_code, 0) << sim.output;
   }
@@ -45,13 +47,21 @@ class DeltaBadInput : public ::testing::Test {
   // The delta's calibration as the one pipeline's job: one robot, its model free, one camera.
   std::string CalibrationJob(const std::string& residual) const {
     return "job: workcell\n"
-           "recording: " + recording_ + "\n"
-           "output: " + output_ + "\n"
+           "recording: " +
+           recording_ +
+           "\n"
+           "output: " +
+           output_ +
+           "\n"
            "world_target: none\n"
            "robots:\n"
-           "  delta: {model: " + robot_ + ", free_model: [all], tools: {marker: {free: none}}}\n"
+           "  delta: {model: " +
+           robot_ +
+           ", free_model: [all], tools: {marker: {free: none}}}\n"
            "cameras: {stereo: {free: all}}\n"
-           "residual: " + residual + "\n"
+           "residual: " +
+           residual +
+           "\n"
            "validation: {folds: 0}\n"
            "solver: {type: ceres_lm}\n";
   }
@@ -100,17 +110,17 @@ TEST_F(DeltaBadInput, CommandWhereTheRodSpheresDoNotMeet) {
                   "250, l: 600, homing: 0}\n  - {R: 150, r: 40, L: 250, l: 600, homing: 0}",
                   "arms:\n  - {R: 150, r: 40, L: 250, l: 300}\n  - {R: 150, r: 40, L: 250, l: "
                   "300}\n  - {R: 150, r: 40, L: 250, l: 300}"));
-  ExpectRejected(Run("run", CalibrationJob("cartesian")), "samples.csv:2:",
-                 "the three rod spheres do not meet");
+  ExpectRejected(Run("run", CalibrationJob("cartesian")),
+                 "samples.csv:2:", "the three rod spheres do not meet");
 }
 
 TEST_F(DeltaBadInput, MeasuredPointOutOfReach) {
   // With the outlier test on the plain fit only, the point 5 m off reaches the joint-space
   // assembly, which names its line. (By default the robust first fit finds it first: below.)
   testing::EditLine(recording_ + "/observations.csv", 4, "2,stereo,marker,0,0,5000,,,");
-  ExpectRejected(Run("run", CalibrationJob("joint_space") + "outliers: plain\n"),
-                 "observations.csv:4:",
-                 "the measured point is out of the arm's reach: arm 1 cannot reach");
+  ExpectRejected(
+      Run("run", CalibrationJob("joint_space") + "outliers: plain\n"),
+      "observations.csv:4:", "the measured point is out of the arm's reach: arm 1 cannot reach");
 }
 
 TEST_F(DeltaBadInput, MeasuredPointOutOfReachIsAnOutlierByDefault) {
@@ -129,34 +139,44 @@ TEST_F(DeltaBadInput, FewerMeasuredValuesThanFreeParameters) {
 }
 
 TEST_F(DeltaBadInput, TheOldKinematicJobSaysHowToWriteItNow) {
-  ExpectRejected(Run("run", "job: kinematic\nrecording: " + recording_ + "\n"), "job.yaml:1:6:",
-                 "'job: kinematic' is now a workcell job");
+  ExpectRejected(Run("run", "job: kinematic\nrecording: " + recording_ + "\n"),
+                 "job.yaml:1:6:", "'job: kinematic' is now a workcell job");
 }
 
 TEST_F(DeltaBadInput, HomingWithTooFewPositions) {
   Truncate("samples.csv", 2);
   Truncate("observations.csv", 2);
-  const std::string job = "job: homing\n"
-                          "recording: " + recording_ + "\n"
-                          "output: " + output_ + "\n"
-                          "world_target: none\n"
-                          "robots: {delta: {model: " + robot_ + ", tools: {marker: }}}\n"
-                          "cameras: {stereo: {xyz: [0, 250, -150], rvec: [3.0, 0, 0]}}\n"
-                          "noise: {cameras: {stereo: {position_mm: [0.013, 0.012, 0.058]}}}\n";
-  ExpectRejected(Run("home", job), "samples.csv:",
-                 "homing needs at least 3 measured positions, the recording has 2");
+  const std::string job =
+      "job: homing\n"
+      "recording: " +
+      recording_ +
+      "\n"
+      "output: " +
+      output_ +
+      "\n"
+      "world_target: none\n"
+      "robots: {delta: {model: " +
+      robot_ +
+      ", tools: {marker: }}}\n"
+      "cameras: {stereo: {xyz: [0, 250, -150], rvec: [3.0, 0, 0]}}\n"
+      "noise: {cameras: {stereo: {position_mm: [0.013, 0.012, 0.058]}}}\n";
+  ExpectRejected(Run("home", job),
+                 "samples.csv:", "homing needs at least 3 measured positions, the recording has 2");
 }
 
 TEST_F(DeltaBadInput, CompareWritesTheTable) {
   testing::WriteText(dir_ + "/compare.yaml",
                      "compare: kinematic\n"
-                     "simulation: " + dir_ + "/sim.yaml\n"
-                     "pose_sets: [camera_view, boundaries]\n"
-                     "sizes: [24]\n"
-                     "formulations: [inverse, forward]\n"
-                     "solvers: {lm: {type: ceres_lm}}\n"
-                     "validation_points: 50\n"
-                     "output: " + output_ + "\n");
+                     "simulation: " +
+                         dir_ +
+                         "/sim.yaml\n"
+                         "pose_sets: [camera_view, boundaries]\n"
+                         "sizes: [24]\n"
+                         "formulations: [inverse, forward]\n"
+                         "solvers: {lm: {type: ceres_lm}}\n"
+                         "validation_points: 50\n"
+                         "output: " +
+                         output_ + "\n");
   const auto r = testing::RunCellmetry("compare " + dir_ + "/compare.yaml");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string csv = ReadText(output_ + "/table.csv");

@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/imaging/detection.h"
 #include "cellmetry/imaging/image_simulation.h"
-#include "cellmetry/cell/workcell_simulation.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -67,9 +67,8 @@ void RegisterCentroidDetector() {
     PluginInfo info;
     info.name = "test_centroid";
     info.description = "dark-blob centroid (tests only)";
-    testing::Plugins().AddDetector(info, [](const ConfigNode&) {
-      return std::make_unique<CentroidDetector>();
-    });
+    testing::Plugins().AddDetector(
+        info, [](const ConfigNode&) { return std::make_unique<CentroidDetector>(); });
     return true;
   }();
   (void)once;

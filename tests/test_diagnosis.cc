@@ -6,8 +6,8 @@
 
 #include <algorithm>
 
-#include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/experiments/concealed_physics.h"
 #include "support/test_support.h"
 
@@ -22,8 +22,8 @@ class Diagnosis : public ::testing::Test {
     dir_ = testing::TempDirForThisTest("diagnosis");
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-    sim =
-        testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+    sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                               testing::Source("configs/robots/ur3_vsb2020.yaml"));
     sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");  // quick, still wide
     testing::WriteText(dir_ + "/sim.yaml", sim);
     base_ = LoadWorkcellSimulation(dir_ + "/sim.yaml", testing::Plugins());
@@ -108,8 +108,8 @@ WorkcellSimulationSpec WithHidden(WorkcellSimulationSpec spec, const std::string
   const ConfigNode config = ConfigNode::LoadString(yaml, "test");
   SimulatedEffect e;
   e.name = "hidden";
-  e.effect = testing::Plugins().CreateEffect(config["type"].AsString(), config,
-                                             *spec.robots[0].model);
+  e.effect =
+      testing::Plugins().CreateEffect(config["type"].AsString(), config, *spec.robots[0].model);
   e.values = std::move(values);
   const bool measurement = e.effect->stage() == EffectStage::kMeasurement;
   (measurement ? spec.measurement_effects : spec.robots[0].effects).push_back(e);
@@ -129,8 +129,8 @@ TEST_F(Diagnosis, PrintedBoardSizeIsNamedAsTheTarget) {
 // A joint 3 transmission error ten times what a harmonic drive has: the finder may see its
 // signature but must not name a transmission error of that size (the 2020 recording's 22 mrad).
 TEST_F(Diagnosis, ImplausibleSizeIsNeverReportedAsThatPhysics) {
-  const WorkcellSimulationSpec spec = WithHidden(
-      base_, "{type: transmission_error, joints: [3], harmonics: [1]}", {0.02, 0.0});
+  const WorkcellSimulationSpec spec =
+      WithHidden(base_, "{type: transmission_error, joints: [3], harmonics: [1]}", {0.02, 0.0});
   const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
   for (const auto& a : d.accepted) {
     EXPECT_EQ(a.name.find("transmission_j3"), std::string::npos) << DiagnosisReport(d);
@@ -204,8 +204,8 @@ class DeltaDiagnosis : public ::testing::Test {
     SimulatedEffect e;
     const ConfigNode config = ConfigNode::LoadString(yaml, "test");
     e.name = "delta.hidden";
-    e.effect = testing::Plugins().CreateEffect(config["type"].AsString(), config,
-                                               *spec_.robots[0].model);
+    e.effect =
+        testing::Plugins().CreateEffect(config["type"].AsString(), config, *spec_.robots[0].model);
     e.values = {value};
     spec_.robots[0].effects.push_back(e);
     return testing::Diagnose(job_, SimulateWorkcell(spec_, nullptr), dir_ + "/job.yaml");

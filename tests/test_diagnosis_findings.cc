@@ -10,10 +10,10 @@
 
 #include <algorithm>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <regex>
 #include <stdexcept>
-#include <nlohmann/json.hpp>
 
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
@@ -165,9 +165,10 @@ TEST(PhysicalFindings, TheReportLeadsWithTheStrongestFitRuledOutByItsSize) {
   round.candidates = {tilt, thermal};
   r.rounds = {round};
   const std::string report = DiagnosisReport(r);
-  const std::string lead = "Strongest fit: thermal growth of the arm (likelihood ratio 900), "
-                           "ruled out by its size: expansion = 0.00018 1/degC, where this "
-                           "physics is typically below 5e-05.";
+  const std::string lead =
+      "Strongest fit: thermal growth of the arm (likelihood ratio 900), "
+      "ruled out by its size: expansion = 0.00018 1/degC, where this "
+      "physics is typically below 5e-05.";
   ASSERT_THAT(report, HasSubstr(lead));
   EXPECT_LT(report.find(lead), report.find("Closest candidate: cam1 depth error"));
 }
@@ -226,7 +227,8 @@ WorkcellSimulationSpec SuiteCell(const std::string& dir, unsigned seed,
                                  std::optional<int> poses = std::nullopt,
                                  Cameras cameras = Cameras::kAsConfigured) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   if (poses) {
     const std::regex count("random: [0-9]+");
     if (!std::regex_search(sim, count)) {
@@ -289,7 +291,8 @@ TEST(PhysicalFindings, GroupCandidatesOverlapWhatTheyContainAndNothingElse) {
   const size_t singles = JobCandidates(job, recording, testing::Plugins()).size();
   job.options.group_candidates = true;
   std::map<std::string, CandidateEffect> by_name;
-  for (const auto& c : JobCandidates(job, recording, testing::Plugins())) by_name[c.effect.name] = c;
+  for (const auto& c : JobCandidates(job, recording, testing::Plugins()))
+    by_name[c.effect.name] = c;
   EXPECT_EQ(by_name.size(), singles + 5);  // three camera forms, two target forms
   const CandidateEffect& every = by_name.at("camera.principal_every_camera");
   EXPECT_EQ(every.group_name(), "camera.calibration_every_camera");
@@ -343,8 +346,8 @@ void Hide(const std::string& yaml, double value, WorkcellSimulationSpec* spec) {
   const ConfigNode config = ConfigNode::LoadString(yaml, "test");
   SimulatedEffect e;
   e.name = "ur3." + config["type"].AsString();
-  e.effect = testing::Plugins().CreateEffect(config["type"].AsString(), config,
-                                             *spec->robots[0].model);
+  e.effect =
+      testing::Plugins().CreateEffect(config["type"].AsString(), config, *spec->robots[0].model);
   e.values = {value};
   spec->robots[0].effects.push_back(e);
 }
@@ -358,9 +361,10 @@ TEST(PhysicalFindings, AStiffeningComplianceWithSpreadMassesIsOneFindingAtJoint3
   // physics_suite.yaml's "richer: joint 3 compliance, distributed masses, stiffening" at full
   // strength (its SNR-6 size is 2.4e-5): the library's linear compliance then leaves a misfit
   // of a few percent, beyond the noise.
-  ConcealedPhysics physics = ReadConcealedPhysics(ConfigNode::LoadString(
-      "{kind: distributed_compliance, robot: ur3, joint: 3, "
-      "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}", "test"));
+  ConcealedPhysics physics = ReadConcealedPhysics(
+      ConfigNode::LoadString("{kind: distributed_compliance, robot: ur3, joint: 3, "
+                             "link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]}",
+                             "test"));
   physics.magnitude = 5.5e-4;
   spec.concealed.push_back(std::make_shared<ConcealedPhysics>(physics));
   const DiagnosisJob job = testing::Ur3DiagnoseJob(dir);
@@ -369,9 +373,8 @@ TEST(PhysicalFindings, AStiffeningComplianceWithSpreadMassesIsOneFindingAtJoint3
   const std::string report = DiagnosisReport(d);
 
   // The fit took more than one effect at joint 3 (else this test would test nothing) ...
-  const auto at_joint3 = std::count_if(d.accepted.begin(), d.accepted.end(), [](const auto& a) {
-    return a.site == "ur3 joint 3";
-  });
+  const auto at_joint3 = std::count_if(d.accepted.begin(), d.accepted.end(),
+                                       [](const auto& a) { return a.site == "ur3 joint 3"; });
   ASSERT_GE(at_joint3, 2) << report;
   // ... and reports one finding there, headed by the compliance, the rest as its shape.
   const auto joint3 = std::find_if(d.findings.begin(), d.findings.end(),
@@ -422,7 +425,7 @@ TEST(PhysicalFindings, ABacklashBesideAComplianceIsSeparatePhysics) {
   ASSERT_EQ(f.separate.size(), 1u) << report;
   const AcceptedEffect& backlash = d.accepted[f.separate[0]];
   EXPECT_EQ(backlash.name, "ur3.backlash_j3");
-  EXPECT_LT(backlash.group_share, 0.1);  // not material by its share alone ...
+  EXPECT_LT(backlash.group_share, 0.1);           // not material by its share alone ...
   EXPECT_LT(backlash.headline_correlation, 0.5);  // ... but unlike the compliance
   EXPECT_THAT(report, HasSubstr("Also at ur3 joint 3, separate physics: joint 3 backlash"));
 }
@@ -433,8 +436,8 @@ TEST(PhysicalFindings, ABacklashBesideAComplianceIsSeparatePhysics) {
 TEST(PhysicalFindings, ARicherLensIsNamedAsItsCamerasCalibration) {
   const std::string dir = testing::TempDirForThisTest("findings_lens");
   WorkcellSimulationSpec spec = SuiteCell(dir, 1);
-  ConcealedPhysics lens = ReadConcealedPhysics(
-      ConfigNode::LoadString("{kind: lens_distortion, camera: cam2}", "test"));
+  ConcealedPhysics lens =
+      ReadConcealedPhysics(ConfigNode::LoadString("{kind: lens_distortion, camera: cam2}", "test"));
   // 2.2 chi-square/dof (physics_suite.yaml's SNR-6 case: 1.6e-4): a real field of view sees a
   // lens only to 43 deg off axis, where an ideal camera saw boards at 78 deg and needed 5e-5.
   lens.magnitude = 1.7e-3;
@@ -447,8 +450,8 @@ TEST(PhysicalFindings, ARicherLensIsNamedAsItsCamerasCalibration) {
   const AcceptedEffect& first = d.accepted.front();
   EXPECT_EQ(first.site, "camera cam2") << report;
   EXPECT_EQ(first.group, "camera.calibration_cam2") << report;
-  EXPECT_THAT(report, HasSubstr("Left out: cam2 calibration, best described as " +
-                                first.description));
+  EXPECT_THAT(report,
+              HasSubstr("Left out: cam2 calibration, best described as " + first.description));
   // A further form of the same camera's calibration is part of that cause, not separate physics.
   for (const AcceptedEffect& a : d.accepted) {
     if (&a == &first || a.group != first.group) continue;

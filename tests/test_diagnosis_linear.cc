@@ -61,8 +61,8 @@ TEST_F(DiagnosisLinear, OneLinearizationGivesEachCandidatesOwnColumns) {
   ASSERT_GT(candidates_.size(), 30u);
   const CandidateLinearization base =
       LinearizeWithCandidate(spec_, recording_, *data_, noise_, estimate_, false);
-  const std::vector<Eigen::MatrixXd> columns = CandidateColumns(
-      spec_, candidates_, recording_, *data_, noise_, estimate_, base.r.size());
+  const std::vector<Eigen::MatrixXd> columns =
+      CandidateColumns(spec_, candidates_, recording_, *data_, noise_, estimate_, base.r.size());
   ASSERT_EQ(columns.size(), candidates_.size());
   int acting = 0;
   for (size_t k = 0; k < candidates_.size(); ++k) {
@@ -103,8 +103,7 @@ TEST_F(DiagnosisLinear, SomeBlocksColumnsAreThoseOfTheFullJacobian) {
   const Eigen::MatrixXd dense_full(full), dense_some(some);
   for (size_t c = 0; c < columns.size(); ++c) {
     const double scale = dense_full.col(columns[c]).cwiseAbs().maxCoeff();
-    EXPECT_LE((dense_some.col(c) - dense_full.col(columns[c])).cwiseAbs().maxCoeff(),
-              1e-14 * scale)
+    EXPECT_LE((dense_some.col(c) - dense_full.col(columns[c])).cwiseAbs().maxCoeff(), 1e-14 * scale)
         << problem.free_parameters()[columns[c]].name;
   }
 }
@@ -112,8 +111,8 @@ TEST_F(DiagnosisLinear, SomeBlocksColumnsAreThoseOfTheFullJacobian) {
 TEST_F(DiagnosisLinear, CompressedBootstrapIncludesWhatTheRowsInclude) {
   const CandidateLinearization base =
       LinearizeWithCandidate(spec_, recording_, *data_, noise_, estimate_, false);
-  const std::vector<Eigen::MatrixXd> columns = CandidateColumns(
-      spec_, candidates_, recording_, *data_, noise_, estimate_, base.r.size());
+  const std::vector<Eigen::MatrixXd> columns =
+      CandidateColumns(spec_, candidates_, recording_, *data_, noise_, estimate_, base.r.size());
   std::vector<Eigen::MatrixXd> acting;  // the testable ones: those that act on these poses
   for (const auto& J : columns) {
     if (J.norm() > 0.0) acting.push_back(J);

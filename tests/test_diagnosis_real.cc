@@ -22,9 +22,8 @@ namespace {
 
 // Whether an accepted effect has this name, or belongs to this group.
 bool Accepted(const DiagnosisResult& d, const std::string& name) {
-  return std::any_of(d.accepted.begin(), d.accepted.end(), [&](const AcceptedEffect& a) {
-    return a.name == name || a.group == name;
-  });
+  return std::any_of(d.accepted.begin(), d.accepted.end(),
+                     [&](const AcceptedEffect& a) { return a.name == name || a.group == name; });
 }
 
 const FrameEstimate& Base(const DiagnosisResult& d) {
@@ -41,8 +40,8 @@ DiagnosisResult DiagnoseExpA(const std::set<std::string>& unused) {
       LoadDiagnosisJob(testing::Source("configs/jobs/vsb_exp_a_diagnose.yaml"), testing::Plugins());
   for (const std::string& camera : unused) job.workcell.problem.cameras[camera].use = false;
   job.workcell.problem.leave_one_camera_out = false;
-  const Recording recording = WithoutCameras(ReadRecording(job.workcell.recording),
-                                             UnusedCameras(job.workcell.problem));
+  const Recording recording =
+      WithoutCameras(ReadRecording(job.workcell.recording), UnusedCameras(job.workcell.problem));
   return testing::Diagnose(job, recording, "vsb_exp_a_diagnose.yaml");
 }
 
@@ -68,8 +67,8 @@ TEST(DiagnosisOnRealData, ExperimentAsSingleCamerasPlaceTheBaseWithinThreeSigma)
     const FrameEstimate& base = Base(DiagnoseExpA(unused));
     for (int i = 0; i < 3; ++i) {
       EXPECT_LT(std::abs(base.pose.t[i] - kPlacement[i]), 3 * base.sigma_mm[i])
-          << kept << " alone: base " << "xyz"[i] << " = " << base.pose.t[i] << " +- "
-          << base.sigma_mm[i];
+          << kept << " alone: base "
+          << "xyz"[i] << " = " << base.pose.t[i] << " +- " << base.sigma_mm[i];
     }
   }
 }

@@ -34,8 +34,7 @@ class DiagnosisResume : public ::testing::Test {
   nlohmann::json Diagnose(Checkpoint* checkpoint) {
     const DiagnosisResult d = DiagnoseWorkcell(
         job_.workcell.problem, recording_, testing::JobSolver(job_.workcell),
-        JobCandidates(job_, recording_, testing::Plugins()), job_.options, "job.yaml",
-        checkpoint);
+        JobCandidates(job_, recording_, testing::Plugins()), job_.options, "job.yaml", checkpoint);
     return DiagnosisJson(d);
   }
 
@@ -109,8 +108,8 @@ TEST_F(DiagnosisResume, ARoundKeptForOtherInputsIsNeverReadBack) {
 TEST(DiagnoseCommand, LeavesNoCheckpointBehindOnceItsOutputIsWritten) {
   const std::string dir = testing::TempDirForThisTest("diagnose_command");
   const testing::CommandResult run = testing::RunCellmetry(
-      "--quiet diagnose " + testing::Source("configs/jobs/vsb_sim_b_diagnose.yaml") + " -o " +
-      dir + "/diagnosis");
+      "--quiet diagnose " + testing::Source("configs/jobs/vsb_sim_b_diagnose.yaml") + " -o " + dir +
+      "/diagnosis");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_TRUE(std::filesystem::exists(dir + "/diagnosis/diagnosis.json"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/diagnosis.partial.json"));

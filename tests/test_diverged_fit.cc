@@ -29,8 +29,8 @@ class DivergingSolver : public Solver {
 };
 
 TEST(DivergedFit, IsAnErrorNamingTheParameterNotAResult) {
-  WorkcellJob job = LoadWorkcellJob(testing::Source("configs/jobs/vsb_sim_b.yaml"),
-                                    testing::Plugins());
+  WorkcellJob job =
+      LoadWorkcellJob(testing::Source("configs/jobs/vsb_sim_b.yaml"), testing::Plugins());
   job.problem.folds = 0;
   const Recording recording = ReadRecording(job.recording);
   try {

@@ -29,8 +29,8 @@ struct QuotedCommand {
 
 const std::vector<std::string>& KindsInOrder() {
   static const std::vector<std::string> kinds = {
-      "simulate", "import",  "calibrate-camera", "detect",     "run",     "home",   "diagnose",
-      "plan",     "evaluate", "export",          "compensate", "compare", "plugins"};
+      "simulate", "import",   "calibrate-camera", "detect",     "run",     "home",   "diagnose",
+      "plan",     "evaluate", "export",           "compensate", "compare", "plugins"};
   return kinds;
 }
 
@@ -98,8 +98,8 @@ std::vector<QuotedCommand> QuotedIn(const fs::path& file, const std::string& rel
     for (std::sregex_iterator m(lines[i].begin(), lines[i].end(), start), end; m != end; ++m) {
       const size_t at = m->position(0) + m->length(1) + std::string("cellmetry ").size();
       const bool in_code_span = m->str(1) == "`";
-      QuotedCommand c{relative + ":" + std::to_string(i + 1),
-                      CommandAt(lines, i, at, in_code_span), m->str(4)};
+      QuotedCommand c{relative + ":" + std::to_string(i + 1), CommandAt(lines, i, at, in_code_span),
+                      m->str(4)};
       std::string normal;  // one space between words, as a shell reads it
       for (const auto& t : Tokens(c.text)) normal += (normal.empty() ? "" : " ") + t;
       c.text = normal;
@@ -158,9 +158,10 @@ TEST(DocumentedCommands, QuotedCommandsAreFoundWhole) {
                        [&](const auto& entry) { return entry.first.rfind(prefix, 0) == 0; });
   };
   EXPECT_TRUE(has("run configs/jobs/vsb_exp_a.yaml"));
-  EXPECT_TRUE(has("compensate results/staubli_tx90l_diagnose/diagnosis/final_fit/held_out_setup "
-                  "results/staubli_tx90l_diagnose/diagnosis/final_fit/held_out_setup/"
-                  "targets_tmac.csv -o results/tx90l_commands.csv"));
+  EXPECT_TRUE(
+      has("compensate results/staubli_tx90l_diagnose/diagnosis/final_fit/held_out_setup "
+          "results/staubli_tx90l_diagnose/diagnosis/final_fit/held_out_setup/"
+          "targets_tmac.csv -o results/tx90l_commands.csv"));
   EXPECT_TRUE(has("plan configs/jobs/staubli_tx90l_diagnose.yaml -n 20 --effect"));
   EXPECT_TRUE(has("simulate configs/simulations/ur3_eye_to_hand.yaml -o results/ur3_eye_to_hand"));
   for (const auto& [text, where] : by_text) {
@@ -183,16 +184,15 @@ TEST(DocumentedCommands, EveryQuotedCommandWorksAsQuoted) {
   std::string not_run;
   for (const QuotedCommand& c : commands) {
     const bool reads_unwritten = std::any_of(
-        would_write.begin(), would_write.end(), [&](const std::string& folder) {
-          return c.text.find(" " + folder) != std::string::npos;
-        });
+        would_write.begin(), would_write.end(),
+        [&](const std::string& folder) { return c.text.find(" " + folder) != std::string::npos; });
     if (reads_unwritten) {
       not_run += "\n  " + c.where + ": cellmetry " + c.text;
       continue;
     }
     const bool check = IsLong(c.kind);
-    const auto r = Shell(root, std::string(CELLMETRY_BINARY) + " --quiet" +
-                                   (check ? " --check " : " ") + c.text);
+    const auto r = Shell(
+        root, std::string(CELLMETRY_BINARY) + " --quiet" + (check ? " --check " : " ") + c.text);
     EXPECT_EQ(r.exit_code, 0) << c.where << ": cellmetry " << c.text << "\n" << r.output;
     const size_t at = r.output.find("would write ");
     if (check && at != std::string::npos) {
@@ -203,9 +203,10 @@ TEST(DocumentedCommands, EveryQuotedCommandWorksAsQuoted) {
     }
     (check ? checked : ran) += 1;
   }
-  std::printf("%d commands run, %d checked (--check), not run (they read what a checked command "
-              "would write):%s\n",
-              ran, checked, not_run.empty() ? " none" : not_run.c_str());
+  std::printf(
+      "%d commands run, %d checked (--check), not run (they read what a checked command "
+      "would write):%s\n",
+      ran, checked, not_run.empty() ? " none" : not_run.c_str());
 }
 
 }  // namespace

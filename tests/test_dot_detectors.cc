@@ -13,8 +13,8 @@
 #include <iostream>
 #include <random>
 
-#include "cellmetry/model/camera.h"
 #include "cellmetry/imaging/render.h"
+#include "cellmetry/model/camera.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

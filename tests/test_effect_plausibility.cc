@@ -21,11 +21,11 @@ namespace {
 // before the robots, written to `dir`/job.yaml and identified.
 WorkcellResult FitUr3(const std::string& dir, const std::string& robot_lines,
                       const std::string& job_lines = "") {
-  const std::string job = "job: workcell\nrecording: " + dir + "/rec\n" + job_lines +
-                          "robots:\n  ur3:\n    model: " +
-                          testing::Source("configs/robots/ur3_vsb2020.yaml") +
-                          "\n    base: {free: all}\n" + robot_lines + testing::kTwoCameraNoiseYaml +
-                          "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
+  const std::string job =
+      "job: workcell\nrecording: " + dir + "/rec\n" + job_lines +
+      "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
+      "\n    base: {free: all}\n" + robot_lines + testing::kTwoCameraNoiseYaml +
+      "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";
   testing::WriteText(dir + "/job.yaml", job);
   return testing::Identify(LoadWorkcellJob(dir + "/job.yaml", testing::Plugins()),
                            ReadRecording(dir + "/rec"));
@@ -43,7 +43,8 @@ WorkcellResult FitScaledBoard(const std::string& dir, double scale) {
 // compliance of `compliance` hidden, fitted with joint 3 compliance free.
 WorkcellResult FitJoint3Compliance(const std::string& dir, double compliance) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
   testing::ConcealJoint3Compliance(&spec, compliance);
@@ -97,8 +98,8 @@ TEST(GroupedPlausibility, CamerasPrincipalPointsJudgedAsTheirSharedShiftAndEachO
   const auto effect = testing::Plugins().CreateEffect("camera_intrinsics", three, *ur3);
   const std::vector<Parameter>& parameters = effect->parameters();
   ASSERT_EQ(parameters.size(), 6u);
-  EXPECT_TRUE(JudgePlausibility(parameters, {0.0012, -0.0127, 0.0144, -0.0301, -0.0175, -0.0141})
-                  .empty());
+  EXPECT_TRUE(
+      JudgePlausibility(parameters, {0.0012, -0.0127, 0.0144, -0.0301, -0.0175, -0.0141}).empty());
   const auto shared = JudgePlausibility(parameters, {0.0, -0.07, 0.0, -0.06, 0.0, -0.065});
   ASSERT_EQ(shared.size(), 1u);
   EXPECT_EQ(shared[0].part, PlausibilityFinding::Part::kCommon);

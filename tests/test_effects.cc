@@ -6,10 +6,10 @@
 
 #include <random>
 
-#include "cellmetry/model/effect_context.h"
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/model/effect_context.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -196,8 +196,8 @@ TEST(CameraEffects, FocalLengthScalesDepthAloneAndKeepsTheRay) {
 }
 
 TEST(CameraEffects, PrincipalPointTurnsTheRayAndTheMeasuredRotation) {
-  const auto v = Measured("{type: camera_intrinsics, cameras: [cam2], terms: [principal]}",
-                          {0.01, -0.005});
+  const auto v =
+      Measured("{type: camera_intrinsics, cameras: [cam2], terms: [principal]}", {0.01, -0.005});
   EXPECT_NEAR(v[0] / v[2], 120.0 / 650.0 - 0.01, 1e-12);
   EXPECT_NEAR(v[1] / v[2], -80.0 / 650.0 + 0.005, 1e-12);
   EXPECT_NEAR(v[2], 650.0, 1e-12);
@@ -246,7 +246,9 @@ class TwoJoints : public RobotModelFromTemplate<TwoJoints> {
   int num_joints() const override { return 2; }
   const std::vector<Parameter>& parameters() const override { return params_; }
   template <typename T>
-  bool ForwardT(const double*, const T*, Transform<T>*) const { return false; }  // no pose
+  bool ForwardT(const double*, const T*, Transform<T>*) const {
+    return false;
+  }  // no pose
 
  private:
   std::vector<Parameter> params_;
@@ -263,9 +265,9 @@ TEST(EffectContext, ApproachDirectionFollowsCaptureOrderAndSurvivesRepeats) {
   }
   const TwoJoints model;
   const auto facts = GatherSampleFacts(recording, "arm", model, {});
-  EXPECT_EQ(facts[0].approach, (std::vector<int>{0, 0}));   // nothing moved yet
+  EXPECT_EQ(facts[0].approach, (std::vector<int>{0, 0}));  // nothing moved yet
   EXPECT_EQ(facts[1].approach, (std::vector<int>{1, 0}));
-  EXPECT_EQ(facts[2].approach, (std::vector<int>{1, 0}));   // a repeat keeps its direction
+  EXPECT_EQ(facts[2].approach, (std::vector<int>{1, 0}));  // a repeat keeps its direction
   EXPECT_EQ(facts[3].approach, (std::vector<int>{-1, 1}));
   EXPECT_EQ(MissingFacts({.approach = true}, facts), "");  // joint 1 went up, then down
   const std::vector<SampleFacts> one_way(facts.begin(), facts.begin() + 3);
@@ -297,13 +299,13 @@ TEST(Effects, ComplianceFollowsThePayload) {
 TEST(Effects, BacklashHeldByGravityFollowsTheTorqueNotTheMove) {
   const auto ur3 = Ur3();
   ContextFixture fixture(*ur3);
-  const auto gravity = MakeEffect("{type: backlash, joints: [2], held_by: gravity, hold_nm: 0.01}",
-                                  *ur3);
+  const auto gravity =
+      MakeEffect("{type: backlash, joints: [2], held_by: gravity, hold_nm: 0.01}", *ur3);
   const auto approach = MakeEffect("{type: backlash, joints: [2]}", *ur3);
   const std::vector<double> b = {4e-3};
-  const std::vector<double> torque = GravityTorques(fixture.frames, std::vector<double>(6, 1.0),
-                                                    fixture.context.payload_kg,
-                                                    fixture.context.gravity_base);
+  const std::vector<double> torque =
+      GravityTorques(fixture.frames, std::vector<double>(6, 1.0), fixture.context.payload_kg,
+                     fixture.context.gravity_base);
   ASSERT_GT(std::abs(torque[1]), 1.0);  // N m, a hundred times the hold
   const double held = Values(*gravity, fixture.context, b)[1];
   EXPECT_NEAR(held, 0.5 * b[0] * (torque[1] > 0 ? 1.0 : -1.0), 1e-12);
@@ -320,7 +322,8 @@ TEST(Effects, BacklashHeldByGravityFollowsTheTorqueNotTheMove) {
 TEST(EffectsInWorkcell, SimulatedPayloadsCycleOverThePoses) {
   const std::string dir = testing::TempDirForThisTest("payloads");
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "payloads_kg: [0, 1.0]", "payloads_kg: [0, 1.0, 2.5]");
   testing::WriteText(dir + "/sim.yaml", sim);
   const Recording recording =
@@ -418,8 +421,8 @@ TEST(DeltaEffects, SymmetricArmsTwistAndLowerThePlatformAboutTheVertical) {
   values = FlangeValues();
   const std::vector<double> play = {0.1, 0.1, 0.1};
   clearance->Apply(symmetric.context, play.data(), values.data());
-  const Eigen::Vector3d moved = Eigen::Vector3d(values[0], values[1], values[2]) -
-                                Eigen::Vector3d(20.0, -35.0, -610.0);
+  const Eigen::Vector3d moved =
+      Eigen::Vector3d(values[0], values[1], values[2]) - Eigen::Vector3d(20.0, -35.0, -610.0);
   EXPECT_LT(moved.z(), 0.0);  // the platform sinks
   EXPECT_NEAR(moved.head<2>().norm(), 0.0, 1e-12);
   // The tensions' shares of the weight add up to it along the vertical.
@@ -448,8 +451,8 @@ TEST(DeltaEffects, ComplianceTorqueIsTheFlangeLoadsVirtualWork) {
     const double dz_m_per_rad = 1e-3 * (up.t.z() - down.t.z()) / 2e-5;
     EXPECT_NEAR(torque[j], -0.8 * 9.81 * dz_m_per_rad, 1e-6) << "motor " << j + 1;
   }
-  const auto compliance = MakeEffect("{type: joint_compliance, link_masses_kg: [0.1, 0.1, 0.1]}",
-                                     *delta);
+  const auto compliance =
+      MakeEffect("{type: joint_compliance, link_masses_kg: [0.1, 0.1, 0.1]}", *delta);
   std::vector<double> dq(3, 0.0);
   const std::vector<double> c = {1e-3, 2e-3, 3e-3};
   compliance->Apply(fixture.context, c.data(), dq.data());
@@ -474,7 +477,8 @@ void ExpectRecovered(const std::string& robot_effects, const std::string& camera
                      const std::string& job_effects, const std::string& job_camera_effects) {
   const std::string dir = testing::TempDirForThisTest("effects");
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
                              testing::Source("tests/data/vsb/sim_b"));
   sim = testing::ReplaceOnce(sim, "    poses:", "    effects: " + robot_effects + "\n    poses:");
@@ -485,10 +489,13 @@ void ExpectRecovered(const std::string& robot_effects, const std::string& camera
   const Recording recording = SimulateWorkcell(spec, &truth);
   WriteRecording(recording, dir + "/rec", TruthYaml(truth));
 
-  std::string job = "job: workcell\nrecording: " + dir + "/rec\nuse_tool_rotation: true\n"
-                    "robots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
+  std::string job = "job: workcell\nrecording: " + dir +
+                    "/rec\nuse_tool_rotation: true\n"
+                    "robots:\n  ur3:\n    model: " +
+                    testing::Source("configs/robots/ur3_vsb2020.yaml") +
                     "\n    base: {free: all}\n    tools:\n      tool: {free: all}\n"
-                    "    effects: " + job_effects + "\n";
+                    "    effects: " +
+                    job_effects + "\n";
   if (!job_camera_effects.empty()) job += "effects: " + job_camera_effects + "\n";
   job += std::string(testing::kTwoCameraNoiseYaml) +
          "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n";

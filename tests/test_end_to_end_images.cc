@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "cellmetry/formats/recording.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/formats/recording.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -28,9 +28,9 @@ TEST(EndToEndFromImages, DeltaArmThroughDetectAndRunLandsWithinThreeSigma) {
     return r;
   };
   run("simulate " + testing::Source("configs/simulations/delta_images.yaml") + " -o " + rec);
-  const std::string detect = testing::ReplaceOnce(
-      testing::ReadText(testing::Source("configs/jobs/delta_detect.yaml")),
-      "recording: ../../results/delta_images", "recording: " + rec);
+  const std::string detect =
+      testing::ReplaceOnce(testing::ReadText(testing::Source("configs/jobs/delta_detect.yaml")),
+                           "recording: ../../results/delta_images", "recording: " + rec);
   testing::WriteText(dir + "/detect.yaml",
                      testing::ReplaceOnce(detect, "../cameras/oakd_like.yaml",
                                           testing::Source("configs/cameras/oakd_like.yaml")));
@@ -78,8 +78,8 @@ TEST(EndToEndFromImages, Ur3WithAprilTagCubeThroughDetectAndRunLandsWithinThreeS
   const std::string camera = testing::Source("configs/cameras/ceiling_1280x720.yaml");
   std::string spec =
       testing::ReadText(testing::Source("configs/simulations/ur3_apriltag_images.yaml"));
-  spec =
-      testing::ReplaceOnce(spec, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  spec = testing::ReplaceOnce(spec, "../robots/ur3_vsb2020.yaml",
+                              testing::Source("configs/robots/ur3_vsb2020.yaml"));
   spec = testing::ReplaceOnce(spec, "../../tests/data/vsb/sim_b",
                               testing::Source("tests/data/vsb/sim_b"));
   spec = testing::ReplaceOnce(spec, "every: 2", "every: 4");  // 63 poses: enough, and quick
@@ -114,8 +114,8 @@ TEST(EndToEndFromImages, Ur3WithAprilTagCubeThroughDetectAndRunLandsWithinThreeS
       EvaluateWorkcell(result, ReadTruth(rec + "/truth.yaml"), rec + "/truth.yaml");
   int checked = 0;
   for (const auto& q : evaluation.quantities) {
-    EXPECT_LT(std::abs(q.normalized()), 3.0) << q.name << " error " << q.error << " " << q.unit
-                                            << ", sigma " << q.sigma;
+    EXPECT_LT(std::abs(q.normalized()), 3.0)
+        << q.name << " error " << q.error << " " << q.unit << ", sigma " << q.sigma;
     if (q.name.rfind("tool.", 0) == 0) {
       EXPECT_LT(std::abs(q.error), q.unit == "mm" ? 0.5 : 1.5e-3) << q.name;  // and useful
     }

@@ -4,17 +4,18 @@
 
 #include <random>
 
-#include "cellmetry/estimation/robust_covariance.h"
-#include "cellmetry/formats/config_node.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/estimation/robust_covariance.h"
+#include "cellmetry/formats/config_node.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
 namespace {
 
 TEST(Identifiability, TiedParametersAreNamedAndHeld) {
-  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  const ConfigNode config =
+      ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
   std::shared_ptr<const RobotModel> model =
       testing::Plugins().CreateRobotModel("serial_mdh", config);
   WorkcellSimulationSpec sim;
@@ -47,9 +48,8 @@ TEST(Identifiability, TiedParametersAreNamedAndHeld) {
   problem.robots.push_back(job);
   problem.folds = 0;
   const ConfigNode solver = ConfigNode::LoadString("type: ceres_lm", "solver");
-  const WorkcellResult result = IdentifyWorkcell(problem, recording, [&] {
-    return testing::Plugins().CreateSolver("ceres_lm", solver);
-  });
+  const WorkcellResult result = IdentifyWorkcell(
+      problem, recording, [&] { return testing::Plugins().CreateSolver("ceres_lm", solver); });
   std::set<std::string> held;
   for (const auto& u : result.unidentifiable) held.insert(u.name);
   EXPECT_TRUE(held.count("tool.rx")) << "a rotation of a point target is invisible";
@@ -71,9 +71,8 @@ namespace {
 
 // The jackknife spread of leave-one-out estimates, and a systematic part only beyond chance.
 TEST(RobustCovariance, JackknifeClaimsASystematicPartOnlyBeyondChance) {
-  const std::vector<Eigen::VectorXd> values = {Eigen::Vector2d(1.0, 0.01),
-                                               Eigen::Vector2d(-1.0, -0.01),
-                                               Eigen::Vector2d(0.0, 0.0)};
+  const std::vector<Eigen::VectorXd> values = {
+      Eigen::Vector2d(1.0, 0.01), Eigen::Vector2d(-1.0, -0.01), Eigen::Vector2d(0.0, 0.0)};
   const Jackknife jack = JackknifeSpread(values);
   EXPECT_NEAR(jack.variance[0], 2.0 / 3.0 * 2.0, 1e-12);  // (n-1)/n sum of squares
   EXPECT_EQ(jack.groups[0], 3);
@@ -81,7 +80,7 @@ TEST(RobustCovariance, JackknifeClaimsASystematicPartOnlyBeyondChance) {
   u.sigma = Eigen::Vector2d(0.1, 0.1);
   CombineUncertainty(Eigen::MatrixXd(), jack, &u);
   EXPECT_NEAR(u.sigma_systematic[0], std::sqrt(4.0 / 3.0 - 0.01), 1e-12);  // far beyond chance
-  EXPECT_EQ(u.sigma_systematic[1], 0.0);                                 // within chance
+  EXPECT_EQ(u.sigma_systematic[1], 0.0);                                   // within chance
   EXPECT_NEAR(u.sigma[1], 0.1, 1e-12);
 }
 

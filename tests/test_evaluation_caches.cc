@@ -53,8 +53,8 @@ TEST(FrameCache, SameBitsAsComputingWhateverCameBefore) {
     const Pose fresh = FrameFromBlock(blocks[b].data(), refs[r]);
     ASSERT_TRUE(SameBits(got.T.R, fresh.R) && SameBits(got.T.t, fresh.t)) << "step " << step;
     if (with_jacobian) {
-      const Eigen::Matrix3d J = LeftJacobian(Eigen::Vector3d(blocks[b][3], blocks[b][4],
-                                                             blocks[b][5]));
+      const Eigen::Matrix3d J =
+          LeftJacobian(Eigen::Vector3d(blocks[b][3], blocks[b][4], blocks[b][5]));
       ASSERT_TRUE(SameBits(got.J_left, J)) << "step " << step;
     }
   }
@@ -128,13 +128,13 @@ TEST(ForwardMemo, EffectChainCostGivesTheSameBitsWithAndWithout) {
   auto memo = std::make_shared<ForwardMemo>(ur3.get(), q.data());
   for (Compared compared : {Compared::kPosition, Compared::kRotation}) {
     const TargetComparison comparison(compared, measured, Eigen::Vector3d(0.5, 0.7, 2.0));
-    const EffectChainCost shared(comparison, std::make_shared<const FrameRefs>(refs), ur3.get(),
-                                 context, true, Pose::Identity(),
-                                 std::make_shared<const ChainEffectList>(
-                                     std::vector<const Effect*>{}, std::vector<int>{}),
-                                 memo);
-    const EffectChainCost alone(comparison, refs, ur3.get(), context, true, Pose::Identity(),
-                                {}, {});
+    const EffectChainCost shared(
+        comparison, std::make_shared<const FrameRefs>(refs), ur3.get(), context, true,
+        Pose::Identity(),
+        std::make_shared<const ChainEffectList>(std::vector<const Effect*>{}, std::vector<int>{}),
+        memo);
+    const EffectChainCost alone(comparison, refs, ur3.get(), context, true, Pose::Identity(), {},
+                                {});
     for (int trial = 0; trial < 6; ++trial) {
       std::vector<std::vector<double>> values = {RandomBlock(rng), RandomBlock(rng),
                                                  RandomBlock(rng), Perturbed(*ur3, rng)};

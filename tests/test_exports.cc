@@ -127,12 +127,11 @@ class Exports : public ::testing::Test {
   // Each test runs in a process of its own under ctest, in parallel with -j: a folder per process.
   static void SetUpTestSuite() {
     dir_ = testing::TempDir("exports/" + std::to_string(::getpid()));
-    MirrorConfigs(dir_, {"configs/robots/ur3_vsb2020.yaml", "configs/robots/delta.yaml",
-                         "configs/simulations/ur3_pair_geometry.yaml",
-                         "configs/jobs/ur3_pair_geometry.yaml",
-                         "configs/simulations/delta_uniform_125.yaml",
-                         "configs/simulations/delta_validation.yaml",
-                         "configs/jobs/delta_calibration.yaml"});
+    MirrorConfigs(
+        dir_, {"configs/robots/ur3_vsb2020.yaml", "configs/robots/delta.yaml",
+               "configs/simulations/ur3_pair_geometry.yaml", "configs/jobs/ur3_pair_geometry.yaml",
+               "configs/simulations/delta_uniform_125.yaml",
+               "configs/simulations/delta_validation.yaml", "configs/jobs/delta_calibration.yaml"});
     for (const auto& [spec, out] : std::vector<std::pair<std::string, std::string>>{
              {"ur3_pair_geometry", "ur3_pair"},
              {"delta_uniform_125", "delta_sim"},
@@ -179,8 +178,8 @@ TEST_F(Exports, TheResultsModelIsFittedAndRecordedWhole) {
   const ReferenceRobot ur3 = Reference(result, "ur3", "configs/robots/ur3_vsb2020.yaml");
   double largest_change = 0.0;
   for (size_t i = 0; i < ur3.values.size(); ++i) {
-    largest_change = std::max(largest_change,
-                              std::abs(ur3.values[i] - ur3.model->parameters()[i].nominal));
+    largest_change =
+        std::max(largest_change, std::abs(ur3.values[i] - ur3.model->parameters()[i].nominal));
   }
   EXPECT_GT(largest_change, 0.1);  // mm: j3.a and j4.a moved by ~0.3 mm
   // The record agrees with the fitted parameters result.json has always reported.
@@ -308,8 +307,7 @@ TEST_F(Exports, RobotConfigLoadsAsTheFittedModel) {
     const std::string path = dir_ + "/exports/" + robot + "_calibrated.yaml";
     Export(result_folder, "--format robot --robot " + robot, robot + "_calibrated.yaml");
     const ConfigNode exported = ConfigNode::LoadFile(path);
-    const auto model =
-        testing::Plugins().CreateRobotModel(exported["type"].AsString(), exported);
+    const auto model = testing::Plugins().CreateRobotModel(exported["type"].AsString(), exported);
     std::vector<double> nominal;
     for (const auto& p : model->parameters()) nominal.push_back(p.nominal);
     const ReferenceRobot fitted = Reference(Json(result_folder), robot, config);
@@ -378,8 +376,8 @@ TEST_F(Exports, TfLaunchFileHoldsEveryFrameOfTheResult) {
     EXPECT_LE(mismatch.position, 1e-12) << name;
     EXPECT_LE(mismatch.rotation, 1e-12) << name;
     // Its sigma, in the comment before it.
-    EXPECT_THAT(launch, HasSubstr(name + " in " + frame.at("parent").get<std::string>() +
-                                  ": sigma xyz ("));
+    EXPECT_THAT(launch,
+                HasSubstr(name + " in " + frame.at("parent").get<std::string>() + ": sigma xyz ("));
   }
   // Robot to robot: ur3b's base in ur3's, in a comment.
   std::smatch m;
@@ -422,8 +420,8 @@ TEST_F(Exports, UrNamesPutTool0AtTheFittedFlangeInUrdfAndTf) {
                      .toRotationMatrix();
       Pose turn;
       for (int i = 0; i < 6; ++i) {
-        if (joint->name == names[i]) turn.R = Eigen::AngleAxisd(q[i], Eigen::Vector3d::UnitZ())
-                                                  .toRotationMatrix();
+        if (joint->name == names[i])
+          turn.R = Eigen::AngleAxisd(q[i], Eigen::Vector3d::UnitZ()).toRotationMatrix();
       }
       T_world_tool_m = origin * turn * T_world_tool_m;
     }
@@ -449,8 +447,8 @@ TEST_F(Exports, UrNamesPutTool0AtTheFittedFlangeInUrdfAndTf) {
 TEST_F(Exports, ADeltaArmIsRefusedAsUrdfAndUrNamingWhatIsPossible) {
   for (const auto& format : {"urdf", "ur"}) {
     const auto r = testing::RunCellmetry("export " + delta_result_ + " --format " + format);
-    testing::ExpectOneLineError(r, delta_result_ + "/result.json:",
-                                "is not a serial chain of revolute joints");
+    testing::ExpectOneLineError(
+        r, delta_result_ + "/result.json:", "is not a serial chain of revolute joints");
     EXPECT_THAT(r.output, HasSubstr("--format robot"));
     EXPECT_THAT(r.output, HasSubstr("--format tf"));
   }
@@ -458,8 +456,8 @@ TEST_F(Exports, ADeltaArmIsRefusedAsUrdfAndUrNamingWhatIsPossible) {
   EXPECT_EQ(tf.exit_code, 0) << tf.output;
   EXPECT_THAT(tf.output, HasSubstr("--child-frame-id stereo"));
   const auto ur = testing::RunCellmetry("export " + delta_result_ + " --format urdf --names ur");
-  testing::ExpectOneLineError(ur, delta_result_ + "/result.json:",
-                              "--names ur names a six-joint serial arm");
+  testing::ExpectOneLineError(
+      ur, delta_result_ + "/result.json:", "--names ur names a six-joint serial arm");
 }
 
 TEST_F(Exports, BadInputIsOneLineAndExitCodeTwo) {
@@ -485,9 +483,8 @@ TEST_F(Exports, BadInputIsOneLineAndExitCodeTwo) {
                               bad + "/old/result.json:", "does not record its robots' models");
   result["robots"] = nlohmann::json::object();
   testing::WriteText(bad + "/robotless/result.json", result.dump());
-  testing::ExpectOneLineError(
-      testing::RunCellmetry("export " + bad + "/robotless --format robot"),
-      bad + "/robotless/result.json:", "the result has no robot to export");
+  testing::ExpectOneLineError(testing::RunCellmetry("export " + bad + "/robotless --format robot"),
+                              bad + "/robotless/result.json:", "the result has no robot to export");
   testing::WriteText(bad + "/garbage/result.json", "{\"format\": \"something else\"}");
   testing::ExpectOneLineError(testing::RunCellmetry("export " + bad + "/garbage --format tf"),
                               bad + "/garbage/result.json:", "not a cellmetry result");
@@ -508,9 +505,9 @@ TEST_F(Exports, AMalformedResultIsRefusedAtItsKey) {
   result = Json(ur3_result_);
   result.erase("free_parameters");
   testing::WriteText(bad + "/short/result.json", result.dump());
-  testing::ExpectOneLineError(testing::RunCellmetry("export " + bad + "/short --format tf"),
-                              bad + "/short/result.json:",
-                              "malformed result: no 'free_parameters'");
+  testing::ExpectOneLineError(
+      testing::RunCellmetry("export " + bad + "/short --format tf"),
+      bad + "/short/result.json:", "malformed result: no 'free_parameters'");
 }
 
 TEST_F(Exports, NeverReplacesAFileCellmetryDidNotWrite) {
@@ -554,8 +551,8 @@ TEST(RollPitchYaw, RoundTripsExactlyEverywhereAndIsUrdfdomsConvention) {
     const Eigen::Vector3d rvec(normal(rng), normal(rng), normal(rng));
     rotations.push_back(RotationFromRvec(rvec.data()));
   }
-  for (const double pitch : {M_PI / 2, -M_PI / 2, M_PI / 2 - 1e-7, -M_PI / 2 + 1e-9,
-                             M_PI / 2 - 1e-12}) {
+  for (const double pitch :
+       {M_PI / 2, -M_PI / 2, M_PI / 2 - 1e-7, -M_PI / 2 + 1e-9, M_PI / 2 - 1e-12}) {
     for (const double other : {0.0, 0.3, -2.9, 3.14159}) {
       rotations.push_back(Rpy(other, pitch, 0.7 - other));
       rotations.push_back(Rpy(0.2, pitch, other));

@@ -33,12 +33,15 @@ void ExpectWithinThreeSigma(const FrameEstimate& fitted, const Pose& truth) {
   const Eigen::Vector3d turn = RvecFromRotation(fitted.pose.R * truth.R.transpose());
   for (int i = 0; i < 3; ++i) {
     const double dt = fitted.pose.t[i] - truth.t[i];
-    std::cerr << fitted.name << " " << "xyz"[i] << ": " << dt << " mm = "
-              << dt / fitted.sigma_mm[i] << " sigma (sigma " << fitted.sigma_mm[i] << " mm); r"
+    std::cerr << fitted.name << " "
+              << "xyz"[i] << ": " << dt << " mm = " << dt / fitted.sigma_mm[i] << " sigma (sigma "
+              << fitted.sigma_mm[i] << " mm); r"
               << "xyz"[i] << ": " << turn[i] * 1e3 << " mrad = " << turn[i] / fitted.sigma_rad[i]
               << " sigma (sigma " << fitted.sigma_rad[i] * 1e3 << " mrad)\n";
-    EXPECT_LT(std::abs(dt), 3 * fitted.sigma_mm[i]) << fitted.name << " " << "xyz"[i];
-    EXPECT_LT(std::abs(turn[i]), 3 * fitted.sigma_rad[i]) << fitted.name << " r" << "xyz"[i];
+    EXPECT_LT(std::abs(dt), 3 * fitted.sigma_mm[i]) << fitted.name << " "
+                                                    << "xyz"[i];
+    EXPECT_LT(std::abs(turn[i]), 3 * fitted.sigma_rad[i]) << fitted.name << " r"
+                                                          << "xyz"[i];
     EXPECT_GT(fitted.sigma_mm[i], 0.0);
     EXPECT_LT(fitted.sigma_mm[i], 1.0);
     EXPECT_GT(fitted.sigma_rad[i], 0.0);
@@ -68,10 +71,11 @@ TEST(EyeInHand, SimulateRunAndEvaluateOnTheCommandLine) {
       testing::RunCellmetry("simulate " + testing::Source(kSimulation) + " -o " + dir + "/rec");
   ASSERT_EQ(simulated.exit_code, 0) << simulated.output;
   const std::string job_text = testing::ReadText(testing::Source(kJob));
-  std::string job = testing::ReplaceOnce(job_text, "../../results/ur3_eye_in_hand\n",
-                                         dir + "/rec\n");
+  std::string job =
+      testing::ReplaceOnce(job_text, "../../results/ur3_eye_in_hand\n", dir + "/rec\n");
   job = testing::ReplaceOnce(job, "../../results/ur3_eye_in_hand_fit", dir + "/fit");
-  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   testing::WriteText(dir + "/job.yaml", job);
   const auto run = testing::RunCellmetry("run " + dir + "/job.yaml");
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -111,7 +115,8 @@ TEST(EyeInHand, ParkAndMartinSolvesExactMotions) {
 
 // The Jet derivatives (eye_in_hand_residual.h) against central differences, with the model free.
 TEST(EyeInHand, JetDerivativesMatchCentralDifferences) {
-  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  const ConfigNode config =
+      ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
   const auto model = testing::Plugins().CreateRobotModel("serial_mdh", config);
   std::vector<double> params;
   for (const auto& p : model->parameters()) params.push_back(p.nominal);
@@ -124,8 +129,8 @@ TEST(EyeInHand, JetDerivativesMatchCentralDifferences) {
     auto* functor = new EyeInHandResidual(comparison, R_base, R_cam, model.get(),
                                           {0.1, -1.4, 1.5, -1.7, -1.5, 0.2});
     ceres::DynamicAutoDiffCostFunction<EyeInHandResidual, kJetStride> cost(functor);
-    std::vector<std::vector<double>> values = {{300, 110, 5, 0.01, -0.02, 0.03},
-                                               {1, 60, 40, 0.2, -0.1, 0.05}, params};
+    std::vector<std::vector<double>> values = {
+        {300, 110, 5, 0.01, -0.02, 0.03}, {1, 60, 40, 0.2, -0.1, 0.05}, params};
     for (const auto& v : values) cost.AddParameterBlock(static_cast<int>(v.size()));
     cost.SetNumResiduals(3);
     std::vector<const double*> blocks;
@@ -163,7 +168,8 @@ void WriteCell(const std::string& dir, const std::string& from, const std::strin
       LoadWorkcellSimulation(testing::Source(kSimulation), testing::Plugins());
   *recording = SimulateWorkcell(spec, nullptr);
   std::string job = testing::ReadText(testing::Source(kJob));
-  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  job = testing::ReplaceOnce(job, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   if (!from.empty()) job = testing::ReplaceOnce(job, from, to);
   testing::WriteText(dir + "/job.yaml", job);
 }

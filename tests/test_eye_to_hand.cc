@@ -36,22 +36,22 @@ TEST(EyeToHand, OneStaticCameraWithoutAWorldTargetFindsTheCameraInTheBaseFrame) 
   }
   recording.observations = tool_only;
   recording.targets.erase("world");
-  testing::WriteText(dir + "/job.yaml",
-                     "job: workcell\nrecording: " + dir + "\noutput: " + dir + "/fit\n"
-                     "world_target: none\nrobots:\n  ur3:\n    model: " +
-                         testing::Source("configs/robots/ur3_vsb2020.yaml") +
-                         "\n    tools:\n      tool: {free: [x, y, z]}\n"
-                         "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
+  testing::WriteText(dir + "/job.yaml", "job: workcell\nrecording: " + dir + "\noutput: " + dir +
+                                            "/fit\n"
+                                            "world_target: none\nrobots:\n  ur3:\n    model: " +
+                                            testing::Source("configs/robots/ur3_vsb2020.yaml") +
+                                            "\n    tools:\n      tool: {free: [x, y, z]}\n"
+                                            "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
   const WorkcellJob job =
       LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(), /*recording_must_exist=*/false);
   const WorkcellResult r = testing::Identify(job, recording);
-  const Pose T_base_cam =
-      spec.robots[0].T_world_base.inverse() * spec.T_world_cam.at("cam1");
+  const Pose T_base_cam = spec.robots[0].T_world_base.inverse() * spec.T_world_cam.at("cam1");
   const FrameEstimate& camera = testing::Frame(r, "cam1");
   for (int i = 0; i < 3; ++i) {
     EXPECT_LT(std::abs(camera.pose.t[i] - T_base_cam.t[i]), 3 * camera.sigma_mm[i])
-        << "cam1 " << "xyz"[i] << " = " << camera.pose.t[i] << " +- " << camera.sigma_mm[i]
-        << ", truth " << T_base_cam.t[i];
+        << "cam1 "
+        << "xyz"[i] << " = " << camera.pose.t[i] << " +- " << camera.sigma_mm[i] << ", truth "
+        << T_base_cam.t[i];
   }
   const Eigen::Vector3d turn = RvecFromRotation(camera.pose.R * T_base_cam.R.transpose());
   for (int i = 0; i < 3; ++i) EXPECT_LT(std::abs(turn[i]), 3 * camera.sigma_rad[i]) << i;

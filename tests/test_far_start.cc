@@ -29,8 +29,7 @@ int CountFarStartWarnings(const WorkcellResult& r) {
 // a wrong minimum (the carried targets 227 mm RMS off); the data's own start is kept.
 TEST(FarStart, AStartInAnotherBasinGivesWayToTheClosedForm) {
   const std::string dir = testing::TempDirForThisTest("far_start");
-  const WorkcellJob far =
-      SimBJobWithBaseStart(dir, "{xyz: [99000, 555, -460], rvec: [3.1, 0, 0]}");
+  const WorkcellJob far = SimBJobWithBaseStart(dir, "{xyz: [99000, 555, -460], rvec: [3.1, 0, 0]}");
   const Recording recording = ReadRecording(far.recording);
   const WorkcellResult r = testing::Identify(far, recording);
   ASSERT_EQ(CountFarStartWarnings(r), 1);
@@ -41,8 +40,7 @@ TEST(FarStart, AStartInAnotherBasinGivesWayToTheClosedForm) {
   EXPECT_NE(warning.find("ur3.base's 9"), std::string::npos) << warning;
   EXPECT_NE(warning.find("the data's answer kept. Check the start"), std::string::npos) << warning;
   // The answer is the one without any start.
-  const WorkcellJob near = SimBJobWithBaseStart(
-      dir, "{xyz: [431, 555, -460], rvec: [0, 0, 0]}");
+  const WorkcellJob near = SimBJobWithBaseStart(dir, "{xyz: [431, 555, -460], rvec: [0, 0, 0]}");
   const WorkcellResult reference = testing::Identify(near, recording);
   EXPECT_EQ(CountFarStartWarnings(reference), 0);
   const Pose& base = r.estimate.T_world_base.at("ur3");
@@ -54,8 +52,7 @@ TEST(FarStart, AStartInAnotherBasinGivesWayToTheClosedForm) {
 // Far but harmless: both fits reach the same answer, which is said and kept.
 TEST(FarStart, AFarStartThatConvergesIsKeptAndSaid) {
   const std::string dir = testing::TempDirForThisTest("far_start_harmless");
-  const WorkcellJob far =
-      SimBJobWithBaseStart(dir, "{xyz: [99000, 555, -460], rvec: [0, 0, 0]}");
+  const WorkcellJob far = SimBJobWithBaseStart(dir, "{xyz: [99000, 555, -460], rvec: [0, 0, 0]}");
   const WorkcellResult r = testing::Identify(far, ReadRecording(far.recording));
   ASSERT_EQ(CountFarStartWarnings(r), 1);
   bool same = false;

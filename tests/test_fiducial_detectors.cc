@@ -16,9 +16,9 @@
 #include <random>
 #include <set>
 
-#include "cellmetry/model/camera.h"
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/imaging/render.h"
+#include "cellmetry/model/camera.h"
 #include "support/detector_views.h"
 #include "support/test_support.h"
 
@@ -89,13 +89,13 @@ Bias MeasureBias(Detector& d, const std::vector<Pose>& poses, int draws, unsigne
 // Six poses 300..600 mm away, facing the camera and tilted up to 35 degrees; 5 draws each.
 std::vector<Pose> TestPoses(const Detector& d, const std::vector<MarkerFace>& faces) {
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY();
-  return {
-      Facing(d, faces, {0, 0, 300}, Eigen::Matrix3d::Identity()),
-      Facing(d, faces, {40, -25, 350}, RotationDeg(x, 25)),
-      Facing(d, faces, {-60, 30, 420}, RotationDeg(y, -30)),
-      Facing(d, faces, {25, 40, 480}, RotationDeg(x + y, 35)),
-      Facing(d, faces, {-30, -40, 540}, RotationDeg(x - 0.5 * y, 20) * RotationDeg(Eigen::Vector3d::UnitZ(), 30)),
-      Facing(d, faces, {10, 5, 600}, RotationDeg(y, 15))};
+  return {Facing(d, faces, {0, 0, 300}, Eigen::Matrix3d::Identity()),
+          Facing(d, faces, {40, -25, 350}, RotationDeg(x, 25)),
+          Facing(d, faces, {-60, 30, 420}, RotationDeg(y, -30)),
+          Facing(d, faces, {25, 40, 480}, RotationDeg(x + y, 35)),
+          Facing(d, faces, {-30, -40, 540},
+                 RotationDeg(x - 0.5 * y, 20) * RotationDeg(Eigen::Vector3d::UnitZ(), 30)),
+          Facing(d, faces, {10, 5, 600}, RotationDeg(y, 15))};
 }
 
 void PrintBias(const std::string& name, const Bias& bias) {
@@ -171,7 +171,7 @@ TEST(AprilTagBoard, EveryFamilyPrintsDetectableTags) {
        {"tag16h5", "tag25h9", "tag36h10", "tag36h11", "tagCircle21h7", "tagCircle49h12",
         "tagCustom48h12", "tagStandard41h12", "tagStandard52h13"}) {
     const auto d = MakeDetector(std::string("{type: apriltag_board, family: ") + family +
-                        ", tag_size_mm: 40, first_id: 5, max_hamming: 0}");
+                                ", tag_size_mm: 40, first_id: 5, max_hamming: 0}");
     const auto faces = d->Faces(10.0);
     const Pose pose = Facing(*d, faces, {15, -10, 350}, RotationDeg(Eigen::Vector3d(1, 1, 0), 20));
     const Detection detection =
@@ -324,8 +324,8 @@ TEST(ArucoDetector, BoardAgreesWithOpenCvGridBoard) {
 }
 
 TEST(ArucoDetector, SingleMarkerLayoutIsOpenCvsMarkerFrame) {
-  const auto d =
-      MakeDetector("{type: aruco, dictionary: DICT_6X6_250, marker_length_mm: 50, marker_ids: [40, 98]}");
+  const auto d = MakeDetector(
+      "{type: aruco, dictionary: DICT_6X6_250, marker_length_mm: 50, marker_ids: [40, 98]}");
   const std::vector<Eigen::Vector3d> expected = {
       {-25, 25, 0}, {25, 25, 0}, {25, -25, 0}, {-25, -25, 0}};
   ASSERT_EQ(d->layout().size(), 8u);

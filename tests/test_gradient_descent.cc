@@ -2,11 +2,11 @@
 // the same assembled sim_b problem, its honesty about the epoch limit, and its option checks.
 #include <gtest/gtest.h>
 
-#include "cellmetry/cell/job.h"
-#include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_initial.h"
+#include "cellmetry/estimation/noise_model.h"
 #include "support/test_support.h"
 
 namespace cellmetry {

@@ -85,8 +85,8 @@ std::vector<HandEyeCompareRow> CompareRows(const std::string& config, int seeds,
 }
 
 TEST(HandEyeCompare, CellmetryIsMoreAccurateThanEveryOpenCvMethodOnTheEyeToHandCell) {
-  const auto rows = CompareRows("configs/compare/hand_eye_eye_to_hand.yaml", 3,
-                                HandEyeSetup::kEyeToHand);
+  const auto rows =
+      CompareRows("configs/compare/hand_eye_eye_to_hand.yaml", 3, HandEyeSetup::kEyeToHand);
   for (size_t m = 1; m < rows.size(); ++m) {
     if (rows[m].position_error_mm.empty()) continue;
     EXPECT_LT(Mean(rows[0].position_error_mm), Mean(rows[m].position_error_mm)) << rows[m].method;
@@ -99,8 +99,8 @@ TEST(HandEyeCompare, CellmetryIsMoreAccurateThanEveryOpenCvMethodOnTheEyeToHandC
 // Eye-in-hand, 60 captures of a board from a camera on the flange: every OpenCV method gives an
 // answer, and cellmetry's weighted fit is the most accurate in position.
 TEST(HandEyeCompare, CellmetryIsMoreAccurateThanEveryOpenCvMethodOnTheEyeInHandCell) {
-  const auto rows = CompareRows("configs/compare/hand_eye_eye_in_hand.yaml", 4,
-                                HandEyeSetup::kEyeInHand);
+  const auto rows =
+      CompareRows("configs/compare/hand_eye_eye_in_hand.yaml", 4, HandEyeSetup::kEyeInHand);
   for (size_t m = 1; m < rows.size(); ++m) {
     EXPECT_EQ(rows[m].failed, 0) << rows[m].method;
     EXPECT_LT(Mean(rows[0].position_error_mm), Mean(rows[m].position_error_mm)) << rows[m].method;

@@ -9,11 +9,11 @@
 
 #include "cellmetry/cell/held_out_setup.h"
 #include "cellmetry/cell/held_out_targets.h"
-#include "cellmetry/compensation/compensation.h"
-#include "cellmetry/exports/calibrated_cell.h"
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/compensation/compensation.h"
+#include "cellmetry/exports/calibrated_cell.h"
 #include "cellmetry/import/importer.h"
 #include "support/test_support.h"
 
@@ -29,10 +29,15 @@ std::string TrackerSimulation(int seed, int poses, const std::string& tracker,
          testing::Source("configs/robots/staubli_tx90l.yaml") +
          "\n    model_errors: {j2.a: 0.3, j3.a: -0.25, j4.d: 0.2, j2.offset: 0.0006,"
          " j3.offset: -0.0005, j5.offset: 0.0004, j3.beta: 0.0003, j4.alpha: 0.0004}\n"
-         "    tools: {tmac: " + probe + "}\n"
-         "    poses: {random: " + std::to_string(poses) +
+         "    tools: {tmac: " +
+         probe +
+         "}\n"
+         "    poses: {random: " +
+         std::to_string(poses) +
          ", lower: [-1.0, -0.9, 0.6, -2.5, -1.8, -3.0], upper: [1.0, 0.6, 2.2, 2.5, 1.8, 3.0]}\n"
-         "cameras:\n  tracker: " + tracker + "\n"
+         "cameras:\n  tracker: " +
+         tracker +
+         "\n"
          "noise: {position_mm: [0.01, 0.01, 0.01], rotation_rad: [5e-5, 5e-5, 5e-5]}\n";
 }
 
@@ -53,10 +58,10 @@ TwoSetups SimulateTwoSetups(int seed, int calibration_poses) {
                                      "{xyz: [4000, -40, 300], rvec: [0, 0, -1.78]}",
                                      "{xyz: [-32, -18, 99], rvec: [0, 0, 1.59]}"),
                    "calibration"),
-          Simulate(TrackerSimulation(seed + 1, 200,
-                                     "{xyz: [3200, 900, 150], rvec: [0.01, -0.02, -2.3]}",
-                                     "{xyz: [-30, -21, 101], rvec: [0.002, 0, 1.2]}"),
-                   "other_setup")};
+          Simulate(
+              TrackerSimulation(seed + 1, 200, "{xyz: [3200, 900, 150], rvec: [0.01, -0.02, -2.3]}",
+                                "{xyz: [-30, -21, 101], rvec: [0.002, 0, 1.2]}"),
+              "other_setup")};
 }
 
 // The job's problem with its recording's checks skipped (the recordings are made here).
@@ -225,17 +230,16 @@ TEST(HeldOutSetup, RealTrackerDataSidesWithJointFiveCompliance) {
   const Recording calibration =
       ImportRecording(testing::Source("configs/import/astl_calibration.yaml"));
   const Recording points = ImportRecording(testing::Source("configs/import/astl_points.yaml"));
-  std::string text =
-      testing::ReadText(testing::Source("configs/jobs/staubli_tx90l_diagnose.yaml"));
+  std::string text = testing::ReadText(testing::Source("configs/jobs/staubli_tx90l_diagnose.yaml"));
   text = text.substr(0, text.find("\ndiagnosis:"));
   text = testing::ReplaceOnce(text, "../robots/staubli_tx90l.yaml",
                               testing::Source("configs/robots/staubli_tx90l.yaml"));
   const std::string dir = testing::TempDirForThisTest("joint_five");
   auto held_out_rms = [&](const std::string& effects) {
     const std::string job_path = dir + "/job.yaml";
-    testing::WriteText(job_path, testing::ReplaceOnce(text, "      tmac: {free: all}\n",
-                                                      "      tmac: {free: all}\n    effects: " +
-                                                          effects + "\n"));
+    testing::WriteText(
+        job_path, testing::ReplaceOnce(text, "      tmac: {free: all}\n",
+                                       "      tmac: {free: all}\n    effects: " + effects + "\n"));
     WorkcellJob job = LoadWorkcellJob(job_path, testing::Plugins(), false);
     job.problem.folds = 0;
     job.problem.leave_one_camera_out = false;

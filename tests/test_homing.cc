@@ -44,7 +44,10 @@ std::vector<PointSample> Points(const Recording& recording) {
   std::vector<PointSample> points;
   for (const auto& obs : recording.observations) {
     const Sample& s = recording.samples[recording.SampleIndex(obs.sample)];
-    points.push_back({s.id, s.q, obs.position_mm, {"samples.csv", s.line, 0},
+    points.push_back({s.id,
+                      s.q,
+                      obs.position_mm,
+                      {"samples.csv", s.line, 0},
                       {"observations.csv", obs.line, 0}});
   }
   return points;

@@ -67,10 +67,10 @@ TEST(RotationConventions, RollPitchYawIsFixedXyzAndTurnedZyxReversed) {
     std::string problem;
     const Eigen::Matrix3d R = ToRotation(c, rpy, &problem);
     EXPECT_TRUE(problem.empty());
-    const Eigen::Matrix3d expected =
-        (Eigen::AngleAxisd(rpy[2], Eigen::Vector3d::UnitZ()) *
-         Eigen::AngleAxisd(rpy[1], Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(rpy[0], Eigen::Vector3d::UnitX())).toRotationMatrix();
+    const Eigen::Matrix3d expected = (Eigen::AngleAxisd(rpy[2], Eigen::Vector3d::UnitZ()) *
+                                      Eigen::AngleAxisd(rpy[1], Eigen::Vector3d::UnitY()) *
+                                      Eigen::AngleAxisd(rpy[0], Eigen::Vector3d::UnitX()))
+                                         .toRotationMatrix();
     EXPECT_LT(AngleBetween(R, expected), 1e-14);
     EXPECT_LT(AngleBetween(R, EulerToRotation({2, 1, 0}, true, {rpy[2], rpy[1], rpy[0]})), 1e-14);
   }
@@ -116,10 +116,10 @@ TEST(RotationConventions, EveryEulerSequenceMatchesEigenAndRoundTrips) {
       // At gimbal lock only the sum of the outer angles is defined; the rotation still returns.
       const double middle = proper ? 0.0 : M_PI / 2;
       const Eigen::Matrix3d locked = EulerToRotation(*axes, intrinsic, {0.3, middle, -1.1});
-      EXPECT_LT(AngleBetween(EulerToRotation(*axes, intrinsic,
-                                             RotationToEuler(*axes, intrinsic, locked)),
-                             locked),
-                1e-12);
+      EXPECT_LT(
+          AngleBetween(EulerToRotation(*axes, intrinsic, RotationToEuler(*axes, intrinsic, locked)),
+                       locked),
+          1e-12);
     }
   }
   EXPECT_FALSE(ParseEulerOrder("XXY"));
@@ -174,7 +174,8 @@ TEST(RotationConventions, NamesWhatIsNotARotation) {
 TEST(DataTable, CsvWithByteOrderMarkQuotesSemicolonsAndDecimalCommas) {
   const std::string dir = testing::TempDirForThisTest("import");
   testing::WriteText(dir + "/t.csv",
-                     "\xEF\xBB\xBF" "capture;\"name; with separator\";value\r\n"
+                     "\xEF\xBB\xBF"
+                     "capture;\"name; with separator\";value\r\n"
                      "\r\n"
                      "1;\"say \"\"hi\"\"\";-1,5\r\n"
                      "2;\"two\nlines\";+2e-3\r\n"
@@ -203,8 +204,8 @@ TEST(DataTable, JsonLinesFlattenNestedObjectsAndArrays) {
       "\n"
       "{\"id\": 2, \"pose\": {\"t\": [1, 2, 3]}, \"note\": null}\n");
   const DataTable t = ReadJsonLinesTable(dir + "/t.jsonl");
-  EXPECT_EQ(t.columns(), (std::vector<std::string>{"id", "pose.t[0]", "pose.t[1]", "pose.t[2]",
-                                                   "cam", "note"}));
+  EXPECT_EQ(t.columns(),
+            (std::vector<std::string>{"id", "pose.t[0]", "pose.t[1]", "pose.t[2]", "cam", "note"}));
   EXPECT_EQ(t.Number(0, 3), 0.30000000000000004);  // every digit kept
   EXPECT_EQ(t.Cell(0, 4), "c1");
   EXPECT_TRUE(t.IsEmpty(1, 4));
@@ -242,14 +243,17 @@ class TwoTables : public ::testing::Test {
     testing::WriteText(path,
                        "mapping: cellmetry-import/1\n"
                        "tables: {robot: robot.csv, tracker: tracker.csv}\n"
-                       "join: " + join + "\n"
-                       "units: {length: mm, angle: rad}\n"
-                       "robot: {name: arm, joints: [q1, q2]}\n"
-                       "targets: {probe: {on: arm}}\n"
-                       "observations:\n"
-                       "  - camera: tracker\n"
-                       "    target: probe\n"
-                       "    position: [x, y, z]\n" + extra);
+                       "join: " +
+                           join +
+                           "\n"
+                           "units: {length: mm, angle: rad}\n"
+                           "robot: {name: arm, joints: [q1, q2]}\n"
+                           "targets: {probe: {on: arm}}\n"
+                           "observations:\n"
+                           "  - camera: tracker\n"
+                           "    target: probe\n"
+                           "    position: [x, y, z]\n" +
+                           extra);
     return path;
   }
 
@@ -322,19 +326,24 @@ TEST_F(TwoTables, JoinedByTimeARowWithoutPartnerIsRefusedAtItsTimeCell) {
 TEST(EightBitText, Latin1IsReadAsUtf8AndAColumnIsNamedWithItsDegreeSign) {
   const std::string dir = testing::TempDirForThisTest("import");
   // Windows-1252: 0xB0 the degree sign, 0xB5 micro, 0x80 the euro sign.
-  testing::WriteText(dir + "/log.csv", "Temperature  [\xB0" "C],Image RMS  [\xB5" "m],note\r\n"
-                                       "22.8,0.22,\x80" "5\r\n");
+  testing::WriteText(dir + "/log.csv",
+                     "Temperature  [\xB0"
+                     "C],Image RMS  [\xB5"
+                     "m],note\r\n"
+                     "22.8,0.22,\x80"
+                     "5\r\n");
   CsvDialect latin1;
   latin1.encoding = TextEncoding::kWindows1252;
   const DataTable t = ReadCsvTable(dir + "/log.csv", latin1);
-  EXPECT_EQ(t.columns(), (std::vector<std::string>{"Temperature  [°C]", "Image RMS  [µm]",
-                                                   "note"}));
+  EXPECT_EQ(t.columns(),
+            (std::vector<std::string>{"Temperature  [°C]", "Image RMS  [µm]", "note"}));
   EXPECT_EQ(t.Cell(0, 2), "€5");
   // Without the encoding: refused at the field, naming the byte and what to add.
   const auto e = testing::CatchInputError([&] { ReadCsvTable(dir + "/log.csv", {}); });
   EXPECT_EQ(FormatLocation(e.where()), dir + "/log.csv:1:1: ");
-  EXPECT_EQ(e.message(), "the byte 0xB0 in field 1 (after 'Temperature  [') is not UTF-8: the "
-                         "table is in an 8-bit encoding");
+  EXPECT_EQ(e.message(),
+            "the byte 0xB0 in field 1 (after 'Temperature  [') is not UTF-8: the "
+            "table is in an 8-bit encoding");
   EXPECT_THAT(e.hint(), HasSubstr("encoding: latin1"));
   // A lone continuation byte, an overlong form and a surrogate are not UTF-8 either.
   EXPECT_EQ(FirstInvalidUtf8Byte("ok \x80"), 3u);
@@ -345,8 +354,10 @@ TEST(EightBitText, Latin1IsReadAsUtf8AndAColumnIsNamedWithItsDegreeSign) {
 
 TEST_F(TwoTables, ATemperatureInDegreesIsReadFromTheSecondTableInLatin1) {
   WriteRobot("10,0.1,0.2\n11,0.3,0.4\n");
-  testing::WriteText(dir_ + "/tracker.csv", "X  [mm],Y  [mm],Z  [mm],Temperature  [\xB0" "C]\r\n"
-                                            "1,2,3,22.8\r\n4,5,6,23.1\r\n");
+  testing::WriteText(dir_ + "/tracker.csv",
+                     "X  [mm],Y  [mm],Z  [mm],Temperature  [\xB0"
+                     "C]\r\n"
+                     "1,2,3,22.8\r\n4,5,6,23.1\r\n");
   std::string mapping = testing::ReadText(WriteMapping(
       "{by: row}", "facts: {temperature: {column: \"Temperature  [°C]\", unit: C}}\n"));
   mapping = ReplaceOnce(mapping, "tracker: tracker.csv",
@@ -358,8 +369,7 @@ TEST_F(TwoTables, ATemperatureInDegreesIsReadFromTheSecondTableInLatin1) {
   EXPECT_EQ(*r.samples[1].temperature_c, 23.1);
   EXPECT_EQ(r.observations[1].position_mm, Eigen::Vector3d(4, 5, 6));
   // Without the encoding the import stops at the header's byte.
-  testing::WriteText(dir_ + "/map.yaml",
-                     ReplaceOnce(mapping, ", encoding: windows-1252", ""));
+  testing::WriteText(dir_ + "/map.yaml", ReplaceOnce(mapping, ", encoding: windows-1252", ""));
   const auto e = testing::CatchInputError([&] { ImportRecording(dir_ + "/map.yaml"); });
   EXPECT_EQ(FormatLocation(e.where()), dir_ + "/tracker.csv:1:4: ");
   EXPECT_THAT(e.message(), HasSubstr("the byte 0xB0 in field 4"));
@@ -369,8 +379,9 @@ TEST_F(TwoTables, UncertaintyColumnsGiveADiagonalCovarianceOfSigmaSquared) {
   WriteRobot("10,0.1,0.2\n11,0.3,0.4\n");
   WriteTracker("1000,1,2,3,0.003,0.001,0.0196\n1001,4,5,6,0.01,0.02,0.03\n");
   const std::string dir = dir_;
-  const Recording r = ImportRecording(WriteMapping(
-      "{by: row}", "    position_uncertainty: {columns: [ux, uy, uz], level: 0.95}\n"
+  const Recording r = ImportRecording(
+      WriteMapping("{by: row}",
+                   "    position_uncertainty: {columns: [ux, uy, uz], level: 0.95}\n"
                    "    rotation: {convention: rotation_vector, columns: [q1, q2, q1]}\n"
                    "    rotation_sigma: [0.01, 0.02, 0.03]\n"));
   ASSERT_TRUE(r.observations[0].covariance_mm2);
@@ -393,8 +404,8 @@ TEST_F(TwoTables, UncertaintyColumnsGiveADiagonalCovarianceOfSigmaSquared) {
 }
 
 TEST_F(TwoTables, AnUncertaintyThatIsNotAPositiveNumberIsRefusedAtItsCell) {
-  const std::string mapping = WriteMapping(
-      "{by: row}", "    position_uncertainty: {columns: [ux, uy, uz], level: 0.95}\n");
+  const std::string mapping =
+      WriteMapping("{by: row}", "    position_uncertainty: {columns: [ux, uy, uz], level: 0.95}\n");
   WriteRobot("10,0.1,0.2\n11,0.3,0.4\n");
   for (const auto& [cell, message] : std::vector<std::pair<std::string, std::string>>{
            {"abc", "column 'uy' of data row 2: 'abc' is not a number"},
@@ -431,8 +442,8 @@ TEST(BundledExample, AstlCalibrationImportsAsPublished) {
   // Row 1: joints -10, 0, 90, 20, -20, -50 deg; X, Y, Z 754, -3193.366, 303.745 mm; U(95) X, Y,
   // Z 0.003, 0.001, 0.003 mm; Q0..Q3 0.227782, -0.114534, 0.572354, 0.779364; 22.8 °C.
   const double deg = M_PI / 180;
-  EXPECT_EQ(r.samples[0].q, (std::vector<double>{-10 * deg, 0 * deg, 90 * deg, 20 * deg,
-                                                 -20 * deg, -50 * deg}));
+  EXPECT_EQ(r.samples[0].q,
+            (std::vector<double>{-10 * deg, 0 * deg, 90 * deg, 20 * deg, -20 * deg, -50 * deg}));
   const Observation& o = r.observations[0];
   EXPECT_EQ(o.camera, "tracker");
   EXPECT_EQ(o.target, "tmac");
@@ -453,16 +464,16 @@ TEST(BundledExample, AstlCalibrationImportsAsPublished) {
 // How one table writes the truth.
 struct Variant {
   std::string name;
-  std::string rotation;       // euler ORDER, rpy, wxyz, xyzw, rotvec, matrix, matrix_prefix,
-                              // transform, transform12, position
-  bool intrinsic = true;      // euler
+  std::string rotation;   // euler ORDER, rpy, wxyz, xyzw, rotvec, matrix, matrix_prefix,
+                          // transform, transform12, position
+  bool intrinsic = true;  // euler
   bool metres = false;
   bool degrees = false;
   std::string dialect = "csv";  // csv | csv_semicolon (decimal comma, BOM) | jsonl
-  bool wide = false;          // one row per sample, a column group per (camera, target)
+  bool wide = false;            // one row per sample, a column group per (camera, target)
   bool camera_in_target = false;
   bool poses_by_joints = false;
-  bool fact_units = false;    // facts in ms, K and g
+  bool fact_units = false;  // facts in ms, K and g
 };
 
 void PrintTo(const Variant& v, std::ostream* out) { *out << v.name; }
@@ -522,8 +533,9 @@ RotationColumns RotationColumnsOf(const Variant& v, const std::string& prefix) {
     c.mapping = "transform: {columns: " + List(c.names) + ", tolerance: 1e-9}";
   } else {  // an Euler order
     numbered(3);
-    c.mapping = "rotation: {convention: euler, order: " + r + ", axes: " +
-                (v.intrinsic ? "intrinsic" : "extrinsic") + ", columns: " + List(c.names) + "}";
+    c.mapping = "rotation: {convention: euler, order: " + r +
+                ", axes: " + (v.intrinsic ? "intrinsic" : "extrinsic") +
+                ", columns: " + List(c.names) + "}";
   }
   return c;
 }
@@ -769,7 +781,8 @@ void ExpectSameRecording(const Recording& read, const Recording& truth, bool rot
     ASSERT_EQ(s.pose, t.pose) << "sample " << t.id;
     ASSERT_EQ(s.q.size(), t.q.size());
     for (size_t j = 0; j < t.q.size(); ++j) ASSERT_NEAR(s.q[j], t.q[j], kTolerance);
-    for (const auto& [x, y] : {std::pair{s.time_s, t.time_s}, {s.temperature_c, t.temperature_c},
+    for (const auto& [x, y] : {std::pair{s.time_s, t.time_s},
+                               {s.temperature_c, t.temperature_c},
                                {s.payload_kg, t.payload_kg}}) {
       ASSERT_EQ(x.has_value(), y.has_value());
       if (x) {
@@ -872,7 +885,10 @@ std::vector<Variant> Variants() {
     list.push_back(v);
   };
   add("rpy_degrees_metres", "rpy", [](Variant& v) { v.degrees = v.metres = true; });
-  add("rpy_radians_wide_jsonl", "rpy", [](Variant& v) { v.wide = true; v.dialect = "jsonl"; });
+  add("rpy_radians_wide_jsonl", "rpy", [](Variant& v) {
+    v.wide = true;
+    v.dialect = "jsonl";
+  });
   add("quaternion_wxyz_mm", "wxyz", [](Variant&) {});
   add("quaternion_xyzw_metres_semicolon", "xyzw", [](Variant& v) {
     v.metres = true;
@@ -948,11 +964,10 @@ TEST(BundledExample, SpreadsheetExcerptImportsToTheBundledRecordingAndItsJobRuns
     const Sample& original = exp_a.samples[exp_a.SampleIndex(capture[o.sample])];
     EXPECT_EQ(imported.samples[o.sample].q, original.q);
     EXPECT_EQ(imported.samples[o.sample].pose, original.pose / 8);
-    const auto match = std::find_if(exp_a.observations.begin(), exp_a.observations.end(),
-                                    [&](const Observation& e) {
-                                      return e.sample == original.id && e.camera == o.camera &&
-                                             e.target == o.target;
-                                    });
+    const auto match = std::find_if(
+        exp_a.observations.begin(), exp_a.observations.end(), [&](const Observation& e) {
+          return e.sample == original.id && e.camera == o.camera && e.target == o.target;
+        });
     ASSERT_NE(match, exp_a.observations.end());
     worst_mm = std::max(worst_mm, (o.position_mm - match->position_mm).cwiseAbs().maxCoeff());
     worst_rad = std::max(worst_rad, AngleBetween(RotationFromRvec(o.rvec->data()),

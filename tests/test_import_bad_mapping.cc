@@ -132,9 +132,9 @@ TEST_F(BadMapping, TheUnbrokenMappingImports) {
 // One broken mapping or table, and the error it must produce.
 struct Breakage {
   std::string name;
-  std::string from, to;               // in the mapping text ("" = unchanged)
+  std::string from, to;                                  // in the mapping text ("" = unchanged)
   std::vector<std::tuple<int, int, std::string>> cells;  // table (line, column, new text)
-  std::string location;               // file:line:column:
+  std::string location;                                  // file:line:column:
   std::string hint;
   std::string message;
 };
@@ -423,8 +423,8 @@ TEST_P(BadJsonLine, IsRefusedAtItsLine) {
 INSTANTIATE_TEST_SUITE_P(
     JsonLines, BadJsonLine,
     ::testing::Values(
-        JsonLine{"KeyTwice", "{\"capture\": 2, \"q1\": 0.5, \"q1\": 0.7}", "t.jsonl:2:",
-                 "key 'q1' appears twice in one object", "Keep one of them"},
+        JsonLine{"KeyTwice", "{\"capture\": 2, \"q1\": 0.5, \"q1\": 0.7}",
+                 "t.jsonl:2:", "key 'q1' appears twice in one object", "Keep one of them"},
         JsonLine{"KeyTwiceInANestedObject",
                  "{\"capture\": 2, \"pose\": {\"t\": [1, 2, 3], \"t\": [4, 5, 6]}}",
                  "t.jsonl:2:", "key 't' appears twice in one object", "Keep one of them"},
@@ -432,14 +432,14 @@ INSTANTIATE_TEST_SUITE_P(
                  "{\"q1\": " + std::string(20000, '[') + std::string(20000, ']') + "}",
                  "t.jsonl:2:", "objects and arrays nested deeper than 64 levels",
                  "A row's values nest a few levels at most"},
-        JsonLine{"NumberBeyondADouble", "{\"capture\": 2, \"q1\": 1e400}", "t.jsonl:2:22:",
-                 "'1e400' is beyond the range of a number",
+        JsonLine{"NumberBeyondADouble", "{\"capture\": 2, \"q1\": 1e400}",
+                 "t.jsonl:2:22:", "'1e400' is beyond the range of a number",
                  "Write the value in the units the mapping declares"},
-        JsonLine{"OverlongKeyTwiceIsQuotedShort",
-                 "{\"" + std::string(100000, 'k') + "\": 1, \"" + std::string(100000, 'k') +
-                     "\": 2}",
-                 "t.jsonl:2:", "key '" + std::string(77, 'k') + "...' appears twice",
-                 "Keep one of them"}),
+        JsonLine{
+            "OverlongKeyTwiceIsQuotedShort",
+            "{\"" + std::string(100000, 'k') + "\": 1, \"" + std::string(100000, 'k') + "\": 2}",
+            "t.jsonl:2:", "key '" + std::string(77, 'k') + "...' appears twice",
+            "Keep one of them"}),
     [](const ::testing::TestParamInfo<JsonLine>& info) { return info.param.name; });
 
 // An error line quotes at most 80 characters of a cell: a 10 MB cell was echoed whole.

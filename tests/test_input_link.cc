@@ -28,7 +28,8 @@ struct Linked {
 TEST(InputLink, ATranslationsSigmaFromTheInputsDoesNotDependOnTheFitsStart) {
   const std::string dir = testing::TempDirForThisTest("input_link");
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
                              testing::Source("tests/data/vsb/sim_b"));
   testing::WriteText(dir + "/sim.yaml", sim);
@@ -71,8 +72,8 @@ TEST(InputLink, ATranslationsSigmaFromTheInputsDoesNotDependOnTheFitsStart) {
   for (size_t i = 0; i < a.uncertainty.names.size(); ++i) {
     const std::string& name = a.uncertainty.names[i];
     const char axis = name.back();
-    if (name.size() < 2 || name[name.size() - 2] != '.' || (axis != 'x' && axis != 'y' &&
-                                                             axis != 'z')) {
+    if (name.size() < 2 || name[name.size() - 2] != '.' ||
+        (axis != 'x' && axis != 'y' && axis != 'z')) {
       continue;
     }
     ++translations;

@@ -84,9 +84,9 @@ TEST_P(NoiseFree, LevenbergMarquardtRecoversTheArmToTheMicrometre) {
   for (int arm = 1; arm <= 3; ++arm) {
     const std::string R = "delta.model.arm" + std::to_string(arm) + ".R";
     const std::string r = "delta.model.arm" + std::to_string(arm) + ".r";
-    const auto u = std::find_if(
-        run.result.unidentifiable.begin(), run.result.unidentifiable.end(),
-        [&](const UnidentifiableParameter& p) { return p.name == R || p.name == r; });
+    const auto u =
+        std::find_if(run.result.unidentifiable.begin(), run.result.unidentifiable.end(),
+                     [&](const UnidentifiableParameter& p) { return p.name == R || p.name == r; });
     ASSERT_NE(u, run.result.unidentifiable.end()) << "arm " << arm;
     EXPECT_THAT(u->reason, HasSubstr(u->name == R ? r : R)) << u->reason;
   }
@@ -163,8 +163,7 @@ INSTANTIATE_TEST_SUITE_P(Formulations, WithDotNoise,
 
 // Every solver plugin works on the same kinematic problem (noise-free, 64 uniform positions).
 TEST(EverySolver, CalibratesTheArm) {
-  const WorkcellSimulationSpec spec =
-      Spec(PoseSet::kUniformWorkspace, 64, Eigen::Vector3d::Zero());
+  const WorkcellSimulationSpec spec = Spec(PoseSet::kUniformWorkspace, 64, Eigen::Vector3d::Zero());
   const std::vector<std::pair<std::string, double>> solvers = {
       {"type: ceres_lm", 1e-6},
       {"type: jacobian_pinv", 1e-6},
@@ -183,8 +182,8 @@ TEST(EverySolver, CalibratesTheArm) {
     };
     const WorkcellResult result = IdentifyWorkcell(problem, draw.recording, make);
     const WorkcellEstimate truth = TruthEstimate(draw.truth);
-    const PredictionError before = ComparePredictions(*spec.robots.front().model, result.start,
-                                                      truth, Marker(), validation);
+    const PredictionError before =
+        ComparePredictions(*spec.robots.front().model, result.start, truth, Marker(), validation);
     const PredictionError after = ComparePredictions(*spec.robots.front().model, result.estimate,
                                                      truth, Marker(), validation);
     EXPECT_LT(after.max_mm, tolerance_mm) << yaml << ": " << result.solver.stop_reason;

@@ -20,8 +20,8 @@ namespace {
 using ::testing::HasSubstr;
 
 WorkcellJob SimB() {
-  WorkcellJob job = LoadWorkcellJob(testing::Source("configs/jobs/vsb_sim_b.yaml"),
-                                    testing::Plugins());
+  WorkcellJob job =
+      LoadWorkcellJob(testing::Source("configs/jobs/vsb_sim_b.yaml"), testing::Plugins());
   job.problem.folds = 0;
   job.problem.leave_one_camera_out = false;
   return job;
@@ -84,8 +84,8 @@ class StoppingSolver : public Solver {
 
 TEST(MotionCheck, ASolverStoppedBeforeConvergingIsAWarningInTheResult) {
   const WorkcellJob job = SimB();
-  const WorkcellResult result = IdentifyWorkcell(
-      job.problem, ReadRecording(job.recording), [] { return std::make_unique<StoppingSolver>(); });
+  const WorkcellResult result = IdentifyWorkcell(job.problem, ReadRecording(job.recording),
+                                                 [] { return std::make_unique<StoppingSolver>(); });
   const std::string stopped = "the solver stopped before converging (iteration limit reached)";
   EXPECT_TRUE(Warns(result, stopped)) << WorkcellSummary(result);
   EXPECT_THAT(WorkcellResultJson(result)["warnings"].dump(), HasSubstr(stopped));

@@ -71,13 +71,13 @@ TEST(RobotToRobot, UsesTheCrossCovariance) {
   const RelativePose with = PoseInFrame(a, b, shared);
   const RelativePose without = PoseInFrame(a, b, independent);
   for (int i = 0; i < 3; ++i) {
-    EXPECT_NEAR(with.covariance(i, i), 0.2e-4, 1e-12);     // 2 (1 - 0.9) 1e-4
+    EXPECT_NEAR(with.covariance(i, i), 0.2e-4, 1e-12);  // 2 (1 - 0.9) 1e-4
     EXPECT_NEAR(without.covariance(i, i), 2e-4, 1e-12);
   }
 }
 
 struct Figures {
-  double coverage3 = 0;       // fraction of components within 3 sigma
+  double coverage3 = 0;         // fraction of components within 3 sigma
   double mean_mahalanobis = 0;  // e^T C^-1 e, mean over seeds (6 expected)
   Eigen::Matrix<double, 6, 1> spread, mean_sigma, sum_sigma;  // spread over seeds; sigma
   Eigen::Matrix<double, 6, 1> model_sigma;  // from the model covariance alone (no robust or
@@ -144,10 +144,11 @@ TEST(RobotToRobot, WithinThreeSigmaAndSigmaMatchesTheSpreadOver20Seeds) {
   f.coverage3 = static_cast<double>(within) / (within + exceed);
   std::printf("T_ur5e_ur3 over %d seeds (x y z mm, rx ry rz rad):\n", kSeeds);
   for (int i = 0; i < 6; ++i) {
-    std::printf("  %s: spread %.3g, mean sigma %.3g (ratio %.2f), model-only sigma %.3g, bases' "
-                "sigmas added %.3g\n",
-                kFrameParameterNames[i].c_str(), f.spread[i], f.mean_sigma[i],
-                f.spread[i] / f.mean_sigma[i], f.model_sigma[i], f.sum_sigma[i]);
+    std::printf(
+        "  %s: spread %.3g, mean sigma %.3g (ratio %.2f), model-only sigma %.3g, bases' "
+        "sigmas added %.3g\n",
+        kFrameParameterNames[i].c_str(), f.spread[i], f.mean_sigma[i],
+        f.spread[i] / f.mean_sigma[i], f.model_sigma[i], f.sum_sigma[i]);
   }
   std::printf("  within 3 sigma: %d of %d components; mean Mahalanobis^2 %.2f (6 expected)\n",
               within, within + exceed, f.mean_mahalanobis);
@@ -229,8 +230,8 @@ TEST(DuplicateToolNames, RefusedBySimulateAtTheSecondKey) {
                               "model: " + testing::Source("configs/robots/ur3_vsb2020.yaml"));
   testing::WriteText(dir + "/sim.yaml", text);
   const auto r = testing::RunCellmetry("simulate " + dir + "/sim.yaml -o " + dir + "/out");
-  testing::ExpectOneLineError(r, "sim.yaml:26:7:",
-                              "target 'gripper' is already a tool of robot 'ur5e'");
+  testing::ExpectOneLineError(
+      r, "sim.yaml:26:7:", "target 'gripper' is already a tool of robot 'ur5e'");
   EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
 }
 

@@ -9,8 +9,8 @@
 
 #include "cellmetry/basics/so3_jacobians.h"
 #include "cellmetry/estimation/problem.h"
-#include "cellmetry/estimation/shared_prediction_cost.h"
 #include "cellmetry/estimation/reweighted_solve.h"
+#include "cellmetry/estimation/shared_prediction_cost.h"
 
 namespace cellmetry {
 namespace {
@@ -64,8 +64,8 @@ std::unique_ptr<Problem> MakeProblem(double angle, const Eigen::Vector3d& offset
   const Eigen::Matrix3d R = Eigen::AngleAxisd(kAngle, Eigen::Vector3d::UnitZ()).matrix();
   for (int i = 0; i < points; ++i) {
     const Eigen::Vector3d p(where(rng), where(rng), where(rng));
-    Eigen::Vector3d measured = R * p + kOffset + Eigen::Vector3d(noise(rng), noise(rng),
-                                                                 noise(rng));
+    Eigen::Vector3d measured =
+        R * p + kOffset + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
     if (i % 10 == 0) measured += Eigen::Vector3d(20.0, -20.0, 0.0);
     auto cost = std::make_unique<ceres::AutoDiffCostFunction<SeenPoint, 3, 1, 3>>(
         new SeenPoint{p, measured, sigma});
@@ -154,8 +154,7 @@ void ExpectTheDenseJacobiansSums(Problem* problem, const std::string& when) {
   ASSERT_EQ(at.hessian.rows(), J.cols()) << when;
   const Eigen::MatrixXd expected = J.transpose() * J;
   EXPECT_LT((at.hessian - expected).norm(), 1e-10 * expected.norm()) << when;
-  EXPECT_LT((at.gradient - J.transpose() * r).norm(), 1e-10 * (J.transpose() * r).norm())
-      << when;
+  EXPECT_LT((at.gradient - J.transpose() * r).norm(), 1e-10 * (J.transpose() * r).norm()) << when;
 }
 
 // Build keeps the sparse layout when neither the residual blocks nor the free columns changed
@@ -176,8 +175,8 @@ TEST(NormalEquations, FollowWhatTheLastBuildChanged) {
   ExpectTheDenseJacobiansSums(problem.get(), "the angle held");
   // One more block over the offset alone, after the build: a new column pattern.
   problem->AddResidual(
-      std::make_unique<ceres::AutoDiffCostFunction<OffsetOnly, 3, 3>>(new OffsetOnly),
-      {shift}, ResidualInfo{});
+      std::make_unique<ceres::AutoDiffCostFunction<OffsetOnly, 3, 3>>(new OffsetOnly), {shift},
+      ResidualInfo{});
   problem->Build();
   ExpectTheDenseJacobiansSums(problem.get(), "a residual added");
 }
@@ -197,8 +196,7 @@ class SharedSeenPoint : public SharedPredictionCost {
     mutable_parameter_block_sizes()->assign({1, 3});
   }
   const void* prediction_key() const override { return chain_.get(); }
-  bool Predict(double const* const* parameters, Pose* prediction,
-               double** tangent) const override {
+  bool Predict(double const* const* parameters, Pose* prediction, double** tangent) const override {
     const double angle = parameters[0][0];
     const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()).matrix();
     const Eigen::Vector3d offset(parameters[1][0], parameters[1][1], parameters[1][2]);
@@ -248,8 +246,8 @@ std::unique_ptr<Problem> MakeSharedProblem() {
   const int rotation = problem->AddBlock("rotation", {Named("angle", "rad", 0.299)});
   Parameter z = Named("z", "mm", 2.0);
   z.fixed = true;
-  const int shift = problem->AddBlock(
-      "offset", {Named("x", "mm", 10.01), Named("y", "mm", -5.01), z});
+  const int shift =
+      problem->AddBlock("offset", {Named("x", "mm", 10.01), Named("y", "mm", -5.01), z});
   std::mt19937 rng(5);
   std::normal_distribution<double> noise(0.0, 1.0);
   std::uniform_real_distribution<double> where(-100.0, 100.0);
@@ -259,8 +257,8 @@ std::unique_ptr<Problem> MakeSharedProblem() {
     const Eigen::Vector3d p(where(rng), where(rng), where(rng));
     const Eigen::Matrix3d R0 =
         Eigen::AngleAxisd(where(rng) / 100.0, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
-    chains.push_back(std::make_shared<const SharedSeenPoint::Chain>(
-        SharedSeenPoint::Chain{i % 2 == 0, p, R0}));
+    chains.push_back(
+        std::make_shared<const SharedSeenPoint::Chain>(SharedSeenPoint::Chain{i % 2 == 0, p, R0}));
   }
   int count = 0;
   for (int capture = 0; capture < 6; ++capture) {
@@ -395,8 +393,7 @@ Eigen::VectorXd CeresAnswer(Problem* problem, bool summed = false, double* final
   options.function_tolerance = options.gradient_tolerance = 1e-15;
   options.parameter_tolerance = 1e-14;
   ceres::Solver::Summary summary;
-  ceres::Solve(options,
-               summed ? &problem->ceres_problem_for_solving() : &problem->ceres_problem(),
+  ceres::Solve(options, summed ? &problem->ceres_problem_for_solving() : &problem->ceres_problem(),
                &summary);
   EXPECT_EQ(summary.termination_type, ceres::CONVERGENCE);
   if (final_cost) *final_cost = summary.final_cost;
@@ -494,8 +491,8 @@ TEST(SharedPredictionGroup, ALargeUnitReachesCeresInPieces) {
 // Cost and gradient of a ceres::Problem over every free block, at the current values.
 double CeresCost(ceres::Problem& problem, std::vector<double>* gradient) {
   double cost = 0.0;
-  EXPECT_TRUE(problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, gradient,
-                               nullptr));
+  EXPECT_TRUE(
+      problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, gradient, nullptr));
   return cost;
 }
 

@@ -9,17 +9,17 @@
 
 #include <cstdio>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <tuple>
-#include <nlohmann/json.hpp>
 
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_assembly.h"
-#include "residual_rows.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "residual_rows.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -33,19 +33,19 @@ class Outliers : public ::testing::Test {
     const std::string dir = testing::TempDirForThisTest("outliers");
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_two_cameras.yaml"));
-    sim =
-        testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+    sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                               testing::Source("configs/robots/ur3_vsb2020.yaml"));
     sim = testing::ReplaceOnce(sim, "../../tests/data/vsb/sim_b",
                                testing::Source("tests/data/vsb/sim_b"));
     testing::WriteText(dir + "/sim.yaml", sim);
-    clean_ = SimulateWorkcell(LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins()),
-                              nullptr);
-    testing::WriteText(
-        dir + "/job.yaml",
-        "job: workcell\nrecording: " + dir + "/none\nrobots:\n  ur3:\n    model: " +
-            testing::Source("configs/robots/ur3_vsb2020.yaml") +
-            "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n" +
-            testing::kTwoCameraNoiseYaml + "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
+    clean_ =
+        SimulateWorkcell(LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins()), nullptr);
+    testing::WriteText(dir + "/job.yaml",
+                       "job: workcell\nrecording: " + dir + "/none\nrobots:\n  ur3:\n    model: " +
+                           testing::Source("configs/robots/ur3_vsb2020.yaml") +
+                           "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n" +
+                           testing::kTwoCameraNoiseYaml +
+                           "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
     job_ = LoadWorkcellJob(dir + "/job.yaml", testing::Plugins(), false);
   }
 
@@ -103,7 +103,8 @@ class Outliers : public ::testing::Test {
       for (int i = 0; i < 3; ++i) {
         if (a.held[i]) continue;
         EXPECT_LE(std::abs(b.pose.t[i] - a.pose.t[i]), a.sigma_mm[i])
-            << name << " " << "xyz"[i] << ": " << a.pose.t[i] << " -> " << b.pose.t[i];
+            << name << " "
+            << "xyz"[i] << ": " << a.pose.t[i] << " -> " << b.pose.t[i];
       }
     }
   }
@@ -147,9 +148,10 @@ TEST_F(Outliers, TenPercentOnTheToolMoveNothingByMoreThanItsCleanSigma) {
   EXPECT_GT(off, 5.0);
   EXPECT_GT(plain, 1.0);
   const WorkcellResult robust = Identify(corrupted);
-  std::printf("%zu of %zu samples corrupted; largest move in clean sigma: no test %.1f, plain "
-              "fit's test %.1f, robust first fit %.2f\n", bad.size(), clean_.samples.size(), off,
-              plain, LargestMoveInSigma(clean, robust));
+  std::printf(
+      "%zu of %zu samples corrupted; largest move in clean sigma: no test %.1f, plain "
+      "fit's test %.1f, robust first fit %.2f\n",
+      bad.size(), clean_.samples.size(), off, plain, LargestMoveInSigma(clean, robust));
   ExpectFound(clean, robust, bad);
 }
 
@@ -203,10 +205,13 @@ TEST_F(Outliers, TenPercentOnTheWorldBoardMoveNothingByMoreThanItsCleanSigma) {
 TEST_F(Outliers, TenPercentOfWorldBoardRotationsMoveNothingByMoreThanItsCleanSigma) {
   const WorkcellResult clean = Identify(clean_);
   std::set<int> bad;
-  const Recording corrupted = Corrupted("world", 10, [](Observation& obs) {
-    ASSERT_TRUE(obs.rvec.has_value());
-    obs.rvec->x() += 0.2;
-  }, &bad);
+  const Recording corrupted = Corrupted(
+      "world", 10,
+      [](Observation& obs) {
+        ASSERT_TRUE(obs.rvec.has_value());
+        obs.rvec->x() += 0.2;
+      },
+      &bad);
   ExpectFound(clean, Identify(corrupted), bad);
 }
 
@@ -220,8 +225,7 @@ TEST_F(Outliers, AProblemsBlocksAreTestedAsTheRowsMadeFromThem) {
   const WorkcellProblem& spec = job_.problem;
   const WorkcellData data = PrepareWorkcellData(spec, corrupted);
   const NoiseModel noise = BuildNoiseModel(corrupted, spec.noise);
-  auto assembled =
-      AssembleWorkcell(spec, corrupted, data, noise, Identify(clean_).estimate);
+  auto assembled = AssembleWorkcell(spec, corrupted, data, noise, Identify(clean_).estimate);
   Problem& problem = assembled->problem;
   Eigen::VectorXd whitened;
   ASSERT_TRUE(problem.EvaluateSparse(&whitened, nullptr));

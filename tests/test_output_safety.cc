@@ -29,12 +29,12 @@ class OutputSafety : public ::testing::Test {
 
   // configs/jobs/vsb_sim_b.yaml with absolute paths and `output`.
   void WriteJob(const std::string& output) {
-    testing::WriteText(dir_ + "/job.yaml",
-                       "job: workcell\nrecording: " + recording_ + "\noutput: " + output +
-                           "\nrobots:\n  ur3:\n    model: " +
-                           testing::Source("configs/robots/ur3_vsb2020.yaml") +
-                           "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n"
-                           "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
+    testing::WriteText(
+        dir_ + "/job.yaml",
+        "job: workcell\nrecording: " + recording_ + "\noutput: " + output +
+            "\nrobots:\n  ur3:\n    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") +
+            "\n    base: {free: all}\n    tools:\n      tool: {free: [x, y, z]}\n"
+            "solver: {type: ceres_lm}\nvalidation: {folds: 0}\n");
   }
 
   testing::CommandResult Run() { return testing::RunCellmetry("run " + dir_ + "/job.yaml"); }
@@ -67,8 +67,8 @@ TEST_F(OutputSafety, TheJobsOwnRecordingIsNotReplaced) {
   EXPECT_TRUE(fs::exists(recording_ + "/observations.csv"));
   // A recording cellmetry simulated is its output too, but of another kind: still refused.
   const auto sim = testing::RunCellmetry(
-      "simulate " + testing::Source("configs/simulations/ur3_two_cameras.yaml") + " -o " +
-      dir_ + "/simulated");
+      "simulate " + testing::Source("configs/simulations/ur3_two_cameras.yaml") + " -o " + dir_ +
+      "/simulated");
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
   WriteJob(dir_ + "/simulated");
   const auto again = Run();
@@ -78,9 +78,9 @@ TEST_F(OutputSafety, TheJobsOwnRecordingIsNotReplaced) {
 }
 
 TEST_F(OutputSafety, SimulateDoesNotOverwriteARecordingItDidNotWrite) {
-  const auto r = testing::RunCellmetry(
-      "simulate " + testing::Source("configs/simulations/ur3_two_cameras.yaml") + " -o " +
-      recording_);
+  const auto r = testing::RunCellmetry("simulate " +
+                                       testing::Source("configs/simulations/ur3_two_cameras.yaml") +
+                                       " -o " + recording_);
   EXPECT_EQ(r.exit_code, kInputErrorExitCode) << r.output;
   EXPECT_EQ(testing::ReadText(recording_ + "/observations.csv"),
             testing::ReadText(testing::Source("tests/data/vsb/sim_b/observations.csv")));
@@ -148,8 +148,7 @@ TEST_F(OutputSafety, AUsersFilesInAResultFolderAreNeverMovedAside) {
 TEST_F(OutputSafety, ADiagnosisInsideAResultIsCellmetrysOwn) {
   WriteJob(dir_ + "/result");
   ASSERT_EQ(Run().exit_code, 0);
-  testing::WriteText(dir_ + "/result/diagnosis/" + std::string(kOutputMarker),
-                     "kind: diagnosis\n");
+  testing::WriteText(dir_ + "/result/diagnosis/" + std::string(kOutputMarker), "kind: diagnosis\n");
   testing::WriteText(dir_ + "/result/diagnosis/report.txt", "a diagnosis\n");
   const auto r = Run();
   EXPECT_EQ(r.exit_code, 0) << r.output;

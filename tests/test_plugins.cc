@@ -22,7 +22,7 @@ const std::vector<std::string> kBuiltSolvers = {"ceres_lm", "gradient_descent", 
                                                 "nlopt", "normal_lm"};
 const std::vector<std::string> kBuiltRobotModels = {"delta", "serial_mdh", "urdf"};
 const std::vector<std::string> kBuiltDetectors = {"apriltag_board", "aruco", "charuco",
-                                                  "checkerboard", "dot", "dot_pattern"};
+                                                  "checkerboard",   "dot",   "dot_pattern"};
 
 using testing::CatchInputError;
 
@@ -138,10 +138,10 @@ class ExternalPlugin : public ::testing::Test {
     // Per process: CTest runs each test in its own process, two at a time.
     build_ = testing::TempDir("plugins/external_build_" + std::to_string(::getpid()));
     const std::string log = build_ + "/build.log";
-    const std::string command =
-        "cmake -S " + testing::Source("tests/external_plugin") + " -B " + build_ +
-        " -G Ninja -Dcellmetry_DIR=" + CELLMETRY_BUILD_DIR + " > " + log + " 2>&1 && " +
-        "cmake --build " + build_ + " -j1 >> " + log + " 2>&1";
+    const std::string command = "cmake -S " + testing::Source("tests/external_plugin") + " -B " +
+                                build_ + " -G Ninja -Dcellmetry_DIR=" + CELLMETRY_BUILD_DIR +
+                                " > " + log + " 2>&1 && " + "cmake --build " + build_ + " -j1 >> " +
+                                log + " 2>&1";
     build_status_ = std::system(command.c_str());
   }
 
@@ -160,17 +160,27 @@ class ExternalPlugin : public ::testing::Test {
   // The sim_b job in `dir` with this plugin folder and the given solver block (line 11).
   static std::string WriteSimBJob(const std::string& dir, const std::string& solver) {
     const std::string job = dir + "/job.yaml";
-    testing::WriteText(job, "job: workcell\n"
-                            "recording: " + testing::Source("tests/data/vsb/sim_b") + "\n"
-                            "output: " + dir + "/result\n"
-                            "plugin_paths: [" + plugins() + "]\n"
-                            "robots:\n"
-                            "  ur3:\n"
-                            "    model: " + testing::Source("configs/robots/ur3_vsb2020.yaml") + "\n"
-                            "    base: {free: all}\n"
-                            "    tools:\n"
-                            "      tool: {xyz: [0, 0, 0], free: [x, y, z]}\n"
-                            "solver: " + solver + "\n");
+    testing::WriteText(job,
+                       "job: workcell\n"
+                       "recording: " +
+                           testing::Source("tests/data/vsb/sim_b") +
+                           "\n"
+                           "output: " +
+                           dir +
+                           "/result\n"
+                           "plugin_paths: [" +
+                           plugins() +
+                           "]\n"
+                           "robots:\n"
+                           "  ur3:\n"
+                           "    model: " +
+                           testing::Source("configs/robots/ur3_vsb2020.yaml") +
+                           "\n"
+                           "    base: {free: all}\n"
+                           "    tools:\n"
+                           "      tool: {xyz: [0, 0, 0], free: [x, y, z]}\n"
+                           "solver: " +
+                           solver + "\n");
     return job;
   }
 

@@ -21,10 +21,10 @@ class PosePlanning : public ::testing::Test {
     dir_ = testing::TempDirForThisTest("pose_plan");
     std::string sim =
         testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-    sim =
-        testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+    sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                               testing::Source("configs/robots/ur3_vsb2020.yaml"));
     sim = testing::ReplaceOnce(sim, "random: 150", "random: 60");
-    sim = testing::ReplaceOnce(sim, "lower: [-6.2,", "lower: [0.5,");   // joint 1 barely moves
+    sim = testing::ReplaceOnce(sim, "lower: [-6.2,", "lower: [0.5,");  // joint 1 barely moves
     sim = testing::ReplaceOnce(sim, "upper: [6.2,", "upper: [0.55,");
     testing::WriteText(dir_ + "/sim.yaml", sim);
     spec_ = LoadWorkcellSimulation(dir_ + "/sim.yaml", testing::Plugins());
@@ -56,7 +56,8 @@ TEST_F(PosePlanning, PlannedPosesMakeAnAbsorbedGearRatioTestableAndItIsThenFound
   // Joint 1 barely moves: its 0.1 % gear ratio error is almost all a turn of the base, which the
   // finder cannot name from these poses (untestable, or too weak to pass its tests).
   const DiagnosisResult before = Diagnose(recorded);
-  for (const auto& a : before.accepted) EXPECT_NE(a.name, "ur3.scale_j1") << DiagnosisReport(before);
+  for (const auto& a : before.accepted)
+    EXPECT_NE(a.name, "ur3.scale_j1") << DiagnosisReport(before);
 
   PosePlanOptions options;
   options.poses = 15;
@@ -107,8 +108,8 @@ TEST(PosePlanOnRealData, TrackerCellWithEveryMdhEntryFreeGetsFiniteSigma) {
     EXPECT_LE(s.after, s.before * 1.0001) << s.name;
   }
   ASSERT_EQ(plan.effects.size(), 2u);
-  const PlannedEffect& compliance = plan.effects[0].name == "tx90l.compliance_j5"
-                                        ? plan.effects[0] : plan.effects[1];
+  const PlannedEffect& compliance =
+      plan.effects[0].name == "tx90l.compliance_j5" ? plan.effects[0] : plan.effects[1];
   ASSERT_EQ(compliance.sigma.size(), 1u);
   EXPECT_LT(compliance.sigma[0].before, 1e-4) << PosePlanReport(plan);  // rad/(N m)
   EXPECT_LT(compliance.sigma[0].after, 0.7 * compliance.sigma[0].before) << PosePlanReport(plan);

@@ -27,7 +27,8 @@ constexpr double kCompliance = 3e-5;  // rad/(N m): 0.4 mrad at the UR3's ~13 N 
 // held, and a constant payload; joint 2's compliance (the job's link masses) concealed in it.
 WorkcellSimulationSpec ShoulderHeldCell(const std::string& dir) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "random: 150", "random: 60");
   sim = testing::ReplaceOnce(sim, "lower: [-6.2, 2.4, -2.2, -6.2, -6.2, -6.2]",
                              "lower: [-6.2, 3.3, -1.0, -1.6, 1.5, -6.2]");
@@ -80,9 +81,8 @@ TEST(PosePlanCompliance, PlannedPosesMakeAnAbsorbedComplianceTestableAndItIsThen
   options.poses = 15;
   const PosePlan plan = testing::Plan(job, recorded, options);
   ASSERT_EQ(plan.poses.size(), 15u);
-  const auto planned = std::find_if(plan.effects.begin(), plan.effects.end(), [](const auto& e) {
-    return e.name == "ur3.compliance_j2";
-  });
+  const auto planned = std::find_if(plan.effects.begin(), plan.effects.end(),
+                                    [](const auto& e) { return e.name == "ur3.compliance_j2"; });
   ASSERT_NE(planned, plan.effects.end()) << PosePlanReport(plan);
   EXPECT_LT(planned->unabsorbed_before, 0.05);
   EXPECT_GT(planned->unabsorbed_after, 0.2) << PosePlanReport(plan);
@@ -92,9 +92,8 @@ TEST(PosePlanCompliance, PlannedPosesMakeAnAbsorbedComplianceTestableAndItIsThen
   EXPECT_GT(planned->sigma[0].before, kCompliance) << PosePlanReport(plan);
   EXPECT_LT(planned->sigma[0].after, kCompliance / 4) << PosePlanReport(plan);
   EXPECT_GT(planned->sigma[0].before, 10 * planned->sigma[0].after);
-  const auto offset = std::find_if(plan.sigma.begin(), plan.sigma.end(), [](const auto& s) {
-    return s.name == "ur3.model.j2.offset";
-  });
+  const auto offset = std::find_if(plan.sigma.begin(), plan.sigma.end(),
+                                   [](const auto& s) { return s.name == "ur3.model.j2.offset"; });
   ASSERT_NE(offset, plan.sigma.end());
   EXPECT_LT(offset->after, offset->before);  // the shoulder's swing determines it too
   const RobotLimits& limits = spec.robots[0].model->limits();

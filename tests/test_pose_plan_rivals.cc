@@ -30,7 +30,8 @@ constexpr unsigned kSeed = 1004;         // the suite's 4th seed of the case
 // recording's noise drawn from `kSeed` as the physics suite draws it.
 WorkcellSimulationSpec Joint2ComplianceCell(const std::string& dir) {
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
   spec.seed = kSeed;
@@ -66,7 +67,8 @@ TEST(PosePlanRivals, PosesPlannedForTheClosestCandidateAndItsRivalLetTheFinderNa
   EXPECT_GE(closest->rival_p, job.options.alpha);
   EXPECT_EQ(closest->rival_effect, "ur3.transmission_j2");
   // The report says what to record, as a command.
-  const std::string command = "`cellmetry plan " + dir + "/job.yaml --effect "
+  const std::string command = "`cellmetry plan " + dir +
+                              "/job.yaml --effect "
                               "ur3.backlash_j2_gravity --effect ur3.transmission_j2` proposes";
   EXPECT_NE(DiagnosisReport(before).find(command), std::string::npos) << DiagnosisReport(before);
   EXPECT_NE(report::DiagnoseReportHtml(before, recorded, "test").find(command), std::string::npos);

@@ -2,8 +2,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -103,10 +103,10 @@ Recording SmallRecording() {
   tool.position_mm = Eigen::Vector3d(244.632864, -55.383274, 725.424014);
   tool.rvec = Eigen::Vector3d(-2.155004972, 1.601929886, 0.536612874);
   // As `cellmetry detect` measures it: with the covariances of its position and rotation.
-  tool.covariance_mm2 = (Eigen::Matrix3d() << 0.04, 0.001, -0.002, 0.001, 0.05, 0.003, -0.002,
-                         0.003, 0.4).finished();
-  tool.rotation_covariance_rad2 = (Eigen::Matrix3d() << 1e-7, 2e-9, 0, 2e-9, 3e-7, -1e-9, 0,
-                                   -1e-9, 5e-8).finished();
+  tool.covariance_mm2 =
+      (Eigen::Matrix3d() << 0.04, 0.001, -0.002, 0.001, 0.05, 0.003, -0.002, 0.003, 0.4).finished();
+  tool.rotation_covariance_rad2 =
+      (Eigen::Matrix3d() << 1e-7, 2e-9, 0, 2e-9, 3e-7, -1e-9, 0, -1e-9, 5e-8).finished();
   Observation dot;  // a triangulated dot: position only
   dot.sample = 7;
   dot.camera = "cam2";

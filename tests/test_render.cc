@@ -6,9 +6,9 @@
 #include <random>
 #include <stdexcept>
 
-#include "cellmetry/model/camera_file.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/imaging/render.h"
+#include "cellmetry/model/camera_file.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
@@ -168,9 +168,9 @@ TEST(Render, FrontoParallelDiskIsCentredOnItsProjection) {
   // Far from the face: background. Seen from behind, the paper is not seen at all.
   const Pose behind{Eigen::Matrix3d::Identity(), T_cam_target.t};
   const std::vector<float> back = RenderIdeal(camera, {{behind, &faces}}, options);
-  EXPECT_FLOAT_EQ(back[static_cast<size_t>(std::lround(truth.y())) * camera.width +
-                       std::lround(truth.x())],
-                  static_cast<float>(options.background));
+  EXPECT_FLOAT_EQ(
+      back[static_cast<size_t>(std::lround(truth.y())) * camera.width + std::lround(truth.x())],
+      static_cast<float>(options.background));
   EXPECT_FLOAT_EQ(ideal[5], static_cast<float>(options.background));
 }
 

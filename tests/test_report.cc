@@ -56,7 +56,9 @@ int OpenInChromium(const std::string& path, const std::string& name) {
   EXPECT_EQ(
       std::system((flags + "--dump-dom '" + url + "' >'" + dom + "' 2>'" + log + "'").c_str()), 0);
   EXPECT_EQ(std::system((flags + "--window-size=1300,3000 --screenshot='" + Artifacts() + "/" +
-                         name + ".png' '" + url + "' >/dev/null 2>&1").c_str()), 0);
+                         name + ".png' '" + url + "' >/dev/null 2>&1")
+                            .c_str()),
+            0);
   const std::string console = testing::ReadText(log);
   std::smatch m;
   EXPECT_FALSE(std::regex_search(console, m, std::regex(R"([^\n]*CONSOLE[^\n]*)"))) << m.str();
@@ -132,7 +134,8 @@ TEST(Report, ManyResidualRowsAreBinnedNotDropped) {
 TEST(Report, DiagnoseShowsTheAcceptedEffectsSignature) {
   const std::string dir = testing::TempDirForThisTest("report");
   std::string sim = testing::ReadText(testing::Source("configs/simulations/ur3_physics_base.yaml"));
-  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml", testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  sim = testing::ReplaceOnce(sim, "../robots/ur3_vsb2020.yaml",
+                             testing::Source("configs/robots/ur3_vsb2020.yaml"));
   sim = testing::ReplaceOnce(sim, "random: 150", "random: 80");
   testing::WriteText(dir + "/sim.yaml", sim);
   WorkcellSimulationSpec spec = LoadWorkcellSimulation(dir + "/sim.yaml", testing::Plugins());
@@ -161,9 +164,9 @@ TEST(Report, DiagnoseShowsTheAcceptedEffectsSignature) {
 // `cellmetry home` on a simulated delta arm: the page shows the offsets and the homing runs.
 TEST(Report, HomeWritesAPageOfItsOffsetsAndRuns) {
   const std::string dir = testing::TempDirForThisTest("report");
-  const auto simulated = testing::RunCellmetry(
-      "simulate " + testing::Source("configs/simulations/delta_homing.yaml") + " -o " + dir +
-      "/sim");
+  const auto simulated =
+      testing::RunCellmetry("simulate " + testing::Source("configs/simulations/delta_homing.yaml") +
+                            " -o " + dir + "/sim");
   ASSERT_EQ(simulated.exit_code, 0) << simulated.output;
   std::string job = testing::ReadText(testing::Source("configs/jobs/delta_homing.yaml"));
   job = testing::ReplaceOnce(job, "../../results/delta_homing_sim", dir + "/sim");
@@ -190,13 +193,14 @@ TEST(Report, CompareWritesAPageOfItsTable) {
   testing::WriteText(dir + "/spec.yaml",
                      "compare: solvers\njob: " + testing::Source("configs/jobs/vsb_sim_b.yaml") +
                          "\nsolvers: {ceres_lm: {type: ceres_lm}, pinv: {type: jacobian_pinv}}\n"
-                         "camera_models: [static_cameras]\nseeds: 2\noutput: " + dir + "/out\n");
+                         "camera_models: [static_cameras]\nseeds: 2\noutput: " +
+                         dir + "/out\n");
   const auto compared = testing::RunCellmetry("compare " + dir + "/spec.yaml");
   ASSERT_EQ(compared.exit_code, 0) << compared.output;
   const std::string html = testing::ReadText(dir + "/out/report.html");
   ExpectSelfContained(html);
   EXPECT_NE(html.find("95 % Student-t interval (bar)"), std::string::npos);  // over seeds
-  EXPECT_EQ(Count(html, "data-plot=\"compare_column\""), 3);  // error, time, iterations
+  EXPECT_EQ(Count(html, "data-plot=\"compare_column\""), 3);              // error, time, iterations
   EXPECT_NE(html.find("<th>held-out RMS (mm)</th>"), std::string::npos);  // table.md, rendered
   EXPECT_NE(html.find("<li>for this cell, static_cameras, which solver: "), std::string::npos);
   fs::copy_file(dir + "/out/report.html", Artifacts() + "/compare.html",

@@ -34,8 +34,8 @@ std::string Artifacts() {
 // Headless Chromium in the test's window, its own profile, stopped after 60 s whatever happens.
 std::string Chromium(const std::string& profile) {
   return "timeout 60 chromium --headless --no-sandbox --disable-gpu --window-size=" +
-         std::to_string(kWindowWidth) + "," + std::to_string(kWindowHeight) +
-         " --user-data-dir='" + profile + "' --virtual-time-budget=3000 ";
+         std::to_string(kWindowWidth) + "," + std::to_string(kWindowHeight) + " --user-data-dir='" +
+         profile + "' --virtual-time-budget=3000 ";
 }
 
 // What the page's load check measured (html_page.h), -1 where it set nothing.
@@ -57,11 +57,11 @@ Layout Render(const std::string& path, const std::string& name) {
   const std::string url = "file://" + fs::absolute(path).string();
   const std::string dom_file = Artifacts() + "/" + name + ".dom.html";
   const std::string browser = Chromium(testing::TempDir("report_browser_profile/" + name));
-  EXPECT_EQ(std::system((browser + "--dump-dom '" + url + "' >'" + dom_file + "' 2>/dev/null")
-                            .c_str()),
-            0);
-  EXPECT_EQ(std::system((browser + "--screenshot='" + Artifacts() + "/" + name + ".png' '" +
-                         url + "' >/dev/null 2>&1")
+  EXPECT_EQ(
+      std::system((browser + "--dump-dom '" + url + "' >'" + dom_file + "' 2>/dev/null").c_str()),
+      0);
+  EXPECT_EQ(std::system((browser + "--screenshot='" + Artifacts() + "/" + name + ".png' '" + url +
+                         "' >/dev/null 2>&1")
                             .c_str()),
             0);
   const std::string dom = testing::ReadText(dom_file);
@@ -165,12 +165,13 @@ TEST(ReportBrowser, TheComparePageFitsTheWindowAndItsWideTableScrolls) {
 TEST(ReportBrowser, TheCheckSeesALegendOnTheDataAreaAndAPageTooWide) {
   if (!HaveChromium()) GTEST_SKIP() << "chromium is not installed: no browser to render in";
   report::HtmlPage page("a page that breaks the layout rules");
-  page.Raw("<figure class=\"plot\"><svg xmlns=\"http://www.w3.org/2000/svg\" width=\"300\" "
-           "height=\"200\" viewBox=\"0 0 300 200\"><rect data-role=\"plot-area\" x=\"40\" "
-           "y=\"10\" width=\"250\" height=\"150\" fill=\"#fff\" stroke=\"#999\"/>"
-           "<g class=\"marks\"><circle cx=\"50\" cy=\"20\" r=\"3\"/></g><g data-role=\"legend\">"
-           "<rect x=\"46\" y=\"14\" width=\"9\" height=\"9\"/><text x=\"58\" y=\"22\">on the "
-           "points</text></g></svg></figure>");
+  page.Raw(
+      "<figure class=\"plot\"><svg xmlns=\"http://www.w3.org/2000/svg\" width=\"300\" "
+      "height=\"200\" viewBox=\"0 0 300 200\"><rect data-role=\"plot-area\" x=\"40\" "
+      "y=\"10\" width=\"250\" height=\"150\" fill=\"#fff\" stroke=\"#999\"/>"
+      "<g class=\"marks\"><circle cx=\"50\" cy=\"20\" r=\"3\"/></g><g data-role=\"legend\">"
+      "<rect x=\"46\" y=\"14\" width=\"9\" height=\"9\"/><text x=\"58\" y=\"22\">on the "
+      "points</text></g></svg></figure>");
   page.Raw("<div style=\"width:2000px\">a line wider than the window</div>");
   const std::string path = testing::TempDirForThisTest("report_browser") + "/broken.html";
   testing::WriteText(path, page.Html());

@@ -218,7 +218,8 @@ TEST(ReportLayout, TheHistogramMarksAndCountsValuesBeyondSix) {
 TEST(ReportLayout, IntervalsSigmaBarsAndHeatmapHoldEveryMarkWithTheLegendBeside) {
   const std::string intervals = report::IntervalPlot(
       "held_out",
-      {{"all cameras, fitted", 0.2, 0.2, 0.2, 0}, {"all cameras, held out", 0.3, 0.25, 40, 1},
+      {{"all cameras, fitted", 0.2, 0.2, 0.2, 0},
+       {"all cameras, held out", 0.3, 0.25, 40, 1},
        {"cam1, fitted", -7, -7, -7, 0}},
       "RMS (mm)", "", {{report::SeriesColor(0), "fitted"}, {report::SeriesColor(1), "held out"}});
   EXPECT_EQ(DataBeyond(intervals), 0);
@@ -231,8 +232,8 @@ TEST(ReportLayout, IntervalsSigmaBarsAndHeatmapHoldEveryMarkWithTheLegendBeside)
   ExpectLegendBesideThePlot(sigma);
 
   const std::vector<std::string> names = {"a", "b", "c"};
-  const std::string heatmap = report::CorrelationHeatmap(
-      names, {{1, 0.9, -0.3}, {0.9, 1, 0.01}, {-0.3, 0.01, 1}});
+  const std::string heatmap =
+      report::CorrelationHeatmap(names, {{1, 0.9, -0.3}, {0.9, 1, 0.01}, {-0.3, 0.01, 1}});
   ExpectMarksInPlotArea(heatmap);
   ExpectLegendBesideThePlot(heatmap);
 }

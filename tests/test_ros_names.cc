@@ -58,8 +58,7 @@ CalibratedCell OneRobotCell(const std::string& config_file, const std::string& n
   for (const Parameter& p : robot.model->parameters()) robot.values.push_back(p.nominal);
   if (perturb) perturb(&robot.values);
   cell.robots.push_back(robot);
-  cell.frames.push_back(
-      {name + ".base", "world", Rpy(0.1, -0.2, 0.7, {812.0, -95.0, 40.0}), {}});
+  cell.frames.push_back({name + ".base", "world", Rpy(0.1, -0.2, 0.7, {812.0, -95.0, 40.0}), {}});
   cell.frames.push_back({"tool", name + ".flange", Rpy(0.0, 0.3, 0.0, {5.0, 0.0, 120.0}), {}});
   return cell;
 }
@@ -68,8 +67,7 @@ CalibratedCell OneRobotCell(const std::string& config_file, const std::string& n
 Pose LinkPose(const urdf::ModelInterface& model, const std::string& from, const std::string& link,
               const std::map<std::string, double>& q) {
   Pose T = Pose::Identity();
-  for (urdf::LinkConstSharedPtr l = model.getLink(link); l && l->name != from;
-       l = l->getParent()) {
+  for (urdf::LinkConstSharedPtr l = model.getLink(link); l && l->name != from; l = l->getParent()) {
     const urdf::JointConstSharedPtr joint = l->parent_joint;
     EXPECT_TRUE(joint) << link << " is not below " << from;
     if (!joint) break;
@@ -192,8 +190,8 @@ TEST(RosNames, Tool0IsTheCalibratedFlangeInTheWorld) {
 TEST(RosNames, ArmsThatAreNotSixJointSerialAreRefused) {
   {
     const CalibratedCell cell = OneRobotCell("configs/robots/delta.yaml", "delta");
-    const InputError e = testing::CatchInputError(
-        [&] { UrdfExport(cell, cell.robots[0], ExportNaming::kUr); });
+    const InputError e =
+        testing::CatchInputError([&] { UrdfExport(cell, cell.robots[0], ExportNaming::kUr); });
     EXPECT_THAT(e.what(), HasSubstr("--names ur names a six-joint serial arm"));
     EXPECT_THAT(e.what(), HasSubstr("not a serial chain"));
     EXPECT_THAT(e.what(), HasSubstr("Leave out --names ur"));
@@ -208,8 +206,8 @@ TEST(RosNames, ArmsThatAreNotSixJointSerialAreRefused) {
     testing::WriteText(dir + "/seven.yaml", seven);
     CalibratedCell cell = OneRobotCell("configs/robots/ur5e.yaml", "arm");
     CalibratedRobot& robot = cell.robots[0];
-    robot.model = testing::Plugins().CreateRobotModel(
-        "serial_mdh", ConfigNode::LoadFile(dir + "/seven.yaml"));
+    robot.model = testing::Plugins().CreateRobotModel("serial_mdh",
+                                                      ConfigNode::LoadFile(dir + "/seven.yaml"));
     robot.values.clear();
     for (const Parameter& p : robot.model->parameters()) robot.values.push_back(p.nominal);
     const InputError e =

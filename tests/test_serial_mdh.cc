@@ -12,7 +12,8 @@ namespace cellmetry {
 namespace {
 
 std::unique_ptr<RobotModel> Ur3() {
-  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  const ConfigNode config =
+      ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
   return testing::Plugins().CreateRobotModel("serial_mdh", config);
 }
 
@@ -169,9 +170,9 @@ TEST(SerialMdh, ConventionsAreTheParametrisationsOwnRedundancies) {
   for (const Parameter& p : model->parameters()) {
     if (!p.convention.empty()) conventions.push_back(p.name);
   }
-  const std::vector<std::string> expected = {
-      "j1.alpha", "j1.a",    "j1.beta", "j1.d",      "j1.offset", "j2.beta", "j3.d",
-      "j4.beta",  "j5.beta", "j6.beta", "j6.d",      "j6.offset"};
+  const std::vector<std::string> expected = {"j1.alpha",  "j1.a",    "j1.beta", "j1.d",
+                                             "j1.offset", "j2.beta", "j3.d",    "j4.beta",
+                                             "j5.beta",   "j6.beta", "j6.d",    "j6.offset"};
   EXPECT_EQ(conventions, expected);
 }
 

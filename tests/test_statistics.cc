@@ -43,7 +43,7 @@ TEST(Statistics, DurbinWatsonSeesDrift) {
     drifting.push_back(std::sin(i * 0.05));
   }
   EXPECT_NEAR(DurbinWatson(alternating), 4.0, 0.05);  // negative correlation
-  EXPECT_LT(DurbinWatson(drifting), 0.1);              // slow drift
+  EXPECT_LT(DurbinWatson(drifting), 0.1);             // slow drift
 }
 
 TEST(Statistics, MedianOfOddAndEvenCounts) {

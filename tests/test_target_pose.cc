@@ -45,8 +45,8 @@ TEST(TargetPose, OneCoplanarFaceOffTheTargetPlaneGivesTheExactPose) {
 
 TEST(TargetPose, AHiddenCornerIsDroppedAndThePoseStaysRight) {
   std::vector<MarkerPoint> layout = CubeTopFace();
-  for (const auto& p : std::vector<MarkerPoint>{{4, {-35, -20, 10}}, {5, {-35, 20, 10}},
-                                                {6, {-35, 20, -20}}}) {
+  for (const auto& p :
+       std::vector<MarkerPoint>{{4, {-35, -20, 10}}, {5, {-35, 20, 10}}, {6, {-35, 20, -20}}}) {
     layout.push_back(p);  // three corners on the -x face too
   }
   std::vector<Keypoint> keypoints = Seen(layout, 0.1);

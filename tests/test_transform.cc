@@ -4,9 +4,9 @@
 
 #include <random>
 
-#include "cellmetry/model/frame_block.h"
 #include "cellmetry/basics/rigid_fit.h"
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/model/frame_block.h"
 
 namespace cellmetry {
 namespace {

@@ -434,8 +434,7 @@ TEST(UrdfRobot, TheFittedArmIsExportedAsUrdfAndAsARobotConfig) {
 Pose LinkPose(const urdf::ModelInterface& model, const std::string& from, const std::string& link,
               const std::map<std::string, double>& q) {
   Pose T = Pose::Identity();
-  for (urdf::LinkConstSharedPtr l = model.getLink(link); l && l->name != from;
-       l = l->getParent()) {
+  for (urdf::LinkConstSharedPtr l = model.getLink(link); l && l->name != from; l = l->getParent()) {
     const urdf::Pose& o = l->parent_joint->parent_to_joint_origin_transform;
     Pose origin;
     origin.t = {o.position.x, o.position.y, o.position.z};
@@ -475,9 +474,12 @@ TEST(UrdfRobot, TheFittedArmsUrdfKeepsTheSourceNamesAxesAndLimits) {
     EXPECT_EQ(got->parent_link_name, l->parent_joint->parent_link_name);
     EXPECT_EQ(got->child_link_name, l->name);
     EXPECT_EQ(got->type, l->parent_joint->type);
-    EXPECT_NEAR((Eigen::Vector3d(got->axis.x, got->axis.y, got->axis.z) -
-                 Eigen::Vector3d(l->parent_joint->axis.x, l->parent_joint->axis.y,
-                                 l->parent_joint->axis.z).normalized()).norm(), 0.0, 1e-15);
+    EXPECT_NEAR(
+        (Eigen::Vector3d(got->axis.x, got->axis.y, got->axis.z) -
+         Eigen::Vector3d(l->parent_joint->axis.x, l->parent_joint->axis.y, l->parent_joint->axis.z)
+             .normalized())
+            .norm(),
+        0.0, 1e-15);
     if (l->parent_joint->limits && got->type == urdf::Joint::REVOLUTE) {
       ASSERT_TRUE(got->limits);
       EXPECT_EQ(got->limits->lower, l->parent_joint->limits->lower);

@@ -5,20 +5,21 @@
 #include <algorithm>
 #include <chrono>
 
-#include <random>
 #include <nlohmann/json.hpp>
+#include <random>
 
-#include "cellmetry/formats/config_node.h"
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/formats/config_node.h"
 #include "support/test_support.h"
 
 namespace cellmetry {
 namespace {
 
 std::shared_ptr<const RobotModel> Ur3() {
-  const ConfigNode config = ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
+  const ConfigNode config =
+      ConfigNode::LoadFile(testing::Source("configs/robots/ur3_vsb2020.yaml"));
   return testing::Plugins().CreateRobotModel("serial_mdh", config);
 }
 
@@ -64,8 +65,8 @@ WorkcellRobot JobRobot(const SimulatedRobot& sim, std::vector<std::string> free_
 
 WorkcellSimulationSpec TwoCameraSpec(unsigned seed) {
   WorkcellSimulationSpec spec;
-  spec.robots.push_back(SimRobot("ur3", "tool", PoseFromRvecT({0.01, -0.02, 0.3}, {431, 555, -460}),
-                                 seed));
+  spec.robots.push_back(
+      SimRobot("ur3", "tool", PoseFromRvecT({0.01, -0.02, 0.3}, {431, 555, -460}), seed));
   spec.T_world_cam["cam1"] = PoseFromRvecT({1.48, -2.65, -0.07}, {440, 404, 811});
   spec.T_world_cam["cam2"] = PoseFromRvecT({2.2, -1.5, 0.3}, {900, 300, 700});
   spec.seed = seed;
@@ -77,9 +78,8 @@ WorkcellEvaluation Solve(const WorkcellSimulationSpec& sim, WorkcellProblem prob
   WorkcellTruth truth;
   const Recording recording = SimulateWorkcell(sim, &truth);
   const ConfigNode config = ConfigNode::LoadString("type: " + solver, "solver");
-  const WorkcellResult result = IdentifyWorkcell(problem, recording, [&] {
-    return testing::Plugins().CreateSolver(solver, config);
-  });
+  const WorkcellResult result = IdentifyWorkcell(
+      problem, recording, [&] { return testing::Plugins().CreateSolver(solver, config); });
   return EvaluateWorkcell(WorkcellResultJson(result), truth, "truth");
 }
 
@@ -304,7 +304,8 @@ std::string CellWithCam2(const std::string& cam2) {
          "    poses: {random: 80, lower: [-3.1, 2.4, -2.2, -3.1, -3.1, -3.1],\n"
          "            upper: [3.1, 4.2, 2.2, 3.1, 3.1, 3.1]}\n"
          "cameras:\n  cam1: {xyz: [440, 404, 811], rvec: [1.4836, -2.6529, -0.0716]}\n"
-         "  cam2: " + cam2 + "\n";
+         "  cam2: " +
+         cam2 + "\n";
 }
 
 Recording SimulateFile(const std::string& yaml, const std::string& name) {
@@ -320,8 +321,8 @@ Recording SimulateFile(const std::string& yaml, const std::string& name) {
 TEST(SimulatedWorkcell, ACameraInViewOnlyRecordsTheBoardsInsideItsFieldOfView) {
   const std::string cam2 = "{xyz: [900, 300, 700], rvec: [-2.2936, -1.4001, 0.3616]";
   const Recording ideal = SimulateFile(CellWithCam2(cam2 + "}"), "ideal");
-  const Recording real = SimulateFile(
-      CellWithCam2(cam2 + ", half_fov_rad: [0.7, 0.27], in_view_only: true}"), "real");
+  const Recording real =
+      SimulateFile(CellWithCam2(cam2 + ", half_fov_rad: [0.7, 0.27], in_view_only: true}"), "real");
   auto count = [](const Recording& r, const std::string& camera, const std::string& target) {
     return std::count_if(r.observations.begin(), r.observations.end(), [&](const Observation& o) {
       return o.camera == camera && o.target == target;

@@ -34,9 +34,8 @@ WorkcellResult RunJob(const std::string& job_file, const std::string& solver_yam
   for (const std::string& camera : unused) job.problem.cameras[camera].use = false;
   const ConfigNode solver = ConfigNode::LoadString(solver_yaml, "solver");
   const Recording recording = ReadRecording(job.recording);
-  return IdentifyWorkcell(job.problem, recording, [&] {
-    return registry.CreateSolver(solver["type"].AsString(), solver);
-  });
+  return IdentifyWorkcell(job.problem, recording,
+                          [&] { return registry.CreateSolver(solver["type"].AsString(), solver); });
 }
 
 using testing::Frame;
@@ -55,10 +54,10 @@ TEST_P(SimB, FindsThePapersBaseAndTool) {
   EXPECT_TRUE(r.solver.converged) << r.solver.stop_reason;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    EverySolver, SimB,
-    ::testing::Values("type: ceres_lm", "type: jacobian_pinv", "{type: nlopt, algorithm: LD_LBFGS}",
-                      "{type: nlopt, algorithm: LN_BOBYQA}"));
+INSTANTIATE_TEST_SUITE_P(EverySolver, SimB,
+                         ::testing::Values("type: ceres_lm", "type: jacobian_pinv",
+                                           "{type: nlopt, algorithm: LD_LBFGS}",
+                                           "{type: nlopt, algorithm: LN_BOBYQA}"));
 
 TEST(ExpA, StaticCamerasPredictHeldOutPosesBetterThanPerFrameWorldTags) {
   const WorkcellResult r =
@@ -114,14 +113,16 @@ void ExpectCovers(const WorkcellResult& r, const std::string& job) {
   const Eigen::Vector3d placement(431.0, 555.0, -460.0);
   for (int i = 0; i < 3; ++i) {
     EXPECT_LT(std::abs(base.pose.t[i] - placement[i]), 3 * base.sigma_mm[i])
-        << job << ": base " << "xyz"[i] << " = " << base.pose.t[i] << " +- " << base.sigma_mm[i];
+        << job << ": base "
+        << "xyz"[i] << " = " << base.pose.t[i] << " +- " << base.sigma_mm[i];
   }
   EXPECT_LT(std::abs(tool.pose.t.z() - 66.0), 3 * tool.sigma_mm.z())
       << job << ": tool z = " << tool.pose.t.z() << " +- " << tool.sigma_mm.z();
   // The tool is a 66 mm offset along the flange's z axis: x and y are zero.
   for (int i = 0; i < 2; ++i) {
     EXPECT_LT(std::abs(tool.pose.t[i]), 3 * tool.sigma_mm[i])
-        << job << ": tool " << "xy"[i] << " = " << tool.pose.t[i] << " +- " << tool.sigma_mm[i];
+        << job << ": tool "
+        << "xy"[i] << " = " << tool.pose.t[i] << " +- " << tool.sigma_mm[i];
   }
 }
 
@@ -159,8 +160,8 @@ TEST(RealRecordings, EveryCameraSubsetCoversThePlacement) {
     for (int i = 0; i < 3; ++i) {
       EXPECT_FALSE(base.undetermined[i]) << job;
       EXPECT_LT(std::abs(base.pose.t[i] - placement[i]), 3 * base.sigma_mm[i])
-          << job << ": base " << "xyz"[i] << " = " << base.pose.t[i] << " +- "
-          << base.sigma_mm[i];
+          << job << ": base "
+          << "xyz"[i] << " = " << base.pose.t[i] << " +- " << base.sigma_mm[i];
     }
     EXPECT_LT(std::abs(tool.pose.t.z() - 66.0), 3 * tool.sigma_mm.z())
         << job << ": tool z = " << tool.pose.t.z() << " +- " << tool.sigma_mm.z();
@@ -274,12 +275,11 @@ TEST_P(PinnedAnswers, AreComputedAgainToOnePartInAMillion) {
 
 INSTANTIATE_TEST_SUITE_P(
     VsbJobs, PinnedAnswers,
-    ::testing::Combine(
-        ::testing::Values(PinnedJob("configs/jobs/vsb_sim_b.yaml",
-                                    "tests/data/vsb/pinned_answers_sim_b.txt"),
-                          PinnedJob("configs/jobs/vsb_exp_a_geometry.yaml",
-                                    "tests/data/vsb/pinned_answers_exp_a.txt")),
-        ::testing::Values(std::string("ceres_lm"), std::string("normal_lm"))));
+    ::testing::Combine(::testing::Values(PinnedJob("configs/jobs/vsb_sim_b.yaml",
+                                                   "tests/data/vsb/pinned_answers_sim_b.txt"),
+                                         PinnedJob("configs/jobs/vsb_exp_a_geometry.yaml",
+                                                   "tests/data/vsb/pinned_answers_exp_a.txt")),
+                       ::testing::Values(std::string("ceres_lm"), std::string("normal_lm"))));
 
 }  // namespace
 }  // namespace cellmetry

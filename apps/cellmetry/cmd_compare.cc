@@ -83,8 +83,9 @@ void AddCompareCommand(CLI::App& app, Context& context) {
   CLI::App* cmd = app.add_subcommand(
       "compare", "calibrate simulated arms per pose set x size x formulation x solver (Table 7)");
   static std::string spec_path, output;
-  cmd->add_option("spec", spec_path,
-                  "comparison spec (YAML, compare: kinematic | markers | physics | solvers | hand_eye)")
+  cmd->add_option(
+         "spec", spec_path,
+         "comparison spec (YAML, compare: kinematic | markers | physics | solvers | hand_eye)")
       ->required();
   cmd->add_option("-o,--output", output, "folder for table.md and table.csv");
   static int seeds = 0;
@@ -121,10 +122,10 @@ void AddCompareCommand(CLI::App& app, Context& context) {
                   (output.empty() ? spec.output : output).c_str());
       return;
     }
-    const TableComparison comparison = kind == "markers"   ? LoadMarkers(spec_path, seeds)
-                                       : kind == "solvers" ? LoadSolvers(spec_path, seeds)
+    const TableComparison comparison = kind == "markers"    ? LoadMarkers(spec_path, seeds)
+                                       : kind == "solvers"  ? LoadSolvers(spec_path, seeds)
                                        : kind == "hand_eye" ? LoadHandEye(spec_path, seeds)
-                                                           : LoadKinematic(spec_path, seeds);
+                                                            : LoadKinematic(spec_path, seeds);
     const std::string folder = output.empty() ? comparison.output : output;
     CheckReplaceable(folder, "comparison");  // before the work, not after it
     if (StopAfterCheck(folder)) return;

@@ -24,8 +24,8 @@ int ReportRefused(const std::string& targets_path,
   for (const auto& c : commands) {
     if (!c.refused) continue;
     ++refused;
-    std::fprintf(stderr, "%s:%d: target '%s' refused: %s\n", targets_path.c_str(),
-                 c.target->line, c.target->id.c_str(), c.reason.c_str());
+    std::fprintf(stderr, "%s:%d: target '%s' refused: %s\n", targets_path.c_str(), c.target->line,
+                 c.target->id.c_str(), c.reason.c_str());
   }
   return refused;
 }
@@ -35,8 +35,7 @@ CLI::Validator Finite() {
   return CLI::Validator(
       [](std::string& text) {
         const double value = std::strtod(text.c_str(), nullptr);
-        return std::isfinite(value) ? std::string()
-                                    : "Value " + text + " is not a finite number";
+        return std::isfinite(value) ? std::string() : "Value " + text + " is not a finite number";
       },
       "FINITE");
 }
@@ -44,17 +43,21 @@ CLI::Validator Finite() {
 }  // namespace
 
 void AddCompensateCommand(CLI::App& app, Context& context) {
-  CLI::App* cmd = app.add_subcommand(
-      "compensate", "turn target tool poses (or joint targets) into the joint commands that "
-                    "reach them under a result's calibrated geometry and effects");
+  CLI::App* cmd =
+      app.add_subcommand("compensate",
+                         "turn target tool poses (or joint targets) into the joint commands that "
+                         "reach them under a result's calibrated geometry and effects");
   static std::string result_folder, targets_path, robot, tool, output;
   static bool overwrite = false, allow_refused = false;
   static CompensationOptions options;
-  cmd->add_option("result", result_folder, "result folder (`cellmetry run`, or a diagnosis's "
-                  "final_fit/ with its accepted effects)")->required();
+  cmd->add_option("result", result_folder,
+                  "result folder (`cellmetry run`, or a diagnosis's "
+                  "final_fit/ with its accepted effects)")
+      ->required();
   cmd->add_option("targets", targets_path, "TARGETS.csv (docs/formats.md)")->required();
   cmd->add_option("--robot", robot, "the robot (default: the result's only one)");
-  cmd->add_option("--tool", tool, "the tool the targets are for: a tool frame of the result, or "
+  cmd->add_option("--tool", tool,
+                  "the tool the targets are for: a tool frame of the result, or "
                   "'flange' (default: the robot's only tool)");
   cmd->add_option("-o,--output", output, "commands CSV to write (default: standard output)");
   // A tolerance of 0 or less is never met and 0 iterations never move from the seed: either

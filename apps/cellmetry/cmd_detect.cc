@@ -1,8 +1,8 @@
 // `cellmetry detect JOB.yaml`: run a detector over a recording's images (detection.h).
 #include <cstdio>
 
-#include "cellmetry/imaging/detection.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/imaging/detection.h"
 #include "commands.h"
 
 namespace cellmetry::app {

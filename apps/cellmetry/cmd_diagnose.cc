@@ -2,22 +2,22 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-#include <nlohmann/json.hpp>
 
-#include "cellmetry/formats/atomic_file.h"
-#include "cellmetry/formats/checkpoint.h"
-#include "cellmetry/report/reports.h"
-#include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/camera_left_out.h"
 #include "cellmetry/cell/held_out_setup.h"
 #include "cellmetry/cell/held_out_targets.h"
-#include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/result_io.h"
+#include "cellmetry/cell/workcell.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/formats/checkpoint.h"
+#include "cellmetry/report/reports.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -36,9 +36,9 @@ std::string ScoreHeldOutSetups(const WorkcellJob& job, const Recording& recordin
   WorkcellProblem geometry = job.problem;
   geometry.folds = 0;
   geometry.leave_one_camera_out = false;
-  const HeldOutSetupScore alone = ScoreHeldOutSetup(
-      geometry, IdentifyWorkcell(geometry, recording, make_solver), other_setup, poses,
-      make_solver);
+  const HeldOutSetupScore alone =
+      ScoreHeldOutSetup(geometry, IdentifyWorkcell(geometry, recording, make_solver), other_setup,
+                        poses, make_solver);
   result->final_fit.held_out_setup =
       ScoreHeldOutSetup(result->final_spec, result->final_fit, other_setup, poses, make_solver);
   const HeldOutSetupScore& with = *result->final_fit.held_out_setup;
@@ -104,10 +104,9 @@ void AddDiagnoseCommand(CLI::App& app, Context& context) {
     // Finished rounds kept beside the output: an interrupted diagnosis resumes where it stopped.
     const std::string checkpoint_path = folder + ".partial.json";
     Checkpoint checkpoint(checkpoint_path, DiagnosisFingerprint(job_path, job, read, without));
-    DiagnosisResult result =
-        DiagnoseWorkcell(job.workcell.problem, recording, make_solver,
-                         JobCandidates(job, recording, registry), job.options, job_path,
-                         &checkpoint);
+    DiagnosisResult result = DiagnoseWorkcell(job.workcell.problem, recording, make_solver,
+                                              JobCandidates(job, recording, registry), job.options,
+                                              job_path, &checkpoint);
     std::optional<Recording> other_setup;
     std::string held_out_line;
     if (job.workcell.held_out_setup) {

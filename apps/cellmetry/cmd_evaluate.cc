@@ -21,10 +21,10 @@ void AddEvaluateCommand(CLI::App& app, Context& context) {
   cmd->callback([] {
     // The folder, or the result.json in it: both name the same result.
     const std::filesystem::path given(result_folder);
-    const std::string json_path = given.filename() == "result.json" &&
-                                          !std::filesystem::is_directory(given)
-                                      ? given.string()
-                                      : (given / "result.json").string();
+    const std::string json_path =
+        given.filename() == "result.json" && !std::filesystem::is_directory(given)
+            ? given.string()
+            : (given / "result.json").string();
     // A result that is not there is a job not run yet.
     if (!std::ifstream(json_path)) {
       throw InputError({json_path, 0, 0}, "cannot open result", "Run the job first");
@@ -37,8 +37,9 @@ void AddEvaluateCommand(CLI::App& app, Context& context) {
     bool gauge = false;
     for (const auto& q : evaluation.quantities) {
       if (q.combination && !gauge) {
-        std::printf("in a gauge: the data determines these combinations (the held parameter at "
-                    "nominal, its error carried by its partner):\n");
+        std::printf(
+            "in a gauge: the data determines these combinations (the held parameter at "
+            "nominal, its error carried by its partner):\n");
         gauge = true;
       }
       std::printf("%-28s %11.6f %-3s %11.6f %10.2f%s\n", q.name.c_str(), q.error, q.unit.c_str(),

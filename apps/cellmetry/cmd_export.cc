@@ -15,12 +15,12 @@ namespace cellmetry::app {
 
 void AddExportCommand(CLI::App& app, Context& context) {
   CLI::App* cmd = app.add_subcommand(
-      "export", "write a result as a file a robot cell loads: urdf, ur (Universal Robots' "
-                "kinematics YAML), tf (ROS 2 static transforms), robot (a cellmetry robot config)");
+      "export",
+      "write a result as a file a robot cell loads: urdf, ur (Universal Robots' "
+      "kinematics YAML), tf (ROS 2 static transforms), robot (a cellmetry robot config)");
   static std::string result_folder, format_name, robot, output, naming_name = "model";
   static bool overwrite = false;
-  cmd->add_option("result", result_folder, "result folder written by `cellmetry run`")
-      ->required();
+  cmd->add_option("result", result_folder, "result folder written by `cellmetry run`")->required();
   cmd->add_option("-f,--format", format_name, "urdf | ur | tf | robot")->required();
   cmd->add_option("--robot", robot, "the robot to export (urdf, ur, robot; default: the only one)");
   cmd->add_option("--names", naming_name,

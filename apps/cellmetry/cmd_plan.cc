@@ -16,9 +16,10 @@
 namespace cellmetry::app {
 
 void AddPlanCommand(CLI::App& app, Context& context) {
-  CLI::App* cmd = app.add_subcommand(
-      "plan", "propose joint poses that make untestable effects testable, or tell two "
-              "candidates apart (D-optimal)");
+  CLI::App* cmd =
+      app.add_subcommand("plan",
+                         "propose joint poses that make untestable effects testable, or tell two "
+                         "candidates apart (D-optimal)");
   static std::string job_path, output;
   static PosePlanOptions options;
   cmd->add_option("job", job_path, "workcell job (YAML), as for diagnose")->required();
@@ -50,7 +51,7 @@ void AddPlanCommand(CLI::App& app, Context& context) {
     if (StopAfterCheck(folder)) return;
     WorkcellProblem problem = job.workcell.problem;
     problem.folds = 0;  // the plan needs the answer, not its held-out score, nor each camera's
-  problem.leave_one_camera_out = false;
+    problem.leave_one_camera_out = false;
     Progress::Note("identifying the cell on the recorded poses");
     const WorkcellResult fitted = IdentifyWorkcell(problem, recording, make_solver);
     Progress::Note("choosing poses");

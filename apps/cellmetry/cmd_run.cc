@@ -12,8 +12,8 @@
 #include "cellmetry/cell/job.h"
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
-#include "cellmetry/formats/recording.h"
 #include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/formats/recording.h"
 #include "cellmetry/report/reports.h"
 #include "commands.h"
 
@@ -56,16 +56,17 @@ void RunJob(const std::string& job_path, const std::string& output,
     ValidateJobAgainstRecording(job, other_setup);
     Progress::Note("held-out setup: registering the frames again and scoring " +
                    other_setup.folder);
-    result.held_out_setup = ScoreHeldOutSetup(
-        job.problem, result, other_setup,
-        SelectRegistrationPoses(other_setup, job.held_out_setup->register_on,
-                                job.held_out_setup_where),
-        make_solver);
+    result.held_out_setup =
+        ScoreHeldOutSetup(job.problem, result, other_setup,
+                          SelectRegistrationPoses(other_setup, job.held_out_setup->register_on,
+                                                  job.held_out_setup_where),
+                          make_solver);
   }
   WriteWorkcellResult(result, folder, [&](const std::string& staging) {
     AtomicWriteFile(staging + "/" + report::kReportFile,
                     report::RunReportHtml(result, recording, "cellmetry run: " + job_path));
-    if (held_out) WriteHeldOutSetupFolder(*result.held_out_setup, *held_out, staging + "/held_out_setup");
+    if (held_out)
+      WriteHeldOutSetupFolder(*result.held_out_setup, *held_out, staging + "/held_out_setup");
   });
   std::printf("%s", WorkcellSummary(result).c_str());
   std::printf("  written: %s/{result.yaml,result.json,residuals.csv,report.html}\n",
@@ -75,8 +76,9 @@ void RunJob(const std::string& job_path, const std::string& output,
 }  // namespace
 
 void AddRunCommand(CLI::App& app, Context& context) {
-  CLI::App* cmd = app.add_subcommand("run", "identify a cell: base frames, tools, cameras and "
-                                            "whatever robot geometry the job frees");
+  CLI::App* cmd = app.add_subcommand("run",
+                                     "identify a cell: base frames, tools, cameras and "
+                                     "whatever robot geometry the job frees");
   static std::string job_path;
   static std::string output;
   static std::vector<std::string> without;

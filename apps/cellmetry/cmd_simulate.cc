@@ -5,8 +5,8 @@
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/experiments/concealed_physics.h"
-#include "cellmetry/imaging/image_simulation.h"
 #include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/imaging/image_simulation.h"
 #include "commands.h"
 
 namespace cellmetry::app {
@@ -37,8 +37,8 @@ void AddSimulateCommand(CLI::App& app, Context& context) {
     }
     WriteRecording(recording, output, TruthYaml(truth), images);
     std::printf("simulated %zu samples, %zu observations, %zu images -> %s (truth in truth.yaml)\n",
-                recording.samples.size(), recording.observations.size(),
-                recording.images.size(), output.c_str());
+                recording.samples.size(), recording.observations.size(), recording.images.size(),
+                output.c_str());
   });
 }
 

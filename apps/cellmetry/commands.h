@@ -8,10 +8,10 @@
 namespace cellmetry::app {
 
 struct Context {
-  std::string executable;               // argv[0], to find the plugins folder
+  std::string executable;                 // argv[0], to find the plugins folder
   std::vector<std::string> plugin_paths;  // --plugin-path
   bool quiet = false;
-  int exit_code = 0;                    // what main returns when no exception ended the command
+  int exit_code = 0;  // what main returns when no exception ended the command
 };
 
 // `cellmetry compensate` refused a target (its commands file lists why).

@@ -45,9 +45,9 @@ std::vector<double> JointTorques(const ConcealedPhysics& c, const Recording& rec
 }
 
 std::vector<DisturbanceAction> DistributedCompliance(const ConcealedPhysics& c,
-                                                   const Recording& recording,
-                                                   const std::vector<SampleFacts>& facts,
-                                                   const Eigen::Vector3d& gravity) {
+                                                     const Recording& recording,
+                                                     const std::vector<SampleFacts>& facts,
+                                                     const Eigen::Vector3d& gravity) {
   double tau_max = 0.0;
   const std::vector<double> torque = JointTorques(c, recording, facts, gravity, &tau_max);
   std::vector<DisturbanceAction> out(facts.size());
@@ -114,7 +114,7 @@ std::vector<DisturbanceAction> GravityBacklash(const ConcealedPhysics& c,
 }
 
 std::vector<DisturbanceAction> GearHarmonics(const ConcealedPhysics& c, const Recording& recording,
-                                           const std::vector<SampleFacts>& facts) {
+                                             const std::vector<SampleFacts>& facts) {
   static const double kWeights[] = {1.0, 0.6, 0.4, 0.3, 0.2};
   static const double kPhases[] = {0.3, 1.1, 2.0, 2.7, 0.9};
   std::vector<DisturbanceAction> out(facts.size());
@@ -122,8 +122,8 @@ std::vector<DisturbanceAction> GearHarmonics(const ConcealedPhysics& c, const Re
     if (recording.samples[i].robot != c.robot) continue;
     out[i].dq.assign(facts[i].q.size(), 0.0);
     for (size_t h = 0; h < c.harmonics.size() && h < 5; ++h) {
-      out[i].dq[c.joint] += c.magnitude * kWeights[h] *
-                            std::sin(c.harmonics[h] * facts[i].q[c.joint] + kPhases[h]);
+      out[i].dq[c.joint] +=
+          c.magnitude * kWeights[h] * std::sin(c.harmonics[h] * facts[i].q[c.joint] + kPhases[h]);
     }
   }
   return out;
@@ -153,8 +153,7 @@ Distorted Distort(double x, double y, const LensCoefficients& c) {
   out.jacobian << 1.0 + radial + 2.0 * x * x * d_radial_d_r2 + 2.0 * c.p1 * y + 6.0 * c.p2 * x +
                       2.0 * c.s1 * x,
       cross + 2.0 * c.s1 * y, cross + 2.0 * c.s3 * x,
-      1.0 + radial + 2.0 * y * y * d_radial_d_r2 + 6.0 * c.p1 * y + 2.0 * c.p2 * x +
-          2.0 * c.s3 * y;
+      1.0 + radial + 2.0 * y * y * d_radial_d_r2 + 6.0 * c.p1 * y + 2.0 * c.p2 * x + 2.0 * c.s3 * y;
   return out;
 }
 
@@ -175,14 +174,18 @@ void ConcealedPhysics::MeasureInCamera(const std::string& cam, Pose* T_cam_targe
 }
 
 ConcealedPhysics ReadConcealedPhysics(const ConfigNode& node) {
-  node.ExpectKeys({"kind", "robot", "joint", "camera", "magnitude", "link_masses_kg",
-                   "stiffening", "hold", "harmonics", "time_constant_s", "direction",
-                   "lens_shape", "lens_beyond"});
+  node.ExpectKeys({"kind", "robot", "joint", "camera", "magnitude", "link_masses_kg", "stiffening",
+                   "hold", "harmonics", "time_constant_s", "direction", "lens_shape",
+                   "lens_beyond"});
   ConcealedPhysics c;
   c.kind = node["kind"].AsString();
-  static const std::vector<std::string> kinds = {
-      "distributed_compliance", "dead_zone_backlash", "gravity_backlash", "gear_harmonics",
-      "warmup",                 "camera_bump",        "lens_distortion"};
+  static const std::vector<std::string> kinds = {"distributed_compliance",
+                                                 "dead_zone_backlash",
+                                                 "gravity_backlash",
+                                                 "gear_harmonics",
+                                                 "warmup",
+                                                 "camera_bump",
+                                                 "lens_distortion"};
   if (std::find(kinds.begin(), kinds.end(), c.kind) == kinds.end()) {
     throw node["kind"].Error("unknown concealed physics '" + c.kind + "'",
                              "Use distributed_compliance, dead_zone_backlash, gravity_backlash, "

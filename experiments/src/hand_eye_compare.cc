@@ -10,9 +10,9 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell.h"
-#include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/experiments/intervals.h"
 #include "cellmetry/experiments/solver_compare.h"
+#include "cellmetry/formats/checkpoint.h"
 #include "opencv_hand_eye.h"
 
 namespace cellmetry {
@@ -41,9 +41,10 @@ void ReadCell(const ConfigNode& where, HandEyeCompareSpec* spec) {
   spec->robot = robot.name;
   if (riding == 1) {
     if (sim.world_target.empty()) {
-      throw where.Error("is not an eye-in-hand cell: the camera on the flange needs a static "
-                        "board, the world target",
-                        "See configs/simulations/ur3_eye_in_hand.yaml");
+      throw where.Error(
+          "is not an eye-in-hand cell: the camera on the flange needs a static "
+          "board, the world target",
+          "See configs/simulations/ur3_eye_in_hand.yaml");
     }
     spec->setup = HandEyeSetup::kEyeInHand;
     spec->camera = robot.T_flange_camera.begin()->first;
@@ -52,9 +53,10 @@ void ReadCell(const ConfigNode& where, HandEyeCompareSpec* spec) {
   }
   if (!sim.world_target.empty() || robot.T_flange_target.size() != 1 ||
       !robot.point_targets.empty()) {
-    throw where.Error("is not an eye-to-hand cell: it needs world_target: none and one board "
-                      "(not a point) on the robot's tool",
-                      "See configs/simulations/ur3_eye_to_hand.yaml");
+    throw where.Error(
+        "is not an eye-to-hand cell: it needs world_target: none and one board "
+        "(not a point) on the robot's tool",
+        "See configs/simulations/ur3_eye_to_hand.yaml");
   }
   spec->setup = HandEyeSetup::kEyeToHand;
   spec->camera = sim.T_world_cam.begin()->first;
@@ -116,7 +118,8 @@ nlohmann::json SeedJson(const std::vector<HandEyeCompareRow>& seed_rows) {
       continue;
     }
     out.push_back({{"position_error_mm", row.position_error_mm[0]},
-                   {"rotation_error_mrad", row.rotation_error_mrad[0]}, {"time_s", row.time_s[0]}});
+                   {"rotation_error_mrad", row.rotation_error_mrad[0]},
+                   {"time_s", row.time_s[0]}});
   }
   return out;
 }
@@ -157,8 +160,8 @@ HandEyeCompareSpec LoadHandEyeCompare(const std::string& path, Registry& registr
   spec.job.problem.leave_one_camera_out = false;
   spec.seeds = root.GetIntIn("seeds", spec.seeds, 2, 100000,
                              "Repetitions per method; 10 or more gives a useful interval");
-  spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
-                                   : "results/compare_hand_eye";
+  spec.output =
+      root.Has("output") ? root.ResolvePath(root["output"].AsString()) : "results/compare_hand_eye";
   return spec;
 }
 
@@ -190,8 +193,7 @@ std::vector<HandEyeCompareRow> RunHandEyeCompare(const HandEyeCompareSpec& spec,
     Clock::time_point start = Clock::now();
     const WorkcellResult result = IdentifyWorkcell(spec.job.problem, recording, make_solver);
     Score(AnswerOf(result.estimate, spec), truth, SecondsSince(start), &seed_rows[0]);
-    const HandEyeCaptures captures =
-        CapturesOf(recording, spec.job.problem.robots.front(), spec);
+    const HandEyeCaptures captures = CapturesOf(recording, spec.job.problem.robots.front(), spec);
     for (size_t m = 0; m < OpenCvHandEyeMethods().size(); ++m) {
       start = Clock::now();
       Pose found;
@@ -217,8 +219,8 @@ std::vector<std::string> HandEyeRecommendations(const std::vector<HandEyeCompare
     by_position.push_back({row.method, row.position_error_mm, row.time_s});
     by_rotation.push_back({row.method, row.rotation_error_mrad, row.time_s});
   }
-  return {Recommendation("which method, by the hand-eye frame's position", by_position,
-                         "mm", 1e-6, 1e-5),
+  return {Recommendation("which method, by the hand-eye frame's position", by_position, "mm", 1e-6,
+                         1e-5),
           Recommendation("which method, by its rotation", by_rotation, "mrad", 1e-6, 1e-5)};
 }
 
@@ -236,8 +238,8 @@ std::string HandEyeCompareMarkdown(const HandEyeCompareSpec& spec,
   out << "|---|---|---|---|---|---|\n";
   for (const auto& row : rows) {
     out << "| " << row.method << " | " << IntervalText(row.position_error_mm) << " | "
-        << IntervalText(row.rotation_error_mrad) << " | " << IntervalText(row.time_s, 1e3)
-        << " | " << row.failed << "/" << spec.seeds << " | "
+        << IntervalText(row.rotation_error_mrad) << " | " << IntervalText(row.time_s, 1e3) << " | "
+        << row.failed << "/" << spec.seeds << " | "
         << (row.method == "cellmetry" ? "" : OpenCvHandEyeFault(row.method)) << " |\n";
   }
   out << "\nRecommendations (the same accuracy or time: means within 1 %, or the 95 % "

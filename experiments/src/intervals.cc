@@ -93,9 +93,7 @@ std::string FigureText(double value, FigureStyle style) {
     case FigureStyle::kFourDecimals:
       std::snprintf(text, sizeof text, small ? "%.1e" : "%.4f", value);
       break;
-    case FigureStyle::kFourDigits:
-      std::snprintf(text, sizeof text, "%.4g", value);
-      break;
+    case FigureStyle::kFourDigits: std::snprintf(text, sizeof text, "%.4g", value); break;
   }
   return text;
 }

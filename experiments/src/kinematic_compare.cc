@@ -8,11 +8,11 @@
 #include <sstream>
 
 #include "cellmetry/basics/error.h"
-#include "cellmetry/cell/workcell.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/cell/workcell.h"
 #include "cellmetry/experiments/intervals.h"
-#include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/experiments/solver_compare.h"
+#include "cellmetry/formats/checkpoint.h"
 
 namespace cellmetry {
 namespace {
@@ -43,9 +43,10 @@ CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
   if (!spec.simulation.world_target.empty() || spec.simulation.robots.size() != 1 ||
       spec.simulation.robots[0].T_flange_target.size() != 1 ||
       spec.simulation.T_world_cam.size() != 1) {
-    throw root["simulation"].Error("Table 7 calibrates one arm with one marker seen by one "
-                                   "camera, without a world target",
-                                   "Point simulation: at such a spec (world_target: none)");
+    throw root["simulation"].Error(
+        "Table 7 calibrates one arm with one marker seen by one "
+        "camera, without a world target",
+        "Point simulation: at such a spec (world_target: none)");
   }
   for (const auto& node : root["pose_sets"].Elements())
     spec.pose_sets.push_back(ParsePoseSet(node));
@@ -82,8 +83,8 @@ CompareSpec LoadCompareSpec(const std::string& path, Registry& registry) {
                                          "Fresh positions to score each row on; 1 or more");
   spec.seeds = root.GetIntIn("seeds", spec.seeds, 1, 100000,
                              "Repetitions of every row; 1 is the simulation's own draw alone");
-  spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
-                                   : "results/compare";
+  spec.output =
+      root.Has("output") ? root.ResolvePath(root["output"].AsString()) : "results/compare";
   return spec;
 }
 
@@ -131,10 +132,14 @@ namespace {
 nlohmann::json RowsJson(const std::vector<CompareRow>& rows) {
   nlohmann::json out = nlohmann::json::array();
   for (const CompareRow& r : rows) {
-    out.push_back({{"mean_mm", r.validation.mean_mm}, {"max_mm", r.validation.max_mm},
-                   {"rms_mm", r.validation.rms_mm}, {"points", r.validation.points},
-                   {"floor_rms_mm", r.floor_rms_mm}, {"iterations", r.iterations},
-                   {"time_s", r.time_s}, {"stop_reason", r.stop_reason}});
+    out.push_back({{"mean_mm", r.validation.mean_mm},
+                   {"max_mm", r.validation.max_mm},
+                   {"rms_mm", r.validation.rms_mm},
+                   {"points", r.validation.points},
+                   {"floor_rms_mm", r.floor_rms_mm},
+                   {"iterations", r.iterations},
+                   {"time_s", r.time_s},
+                   {"stop_reason", r.stop_reason}});
   }
   return out;
 }
@@ -194,13 +199,13 @@ std::vector<CompareRow> RunComparison(const CompareSpec& spec, Registry& registr
   // so a count of rows, the small sizes run first, would promise the end too soon.
   int total_poses = 0;
   for (int size : spec.sizes) total_poses += size;
-  Progress progress("comparison poses fitted", static_cast<int>(spec.pose_sets.size()) *
-                                                   total_poses * per_draw * spec.seeds);
+  Progress progress("comparison poses fitted",
+                    static_cast<int>(spec.pose_sets.size()) * total_poses * per_draw * spec.seeds);
   for (PoseSet set : spec.pose_sets) {
     for (int size : spec.sizes) {
       for (int seed = 0; seed < spec.seeds; ++seed) {
-        const std::string key = std::to_string(static_cast<int>(set)) + "/" +
-                                std::to_string(size) + "/" + std::to_string(seed);
+        const std::string key = std::to_string(static_cast<int>(set)) + "/" + std::to_string(size) +
+                                "/" + std::to_string(seed);
         const nlohmann::json* piece = done.Find(key);
         std::vector<CompareRow> draw_rows(per_draw);
         if (piece != nullptr && piece->size() == draw_rows.size()) {
@@ -287,8 +292,8 @@ std::string SeededMarkdown(const CompareSpec& spec, const std::vector<CompareRow
         << FormulationName(r.formulation) << " | " << r.solver << " | "
         << IntervalText(rms, 1.0, kTable7) << " | " << IntervalText(mean, 1.0, kTable7) << " | "
         << IntervalText(max, 1.0, kTable7) << " | "
-        << (r.floor_rms_mm > 0 ? IntervalText(floor, 1.0, kTable7) : "-") << " | " << iter
-        << " | " << IntervalText(time, 1e3, kTable7) << " | " << StopReasons(group) << " |\n";
+        << (r.floor_rms_mm > 0 ? IntervalText(floor, 1.0, kTable7) : "-") << " | " << iter << " | "
+        << IntervalText(time, 1e3, kTable7) << " | " << StopReasons(group) << " |\n";
   }
   out << "\nRecommendations (same: means within 1 %, or the 95 % t-interval of the per-seed "
          "differences contains 0; a tie is called a tie):\n\n";
@@ -327,8 +332,8 @@ std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<Comp
   const Eigen::Vector3d& s = spec.simulation.sigma_position_mm;
   std::ostringstream out;
   out << "Validation error against the truth on " << spec.validation_points
-      << " fresh positions (marker in the camera frame, mm); noise sigma (x, y, depth) = ("
-      << s.x() << ", " << s.y() << ", " << s.z() << ") mm.\n\n";
+      << " fresh positions (marker in the camera frame, mm); noise sigma (x, y, depth) = (" << s.x()
+      << ", " << s.y() << ", " << s.z() << ") mm.\n\n";
   if (spec.seeds > 1) {
     out << spec.seeds << " seeds per row (seed 0 the simulation's own truth, each further one a "
         << "fresh truth and pose set): mean [95 % t-interval].\n\n"
@@ -345,8 +350,8 @@ std::string CompareTableMarkdown(const CompareSpec& spec, const std::vector<Comp
         << FigureText(r.validation.mean_mm, kTable7) << " | "
         << FigureText(r.validation.max_mm, kTable7) << " | "
         << FigureText(r.validation.rms_mm, kTable7) << " | "
-        << (r.floor_rms_mm > 0 ? FigureText(r.floor_rms_mm, kTable7) : "-") << " | "
-        << r.iterations << " | " << FigureText(r.time_s * 1e3, kTable7) << " |\n";
+        << (r.floor_rms_mm > 0 ? FigureText(r.floor_rms_mm, kTable7) : "-") << " | " << r.iterations
+        << " | " << FigureText(r.time_s * 1e3, kTable7) << " |\n";
   }
   return out.str();
 }
@@ -358,7 +363,8 @@ std::string CompareTableCsv(const std::vector<CompareRow>& rows) {
   std::ostringstream out;
   out.precision(9);
   out << "pose_set,size,formulation,solver,mean_mm,max_mm,rms_mm,floor_rms_mm,iterations,time_s,"
-         "stop_reason" << (seeded ? ",seed\n" : "\n");
+         "stop_reason"
+      << (seeded ? ",seed\n" : "\n");
   for (const auto& r : rows) {
     out << PoseSetName(r.pose_set) << "," << r.size << "," << FormulationName(r.formulation) << ","
         << r.solver << "," << r.validation.mean_mm << "," << r.validation.max_mm << ","

@@ -6,10 +6,10 @@
 #include <random>
 #include <sstream>
 
-#include "cellmetry/formats/checkpoint.h"
-#include "cellmetry/formats/config_fields.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/formats/checkpoint.h"
+#include "cellmetry/formats/config_fields.h"
 #include "cellmetry/imaging/target_pose.h"
 
 namespace cellmetry {
@@ -51,9 +51,9 @@ struct IdealPair {
 IdealPair RenderPair(const MarkerComparisonSpec& spec, const std::vector<MarkerFace>& faces,
                      const Presentation& shown, const Pose& T_cam_marker) {
   const Pose T_cam_target = shown.Shown(T_cam_marker);
-  return {RenderIdeal(spec.rig.left, {{T_cam_target, &faces}}, spec.render),
-          RenderIdeal(spec.rig.right, {{spec.rig.T_right_left * T_cam_target, &faces}},
-                      spec.render)};
+  return {
+      RenderIdeal(spec.rig.left, {{T_cam_target, &faces}}, spec.render),
+      RenderIdeal(spec.rig.right, {{spec.rig.T_right_left * T_cam_target, &faces}}, spec.render)};
 }
 
 struct StereoShot {
@@ -137,8 +137,7 @@ MarkerRow CompareOne(const MarkerComparisonSpec& spec, const std::string& label,
   double sum2 = 0.0;
   for (int i = 0; i < spec.positions; ++i) {
     const Pose pose = RandomWorkspacePose(spec, rng);
-    const StereoShot shot =
-        Shoot(spec, detector, shown, RenderPair(spec, faces, shown, pose), rng);
+    const StereoShot shot = Shoot(spec, detector, shown, RenderPair(spec, faces, shown, pose), rng);
     ms.push_back(shot.ms);
     if (!shot.origin) continue;
     ++row.positions_found;
@@ -181,7 +180,7 @@ MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& reg
           : Pose{Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix(),
                  Eigen::Vector3d(0, 0, 450)};
   spec.captures = root.GetIntIn("captures", spec.captures, 2, 100000,
-                                 "Captures per pose: at least 2 for a sigma");
+                                "Captures per pose: at least 2 for a sigma");
   if (root.Has("workspace")) {
     const ConfigNode w = root["workspace"];
     w.ExpectKeys({"positions", "depth_mm", "lateral_mm", "tilt_rad"});

@@ -4,9 +4,9 @@
 
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/experiments/intervals.h"
-#include "cellmetry/formats/checkpoint.h"
 #include "cellmetry/experiments/marker_comparison.h"
 #include "cellmetry/experiments/solver_compare.h"
+#include "cellmetry/formats/checkpoint.h"
 
 namespace cellmetry {
 namespace {
@@ -24,11 +24,15 @@ nlohmann::json ToJson(const std::vector<MarkerRow>& rows) {
   nlohmann::json out = nlohmann::json::array();
   auto xyz = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
   for (const MarkerRow& r : rows) {
-    out.push_back({{"label", r.label}, {"repeatability_mm", xyz(r.repeatability_mm)},
-                   {"floor_mm", xyz(r.floor_mm)}, {"static_bias_mm", r.static_bias_mm},
+    out.push_back({{"label", r.label},
+                   {"repeatability_mm", xyz(r.repeatability_mm)},
+                   {"floor_mm", xyz(r.floor_mm)},
+                   {"static_bias_mm", r.static_bias_mm},
                    {"workspace_rms_mm", r.workspace_rms_mm},
-                   {"captures_found", r.captures_found}, {"positions_found", r.positions_found},
-                   {"positions", r.positions}, {"ms_per_frame", r.ms_per_frame}});
+                   {"captures_found", r.captures_found},
+                   {"positions_found", r.positions_found},
+                   {"positions", r.positions},
+                   {"ms_per_frame", r.ms_per_frame}});
   }
   return out;
 }
@@ -108,17 +112,16 @@ std::string MarkerSeedsMarkdown(const MarkerComparisonSpec& spec,
     auto interval = [](const std::vector<double>& values) {
       return IntervalText(values, 1.0, FigureStyle::kFourDigits);
     };
-    out << "| " << per_seed.front()[d].label << " | " << interval(depth) << " | "
-        << interval(ratio) << " | " << interval(bias) << " | " << interval(rms) << " | "
-        << interval(rate) << " | " << interval(ms) << " |\n";
+    out << "| " << per_seed.front()[d].label << " | " << interval(depth) << " | " << interval(ratio)
+        << " | " << interval(bias) << " | " << interval(rms) << " | " << interval(rate) << " | "
+        << interval(ms) << " |\n";
     Contender c{per_seed.front()[d].label, rms, {}};
     for (double v : ms) c.time_s.push_back(v / 1e3);
     contenders.push_back(c);
   }
   out << "\nRecommendation (same: means within 1 %, or the 95 % t-interval of the per-seed "
          "differences contains 0; a tie is called a tie):\n\n- "
-      << Recommendation("for this rig, which detector", contenders,
-                        "mm workspace RMS error")
+      << Recommendation("for this rig, which detector", contenders, "mm workspace RMS error")
       << "\n";
   return out.str();
 }

@@ -41,8 +41,8 @@ std::vector<Pose> Inverses(const std::vector<Pose>& poses) {
 
 // AX = XB with A = T_base_flange (eye-in-hand) or its inverse (eye-to-hand); see the header.
 Pose CalibrateHandEye(cv::HandEyeCalibrationMethod method, const HandEyeCaptures& captures) {
-  const CvPoses A = ToCv(captures.eye_in_hand ? captures.T_base_flange
-                                              : Inverses(captures.T_base_flange));
+  const CvPoses A =
+      ToCv(captures.eye_in_hand ? captures.T_base_flange : Inverses(captures.T_base_flange));
   const CvPoses B = ToCv(captures.T_cam_board);
   cv::Mat R_x, t_x;
   cv::calibrateHandEye(A.R, A.t, B.R, B.t, R_x, t_x, method);

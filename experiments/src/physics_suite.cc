@@ -7,19 +7,19 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
-#include "cellmetry/experiments/concealed_physics.h"
-#include "cellmetry/formats/atomic_file.h"
-#include "cellmetry/formats/fixed_number.h"
-#include "cellmetry/diagnosis/diagnosis_job.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
+#include "cellmetry/diagnosis/diagnosis_job.h"
+#include "cellmetry/experiments/concealed_physics.h"
+#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/formats/fixed_number.h"
 
 namespace cellmetry {
 namespace {
@@ -95,10 +95,9 @@ OracleSelection CaseOracle(const WorkcellSimulationSpec& base, const DiagnosisJo
                            const SuiteCase& c, double magnitude, Registry& registry) {
   const WorkcellSimulationSpec spec = CaseSimulation(base, c, magnitude, 1, false, registry);
   const Recording recording = SimulateWorkcell(spec, nullptr);
-  return DrawOracleSelections(WhitenedBySimulation(job, base), recording,
-                              MakerOf(job.workcell, registry),
-                              JobCandidates(job, recording, registry), c.expect, job.options,
-                              OracleSelectionOptions{});
+  return DrawOracleSelections(
+      WhitenedBySimulation(job, base), recording, MakerOf(job.workcell, registry),
+      JobCandidates(job, recording, registry), c.expect, job.options, OracleSelectionOptions{});
 }
 
 // The tests the round's chosen candidate failed, for the misses column.
@@ -135,9 +134,8 @@ SuiteCaseResult SetUpCase(const PhysicsSuiteSpec& suite, const SuiteCell& cell,
 }
 
 // One seed of a case: a recording simulated with its hidden physics, diagnosed.
-SuiteRun RunSeed(const SuiteCell& cell, const WorkcellSimulationSpec& base,
-                 const DiagnosisJob& job, const SuiteCaseResult& set_up, int seed,
-                 Registry& registry) {
+SuiteRun RunSeed(const SuiteCell& cell, const WorkcellSimulationSpec& base, const DiagnosisJob& job,
+                 const SuiteCaseResult& set_up, int seed, Registry& registry) {
   const auto start = std::chrono::steady_clock::now();
   const WorkcellSimulationSpec spec =
       CaseSimulation(base, set_up.spec, set_up.magnitude, 1000u + seed, true, registry);
@@ -157,8 +155,8 @@ SuiteRun RunSeed(const SuiteCell& cell, const WorkcellSimulationSpec& base,
   }
   if (d.accepted.empty()) run.tied = TiedCandidates(d);
   run.held_out_over_floor = d.final.held_out_rms_mm / d.floor_rms_mm;
-  for (const auto& f : d.rounds.empty() ? std::vector<CandidateFinding>{}
-                                        : d.rounds.back().candidates) {
+  for (const auto& f :
+       d.rounds.empty() ? std::vector<CandidateFinding>{} : d.rounds.back().candidates) {
     if (!f.failed.empty()) run.failed = FailedTests(f);
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -177,16 +175,22 @@ std::string CaseKey(const PhysicsSuiteSpec& suite, const SuiteCell& cell, const 
 nlohmann::json ToJson(const SuiteCaseResult& r) {
   nlohmann::json runs = nlohmann::json::array();
   for (const auto& run : r.runs) {
-    runs.push_back({{"named", run.named}, {"aliases", run.aliases}, {"group", run.group},
-                    {"failed", run.failed}, {"tied", run.tied},
-                    {"held_out_over_floor", run.held_out_over_floor}, {"seconds", run.seconds}});
+    runs.push_back({{"named", run.named},
+                    {"aliases", run.aliases},
+                    {"group", run.group},
+                    {"failed", run.failed},
+                    {"tied", run.tied},
+                    {"held_out_over_floor", run.held_out_over_floor},
+                    {"seconds", run.seconds}});
   }
   const OracleSelection& o = r.oracle;
   return {{"magnitude", r.magnitude},
           {"runs", runs},
           {"oracle",
-           {{"mismatch_norm", o.mismatch_norm}, {"testable", o.testable},
-            {"right_candidates", o.right_candidates}, {"right_by_posterior", o.right_by_posterior},
+           {{"mismatch_norm", o.mismatch_norm},
+            {"testable", o.testable},
+            {"right_candidates", o.right_candidates},
+            {"right_by_posterior", o.right_by_posterior},
             {"wrong_by_posterior", o.wrong_by_posterior}}}};
 }
 
@@ -196,8 +200,11 @@ SuiteCaseResult FromJson(const nlohmann::json& j, const std::string& cell, const
   r.spec = c;
   r.magnitude = j.at("magnitude").get<double>();
   for (const auto& run : j.at("runs")) {
-    SuiteRun read{run.at("named").get<std::string>(), run.at("failed").get<std::string>(),
-                  run.at("held_out_over_floor").get<double>(), run.at("seconds").get<double>(), {},
+    SuiteRun read{run.at("named").get<std::string>(),
+                  run.at("failed").get<std::string>(),
+                  run.at("held_out_over_floor").get<double>(),
+                  run.at("seconds").get<double>(),
+                  {},
                   ""};
     if (run.contains("aliases")) read.aliases = run.at("aliases").get<std::vector<std::string>>();
     if (run.contains("group")) read.group = run.at("group").get<std::string>();
@@ -236,9 +243,8 @@ bool IsRight(const SuiteCase& c, const SuiteRun& run) {
   if (c.expect == "none") return !claimed;
   if (run.named.rfind(c.expect, 0) == 0) return true;
   if (claimed && !run.group.empty() && run.group == c.expect) return true;
-  return claimed && std::any_of(run.aliases.begin(), run.aliases.end(), [&](const auto& a) {
-           return a.rfind(c.expect, 0) == 0;
-         });
+  return claimed && std::any_of(run.aliases.begin(), run.aliases.end(),
+                                [&](const auto& a) { return a.rfind(c.expect, 0) == 0; });
 }
 
 }  // namespace

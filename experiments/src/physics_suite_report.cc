@@ -9,8 +9,8 @@
 
 #include "cellmetry/basics/statistics.h"
 #include "cellmetry/experiments/intervals.h"
-#include "cellmetry/formats/fixed_number.h"
 #include "cellmetry/experiments/physics_suite.h"
+#include "cellmetry/formats/fixed_number.h"
 
 namespace cellmetry {
 namespace {
@@ -93,8 +93,8 @@ std::string RateDecision(const std::string& question, int k, int n, double targe
   const RateInterval r = WilsonInterval95(k, n);
   if (n == 0) return question + " not asked (no such cases)";
   const TargetVerdict verdict = AgainstTarget(r, target);
-  std::string line = question + " " + VerdictWord(verdict) + ": " + RateText(r) +
-                     " against >= " + Percent(target);
+  std::string line =
+      question + " " + VerdictWord(verdict) + ": " + RateText(r) + " against >= " + Percent(target);
   if (verdict != TargetVerdict::kUndecided) return line;
   if (k == n) {
     return line + "; no run failed, and " + std::to_string(RunsToShowAtLeast(target)) +
@@ -157,8 +157,10 @@ std::string WeakCases(const std::string& cell, const std::vector<SuiteCaseResult
   }
   std::string line = cell + " at SNR " + FixedNumber(snr, 1) + ": ";
   line += weak.empty() ? "no case shown below " + Percent(kNamedTarget)
-                       : "shown below " + Percent(kNamedTarget) + ", do not trust a silence or "
-                                                                    "these names: " + weak;
+                       : "shown below " + Percent(kNamedTarget) +
+                             ", do not trust a silence or "
+                             "these names: " +
+                             weak;
   line += "; " + std::to_string(met) + " shown at or above, " + std::to_string(undecided) +
           " undecided";
   return line;
@@ -172,8 +174,8 @@ std::string ConfusionMatrix(const std::string& cell, const std::vector<SuiteCase
     for (const auto& run : r.runs) named_set.insert(run.named);
   }
   std::ostringstream out;
-  out << "\n" << cell
-      << " confusion matrix (rows: expected; columns: what the finder named first):\n\n| |";
+  out << "\n"
+      << cell << " confusion matrix (rows: expected; columns: what the finder named first):\n\n| |";
   const std::vector<std::string> named(named_set.begin(), named_set.end());
   for (const auto& n : named) out << " " << n << " |";
   out << "\n|---|";
@@ -205,8 +207,8 @@ std::string CaseRow(const SuiteCaseResult& r) {
   }
   const RateInterval rate = WilsonInterval95(r.right(), static_cast<int>(r.runs.size()));
   const std::string oracle = r.oracle.draws() > 0 ? Percent(r.oracle.right_share()) + " (" +
-                                                       FixedNumber(r.oracle.mismatch_norm, 1) + ")"
-                                                 : "-";
+                                                        FixedNumber(r.oracle.mismatch_norm, 1) + ")"
+                                                  : "-";
   return "| " + r.cell + " | " + r.spec.name + " | " + r.spec.expect + " | " + size + " | " +
          std::to_string(rate.k) + "/" + std::to_string(rate.n) + " [" + Percent(rate.low) + ", " +
          Percent(rate.high) + "] | " + oracle + " | " + FixedNumber(Median(ratios), 2) + " | " +
@@ -220,10 +222,8 @@ std::vector<std::string> PhysicsSuiteRecommendations(const PhysicsSuiteSpec& spe
   const SuiteTally t = Tally(results);
   std::vector<std::string> lines = {
       RateDecision("Is the right effect named?", t.effect_right, t.effect_runs, kNamedTarget),
-      RateDecision("Are the richer variants named?", t.richer_right, t.richer_runs,
-                   kNamedTarget),
-      RateDecision("Do clean recordings stay clean?", t.clean_right, t.clean_runs,
-                   kCleanTarget),
+      RateDecision("Are the richer variants named?", t.richer_right, t.richer_runs, kNamedTarget),
+      RateDecision("Do clean recordings stay clean?", t.clean_right, t.clean_runs, kCleanTarget),
       AllDecision("Is physics outside the library called unexplained?", t.outside_right,
                   t.outside_runs),
       FloorDecision(t.held_out_over_floor)};
@@ -261,16 +261,18 @@ std::string PhysicsSuiteMarkdown(const PhysicsSuiteSpec& spec,
       << (t.effect_wrong == 0 ? "met" : "missed") << " |\n";
   out << "| no effect claimed on clean recordings | " << rate(t.clean_right, t.clean_runs)
       << " | >= 95 % | " << verdict(t.clean_right, t.clean_runs, kCleanTarget) << " |\n";
-  out << "| outside the library reported as unexplained | "
-      << rate(t.outside_right, t.outside_runs) << " | all | "
-      << (t.outside_runs == 0                  ? "-"
+  out << "| outside the library reported as unexplained | " << rate(t.outside_right, t.outside_runs)
+      << " | all | "
+      << (t.outside_runs == 0                ? "-"
           : t.outside_right < t.outside_runs ? "missed"
                                              : "no miss")
       << " |\n";
   out << "| held-out RMS / noise floor after modelling: median; mean [95 % t] | "
       << FixedNumber(Median(t.held_out_over_floor), 2) << "; " << FixedNumber(floor.mean, 2) << " ["
       << FixedNumber(floor.low, 2) << ", " << FixedNumber(floor.high, 2) << "] | <= 1.2 | "
-      << (floor.high <= kFloorTarget ? "met" : floor.low > kFloorTarget ? "missed" : "undecided")
+      << (floor.high <= kFloorTarget ? "met"
+          : floor.low > kFloorTarget ? "missed"
+                                     : "undecided")
       << " |\n";
   out << "| seconds per diagnosis (median) | " << FixedNumber(Median(t.seconds), 1) << " | | |\n\n";
   out << "Decisions:\n\n";

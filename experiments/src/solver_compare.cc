@@ -111,10 +111,9 @@ std::string Recommendation(const std::string& question, const std::vector<Conten
     if (quick.size() == 1) {
       const size_t next = fastest_of(slow);
       line += label(fastest) + ": same accuracy as " + label(next) + " at " +
-              TimeRatio(time[fastest].mean, time[next].mean) + " (" +
-              IntervalText(error[fastest]) + " vs " + IntervalText(error[next]) + " " + unit +
-              "; " + IntervalText(time[fastest], 1e3) + " vs " + IntervalText(time[next], 1e3) +
-              " ms)";
+              TimeRatio(time[fastest].mean, time[next].mean) + " (" + IntervalText(error[fastest]) +
+              " vs " + IntervalText(error[next]) + " " + unit + "; " +
+              IntervalText(time[fastest], 1e3) + " vs " + IntervalText(time[next], 1e3) + " ms)";
     } else {
       line += "tie: " + names(quick) + " (same accuracy, " + IntervalText(error[fastest]) + " " +
               unit + ", and same time)";
@@ -196,8 +195,8 @@ SolverCompareSpec LoadSolverCompare(const std::string& path, Registry& registry)
   }
   spec.seeds = root.GetIntIn("seeds", spec.seeds, 1, 100000,
                              "Repetitions per row; 10 or more gives a useful interval");
-  spec.output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
-                                   : "results/compare_solvers";
+  spec.output =
+      root.Has("output") ? root.ResolvePath(root["output"].AsString()) : "results/compare_solvers";
   return spec;
 }
 
@@ -311,8 +310,8 @@ std::vector<std::string> SolverCompareRecommendations(const SolverCompareSpec& s
           contenders.push_back({CameraModelName(row.camera_model), row.error_mm, row.time_s});
         }
       }
-      lines.push_back(Recommendation("for this cell, " + label + ", which camera model",
-                                     contenders, "mm " + what));
+      lines.push_back(Recommendation("for this cell, " + label + ", which camera model", contenders,
+                                     "mm " + what));
     }
   }
   return lines;
@@ -324,8 +323,9 @@ std::string SolverCompareMarkdown(const SolverCompareSpec& spec,
   if (!spec.description.empty()) out << spec.description << "\n\n";
   out << "Score: " << MetricText(spec) << ". " << spec.seeds
       << " seeds per row; mean [95 % t-interval].\n\n";
-  out << "| camera model | solver | " << (HasTruth(spec) ? "base error" : "held-out RMS")
-      << " (" << Unit(spec) << ") | solver time (ms) | iterations (mean, min-max) | converged | "
+  out << "| camera model | solver | " << (HasTruth(spec) ? "base error" : "held-out RMS") << " ("
+      << Unit(spec)
+      << ") | solver time (ms) | iterations (mean, min-max) | converged | "
          "stop reasons |\n";
   out << "|---|---|---|---|---|---|---|\n";
   for (const auto& row : rows) {

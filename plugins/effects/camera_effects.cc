@@ -11,8 +11,13 @@ TargetScale::TargetScale(std::vector<std::string> targets, bool shared)
     : targets_(std::move(targets)), shared_(shared) {
   for (const auto& target : targets_) {
     if (shared_ && !parameters_.empty()) break;
-    parameters_.push_back({shared_ ? std::string("scale") : target + ".scale", "1", 0.0, false,
-                           {}, {}, {},
+    parameters_.push_back({shared_ ? std::string("scale") : target + ".scale",
+                           "1",
+                           0.0,
+                           false,
+                           {},
+                           {},
+                           {},
                            shared_ ? "relative error of the targets' printed size (one printer)"
                                    : "relative error of the target's printed size",
                            {}});
@@ -26,8 +31,7 @@ std::string TargetScale::Describe(const std::vector<double>& params) const {
 
 CameraIntrinsics::CameraIntrinsics(std::vector<std::string> cameras, IntrinsicsTerms terms)
     : cameras_(std::move(cameras)), terms_(terms),
-      lens_(terms.radial || terms.k2 || terms.tangential),
-      principal_at_(int(terms.focal)),
+      lens_(terms.radial || terms.k2 || terms.tangential), principal_at_(int(terms.focal)),
       lens_at_(principal_at_ + 2 * int(terms.principal)),
       terms_per_camera_(lens_at_ + int(terms.radial) + int(terms.k2) + 2 * int(terms.tangential)) {
   auto add = [&](const std::string& name, const std::string& unit, const std::string& what,
@@ -92,7 +96,13 @@ TargetTilt::TargetTilt(std::vector<std::string> targets, bool world, bool turn)
   for (const auto& target : targets_) {
     for (const auto& axis : axes) {
       const std::string name = (world_ ? std::string("world_frame") : target) + ".tilt_" + axis;
-      parameters_.push_back({name, "rad", 0.0, false, {}, {}, {},
+      parameters_.push_back({name,
+                             "rad",
+                             0.0,
+                             false,
+                             {},
+                             {},
+                             {},
                              world_ ? "world tag turned about its " + axis
                                     : "pose estimator's tilt about the target's " + axis,
                              {}});

@@ -113,7 +113,7 @@ class CameraIntrinsics : public EffectFromTemplate<CameraIntrinsics> {
 
   std::vector<std::string> cameras_;
   IntrinsicsTerms terms_;
-  bool lens_;                  // any of k1, k2, p1, p2
+  bool lens_;                   // any of k1, k2, p1, p2
   int principal_at_, lens_at_;  // where a camera's principal point and lens terms start
   int terms_per_camera_;
   std::vector<Parameter> parameters_;

@@ -11,9 +11,8 @@
 namespace cellmetry::effects {
 namespace {
 
-OfferedCandidate Offer(const std::string& config, const std::string& name,
-                       const std::string& robot, const std::string& label,
-                       const std::string& hint) {
+OfferedCandidate Offer(const std::string& config, const std::string& name, const std::string& robot,
+                       const std::string& label, const std::string& hint) {
   OfferedCandidate c;
   c.name = name;
   c.robot = robot;
@@ -62,11 +61,12 @@ void AddJointCandidates(const CandidateCell::Robot& robot, const std::string& ma
     out->push_back(Offer("{type: backlash, joints: [" + J + "]}", backlash, robot.name,
                          joint + " backlash", "moves into poses from both directions on " + joint));
     out->back().family = backlash;
-    out->push_back(Offer("{type: backlash, joints: [" + J + "], held_by: gravity" + with_masses +
-                             "}",
-                         backlash + "_gravity", robot.name, joint + " backlash held by gravity",
-                         "poses that load " + joint + " by different amounts the same way "
-                         "(payloads)"));
+    out->push_back(
+        Offer("{type: backlash, joints: [" + J + "], held_by: gravity" + with_masses + "}",
+              backlash + "_gravity", robot.name, joint + " backlash held by gravity",
+              "poses that load " + joint +
+                  " by different amounts the same way "
+                  "(payloads)"));
     out->back().family = backlash;
     out->back().group = gravity_group;
     out->back().group_label = gravity_label;
@@ -76,11 +76,11 @@ void AddJointCandidates(const CandidateCell::Robot& robot, const std::string& ma
     const std::string family = prefix + "transmission_j" + J;
     for (const std::string& h : std::vector<std::string>{"1", "2", harmonics}) {
       const bool all = h == harmonics;
-      out->push_back(Offer(
-          "{type: transmission_error, joints: [" + J + "], harmonics: [" + h + "]}",
-          all ? family : family + "_h" + h, robot.name,
-          joint + " transmission error" + (all ? "" : " (harmonic " + h + ")"),
-          "a wider range of " + joint + " (at least half a turn)"));
+      out->push_back(
+          Offer("{type: transmission_error, joints: [" + J + "], harmonics: [" + h + "]}",
+                all ? family : family + "_h" + h, robot.name,
+                joint + " transmission error" + (all ? "" : " (harmonic " + h + ")"),
+                "a wider range of " + joint + " (at least half a turn)"));
       out->back().family = family;
     }
     out->push_back(Offer("{type: joint_scale, joints: [" + J + "]}", prefix + "scale_j" + J,
@@ -101,8 +101,9 @@ void AddParallelLinkCandidates(const CandidateCell::Robot& robot,
     out->push_back(Offer("{type: ball_joint_clearance, arms: [" + I + "]}",
                          robot.name + ".clearance_arm" + I, robot.name,
                          arm + " ball-joint clearance",
-                         "poses near the workspace edge, where " + arm + "'s load share changes "
-                         "most"));
+                         "poses near the workspace edge, where " + arm +
+                             "'s load share changes "
+                             "most"));
   }
 }
 
@@ -115,15 +116,13 @@ void AddThermalCandidates(const CandidateCell::Robot& robot, const CandidateCell
                           std::vector<OfferedCandidate>* out) {
   const std::string thermal = robot.name + ".thermal";
   if (cell.temperatures || !cell.times) {
-    out->push_back(Offer("{type: thermal_drift}", thermal, robot.name,
-                         "thermal growth of the arm",
+    out->push_back(Offer("{type: thermal_drift}", thermal, robot.name, "thermal growth of the arm",
                          "temperatures over a range of several degrees"));
   }
   if (cell.times) {
-    out->push_back(Offer("{type: thermal_drift, model: warmup}",
-                         cell.temperatures ? thermal + "_warmup" : thermal, robot.name,
-                         "thermal growth while warming up",
-                         "captures from a cold start over an hour"));
+    out->push_back(Offer(
+        "{type: thermal_drift, model: warmup}", cell.temperatures ? thermal + "_warmup" : thermal,
+        robot.name, "thermal growth while warming up", "captures from a cold start over an hour"));
     out->back().family = thermal;
   }
 }
@@ -131,10 +130,10 @@ void AddThermalCandidates(const CandidateCell::Robot& robot, const CandidateCell
 // A camera's calibration in one of the forms a pose estimator passes on, which every camera of a
 // cell may have at once (the same calibration procedure, the same mistake).
 struct CameraForm {
-  std::string name;   // the candidate's name before "_<camera>" ("camera.principal")
-  std::string atom;   // OfferedCandidate::atoms, before "/<camera>"
-  std::string label;  // after the camera's name, or "every camera's " + label
-  std::string yaml;   // the effect's block less its cameras
+  std::string name;           // the candidate's name before "_<camera>" ("camera.principal")
+  std::string atom;           // OfferedCandidate::atoms, before "/<camera>"
+  std::string label;          // after the camera's name, or "every camera's " + label
+  std::string yaml;           // the effect's block less its cameras
   std::string before, after;  // the data that makes it testable: before + camera + after
   std::string config(const std::string& on) const { return "{" + yaml + ", " + on + "}"; }
   std::string hint(const std::string& camera) const { return before + camera + after; }
@@ -199,16 +198,16 @@ void AddTargetCandidates(const CandidateCell& cell, const std::string& any,
                          "targets at more varied distances"));
     out->back().atoms = {"scale/" + target};
     if (target != cell.world_target && !cell.use_tool_rotation) continue;
-    out->push_back(Offer("{type: target_tilt, targets: [" + target + "]}",
-                         "target.tilt_" + target, any, target + " pose estimates tilted",
+    out->push_back(Offer("{type: target_tilt, targets: [" + target + "]}", "target.tilt_" + target,
+                         any, target + " pose estimates tilted",
                          "the target seen from more directions"));
   }
-  const bool world_seen = !cell.world_target.empty() &&
-                          std::find(cell.targets.begin(), cell.targets.end(), cell.world_target) !=
-                              cell.targets.end();
+  const bool world_seen =
+      !cell.world_target.empty() &&
+      std::find(cell.targets.begin(), cell.targets.end(), cell.world_target) != cell.targets.end();
   if (!world_seen) return;
-  out->push_back(Offer("{type: world_frame, target: " + cell.world_target + "}", "world_frame",
-                       any, "world tag tilted from the placement's frame",
+  out->push_back(Offer("{type: world_frame, target: " + cell.world_target + "}", "world_frame", any,
+                       "world tag tilted from the placement's frame",
                        "a robot standing level stated in the job (base: {level: {sigma_rad}}), "
                        "or its base's rotation measured and held"));
   out->back().frame = cell.level_stated;
@@ -223,8 +222,8 @@ void AddSharedCauseCandidates(const CandidateCell& cell, const std::string& any,
     std::string list;
     for (const auto& camera : cell.cameras) list += (list.empty() ? "" : ", ") + camera;
     for (const CameraForm& form : kCameraForms) {
-      out->push_back(Offer(form.config("cameras: [" + list + "]"), form.name + "_every_camera",
-                           any, "every camera's " + form.label, form.hint("every camera")));
+      out->push_back(Offer(form.config("cameras: [" + list + "]"), form.name + "_every_camera", any,
+                           "every camera's " + form.label, form.hint("every camera")));
       for (const auto& camera : cell.cameras) out->back().atoms.push_back(form.atom + "/" + camera);
       // Like one camera's forms, pieces of one calibration procedure's error: one group.
       out->back().group = "camera.calibration_every_camera";

@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "backlash.h"
-#include "camera_intrinsics.h"
-#include "ball_joint_clearance.h"
 #include "cellmetry/registry/registry.h"
+#include "backlash.h"
+#include "ball_joint_clearance.h"
+#include "camera_intrinsics.h"
 #include "default_candidates.h"
 #include "depth_bias.h"
 #include "detection_bias.h"
@@ -211,8 +211,9 @@ std::vector<int> SelectArms(const ConfigNode& config, const RobotModel& robot) {
   std::vector<double> nominal;
   for (const auto& p : robot.parameters()) nominal.push_back(p.nominal);
   if (!robot.ParallelLinks(q.data(), nominal.data(), &links)) {
-    throw config["type"].Error("'" + config["type"].AsString() + "' acts on a parallel arm's "
-                               "links (a delta arm); this robot model has none",
+    throw config["type"].Error("'" + config["type"].AsString() +
+                                   "' acts on a parallel arm's "
+                                   "links (a delta arm); this robot model has none",
                                "Use it with a delta robot, or remove it");
   }
   std::vector<int> arms;
@@ -257,35 +258,37 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
   namespace fx = cellmetry::effects;
   using fx::Info;
   const cellmetry::OptionDoc joints{"joints", "", "all", "1-based joints it acts on"};
-  registry->AddEffect(Info("joint_compliance",
-                       "joints giving under gravity: dq_i = c_i tau_g,i(q)",
-                       {joints, {"link_masses_kg", "kg", "1 per link", "lumped link masses"}}),
+  registry->AddEffect(Info("joint_compliance", "joints giving under gravity: dq_i = c_i tau_g,i(q)",
+                           {joints, {"link_masses_kg", "kg", "1 per link", "lumped link masses"}}),
                       &fx::CreateCompliance);
-  registry->AddEffect(Info("backlash",
-                       "gear play: dq_i = -b_i/2 * (direction of the last move), or with "
-                       "held_by: gravity, b_i/2 * tanh(tau_g,i / hold_nm)",
-                       {joints, {"held_by", "", "approach", "approach | gravity"},
-                        {"link_masses_kg", "kg", "1 per link", "lumped link masses (gravity)"},
-                        {"hold_nm", "N m", "2", "torque the joint's friction holds (gravity)"}}),
-                      &fx::CreateBacklash);
-  registry->AddEffect(Info("transmission_error",
-                       "gear error repeating with the joint: dq_i = s sin(h q_i) + c cos(h q_i)",
-                       {joints, {"harmonics", "", "[1, 2]", "cycles per joint revolution"}}),
-                      &fx::CreateTransmission);
-  registry->AddEffect(Info("joint_scale",
-                       "gear ratio error: dq_i = s_i q_i", {joints}),
+  registry->AddEffect(
+      Info("backlash",
+           "gear play: dq_i = -b_i/2 * (direction of the last move), or with "
+           "held_by: gravity, b_i/2 * tanh(tau_g,i / hold_nm)",
+           {joints,
+            {"held_by", "", "approach", "approach | gravity"},
+            {"link_masses_kg", "kg", "1 per link", "lumped link masses (gravity)"},
+            {"hold_nm", "N m", "2", "torque the joint's friction holds (gravity)"}}),
+      &fx::CreateBacklash);
+  registry->AddEffect(
+      Info("transmission_error",
+           "gear error repeating with the joint: dq_i = s sin(h q_i) + c cos(h q_i)",
+           {joints, {"harmonics", "", "[1, 2]", "cycles per joint revolution"}}),
+      &fx::CreateTransmission);
+  registry->AddEffect(Info("joint_scale", "gear ratio error: dq_i = s_i q_i", {joints}),
                       &fx::CreateScale);
   registry->AddEffect(Info("thermal_drift",
-                       "links growing with temperature or warm-up time (flange distance scale)",
-                       {{"model", "", "temperature", "temperature | warmup"},
-                        {"reference_c", "degC", "20", "temperature of the nominal geometry"},
-                        {"time_constant_s", "s", "1800", "warm-up time constant"}}),
+                           "links growing with temperature or warm-up time (flange distance scale)",
+                           {{"model", "", "temperature", "temperature | warmup"},
+                            {"reference_c", "degC", "20", "temperature of the nominal geometry"},
+                            {"time_constant_s", "s", "1800", "warm-up time constant"}}),
                       &fx::CreateThermal);
-  registry->AddEffect(Info("depth_bias",
-                       "camera distance error: p' = p (1 + a + b Z + t_x X/Z + t_y Y/Z) per camera",
-                       {{"cameras", "", "", "cameras it acts on"},
-                        {"terms", "", "[scale, quadratic]", "which of scale, quadratic, tilt"}}),
-                      &fx::CreateDepthBias);
+  registry->AddEffect(
+      Info("depth_bias",
+           "camera distance error: p' = p (1 + a + b Z + t_x X/Z + t_y Y/Z) per camera",
+           {{"cameras", "", "", "cameras it acts on"},
+            {"terms", "", "[scale, quadratic]", "which of scale, quadratic, tilt"}}),
+      &fx::CreateDepthBias);
   registry->AddEffect(
       Info("detection_bias",
            "a detector's systematic error repeating in one camera's view: p' = p + b",
@@ -295,12 +298,11 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
             {"prior_rad", "rad", "0.5e-3", "expected rotation error (prior)"},
             {"frame", "", "camera", "camera | target: the axes it is fixed in"}}),
       &fx::CreateDetectionBias);
-  registry->AddEffect(Info("target_scale",
-                           "a target printed at another size: p' = p (1 + s) in every camera",
-                           {{"targets", "", "", "targets it acts on"},
-                            {"shared", "", "false",
-                             "true: one scale for all of them (boards from one printer)"}}),
-                      &fx::CreateTargetScale);
+  registry->AddEffect(
+      Info("target_scale", "a target printed at another size: p' = p (1 + s) in every camera",
+           {{"targets", "", "", "targets it acts on"},
+            {"shared", "", "false", "true: one scale for all of them (boards from one printer)"}}),
+      &fx::CreateTargetScale);
   registry->AddEffect(Info("camera_intrinsics",
                            "a camera's focal length, principal point or lens distortion off, "
                            "as PnP passes it to the measured pose",
@@ -308,23 +310,22 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
                             {"terms", "", "[focal, principal, radial]",
                              "which terms: focal, principal, radial (k1), k2, tangential"}}),
                       &fx::CreateIntrinsics);
-  registry->AddEffect(Info("target_tilt",
-                           "a pose estimator's tilt of a target: R' = R exp([t_x, t_y, 0])",
-                           {{"targets", "", "", "targets it acts on"}}),
-                      &fx::CreateTargetTilt);
-  registry->AddEffect(Info("world_frame",
-                           "the world tag turned from the frame the placement was measured in",
-                           {{"target", "", "world", "the world target"},
-                            {"axes", "", "[x, y]", "[x, y] (tilt) or [x, y, z] (and turn)"}}),
-                      &fx::CreateWorldFrame);
+  registry->AddEffect(
+      Info("target_tilt", "a pose estimator's tilt of a target: R' = R exp([t_x, t_y, 0])",
+           {{"targets", "", "", "targets it acts on"}}),
+      &fx::CreateTargetTilt);
+  registry->AddEffect(
+      Info("world_frame", "the world tag turned from the frame the placement was measured in",
+           {{"target", "", "world", "the world target"},
+            {"axes", "", "[x, y]", "[x, y] (tilt) or [x, y, z] (and turn)"}}),
+      &fx::CreateWorldFrame);
   const cellmetry::OptionDoc arms{"arms", "", "all", "1-based arms of a delta it acts on"};
   registry->AddEffect(
       Info("platform_tilt",
            "delta parallelograms out of true: the platform tilts, (e_i x u_i).w = k_i", {arms}),
       &fx::CreatePlatformTilt);
   registry->AddEffect(Info("ball_joint_clearance",
-                           "delta ball-joint play along the rod force: u_i.dp = -c_i s_i",
-                           {arms}),
+                           "delta ball-joint play along the rod force: u_i.dp = -c_i s_i", {arms}),
                       &fx::CreateClearance);
   registry->AddCandidateOffer(&fx::OfferCandidates);
 }

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/formats/config_node.h"
 #include "cellmetry/basics/parameter.h"
+#include "cellmetry/formats/config_node.h"
 #include "cellmetry/model/robot_model.h"
 
 namespace cellmetry::effects {

@@ -59,7 +59,7 @@ BallJointClearance::BallJointClearance(std::vector<int> arms)
     : ParallelLinkEffect(arms, PerArm(arms, "clearance", "mm",
                                       "ball-joint play along the rods, taken up at a full share "
                                       "of the load",
-                                      1.0)) {  // mm: a worn joint
+                                      1.0)) {                       // mm: a worn joint
   for (Parameter& p : parameters_) p.plausible_nonnegative = true;  // play is never negative
 }
 

@@ -64,11 +64,11 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
   info.name = "hello_gradient";
   info.description = "plain gradient descent (example of a plugin built outside cellmetry)";
   info.options = {{"max_iterations", "", "200", "iteration limit"}};
-  registry->AddSolver(info, [](const cellmetry::ConfigNode& config)
-                                -> std::unique_ptr<cellmetry::Solver> {
-    config.ExpectKeys({"type", "max_iterations"});
-    const int max_iterations = config.GetInt("max_iterations", 200);
-    if (max_iterations < 1) throw config["max_iterations"].Error("must be at least 1");
-    return std::make_unique<HelloGradient>(max_iterations);
-  });
+  registry->AddSolver(
+      info, [](const cellmetry::ConfigNode& config) -> std::unique_ptr<cellmetry::Solver> {
+        config.ExpectKeys({"type", "max_iterations"});
+        const int max_iterations = config.GetInt("max_iterations", 200);
+        if (max_iterations < 1) throw config["max_iterations"].Error("must be at least 1");
+        return std::make_unique<HelloGradient>(max_iterations);
+      });
 }

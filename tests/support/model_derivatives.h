@@ -18,11 +18,11 @@ namespace cellmetry::testing {
 
 // The flange pose's derivative by parameter k from central differences.
 struct CentralDifference {
-  double h = 0.0;               // the step
-  Pose T_plus;                  // the pose at p + h e_k
-  Eigen::Vector3d dt;           // (t(p + h) - t(p - h)) / 2h, mm per unit of k
-  Eigen::Matrix3d dR;           // (R(p + h) - R(p - h)) / 2h
-  Eigen::Vector3d w;            // RotationError(R(p + h), R(p - h)) / 2h
+  double h = 0.0;      // the step
+  Pose T_plus;         // the pose at p + h e_k
+  Eigen::Vector3d dt;  // (t(p + h) - t(p - h)) / 2h, mm per unit of k
+  Eigen::Matrix3d dR;  // (R(p + h) - R(p - h)) / 2h
+  Eigen::Vector3d w;   // RotationError(R(p + h), R(p - h)) / 2h
 };
 
 inline CentralDifference CentralDifferenceByParameter(const RobotModel& model,

@@ -5,8 +5,7 @@
 namespace cellmetry {
 namespace {
 
-std::string Compose(const SourceLocation& where, const std::string& what,
-                    const std::string& hint) {
+std::string Compose(const SourceLocation& where, const std::string& what, const std::string& hint) {
   std::string text = FormatLocation(where) + "error: " + what;
   if (!hint.empty()) text += ". " + hint;
   return text;
@@ -15,10 +14,8 @@ std::string Compose(const SourceLocation& where, const std::string& what,
 }  // namespace
 
 InputError::InputError(SourceLocation where, std::string what, std::string hint)
-    : std::runtime_error(Compose(where, what, hint)),
-      where_(std::move(where)),
-      message_(std::move(what)),
-      hint_(std::move(hint)) {}
+    : std::runtime_error(Compose(where, what, hint)), where_(std::move(where)),
+      message_(std::move(what)), hint_(std::move(hint)) {}
 
 std::string FormatLocation(const SourceLocation& where) {
   if (where.file.empty()) return "";

@@ -36,15 +36,15 @@ std::vector<PlausibilityFinding> JudgePlausibility(const std::vector<Parameter>&
     const Parameter& p = parameters[i];
     const double margin = i < margins.size() ? margins[i] : 0.0;
     if (PlausibilityOf(p, values[i], margin) == Plausibility::kBelowZero) {
-      found.push_back({i, PlausibilityFinding::Part::kValue, Plausibility::kBelowZero, values[i],
-                       0.0, 0.0});
+      found.push_back(
+          {i, PlausibilityFinding::Part::kValue, Plausibility::kBelowZero, values[i], 0.0, 0.0});
       continue;
     }
     const auto group = groups.find(p.plausible_group);
     if (group == groups.end()) {
       if (PlausibilityOf(p, values[i]) == Plausibility::kTooLarge) {
-        found.push_back({i, PlausibilityFinding::Part::kValue, Plausibility::kTooLarge,
-                         values[i], *p.plausible, 0.0});
+        found.push_back({i, PlausibilityFinding::Part::kValue, Plausibility::kTooLarge, values[i],
+                         *p.plausible, 0.0});
       }
       continue;
     }
@@ -85,8 +85,7 @@ std::string PlausibilityText(const std::vector<Parameter>& parameters,
     std::snprintf(text, sizeof text,
                   "the %s shared by %s and the others = %.3g %s, where a cause they share is "
                   "typically below %.3g",
-                  p.plausible_group.c_str(), name.c_str(), found.mean, p.unit.c_str(),
-                  found.bound);
+                  p.plausible_group.c_str(), name.c_str(), found.mean, p.unit.c_str(), found.bound);
   }
   return text;
 }

@@ -16,8 +16,8 @@ std::atomic<int> g_running{0};  // reports alive now, in any thread
 
 Progress::Progress(std::string task, int total, Length length)
     : task_(std::move(task)), total_(total), length_(length),
-      outermost_(g_running.fetch_add(1) == 0),
-      start_(std::chrono::steady_clock::now()), last_print_(start_), step_start_(start_) {}
+      outermost_(g_running.fetch_add(1) == 0), start_(std::chrono::steady_clock::now()),
+      last_print_(start_), step_start_(start_) {}
 
 Progress::~Progress() {
   if (done_ > 0 && done_ != total_) Print(true);  // left early: say where it stopped
@@ -77,9 +77,8 @@ void Progress::Print(bool final, const std::string& what) {
   // The rate of this run's steps (the time reading resumed ones back left out), and the time
   // left at that rate.
   const double rate = worked / std::max(seconds - resumed_seconds_, 1e-9);
-  std::fprintf(stderr, "cellmetry: %s %s (%.1f s, %.3g/s, %sabout %.0f s left)\n",
-               task_.c_str(), count.c_str(), seconds, rate, at_most ? "at most " : "",
-               (total_ - done_) / rate);
+  std::fprintf(stderr, "cellmetry: %s %s (%.1f s, %.3g/s, %sabout %.0f s left)\n", task_.c_str(),
+               count.c_str(), seconds, rate, at_most ? "at most " : "", (total_ - done_) / rate);
 }
 
 void Progress::SetQuiet(bool quiet) { g_quiet = quiet; }

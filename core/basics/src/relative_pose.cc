@@ -15,11 +15,11 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
 Eigen::Matrix<double, 6, 12> RelativePoseJacobian(const Pose& T_world_a, const Pose& T_world_b) {
   const Eigen::Matrix3d Rt = T_world_a.R.transpose();
   Eigen::Matrix<double, 6, 12> J = Eigen::Matrix<double, 6, 12>::Zero();
-  J.block<3, 3>(0, 0) = -Rt;                                          // dt_a
-  J.block<3, 3>(0, 3) = Rt * Skew(T_world_b.t - T_world_a.t);         // dphi_a
-  J.block<3, 3>(0, 6) = Rt;                                           // dt_b
-  J.block<3, 3>(3, 3) = -Rt;                                          // dphi_a
-  J.block<3, 3>(3, 9) = Rt;                                           // dphi_b
+  J.block<3, 3>(0, 0) = -Rt;                                   // dt_a
+  J.block<3, 3>(0, 3) = Rt * Skew(T_world_b.t - T_world_a.t);  // dphi_a
+  J.block<3, 3>(0, 6) = Rt;                                    // dt_b
+  J.block<3, 3>(3, 3) = -Rt;                                   // dphi_a
+  J.block<3, 3>(3, 9) = Rt;                                    // dphi_b
   return J;
 }
 

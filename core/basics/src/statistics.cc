@@ -49,9 +49,7 @@ double ChiSquareLogSurvival(double x, double k) {
   return LogUpperGammaFraction(0.5 * k, 0.5 * x);
 }
 
-double ChiSquareQuantile(double p, double k) {
-  return 2.0 * boost::math::gamma_p_inv(0.5 * k, p);
-}
+double ChiSquareQuantile(double p, double k) { return 2.0 * boost::math::gamma_p_inv(0.5 * k, p); }
 
 double NormalSurvival(double z) { return 0.5 * std::erfc(z / std::sqrt(2.0)); }
 

@@ -172,10 +172,10 @@ DeclaredRotation DeclaredRotationOf(const Recording& recording, const std::strin
       const ConfigNode rotation = o["rotation"];
       DeclaredRotation declared;
       declared.inverted = o.GetString("pose_of", "") == "camera_in_target";
-      for (auto [key, text, at] : {std::tuple{"convention", &declared.convention,
-                                              &declared.convention_at},
-                                   std::tuple{"order", &declared.order, &declared.order_at},
-                                   std::tuple{"axes", &declared.axes, &declared.axes_at}}) {
+      for (auto [key, text, at] :
+           {std::tuple{"convention", &declared.convention, &declared.convention_at},
+            std::tuple{"order", &declared.order, &declared.order_at},
+            std::tuple{"axes", &declared.axes, &declared.axes_at}}) {
         if (!rotation.Has(key)) continue;
         *text = rotation[key].AsString();
         *at = rotation[key].location();
@@ -252,9 +252,11 @@ Reading OtherEulerConvention(const std::array<int, 3>& axes, bool intrinsic, boo
                          const std::string& hint) {
   throw InputError(where,
                    "robot " + robot.name + " turns its flange unlike target '" + target +
-                       "' turns in " + camera + " between captures (their angles and axes, "
-                       "median): " + Percent(as_declared) + " apart with " + what_was_read +
-                       " " + as_declared_text + ", " + Percent(as_other) + " " + other_text,
+                       "' turns in " + camera +
+                       " between captures (their angles and axes, "
+                       "median): " +
+                       Percent(as_declared) + " apart with " + what_was_read + " " +
+                       as_declared_text + ", " + Percent(as_other) + " " + other_text,
                    hint);
 }
 
@@ -265,8 +267,8 @@ void TryOtherTableReadings(const Recording& recording, const WorkcellRobot& robo
                            const std::string& target, const std::string& camera,
                            const std::vector<Capture>& captures, double as_declared) {
   const DeclaredRotation declared = DeclaredRotationOf(recording, camera, target);
-  const bool quaternion = declared.convention == "quaternion" &&
-                          (declared.order == "wxyz" || declared.order == "xyzw");
+  const bool quaternion =
+      declared.convention == "quaternion" && (declared.order == "wxyz" || declared.order == "xyzw");
   const auto euler_axes = ParseEulerOrder(declared.order);
   const bool euler = declared.convention == "euler" && euler_axes &&
                      (declared.axes == "intrinsic" || declared.axes == "extrinsic");
@@ -284,8 +286,8 @@ void TryOtherTableReadings(const Recording& recording, const WorkcellRobot& robo
     Refuse(declared.order_at, "the quaternion's columns read as", declared.order,
            "read as " + other_order, robot, target, camera, as_declared, mismatch,
            "The quaternion's scalar looks " +
-               std::string(other_order == "wxyz" ? "first" : "last") + ": say order: " +
-               other_order + " in the mapping and import it again");
+               std::string(other_order == "wxyz" ? "first" : "last") +
+               ": say order: " + other_order + " in the mapping and import it again");
   }
   if (rpy) {
     Refuse(declared.convention_at, "the angles read as", "rpy (fixed axes x, y, z)",
@@ -327,8 +329,8 @@ void TryOtherReadings(const WorkcellJob& job, const Recording& recording,
   if (better(other)) {
     Refuse(in_recording, "the recording's angles in", unit.empty() ? "rad" : unit,
            "read in " + other_unit, robot, target, camera, as_declared, other,
-           "The recording's angles look like " + looks + ": declare units: {angle: " +
-               other_unit + "} there, or convert its numbers");
+           "The recording's angles look like " + looks + ": declare units: {angle: " + other_unit +
+               "} there, or convert its numbers");
   }
   TryOtherTableReadings(recording, robot, target, camera, captures, as_declared);
   const SourceLocation in_model = DeclaredAngle(robot.model_file, &unit);

@@ -54,8 +54,8 @@ BaseFitSums::BaseFitSums(const std::vector<RobotPoint>& points, int num_tools) {
       for (int l = 0; l < 3; ++l) sums.axis_axis[k][l] += n * R.col(k) * R.col(l).transpose();
     }
   }
-  usable_ = world_mean_.allFinite() && world_scatter.allFinite() &&
-            ScatterSpansAPlane(world_scatter);
+  usable_ =
+      world_mean_.allFinite() && world_scatter.allFinite() && ScatterSpansAPlane(world_scatter);
 }
 
 std::optional<Pose> BaseFitSums::Fit(const std::vector<Eigen::Vector3d>& tool_t) const {

@@ -48,17 +48,17 @@ class BaseFitSums {
   // Sums over one tool's points, with R_i = R_base_flange_i, t~_i = t_base_flange_i - t_mean and
   // w~_i = p_i - p_mean; a flange-side point is R_i t_tool + t~_i + t_mean.
   struct ToolSums {
-    Eigen::Matrix3d rotations = Eigen::Matrix3d::Zero();          // sum R_i
-    std::array<Eigen::Matrix3d, 3> world_axis;                    // k: sum w~_i (R_i e_k)^T
-    std::array<std::array<Eigen::Matrix3d, 3>, 3> axis_axis;      // k, l: sum R_i e_k (R_i e_l)^T
-    std::array<Eigen::Matrix3d, 3> axis_offset;                   // k: sum R_i e_k t~_i^T
+    Eigen::Matrix3d rotations = Eigen::Matrix3d::Zero();      // sum R_i
+    std::array<Eigen::Matrix3d, 3> world_axis;                // k: sum w~_i (R_i e_k)^T
+    std::array<std::array<Eigen::Matrix3d, 3>, 3> axis_axis;  // k, l: sum R_i e_k (R_i e_l)^T
+    std::array<Eigen::Matrix3d, 3> axis_offset;               // k: sum R_i e_k t~_i^T
   };
   std::vector<ToolSums> tools_;
   double count_ = 0.0;
   Eigen::Vector3d world_mean_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d offset_mean_ = Eigen::Vector3d::Zero();        // t_mean
-  Eigen::Matrix3d world_offset_ = Eigen::Matrix3d::Zero();       // sum w~_i t~_i^T
-  Eigen::Matrix3d offset_offset_ = Eigen::Matrix3d::Zero();      // sum t~_i t~_i^T
+  Eigen::Vector3d offset_mean_ = Eigen::Vector3d::Zero();    // t_mean
+  Eigen::Matrix3d world_offset_ = Eigen::Matrix3d::Zero();   // sum w~_i t~_i^T
+  Eigen::Matrix3d offset_offset_ = Eigen::Matrix3d::Zero();  // sum t~_i t~_i^T
   bool usable_ = false;  // at least 3 finite world points, not on one line
 };
 

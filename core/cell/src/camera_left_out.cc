@@ -95,8 +95,7 @@ std::map<std::string, double> InputEffects(const Uncertainty& u, const std::stri
 
 // The variance the shared inputs give the difference: each input moves both answers, by the
 // difference of its two effects.
-double InputsVariance(const Uncertainty& without, const Uncertainty& all,
-                      const std::string& name) {
+double InputsVariance(const Uncertainty& without, const Uncertainty& all, const std::string& name) {
   std::map<std::string, double> difference = InputEffects(without, name);
   for (const auto& [input, effect] : InputEffects(all, name)) difference[input] -= effect;
   double variance = 0.0;
@@ -136,7 +135,7 @@ Refit IdentifyWithout(const WorkcellProblem& spec, const Recording& recording,
   without.compare_camera_models = false;
   without.leave_one_camera_out = false;
   without.outlier_test = OutlierTest::kOff;  // the all-camera fit's outliers are out already
-  without.cameras[camera].use = false;  // IdentifyWorkcell leaves its observations out
+  without.cameras[camera].use = false;       // IdentifyWorkcell leaves its observations out
   try {
     const QuietProgress quiet;  // one line per camera, not the fits' own notes
     refit.result = IdentifyWorkcell(without, recording, make_solver);
@@ -161,8 +160,7 @@ std::map<int, double> AddedPriors(const WorkcellResult& refit, const WorkcellRes
 
 // The data's part of each difference's variance, per camera left out (left_out_difference.h),
 // on the all-camera fit linearized again at its answer; empty where that fails.
-std::vector<Eigen::VectorXd> DataVariances(const WorkcellProblem& spec,
-                                           const Recording& recording,
+std::vector<Eigen::VectorXd> DataVariances(const WorkcellProblem& spec, const Recording& recording,
                                            const WorkcellResult& all,
                                            const std::vector<std::string>& cameras,
                                            const std::vector<Refit>& refits) {
@@ -205,8 +203,8 @@ void Compare(const WorkcellProblem& spec, const WorkcellResult& all,
                               ? data_variance[it - names.begin()]
                               : std::numeric_limits<double>::quiet_NaN();
       if (std::isnan(data)) continue;
-      d.sigma[i] = std::sqrt(data + InputsVariance(refit->result.uncertainty, all.uncertainty,
-                                                   coordinate));
+      d.sigma[i] =
+          std::sqrt(data + InputsVariance(refit->result.uncertainty, all.uncertainty, coordinate));
       // A coordinate the left-out camera adds nothing to (both answers have it from the same
       // prior, or from the other cameras alone) has no difference to test.
       const double own = i < 3 ? w->sigma_mm[i] : w->sigma_rad[i - 3];
@@ -225,8 +223,7 @@ void Compare(const WorkcellProblem& spec, const WorkcellResult& all,
 }  // namespace
 
 std::vector<CameraLeftOut> LeaveEachCameraOut(const WorkcellProblem& spec,
-                                              const Recording& recording,
-                                              const WorkcellResult& all,
+                                              const Recording& recording, const WorkcellResult& all,
                                               const SolverMaker& make_solver) {
   const std::vector<std::string> cameras = CamerasToLeaveOut(spec, recording);
   if (cameras.empty()) return {};

@@ -50,8 +50,7 @@ struct ChainCost::State {
   Eigen::Vector3d p_world;  // the target's origin
 };
 
-void ChainCost::MakeState(double const* const* parameters, bool with_jacobian,
-                          State* state) const {
+void ChainCost::MakeState(double const* const* parameters, bool with_jacobian, State* state) const {
   int k = 0;
   // The frames every residual shares, each made once per thread for these values (frame_cache.h).
   if (blocks_.base) state->base = FrameOfBlock(parameters[k++], refs_->world_base, with_jacobian);
@@ -77,15 +76,13 @@ void ChainCost::PredictionOf(const State& c, Pose* prediction) const {
   }
 }
 
-void ChainCost::StoreJacobians(const State& c, const Eigen::Matrix3d& L,
-                               double** jacobians) const {
+void ChainCost::StoreJacobians(const State& c, const Eigen::Matrix3d& L, double** jacobians) const {
   const Eigen::Matrix3d zero = Eigen::Matrix3d::Zero();
   const Eigen::Matrix3d L_R_cw = L * c.R_cw;
   int k = 0;
   if (comparison_.compared() == Compared::kPosition) {
     if (blocks_.base) {
-      Store(jacobians[k++], L_R_cw,
-            -L_R_cw * Skew(c.p_world - c.T_world_base.t) * c.base.J_left);
+      Store(jacobians[k++], L_R_cw, -L_R_cw * Skew(c.p_world - c.T_world_base.t) * c.base.J_left);
     }
     if (blocks_.tool) Store(jacobians[k++], L_R_cw * c.T_world_flange.R, zero);
     if (blocks_.camera) {

@@ -48,8 +48,8 @@ class ChainCost final : public SharedPredictionCost {
   // and what each one holds is what it reads from memory. `same_as`: an earlier ChainCost
   // that predicts the same (the same frames, joints and compared quantity), whose key this
   // one takes; it must outlive this one's use in a Problem (both are the Problem's).
-  ChainCost(TargetComparison comparison, std::shared_ptr<const FrameRefs> refs,
-            ChainBlocks blocks, const Pose& T_base_flange, const Pose& T_cam_world_fixed,
+  ChainCost(TargetComparison comparison, std::shared_ptr<const FrameRefs> refs, ChainBlocks blocks,
+            const Pose& T_base_flange, const Pose& T_cam_world_fixed,
             const ChainCost* same_as = nullptr);
   // A block on its own (tests).
   ChainCost(TargetComparison comparison, FrameRefs refs, ChainBlocks blocks,

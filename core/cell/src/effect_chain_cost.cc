@@ -32,11 +32,11 @@ void Store(double* jacobian, const Eigen::Matrix<double, 3, Eigen::Dynamic>& J) 
 }  // namespace
 
 struct EffectChainCost::Chain {
-  Pose P;                    // the target in the camera, before the measurement effects
+  Pose P;  // the target in the camera, before the measurement effects
   Pose T_world_base, T_base_flange, T_flange_target, T_world_cam;
-  Eigen::Vector3d p_world;   // the target's origin in the world
+  Eigen::Vector3d p_world;                          // the target's origin in the world
   Eigen::Matrix<double, 6, Eigen::Dynamic> twists;  // the model's flange twists (base frame)
-  Eigen::Matrix3d J_base, J_tool, J_camera;  // each frame block's left Jacobian (when asked)
+  Eigen::Matrix3d J_base, J_tool, J_camera;         // each frame block's left Jacobian (when asked)
   const double* base = nullptr;
   const double* tool = nullptr;
   const double* camera = nullptr;
@@ -60,18 +60,16 @@ ChainEffectList::ChainEffectList(std::vector<const Effect*> effects_in, std::vec
   for (int size : sizes) num_params += size;
 }
 
-EffectChainCost::EffectChainCost(TargetComparison comparison,
-                                 std::shared_ptr<const FrameRefs> refs, const RobotModel* model,
-                                 EffectContext context, bool static_camera,
+EffectChainCost::EffectChainCost(TargetComparison comparison, std::shared_ptr<const FrameRefs> refs,
+                                 const RobotModel* model, EffectContext context, bool static_camera,
                                  const Pose& T_cam_world_measured,
                                  std::shared_ptr<const ChainEffectList> effects,
                                  std::shared_ptr<ForwardMemo> forward,
                                  const EffectChainCost* same_as)
-    : comparison_(comparison), refs_(std::move(refs)), model_(model),
-      context_(std::move(context)), static_camera_(static_camera),
-      T_world_cam_fixed_(T_cam_world_measured.inverse()), list_(std::move(effects)),
-      effects_(list_->effects), effect_sizes_(list_->sizes), forward_(std::move(forward)),
-      key_(same_as ? same_as->key_ : this) {
+    : comparison_(comparison), refs_(std::move(refs)), model_(model), context_(std::move(context)),
+      static_camera_(static_camera), T_world_cam_fixed_(T_cam_world_measured.inverse()),
+      list_(std::move(effects)), effects_(list_->effects), effect_sizes_(list_->sizes),
+      forward_(std::move(forward)), key_(same_as ? same_as->key_ : this) {
   if (same_as && same_as->comparison_.compared() != comparison_.compared()) {
     throw std::logic_error("EffectChainCost: a position and a rotation cannot share a prediction");
   }
@@ -89,8 +87,8 @@ EffectChainCost::EffectChainCost(TargetComparison comparison,
 }
 
 EffectChainCost::EffectChainCost(TargetComparison comparison, FrameRefs refs,
-                                 const RobotModel* model, EffectContext context,
-                                 bool static_camera, const Pose& T_cam_world_measured,
+                                 const RobotModel* model, EffectContext context, bool static_camera,
+                                 const Pose& T_cam_world_measured,
                                  std::vector<const Effect*> effects,
                                  const std::vector<int>& effect_sizes)
     : EffectChainCost(comparison, std::make_shared<const FrameRefs>(std::move(refs)), model,
@@ -183,8 +181,8 @@ bool EffectChainCost::PredictChain(double const* const* parameters, bool with_tw
   return true;
 }
 
-void EffectChainCost::LastStage(const Transform<Jet>& moved, Output output,
-                                const Pose& measured, Jet* out) const {
+void EffectChainCost::LastStage(const Transform<Jet>& moved, Output output, const Pose& measured,
+                                Jet* out) const {
   if (output == Output::kResidual) {
     comparison_.Compare(moved, out);
   } else if (comparison_.compared() == Compared::kPosition) {
@@ -244,23 +242,22 @@ void EffectChainCost::StoreFrameJacobians(const Chain& c,
     if (jacobians[k]) {  // base: p_world - t turns with it
       const Eigen::Matrix3d& J_l = c.J_base;
       Store(jacobians[k],
-            H_motion * FrameMotion(R_cw, -R_cw * Skew(c.p_world - c.T_world_base.t) * J_l,
-                                   R_cw * J_l));
+            H_motion *
+                FrameMotion(R_cw, -R_cw * Skew(c.p_world - c.T_world_base.t) * J_l, R_cw * J_l));
     }
     ++k;
     if (jacobians[k]) {  // tool: shifts along the flange's axes, turns about them
       const Eigen::Matrix3d R_cf = R_cw * c.T_world_base.R * c.T_base_flange.R;
-      Store(jacobians[k],
-            H_motion * FrameMotion(R_cf, zero, R_cf * c.J_tool));
+      Store(jacobians[k], H_motion * FrameMotion(R_cf, zero, R_cf * c.J_tool));
     }
     ++k;
   }
   if (static_camera_) {
     if (jacobians[k]) {  // camera: the world moves the other way
       const Eigen::Matrix3d& J_l = c.J_camera;
-      Store(jacobians[k], H_motion * FrameMotion(-R_cw,
-                                                 R_cw * Skew(c.p_world - c.T_world_cam.t) * J_l,
-                                                 -R_cw * J_l));
+      Store(jacobians[k],
+            H_motion *
+                FrameMotion(-R_cw, R_cw * Skew(c.p_world - c.T_world_cam.t) * J_l, -R_cw * J_l));
     }
     ++k;
   }

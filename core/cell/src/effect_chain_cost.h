@@ -94,8 +94,8 @@ class EffectChainCost final : public SharedPredictionCost {
   enum class Output { kResidual, kTangent };
   // Evaluate and Predict: `values` (3) and, per asked block, d values / d block; with kTangent
   // also the measured pose.
-  bool Linearize(double const* const* parameters, Output output, double* values,
-                 Pose* measured, double** jacobians) const;
+  bool Linearize(double const* const* parameters, Output output, double* values, Pose* measured,
+                 double** jacobians) const;
   // The prediction P and what its motion (s, w) does per frame, model and effect parameter.
   struct Chain;
   // `with_jacobians`: the frames' left Jacobians too (StoreFrameJacobians); `effect_twists`:
@@ -114,8 +114,7 @@ class EffectChainCost final : public SharedPredictionCost {
                          Output output, double* values, Pose* measured,
                          Eigen::Matrix<double, 3, Eigen::Dynamic>* H) const;
   // The last Jet stage: r, or the tangent of `moved` about `measured` (its values).
-  void LastStage(const Transform<Jet>& moved, Output output, const Pose& measured,
-                 Jet* out) const;
+  void LastStage(const Transform<Jet>& moved, Output output, const Pose& measured, Jet* out) const;
   void StoreFrameJacobians(const Chain& chain, const Eigen::Matrix<double, 3, 6>& H_motion,
                            double** jacobians) const;
 
@@ -128,7 +127,7 @@ class EffectChainCost final : public SharedPredictionCost {
   std::shared_ptr<const ChainEffectList> list_;
   const std::vector<const Effect*>& effects_;  // list_'s
   const std::vector<int>& effect_sizes_;       // list_'s
-  int first_effect_ = 0;  // block index of the first effect
+  int first_effect_ = 0;                       // block index of the first effect
   int num_effect_params_ = 0;
   bool joint_effects_ = false, flange_effects_ = false;  // a carried target's chain has them
   std::shared_ptr<ForwardMemo> forward_;

@@ -120,10 +120,9 @@ void LinearizeJointStage(const std::vector<const Effect*>& effects,
 }
 
 void LinearizeFlangeStage(const std::vector<const Effect*>& effects,
-                          const std::vector<int>& effect_sizes,
-                          double const* const* effect_params, const EffectContext& context,
-                          Pose* T_base_flange, Eigen::Matrix<double, 6, 6>* motion_map,
-                          FlangeTwists* effect_twists) {
+                          const std::vector<int>& effect_sizes, double const* const* effect_params,
+                          const EffectContext& context, Pose* T_base_flange,
+                          Eigen::Matrix<double, 6, 6>* motion_map, FlangeTwists* effect_twists) {
   if (motion_map == nullptr || effect_twists == nullptr) {
     double values[12];
     PackPose(*T_base_flange, values);

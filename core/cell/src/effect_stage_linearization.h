@@ -40,10 +40,9 @@ void LinearizeJointStage(const std::vector<const Effect*>& effects,
 // effect parameter (6 x total). A flange effect must keep the rotation a rotation (effect.h):
 // the turn is read from the rotation's change as dR R^T.
 void LinearizeFlangeStage(const std::vector<const Effect*>& effects,
-                          const std::vector<int>& effect_sizes,
-                          double const* const* effect_params, const EffectContext& context,
-                          Pose* T_base_flange, Eigen::Matrix<double, 6, 6>* motion_map,
-                          FlangeTwists* effect_twists);
+                          const std::vector<int>& effect_sizes, double const* const* effect_params,
+                          const EffectContext& context, Pose* T_base_flange,
+                          Eigen::Matrix<double, 6, 6>* motion_map, FlangeTwists* effect_twists);
 
 // Every effect parameter as a Jet, for a pass over one stage: only the parameters of the effects
 // at that stage carry directions (numbered from `first_direction` in effect order), the others

@@ -70,8 +70,7 @@ void AddModelErrors(const WorkcellResultFile& result, const WorkcellTruth& truth
                        "Evaluate a result against the truth of the same simulation");
     }
     order->push_back(name);
-    (*errors)[name] = {name, p.unit, p.value - it->second,
-                       p.held ? 0.0 : p.sigma.value_or(0.0)};
+    (*errors)[name] = {name, p.unit, p.value - it->second, p.held ? 0.0 : p.sigma.value_or(0.0)};
   }
 }
 
@@ -118,8 +117,8 @@ void AddGaugeCombinations(const WorkcellResultFile& result, const ErrorsByParame
         if (q.name == b->second.name) q.in_gauge = true;
       }
       EvaluatedQuantity combination{CombinationName(b->second.name, ratio, a->second.name),
-                                    b->second.unit,
-                                    b->second.error - ratio * a->second.error, b->second.sigma};
+                                    b->second.unit, b->second.error - ratio * a->second.error,
+                                    b->second.sigma};
       combination.combination = true;
       evaluation->quantities.push_back(combination);
     }
@@ -142,19 +141,18 @@ WorkcellEvaluation EvaluateWorkcell(const WorkcellResultFile& result, const Work
   AddGaugeCombinations(result, errors, &evaluation);
   for (const auto& q : evaluation.quantities) {
     if (q.in_gauge) continue;  // its combination is scored instead
-    double& worst = q.unit == "rad" ? evaluation.max_rotation_error_rad
-                                    : evaluation.max_translation_error_mm;
+    double& worst =
+        q.unit == "rad" ? evaluation.max_rotation_error_rad : evaluation.max_translation_error_mm;
     if (!q.combination) worst = std::max(worst, std::abs(q.error));
-    evaluation.max_abs_normalized = std::max(evaluation.max_abs_normalized,
-                                             std::abs(q.normalized()));
+    evaluation.max_abs_normalized =
+        std::max(evaluation.max_abs_normalized, std::abs(q.normalized()));
   }
   return evaluation;
 }
 
 WorkcellEvaluation EvaluateWorkcell(const nlohmann::json& result, const WorkcellTruth& truth,
                                     const std::string& truth_origin) {
-  return EvaluateWorkcell(ParseWorkcellResult(result.dump(), "result.json"), truth,
-                          truth_origin);
+  return EvaluateWorkcell(ParseWorkcellResult(result.dump(), "result.json"), truth, truth_origin);
 }
 
 }  // namespace cellmetry

@@ -34,8 +34,7 @@ class EyeInHandResidual {
     const Transform<T> T_flange_camera = FrameFromBlock(blocks[1], R_flange_camera_);
     Transform<T> T_base_flange;
     if (!model_->Forward(q_.data(), blocks[2], &T_base_flange)) return false;
-    const Transform<T> T_cam_world =
-        (T_world_base * T_base_flange * T_flange_camera).inverse();
+    const Transform<T> T_cam_world = (T_world_base * T_base_flange * T_flange_camera).inverse();
     comparison_.Compare(T_cam_world, residual);
     return true;
   }

@@ -31,7 +31,7 @@ struct Fit {
   std::unique_ptr<AssembledWorkcell> assembled;
   SolverSummary summary;
   std::vector<UnidentifiableParameter> unidentifiable;
-  int free_as_asked = 0;  // free parameters before anything was held as unidentifiable
+  int free_as_asked = 0;    // free parameters before anything was held as unidentifiable
   Linearization at_answer;  // IdentifiedSolve's: valid when the solve's last check held nothing
 };
 
@@ -66,7 +66,6 @@ SolverMaker FirstFitSolver(const NoiseModel& noise, const SolverMaker& job_solve
 // solves from `start` (`warm_start`: a neighbouring fit's answer; SolveHoldingUnidentifiable).
 Fit FitOnce(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
             const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses,
-            HeldParameters held, const SolverMaker& make_solver,
-            bool warm_start = false);
+            HeldParameters held, const SolverMaker& make_solver, bool warm_start = false);
 
 }  // namespace cellmetry

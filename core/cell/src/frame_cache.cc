@@ -41,8 +41,7 @@ bool Holds(const Slot& slot, const double* block, const Eigen::Matrix3d& R_ref) 
 
 }  // namespace
 
-CachedFrame FrameOfBlock(const double* block, const Eigen::Matrix3d& R_ref,
-                                bool with_jacobian) {
+CachedFrame FrameOfBlock(const double* block, const Eigen::Matrix3d& R_ref, bool with_jacobian) {
   thread_local Table table;
   Slot* slot = nullptr;
   for (Slot& s : table.slots) {

@@ -17,13 +17,12 @@
 namespace cellmetry {
 
 struct CachedFrame {
-  Pose T;                   // FrameFromBlock(block, R_ref)
-  Eigen::Matrix3d J_left;   // LeftJacobian of the block's rotation part (with_jacobian only)
+  Pose T;                  // FrameFromBlock(block, R_ref)
+  Eigen::Matrix3d J_left;  // LeftJacobian of the block's rotation part (with_jacobian only)
 };
 
 // FrameFromBlock(block, R_ref) and, when `with_jacobian`, LeftJacobian(block + 3) (a copy:
 // the next call may take the slot).
-CachedFrame FrameOfBlock(const double* block, const Eigen::Matrix3d& R_ref,
-                                bool with_jacobian);
+CachedFrame FrameOfBlock(const double* block, const Eigen::Matrix3d& R_ref, bool with_jacobian);
 
 }  // namespace cellmetry

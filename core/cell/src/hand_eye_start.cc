@@ -88,8 +88,8 @@ std::optional<Pose> SolveHandEye(const std::vector<Pose>& A, const std::vector<P
   return X;
 }
 
-void HandEyeStart(const WorkcellProblem& spec, const Recording& recording,
-                  const WorkcellData& data, WorkcellEstimate* estimate) {
+void HandEyeStart(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
+                  WorkcellEstimate* estimate) {
   for (size_t r = 0; r < spec.robots.size(); ++r) {
     const WorkcellRobot& robot = spec.robots[r];
     for (size_t t = 0; t < robot.tools.size(); ++t) {
@@ -98,9 +98,9 @@ void HandEyeStart(const WorkcellProblem& spec, const Recording& recording,
       const auto poses = PosesOf(spec, recording, data, static_cast<int>(r), static_cast<int>(t),
                                  estimate->model.at(robot.name));
       if (poses.size() < 3) {
-        throw TooFewMotions(recording, tool.camera,
-                            "it saw the world target from " + std::to_string(poses.size()) +
-                                " poses");
+        throw TooFewMotions(
+            recording, tool.camera,
+            "it saw the world target from " + std::to_string(poses.size()) + " poses");
       }
       Pose X = tool.flange_tool.start;
       if (!tool.start_given) {
@@ -118,8 +118,7 @@ void HandEyeStart(const WorkcellProblem& spec, const Recording& recording,
       std::vector<Eigen::Matrix3d> rotations;
       Eigen::Vector3d t_sum = Eigen::Vector3d::Zero();
       for (const HandEyePose& p : poses) {
-        const Pose T_world_base =
-            p.T_cam_world.inverse() * X.inverse() * p.T_base_flange.inverse();
+        const Pose T_world_base = p.T_cam_world.inverse() * X.inverse() * p.T_base_flange.inverse();
         rotations.push_back(T_world_base.R);
         t_sum += T_world_base.t;
       }

@@ -36,7 +36,7 @@ std::optional<Pose> SolveHandEye(const std::vector<Pose>& A, const std::vector<P
 // over pairs of its captures; and, where the robot carries no start of its own, the robot's base
 // from the same captures. Raises InputError when a camera saw the world target from fewer than
 // three poses or the flange turned about one axis only.
-void HandEyeStart(const WorkcellProblem& spec, const Recording& recording,
-                  const WorkcellData& data, WorkcellEstimate* estimate);
+void HandEyeStart(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
+                  WorkcellEstimate* estimate);
 
 }  // namespace cellmetry

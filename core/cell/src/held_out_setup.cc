@@ -95,8 +95,7 @@ struct PositionRow {
 };
 
 std::vector<PositionRow> CarriedPositionRows(const AssembledWorkcell& assembled,
-                                             const Eigen::VectorXd& r,
-                                             const Recording& recording) {
+                                             const Eigen::VectorXd& r, const Recording& recording) {
   std::vector<PositionRow> rows;
   const Problem& problem = assembled.problem;
   const auto& infos = problem.residual_infos();
@@ -129,8 +128,7 @@ std::vector<PositionRow> ScoredRows(const WorkcellProblem& spec, const Recording
   auto assembled = AssembleWorkcell(cartesian, recording, data, noise, estimate, poses);
   Eigen::VectorXd r;
   if (!assembled->problem.EvaluateSparse(&r, nullptr)) {
-    throw InputError({recording.folder, 0, 0},
-                     "the calibrated model cannot place a held-out pose",
+    throw InputError({recording.folder, 0, 0}, "the calibrated model cannot place a held-out pose",
                      "Check that the held-out recording is of the same robot and joints");
   }
   return CarriedPositionRows(*assembled, r, recording);
@@ -230,8 +228,8 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
   }
   const WorkcellData data = PrepareWorkcellData(free, held_out);
   auto assemble = [&](const std::set<int>& poses) {
-    auto assembled = AssembleWorkcell(free, held_out, data, registered.noise,
-                                      registered.estimate, poses);
+    auto assembled =
+        AssembleWorkcell(free, held_out, data, registered.noise, registered.estimate, poses);
     HoldParameters(&assembled->problem, HeldOf(result.unidentifiable));
     return assembled;
   };
@@ -248,8 +246,7 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
   const auto& free_columns = on_registration->problem.free_parameters();
   std::set<int> theta_blocks(on_registration->model_block.begin(),
                              on_registration->model_block.end());
-  theta_blocks.insert(on_registration->effect_block.begin(),
-                      on_registration->effect_block.end());
+  theta_blocks.insert(on_registration->effect_block.begin(), on_registration->effect_block.end());
   std::vector<bool> is_theta;
   std::vector<std::string> theta_names;
   for (const FreeParameter& f : free_columns) {
@@ -258,8 +255,8 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
   }
   // The registration rows' reduced chi-square about the calibrated model, where above 1: the
   // stated sigma too optimistic for this setup widens the frames' part and every point's own.
-  const double dof = static_cast<double>(J.rows()) - static_cast<double>(
-                                                          J.cols() - theta_names.size());
+  const double dof =
+      static_cast<double>(J.rows()) - static_cast<double>(J.cols() - theta_names.size());
   const double dispersion = dof > 0 ? std::max(r_registration.squaredNorm() / dof, 1.0) : 1.0;
   const Eigen::MatrixXd S = JointCovariance(J, dispersion, is_theta,
                                             CalibratedCovariance(result.uncertainty, theta_names));
@@ -269,8 +266,7 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
     HeldOutPoint point{row.sample, row.camera, row.target, row.error_mm, {}, 0.0};
     point.covariance_mm2 = G_p * S * G_p.transpose();
     point.covariance_mm2.diagonal() += dispersion * row.sigma_mm.cwiseAbs2();
-    point.normalized_squared =
-        row.error_mm.dot(point.covariance_mm2.ldlt().solve(row.error_mm));
+    point.normalized_squared = row.error_mm.dot(point.covariance_mm2.ldlt().solve(row.error_mm));
     score->points.push_back(point);
   }
 }
@@ -315,8 +311,8 @@ std::vector<int> SelectRegistrationPoses(const Recording& recording,
     const std::set<int> present(all.begin(), all.end());
     for (int pose : register_on.poses) {
       if (!present.count(pose)) {
-        throw InputError(where, "register_on: no pose " + std::to_string(pose) + " in " +
-                                    recording.folder,
+        throw InputError(where,
+                         "register_on: no pose " + std::to_string(pose) + " in " + recording.folder,
                          "Name pose ids as the recording's samples.csv has them");
       }
     }
@@ -357,8 +353,8 @@ HeldOutSetupScore ScoreHeldOutSetup(const WorkcellProblem& spec, const WorkcellR
       IdentifyWorkcell(nominal, registration_recording, make_solver);
   score.nominal_rms_mm =
       RmsOf(ScoredRows(nominal, held_out, result.noise, nominal_registered.estimate, scored));
-  score.registration_rms_mm = RmsOf(ScoredRows(calibrated, held_out, result.noise,
-                                               registered.estimate, registration));
+  score.registration_rms_mm =
+      RmsOf(ScoredRows(calibrated, held_out, result.noise, registered.estimate, registration));
 
   auto for_compensation = std::make_shared<WorkcellResult>(registered);
   PredictCovariances(spec, result, held_out, registered, registration, scored, &score,

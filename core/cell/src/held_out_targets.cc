@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "cellmetry/basics/error.h"
@@ -37,9 +37,8 @@ std::vector<Row> ScoredRows(const HeldOutSetupScore& score, const Recording& hel
     const auto camera = T_world_cam.find(obs.camera);
     if (sample == sample_of_id.end() || camera == T_world_cam.end()) continue;
     if (registration.count(sample->second->pose)) continue;  // it registered the frames
-    const Pose T_cam_target =
-        obs.rvec ? PoseFromRvecT(*obs.rvec, obs.position_mm)
-                 : Pose{Eigen::Matrix3d::Identity(), obs.position_mm};
+    const Pose T_cam_target = obs.rvec ? PoseFromRvecT(*obs.rvec, obs.position_mm)
+                                       : Pose{Eigen::Matrix3d::Identity(), obs.position_mm};
     rows.push_back({sample->second, camera->second * T_cam_target, obs.rvec.has_value()});
   }
   return rows;
@@ -60,8 +59,7 @@ std::string HeldOutTargetsCsv(const HeldOutSetupScore& score, const Recording& h
   auto every = [&rows](auto has) { return std::all_of(rows.begin(), rows.end(), has); };
   const bool rotation = every([](const Row& r) { return r.has_rotation; });
   const bool payload = every([](const Row& r) { return r.sample->payload_kg.has_value(); });
-  const bool temperature =
-      every([](const Row& r) { return r.sample->temperature_c.has_value(); });
+  const bool temperature = every([](const Row& r) { return r.sample->temperature_c.has_value(); });
   const bool time = every([](const Row& r) { return r.sample->time_s.has_value(); });
   const size_t joints = rows.front().sample->q.size();
 
@@ -75,8 +73,8 @@ std::string HeldOutTargetsCsv(const HeldOutSetupScore& score, const Recording& h
       << (time ? ",t_s" : "") << "\n";
   for (const Row& r : rows) {
     const Eigen::Vector3d& p = r.T_world_target.t;
-    out << "pose " << r.sample->pose << " sample " << r.sample->id << "," << Number(p.x())
-        << "," << Number(p.y()) << "," << Number(p.z());
+    out << "pose " << r.sample->pose << " sample " << r.sample->id << "," << Number(p.x()) << ","
+        << Number(p.y()) << "," << Number(p.z());
     if (rotation) {
       const Eigen::Vector3d rvec = RvecFromRotation(r.T_world_target.R);
       out << "," << Number(rvec.x()) << "," << Number(rvec.y()) << "," << Number(rvec.z());

@@ -58,8 +58,8 @@ std::vector<MeasuredOffset> MeasureOffsets(const HomingArm& arm,
     MeasuredOffset m;
     m.sample = s.sample;
     for (int i = 0; i < 3; ++i) {
-      const int homing = FindParameter(arm.model_parameters,
-                                       "arm" + std::to_string(i + 1) + ".homing");
+      const int homing =
+          FindParameter(arm.model_parameters, "arm" + std::to_string(i + 1) + ".homing");
       const double estimate = homing >= 0 ? arm.model_parameters[homing].nominal : 0.0;
       m.offset_rad[i] = q[i] + estimate - s.q[i];
     }
@@ -144,8 +144,8 @@ HomingResult HomeVisually(const HomingArm& arm, const std::vector<PointSample>& 
   result.lsq_sigma_rad = covariance.diagonal().cwiseSqrt();
 
   // The interval algorithm, then validation reruns on the positions it has not used.
-  const double target = options.target_width_increments *
-                        (result.increment_rad > 0 ? result.increment_rad : 1.0);
+  const double target =
+      options.target_width_increments * (result.increment_rad > 0 ? result.increment_rad : 1.0);
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   result.runs.push_back(Intersect(&pool, offset, options, target));
   const HomingRun& first = result.runs.front();
@@ -161,9 +161,9 @@ HomingResult HomeVisually(const HomingArm& arm, const std::vector<PointSample>& 
     const Eigen::Vector3d residual = 0.5 * (check.lower_rad + check.upper_rad);
     const bool holds_zero =
         (check.lower_rad.array() <= 0).all() && (check.upper_rad.array() >= 0).all();
-    const bool small = (residual.cwiseAbs().array() <
-                        (result.increment_rad > 0 ? result.increment_rad : target))
-                           .all();
+    const bool small =
+        (residual.cwiseAbs().array() < (result.increment_rad > 0 ? result.increment_rad : target))
+            .all();
     result.validated = holds_zero && small;
     result.validation = (result.validated ? "validated" : "corrected") + std::string(" on ") +
                         std::to_string(check.samples.size()) + " fresh positions: residual " +

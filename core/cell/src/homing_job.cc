@@ -21,7 +21,7 @@ HomingOptions ReadOptions(const ConfigNode& h) {
   options.min_positions = h.GetIntIn("min_positions", options.min_positions, 2, 1000000,
                                      "An interval needs company: 2 or more");
   options.max_reruns = h.GetIntIn("max_reruns", options.max_reruns, 0, 1000,
-                                   "0 runs once; each rerun records the poses again");
+                                  "0 runs once; each rerun records the poses again");
   return options;
 }
 
@@ -63,14 +63,15 @@ std::vector<PointSample> CollectPoints(const HomingJob& job, const Recording& re
   for (const Observation& obs : recording.observations) {
     if (obs.target != job.target || obs.camera != job.camera) continue;
     const Sample& sample = recording.samples[recording.SampleIndex(obs.sample)];
-    points.push_back({sample.id, sample.q, obs.position_mm,
+    points.push_back({sample.id,
+                      sample.q,
+                      obs.position_mm,
                       {recording.folder + "/samples.csv", sample.line, 0},
                       {recording.folder + "/observations.csv", obs.line, 0}});
   }
   if (points.empty()) {
     throw InputError({recording.folder + "/observations.csv", 0, 0},
-                     "no observation of target '" + job.target + "' by camera '" + job.camera +
-                         "'",
+                     "no observation of target '" + job.target + "' by camera '" + job.camera + "'",
                      "Record the marker with that camera, or name the ones the observations use");
   }
   return points;

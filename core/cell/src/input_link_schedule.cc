@@ -33,8 +33,8 @@ InputLink InputLinkSchedule::Take() { return link_.get(); }
 void InputLinkSchedule::RunAlongside(const std::function<void()>& here,
                                      const std::function<void()>& alongside,
                                      bool alongside_on_another_core) {
-  std::future<void> beside = std::async(
-      alongside_on_another_core ? std::launch::async : std::launch::deferred, alongside);
+  std::future<void> beside =
+      std::async(alongside_on_another_core ? std::launch::async : std::launch::deferred, alongside);
   try {
     here();
     beside.get();  // rethrows what it threw

@@ -92,8 +92,9 @@ void CopyBlock(const FitAnswer& fit, int from, int to, AssembledWorkcell* link) 
   const auto R_link = link->R_ref.find(to);
   if ((R_fit == fit.R_ref.end()) != (R_link == link->R_ref.end()) ||
       (R_fit != fit.R_ref.end() && R_fit->second != R_link->second)) {
-    throw std::logic_error("the uncertain inputs' link was assembled at another start than the "
-                           "fit it is linked at");
+    throw std::logic_error(
+        "the uncertain inputs' link was assembled at another start than the "
+        "fit it is linked at");
   }
   const std::vector<double>& values = fit.block_values.at(static_cast<size_t>(from));
   if (values.size() > link->problem.block_parameters(to).size()) {
@@ -139,8 +140,9 @@ InputLink InputLinker::LinkAt(const FitAnswer& answer) {
 void AddInputUncertainty(const InputLink& link, Uncertainty* u) {
   if (link.inputs.empty() || u->sigma.size() == 0) return;
   if (link.estimated != u->names) {
-    throw std::logic_error("the uncertain inputs were linked at other free parameters than the "
-                           "fit's");
+    throw std::logic_error(
+        "the uncertain inputs were linked at other free parameters than the "
+        "fit's");
   }
   Eigen::MatrixXd sensitivity;
   const Eigen::MatrixXd cov =

@@ -32,9 +32,9 @@ namespace cellmetry {
 // the inputs' parameters, and each input's standard uncertainty. Empty: no uncertain inputs.
 struct InputLink {
   std::vector<std::string> estimated;  // the fit's free parameters, cross's row order
-  std::vector<std::string> inputs;  // "<effect>.<parameter>", "<robot>.model.<parameter>"
-  Eigen::VectorXd sigma;            // per input, in its unit
-  Eigen::MatrixXd cross;            // estimated x inputs
+  std::vector<std::string> inputs;     // "<effect>.<parameter>", "<robot>.model.<parameter>"
+  Eigen::VectorXd sigma;               // per input, in its unit
+  Eigen::MatrixXd cross;               // estimated x inputs
 };
 
 // A fit's answer as the link reads it: every block's values and free parameters, and which

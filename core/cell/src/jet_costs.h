@@ -32,12 +32,9 @@ std::unique_ptr<ceres::CostFunction> EyeInHandCostFunction(
     const std::vector<double>& q, const Problem& problem, const std::vector<int>& blocks);
 
 // JointSpaceResidual (joint_space_residual.h) over `blocks` of `problem`.
-std::unique_ptr<ceres::CostFunction> JointSpaceCostFunction(const FrameRefs& refs,
-                                                           const RobotModel* model,
-                                                           const std::vector<double>& q,
-                                                           const Eigen::Vector3d& p_cam_mm,
-                                                           const Eigen::Matrix3d& whitening,
-                                                           const Problem& problem,
-                                                           const std::vector<int>& blocks);
+std::unique_ptr<ceres::CostFunction> JointSpaceCostFunction(
+    const FrameRefs& refs, const RobotModel* model, const std::vector<double>& q,
+    const Eigen::Vector3d& p_cam_mm, const Eigen::Matrix3d& whitening, const Problem& problem,
+    const std::vector<int>& blocks);
 
 }  // namespace cellmetry

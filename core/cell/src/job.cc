@@ -96,8 +96,9 @@ void ReadBase(const ConfigNode& node, bool world_is_base, WorkcellRobot* robot) 
     const ConfigNode level = base["level"];
     level.ExpectKeys({"sigma_rad"});
     if (!level.Has("sigma_rad")) {
-      throw level.Error("level: needs sigma_rad", "Say how far from level the base may stand, "
-                                                  "e.g. level: {sigma_rad: 0.003}");
+      throw level.Error("level: needs sigma_rad",
+                        "Say how far from level the base may stand, "
+                        "e.g. level: {sigma_rad: 0.003}");
     }
     robot->level_sigma_rad = level.GetDoubleIn(
         "sigma_rad", 0.0, 1e-9, 0.5,
@@ -108,8 +109,8 @@ void ReadBase(const ConfigNode& node, bool world_is_base, WorkcellRobot* robot) 
                         "Free them (free: all), or drop level: to hold the rotation instead");
     }
   }
-  if (world_is_base && std::find(robot->base.free.begin(), robot->base.free.end(), true) !=
-                           robot->base.free.end()) {
+  if (world_is_base &&
+      std::find(robot->base.free.begin(), robot->base.free.end(), true) != robot->base.free.end()) {
     throw base["free"].Error("without a world target the robot's base is the world frame",
                              "Hold the base (free: none), or name a world_target");
   }
@@ -255,9 +256,10 @@ ResidualForm ReadResidual(const ConfigNode& root, const WorkcellProblem& problem
   }
   if (problem.camera_model != CameraModel::kStaticCameras || problem.use_tool_rotation ||
       !problem.effects.empty()) {
-    throw node.Error("the joint-space residual compares positions seen by static cameras, "
-                     "without effects",
-                     "Use residual: cartesian");
+    throw node.Error(
+        "the joint-space residual compares positions seen by static cameras, "
+        "without effects",
+        "Use residual: cartesian");
   }
   return ResidualForm::kJointSpace;
 }
@@ -372,9 +374,9 @@ void ReadUncertainInputs(const ConfigNode& node, Registry& registry, WorkcellPro
 // Tolerances, cross-validation and gravity.
 void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
   problem->use_tool_rotation = root.GetBool("use_tool_rotation", false);
-  problem->identifiability_tolerance = root.GetDoubleIn(
-      "identifiability_tolerance", problem->identifiability_tolerance, 1e-16, 0.1,
-      "A relative singular value: 1e-8 is the default");
+  problem->identifiability_tolerance =
+      root.GetDoubleIn("identifiability_tolerance", problem->identifiability_tolerance, 1e-16, 0.1,
+                       "A relative singular value: 1e-8 is the default");
   problem->weak_vif =
       root.GetDoubleIn("weak_vif", problem->weak_vif, 1.0, 1e300,
                        "A variance inflation factor is at least 1; 1e5 is the default");
@@ -388,10 +390,10 @@ void ReadOptions(const ConfigNode& root, WorkcellProblem* problem) {
     return;
   }
   const ConfigNode v = root["validation"];
-  v.ExpectKeys({"folds", "seed", "compare_camera_models", "leave_one_camera_out",
-                "held_out_setup"});
-  problem->folds = v.GetIntIn("folds", problem->folds, 0, 1000,
-                              "0 turns cross-validation off; 5 is usual");
+  v.ExpectKeys(
+      {"folds", "seed", "compare_camera_models", "leave_one_camera_out", "held_out_setup"});
+  problem->folds =
+      v.GetIntIn("folds", problem->folds, 0, 1000, "0 turns cross-validation off; 5 is usual");
   if (problem->folds == 1) {
     throw v["folds"].Error("one fold holds nothing out",
                            "0 turns cross-validation off; 5 is usual");
@@ -440,8 +442,8 @@ void ReadPaths(const ConfigNode& root, const std::string& path, bool recording_m
     job->held_out_setup_where = node.location();
   }
   const std::string stem = std::filesystem::path(path).stem().string();
-  job->output = root.Has("output") ? root.ResolvePath(root["output"].AsString())
-                                   : "results/" + stem;
+  job->output =
+      root.Has("output") ? root.ResolvePath(root["output"].AsString()) : "results/" + stem;
 }
 
 }  // namespace
@@ -449,11 +451,18 @@ void ReadPaths(const ConfigNode& root, const std::string& path, bool recording_m
 WorkcellJob LoadWorkcellJob(const std::string& path, Registry& registry,
                             bool recording_must_exist) {
   const ConfigNode root = ConfigNode::LoadFile(path);
-  root.ExpectKeys({"job", "description", "recording", "validation_recording", "output",
-                   "plugin_paths", "world_target", "camera_model", "residual",
-                   "use_tool_rotation", "robots", "cameras", "noise", "solver", "validation",
-                   "identifiability_tolerance", "weak_vif", "effects", "gravity_base",
-                   "uncertain_inputs", "diagnosis", "homing", "outliers"});
+  root.ExpectKeys({"job",          "description",
+                   "recording",    "validation_recording",
+                   "output",       "plugin_paths",
+                   "world_target", "camera_model",
+                   "residual",     "use_tool_rotation",
+                   "robots",       "cameras",
+                   "noise",        "solver",
+                   "validation",   "identifiability_tolerance",
+                   "weak_vif",     "effects",
+                   "gravity_base", "uncertain_inputs",
+                   "diagnosis",    "homing",
+                   "outliers"});
   CheckKind(root["job"]);
   WorkcellJob job;
   job.file = path;
@@ -515,60 +524,59 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
   for (const auto& entry : job.problem.noise.rotation_sigma_rad) noise_cameras.insert(entry.first);
   for (const auto& camera : noise_cameras) {
     if (recording.HasCamera(camera)) continue;
-    throw InputError(job.Where("noise.cameras." + camera),
-                     "camera '" + camera + "' under noise: is not in the recording " +
-                         recording.folder,
-                     "Name the cameras as recording.yaml does");
+    throw InputError(
+        job.Where("noise.cameras." + camera),
+        "camera '" + camera + "' under noise: is not in the recording " + recording.folder,
+        "Name the cameras as recording.yaml does");
   }
   // A start or free flags for a camera the recording lacks were ignored without a word.
   for (const auto& [camera, settings] : job.problem.cameras) {
     if (recording.HasCamera(camera)) continue;
-    throw InputError(job.Where("cameras." + camera),
-                     "camera '" + camera + "' under cameras: is not in the recording " +
-                         recording.folder,
-                     "Name the cameras as recording.yaml does");
+    throw InputError(
+        job.Where("cameras." + camera),
+        "camera '" + camera + "' under cameras: is not in the recording " + recording.folder,
+        "Name the cameras as recording.yaml does");
   }
   const auto world = recording.targets.find(job.problem.world_target);
   if (!job.problem.world_target.empty() &&
       (world == recording.targets.end() || world->second != kWorldCarrier)) {
-    throw InputError(job.Where("world_target"), "the recording has no world-fixed target '" +
-                                job.problem.world_target + "'",
+    throw InputError(job.Where("world_target"),
+                     "the recording has no world-fixed target '" + job.problem.world_target + "'",
                      "Set 'world_target:' to a target that recording.yaml puts 'on: world'");
   }
   for (const auto& robot : job.problem.robots) {
     const auto joints = recording.robots.find(robot.name);
     if (joints == recording.robots.end()) {
       throw InputError(job.Where("robots." + robot.name),
-                       "robot '" + robot.name + "' is not in the recording " +
-                                  recording.folder,
+                       "robot '" + robot.name + "' is not in the recording " + recording.folder,
                        "Name the robot as recording.yaml does");
     }
     if (joints->second != robot.model->num_joints()) {
-      throw InputError(job.Where("robots." + robot.name), "robot '" + robot.name + "' has " +
-                                  std::to_string(joints->second) + " joints in the recording but " +
-                                  std::to_string(robot.model->num_joints()) + " in " +
-                                  robot.model_file,
+      throw InputError(job.Where("robots." + robot.name),
+                       "robot '" + robot.name + "' has " + std::to_string(joints->second) +
+                           " joints in the recording but " +
+                           std::to_string(robot.model->num_joints()) + " in " + robot.model_file,
                        "Use the robot config that matches the recorded robot");
     }
     for (const auto& tool : robot.tools) {
       if (tool.is_camera()) {
         const auto mount = recording.camera_mounts.find(tool.camera);
         if (mount == recording.camera_mounts.end() || mount->second != robot.name) {
-          throw InputError(job.Where("robots." + robot.name + ".cameras." + tool.camera),
-                           "camera '" + tool.camera + "' does not ride on robot '" + robot.name +
-                               "' in the recording",
-                           "List under 'cameras:' the cameras recording.yaml puts 'on: " +
-                               robot.name + "'");
+          throw InputError(
+              job.Where("robots." + robot.name + ".cameras." + tool.camera),
+              "camera '" + tool.camera + "' does not ride on robot '" + robot.name +
+                  "' in the recording",
+              "List under 'cameras:' the cameras recording.yaml puts 'on: " + robot.name + "'");
         }
         continue;
       }
       const auto target = recording.targets.find(tool.target);
       if (target == recording.targets.end() || target->second != robot.name) {
-        throw InputError(job.Where("robots." + robot.name + ".tools." + tool.target),
-                         "target '" + tool.target + "' is not carried by robot '" +
-                                    robot.name + "' in the recording",
-                         "List under 'tools:' the targets recording.yaml puts 'on: " +
-                             robot.name + "'");
+        throw InputError(
+            job.Where("robots." + robot.name + ".tools." + tool.target),
+            "target '" + tool.target + "' is not carried by robot '" + robot.name +
+                "' in the recording",
+            "List under 'tools:' the targets recording.yaml puts 'on: " + robot.name + "'");
       }
     }
   }

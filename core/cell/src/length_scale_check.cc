@@ -56,28 +56,28 @@ bool PlausibleCameraDistance(double mm) { return mm >= 20.0 && mm <= 2e4; }
   const bool thousand = factor > 300.0 && factor < 3000.0;
   char size[32];
   std::snprintf(size, sizeof(size), "%.0f", thousand ? 1000.0 : factor);
-  const std::string what =
-      "the recording and robot " + robot.name + " disagree in size by about " + size +
-      " times: target '" + target + "' moves over " + Mm(observed) + " in " + camera +
-      " (RMS about its mean, seen at a median " + Mm(distance) + " from the camera) where " +
-      robot.model_file + " moves the flange over " + Mm(flange) + " at the same joint readings";
+  const std::string what = "the recording and robot " + robot.name + " disagree in size by about " +
+                           size + " times: target '" + target + "' moves over " + Mm(observed) +
+                           " in " + camera + " (RMS about its mean, seen at a median " +
+                           Mm(distance) + " from the camera) where " + robot.model_file +
+                           " moves the flange over " + Mm(flange) + " at the same joint readings";
   // Which of the two is off: a camera sees targets between 2 cm and 20 m away.
   const bool recording_off = !PlausibleCameraDistance(distance);
   std::string unit;
   SourceLocation where;
   std::string hint;
   if (recording_off) {
-    where = DeclaredLength(recording.folder.empty() ? "" : recording.folder + "/recording.yaml",
-                           &unit);
+    where =
+        DeclaredLength(recording.folder.empty() ? "" : recording.folder + "/recording.yaml", &unit);
     const std::string right = larger ? "mm" : "m";
     hint = "A camera does not see its target " + Mm(distance) + " away";
-    const bool imported = !recording.folder.empty() &&
-                          std::filesystem::exists(recording.folder + "/import.yaml");
+    const bool imported =
+        !recording.folder.empty() && std::filesystem::exists(recording.folder + "/import.yaml");
     const std::string looks = std::string(larger ? "millimetres" : "metres");
     if (imported) {
       hint = "This recording was imported (its mapping is in import.yaml): " +
-             (thousand ? "the table's lengths look like " + looks + "; say units: {length: " +
-                             right + "} in the mapping"
+             (thousand ? "the table's lengths look like " + looks +
+                             "; say units: {length: " + right + "} in the mapping"
                        : std::string("check units: in the mapping")) +
              " and import it again";
     } else if (thousand && unit != right) {

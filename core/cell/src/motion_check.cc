@@ -66,7 +66,8 @@ void CheckRobotsMove(const WorkcellProblem& spec, const Recording& recording,
     if (moves) continue;
     throw InputError({recording.folder + "/samples.csv", span.first->line, 0},
                      "every one of the " + std::to_string(span.samples) + " samples of robot '" +
-                         spec.robots[r].name + "' that the fit uses has the same joint "
+                         spec.robots[r].name +
+                         "' that the fit uses has the same joint "
                          "readings: its base, tools and model cannot be told apart",
                      "Record poses that move the robot, or hold its base, tools and model "
                      "(free: none)");
@@ -89,9 +90,12 @@ std::vector<std::string> StillJoints(const WorkcellProblem& spec, const Recordin
       std::snprintf(reading, sizeof reading, "%.4f rad", span.low[j]);
       warnings.push_back("joint " + std::to_string(j + 1) + " of " + spec.robots[r].name +
                          " reads " + reading + " in every one of its " +
-                         std::to_string(span.samples) + " samples while other joints move: "
+                         std::to_string(span.samples) +
+                         " samples while other joints move: "
                          "its geometry cannot be told from its neighbours'; check its encoder "
-                         "(samples.csv q" + std::to_string(j + 1) + "), or record poses that "
+                         "(samples.csv q" +
+                         std::to_string(j + 1) +
+                         "), or record poses that "
                          "move it");
     }
   }

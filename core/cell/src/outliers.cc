@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <map>
 #include <set>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 #include <tuple>
 
 #include "cellmetry/basics/statistics.h"
@@ -30,8 +30,8 @@ struct TestedRow {
 
 // The ResidualRow of a result as the test reads it.
 TestedRow Tested(const ResidualRow& row) {
-  return {&row.camera, &row.target, row.kind == ResidualKind::kRotation, row.observation,
-          row.sample, row.normalized.squaredNorm()};
+  return {&row.camera,     &row.target, row.kind == ResidualKind::kRotation,
+          row.observation, row.sample,  row.normalized.squaredNorm()};
 }
 
 // Each row's group scale (outliers.h); `row_at(i)` gives row i as a TestedRow.
@@ -114,15 +114,12 @@ std::vector<Outlier> OutliersOf(size_t num_rows, const RowAt& row_at, const Reco
 // the result's rows: workcell_fit.cc's MeasurementRows makes those).
 struct ProblemRows {
   ProblemRows(const AssembledWorkcell& assembled, const Eigen::VectorXd& whitened)
-      : infos(assembled.problem.residual_infos()),
-        labels(assembled.labels),
-        first_row(assembled.problem.residual_rows()),
-        r(whitened),
-        count(assembled.labels.size()) {}
+      : infos(assembled.problem.residual_infos()), labels(assembled.labels),
+        first_row(assembled.problem.residual_rows()), r(whitened), count(assembled.labels.size()) {}
   TestedRow operator()(size_t b) const {
     const MeasurementLabel& label = labels[b];
-    return {&label.camera, &label.target, infos[b].kind == ResidualInfo::Kind::kRotation,
-            label.observation, label.sample, r.segment<3>(first_row[b]).squaredNorm()};
+    return {&label.camera,     &label.target, infos[b].kind == ResidualInfo::Kind::kRotation,
+            label.observation, label.sample,  r.segment<3>(first_row[b]).squaredNorm()};
   }
   const std::vector<ResidualInfo>& infos;
   const std::vector<MeasurementLabel>& labels;
@@ -145,7 +142,8 @@ std::vector<double> RobustScales(const AssembledWorkcell& assembled,
 
 std::vector<Outlier> FindOutliers(const std::vector<ResidualRow>& rows, const Recording& recording,
                                   double alpha) {
-  return OutliersOf(rows.size(), [&](size_t i) { return Tested(rows[i]); }, recording, alpha);
+  return OutliersOf(
+      rows.size(), [&](size_t i) { return Tested(rows[i]); }, recording, alpha);
 }
 
 std::vector<Outlier> FindOutliers(const AssembledWorkcell& assembled,

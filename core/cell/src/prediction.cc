@@ -44,8 +44,8 @@ Eigen::MatrixXd DesignJacobian(const WorkcellProblem& problem, const Recording& 
   cartesian.residual = ResidualForm::kCartesian;
   cartesian.noise = noise;
   const WorkcellData data = PrepareWorkcellData(cartesian, recording);
-  auto assembled = AssembleWorkcell(cartesian, recording, data,
-                                    BuildNoiseModel(recording, noise), truth);
+  auto assembled =
+      AssembleWorkcell(cartesian, recording, data, BuildNoiseModel(recording, noise), truth);
   HoldParameters(&assembled->problem, held);
   Eigen::MatrixXd J;
   assembled->problem.Evaluate(nullptr, nullptr, &J, false);
@@ -99,8 +99,8 @@ double PredictionErrorFloorMm(const WorkcellProblem& problem, const Recording& d
   const int joints = validation.empty() ? 0 : static_cast<int>(validation.front().size());
   NoiseSpec unit;
   unit.position_sigma_mm[what.camera] = Eigen::Vector3d::Ones();
-  const Eigen::MatrixXd G = DesignJacobian(
-      problem, PredictionRecording(what, joints, validation), unit, truth, names);
+  const Eigen::MatrixXd G =
+      DesignJacobian(problem, PredictionRecording(what, joints, validation), unit, truth, names);
   // F^-1 through the SVD of J (a pseudo-inverse where F is singular: those directions do not
   // change any prediction, or they would have been found unidentifiable).
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeThinV);

@@ -278,29 +278,39 @@ nlohmann::json RobotPairJson(const RobotPairEstimate& p) {
     for (int k = 0; k < 6; ++k) row.push_back(p.covariance(i, k));
     covariance.push_back(row);
   }
-  return {{"parent", p.frame.parent}, {"frame", p.frame.name},
-          {"xyz_mm", Vec(p.frame.pose.t)}, {"rvec_rad", Vec(RvecFromRotation(p.frame.pose.R))},
-          {"sigma_xyz_mm", Vec(p.frame.sigma_mm)}, {"sigma_rot_rad", Vec(p.frame.sigma_rad)},
+  return {{"parent", p.frame.parent},
+          {"frame", p.frame.name},
+          {"xyz_mm", Vec(p.frame.pose.t)},
+          {"rvec_rad", Vec(RvecFromRotation(p.frame.pose.R))},
+          {"sigma_xyz_mm", Vec(p.frame.sigma_mm)},
+          {"sigma_rot_rad", Vec(p.frame.sigma_rad)},
           {"covariance", covariance},
-          {"sigma_from", "first-order propagation of both bases' joint covariance (x y z mm, "
-                         "rx ry rz rad about the parent's axes)"}};
+          {"sigma_from",
+           "first-order propagation of both bases' joint covariance (x y z mm, "
+           "rx ry rz rad about the parent's axes)"}};
 }
 
 // A held parameter's sigma is null: held, not known perfectly.
 nlohmann::json ModelParameterJson(const ScalarEstimate& p) {
-  return {{"name", p.name}, {"unit", p.unit}, {"nominal", p.nominal}, {"value", p.value},
+  return {{"name", p.name},
+          {"unit", p.unit},
+          {"nominal", p.nominal},
+          {"value", p.value},
           {"sigma", p.held ? nlohmann::json(nullptr) : nlohmann::json(p.sigma)},
-          {"sigma_statistical", p.sigma_statistical}, {"sigma_systematic", p.sigma_systematic},
-          {"sigma_inputs", p.sigma_inputs}, {"held", p.held}, {"undetermined", p.undetermined},
-          {"convention", p.convention.empty() ? nlohmann::json(nullptr)
-                                              : nlohmann::json(p.convention)}};
+          {"sigma_statistical", p.sigma_statistical},
+          {"sigma_systematic", p.sigma_systematic},
+          {"sigma_inputs", p.sigma_inputs},
+          {"held", p.held},
+          {"undetermined", p.undetermined},
+          {"convention",
+           p.convention.empty() ? nlohmann::json(nullptr) : nlohmann::json(p.convention)}};
 }
 
 nlohmann::json RobotModelJson(const RobotModelRecord& record) {
   nlohmann::json values = nlohmann::json::array();
   for (const auto& p : record.parameters) {
-    values.push_back({{"name", p.name}, {"unit", p.unit}, {"value", p.nominal},
-                      {"free", !p.fixed}});
+    values.push_back(
+        {{"name", p.name}, {"unit", p.unit}, {"value", p.nominal}, {"free", !p.fixed}});
   }
   return {{"model_file", record.config_file},
           {"model_config", record.config_text},
@@ -308,8 +318,8 @@ nlohmann::json RobotModelJson(const RobotModelRecord& record) {
 }
 
 nlohmann::json OutlierJson(const Outlier& o) {
-  return {{"line", o.line}, {"sample", o.sample}, {"camera", o.camera}, {"target", o.target},
-          {"kind", o.kind}, {"score", o.score}, {"threshold", o.threshold}};
+  return {{"line", o.line}, {"sample", o.sample}, {"camera", o.camera},      {"target", o.target},
+          {"kind", o.kind}, {"score", o.score},   {"threshold", o.threshold}};
 }
 
 // The second pass's stages named as docs/formats.md says.
@@ -317,7 +327,8 @@ nlohmann::json StagesJson(const std::vector<StageTime>& stages) {
   nlohmann::json j = nlohmann::json::array();
   for (const auto& stage : stages) {
     const std::string name = stage.pass > 0 ? "again_without_outliers/" + stage.stage : stage.stage;
-    j.push_back({{"stage", name}, {"seconds", stage.seconds},
+    j.push_back({{"stage", name},
+                 {"seconds", stage.seconds},
                  {"peak_resident_mb", stage.peak_resident_mb}});
   }
   return j;
@@ -339,8 +350,10 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   for (const auto& record : r.robot_models) j["robots"][record.robot] = RobotModelJson(record);
   j["effects"] = nlohmann::json::object();
   for (const auto& record : r.effect_models) {
-    j["effects"][record.name] = {{"robot", record.robot}, {"type", record.type},
-                                 {"stage", record.stage}, {"config", record.config}};
+    j["effects"][record.name] = {{"robot", record.robot},
+                                 {"type", record.type},
+                                 {"stage", record.stage},
+                                 {"config", record.config}};
   }
   j["gravity_base_m_s2"] = Vec(r.gravity_base);
   AddUncertaintyJson(r.uncertainty, r.unidentifiable, r.strong_correlations, &j);
@@ -415,9 +428,9 @@ void PrintFrame(const FrameEstimate& f, std::ostringstream& out) {
     }
     return "(" + text + ")";
   };
-  out << "  " << f.name << " in " << f.parent << ": xyz = (" << FixedNumber(f.pose.t.x(), 2)
-      << ", " << FixedNumber(f.pose.t.y(), 2) << ", " << FixedNumber(f.pose.t.z(), 2)
-      << ") mm +- " << sigmas(f.sigma_mm, 0) << ", rvec = (" << FixedNumber(rvec.x(), 4) << ", "
+  out << "  " << f.name << " in " << f.parent << ": xyz = (" << FixedNumber(f.pose.t.x(), 2) << ", "
+      << FixedNumber(f.pose.t.y(), 2) << ", " << FixedNumber(f.pose.t.z(), 2) << ") mm +- "
+      << sigmas(f.sigma_mm, 0) << ", rvec = (" << FixedNumber(rvec.x(), 4) << ", "
       << FixedNumber(rvec.y(), 4) << ", " << FixedNumber(rvec.z(), 4) << ") rad +- "
       << sigmas(f.sigma_rad, 3) << "\n";
   PrintSigmaParts(f, out);
@@ -454,8 +467,7 @@ std::string UnidentifiableLine(const UnidentifiableParameter& u) {
   }
   if (!u.convention.empty()) {
     return "held at nominal by convention: " + u.name + " (" + u.convention + ")" +
-           (partners.empty() ? std::string()
-                             : "; " + partners + " are given relative to it");
+           (partners.empty() ? std::string() : "; " + partners + " are given relative to it");
   }
   if (u.moves_with.empty()) {
     return "not identifiable, held at nominal: " + u.name + " (" + u.reason + ")";
@@ -476,14 +488,13 @@ void PrintCamerasLeftOut(const WorkcellResult& r, std::ostringstream& out) {
     }
     out << "    without " << c.camera << ": largest " << FixedNumber(c.worst_sigmas, 1)
         << " sigma (" << (c.worst.empty() ? std::string("none") : c.worst) << ")"
-        << (c.flagged() ? " FLAGGED (beyond " + FixedNumber(c.flag_sigmas, 1) + ")" : "")
-        << "\n";
+        << (c.flagged() ? " FLAGGED (beyond " + FixedNumber(c.flag_sigmas, 1) + ")" : "") << "\n";
     for (const FrameDifference& d : c.frames) {
       std::string text;
       for (int i = 0; i < 3; ++i) {
-        text += (i ? ", " : "") + (d.compared[i] ? FixedNumber(d.difference[i], 2) + " +- " +
-                                                        SigmaText(d.sigma[i])
-                                                  : std::string("held"));
+        text += (i ? ", " : "") +
+                (d.compared[i] ? FixedNumber(d.difference[i], 2) + " +- " + SigmaText(d.sigma[i])
+                               : std::string("held"));
       }
       out << "      " << d.frame << " xyz (" << text << ") mm\n";
     }
@@ -497,7 +508,7 @@ void PrintParameters(const WorkcellResult& r, std::ostringstream& out) {
         << (p.held && !p.convention.empty() ? "held (convention)"
             : p.held                        ? "held (not identifiable)"
             : p.undetermined                ? std::string("undetermined")
-                             : "+- " + SigmaText(p.sigma))
+                                            : "+- " + SigmaText(p.sigma))
         << " " << p.unit << "\n";
   }
   if (!r.outliers.empty()) {
@@ -525,12 +536,12 @@ void PrintParameters(const WorkcellResult& r, std::ostringstream& out) {
 void PrintFitQuality(const WorkcellResult& r, std::ostringstream& out) {
   for (const auto& [key, rms] : r.position_rms) {
     out << "  residual RMS " << key << ": x " << FixedNumber(rms.axis.x(), 3) << ", y "
-        << FixedNumber(rms.axis.y(), 3) << ", depth " << FixedNumber(rms.axis.z(), 3) << " mm (n="
-        << rms.count << ")\n";
+        << FixedNumber(rms.axis.y(), 3) << ", depth " << FixedNumber(rms.axis.z(), 3)
+        << " mm (n=" << rms.count << ")\n";
   }
   if (r.held_out.folds > 0) {
-    out << "  held-out RMS (" << r.held_out.folds << "-fold by pose): "
-        << FixedNumber(r.held_out.total.norm, 3) << " mm";
+    out << "  held-out RMS (" << r.held_out.folds
+        << "-fold by pose): " << FixedNumber(r.held_out.total.norm, 3) << " mm";
     for (const auto& [model, h] : r.other_models) {
       out << "; " << model << " model: " << FixedNumber(h.total.norm, 3) << " mm";
     }

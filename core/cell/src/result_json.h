@@ -4,9 +4,9 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "cellmetry/cell/workcell_result.h"
 #include "cellmetry/estimation/estimation_quality.h"
 #include "cellmetry/estimation/solver.h"
-#include "cellmetry/cell/workcell_result.h"
 
 namespace cellmetry {
 
@@ -24,15 +24,22 @@ inline nlohmann::json SigmaJson(const Eigen::Vector3d& sigma, const std::array<b
 }
 
 inline nlohmann::json RmsJson(const ResidualRms& rms) {
-  return {{"count", rms.count}, {"x", rms.axis.x()}, {"y", rms.axis.y()},
-          {"depth", rms.axis.z()}, {"norm", rms.norm}};
+  return {{"count", rms.count},
+          {"x", rms.axis.x()},
+          {"y", rms.axis.y()},
+          {"depth", rms.axis.z()},
+          {"norm", rms.norm}};
 }
 
 inline nlohmann::json SolverJson(const SolverSummary& s) {
-  return {{"name", s.solver},           {"iterations", s.iterations},
-          {"evaluations", s.evaluations}, {"initial_cost", s.initial_cost},
-          {"final_cost", s.final_cost},   {"converged", s.converged},
-          {"stop_reason", s.stop_reason}, {"time_s", s.time_s}};
+  return {{"name", s.solver},
+          {"iterations", s.iterations},
+          {"evaluations", s.evaluations},
+          {"initial_cost", s.initial_cost},
+          {"final_cost", s.final_cost},
+          {"converged", s.converged},
+          {"stop_reason", s.stop_reason},
+          {"time_s", s.time_s}};
 }
 
 // Fit statistics, free parameters with sigma, correlations, unidentifiable parameters.
@@ -49,11 +56,11 @@ inline void AddUncertaintyJson(const Uncertainty& u,
         {{"name", p.name},
          {"reason", p.reason},
          {"moves_with", moves_with},
-         {"determined_by", p.prior_sigma > 0.0        ? "prior"
+         {"determined_by", p.prior_sigma > 0.0     ? "prior"
                            : !p.convention.empty() ? "convention"
                                                    : "hold"},
-         {"convention", p.convention.empty() ? nlohmann::json(nullptr)
-                                             : nlohmann::json(p.convention)},
+         {"convention",
+          p.convention.empty() ? nlohmann::json(nullptr) : nlohmann::json(p.convention)},
          {"prior_sigma", p.prior_sigma > 0.0 ? nlohmann::json(p.prior_sigma) : nullptr}});
   }
   (*j)["fit"] = {{"chi2", u.chi2},

@@ -17,16 +17,15 @@ Eigen::Matrix<double, 12, 12> FramePairCovariance(const Uncertainty& u, const st
     const auto it = std::find(u.names.begin(), u.names.end(), name);
     index[i] = it == u.names.end() ? -1 : static_cast<int>(it - u.names.begin());
   }
-  const bool have_correlation =
-      u.correlation.rows() == static_cast<Eigen::Index>(u.names.size()) &&
-      u.sigma.size() == static_cast<Eigen::Index>(u.names.size());
+  const bool have_correlation = u.correlation.rows() == static_cast<Eigen::Index>(u.names.size()) &&
+                                u.sigma.size() == static_cast<Eigen::Index>(u.names.size());
   Eigen::Matrix<double, 12, 12> c = Eigen::Matrix<double, 12, 12>::Zero();
   for (int i = 0; i < 12; ++i) {
     for (int k = 0; k < 12; ++k) {
       if (index[i] < 0 || index[k] < 0) continue;
-      c(i, k) = have_correlation ? u.sigma[index[i]] * u.sigma[index[k]] *
-                                       u.correlation(index[i], index[k])
-                                 : u.covariance(index[i], index[k]);
+      c(i, k) = have_correlation
+                    ? u.sigma[index[i]] * u.sigma[index[k]] * u.correlation(index[i], index[k])
+                    : u.covariance(index[i], index[k]);
     }
   }
   return c;

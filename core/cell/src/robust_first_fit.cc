@@ -16,8 +16,7 @@ namespace {
 
 // Sets the loss of each measurement block at `width` robust sigma of its group, at the whitened
 // residuals `whitened` of the problem's current values.
-void SetLossFromScale(const Eigen::VectorXd& whitened, double width,
-                      AssembledWorkcell* assembled) {
+void SetLossFromScale(const Eigen::VectorXd& whitened, double width, AssembledWorkcell* assembled) {
   Problem* problem = &assembled->problem;
   const std::vector<double> scale = RobustScales(*assembled, whitened);
   std::vector<double> loss_scale(scale.size());
@@ -67,11 +66,11 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
   ls->spec.residual = ResidualForm::kCartesian;
   ls->inputs = PrepareFitInputs(ls->spec, recording);
   const bool kept = spec.residual == ResidualForm::kCartesian;  // the plain fit's first solve
-  const bool work_beside = kept && options.at_least_squares_start &&
-                           options.at_least_squares_start(ls.get());
+  const bool work_beside =
+      kept && options.at_least_squares_start && options.at_least_squares_start(ls.get());
   Fit& fit = ls->fit;
-  fit.assembled = AssembleWorkcell(ls->spec, recording, ls->inputs.data, ls->inputs.noise,
-                                    ls->inputs.start);
+  fit.assembled =
+      AssembleWorkcell(ls->spec, recording, ls->inputs.data, ls->inputs.noise, ls->inputs.start);
   Problem& problem = fit.assembled->problem;
   fit.free_as_asked = problem.num_free();
   if (problem.num_residuals() < problem.num_free()) return {};  // the plain fit says why
@@ -80,9 +79,9 @@ RobustFirstFit FindOutliersByRobustFit(const WorkcellProblem& spec, const Record
     // Plain least squares from the closed form first (a Cauchy loss from a start this far off
     // crawls: 200 iterations on exp_a), then the loss at the scale of that answer, warm.
     const SolverMaker first_solver = FirstFitSolver(ls->inputs.noise, make_solver);
-    IdentifiedSolve plain = SolveHoldingUnidentifiable(
-        &problem, spec.identifiability_tolerance, {},
-        work_beside ? LeavingOneCore(first_solver) : first_solver);
+    IdentifiedSolve plain =
+        SolveHoldingUnidentifiable(&problem, spec.identifiability_tolerance, {},
+                                   work_beside ? LeavingOneCore(first_solver) : first_solver);
     const HeldParameters held = HeldOf(plain.unidentifiable);
     fit.summary = plain.summary;
     fit.unidentifiable = std::move(plain.unidentifiable);

@@ -59,8 +59,7 @@ PoseSet ParsePoseSet(const ConfigNode& node) {
   for (PoseSet set : {PoseSet::kCameraView, PoseSet::kUniformWorkspace, PoseSet::kBoundaries}) {
     if (name == PoseSetName(set)) return set;
   }
-  const std::string nearest =
-      NearestWord(name, {"camera_view", "uniform_workspace", "boundaries"});
+  const std::string nearest = NearestWord(name, {"camera_view", "uniform_workspace", "boundaries"});
   throw node.Error("unknown pose set '" + name + "'",
                    (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") +
                        "Use camera_view, uniform_workspace or boundaries");
@@ -108,8 +107,8 @@ std::vector<std::vector<double>> DrawPoseSet(const PoseSetGeometry& g, PoseSet s
                        "the pose set '" + PoseSetName(set) + "' has no reachable point in view",
                        "Check the workspace against the camera pose and field of view");
     }
-    const Eigen::Vector3d flange = set == PoseSet::kBoundaries ? OnCylinder(w, rng)
-                                                               : InCylinder(w, rng);
+    const Eigen::Vector3d flange =
+        set == PoseSet::kBoundaries ? OnCylinder(w, rng) : InCylinder(w, rng);
     if (set == PoseSet::kCameraView && !InView(g, flange + g.marker_mm)) continue;
     std::vector<double> q(g.model->num_joints());
     if (!g.model->Inverse(flange.data(), g.nominal_values.data(), q.data())) continue;

@@ -46,8 +46,8 @@ std::vector<SimulatedEffect> ReadSimulatedEffects(const ConfigNode& list, const 
 // `poses: {from_recording, every} | {random, lower, upper} | {set, count, camera, seed}`.
 void ReadPoses(const ConfigNode& poses, std::mt19937& rng, SimulatedRobot* robot,
                WorkcellSimulationSpec* spec) {
-  poses.ExpectKeys({"from_recording", "every", "random", "lower", "upper", "set", "count",
-                    "camera", "seed", "repeats"});
+  poses.ExpectKeys({"from_recording", "every", "random", "lower", "upper", "set", "count", "camera",
+                    "seed", "repeats"});
   if (poses.Has("set")) {
     PoseSetSpec set;
     set.set = ParsePoseSet(poses["set"]);
@@ -55,9 +55,9 @@ void ReadPoses(const ConfigNode& poses, std::mt19937& rng, SimulatedRobot* robot
     if (set.count < 1) throw poses["count"].Error("must be at least 1");
     set.camera = poses.GetString("camera", "");
     robot->pose_set = set;
-    spec->noise_seed = static_cast<unsigned>(poses.GetIntIn(
-        "seed", static_cast<int>(spec->seed) + 1, 0, 2147483647,
-        "A seed is a whole number, 0 or more"));
+    spec->noise_seed =
+        static_cast<unsigned>(poses.GetIntIn("seed", static_cast<int>(spec->seed) + 1, 0,
+                                             2147483647, "A seed is a whole number, 0 or more"));
     if (poses.Has("repeats")) spec->repeats = poses["repeats"].AsInt();
     return;
   }
@@ -106,8 +106,8 @@ void ReadTools(const ConfigNode& tools, SimulatedRobot* robot) {
       if (measures == "position") {
         robot->point_targets.insert(target);
       } else if (measures != "pose") {
-        throw (*tool)["measures"].Error("unknown measurement '" + measures + "'",
-                                        "Use pose (position and rotation) or position (a dot)");
+        throw(*tool)["measures"].Error("unknown measurement '" + measures + "'",
+                                       "Use pose (position and rotation) or position (a dot)");
       }
     }
     robot->T_flange_target[target] = pose;
@@ -183,8 +183,9 @@ void CheckWorldTargetInView(const ConfigNode& node, const SimulatedCamera& camer
                 "its axis, %.0f and %.0f deg allowed%s)",
                 off_x * 180 / M_PI, off_y * 180 / M_PI, camera.half_fov_rad.x() * 180 / M_PI,
                 camera.half_fov_rad.y() * 180 / M_PI, p.z() > 0 ? "" : ", and behind it");
-  throw node.Error(what, "Aim the camera at the world's origin, widen half_fov_rad, or leave "
-                         "in_view_only out");
+  throw node.Error(what,
+                   "Aim the camera at the world's origin, widen half_fov_rad, or leave "
+                   "in_view_only out");
 }
 
 // `cameras: {<name>: {xyz, rvec, errors: {mm, rad}, half_fov_rad, in_view_only}}` (nominal
@@ -241,8 +242,8 @@ void ReadNoise(const ConfigNode& noise, WorkcellSimulationSpec* spec) {
 
 void ReadTimeline(const ConfigNode& t, SimulatedTimeline* timeline) {
   t.ExpectKeys({"seconds_per_sample", "temperature_start_c", "temperature_end_c"});
-  timeline->seconds_per_sample = t.GetDoubleIn("seconds_per_sample", 0.0, 0.0, 1e7,
-                                               "The time between captures, 0 s or more");
+  timeline->seconds_per_sample =
+      t.GetDoubleIn("seconds_per_sample", 0.0, 0.0, 1e7, "The time between captures, 0 s or more");
   if (t.Has("temperature_start_c"))
     timeline->temperature_start_c = t["temperature_start_c"].AsDouble();
   if (t.Has("temperature_end_c")) timeline->temperature_end_c = t["temperature_end_c"].AsDouble();

@@ -5,8 +5,8 @@
 #include <future>
 #include <map>
 
-#include "camera_left_out_fit.h"
 #include "cellmetry/estimation/robust_covariance.h"
+#include "camera_left_out_fit.h"
 
 namespace cellmetry {
 
@@ -52,8 +52,8 @@ void SplitUncertainty(const WorkcellProblem& spec, const Recording& recording,
   // covariance read the answer's linearization and nothing else: the jackknife on another core
   // meanwhile, where there is one.
   const std::vector<std::string> cameras = CamerasToLeaveOut(spec, recording);
-  std::future<std::vector<Eigen::VectorXd>> jackknife = std::async(
-      cameras.empty() ? std::launch::deferred : std::launch::async, [&] {
+  std::future<std::vector<Eigen::VectorXd>> jackknife =
+      std::async(cameras.empty() ? std::launch::deferred : std::launch::async, [&] {
         if (cameras.empty()) return std::vector<Eigen::VectorXd>{};
         return LinearizedJackknife(problem, at, CameraGroups(fitted, cameras),
                                    spec.identifiability_tolerance);

@@ -135,8 +135,8 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   AddModelWarnings(spec, &result);
   result.robot_to_robot = RobotToRobot(result);
   clock.Lap("input_uncertainty");
-  result.held_out = CrossValidate(spec, recording, data, result.noise, result.estimate, held,
-                                  make_solver);
+  result.held_out =
+      CrossValidate(spec, recording, data, result.noise, result.estimate, held, make_solver);
   clock.Lap("cross_validation");
   if (spec.compare_camera_models) {
     CompareCameraModels(spec, recording, make_solver, &result);
@@ -158,7 +158,8 @@ void IdentifyWithoutPlainOutliers(const WorkcellProblem& spec, const SolverMaker
   for (int pass = 0; pass < passes; ++pass) {
     const std::vector<Outlier> found = FindOutliers(result->residuals, *kept);
     if (found.empty()) break;
-    Progress::Note(std::to_string(found.size()) + " residual rows fail the outlier test; "
+    Progress::Note(std::to_string(found.size()) +
+                   " residual rows fail the outlier test; "
                    "identifying again without their observations");
     outliers->insert(outliers->end(), found.begin(), found.end());
     *kept = WithoutOutliers(*kept, found);
@@ -198,7 +199,8 @@ WorkcellResult IdentifyFromStart(const WorkcellProblem& spec, const Recording& r
     clock.Lap("robust_first_fit");
   }
   if (!outliers.empty()) {
-    Progress::Note(std::to_string(outliers.size()) + " residual rows of a robust fit fail the "
+    Progress::Note(std::to_string(outliers.size()) +
+                   " residual rows of a robust fit fail the "
                    "outlier test; fitting without their observations");
   }
   Recording kept = outliers.empty() ? Recording{} : WithoutOutliers(recording, outliers);

@@ -57,8 +57,8 @@ namespace {
 // The parameter blocks: per robot its base, model and tools; static cameras; effects.
 void AddBlocks(const WorkcellProblem& spec, const WorkcellEstimate& start, AssembledWorkcell* out) {
   for (const auto& robot : spec.robots) {
-    out->base_block.push_back(AddFrameBlock(out, robot.name + ".base", robot.base,
-                                            start.T_world_base.at(robot.name)));
+    out->base_block.push_back(
+        AddFrameBlock(out, robot.name + ".base", robot.base, start.T_world_base.at(robot.name)));
     if (robot.level_sigma_rad) {
       AddLevelPrior(out, out->base_block.back(), *robot.level_sigma_rad);
     }
@@ -68,8 +68,8 @@ void AddBlocks(const WorkcellProblem& spec, const WorkcellEstimate& start, Assem
     out->model_block.push_back(out->problem.AddBlock(robot.name + ".model", model_params));
     std::vector<int> tools;
     for (const auto& tool : robot.tools) {
-      tools.push_back(AddFrameBlock(out, tool.target, tool.flange_tool,
-                                    start.T_flange_target.at(tool.target)));
+      tools.push_back(
+          AddFrameBlock(out, tool.target, tool.flange_tool, start.T_flange_target.at(tool.target)));
     }
     out->tool_block.push_back(tools);
   }
@@ -268,7 +268,7 @@ struct ToolContext {
   const WorkcellEstimate& start;
   const ToolMeasurement& m;
   FrameRefs refs;
-  std::vector<int> blocks;   // base, tool, [camera]
+  std::vector<int> blocks;  // base, tool, [camera]
   bool static_camera = false;
   bool model_free = false;
   ForwardMemos* memos = nullptr;
@@ -305,8 +305,7 @@ Eigen::Vector3d FlangeOfPoint(const ToolContext& c, Pose* T_base_cam) {
   const Observation& obs = c.recording.observations[c.m.observation];
   const WorkcellRobot& robot = c.spec.robots[c.m.robot];
   *T_base_cam = c.start.T_world_base.at(robot.name).inverse() * c.start.T_world_cam.at(obs.camera);
-  return *T_base_cam * obs.position_mm -
-         c.start.T_flange_target.at(robot.tools[c.m.tool].target).t;
+  return *T_base_cam * obs.position_mm - c.start.T_flange_target.at(robot.tools[c.m.tool].target).t;
 }
 
 bool JointsFromPoint(const ToolContext& c, Eigen::Vector3d* q_out, Eigen::Matrix3d* d_q_d_p) {
@@ -339,11 +338,11 @@ std::unique_ptr<ceres::CostFunction> JointSpaceCost(const ToolContext& c, Assemb
   if (!JointsFromPoint(c, &q, &J)) {
     Pose T_base_cam;
     const Eigen::Vector3d flange = FlangeOfPoint(c, &T_base_cam);
-    throw InputError({c.recording.folder + "/observations.csv", obs.line, 0},
-                     "the measured point is out of the arm's reach: " +
-                         robot.model->InverseFailure(flange.data(),
-                                                     c.start.model.at(robot.name).data()),
-                     "Check the camera pose and tool offset, or remove this observation");
+    throw InputError(
+        {c.recording.folder + "/observations.csv", obs.line, 0},
+        "the measured point is out of the arm's reach: " +
+            robot.model->InverseFailure(flange.data(), c.start.model.at(robot.name).data()),
+        "Check the camera pose and tool offset, or remove this observation");
   }
   *blocks = JetBlocks(c, *out);
   const Sample& sample = c.recording.samples[c.m.sample_index];
@@ -401,10 +400,10 @@ std::unique_ptr<ceres::CostFunction> ToolCost(const ToolContext& c, AssembledWor
   Pose T_base_flange;
   const std::shared_ptr<ForwardMemo> memo = MemoFor(robot.model.get(), sample.q.data(), c.memos);
   if (!memo->Forward(c.start.model.at(robot.name).data(), &T_base_flange, nullptr)) {
-    throw InputError({c.recording.folder + "/samples.csv", sample.line, 0},
-                     "robot '" + robot.name + "' has no pose for sample " +
-                         std::to_string(sample.id),
-                     "Check the joint values against the robot model");
+    throw InputError(
+        {c.recording.folder + "/samples.csv", sample.line, 0},
+        "robot '" + robot.name + "' has no pose for sample " + std::to_string(sample.id),
+        "Check the joint values against the robot model");
   }
   const ChainBlocks chain{/*base=*/true, /*tool=*/true, /*camera=*/c.static_camera};
   // A moving camera's measured pose is a factor of the prediction: those are not shared.
@@ -446,10 +445,9 @@ void AddEyeInHandResiduals(const Recording& recording, const ToolMeasurement& m,
   for (Compared what : {Compared::kPosition, Compared::kRotation}) {
     const bool position = what == Compared::kPosition;
     const Eigen::Vector3d s = position ? RowPositionSigma(sigma, obs) : sigma.rotation_rad;
-    auto cost = EyeInHandCostFunction(TargetComparison(what, observed, s),
-                                      out->R_ref.at(blocks[0]), out->R_ref.at(blocks[1]),
-                                      robot.model.get(), recording.samples[m.sample_index].q,
-                                      out->problem, blocks);
+    auto cost = EyeInHandCostFunction(TargetComparison(what, observed, s), out->R_ref.at(blocks[0]),
+                                      out->R_ref.at(blocks[1]), robot.model.get(),
+                                      recording.samples[m.sample_index].q, out->problem, blocks);
     AddMeasurement(recording, m.observation, KindOf(position), s, std::move(cost), blocks, out);
   }
 }
@@ -474,8 +472,7 @@ void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
     if (!poses.empty() && !poses.count(sample.pose)) continue;
     const Observation& obs = recording.observations[m.observation];
     if (spec.robots[m.robot].tools[m.tool].is_camera()) {
-      AddEyeInHandResiduals(recording, m, spec.robots[m.robot], *camera_targets.Of(obs).noise,
-                            out);
+      AddEyeInHandResiduals(recording, m, spec.robots[m.robot], *camera_targets.Of(obs).noise, out);
       continue;
     }
     ToolContext c{spec, recording, data, start, m, {}, {}, false, false, nullptr, nullptr, nullptr};
@@ -586,19 +583,15 @@ void AddWorldResiduals(const WorkcellProblem& spec, const Recording& recording,
 
 }  // namespace
 
-std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
-                                                    const Recording& recording,
-                                                    const WorkcellData& data,
-                                                    const NoiseModel& noise,
-                                                    const WorkcellEstimate& start,
-                                                    const std::set<int>& poses) {
+std::unique_ptr<AssembledWorkcell> AssembleWorkcell(
+    const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
+    const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses) {
   auto out = std::make_unique<AssembledWorkcell>();
   AddBlocks(spec, start, out.get());
   // At most this many measurement blocks (fewer for a subset of poses).
   const size_t per_tool = 2;  // position, and the rotation where fitted (eye in hand: always)
   const size_t world = spec.camera_model == CameraModel::kStaticCameras ? 2 : 0;
-  const size_t measurements =
-      per_tool * data.tools.size() + world * data.world_observations.size();
+  const size_t measurements = per_tool * data.tools.size() + world * data.world_observations.size();
   out->problem.ReserveResiduals(static_cast<int>(measurements));
   out->labels.reserve(measurements);
   AddToolResiduals(spec, recording, data, noise, start, poses, out.get());

@@ -29,10 +29,10 @@ void CheckCommand(const WorkcellRobot& robot, const Sample& sample, const std::s
   for (const auto& p : robot.model_parameters) nominal.push_back(p.nominal);
   Pose flange;
   if (!robot.model->Forward(sample.q.data(), nominal.data(), &flange)) {
-    throw InputError({file, sample.line, 0},
-                     "the command has no pose: " +
-                         robot.model->ForwardFailure(sample.q.data(), nominal.data()),
-                     "Check the joint values (rad) and the robot config, or remove this sample");
+    throw InputError(
+        {file, sample.line, 0},
+        "the command has no pose: " + robot.model->ForwardFailure(sample.q.data(), nominal.data()),
+        "Check the joint values (rad) and the robot config, or remove this sample");
   }
 }
 
@@ -97,8 +97,8 @@ std::optional<ToolMeasurement> PairTool(const WorkcellProblem& spec, const Recor
   if (sample.robot != spec.robots[m.robot].name) {
     throw InputError({recording.folder + "/observations.csv", obs.line, 0},
                      "target '" + obs.target + "' is carried by robot '" +
-                         spec.robots[m.robot].name + "' but sample " +
-                         std::to_string(obs.sample) + " is a state of robot '" + sample.robot + "'",
+                         spec.robots[m.robot].name + "' but sample " + std::to_string(obs.sample) +
+                         " is a state of robot '" + sample.robot + "'",
                      "Point the observation at a sample of the robot that carries the target");
   }
   if (spec.use_tool_rotation && !obs.rvec) {

@@ -110,8 +110,7 @@ void DescribeRobot(const WorkcellRobot& robot, const std::set<std::string>& held
                                                   p.nominal, values[i], u, held, undetermined,
                                                   result->unidentifiable));
   }
-  RobotModelRecord record{robot.name, robot.model_file, robot.model_config,
-                          robot.model_parameters};
+  RobotModelRecord record{robot.name, robot.model_file, robot.model_config, robot.model_parameters};
   for (size_t i = 0; i < record.parameters.size(); ++i) record.parameters[i].nominal = values[i];
   result->robot_models.push_back(std::move(record));
 }
@@ -120,8 +119,8 @@ void DescribeRobot(const WorkcellRobot& robot, const std::set<std::string>& held
 void DescribeEffects(const WorkcellProblem& spec, const std::set<std::string>& held,
                      const std::set<std::string>& undetermined, WorkcellResult* result) {
   for (const WorkcellEffect& effect : spec.effects) {
-    result->effect_models.push_back({effect.name, effect.robot, "", StageName(*effect.effect),
-                                     effect.config});
+    result->effect_models.push_back(
+        {effect.name, effect.robot, "", StageName(*effect.effect), effect.config});
     if (!effect.config.empty()) {
       result->effect_models.back().type =
           ConfigNode::LoadString(effect.config, effect.name)["type"].AsString();
@@ -145,8 +144,7 @@ void DescribeEstimate(const WorkcellProblem& spec, const std::set<std::string>& 
     DescribeRobot(robot, held, undetermined, result);
   }
   for (const auto& [camera, pose] : result->estimate.T_world_cam) {
-    result->frames.push_back(
-        MakeFrame(camera, "world", pose, result->uncertainty, undetermined));
+    result->frames.push_back(MakeFrame(camera, "world", pose, result->uncertainty, undetermined));
   }
   result->gravity_base = spec.gravity_base;
   DescribeEffects(spec, held, undetermined, result);

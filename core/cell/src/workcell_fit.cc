@@ -122,8 +122,8 @@ bool EstimateUnknownSigma(const std::vector<ResidualRow>& rows, int num_free, No
 }  // namespace
 
 Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
-                 const WorkcellEstimate& start, const SolverMaker& make_solver,
-                 NoiseModel* noise, Fit* solved, InputLinkSchedule* input_link) {
+                 const WorkcellEstimate& start, const SolverMaker& make_solver, NoiseModel* noise,
+                 Fit* solved, InputLinkSchedule* input_link) {
   Fit fit = solved ? std::move(*solved)
                    : FitOnce(spec, recording, data, *noise, start, {}, {},
                              FirstFitSolver(*noise, make_solver));
@@ -262,8 +262,7 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
     for (size_t i = 0; i < poses.size(); ++i) {
       (static_cast<int>(i) % folds == f ? test : train).insert(poses[i]);
     }
-    held_out[f] = HeldOutRows(spec, recording, data, noise, answer, held, make_solver, train,
-                              test);
+    held_out[f] = HeldOutRows(spec, recording, data, noise, answer, held, make_solver, train, test);
     const std::lock_guard<std::mutex> lock(progress_mutex);
     progress.Advance();
   });

@@ -49,8 +49,8 @@ RobustFirstFit FindOutliersLinkingInputs(const WorkcellProblem& spec, const Reco
 // are what that link reads (input_link_schedule.h). Throws InputError where the recording
 // gives fewer measured values than the job frees parameters.
 Fit FitWithSigma(const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
-                 const WorkcellEstimate& start, const SolverMaker& make_solver,
-                 NoiseModel* noise, Fit* solved, InputLinkSchedule* input_link);
+                 const WorkcellEstimate& start, const SolverMaker& make_solver, NoiseModel* noise,
+                 Fit* solved, InputLinkSchedule* input_link);
 
 // Residual rows and their RMS per camera and target, in the measurement's units, at
 // result->estimate with result->noise. `at`: the fit's linearization at its answer, whose

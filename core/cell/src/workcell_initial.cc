@@ -157,9 +157,8 @@ void InitialBaseAndTools(const WorkcellRobot& robot, const std::vector<RobotPoin
   const TranslationStep step(robot, points, run_starts);
   const BaseFitSums base_fit(points, static_cast<int>(robot.tools.size()));
   const Eigen::MatrixXd solutions =
-      step.columns().empty()
-          ? Eigen::MatrixXd()
-          : step.Solve(TranslationRhsColumns(robot, points, run_starts, tool_t));
+      step.columns().empty() ? Eigen::MatrixXd()
+                             : step.Solve(TranslationRhsColumns(robot, points, run_starts, tool_t));
 
   for (int round = 0; round < 50; ++round) {
     if (!robot.base_start) {
@@ -218,8 +217,8 @@ std::vector<std::vector<RobotPoint>> WorldPoints(const WorkcellProblem& spec,
     const WorkcellRobot& robot = spec.robots[m.robot];
     const std::vector<double>& q = recording.samples[m.sample_index].q;
     if (m.robot != last_robot || last_q == nullptr || q != *last_q) {
-      last_ok = robot.model->Forward(q.data(), estimate.model.at(robot.name).data(),
-                                     &last_T_base_flange);
+      last_ok =
+          robot.model->Forward(q.data(), estimate.model.at(robot.name).data(), &last_T_base_flange);
       last_q = &q;
       last_robot = m.robot;
     }
@@ -275,8 +274,9 @@ void CamerasThroughRobots(const WorkcellProblem& spec, const Recording& recordin
     const auto fit = FitRigidTransform(pairs.first, pairs.second);
     if (!fit) {
       throw InputError({recording.folder + "/observations.csv", 0, 0},
-                       "camera '" + camera + "' never sees the world target and sees robot "
-                       "targets at fewer than 3 non-collinear places",
+                       "camera '" + camera +
+                           "' never sees the world target and sees robot "
+                           "targets at fewer than 3 non-collinear places",
                        "Let the camera see the world target, or record more poses in its view");
     }
     estimate->T_world_cam[camera] = *fit;
@@ -303,12 +303,13 @@ void ToolsAndCamerasInTurn(const WorkcellProblem& spec, const Recording& recordi
       const WorkcellRobot& robot = spec.robots[r];
       if (points[r].size() < 3) continue;
       std::vector<Eigen::Vector3d> before;
-      for (const auto& tool : robot.tools) before.push_back(estimate->T_flange_target[tool.target].t);
+      for (const auto& tool : robot.tools)
+        before.push_back(estimate->T_flange_target[tool.target].t);
       InitialBaseAndTools(robot, points[r], estimate);
       if (spec.use_tool_rotation) InitialToolRotations(robot, points[r], estimate);
       for (size_t t = 0; t < robot.tools.size(); ++t) {
-        moved = std::max(moved, (estimate->T_flange_target[robot.tools[t].target].t - before[t])
-                                    .norm());
+        moved = std::max(moved,
+                         (estimate->T_flange_target[robot.tools[t].target].t - before[t]).norm());
       }
     }
     for (const auto& camera : placed_through_robots) estimate->T_world_cam.erase(camera);

@@ -101,7 +101,7 @@ struct FrameRefs {
 // order, those held or absent left out (-1).
 struct JetChainLayout {
   int base = -1, tool = -1, camera = -1, model = -1;
-  bool held_base_is_world = false;   // held at the identity (the world is the base)
+  bool held_base_is_world = false;  // held at the identity (the world is the base)
 
   static JetChainLayout Of(const FrameRefs& refs, bool static_camera) {
     JetChainLayout layout;

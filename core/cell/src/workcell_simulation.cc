@@ -5,9 +5,9 @@
 #include <cmath>
 #include <random>
 
-#include "cellmetry/model/effect_context.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/model/effect_chain.h"
+#include "cellmetry/model/effect_context.h"
 #include "workcell_residuals.h"
 
 namespace cellmetry {
@@ -68,8 +68,8 @@ std::vector<Sample> PlanSamples(const WorkcellSimulationSpec& spec) {
     if (clock.seconds_per_sample > 0) samples[i].time_s = clock.seconds_per_sample * i;
     if (clock.temperature_start_c && clock.temperature_end_c) {
       const double f = samples.size() > 1 ? double(i) / (samples.size() - 1) : 0.0;
-      samples[i].temperature_c = *clock.temperature_start_c +
-                                 f * (*clock.temperature_end_c - *clock.temperature_start_c);
+      samples[i].temperature_c =
+          *clock.temperature_start_c + f * (*clock.temperature_end_c - *clock.temperature_start_c);
     }
   }
   return samples;
@@ -85,7 +85,6 @@ void ChainEffects(const WorkcellSimulationSpec& spec, const SimulatedRobot& robo
     }
   }
 }
-
 
 // The commands of every robot's pose set, drawn from `rng` (before any noise).
 WorkcellSimulationSpec WithPoseSets(const WorkcellSimulationSpec& spec, std::mt19937& rng) {
@@ -135,8 +134,9 @@ void MeasureRobot(const WorkcellSimulationSpec& spec, const SimulatedRobot& robo
     EffectContext context = ContextOf(facts[i], spec.gravity_base);
     if (!FlangeWithEffects(*robot.model, params.data(), effects, values.data(), context,
                            &T_base_flange)) {
-      throw InputError({"", 0, 0}, "the concealed effects move sample " +
-                                       std::to_string(sample.id) + " out of the robot's reach",
+      throw InputError({"", 0, 0},
+                       "the concealed effects move sample " + std::to_string(sample.id) +
+                           " out of the robot's reach",
                        "Use smaller effect values");
     }
     T_base_flange.t *= 1.0 + flange_scale;
@@ -225,8 +225,8 @@ Recording SimulateWorkcell(const WorkcellSimulationSpec& given, WorkcellTruth* t
                            std::mt19937& rng) {
   const WorkcellSimulationSpec spec = WithPoseSets(given, rng);
   Recording recording;
-  recording.description = "simulated workcell (cellmetry simulate, seed " +
-                          std::to_string(spec.seed) + ")";
+  recording.description =
+      "simulated workcell (cellmetry simulate, seed " + std::to_string(spec.seed) + ")";
   for (const auto& [camera, pose] : spec.T_world_cam) recording.cameras.push_back(camera);
   if (!spec.world_target.empty()) recording.targets[spec.world_target] = kWorldCarrier;
   for (const auto& robot : spec.robots) {

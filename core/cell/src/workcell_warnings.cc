@@ -20,8 +20,9 @@ namespace {
 // within three sigma it is zero and noise): the fit may be using it for something else with its
 // signature, so the user is told before a robot controller is.
 void AddImplausibleEffectWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
-  const char* look_alikes = "the fit uses it for something else with the same signature; "
-                            "docs/physics.md lists look-alikes";
+  const char* look_alikes =
+      "the fit uses it for something else with the same signature; "
+      "docs/physics.md lists look-alikes";
   for (const WorkcellEffect& effect : spec.effects) {
     std::vector<Parameter> fitted;
     std::vector<double> values, sigmas;
@@ -63,7 +64,8 @@ void AddUnfittedToolRotationWarning(const WorkcellProblem& spec, WorkcellResult*
   }
   if (targets.empty()) return;
   result->warnings.push_back(
-      "the job frees the rotation of " + targets + ", but fits the carried targets' positions "
+      "the job frees the rotation of " + targets +
+      ", but fits the carried targets' positions "
       "only (use_tool_rotation: false), so the rotation was held at its nominal value: set "
       "use_tool_rotation: true to fit the rotations the recording measures, or free [x, y, z]");
 }
@@ -84,9 +86,9 @@ std::string FarStartWords(const std::vector<FarStart>& far) {
 
 void AddModelWarnings(const WorkcellProblem& spec, WorkcellResult* result) {
   for (const WorkcellRobot& robot : spec.robots) {
-    const bool model_free = std::any_of(robot.model_parameters.begin(),
-                                        robot.model_parameters.end(),
-                                        [](const Parameter& p) { return !p.fixed; });
+    const bool model_free =
+        std::any_of(robot.model_parameters.begin(), robot.model_parameters.end(),
+                    [](const Parameter& p) { return !p.fixed; });
     if (!model_free) continue;
     for (const auto& w : robot.model->Warnings(robot.model_parameters)) {
       result->warnings.push_back(robot.name + ": " + w);
@@ -135,16 +137,19 @@ void AddCameraLeftOutWarnings(WorkcellResult* result) {
       char sigmas[32];
       std::snprintf(sigmas, sizeof sigmas, "%.1f", c.worst_sigmas);
       result->warnings.push_back(
-          "without " + c.camera + " " + c.worst + " moves by " + sigmas + " sigma of the "
-          "difference: " + c.camera + " disagrees with the other cameras beyond the "
+          "without " + c.camera + " " + c.worst + " moves by " + sigmas +
+          " sigma of the "
+          "difference: " +
+          c.camera +
+          " disagrees with the other cameras beyond the "
           "uncertainty (its intrinsics, its mount or the model's camera-side physics)");
     }
   }
 }
 
 void AddFarStartWarning(const std::vector<FarStart>& far, std::optional<double> given_mm,
-                        const std::string& given_failure, double own_mm, bool same,
-                        bool kept_given, WorkcellResult* kept) {
+                        const std::string& given_failure, double own_mm, bool same, bool kept_given,
+                        WorkcellResult* kept) {
   char line[480];
   const std::string from_given =
       given_mm ? Mm(*given_mm, 4) + " RMS" : "a failed fit (" + given_failure + ")";
@@ -153,7 +158,7 @@ void AddFarStartWarning(const std::vector<FarStart>& far, std::optional<double> 
                 "closed-form start); fitted from both: the carried targets are predicted to "
                 "%s from the given start, %.4g mm RMS from the data's own: %s",
                 FarStartWords(far).c_str(), from_given.c_str(), own_mm,
-                same        ? "the same answer, kept"
+                same         ? "the same answer, kept"
                 : kept_given ? "the given start's answer kept"
                              : "the data's answer kept. Check the start in the job");
   kept->warnings.push_back(line);

@@ -38,7 +38,7 @@ void AddCameraLeftOutWarnings(WorkcellResult* result);
 // targets (`given_mm`, or the given start's `given_failure`; `own_mm`), and whether they agree
 // (`same`) or which was kept (`kept_given`). Added to `kept`.
 void AddFarStartWarning(const std::vector<FarStart>& far, std::optional<double> given_mm,
-                        const std::string& given_failure, double own_mm, bool same,
-                        bool kept_given, WorkcellResult* kept);
+                        const std::string& given_failure, double own_mm, bool same, bool kept_given,
+                        WorkcellResult* kept);
 
 }  // namespace cellmetry

@@ -54,8 +54,8 @@ std::string CompensatedCommandsCsv(const CompensationChain& chain,
   for (const auto& c : commands) {
     out << Cell(c.target->id) << "," << c.target->line << "," << (c.refused ? "refused" : "ok");
     for (int j = 0; j < joints; ++j) out << "," << (c.refused ? "" : Exact(c.q_rad[j]));
-    out << "," << Short(c.error_mm) << "," << Short(c.error_rad) << "," << Short(c.sigma_mm)
-        << "," << Short(c.sigma_rad) << "," << Short(c.uncompensated_mm) << ","
+    out << "," << Short(c.error_mm) << "," << Short(c.error_rad) << "," << Short(c.sigma_mm) << ","
+        << Short(c.sigma_rad) << "," << Short(c.uncompensated_mm) << ","
         << Short(c.uncompensated_rad);
     for (int j = 0; j < joints; ++j) {
       out << "," << (j < static_cast<int>(c.approach.size()) ? std::to_string(c.approach[j]) : "");
@@ -70,7 +70,8 @@ std::vector<std::string> CompensationComments(const CalibratedCell& cell,
   const CalibratedRobot& robot = ChooseRobot(cell, chain.robot);
   std::vector<std::string> lines =
       ExportHeader(cell, "compensated commands", &robot, "cellmetry compensate");
-  lines.push_back("targets: tool '" + chain.tool + "' in the world frame of the result (mm, "
+  lines.push_back("targets: tool '" + chain.tool +
+                  "' in the world frame of the result (mm, "
                   "rotation vectors in rad); commands: the controller's joint readings (rad)");
   for (size_t k = 0; k < chain.effects.size(); ++k) {
     std::string values;
@@ -83,8 +84,9 @@ std::vector<std::string> CompensationComments(const CalibratedCell& cell,
     lines.push_back("effect applied: " + chain.effect_names[k] + " (" + values + ")");
   }
   if (chain.effects.empty()) lines.push_back("effects applied: none (the result fitted none)");
-  lines.push_back("sigma: first-order, from the result's covariance of the base, the tool, the "
-                  "freed model and effect parameters; not the controller's repeatability");
+  lines.push_back(
+      "sigma: first-order, from the result's covariance of the base, the tool, the "
+      "freed model and effect parameters; not the controller's repeatability");
   return lines;
 }
 

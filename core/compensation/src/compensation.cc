@@ -35,10 +35,8 @@ std::optional<WantedPose> Wanted(const CompensationChain& nominal,
 
 // Where the solve starts, or why it cannot (compensation.h).
 std::optional<std::vector<double>> Seed(const CompensationChain& chain,
-                                        const CompensationTarget& target,
-                                        const WantedPose& wanted,
-                                        const std::vector<double>& previous,
-                                        std::string* why_not) {
+                                        const CompensationTarget& target, const WantedPose& wanted,
+                                        const std::vector<double>& previous, std::string* why_not) {
   if (!target.q_rad.empty()) return target.q_rad;
   if (chain.model->has_inverse()) {
     // A flange that only translates: the tool's offset is a shift of the flange.
@@ -110,8 +108,8 @@ SolvedCommand SolveWithApproach(const CompensationChain& chain, const Compensati
     return SolveCommand(chain, wanted.p, R, seed, ContextOf(target, *approach), options);
   }
   *approach = ApproachInto(seed, history.previous, history.approach);
-  SolvedCommand solved = SolveCommand(chain, wanted.p, R, seed, ContextOf(target, *approach),
-                                      options);
+  SolvedCommand solved =
+      SolveCommand(chain, wanted.p, R, seed, ContextOf(target, *approach), options);
   const std::vector<int> own = ApproachInto(solved.q_rad, history.previous, history.approach);
   if (solved.reached && own != *approach) {  // its own move differs from the seed's: once more
     *approach = own;
@@ -133,8 +131,8 @@ void Predict(const CompensationChain& chain, const CompensationTarget& target,
   const CompensationChain nominal = NominalChain(chain);
   std::vector<double> q_nominal = target.q_rad;
   if (target.kind != CompensationTarget::Kind::kJoints) {
-    const SolvedCommand n = SolveCommand(nominal, wanted.p, wanted.R ? &*wanted.R : nullptr,
-                                         seed, context, options);
+    const SolvedCommand n =
+        SolveCommand(nominal, wanted.p, wanted.R ? &*wanted.R : nullptr, seed, context, options);
     if (!n.reached) return;
     q_nominal = n.q_rad;
   }
@@ -167,9 +165,9 @@ CompensatedCommand CompensateOne(const CompensationChain& chain, const Compensat
   out.iterations = solved.iterations;
   out.error_mm = solved.error_mm;
   out.error_rad = solved.error_rad;
-  out.reason = solved.reached ? PastJointLimit(*chain.model, solved.q_rad,
-                                               options.joint_limit_margin_rad)
-                              : solved.failure;
+  out.reason = solved.reached
+                   ? PastJointLimit(*chain.model, solved.q_rad, options.joint_limit_margin_rad)
+                   : solved.failure;
   out.refused = !out.reason.empty();
   if (out.refused) return out;
   out.q_rad = solved.q_rad;

@@ -97,15 +97,16 @@ Transform<Jet> Perturbed(const Pose& frame, const Jet* delta) {
 void CheckJointOffsets(const CalibratedCell& cell, const CalibratedRobot& robot) {
   const int n = robot.model->num_joints();
   if (n > kJetStride) {
-    throw InputError({cell.json_path, 0, 0}, "robot '" + robot.name + "' has " +
-                     std::to_string(n) + " joints; compensation handles up to " +
-                     std::to_string(kJetStride));
+    throw InputError({cell.json_path, 0, 0}, "robot '" + robot.name + "' has " + std::to_string(n) +
+                                                 " joints; compensation handles up to " +
+                                                 std::to_string(kJetStride));
   }
   for (int j = 0; j < n; ++j) {
     if (robot.model->JointOffsetParameter(j) < 0) {
-      throw InputError({cell.json_path, 0, 0}, "robot model '" + robot.model_type +
-                       "' has no offset parameter for joint " + std::to_string(j + 1) +
-                       ", through which compensation differentiates its commands",
+      throw InputError({cell.json_path, 0, 0},
+                       "robot model '" + robot.model_type + "' has no offset parameter for joint " +
+                           std::to_string(j + 1) +
+                           ", through which compensation differentiates its commands",
                        "Give the plugin JointOffsetParameter (robot_model.h)");
     }
   }
@@ -119,8 +120,10 @@ void AddEffects(const CalibratedCell& cell, const CalibratedRobot& robot,
   for (const auto& e : cell.effects) {
     if (e.robot != robot.name || e.stage == "measurement") continue;
     if (!e.effect) {
-      throw InputError({cell.json_path, 0, 0}, "the result does not record how effect '" +
-                       e.name + "' was built (the job was built in memory)", kRerun);
+      throw InputError({cell.json_path, 0, 0},
+                       "the result does not record how effect '" + e.name +
+                           "' was built (the job was built in memory)",
+                       kRerun);
     }
     chain->effects.push_back(e.effect);
     chain->effect_names.push_back(e.name);
@@ -133,8 +136,10 @@ void AddEffects(const CalibratedCell& cell, const CalibratedRobot& robot,
   }
   for (const auto& scalar : robot.effects) {
     if (std::find(covered.begin(), covered.end(), scalar.name) != covered.end()) continue;
-    throw InputError({cell.json_path, 0, 0}, "the result fitted '" + scalar.name +
-                     "' but does not record its effect (written by an older cellmetry)", kRerun);
+    throw InputError({cell.json_path, 0, 0},
+                     "the result fitted '" + scalar.name +
+                         "' but does not record its effect (written by an older cellmetry)",
+                     kRerun);
   }
 }
 
@@ -157,8 +162,9 @@ const CalibratedFrame* ChooseTool(const CalibratedCell& cell, const std::string&
   for (const auto* t : tools) {
     if (t->name == requested) return t;
   }
-  throw InputError({cell.json_path, 0, 0}, "robot '" + robot + "' carries no tool '" +
-                   requested + "'", "Its tools: " + names);
+  throw InputError({cell.json_path, 0, 0},
+                   "robot '" + robot + "' carries no tool '" + requested + "'",
+                   "Its tools: " + names);
 }
 
 }  // namespace

@@ -40,8 +40,9 @@ bool RowHasGroup(const CsvTable& table, size_t row, const std::vector<std::strin
   if (filled == static_cast<int>(group.size())) return true;
   for (const auto& c : group) {
     if (!table.HasValue(row, c)) {
-      throw table.Error(row, c, "empty cell", "Fill in every one of " + group.front() + " ... " +
-                        group.back() + " on this row, or none");
+      throw table.Error(row, c, "empty cell",
+                        "Fill in every one of " + group.front() + " ... " + group.back() +
+                            " on this row, or none");
     }
   }
   return true;
@@ -92,14 +93,13 @@ CompensationTarget ReadRow(const CsvTable& table, size_t row, const Columns& col
   t.line = table.line_of(row);
   t.id = table.HasValue(row, "id") ? table.Text(row, "id") : "line " + std::to_string(t.line);
   // A row with x y z empty is a joint target, in a file of poses too.
-  const bool position =
-      columns.position && (!columns.joints || RowHasGroup(table, row, kPosition));
+  const bool position = columns.position && (!columns.joints || RowHasGroup(table, row, kPosition));
   const bool rotation = columns.rotation && RowHasGroup(table, row, kRotation);
   if (rotation && !position) {
     throw table.Error(row, kRotation.front(), "a rotation without a position",
                       "Give x_mm, y_mm, z_mm on this row, or leave the rotation empty");
   }
-  t.kind = !position ? CompensationTarget::Kind::kJoints
+  t.kind = !position  ? CompensationTarget::Kind::kJoints
            : rotation ? CompensationTarget::Kind::kPose
                       : CompensationTarget::Kind::kPosition;
   if (position) t.p_world_tool_mm = Vector3Of(table, row, kPosition);
@@ -119,8 +119,7 @@ CompensationTarget ReadRow(const CsvTable& table, size_t row, const Columns& col
 
 }  // namespace
 
-std::vector<CompensationTarget> ReadCompensationTargets(const std::string& path,
-                                                        int num_joints) {
+std::vector<CompensationTarget> ReadCompensationTargets(const std::string& path, int num_joints) {
   const CsvTable table = CsvTable::Read(path);
   const auto q_columns = Numbered("q", "_rad", num_joints);
   const auto approach_columns = Numbered("approach_j", "", num_joints);
@@ -138,14 +137,15 @@ std::vector<CompensationTarget> ReadCompensationTargets(const std::string& path,
                      "Give the tool's position with its rotation");
   }
   if (rotation && num_joints < 6) {
-    throw InputError({path, 1, 0}, "the robot has " + std::to_string(num_joints) +
-                     " joints: it cannot turn its tool at will",
-                     "Give positions only (x_mm, y_mm, z_mm)");
+    throw InputError(
+        {path, 1, 0},
+        "the robot has " + std::to_string(num_joints) + " joints: it cannot turn its tool at will",
+        "Give positions only (x_mm, y_mm, z_mm)");
   }
   if (!position && !joints) {
     throw InputError({path, 1, 0}, "no target columns",
                      "Give x_mm, y_mm, z_mm (and rx_rad, ry_rad, rz_rad) or q1_rad ... q" +
-                     std::to_string(num_joints) + "_rad");
+                         std::to_string(num_joints) + "_rad");
   }
   const Columns columns{position, rotation, joints, approach, q_columns, approach_columns};
   std::vector<CompensationTarget> targets;

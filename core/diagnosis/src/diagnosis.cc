@@ -10,9 +10,9 @@
 
 #include <tbb/parallel_for.h>
 
-#include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/basics/error.h"
+#include "cellmetry/basics/plausibility.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"
 #include "cellmetry/basics/statistics.h"
@@ -40,8 +40,8 @@ void SummarizeHeldOut(Fitted* f) {
   f->summary.held_out_sigma = n_folds ? std::sqrt(ss / n_folds) : 0.0;
 }
 
-Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
-           const SolverMaker& make_solver, int folds) {
+Fitted Fit(const WorkcellProblem& spec, const Recording& recording, const SolverMaker& make_solver,
+           int folds) {
   Fitted f;
   f.spec = spec;
   f.spec.folds = folds;
@@ -73,8 +73,8 @@ Fitted Fit(const WorkcellProblem& spec, const Recording& recording,
 // return, without fitting again. IdentifyWorkcell's folds are the last step of the same fit,
 // run at its answer with its noise model and held parameters; where the fit left outliers out,
 // its folds ran on the recording without them, so it is fitted again in full.
-Fitted WithHeldOut(const Fitted& refit, const Recording& recording,
-                   const SolverMaker& make_solver, int folds) {
+Fitted WithHeldOut(const Fitted& refit, const Recording& recording, const SolverMaker& make_solver,
+                   int folds) {
   if (!refit.result.outliers.empty()) return Fit(refit.spec, recording, make_solver, folds);
   Fitted f = refit;
   f.spec.folds = folds;
@@ -158,8 +158,10 @@ void CheckInputs(const NoiseModel& noise, const Recording& recording,
                        "no noise floor for " + obs.camera + "/" + obs.target +
                            ": no repeated captures and no sigma given",
                        "Capture some poses two or more times (samples sharing a pose id), or "
-                       "give noise: {cameras: {" + obs.camera + ": {position_mm: [...]}}} in the "
-                       "job");
+                       "give noise: {cameras: {" +
+                           obs.camera +
+                           ": {position_mm: [...]}}} in the "
+                           "job");
     }
     sources.insert(n.source);
   }
@@ -188,8 +190,8 @@ double PeakMm(const CandidateLinearization& lin, const Recording& recording,
         !recording.IsCarried(info.label.target)) {
       continue;
     }
-    auto& d = per_observation.try_emplace(info.label.observation, Eigen::Vector3d::Zero())
-                  .first->second;
+    auto& d =
+        per_observation.try_emplace(info.label.observation, Eigen::Vector3d::Zero()).first->second;
     d[lin.row_axis[i]] = whitened[i] * info.sigma[lin.row_axis[i]];
   }
   double peak = 0.0;
@@ -232,8 +234,7 @@ std::vector<std::pair<size_t, double>> LookAlikes(
   std::vector<std::pair<size_t, double>> out;
   for (size_t c = 0; c < candidates.size(); ++c) {
     if (Overlap(*candidates[c], *candidates[chosen])) continue;
-    const double correlation =
-        CanonicalCorrelation(unabsorbed_bases[chosen], unabsorbed_bases[c]);
+    const double correlation = CanonicalCorrelation(unabsorbed_bases[chosen], unabsorbed_bases[c]);
     if (correlation >= threshold) out.push_back({c, correlation});
   }
   std::sort(out.begin(), out.end(),
@@ -304,9 +305,9 @@ BootstrapVerdict GroupInclusion(const std::vector<std::vector<int>>& inclusions,
 // One round's candidates, scored on the current model's linearization.
 struct ScoredRound {
   DiagnosisRound round;
-  CandidateLinearization base;                            // residuals over sqrt(dispersion)
-  std::vector<const CandidateEffect*> testable;  // parallel to round.candidates
-  std::vector<Eigen::MatrixXd> signatures;       // their Jacobian columns
+  CandidateLinearization base;                    // residuals over sqrt(dispersion)
+  std::vector<const CandidateEffect*> testable;   // parallel to round.candidates
+  std::vector<Eigen::MatrixXd> signatures;        // their Jacobian columns
   std::vector<Eigen::MatrixXd> unabsorbed_bases;  // orthonormal, outside the model's span
   std::vector<Eigen::MatrixXd> unabsorbed;        // the signatures outside it, by parameter
 };
@@ -375,9 +376,8 @@ class Diagnoser {
                               : test.unabsorbed < options_.min_unabsorbed || detectable < needed;
     if (!missing.empty() || silent || too_weak || test.dof == 0) {
       f.testable = false;
-      const std::string absorbed =
-          std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
-          " % of its signature is absorbed by the geometry";
+      const std::string absorbed = std::to_string(int(std::floor(100 * (1 - test.unabsorbed)))) +
+                                   " % of its signature is absorbed by the geometry";
       char weak[160];
       std::snprintf(weak, sizeof weak,
                     "at its plausible size it would add %.2g to the score statistic, below the "
@@ -396,16 +396,15 @@ class Diagnoser {
   // The rival the chosen candidate beats least clearly: RivalTestPAt against every testable
   // candidate outside the chosen one's own groups and aliases (`own`) that could be the cause;
   // the largest p and whose.
-  void WorstRival(const ScoredRound& s, int best, const std::set<std::string>& own,
-                  unsigned seed, CandidateFinding* chosen) const {
+  void WorstRival(const ScoredRound& s, int best, const std::set<std::string>& own, unsigned seed,
+                  CandidateFinding* chosen) const {
     std::vector<double> p(s.testable.size(), 0.0);
     tbb::parallel_for(size_t(0), s.testable.size(), [&](size_t j) {
       if (static_cast<int>(j) == best || own.count(s.testable[j]->group_name())) return;
       if (Overlap(*s.testable[j], *s.testable[best])) return;  // nested: one contains the other
       if (!CredibleCause(s, j)) return;
-      p[j] = RivalTestPAt(options_.alpha, s.base.r, s.unabsorbed_bases[best],
-                          s.unabsorbed_bases[j], options_.rival_draws,
-                          seed + static_cast<unsigned>(j));
+      p[j] = RivalTestPAt(options_.alpha, s.base.r, s.unabsorbed_bases[best], s.unabsorbed_bases[j],
+                          options_.rival_draws, seed + static_cast<unsigned>(j));
     });
     const size_t worst = std::max_element(p.begin(), p.end()) - p.begin();
     chosen->rival_p = p[worst];
@@ -464,9 +463,8 @@ class Diagnoser {
     }
     Progress::Note("linearizing the model with " + std::to_string(open.size()) +
                    (open.size() == 1 ? " candidate" : " candidates") + " at zero");
-    std::vector<Eigen::MatrixXd> signatures =
-        CandidateColumns(current.spec, effects, recording_, data_, noise_,
-                         current.result.estimate, s.base.r.size());
+    std::vector<Eigen::MatrixXd> signatures = CandidateColumns(
+        current.spec, effects, recording_, data_, noise_, current.result.estimate, s.base.r.size());
     const Eigen::MatrixXd Q = OrthonormalBasis(s.base.J_model);
     std::vector<ScoreTest> tests(open.size());
     std::vector<Eigen::MatrixXd> bases(open.size()), unabsorbed(open.size());
@@ -534,15 +532,14 @@ class Diagnoser {
       // bootstrap draw whole poses too); a pose's rows are not independent draws of a signature.
       f.delta_bic = f.dof * std::log(n_poses_) - f.likelihood_ratio;
       const CandidateEffect& c = *s->testable[order[k]];
-      f.implausible = Unusual(c.effect.effect->parameters(),
-                              refit.result.estimate.effects.at(c.effect.name));
+      f.implausible =
+          Unusual(c.effect.effect->parameters(), refit.result.estimate.effects.at(c.effect.name));
       // A plausible refit beats every implausible one; among equals the stronger wins.
       const auto& incumbent = candidates[std::max(best, 0)];
-      const bool better =
-          best < 0 || (f.implausible.empty() && !incumbent.implausible.empty()) ||
-          (f.implausible.empty() == incumbent.implausible.empty() &&
-           Strength(f.likelihood_ratio, f.dof) >
-               Strength(incumbent.likelihood_ratio, incumbent.dof));
+      const bool better = best < 0 || (f.implausible.empty() && !incumbent.implausible.empty()) ||
+                          (f.implausible.empty() == incumbent.implausible.empty() &&
+                           Strength(f.likelihood_ratio, f.dof) >
+                               Strength(incumbent.likelihood_ratio, incumbent.dof));
       if (better) {
         best = static_cast<int>(order[k]);
         *best_fit = std::move(refit);
@@ -667,12 +664,12 @@ class Diagnoser {
     *with_cv = Fit(WarmWith(current, c), recording_, make_solver_, options_.folds);
     f.refitted = true;
     // The job's stated priors count too: a level statement is what determines a frame.
-    f.likelihood_ratio = std::max(
-        0.0, (current.summary.chi2 - with_cv->summary.chi2) / s->round.dispersion +
-                 current.summary.prior_chi2 - with_cv->summary.prior_chi2);
+    f.likelihood_ratio =
+        std::max(0.0, (current.summary.chi2 - with_cv->summary.chi2) / s->round.dispersion +
+                          current.summary.prior_chi2 - with_cv->summary.prior_chi2);
     f.p_lr_holm = std::min(1.0, ChiSquareSurvival(f.likelihood_ratio, f.dof) * asked);
-    f.implausible = Unusual(c.effect.effect->parameters(),
-                            with_cv->result.estimate.effects.at(c.effect.name));
+    f.implausible =
+        Unusual(c.effect.effect->parameters(), with_cv->result.estimate.effects.at(c.effect.name));
     f.cv_rms_mm = with_cv->summary.held_out_rms_mm;
     if (!f.implausible.empty()) f.failed.push_back("size");
     if (!(f.p_lr_holm < options_.alpha)) f.failed.push_back("LR");
@@ -755,9 +752,8 @@ RoundRecord RecordOf(const DiagnosisRound& round, const DiagnosisResult& out,
 // Round `index` as it finished before, if it did and is of the kind asked (`frames`): its
 // record into `out` and `state`, its accepted effect refitted into the model. Returns the
 // record, or nothing when the round is to be run.
-std::optional<RoundRecord> ResumeRound(const Diagnoser& diagnoser, const RoundLog& log,
-                                       int index, bool frames,
-                                       const std::vector<CandidateEffect>& candidates,
+std::optional<RoundRecord> ResumeRound(const Diagnoser& diagnoser, const RoundLog& log, int index,
+                                       bool frames, const std::vector<CandidateEffect>& candidates,
                                        RoundState* state, DiagnosisResult* out) {
   std::optional<RoundRecord> record = log.Finished(index);
   if (!record || record->round.frames != frames) return std::nullopt;
@@ -793,8 +789,7 @@ int RunPhysicsRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffe
     }
     if (log.Finished(index)) break;  // the frames' step came next: this loop ended here before
     progress->Begin("round " + std::to_string(index) + ", scoring " +
-                    std::to_string(candidates.size() - state->done.size()) +
-                    " candidate effects");
+                    std::to_string(candidates.size() - state->done.size()) + " candidate effects");
     Fitted& current = state->current;
     ScoredRound scored = diagnoser.Score(current, &state->done, &out->untestable);
     if (scored.round.candidates.empty()) break;
@@ -883,8 +878,8 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   WorkcellProblem all = spec;
   for (const auto& c : candidates) all.effects.push_back(c.effect);
   const WorkcellData data = PrepareWorkcellData(all, recording);  // with every sample's facts
-  const std::vector<Regressor> regressors = SampleRegressors(
-      recording, data.facts, options.link_masses_kg, spec.gravity_base);
+  const std::vector<Regressor> regressors =
+      SampleRegressors(recording, data.facts, options.link_masses_kg, spec.gravity_base);
   const Diagnoser diagnoser(recording, make_solver, candidates, options, noise, data);
 
   RoundState state;
@@ -896,8 +891,8 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   out.geometric = state.current.summary;
   out.floor_rms_mm = FloorRms(state.current, recording);
   {
-    const CandidateLinearization lin = LinearizeWithCandidate(
-        spec, recording, data, noise, state.current.result.estimate, false);
+    const CandidateLinearization lin =
+        LinearizeWithCandidate(spec, recording, data, noise, state.current.result.estimate, false);
     out.regressors = CorrelateRegressors(lin, recording, regressors);
     out.durbin_watson = DurbinWatsonByAxis(lin, recording);
   }

@@ -15,22 +15,20 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ScalarEstimate, name, unit, nominal, value, s
                                    sigma_statistical, sigma_systematic, sigma_inputs, held,
                                    undetermined, convention)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(LookAlike, label, correlation)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SignaturePoint, camera, axis, predicted_mm, before_mm,
-                                   after_mm)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SignaturePoint, camera, axis, predicted_mm, before_mm, after_mm)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CandidateFinding, name, label, site, testable,
                                    untestable_because, data_needed, unabsorbed, detectable, dof,
-                                   score, p_holm, refitted, likelihood_ratio, p_lr_holm,
-                                   delta_bic, cv_rms_mm, cv_gain, cv_gain_se, bootstrap_share,
-                                   bootstrap_rival, bootstrap_rival_effect, rival_p, rival,
-                                   rival_effect, look_alikes, aliases, alias_names, implausible,
-                                   explained_share, failed, accepted)
+                                   score, p_holm, refitted, likelihood_ratio, p_lr_holm, delta_bic,
+                                   cv_rms_mm, cv_gain, cv_gain_se, bootstrap_share, bootstrap_rival,
+                                   bootstrap_rival_effect, rival_p, rival, rival_effect,
+                                   look_alikes, aliases, alias_names, implausible, explained_share,
+                                   failed, accepted)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DiagnosisRound, dispersion, candidates, accepted, frames)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(AcceptedEffect, name, label, site, group, group_label,
                                    description, parameters, peak_mm, aliases, alias_names,
                                    look_alikes, signature, held_out_sigma_before,
-                                   held_out_sigma_after, role, group_share,
-                                   headline_correlation, site_correlations,
-                                   stronger_implausible, frame)
+                                   held_out_sigma_after, role, group_share, headline_correlation,
+                                   site_correlations, stronger_implausible, frame)
 
 namespace {
 
@@ -71,9 +69,8 @@ std::optional<RoundRecord> RoundLog::Finished(int index) const {
 
 void RoundLog::Keep(int index, const RoundRecord& record) {
   if (!checkpoint_) return;
-  nlohmann::json j = {{"round", record.round},
-                      {"untestable", record.untestable},
-                      {"done", record.done}};
+  nlohmann::json j = {
+      {"round", record.round}, {"untestable", record.untestable}, {"done", record.done}};
   if (record.accepted) j["accepted"] = *record.accepted;
   checkpoint_->Put(Key(index), std::move(j));
 }

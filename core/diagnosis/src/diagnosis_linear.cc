@@ -44,8 +44,8 @@ CandidateLinearization LinearizeWithCandidate(const WorkcellProblem& spec,
   out.rows.resize(J.rows());
   out.row_axis.assign(J.rows(), 0);
   for (size_t b = 0; b < infos.size(); ++b) {
-    const int rows = (b + 1 < infos.size() ? first_row[b + 1] : static_cast<int>(J.rows())) -
-                     first_row[b];
+    const int rows =
+        (b + 1 < infos.size() ? first_row[b + 1] : static_cast<int>(J.rows())) - first_row[b];
     const MeasurementLabel* label = assembled->LabelOf(b);
     for (int k = 0; k < rows; ++k) {
       CandidateRow& row = out.rows[first_row[b] + k];
@@ -95,10 +95,9 @@ std::vector<std::vector<size_t>> PassGroups(const std::vector<int>& free_per_can
 
 std::vector<Eigen::MatrixXd> CandidateColumns(const WorkcellProblem& spec,
                                               const std::vector<WorkcellEffect>& candidates,
-                                              const Recording& recording,
-                                              const WorkcellData& data, const NoiseModel& noise,
-                                              const WorkcellEstimate& estimate,
-                                              Eigen::Index rows) {
+                                              const Recording& recording, const WorkcellData& data,
+                                              const NoiseModel& noise,
+                                              const WorkcellEstimate& estimate, Eigen::Index rows) {
   WorkcellProblem all = spec;
   all.effects.insert(all.effects.end(), candidates.begin(), candidates.end());
   auto assembled = AssembleWorkcell(all, recording, data, noise, estimate);
@@ -192,8 +191,8 @@ double RivalTestP(const Eigen::VectorXd& r, const Eigen::MatrixXd& U_chosen,
   for (int d = 0; d < draws; ++d) {
     for (Eigen::Index i = 0; i < n.size(); ++i) n[i] = normal(rng);
     const Eigen::VectorXd z = mean + draw_map * n;
-    as_large += Strength(z.head(kc).squaredNorm(), kc) - Strength(z.tail(kr).squaredNorm(), kr) >=
-                margin;
+    as_large +=
+        Strength(z.head(kc).squaredNorm(), kc) - Strength(z.tail(kr).squaredNorm(), kr) >= margin;
   }
   return (as_large + 1.0) / (draws + 1.0);
 }
@@ -322,8 +321,7 @@ std::vector<int> GreedyOnColumns(const Eigen::MatrixXd& A, Eigen::Index model_co
     blocks.push_back(A.middleCols(at, J.cols()));
     at += J.cols();
   }
-  return GreedyInclusions(A.col(at), A.leftCols(model_columns), blocks, penalty_per_dof,
-                          max_steps);
+  return GreedyInclusions(A.col(at), A.leftCols(model_columns), blocks, penalty_per_dof, max_steps);
 }
 
 Eigen::MatrixXd Stack(const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
@@ -406,8 +404,8 @@ std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
   if (index.poses == 0 || candidates.empty()) return {};
   Eigen::MatrixXd A = Stack(r, J_model, candidates);
   if (A.rows() <= A.cols()) {
-    return BootstrapInclusionsOnRows(r, J_model, candidates, row_pose, resamples,
-                                     penalty_per_dof, max_steps, seed);
+    return BootstrapInclusionsOnRows(r, J_model, candidates, row_pose, resamples, penalty_per_dof,
+                                     max_steps, seed);
   }
   const std::vector<std::vector<double>> counts = DrawCounts(index.poses, resamples, seed);
   const PoseCrossProducts pose = CrossProducts(std::move(A), index);
@@ -428,8 +426,8 @@ std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
 
 std::vector<std::vector<int>> BootstrapInclusionsOnRows(
     const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
-    const std::vector<Eigen::MatrixXd>& candidates, const std::vector<int>& row_pose,
-    int resamples, double penalty_per_dof, int max_steps, unsigned seed) {
+    const std::vector<Eigen::MatrixXd>& candidates, const std::vector<int>& row_pose, int resamples,
+    double penalty_per_dof, int max_steps, unsigned seed) {
   const PoseIndex index = IndexPoses(row_pose);
   if (index.poses == 0 || candidates.empty()) return {};
   const std::vector<std::vector<double>> counts = DrawCounts(index.poses, resamples, seed);
@@ -442,8 +440,8 @@ std::vector<std::vector<int>> BootstrapInclusionsOnRows(
       const int p = index.of_row[i];
       sqrt_w[i] = p < 0 ? 1.0 : std::sqrt(counts[b][p]);
     }
-    out[b] = GreedyOnColumns(sqrt_w.asDiagonal() * A, J_model.cols(), candidates,
-                             penalty_per_dof, max_steps);
+    out[b] = GreedyOnColumns(sqrt_w.asDiagonal() * A, J_model.cols(), candidates, penalty_per_dof,
+                             max_steps);
   });
   return out;
 }

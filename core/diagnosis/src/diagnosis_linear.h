@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/cell/workcell_assembly.h"
+#include "cellmetry/estimation/noise_model.h"
 
 namespace cellmetry {
 
@@ -51,10 +51,9 @@ CandidateLinearization LinearizeWithCandidate(const WorkcellProblem& spec,
 // `rows` rows (its measurements and priors; a candidate's own priors are left out).
 std::vector<Eigen::MatrixXd> CandidateColumns(const WorkcellProblem& spec,
                                               const std::vector<WorkcellEffect>& candidates,
-                                              const Recording& recording,
-                                              const WorkcellData& data, const NoiseModel& noise,
-                                              const WorkcellEstimate& estimate,
-                                              Eigen::Index rows);
+                                              const Recording& recording, const WorkcellData& data,
+                                              const NoiseModel& noise,
+                                              const WorkcellEstimate& estimate, Eigen::Index rows);
 
 // An orthonormal basis of the columns' span (rank-revealing QR).
 Eigen::MatrixXd OrthonormalBasis(const Eigen::MatrixXd& columns);
@@ -162,7 +161,7 @@ std::vector<std::vector<int>> BootstrapInclusions(const Eigen::VectorXd& r,
 // no more rows than columns.
 std::vector<std::vector<int>> BootstrapInclusionsOnRows(
     const Eigen::VectorXd& r, const Eigen::MatrixXd& J_model,
-    const std::vector<Eigen::MatrixXd>& candidates, const std::vector<int>& row_pose,
-    int resamples, double penalty_per_dof, int max_steps, unsigned seed);
+    const std::vector<Eigen::MatrixXd>& candidates, const std::vector<int>& row_pose, int resamples,
+    double penalty_per_dof, int max_steps, unsigned seed);
 
 }  // namespace cellmetry

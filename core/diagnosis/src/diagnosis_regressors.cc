@@ -7,8 +7,8 @@
 #include <map>
 #include <optional>
 
-#include "cellmetry/model/effect_context.h"
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/model/effect_context.h"
 
 namespace cellmetry {
 namespace {
@@ -104,8 +104,8 @@ struct Correlation {
 // Partial correlation of the residuals on `rows` with regressor values `x` (on those rows),
 // after projecting out span(Q); none when too few rows know the regressor.
 std::optional<Correlation> Correlate(const CandidateLinearization& lin, const Eigen::MatrixXd& Q,
-                                          const std::vector<Eigen::Index>& rows,
-                                          const std::vector<double>& values) {
+                                     const std::vector<Eigen::Index>& rows,
+                                     const std::vector<double>& values) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(lin.r.size()), r = Eigen::VectorXd::Zero(lin.r.size());
   std::vector<Eigen::Index> known;
   double mean = 0.0;
@@ -150,8 +150,8 @@ std::vector<RegressorFinding> CorrelateRegressors(const CandidateLinearization& 
     // row of that camera, the world target's too (a camera that moved shifts them all).
     std::vector<Eigen::Index> rows[3];
     for (Eigen::Index i = 0; i < lin.r.size(); ++i) {
-      const bool position = lin.rows[i].kind == ResidualInfo::Kind::kPosition &&
-                            lin.rows[i].label.observation >= 0;
+      const bool position =
+          lin.rows[i].kind == ResidualInfo::Kind::kPosition && lin.rows[i].label.observation >= 0;
       if (scope.empty() ? IsToolPositionRow(lin, recording, i)
                         : position && lin.rows[i].label.camera == scope) {
         rows[lin.row_axis[i]].push_back(i);

@@ -12,8 +12,8 @@
 namespace cellmetry {
 
 struct Regressor {
-  std::string name;                 // "joint 2 gravity torque"
-  std::vector<double> per_sample;   // by sample index; NaN where unknown
+  std::string name;                // "joint 2 gravity torque"
+  std::vector<double> per_sample;  // by sample index; NaN where unknown
 };
 
 // Joint angles, gravity torques (lumped masses), approach directions, capture order, time,

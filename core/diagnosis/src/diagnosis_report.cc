@@ -1,8 +1,8 @@
 // The physics finder's report (diagnosis.h): ten seconds of words, and the same in JSON.
 #include <algorithm>
 #include <cstdio>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "cellmetry/basics/text.h"
 #include "cellmetry/diagnosis/diagnosis.h"
@@ -101,8 +101,8 @@ void Details(const AcceptedEffect& a, std::ostringstream& out) {
 // A further effect of a finding that passed its test against the group: another form of the
 // headline's cause (a camera's focal length beside its distortion), or separate physics at the
 // same site.
-void SeparateMember(const DiagnosisResult& r, const PhysicalFinding& f,
-                    const AcceptedEffect& head, const AcceptedEffect& a, std::ostringstream& out) {
+void SeparateMember(const DiagnosisResult& r, const PhysicalFinding& f, const AcceptedEffect& head,
+                    const AcceptedEffect& a, std::ostringstream& out) {
   const std::string share = FixedNumber(100 * a.group_share, 1) + " % of what the finding removes";
   if (!a.group.empty() && a.group == head.group) {
     out << "  Also part of " << head.group_label << ": " << a.description << " (up to "
@@ -148,8 +148,8 @@ void Finding(const DiagnosisResult& r, const PhysicalFinding& f, std::ostringstr
   for (int m : f.separate) SeparateMember(r, f, head, r.accepted[m], out);
   for (int m : f.residual_shape) {
     const AcceptedEffect& a = r.accepted[m];
-    out << "  Also fitted at " << f.site << ": " << a.label << " (up to " << Mm(a.peak_mm)
-        << "), " << FixedNumber(100 * a.group_share, 1) << " % of what the finding removes, under "
+    out << "  Also fitted at " << f.site << ": " << a.label << " (up to " << Mm(a.peak_mm) << "), "
+        << FixedNumber(100 * a.group_share, 1) << " % of what the finding removes, under "
         << FixedNumber(100 * r.min_group_share, 0) << " %, and like the physics above (correlation "
         << FixedNumber(a.headline_correlation, 2) << "): its residual shape (its real form differs "
         << "from the library's), not separate physics.\n";
@@ -181,8 +181,8 @@ void StrongestRuledOut(const DiagnosisResult& r, std::ostringstream& out) {
     if (!strongest || strongest->implausible.empty()) continue;
     out << "Strongest fit" << (r.rounds.size() > 1 ? " of round " + std::to_string(k + 1) : "")
         << ": " << strongest->label << " (likelihood ratio "
-        << FixedNumber(strongest->likelihood_ratio, 0) << "), ruled out by its size: "
-        << strongest->implausible << ".\n";
+        << FixedNumber(strongest->likelihood_ratio, 0)
+        << "), ruled out by its size: " << strongest->implausible << ".\n";
   }
 }
 
@@ -245,7 +245,8 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
     for (const auto& f : round.candidates) {
       if (f.failed.empty()) continue;
       out << "Frame not accepted: " << f.label << ":";
-      for (size_t i = 0; i < f.failed.size(); ++i) out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
+      for (size_t i = 0; i < f.failed.size(); ++i)
+        out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
       out << ".\n";
     }
   }
@@ -323,8 +324,10 @@ std::string DiagnosisTie(const DiagnosisResult& r) {
 namespace {
 
 nlohmann::json SummaryJson(const FitSummary& s) {
-  return nlohmann::json{{"chi2", s.chi2},         {"dof", s.dof},
-                        {"p_value", s.p_value},   {"rms_mm", s.rms_mm},
+  return nlohmann::json{{"chi2", s.chi2},
+                        {"dof", s.dof},
+                        {"p_value", s.p_value},
+                        {"rms_mm", s.rms_mm},
                         {"held_out_rms_mm", s.held_out_rms_mm},
                         {"held_out_sigma", s.held_out_sigma},
                         {"consistent_with_noise", s.consistent_with_noise()}};
@@ -372,13 +375,19 @@ nlohmann::json CandidateJson(const CandidateFinding& f) {
 }
 
 nlohmann::json AcceptedJson(const AcceptedEffect& a) {
-  nlohmann::json j{{"name", a.name}, {"label", a.label}, {"site", a.site},
-                   {"group", a.group}, {"group_label", a.group_label},
-                   {"description", a.description}, {"peak_mm", a.peak_mm},
-                   {"aliases", a.aliases}, {"look_alikes", LookAlikesJson(a.look_alikes)},
+  nlohmann::json j{{"name", a.name},
+                   {"label", a.label},
+                   {"site", a.site},
+                   {"group", a.group},
+                   {"group_label", a.group_label},
+                   {"description", a.description},
+                   {"peak_mm", a.peak_mm},
+                   {"aliases", a.aliases},
+                   {"look_alikes", LookAlikesJson(a.look_alikes)},
                    {"held_out_sigma_before", a.held_out_sigma_before},
                    {"held_out_sigma_after", a.held_out_sigma_after},
-                   {"role", a.role}, {"group_share", a.group_share},
+                   {"role", a.role},
+                   {"group_share", a.group_share},
                    {"headline_correlation", a.headline_correlation},
                    {"site_correlations", a.site_correlations},
                    {"stronger_implausible", a.stronger_implausible},
@@ -419,7 +428,8 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& result) {
   j["durbin_watson"] = r.durbin_watson;
   j["regressors"] = nlohmann::json::array();
   for (const auto& f : r.regressors) {
-    j["regressors"].push_back({{"regressor", f.regressor}, {"axis", f.axis},
+    j["regressors"].push_back({{"regressor", f.regressor},
+                               {"axis", f.axis},
                                {"partial_correlation", f.partial_correlation},
                                {"p_value", f.p_value}});
   }

@@ -35,9 +35,11 @@ void MarkAliasesRight(double alias_correlation, std::vector<OracleChoice>* choic
 
 // The testable candidates with their bases, as the finder's first round has them.
 std::vector<OracleChoice> TestableChoices(const WorkcellProblem& spec, const Recording& recording,
-                                    const std::vector<CandidateEffect>& candidates,
-                                    const WorkcellEstimate& estimate, const std::string& expect,
-                                    const DiagnosisOptions& options, Eigen::VectorXd* mismatch) {
+                                          const std::vector<CandidateEffect>& candidates,
+                                          const WorkcellEstimate& estimate,
+                                          const std::string& expect,
+                                          const DiagnosisOptions& options,
+                                          Eigen::VectorXd* mismatch) {
   const NoiseModel noise = BuildNoiseModel(recording, spec.noise);
   WorkcellProblem all = spec;
   std::vector<WorkcellEffect> effects;
@@ -130,8 +132,8 @@ void DrawBayesChoices(const std::vector<OracleChoice>& choices, const Eigen::Vec
     Eigen::Index top = 0;
     const double best = log_p.maxCoeff(&top);
     const double posterior = 1.0 / (log_p.array() - best).exp().sum();
-    const int bin = std::min(options.posterior_bins - 1,
-                             static_cast<int>(posterior * options.posterior_bins));
+    const int bin =
+        std::min(options.posterior_bins - 1, static_cast<int>(posterior * options.posterior_bins));
     ++(choices[top].right ? out->right_by_posterior : out->wrong_by_posterior)[bin];
   }
 }

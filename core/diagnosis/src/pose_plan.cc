@@ -139,11 +139,11 @@ Recording WithDraws(const Recording& recording, std::vector<Draw>& draws,
 // The whitened Jacobian at the answer over recorded and drawn poses, split by pose and by
 // parameter group: the geometry (every free parameter of the job) and each candidate.
 struct Jacobian {
-  Eigen::MatrixXd J;                     // rows: residual rows; columns: free parameters
-  std::vector<int> row_pose;             // pose id of each row (-1: a prior, always in)
-  std::vector<int> geometry;             // columns
+  Eigen::MatrixXd J;          // rows: residual rows; columns: free parameters
+  std::vector<int> row_pose;  // pose id of each row (-1: a prior, always in)
+  std::vector<int> geometry;  // columns
   std::vector<std::vector<int>> candidate;
-  std::vector<std::string> names, units; // of the geometry columns
+  std::vector<std::string> names, units;  // of the geometry columns
 };
 
 Jacobian Linearized(const WorkcellProblem& spec, const Recording& recording,
@@ -312,8 +312,11 @@ std::vector<int> Targets(const Jacobian& jac, const std::vector<CandidateEffect>
 PlannedEffect PlannedFor(const Jacobian& jac, const CandidateEffect& candidate,
                          const std::vector<int>& own, const RowSpan& before_rows,
                          const RowSpan& after_rows) {
-  PlannedEffect e{candidate.effect.name, candidate.label, Unabsorbed(jac, before_rows, own),
-                  Unabsorbed(jac, after_rows, own), {}};
+  PlannedEffect e{candidate.effect.name,
+                  candidate.label,
+                  Unabsorbed(jac, before_rows, own),
+                  Unabsorbed(jac, after_rows, own),
+                  {}};
   std::vector<int> columns = jac.geometry;
   columns.insert(columns.end(), own.begin(), own.end());
   const Eigen::VectorXd before = SigmaAtFloor(jac, before_rows.rows, columns);
@@ -331,9 +334,10 @@ PlannedEffect PlannedFor(const Jacobian& jac, const CandidateEffect& candidate,
 // parameters' sigma at the floor fitted together with the geometry, before and after.
 PlannedPair PlannedTogether(const Jacobian& jac, const CandidateEffect& a,
                             const std::vector<int>& a_columns, const CandidateEffect& b,
-                            const std::vector<int>& b_columns,
-                            const RowSpan& before_rows, const RowSpan& after_rows) {
-  PlannedPair pair{a.label, b.label,
+                            const std::vector<int>& b_columns, const RowSpan& before_rows,
+                            const RowSpan& after_rows) {
+  PlannedPair pair{a.label,
+                   b.label,
                    CanonicalCorrelation(UnabsorbedBasis(jac, before_rows, a_columns),
                                         UnabsorbedBasis(jac, before_rows, b_columns)),
                    CanonicalCorrelation(UnabsorbedBasis(jac, after_rows, a_columns),
@@ -345,13 +349,13 @@ PlannedPair PlannedTogether(const Jacobian& jac, const CandidateEffect& a,
   const Eigen::VectorXd before = SigmaAtFloor(jac, before_rows.rows, columns);
   const Eigen::VectorXd after = SigmaAtFloor(jac, after_rows.rows, columns);
   Eigen::Index k = static_cast<Eigen::Index>(jac.geometry.size());
-  const std::pair<const CandidateEffect*, const std::vector<int>*> members[] = {
-      {&a, &a_columns}, {&b, &b_columns}};
+  const std::pair<const CandidateEffect*, const std::vector<int>*> members[] = {{&a, &a_columns},
+                                                                                {&b, &b_columns}};
   for (const auto& [c, c_columns] : members) {
     const std::vector<Parameter>& parameters = c->effect.effect->parameters();
     for (size_t i = 0; i < c_columns->size() && i < parameters.size(); ++i, ++k) {
-      pair.sigma.push_back({c->effect.name + "." + parameters[i].name, parameters[i].unit,
-                            before[k], after[k]});
+      pair.sigma.push_back(
+          {c->effect.name + "." + parameters[i].name, parameters[i].unit, before[k], after[k]});
     }
   }
   return pair;
@@ -386,7 +390,8 @@ PosePlan PlanPoses(const WorkcellProblem& spec, const Recording& recording,
   if (draws.empty()) {
     throw InputError({recording.folder, 0, 0},
                      "no drawn pose inside the joint limits puts a target where a camera has seen "
-                     "one", "Check the robot config's joint limits and the job's cameras");
+                     "one",
+                     "Check the robot config's joint limits and the job's cameras");
   }
   std::vector<int> pose_of_draw;
   const Recording extended = WithDraws(recording, draws, &pose_of_draw);
@@ -461,17 +466,17 @@ bool PlanMeetsItsGoal(const PosePlan& plan, std::vector<std::string>* unmet) {
 
 std::string PosePlanReport(const PosePlan& plan) {
   std::ostringstream out;
-  out << "Planned " << plan.poses.size() << " poses (D-optimal among "
-      << plan.draws_in_view << " of " << plan.draws
+  out << "Planned " << plan.poses.size() << " poses (D-optimal among " << plan.draws_in_view
+      << " of " << plan.draws
       << " poses drawn inside the robot config's joint limits, each target where a camera "
          "that saw it before sees it again).\n";
   std::vector<std::string> unmet;
   if (PlanMeetsItsGoal(plan, &unmet)) {
     out << "Goal met: "
-        << (plan.effects.empty()   ? "the recorded poses leave no candidate untestable"
-            : plan.pairs.empty()   ? "every planned effect testable"
-                                   : "every named effect testable and each pair told further "
-                                     "apart")
+        << (plan.effects.empty() ? "the recorded poses leave no candidate untestable"
+            : plan.pairs.empty() ? "every planned effect testable"
+                                 : "every named effect testable and each pair told further "
+                                   "apart")
         << ".\n";
   } else {
     out << "Goal not met by the best " << plan.poses.size() << " poses found among those drawn:\n";
@@ -489,8 +494,8 @@ std::string PosePlanReport(const PosePlan& plan) {
                   e.unabsorbed_after >= 0.05 ? " (testable)" : " (still untestable)");
     out << line;
     for (const auto& p : e.sigma) {
-      std::snprintf(line, sizeof(line), "    %s: sigma %.2g -> %.2g %s\n", p.name.c_str(),
-                    p.before, p.after, p.unit.c_str());
+      std::snprintf(line, sizeof(line), "    %s: sigma %.2g -> %.2g %s\n", p.name.c_str(), p.before,
+                    p.after, p.unit.c_str());
       out << line;
     }
   }

@@ -50,8 +50,7 @@ bool BlockEvaluator::Predict(int k, Pose* prediction) {
   return cost->Predict(parameters_.data(), prediction, pointers_.data());
 }
 
-int BlockEvaluator::GatherFreeColumns(int k, int num_rows,
-                                             std::vector<double>* rows) const {
+int BlockEvaluator::GatherFreeColumns(int k, int num_rows, std::vector<double>* rows) const {
   const std::vector<int>& block_ids = registry_.blocks_of(k);
   const int first = layout_.block_entries[k].begin;
   const int width = layout_.block_entries[k].size();

@@ -104,8 +104,7 @@ void BlockRegistry::SetRobustLoss(RobustLossKind kind, double scale) {
   loss_whitened_scale_.clear();
 }
 
-void BlockRegistry::SetWhitenedRobustLoss(RobustLossKind kind,
-                                          std::vector<double> whitened_scale) {
+void BlockRegistry::SetWhitenedRobustLoss(RobustLossKind kind, std::vector<double> whitened_scale) {
   loss_kind_ = kind;
   loss_whitened_scale_ = std::move(whitened_scale);
 }
@@ -177,12 +176,11 @@ void BlockRegistry::AddFreeColumnsAndPriors() {
       const Parameter& p = block.params[i];
       if (p.fixed) continue;
       free_column_[b][i] = static_cast<int>(free_.size());
-      free_.push_back({static_cast<int>(b), static_cast<int>(i), block.name + "." + p.name,
-                       p.unit});
+      free_.push_back(
+          {static_cast<int>(b), static_cast<int>(i), block.name + "." + p.name, p.unit});
       if (!p.prior_sigma) continue;
-      prior_costs_.push_back(std::make_unique<PriorCost>(static_cast<int>(block.params.size()),
-                                                         static_cast<int>(i), p.nominal,
-                                                         *p.prior_sigma));
+      prior_costs_.push_back(std::make_unique<PriorCost>(
+          static_cast<int>(block.params.size()), static_cast<int>(i), p.nominal, *p.prior_sigma));
       AppendRow(prior_costs_.back().get(), nullptr, *InternBlocks({static_cast<int>(b)}));
       ResidualInfo info;
       info.kind = ResidualInfo::Kind::kPrior;

@@ -116,8 +116,8 @@ void CeresAdapter::AddResiduals(bool summed, View* view) {
   }
   if (constant_squared_norm > 0.0) {
     view->unit_costs.push_back(std::make_unique<ConstantCost>(constant_squared_norm));
-    view->residual_ids.push_back(view->problem->AddResidualBlock(
-        view->unit_costs.back().get(), nullptr, std::vector<double*>{}));
+    view->residual_ids.push_back(view->problem->AddResidualBlock(view->unit_costs.back().get(),
+                                                                 nullptr, std::vector<double*>{}));
   }
   // A permutation of the rows is the identity exactly when it is sorted.
   if (std::is_sorted(view->rows.begin(), view->rows.end())) view->rows.clear();
@@ -151,8 +151,7 @@ double CeresAdapter::AddUnit(int u, bool summed, View* view) {
   for (size_t begin = 0; begin < members.size(); begin += kMaxGroupMembers) {
     const size_t end = std::min(members.size(), begin + kMaxGroupMembers);
     view->unit_costs.push_back(std::make_unique<SharedPredictionGroup>(
-        std::vector<const SharedPredictionCost*>(members.begin() + begin,
-                                                 members.begin() + end)));
+        std::vector<const SharedPredictionCost*>(members.begin() + begin, members.begin() + end)));
     AddResidual(view->unit_costs.back().get(), nullptr, *first, view);
   }
   return 0.0;

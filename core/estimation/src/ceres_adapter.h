@@ -58,7 +58,7 @@ class CeresAdapter {
     // The registry's row of each of Ceres's rows (empty: the same order); only for the view to
     // evaluate.
     std::vector<int> rows;
-    std::vector<double*> scratch_pointers;  // AddResidual's, kept to spare an allocation
+    std::vector<double*> scratch_pointers;    // AddResidual's, kept to spare an allocation
     std::unique_ptr<ceres::Problem> problem;  // last: destroyed first, before what it points to
     void Reset();
   };

@@ -16,9 +16,8 @@ namespace {
 // SVD of J's columns `columns`, each scaled to unit norm (so mm and rad compare), through J's R
 // factor (r_factor.h): J = Q R, so J[:, c] / norm = Q (R[:, c] / norm) has the singular values
 // and right singular vectors of an n x n matrix, whatever the number of rows.
-Eigen::BDCSVD<Eigen::MatrixXd> ScaledSvd(const Eigen::MatrixXd& R,
-                                            const std::vector<int>& columns,
-                                            const Eigen::VectorXd& norms) {
+Eigen::BDCSVD<Eigen::MatrixXd> ScaledSvd(const Eigen::MatrixXd& R, const std::vector<int>& columns,
+                                         const Eigen::VectorXd& norms) {
   Eigen::MatrixXd scaled(R.rows(), static_cast<Eigen::Index>(columns.size()));
   for (size_t k = 0; k < columns.size(); ++k) {
     scaled.col(static_cast<Eigen::Index>(k)) = R.col(columns[k]) / norms[columns[k]];
@@ -60,8 +59,7 @@ int ConventionColumn(const Eigen::BDCSVD<Eigen::MatrixXd>& svd, double tolerance
 }  // namespace
 
 std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
-                                                    const Eigen::VectorXd& norms,
-                                                    double tolerance,
+                                                    const Eigen::VectorXd& norms, double tolerance,
                                                     const std::vector<bool>& convention) {
   std::vector<DegenerateColumn> found;
   std::vector<int> active;
@@ -151,8 +149,7 @@ UnidentifiableParameter Describe(const Problem& problem, const DegenerateColumn&
   std::vector<int> members = {degenerate.column};
   std::vector<double> ratios = {1.0};
   members.insert(members.end(), degenerate.partners.begin(), degenerate.partners.end());
-  ratios.insert(ratios.end(), degenerate.partner_ratios.begin(),
-                degenerate.partner_ratios.end());
+  ratios.insert(ratios.end(), degenerate.partner_ratios.begin(), degenerate.partner_ratios.end());
   double named_ratio = 1.0;
   for (size_t k = 0; k < members.size(); ++k) {
     if (members[k] == named) named_ratio = ratios[k];
@@ -246,9 +243,8 @@ void CheckSolveEnded(const Problem& problem, const SolverSummary& summary) {
                    "settings; nothing was written");
 }
 
-IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
-                                           HeldParameters held, const SolverMaker& make_solver,
-                                           bool warm_start) {
+IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance, HeldParameters held,
+                                           const SolverMaker& make_solver, bool warm_start) {
   IdentifiedSolve out;
   if (!held.held.empty() || !held.prior_sigma.empty()) HoldParameters(problem, held);
   // Before the solve the verdict is all that is kept; at the answer, its linearization too. A
@@ -307,8 +303,9 @@ Uncertainty ComputeUncertainty(Problem& problem) {
 
 Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) {
   if (!at.valid) {
-    throw InputError({}, "the model cannot be evaluated at the fitted values (a cost function "
-                         "failed: a pose out of reach or a non-finite value)",
+    throw InputError({},
+                     "the model cannot be evaluated at the fitted values (a cost function "
+                     "failed: a pose out of reach or a non-finite value)",
                      "Check the recording for non-finite or far-off values and the start values");
   }
   Uncertainty u;

@@ -35,9 +35,9 @@ struct EvaluationLayout {
   };
 
   std::vector<Entry> entries;
-  std::vector<EntryRange> block_entries;         // per residual block, into `entries`
-  std::vector<int> column_group;                 // per residual block
-  std::vector<std::vector<int>> group_columns;   // per group, ascending
+  std::vector<EntryRange> block_entries;        // per residual block, into `entries`
+  std::vector<int> column_group;                // per residual block
+  std::vector<std::vector<int>> group_columns;  // per group, ascending
   std::vector<int> row_start;
   std::vector<int> unit_blocks;
   std::vector<int> unit_start;   // per unit, into unit_blocks; then the end

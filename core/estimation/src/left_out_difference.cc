@@ -120,9 +120,9 @@ Eigen::VectorXd SerialVariance(const Eigen::MatrixXd& terms, int ordered, int la
   for (int l = 1; l <= lag && l < ordered; ++l) {
     const double weight = 1.0 - l / (lag + 1.0);
     const Eigen::Index span = ordered - l;
-    variance += 2.0 * weight *
-                (terms.topRows(span).cwiseProduct(terms.middleRows(l, span))).colwise().sum()
-                    .transpose();
+    variance +=
+        2.0 * weight *
+        (terms.topRows(span).cwiseProduct(terms.middleRows(l, span))).colwise().sum().transpose();
   }
   const double G = static_cast<double>(terms.rows());
   return variance * (G > 1 ? G / (G - 1) : 1.0);
@@ -130,24 +130,19 @@ Eigen::VectorXd SerialVariance(const Eigen::MatrixXd& terms, int ordered, int la
 
 }  // namespace
 
-std::vector<Eigen::VectorXd> LeftOutDifferenceVariance(const Problem& problem,
-                                                       const Linearization& at,
-                                                       const std::vector<int>& group_of_block,
-                                                       const std::vector<int>& cluster_of_block,
-                                                       const Uncertainty& full,
-                                                       const std::vector<LeftOutGroup>& left_out,
-                                                       double tolerance) {
+std::vector<Eigen::VectorXd> LeftOutDifferenceVariance(
+    const Problem& problem, const Linearization& at, const std::vector<int>& group_of_block,
+    const std::vector<int>& cluster_of_block, const Uncertainty& full,
+    const std::vector<LeftOutGroup>& left_out, double tolerance) {
   std::vector<Eigen::VectorXd> out;
   const int n = problem.num_free();
   if (!at.valid || n == 0) return out;
   const size_t blocks = problem.residual_rows().size();
   const ClusterIndex clusters = IndexClusters(cluster_of_block, blocks);
-  auto group_of = [&](size_t b) {
-    return b < group_of_block.size() ? group_of_block[b] : -1;
-  };
+  auto group_of = [&](size_t b) { return b < group_of_block.size() ? group_of_block[b] : -1; };
   Eigen::MatrixXd scores, information;
-  ScoresAndInformation(problem, at, clusters, [](size_t) { return true; }, &scores,
-                       &information);
+  ScoresAndInformation(
+      problem, at, clusters, [](size_t) { return true; }, &scores, &information);
   // B from this linearization, not the fit's own: the two turn frames about the same reference
   // rotations only where the fit's start was its answer.
   const Eigen::VectorXd full_diagonal = information.diagonal();
@@ -157,9 +152,9 @@ std::vector<Eigen::VectorXd> LeftOutDifferenceVariance(const Problem& problem,
   const Eigen::MatrixXd full_terms = scores * B;  // row k: (B s_k)^T
   for (const LeftOutGroup& g : left_out) {
     Eigen::MatrixXd group_scores, group_information;
-    ScoresAndInformation(problem, at, clusters,
-                         [&](size_t b) { return group_of(b) == g.group; }, &group_scores,
-                         &group_information);
+    ScoresAndInformation(
+        problem, at, clusters, [&](size_t b) { return group_of(b) == g.group; }, &group_scores,
+        &group_information);
     Eigen::MatrixXd rest = information - group_information;
     for (const auto& [column, sigma] : g.added_prior_sigma) {
       rest(column, column) += 1.0 / (sigma * sigma);

@@ -19,9 +19,9 @@ struct Accumulator {
   int position_dof = 0;
   int rotation_dof = 0;
   int groups = 0;
-  int fewest = 0;       // captures in the smallest group
-  int most = 0;         // and in the largest
-  bool world = false;   // a world-fixed target: every capture is one group
+  int fewest = 0;      // captures in the smallest group
+  int most = 0;        // and in the largest
+  bool world = false;  // a world-fixed target: every capture is one group
 };
 
 // Where the floor came from, in words: "spread of 3 repeated captures at each of 250 poses".
@@ -193,8 +193,8 @@ namespace {
 // `noise` for a camera whose rows carry their own covariance: sigma is what the model leaves
 // out of every row alike, the job's where it gives one, else unknown (from the residuals, less
 // the rows' mean variance); a spread of repeats or detections already holds the rows' own part.
-void MakePerRow(const Recording& recording, const std::string& camera,
-                const std::string& target, TargetNoise* noise) {
+void MakePerRow(const Recording& recording, const std::string& camera, const std::string& target,
+                TargetNoise* noise) {
   noise->per_row = true;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   int count = 0;
@@ -205,7 +205,7 @@ void MakePerRow(const Recording& recording, const std::string& camera,
   }
   if (count > 0) noise->mean_row_variance_mm2 = sum / count;
   if (noise->source != "job") {
-    *noise = TargetNoise{Eigen::Vector3d::Ones(), noise->rotation_rad, "unknown", 0, true,
+    *noise = TargetNoise{Eigen::Vector3d::Ones(),     noise->rotation_rad, "unknown", 0, true,
                          noise->mean_row_variance_mm2};
   }
 }

@@ -11,8 +11,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "block_evaluator.h"
 #include "cellmetry/estimation/shared_prediction_cost.h"
+#include "block_evaluator.h"
 #include "evaluation_layout.h"
 
 namespace cellmetry {
@@ -26,8 +26,8 @@ struct PartialSums {
   double cost = 0.0;
   Eigen::VectorXd gradient;
   Eigen::MatrixXd hessian;
-  explicit PartialSums(int n) : gradient(Eigen::VectorXd::Zero(n)),
-                                hessian(Eigen::MatrixXd::Zero(n, n)) {}
+  explicit PartialSums(int n)
+      : gradient(Eigen::VectorXd::Zero(n)), hessian(Eigen::MatrixXd::Zero(n, n)) {}
   void Add(const PartialSums& other) {
     cost += other.cost;
     gradient += other.gradient;
@@ -111,8 +111,8 @@ struct SharedSums {
 };
 
 // A^T M A and A^T v added to the unit's group (`tangent`: A, row-major, 3 x k).
-void AddSharedUnit(const double* tangent, const SharedSums& sums, int k,
-                   std::vector<double>* ma, GroupSums* group) {
+void AddSharedUnit(const double* tangent, const SharedSums& sums, int k, std::vector<double>* ma,
+                   GroupSums* group) {
   if (!group->touched) {
     group->hessian.assign(static_cast<size_t>(k) * k, 0.0);
     group->gradient.assign(k, 0.0);
@@ -156,10 +156,7 @@ void ScatterGroup(const std::vector<int>& columns, GroupSums* group, PartialSums
 class RangeSums {
  public:
   RangeSums(const BlockRegistry& registry, PartialSums* sums)
-      : registry_(registry),
-        layout_(registry.layout()),
-        sums_(sums),
-        block_(registry),
+      : registry_(registry), layout_(registry.layout()), sums_(sums), block_(registry),
         groups_(layout_.group_columns.size()) {}
   ~RangeSums() {
     for (size_t g = 0; g < groups_.size(); ++g) {

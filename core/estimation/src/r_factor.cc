@@ -14,7 +14,7 @@ namespace {
 
 // Rows that touch the same columns, gathered dense on those columns only.
 struct RowGroup {
-  std::vector<int> columns;   // ascending
+  std::vector<int> columns;  // ascending
   std::vector<int> rows;
 };
 

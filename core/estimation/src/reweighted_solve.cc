@@ -55,8 +55,7 @@ SolverSummary SolveByReweighting(Problem* problem, const ReweightedSolveOptions&
     summary.converged = true;
     summary.stop_reason = "nothing to solve: no free parameter";
   }
-  for (int iteration = 0; iteration < options.max_iterations && !summary.converged;
-       ++iteration) {
+  for (int iteration = 0; iteration < options.max_iterations && !summary.converged; ++iteration) {
     // Converged by the Gauss-Newton step's decrease, not the damped one's: after rejected
     // steps the damping shrinks the step, and with it the decrease, far from the answer. A
     // decrease below 1e-13 of the cost is below what the cost's sum resolves (tens of thousands

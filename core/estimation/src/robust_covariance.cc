@@ -55,8 +55,8 @@ std::vector<ClusterScore> ClusterScores(const Problem& problem, const Linearizat
   for (const std::vector<int>& blocks : members) {
     ClusterScore out;
     for (int b : blocks) {
-      const int end = b + 1 < static_cast<int>(rows.size()) ? rows[b + 1]
-                                                            : static_cast<int>(r.size());
+      const int end =
+          b + 1 < static_cast<int>(rows.size()) ? rows[b + 1] : static_cast<int>(r.size());
       for (int row = rows[b]; row < end; ++row) {
         for (SparseJacobian::InnerIterator e(J, row); e; ++e) {
           const int c = static_cast<int>(e.col());
@@ -167,8 +167,8 @@ ClusterRobust SerialClusterRobustCovariance(const Problem& problem, const Linear
   return out;
 }
 
-void CombineUncertainty(const Eigen::MatrixXd& cluster, const Jackknife& jackknife,
-                        Uncertainty* u, double quantile) {
+void CombineUncertainty(const Eigen::MatrixXd& cluster, const Jackknife& jackknife, Uncertainty* u,
+                        double quantile) {
   const Eigen::Index n = u->sigma.size();
   u->sigma_model = u->sigma;
   u->sigma_cluster = cluster.size() == n * n

@@ -13,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "block_evaluator.h"
 #include "cellmetry/estimation/shared_prediction_cost.h"
+#include "block_evaluator.h"
 
 namespace cellmetry {
 
@@ -95,8 +95,8 @@ void SparseEvaluator::WriteBlockRows(int k, const BlockEvaluator& block, const i
   }
 }
 
-bool SparseEvaluator::EvaluateSharedRows(int u, BlockEvaluator* block,
-                                         std::vector<double>* tangent, const Output& out) const {
+bool SparseEvaluator::EvaluateSharedRows(int u, BlockEvaluator* block, std::vector<double>* tangent,
+                                         const Output& out) const {
   const bool with_jacobian = out.column_index != nullptr || out.gram != nullptr;
   const int first = layout_.first_block(u);
   if (with_jacobian) {
@@ -120,7 +120,7 @@ bool SparseEvaluator::EvaluateSharedRows(int u, BlockEvaluator* block,
     if (!with_jacobian) continue;
     if (out.gram) information.noalias() += D.transpose() * D;
     if (out.column_index == nullptr) continue;  // the Gram rows alone
-    for (int row = 0; row < 3; ++row) {  // row `row` of D A
+    for (int row = 0; row < 3; ++row) {         // row `row` of D A
       int at = layout_.row_start[first_row + row];
       for (int j = 0; j < width; ++j) {
         out.column_index[at] = layout_.entries[entry + j].column;
@@ -133,8 +133,8 @@ bool SparseEvaluator::EvaluateSharedRows(int u, BlockEvaluator* block,
   return true;
 }
 
-void SparseEvaluator::AddGramRows(int u, const Eigen::Matrix3d& information,
-                                  const double* tangent, int width, const Output& out) const {
+void SparseEvaluator::AddGramRows(int u, const Eigen::Matrix3d& information, const double* tangent,
+                                  int width, const Output& out) const {
   // L^T with L L^T = information; its symmetric square root where rounding left it not
   // positive definite (a unit's rows then span fewer than three directions).
   Eigen::Matrix3d L_t;

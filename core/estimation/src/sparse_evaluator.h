@@ -65,8 +65,8 @@ class SparseEvaluator {
                           const Output& out) const;
   // Residual block k's Jacobian rows, as `block` holds them, into compressed rows at its free
   // columns: row i's entries from row_start[i].
-  void WriteBlockRows(int k, const BlockEvaluator& block, const int* row_start,
-                      int* column_index, double* entries) const;
+  void WriteBlockRows(int k, const BlockEvaluator& block, const int* row_start, int* column_index,
+                      double* entries) const;
   // The 3 Gram rows L^T A of unit u (L L^T = `information`, A = `tangent`, 3 x width row-major
   // at the unit's free columns).
   void AddGramRows(int u, const Eigen::Matrix3d& information, const double* tangent, int width,

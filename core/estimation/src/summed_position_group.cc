@@ -27,11 +27,8 @@ std::unique_ptr<SummedPositionGroup> SummedPositionGroup::Make(
 
 SummedPositionGroup::SummedPositionGroup(const SharedPredictionCost* first,
                                          const Eigen::Vector3d& weight_sum,
-                                         const Eigen::Vector3d& mean,
-                                         double constant_squared_norm)
-    : first_(first),
-      sqrt_weight_(weight_sum.cwiseSqrt()),
-      mean_(mean),
+                                         const Eigen::Vector3d& mean, double constant_squared_norm)
+    : first_(first), sqrt_weight_(weight_sum.cwiseSqrt()), mean_(mean),
       constant_squared_norm_(constant_squared_norm) {
   set_num_residuals(3);
   *mutable_parameter_block_sizes() = first_->parameter_block_sizes();

@@ -18,27 +18,31 @@ CalibratedRobot ReadRobot(const ResultRobotModel& recorded, const std::string& j
   robot.name = recorded.robot;
   robot.model_file = recorded.model_file;
   if (recorded.model_config.empty()) {
-    throw InputError({json_path, 0, 0}, "the result does not record the config of robot '" +
-                     robot.name + "' (the job was built in memory)", kRerun);
+    throw InputError({json_path, 0, 0},
+                     "the result does not record the config of robot '" + robot.name +
+                         "' (the job was built in memory)",
+                     kRerun);
   }
   // Named after the config file itself: paths it holds (a urdf robot's `file:`) resolve against
   // its folder, as they did in the run, not against the result's.
-  robot.model_config = std::make_shared<ConfigNode>(
-      ConfigNode::LoadString(recorded.model_config, robot.model_file));
+  robot.model_config =
+      std::make_shared<ConfigNode>(ConfigNode::LoadString(recorded.model_config, robot.model_file));
   robot.model_type = (*robot.model_config)["type"].AsString();
   robot.model = registry.CreateRobotModel(robot.model_type, *robot.model_config);
   const auto& parameters = robot.model->parameters();
   const auto& values = recorded.model_values;
   if (values.size() != parameters.size()) {
-    throw InputError({json_path, 0, 0}, "robot '" + robot.name + "' records " +
-                     std::to_string(values.size()) + " model values, its model '" +
-                     robot.model_type + "' has " + std::to_string(parameters.size()) +
-                     " parameters", "The plugin changed since the run. " + std::string(kRerun));
+    throw InputError({json_path, 0, 0},
+                     "robot '" + robot.name + "' records " + std::to_string(values.size()) +
+                         " model values, its model '" + robot.model_type + "' has " +
+                         std::to_string(parameters.size()) + " parameters",
+                     "The plugin changed since the run. " + std::string(kRerun));
   }
   for (size_t i = 0; i < parameters.size(); ++i) {
     if (values[i].first != parameters[i].name) {
-      throw InputError({json_path, 0, 0}, "robot '" + robot.name + "' records model value '" +
-                       values[i].first + "' where its model has '" + parameters[i].name + "'",
+      throw InputError({json_path, 0, 0},
+                       "robot '" + robot.name + "' records model value '" + values[i].first +
+                           "' where its model has '" + parameters[i].name + "'",
                        "The plugin changed since the run. " + std::string(kRerun));
     }
     robot.values.push_back(values[i].second);
@@ -89,8 +93,10 @@ CalibratedEffect ReadEffect(const ResultEffect& recorded, const CalibratedCell& 
   const auto robot = std::find_if(cell.robots.begin(), cell.robots.end(),
                                   [&](const CalibratedRobot& r) { return r.name == e.robot; });
   if (robot == cell.robots.end()) {
-    throw InputError({cell.json_path, 0, 0}, "effect '" + e.name + "' is recorded on robot '" +
-                     e.robot + "', which the result does not have", kRerun);
+    throw InputError({cell.json_path, 0, 0},
+                     "effect '" + e.name + "' is recorded on robot '" + e.robot +
+                         "', which the result does not have",
+                     kRerun);
   }
   const ConfigNode node = ConfigNode::LoadString(
       recorded.config, "effect '" + e.name + "' as recorded in " + cell.json_path);
@@ -98,8 +104,9 @@ CalibratedEffect ReadEffect(const ResultEffect& recorded, const CalibratedCell& 
   for (const Parameter& p : e.effect->parameters()) {
     const FittedScalar* fitted = FindScalar(cell, e.name + "." + p.name);
     if (!fitted) {
-      throw InputError({cell.json_path, 0, 0}, "effect '" + e.name + "' has no value for '" +
-                       p.name + "' in model_parameters", kRerun);
+      throw InputError(
+          {cell.json_path, 0, 0},
+          "effect '" + e.name + "' has no value for '" + p.name + "' in model_parameters", kRerun);
     }
     e.parameters.push_back(*fitted);
   }
@@ -116,9 +123,10 @@ ParameterCovariance Covariance(const WorkcellResultFile& result) {
   if (static_cast<int>(sigma.size()) != n || static_cast<int>(correlation.size()) != n) return c;
   for (int a = 0; a < n; ++a) {
     if (static_cast<int>(correlation[a].size()) != n) {
-      throw InputError({result.path, 0, 0}, "malformed result: correlation[" +
-                       std::to_string(a) + "] has " + std::to_string(correlation[a].size()) +
-                       " entries for " + std::to_string(n) + " free parameters",
+      throw InputError({result.path, 0, 0},
+                       "malformed result: correlation[" + std::to_string(a) + "] has " +
+                           std::to_string(correlation[a].size()) + " entries for " +
+                           std::to_string(n) + " free parameters",
                        "Give the folder `cellmetry run` wrote, unedited");
     }
     for (int b = 0; b < n; ++b) c.covariance(a, b) = sigma[a] * sigma[b] * correlation[a][b];
@@ -147,8 +155,10 @@ CalibratedCell ReadCalibratedCell(const std::string& result_folder, const Regist
   cell.frames = result.frames;
   if (!result.records_robots) {
     // Every workcell has a robot; a result without this section predates it.
-    throw InputError({cell.json_path, 0, 0}, "the result does not record its robots' models "
-                     "(written by an older cellmetry)", kRerun);
+    throw InputError({cell.json_path, 0, 0},
+                     "the result does not record its robots' models "
+                     "(written by an older cellmetry)",
+                     kRerun);
   }
   for (const ResultRobotModel& robot : result.robots) {
     cell.robots.push_back(ReadRobot(robot, cell.json_path, registry));

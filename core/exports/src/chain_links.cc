@@ -17,8 +17,9 @@ LinkJoint ChainJoint(const CalibratedRobot& robot, const SerialChain& chain, siz
   const RobotLimits& limits = robot.model->limits();
   if (index < limits.joint_min_rad.size() && index < limits.joint_max_rad.size()) {
     joint.limit = NamedJointLimit{limits.joint_min_rad[index], limits.joint_max_rad[index], 0, 0};
-    joint.limit_comment = "limits from the robot config; effort and velocity unknown to "
-                          "cellmetry: set the robot's own";
+    joint.limit_comment =
+        "limits from the robot config; effort and velocity unknown to "
+        "cellmetry: set the robot's own";
   }
   return joint;
 }

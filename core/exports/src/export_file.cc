@@ -23,7 +23,8 @@ bool Exists(const std::string& path) {
 void CheckPreviousSlot(const std::string& path) {
   const std::string previous = path + ".previous";
   if (!Exists(previous) || IsCellmetryExport(previous)) return;
-  throw InputError({previous, 0, 0}, "the file that keeps the replaced export is not one "
+  throw InputError({previous, 0, 0},
+                   "the file that keeps the replaced export is not one "
                    "cellmetry wrote; it is left as it is",
                    "Move it away, or " + std::string(kElsewhere));
 }
@@ -47,10 +48,16 @@ void CheckExportTarget(const std::string& path, bool overwrite) {
     throw InputError({path, 0, 0}, "the export path is not a file (a folder?)", kElsewhere);
   }
   if (!IsCellmetryExport(path) && !overwrite) {
-    throw InputError({path, 0, 0}, "the file exists and was not written by `cellmetry export` "
-                     "(no '" + std::string(kExportMarker) + "' in its first lines); it is left "
-                     "as it is", std::string(kElsewhere) + ", or give --overwrite to replace it "
-                     "(it is then kept as " + path + ".previous)");
+    throw InputError({path, 0, 0},
+                     "the file exists and was not written by `cellmetry export` "
+                     "(no '" +
+                         std::string(kExportMarker) +
+                         "' in its first lines); it is left "
+                         "as it is",
+                     std::string(kElsewhere) +
+                         ", or give --overwrite to replace it "
+                         "(it is then kept as " +
+                         path + ".previous)");
   }
   CheckPreviousSlot(path);
 }

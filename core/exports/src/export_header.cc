@@ -8,15 +8,15 @@
 namespace cellmetry {
 
 std::vector<std::string> ExportHeader(const CalibratedCell& cell, const std::string& format,
-                                      const CalibratedRobot* robot,
-                                      const std::string& command) {
+                                      const CalibratedRobot* robot, const std::string& command) {
   std::vector<std::string> lines = {std::string(kExportMarker) + ": " + format + " of " +
                                     cell.json_path};
   if (robot) {
     lines.push_back("robot '" + robot->name + "': model " + robot->model_type + ", config " +
                     robot->model_file + " at the values the result fitted");
   }
-  lines.push_back("A later `" + command + "` to this path replaces this file and keeps it as "
+  lines.push_back("A later `" + command +
+                  "` to this path replaces this file and keeps it as "
                   "<file>.previous.");
   return lines;
 }
@@ -26,8 +26,7 @@ std::string ValueWithSigma(const FittedScalar& s) {
   if (s.sigma) {
     std::snprintf(text, sizeof text, "%.9g +- %.2g %s", s.value, *s.sigma, s.unit.c_str());
   } else {
-    std::snprintf(text, sizeof text, "%.9g %s (held: not identifiable)", s.value,
-                  s.unit.c_str());
+    std::snprintf(text, sizeof text, "%.9g %s (held: not identifiable)", s.value, s.unit.c_str());
   }
   return text;
 }

@@ -26,8 +26,7 @@ ExportFormat ParseExportFormat(const std::string& name, const std::string& where
 
 std::string ExportText(const CalibratedCell& cell, ExportFormat format, const std::string& robot,
                        const Registry& registry, ExportNaming naming) {
-  if (naming == ExportNaming::kUr && format != ExportFormat::kUrdf &&
-      format != ExportFormat::kTf) {
+  if (naming == ExportNaming::kUr && format != ExportFormat::kUrdf && format != ExportFormat::kTf) {
     throw InputError({"--names", 0, 0}, "--names ur applies to --format urdf and tf",
                      "Leave out --names (the ur format has ur_description's names already)");
   }

@@ -26,9 +26,10 @@ void CheckAgainstForward(const CalibratedRobot& robot, const std::string& what,
     const double mm = (got.t - expected.t).norm();
     const double rad = RotationError(got.R, expected.R).norm();
     if (!(mm <= 1e-9) || !(rad <= 1e-12)) {
-      throw std::logic_error("robot model " + robot.model_type + "'s " + what + " misses its "
-                             "forward kinematics by " + std::to_string(mm) + " mm, " +
-                             std::to_string(rad) + " rad");
+      throw std::logic_error("robot model " + robot.model_type + "'s " + what +
+                             " misses its "
+                             "forward kinematics by " +
+                             std::to_string(mm) + " mm, " + std::to_string(rad) + " rad");
     }
   }
 }
@@ -39,9 +40,10 @@ SerialChain CalibratedChain(const CalibratedCell& cell, const CalibratedRobot& r
                             const std::string& format) {
   SerialChain chain;
   if (!robot.model->AsSerialChain(robot.values.data(), &chain)) {
-    throw InputError({cell.json_path, 0, 0}, "robot '" + robot.name + "' (model " +
-                     robot.model_type + ") is not a serial chain of revolute joints, which " +
-                     format + " describes",
+    throw InputError({cell.json_path, 0, 0},
+                     "robot '" + robot.name + "' (model " + robot.model_type +
+                         ") is not a serial chain of revolute joints, which " + format +
+                         " describes",
                      "Export it with --format robot (its calibrated config) or --format tf "
                      "(its frames)");
   }

@@ -42,9 +42,8 @@ RosPose ToRos(const Pose& T) {
 std::string PoseArguments(const Pose& T) {
   const RosPose p = ToRos(T);
   return "--x " + ExactNumber(p.m.x()) + " --y " + ExactNumber(p.m.y()) + " --z " +
-         ExactNumber(p.m.z()) + " --qx " + ExactNumber(p.q.x()) + " --qy " +
-         ExactNumber(p.q.y()) + " --qz " + ExactNumber(p.q.z()) + " --qw " +
-         ExactNumber(p.q.w());
+         ExactNumber(p.m.z()) + " --qx " + ExactNumber(p.q.x()) + " --qy " + ExactNumber(p.q.y()) +
+         " --qz " + ExactNumber(p.q.z()) + " --qw " + ExactNumber(p.q.w());
 }
 
 // "xyz (m) = (..), quaternion (x y z w) = (..)" for comments (which cannot hold "--").
@@ -93,7 +92,8 @@ std::vector<std::string> RobotToRobot(const CalibratedCell& cell) {
       lines.push_back(RosFrameName(base_b->name) + " in " + RosFrameName(base_a->name) + ": " +
                       PoseText(relative.T_a_b));
       lines.push_back("  sigma xyz " + SigmaText(relative.covariance, 0) + " mm, rot " +
-                      SigmaText(relative.covariance, 3) + " rad (first order, with the bases' "
+                      SigmaText(relative.covariance, 3) +
+                      " rad (first order, with the bases' "
                       "correlation)");
     }
   }
@@ -109,7 +109,7 @@ struct RosFrame {
 };
 
 std::vector<RosFrame> RosFrames(const CalibratedCell& cell, const std::string& ur_robot) {
-  std::map<std::string, std::string> names;  // cellmetry frame -> ROS frame
+  std::map<std::string, std::string> names;      // cellmetry frame -> ROS frame
   std::map<std::string, Pose> T_base_link_base;  // cellmetry base frame -> where it is in its link
   for (const CalibratedRobot& robot : cell.robots) {
     const ExportNaming naming = robot.name == ur_robot ? ExportNaming::kUr : ExportNaming::kModel;
@@ -137,12 +137,14 @@ std::vector<RosFrame> RosFrames(const CalibratedCell& cell, const std::string& u
 std::string TfLaunchExport(const CalibratedCell& cell, const std::string& ur_robot) {
   std::vector<std::string> header = ExportHeader(cell, "tf", nullptr);
   header.push_back("");
-  header.push_back("ROS 2 static transforms of every frame the result identified: "
-                   "`ros2 launch <this file>`. Metres, unit quaternions.");
-  header.push_back("Bases and tools hang from the links of the urdf export with the same "
-                   "--names (robot_state_publisher moves them): <robot>_base and "
-                   "<robot>_flange, a urdf robot's own base and tip links, or base_link and "
-                   "tool0 with --names ur.");
+  header.push_back(
+      "ROS 2 static transforms of every frame the result identified: "
+      "`ros2 launch <this file>`. Metres, unit quaternions.");
+  header.push_back(
+      "Bases and tools hang from the links of the urdf export with the same "
+      "--names (robot_state_publisher moves them): <robot>_base and "
+      "<robot>_flange, a urdf robot's own base and tip links, or base_link and "
+      "tool0 with --names ur.");
   std::ostringstream out;
   out << "<?xml version=\"1.0\"?>\n" << XmlComment(header, "") << "<launch>\n";
   const std::vector<RosFrame> ros_frames = RosFrames(cell, ur_robot);
@@ -156,8 +158,9 @@ std::string TfLaunchExport(const CalibratedCell& cell, const std::string& ur_rob
   }
   const std::vector<std::string> relative = RobotToRobot(cell);
   if (!relative.empty()) {
-    std::vector<std::string> lines = {"Robot to robot (not published: each base already hangs "
-                                      "from the world, and a tf frame has one parent):"};
+    std::vector<std::string> lines = {
+        "Robot to robot (not published: each base already hangs "
+        "from the world, and a tf frame has one parent):"};
     lines.insert(lines.end(), relative.begin(), relative.end());
     out << XmlComment(lines, "  ");
   }

@@ -19,8 +19,8 @@ std::string XyzRpyText(const Pose& T) {
   const RollPitchYawAngles a = RollPitchYaw(T.R);
   const Eigen::Vector3d m = T.t / 1000.0;
   return "xyz=\"" + ExactNumber(m.x()) + " " + ExactNumber(m.y()) + " " + ExactNumber(m.z()) +
-         "\" rpy=\"" + ExactNumber(a.roll) + " " + ExactNumber(a.pitch) + " " +
-         ExactNumber(a.yaw) + "\"";
+         "\" rpy=\"" + ExactNumber(a.roll) + " " + ExactNumber(a.pitch) + " " + ExactNumber(a.yaw) +
+         "\"";
 }
 
 // FNV-1a, 64 bit: a stable name for these numbers.
@@ -39,16 +39,20 @@ std::vector<std::string> Comment(const CalibratedCell& cell, const CalibratedRob
                                  const SerialChain& chain) {
   std::vector<std::string> lines = ExportHeader(cell, "ur", &robot);
   lines.push_back("");
-  lines.push_back("Universal Robots' kinematics file for ur_description (kinematics_params_file:="
-                  "this file); metres, radians; section i is joint i's URDF origin, the joint's "
-                  "zero offset folded in, so joint values are the controller's readings.");
-  lines.push_back("hash: the UR driver compares it with the controller's own calibration and "
-                  "logs a mismatch; expected, since this is cellmetry's calibration.");
+  lines.push_back(
+      "Universal Robots' kinematics file for ur_description (kinematics_params_file:="
+      "this file); metres, radians; section i is joint i's URDF origin, the joint's "
+      "zero offset folded in, so joint values are the controller's readings.");
+  lines.push_back(
+      "hash: the UR driver compares it with the controller's own calibration and "
+      "logs a mismatch; expected, since this is cellmetry's calibration.");
   if (const CalibratedFrame* base = FindFrame(cell, robot.name + ".base")) {
     // ur_description: base_link -> base is a turn by pi about z, and `base` is the robot's Base.
     const Pose T_world_base_link = base->T_parent_frame * TurnAboutZ(M_PI);
-    lines.push_back("The base in the world, as the <origin> of ur_description's base_joint "
-                    "(parent -> base_link): " + XyzRpyText(T_world_base_link));
+    lines.push_back(
+        "The base in the world, as the <origin> of ur_description's base_joint "
+        "(parent -> base_link): " +
+        XyzRpyText(T_world_base_link));
     lines.push_back("  " + FrameSigmaText(*base));
   }
   for (const auto& frame : cell.frames) {
@@ -79,13 +83,18 @@ bool OnLastAxis(const Pose& T_last_joint_flange) {
 std::string UrKinematicsExport(const CalibratedCell& cell, const CalibratedRobot& robot) {
   SerialChain chain = CalibratedChain(cell, robot, "Universal Robots' kinematics file");
   if (chain.T_parent_joint.size() != 6) {
-    throw InputError({cell.json_path, 0, 0}, "robot '" + robot.name + "' has " +
-                     std::to_string(chain.T_parent_joint.size()) + " joints; Universal Robots' "
-                     "kinematics file describes six", "Export it with --format urdf");
+    throw InputError({cell.json_path, 0, 0},
+                     "robot '" + robot.name + "' has " +
+                         std::to_string(chain.T_parent_joint.size()) +
+                         " joints; Universal Robots' "
+                         "kinematics file describes six",
+                     "Export it with --format urdf");
   }
   if (!OnLastAxis(chain.T_last_joint_flange)) {
-    throw InputError({cell.json_path, 0, 0}, "the flange of robot '" + robot.name + "' is not "
-                     "on its last joint's axis, where ur_description puts tool0",
+    throw InputError({cell.json_path, 0, 0},
+                     "the flange of robot '" + robot.name +
+                         "' is not "
+                         "on its last joint's axis, where ur_description puts tool0",
                      "Export it with --format urdf");
   }
   // A turn about and a shift along the last axis commute with the joint: fold them into wrist_3.
@@ -99,12 +108,11 @@ std::string UrKinematicsExport(const CalibratedCell& cell, const CalibratedRobot
     body << "  " << kUrKinematicsSections[i] << ":\n"
          << "    x: " << ExactNumber(m.x()) << "\n    y: " << ExactNumber(m.y())
          << "\n    z: " << ExactNumber(m.z()) << "\n    roll: " << ExactNumber(a.roll)
-         << "\n    pitch: " << ExactNumber(a.pitch) << "\n    yaw: " << ExactNumber(a.yaw)
-         << "\n";
+         << "\n    pitch: " << ExactNumber(a.pitch) << "\n    yaw: " << ExactNumber(a.yaw) << "\n";
   }
   const std::string numbers = body.str();
-  return CommentLines(Comment(cell, robot, chain), "# ") + numbers +
-         "  hash: calib_cellmetry_" + Hash(numbers) + "\n";
+  return CommentLines(Comment(cell, robot, chain), "# ") + numbers + "  hash: calib_cellmetry_" +
+         Hash(numbers) + "\n";
 }
 
 }  // namespace cellmetry

@@ -56,13 +56,13 @@ void CheckUrArm(const CalibratedCell& cell, const CalibratedRobot& robot) {
   SerialChain chain;
   const bool serial = robot.model->AsSerialChain(robot.values.data(), &chain);
   if (serial && robot.model->num_joints() == 6) return;
-  throw InputError({cell.json_path, 0, 0},
-                   "--names ur names a six-joint serial arm as ur_description does; robot '" +
-                       robot.name + "' (model " + robot.model_type + ") is " +
-                       (serial ? "a chain of " + std::to_string(robot.model->num_joints()) +
-                                     " joints"
-                               : "not a serial chain"),
-                   "Leave out --names ur (or give --names model)");
+  throw InputError(
+      {cell.json_path, 0, 0},
+      "--names ur names a six-joint serial arm as ur_description does; robot '" + robot.name +
+          "' (model " + robot.model_type + ") is " +
+          (serial ? "a chain of " + std::to_string(robot.model->num_joints()) + " joints"
+                  : "not a serial chain"),
+      "Leave out --names ur (or give --names model)");
 }
 
 RobotLinks UrLinks(const CalibratedRobot& robot, const SerialChain* chain) {
@@ -72,8 +72,8 @@ RobotLinks UrLinks(const CalibratedRobot& robot, const SerialChain* chain) {
   links.T_base_link_base = Rotation(0, 0, M_PI);
   links.flange_link = "tool0";
   if (!chain) return links;
-  links.joints.push_back(Fixed("base_link-base_link_inertia", "base_link", "base_link_inertia",
-                               Rotation(0, 0, M_PI)));
+  links.joints.push_back(
+      Fixed("base_link-base_link_inertia", "base_link", "base_link_inertia", Rotation(0, 0, M_PI)));
   links.joints.push_back(
       Fixed("base_link-base_fixed_joint", "base_link", "base", Rotation(0, 0, M_PI)));
   for (size_t i = 0; i < 6; ++i) {

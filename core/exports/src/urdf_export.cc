@@ -30,16 +30,19 @@ std::vector<std::string> Comment(const CalibratedCell& cell, const CalibratedRob
                                  const SerialChain& chain) {
   std::vector<std::string> lines = ExportHeader(cell, "urdf", &robot);
   lines.push_back("");
-  lines.push_back("Metres, radians. Each movable joint turns about its axis by the "
-                  "controller's reading; its origin is the calibrated geometry with the joint's "
-                  "zero offset folded in (a rotation about that axis before the joint), so "
-                  "joint values are the readings as the controller reports them.");
-  lines.push_back("Kinematics only: no inertia, visuals, collision shapes or effort and "
-                  "velocity limits (cellmetry does not measure them).");
+  lines.push_back(
+      "Metres, radians. Each movable joint turns about its axis by the "
+      "controller's reading; its origin is the calibrated geometry with the joint's "
+      "zero offset folded in (a rotation about that axis before the joint), so "
+      "joint values are the readings as the controller reports them.");
+  lines.push_back(
+      "Kinematics only: no inertia, visuals, collision shapes or effort and "
+      "velocity limits (cellmetry does not measure them).");
   const std::vector<std::string> left_out = LeftOut(cell, robot, chain.not_expressible);
-  lines.push_back("Not in this file (a URDF cannot hold it): the sigma of every number below, "
-                  "and their correlations (result.json)" +
-                  std::string(left_out.empty() ? "." : "; and"));
+  lines.push_back(
+      "Not in this file (a URDF cannot hold it): the sigma of every number below, "
+      "and their correlations (result.json)" +
+      std::string(left_out.empty() ? "." : "; and"));
   for (const auto& line : left_out) lines.push_back("  " + line);
   if (!robot.fitted.empty()) {
     lines.push_back("Fitted model parameters (" + robot.model_type + "):");
@@ -65,9 +68,8 @@ void RobotJoint(const LinkJoint& joint, std::ostream& out) {
   if (joint.limit) {
     if (!joint.limit_comment.empty()) out << "    <!-- " << joint.limit_comment << " -->\n";
     out << "    <limit lower=\"" << ExactNumber(joint.limit->lower_rad) << "\" upper=\""
-        << ExactNumber(joint.limit->upper_rad) << "\" effort=\""
-        << ExactNumber(joint.limit->effort) << "\" velocity=\""
-        << ExactNumber(joint.limit->velocity) << "\"/>\n";
+        << ExactNumber(joint.limit->upper_rad) << "\" effort=\"" << ExactNumber(joint.limit->effort)
+        << "\" velocity=\"" << ExactNumber(joint.limit->velocity) << "\"/>\n";
   }
   out << "  </joint>\n";
 }

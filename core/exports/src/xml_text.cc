@@ -24,8 +24,8 @@ std::string UrdfOrigin(const Pose& T) {
   const RollPitchYawAngles a = RollPitchYaw(T.R);
   const Eigen::Vector3d m = T.t / 1000.0;
   return "<origin xyz=\"" + ExactNumber(m.x()) + " " + ExactNumber(m.y()) + " " +
-         ExactNumber(m.z()) + "\" rpy=\"" + ExactNumber(a.roll) + " " + ExactNumber(a.pitch) +
-         " " + ExactNumber(a.yaw) + "\"/>";
+         ExactNumber(m.z()) + "\" rpy=\"" + ExactNumber(a.roll) + " " + ExactNumber(a.pitch) + " " +
+         ExactNumber(a.yaw) + "\"/>";
 }
 
 }  // namespace cellmetry

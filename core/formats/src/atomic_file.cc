@@ -148,8 +148,10 @@ void CheckReplaceable(const std::string& path, const std::string& kind) {
   if (!fs::exists(status)) return;
   const std::string keep = "Choose another output folder (output: in the job, or -o)";
   if (!fs::is_directory(status)) {
-    throw InputError({target, 0, 0}, "the output path is an existing file; cellmetry writes a "
-                     "folder there and would replace it", keep);
+    throw InputError({target, 0, 0},
+                     "the output path is an existing file; cellmetry writes a "
+                     "folder there and would replace it",
+                     keep);
   }
   const fs::path absolute = fs::weakly_canonical(target, ec);
   if (Contains(absolute, fs::current_path(ec))) {
@@ -158,21 +160,29 @@ void CheckReplaceable(const std::string& path, const std::string& kind) {
   const Marker marker = ReadMarker(target);
   const std::string& found = marker.kind;
   if (found.empty() && !OnlyCellmetryOutput(target)) {
-    throw InputError({target, 0, 0}, "the output folder exists and was not written by cellmetry "
-                     "(no " + std::string(kOutputMarker) + " in it); it is left as it is",
+    throw InputError({target, 0, 0},
+                     "the output folder exists and was not written by cellmetry "
+                     "(no " +
+                         std::string(kOutputMarker) + " in it); it is left as it is",
                      keep + ", or remove it yourself (an older cellmetry's output too)");
   }
   if (!found.empty() && found != kind) {
-    throw InputError({target, 0, 0}, "the output folder holds a cellmetry " + found +
-                     ", which a " + kind + " would replace", keep);
+    throw InputError(
+        {target, 0, 0},
+        "the output folder holds a cellmetry " + found + ", which a " + kind + " would replace",
+        keep);
   }
   if (const std::string foreign = ForeignEntry(target, marker); !foreign.empty()) {
-    throw InputError({target, 0, 0}, "the output folder holds '" + foreign + "', which cellmetry "
-                     "did not write; replacing the folder would move it to " +
-                     fs::path(target).filename().string() + ".previous, and the run after "
-                     "would delete it",
-                     "Move '" + foreign + "' out of the folder, or choose another output folder "
-                     "(output: in the job, or -o)");
+    throw InputError({target, 0, 0},
+                     "the output folder holds '" + foreign +
+                         "', which cellmetry "
+                         "did not write; replacing the folder would move it to " +
+                         fs::path(target).filename().string() +
+                         ".previous, and the run after "
+                         "would delete it",
+                     "Move '" + foreign +
+                         "' out of the folder, or choose another output folder "
+                         "(output: in the job, or -o)");
   }
   CheckReplaceable(target + ".previous", kind);  // where the replaced one will go
 }

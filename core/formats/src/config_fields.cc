@@ -34,10 +34,10 @@ Pose ReadPose(const ConfigNode& node) {
     pose.t = Eigen::Vector3d(v[0], v[1], v[2]);
   }
   if (node.Has("rvec")) {
-    const auto v = ThreeWithin(node, "rvec", 10.0,
-                               "longer than any rotation vector (|value| <= 10 rad)",
-                               "Give the rotation vector in rad: its length is the angle, at "
-                               "most pi");
+    const auto v =
+        ThreeWithin(node, "rvec", 10.0, "longer than any rotation vector (|value| <= 10 rad)",
+                    "Give the rotation vector in rad: its length is the angle, at "
+                    "most pi");
     const Eigen::Vector3d rvec(v[0], v[1], v[2]);
     pose.R = RotationFromRvec(rvec.data());
   }

@@ -37,8 +37,8 @@ std::string Describe(const YAML::Node& node) {
   if (node.IsSequence()) return "a list";
   // A whole CSV given as a YAML file is one scalar: quoted in full it made a line of kilobytes.
   const std::string& text = node.Scalar();
-  if (text.size() > 60) return "'" + text.substr(0, 40) + "...' (" + std::to_string(text.size()) +
-                               " characters)";
+  if (text.size() > 60)
+    return "'" + text.substr(0, 40) + "...' (" + std::to_string(text.size()) + " characters)";
   return "'" + text + "'";
 }
 
@@ -87,12 +87,12 @@ struct NodeBudget {
   void Visit(const YAML::Node& node) {
     if (++visited <= kMaxYamlNodes) return;
     const YAML::Mark mark = node.Mark();
-    throw InputError({origin, mark.is_null() ? 0 : mark.line + 1,
-                      mark.is_null() ? 0 : mark.column + 1},
-                     "more than " + std::to_string(kMaxYamlNodes) +
-                         " values once anchors (&) and aliases (*) are expanded",
-                     "Write the values out, or use fewer aliases: a cellmetry file holds a "
-                     "few hundred values");
+    throw InputError(
+        {origin, mark.is_null() ? 0 : mark.line + 1, mark.is_null() ? 0 : mark.column + 1},
+        "more than " + std::to_string(kMaxYamlNodes) +
+            " values once anchors (&) and aliases (*) are expanded",
+        "Write the values out, or use fewer aliases: a cellmetry file holds a "
+        "few hundred values");
   }
 };
 
@@ -107,11 +107,11 @@ void RefuseDuplicateKeys(const YAML::Node& node, NodeBudget& budget, int depth =
   budget.Visit(node);
   if (depth > kMaxYamlDepth) {
     const YAML::Mark mark = node.Mark();
-    throw InputError({budget.origin, mark.is_null() ? 0 : mark.line + 1,
-                      mark.is_null() ? 0 : mark.column + 1},
-                     "values nested more than " + std::to_string(kMaxYamlDepth) +
-                         " deep (or an alias (*) inside its own anchor (&))",
-                     "Write the values out: a cellmetry file nests a few levels");
+    throw InputError(
+        {budget.origin, mark.is_null() ? 0 : mark.line + 1, mark.is_null() ? 0 : mark.column + 1},
+        "values nested more than " + std::to_string(kMaxYamlDepth) +
+            " deep (or an alias (*) inside its own anchor (&))",
+        "Write the values out: a cellmetry file nests a few levels");
   }
   if (node.IsSequence()) {
     for (const auto& element : node) RefuseDuplicateKeys(element, budget, depth + 1);
@@ -229,9 +229,8 @@ InputError ConfigNode::Error(const std::string& what, const std::string& hint) c
   // Readers quote a value whole ("unknown solver type '...'"). A path is quoted whole, as the
   // user must find it; a value longer than any path (PATH_MAX) is cut to 80 characters.
   constexpr size_t kLongestPath = 4096;
-  const std::string said = node_ && node_.IsScalar()
-                               ? WithTextShortened(what, node_.Scalar(), kLongestPath)
-                               : what;
+  const std::string said =
+      node_ && node_.IsScalar() ? WithTextShortened(what, node_.Scalar(), kLongestPath) : what;
   return InputError(location(), (key_path_.empty() ? "" : key_path_ + ": ") + said, hint);
 }
 
@@ -289,11 +288,11 @@ void ConfigNode::ExpectKeys(const std::vector<std::string>& allowed) const {
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
     const std::string nearest = NearestWord(key, allowed);
     const YAML::Mark mark = entry.first.Mark();
-    const std::string hint = nearest.empty() ? "Known keys: " + Join(allowed)
-                                             : "Did you mean '" + nearest + "'? Known keys: " +
-                                                   Join(allowed);
-    throw InputError({file_, mark.line + 1, mark.column + 1},
-                     ChildPath(key) + ": unknown key", hint);
+    const std::string hint = nearest.empty()
+                                 ? "Known keys: " + Join(allowed)
+                                 : "Did you mean '" + nearest + "'? Known keys: " + Join(allowed);
+    throw InputError({file_, mark.line + 1, mark.column + 1}, ChildPath(key) + ": unknown key",
+                     hint);
   }
 }
 
@@ -361,7 +360,7 @@ double ConfigNode::GetDoubleIn(const std::string& key, double fallback, double l
   if (!(value >= lo && value <= hi)) {
     char range[96];
     std::snprintf(range, sizeof(range), "must be between %g and %g", lo, hi);
-    throw (*this)[key].Error(range, hint);
+    throw(*this)[key].Error(range, hint);
   }
   return value;
 }
@@ -370,8 +369,8 @@ int ConfigNode::GetIntIn(const std::string& key, int fallback, int lo, int hi,
   if (!Has(key)) return fallback;
   const int value = (*this)[key].AsInt();
   if (value < lo || value > hi) {
-    throw (*this)[key].Error("must be between " + std::to_string(lo) + " and " +
-                             std::to_string(hi), hint);
+    throw(*this)[key].Error("must be between " + std::to_string(lo) + " and " + std::to_string(hi),
+                            hint);
   }
   return value;
 }

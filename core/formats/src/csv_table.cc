@@ -66,8 +66,8 @@ size_t CountContentLines(const std::string& path, std::uintmax_t max_bytes) {
     in.clear();
     in.seekg(0);
   }
-  while (total <= max_bytes && (in.read(buffer.data(), static_cast<std::streamsize>(
-                                    buffer.size())) || in.gcount() > 0)) {
+  while (total <= max_bytes &&
+         (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0)) {
     const size_t n = static_cast<size_t>(in.gcount());
     total += n;
     for (size_t i = 0; i < n; ++i) {
@@ -137,10 +137,9 @@ InputError CsvColumns::CellError(int line, const std::vector<std::string>& cells
                                  const std::string& hint) const {
   const auto index = ColumnIndex(column);
   // Readers quote a text cell whole ("unknown camera '...'"): a 10 MB cell stays 80 characters.
-  return InputError({path_, line, index ? static_cast<int>(*index + 1) : 0},
-                    "column '" + column + "': " +
-                        (index ? WithTextShortened(what, cells[*index]) : what),
-                    hint);
+  return InputError(
+      {path_, line, index ? static_cast<int>(*index + 1) : 0},
+      "column '" + column + "': " + (index ? WithTextShortened(what, cells[*index]) : what), hint);
 }
 
 std::string CsvColumns::CellText(int line, const std::vector<std::string>& cells,
@@ -308,8 +307,8 @@ bool CsvRows::Next() {
     if (SkippedLine(text)) continue;
     // A file that grows after its rows were counted stops at the limit all the same.
     if (++rows_read_ > max_rows_) {
-      throw InputError({path_, line_, 0}, "grew beyond " + std::to_string(max_rows_) +
-                                              " rows while being read",
+      throw InputError({path_, line_, 0},
+                       "grew beyond " + std::to_string(max_rows_) + " rows while being read",
                        "Wait until whatever writes it has finished, then run again");
     }
     cells_ = SplitRow(text, line_);
@@ -331,9 +330,7 @@ double CsvRows::Number(const std::string& column) const {
   return CellNumber(line_, cells_, column);
 }
 
-int CsvRows::Integer(const std::string& column) const {
-  return CellInteger(line_, cells_, column);
-}
+int CsvRows::Integer(const std::string& column) const { return CellInteger(line_, cells_, column); }
 
 std::optional<double> CsvRows::OptionalNumber(const std::string& column) const {
   if (!HasValue(column)) return std::nullopt;

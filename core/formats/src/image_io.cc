@@ -3,14 +3,14 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include <filesystem>
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
-#include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/basics/error.h"
+#include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/formats/image.h"
 
 namespace cellmetry {
@@ -25,8 +25,8 @@ bool IsCameraImageFormat(const std::vector<unsigned char>& bytes) {
   };
   // A netpbm header is "P5" or "P6" and then whitespace; without it OpenCV's PxM codec declines
   // the file and imdecode offers it to the next codec.
-  const bool netpbm = (starts({'P', '5'}) || starts({'P', '6'})) && bytes.size() > 2 &&
-                      std::isspace(bytes[2]) != 0;
+  const bool netpbm =
+      (starts({'P', '5'}) || starts({'P', '6'})) && bytes.size() > 2 && std::isspace(bytes[2]) != 0;
   return starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'}) || starts({0xFF, 0xD8, 0xFF}) ||
          starts({'I', 'I', 0x2A, 0x00}) || starts({'M', 'M', 0x00, 0x2A}) || starts({'B', 'M'}) ||
          netpbm;

@@ -25,9 +25,9 @@ namespace {
 
 // What no camera in a robot cell measures, and no joint reads: beyond these a number is a typo,
 // a unit mix-up or a corrupted file, and a fit on it would be garbage with exit 0.
-constexpr double kMaxPositionMm = 1e5;   // 100 m from the camera
-constexpr double kMaxRotationRad = 10.0; // a rotation vector is at most pi long
-constexpr double kMaxJointRad = 100.0;   // sixteen turns
+constexpr double kMaxPositionMm = 1e5;    // 100 m from the camera
+constexpr double kMaxRotationRad = 10.0;  // a rotation vector is at most pi long
+constexpr double kMaxJointRad = 100.0;    // sixteen turns
 constexpr int kMaxJoints = 64;            // no arm has more; a count of 2e9 made 2e9 column names
 
 // Rows of samples.csv, observations.csv or images.csv: a fit takes about 5.5 KB per observation
@@ -39,7 +39,8 @@ CsvRows RecordingTable(const std::string& path) {
   const std::string limit = std::to_string(kMaxRecordingRows);
   return CsvRows(path, kMaxRecordingRows,
                  "A fit on more would take over 1 GB of memory: thin the recording (keep every "
-                 "n-th pose) or split it into recordings of at most " + limit + " rows each");
+                 "n-th pose) or split it into recordings of at most " +
+                     limit + " rows each");
 }
 
 // `column` of the current row, refused with its file, line and column when beyond `max_abs`
@@ -57,7 +58,6 @@ double Within(const CsvRows& table, const std::string& column, double max_abs) {
   }
   return value;
 }
-
 
 // recording.yaml must say its units (docs/formats.md): no silent default.
 Units ReadRecordingUnits(const ConfigNode& root) {
@@ -139,8 +139,7 @@ void ReadHeader(const std::string& path, Recording* recording, Units* units) {
 // as repeatability.
 constexpr double kPoseRepeatRad = 0.01;
 
-void CheckPoseRepeats(const CsvRows& table, const Sample& sample,
-                      const Recording& recording,
+void CheckPoseRepeats(const CsvRows& table, const Sample& sample, const Recording& recording,
                       std::map<std::pair<std::string, int>, size_t>* first_of_pose) {
   const auto [first, inserted] =
       first_of_pose->insert({{sample.robot, sample.pose}, recording.samples.size()});
@@ -195,13 +194,13 @@ void ReadSamples(const std::string& path, const Units& units, Recording* recordi
                           "Give one joint value per joint");
       }
       if (j > robot->second && present) {
-        throw table.Error(column,
-                          "robot '" + sample.robot + "' has only " +
-                              std::to_string(robot->second) + " joints",
-                          "Leave " + column + " empty for this robot or fix its joint count");
+        throw table.Error(
+            column,
+            "robot '" + sample.robot + "' has only " + std::to_string(robot->second) + " joints",
+            "Leave " + column + " empty for this robot or fix its joint count");
       }
-      if (present) sample.q.push_back(Within(table, column, kMaxJointRad / units.to_rad) *
-                                      units.to_rad);
+      if (present)
+        sample.q.push_back(Within(table, column, kMaxJointRad / units.to_rad) * units.to_rad);
     }
     CheckPoseRepeats(table, sample, *recording, &first_of_pose);
     sample.time_s = table.OptionalNumber("t");
@@ -241,8 +240,7 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
     for (const auto& column : CovarianceColumns(prefix)) known.push_back(column);
   }
   table.RejectUnknownColumns(known);
-  const bool has_rotation = table.HasColumn("rx") && table.HasColumn("ry") &&
-                            table.HasColumn("rz");
+  const bool has_rotation = table.HasColumn("rx") && table.HasColumn("ry") && table.HasColumn("rz");
   std::set<int> sample_ids;
   for (const auto& s : recording->samples) sample_ids.insert(s.id);
   // A row given twice weighs twice in the fit, without a word (found by test_bad_input).
@@ -266,8 +264,7 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
       throw table.Error("target", "unknown target '" + obs.target + "'",
                         "List it under 'targets' in recording.yaml");
     }
-    const auto [first, fresh] =
-        first_line.insert({{obs.sample, obs.camera, obs.target}, obs.line});
+    const auto [first, fresh] = first_line.insert({{obs.sample, obs.camera, obs.target}, obs.line});
     if (!fresh) {
       throw table.Error("target",
                         "target '" + obs.target + "' in sample " + std::to_string(obs.sample) +
@@ -280,8 +277,7 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
                                       Within(table, "z", kMaxPositionMm / units.to_mm)) *
                       units.to_mm;
     if (has_rotation) {
-      const int filled = table.HasValue("rx") + table.HasValue("ry") +
-                         table.HasValue("rz");
+      const int filled = table.HasValue("rx") + table.HasValue("ry") + table.HasValue("rz");
       if (filled == 3) {
         obs.rvec = Eigen::Vector3d(Within(table, "rx", kMaxRotationRad / units.to_rad),
                                    Within(table, "ry", kMaxRotationRad / units.to_rad),
@@ -320,8 +316,7 @@ void ReadImages(const std::string& path, Recording* recording) {
     }
     image.view = table.Text("view");
     if (image.view != "left" && image.view != "right" && image.view != "mono") {
-      throw table.Error("view", "unknown view '" + image.view + "'",
-                        "Use left, right or mono");
+      throw table.Error("view", "unknown view '" + image.view + "'", "Use left, right or mono");
     }
     image.path = table.Text("path");
     recording->images.push_back(std::move(image));
@@ -334,7 +329,6 @@ std::string Number(double value) {
   const auto end = std::to_chars(buffer, buffer + sizeof(buffer), value).ptr;
   return std::string(buffer, end);
 }
-
 
 void WriteCovariance(const std::optional<Eigen::Matrix3d>& covariance, std::ostream& out) {
   if (!covariance) {
@@ -350,9 +344,8 @@ void WriteCovariance(const std::optional<Eigen::Matrix3d>& covariance, std::ostr
 }  // namespace
 
 std::string ObservationsCsv(const std::vector<Observation>& list) {
-  const bool any_covariance = std::any_of(list.begin(), list.end(), [](const Observation& o) {
-    return o.covariance_mm2.has_value();
-  });
+  const bool any_covariance = std::any_of(
+      list.begin(), list.end(), [](const Observation& o) { return o.covariance_mm2.has_value(); });
   const bool any_rotation_covariance =
       std::any_of(list.begin(), list.end(),
                   [](const Observation& o) { return o.rotation_covariance_rad2.has_value(); });
@@ -366,8 +359,8 @@ std::string ObservationsCsv(const std::vector<Observation>& list) {
   }
   out << "\n";
   for (const auto& o : list) {
-    out << o.sample << "," << o.camera << "," << o.target << "," << Number(o.position_mm.x())
-        << "," << Number(o.position_mm.y()) << "," << Number(o.position_mm.z());
+    out << o.sample << "," << o.camera << "," << o.target << "," << Number(o.position_mm.x()) << ","
+        << Number(o.position_mm.y()) << "," << Number(o.position_mm.z());
     if (o.rvec) {
       out << "," << Number(o.rvec->x()) << "," << Number(o.rvec->y()) << "," << Number(o.rvec->z());
     } else {
@@ -428,30 +421,29 @@ void WriteRecording(const Recording& recording, const std::string& folder,
   YAML::Emitter header;
   header << YAML::BeginMap << YAML::Key << "format" << YAML::Value << kRecordingFormat;
   header << YAML::Key << "description" << YAML::Value << recording.description;
-  header << YAML::Key << "units" << YAML::Value << YAML::Flow << YAML::BeginMap
-         << YAML::Key << "length" << YAML::Value << "mm" << YAML::Key << "angle" << YAML::Value
-         << "rad" << YAML::EndMap;
+  header << YAML::Key << "units" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+         << "length" << YAML::Value << "mm" << YAML::Key << "angle" << YAML::Value << "rad"
+         << YAML::EndMap;
   header << YAML::Key << "robots" << YAML::Value << YAML::BeginMap;
   for (const auto& [name, joints] : recording.robots) {
     header << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
            << "joints" << YAML::Value << joints << YAML::EndMap;
   }
-  header << YAML::EndMap << YAML::Key << "cameras" << YAML::Value << YAML::Flow
-         << YAML::BeginSeq;
+  header << YAML::EndMap << YAML::Key << "cameras" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (const auto& camera : recording.cameras) {
     const auto mount = recording.camera_mounts.find(camera);
     if (mount == recording.camera_mounts.end()) {
       header << camera;
     } else {
-      header << YAML::BeginMap << YAML::Key << "name" << YAML::Value << camera << YAML::Key
-             << "on" << YAML::Value << mount->second << YAML::EndMap;
+      header << YAML::BeginMap << YAML::Key << "name" << YAML::Value << camera << YAML::Key << "on"
+             << YAML::Value << mount->second << YAML::EndMap;
     }
   }
   header << YAML::EndSeq;
   header << YAML::Key << "targets" << YAML::Value << YAML::BeginMap;
   for (const auto& [name, carrier] : recording.targets) {
-    header << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-           << "on" << YAML::Value << carrier << YAML::EndMap;
+    header << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "on"
+           << YAML::Value << carrier << YAML::EndMap;
   }
   header << YAML::EndMap << YAML::EndMap;
   AtomicWriteFile(out.File("recording.yaml"), std::string(header.c_str()) + "\n");

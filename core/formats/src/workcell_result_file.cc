@@ -158,8 +158,8 @@ void ReadSections(const Entry& root, WorkcellResultFile* r) {
   }
   if (root.Has("effects")) {
     root["effects"].ForEachKey([&](const std::string& name, const Entry& e) {
-      r->effects.push_back({name, e["robot"].Text(), e["type"].Text(), e["stage"].Text(),
-                            e["config"].Text()});
+      r->effects.push_back(
+          {name, e["robot"].Text(), e["type"].Text(), e["stage"].Text(), e["config"].Text()});
     });
   }
   if (root.Has("unidentifiable")) {
@@ -169,9 +169,8 @@ void ReadSections(const Entry& root, WorkcellResultFile* r) {
   if (root.Has("gravity_base_m_s2")) r->gravity_base_m_s2 = root["gravity_base_m_s2"].Vector3();
   r->free_parameters = root["free_parameters"].Texts();
   r->sigma = root["sigma"].Numbers();
-  root["correlation"].ForEachElement([&](const Entry& row) {
-    r->correlation.push_back(row.Numbers());
-  });
+  root["correlation"].ForEachElement(
+      [&](const Entry& row) { r->correlation.push_back(row.Numbers()); });
 }
 
 }  // namespace
@@ -185,8 +184,8 @@ WorkcellResultFile ParseWorkcellResult(const std::string& text, const std::strin
   }
   const auto format = j.is_object() ? j.find("format") : j.end();
   if (format == j.end() || *format != "cellmetry-result/1") {
-    throw InputError({origin, 0, 0},
-                     "not a cellmetry result (format is not cellmetry-result/1)", kRunAgain);
+    throw InputError({origin, 0, 0}, "not a cellmetry result (format is not cellmetry-result/1)",
+                     kRunAgain);
   }
   WorkcellResultFile result;
   result.path = origin;

@@ -31,8 +31,15 @@ const std::array<const char*, 9>& IntrinsicNames() {
 }
 
 std::array<double, 9> IntrinsicValues(const PinholeCamera& k) {
-  return {k.fx,           k.fy,           k.cx,           k.cy,          k.distortion[0],
-          k.distortion[1], k.distortion[2], k.distortion[3], k.distortion[4]};
+  return {k.fx,
+          k.fy,
+          k.cx,
+          k.cy,
+          k.distortion[0],
+          k.distortion[1],
+          k.distortion[2],
+          k.distortion[3],
+          k.distortion[4]};
 }
 
 CameraCalibration CalibrateCamera(Detector& detector, const std::vector<std::string>& image_paths,

@@ -22,15 +22,15 @@
 #include <tuple>
 #include <vector>
 
-#include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/basics/error.h"
-#include "cellmetry/formats/image.h"
-#include "cellmetry/formats/config_fields.h"
-#include "cellmetry/formats/input_file.h"
-#include "cellmetry/formats/strict_json.h"
 #include "cellmetry/basics/progress.h"
-#include "cellmetry/formats/recording.h"
 #include "cellmetry/basics/so3_jacobians.h"
+#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/formats/config_fields.h"
+#include "cellmetry/formats/image.h"
+#include "cellmetry/formats/input_file.h"
+#include "cellmetry/formats/recording.h"
+#include "cellmetry/formats/strict_json.h"
 #include "cellmetry/imaging/target_pose.h"
 
 namespace cellmetry {
@@ -38,8 +38,8 @@ namespace {
 
 constexpr const char* kLog = "detections.jsonl";
 using DoneKey =
-    std::tuple<int, std::string, std::string, std::string>;  // sample, camera, view, target
-using Detectors = std::map<std::string, std::unique_ptr<Detector>>;     // by target
+    std::tuple<int, std::string, std::string, std::string>;          // sample, camera, view, target
+using Detectors = std::map<std::string, std::unique_ptr<Detector>>;  // by target
 
 nlohmann::json ToJson(const ImageDetection& d) {
   nlohmann::json keypoints = nlohmann::json::array();
@@ -47,8 +47,8 @@ nlohmann::json ToJson(const ImageDetection& d) {
     keypoints.push_back({k.id, k.pixel.x(), k.pixel.y(), k.covariance_px2(0, 0),
                          k.covariance_px2(0, 1), k.covariance_px2(1, 1)});
   }
-  return {{"sample", d.sample}, {"camera", d.camera},   {"view", d.view},
-          {"target", d.target}, {"path", d.path},       {"failure", d.detection.failure},
+  return {{"sample", d.sample},     {"camera", d.camera},  {"view", d.view},
+          {"target", d.target},     {"path", d.path},      {"failure", d.detection.failure},
           {"keypoints", keypoints}, {"time_ms", d.time_ms}};
 }
 
@@ -136,7 +136,8 @@ std::vector<ImageDetection> ReadDetectionLog(const std::string& path) {
                      "the detection log is a link; detect appends to it in place and would write "
                      "through the link to a file that may lie outside the recording",
                      "Replace the link by a copy of the file it names (cp --remove-destination "
-                     "TARGET " + path + "), or delete it to detect everything again");
+                     "TARGET " +
+                         path + "), or delete it to detect everything again");
   }
   const std::string text = ReadRegularFile(path, kMaxTableBytes, "Check permissions");
   std::vector<std::string> lines;
@@ -388,8 +389,8 @@ DetectJob LoadDetectJob(const std::string& path, Registry& registry) {
                             "Run it with the command its kind names; a detect job says "
                             "job: detect");
   }
-  root.ExpectKeys({"job", "description", "recording", "detector", "target", "camera",
-                   "origin_id", "targets", "cameras", "threads"});
+  root.ExpectKeys({"job", "description", "recording", "detector", "target", "camera", "origin_id",
+                   "targets", "cameras", "threads"});
   DetectJob job;
   job.file = path;
   job.recording = root.ResolvePath(root["recording"].AsString());
@@ -399,9 +400,10 @@ DetectJob LoadDetectJob(const std::string& path, Registry& registry) {
   }
   const bool single = root.Has("detector") || root.Has("target") || root.Has("camera");
   if (single == (root.Has("targets") || root.Has("cameras"))) {
-    throw root.Error("give either detector:, target: and camera: (one of each) or targets: and "
-                     "cameras: (several)",
-                     "See docs/formats.md, `job: detect`");
+    throw root.Error(
+        "give either detector:, target: and camera: (one of each) or targets: and "
+        "cameras: (several)",
+        "See docs/formats.md, `job: detect`");
   }
   if (single) {
     ReadSingleForm(root, registry, &job);

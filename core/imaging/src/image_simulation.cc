@@ -9,16 +9,16 @@
 #include <mutex>
 #include <sstream>
 
-#include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/text.h"
+#include "cellmetry/formats/atomic_file.h"
 
 namespace cellmetry {
 namespace {
 
 RenderOptions ReadRender(const ConfigNode& node) {
-  node.ExpectKeys({"supersampling", "blur_sigma_px", "noise_sigma", "background", "black",
-                   "white", "illumination_gradient"});
+  node.ExpectKeys({"supersampling", "blur_sigma_px", "noise_sigma", "background", "black", "white",
+                   "illumination_gradient"});
   RenderOptions o;
   o.supersampling = node.GetInt("supersampling", o.supersampling);
   o.blur_sigma_px = node.GetDouble("blur_sigma_px", o.blur_sigma_px);
@@ -43,8 +43,7 @@ bool Contains(const std::vector<std::string>& names, const std::string& name) {
 }
 
 std::vector<TargetMarker> ReadMarkers(const ConfigNode& images,
-                                      const std::vector<std::string>& targets,
-                                      Registry& registry) {
+                                      const std::vector<std::string>& targets, Registry& registry) {
   if (images.Has("detector") == images.Has("targets")) {
     throw images.Error("give exactly one of 'detector:' (the one target's marker) or 'targets:'",
                        "e.g. targets: {tool: {type: <detector>, ...}}, a detector of " +
@@ -161,10 +160,10 @@ std::function<void(const std::string&)> PlanImages(const ImageRenderSpec& spec,
         for (const auto& [target, T_cam_target] : sample_view.T_cam_target) {
           const auto it = printed.find(target);
           if (it == printed.end()) continue;
-          for (const auto& k : ProjectLayout(camera.View(view), T_view_camera * T_cam_target,
-                                             it->second.layout)) {
-            rows << sample_view.sample << "," << sample_view.camera << "," << view << ","
-                 << target << "," << k.id << "," << k.pixel.x() << "," << k.pixel.y() << "\n";
+          for (const auto& k :
+               ProjectLayout(camera.View(view), T_view_camera * T_cam_target, it->second.layout)) {
+            rows << sample_view.sample << "," << sample_view.camera << "," << view << "," << target
+                 << "," << k.id << "," << k.pixel.x() << "," << k.pixel.y() << "\n";
           }
         }
       }

@@ -132,9 +132,9 @@ std::vector<float> RenderIdeal(const PinholeCamera& camera,
 GrayImage SensorImage(const std::vector<float>& ideal, int width, int height,
                       const RenderOptions& options, std::mt19937& rng) {
   if (ideal.size() != static_cast<size_t>(width) * height) {
-    throw std::invalid_argument("SensorImage: the ideal image has " +
-                                std::to_string(ideal.size()) + " pixels, not " +
-                                std::to_string(width) + " x " + std::to_string(height));
+    throw std::invalid_argument("SensorImage: the ideal image has " + std::to_string(ideal.size()) +
+                                " pixels, not " + std::to_string(width) + " x " +
+                                std::to_string(height));
   }
   std::normal_distribution<double> noise(0.0, options.noise_sigma);
   GrayImage image(width, height);

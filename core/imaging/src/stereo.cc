@@ -10,9 +10,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "cellmetry/formats/config_node.h"
 #include "cellmetry/basics/error.h"
 #include "cellmetry/formats/config_fields.h"
+#include "cellmetry/formats/config_node.h"
 #include "cellmetry/formats/units.h"
 
 namespace cellmetry {

@@ -27,9 +27,7 @@ std::string Trim(const std::string& s) {
   return s.substr(begin, s.find_last_not_of(" \t") - begin + 1);
 }
 
-std::string SeparatorName(char c) {
-  return c == '\t' ? "tab" : std::string("'") + c + "'";
-}
+std::string SeparatorName(char c) { return c == '\t' ? "tab" : std::string("'") + c + "'"; }
 
 // The separator the header line holds most of outside quotes (',' when it holds none).
 char DetectSeparator(const std::string& text, char decimal) {
@@ -56,14 +54,14 @@ std::vector<Record> SplitRecords(const std::string& path, const std::string& tex
   std::vector<Record> records;
   Record record;
   std::string field;
-  bool quoted = false;       // inside a quoted field
-  bool was_quoted = false;   // this field was quoted (its spaces are its own)
+  bool quoted = false;      // inside a quoted field
+  bool was_quoted = false;  // this field was quoted (its spaces are its own)
   int line = 1;
   int quote_line = 0;
   record.line = 1;
   auto end_field = [&] {
-    record.fields.push_back({was_quoted ? field : Trim(field),
-                             static_cast<int>(record.fields.size()) + 1});
+    record.fields.push_back(
+        {was_quoted ? field : Trim(field), static_cast<int>(record.fields.size()) + 1});
     field.clear();
     was_quoted = false;
   };
@@ -151,8 +149,8 @@ DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
   if (dialect.decimal != '.' && dialect.decimal != ',') {
     throw InputError({path, 0, 0}, "decimal mark must be '.' or ','");
   }
-  const char separator = dialect.separator ? dialect.separator
-                                           : DetectSeparator(text, dialect.decimal);
+  const char separator =
+      dialect.separator ? dialect.separator : DetectSeparator(text, dialect.decimal);
   if (separator == dialect.decimal) {
     throw InputError({path, 1, 0},
                      "the separator and the decimal mark are both " + SeparatorName(separator),

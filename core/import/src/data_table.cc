@@ -64,8 +64,9 @@ double DataTable::Number(size_t row, size_t column) const {
   } else if (decimal_ == '.' && cells_[row][column].find(',') != std::string::npos) {
     hint = "If the file writes decimal commas, say so in the mapping: table: {decimal: \",\"}";
   } else if (decimal_ == ',') {
-    hint = "Write the number with a decimal comma and no thousands separators, as the mapping "
-           "says (table: {decimal: \",\"})";
+    hint =
+        "Write the number with a decimal comma and no thousands separators, as the mapping "
+        "says (table: {decimal: \",\"})";
   }
   throw Error(row, column, problem, hint);
 }
@@ -79,12 +80,11 @@ SourceLocation DataTable::HeaderWhere(size_t column) const { return header_where
 InputError DataTable::Error(size_t row, size_t column, const std::string& what,
                             const std::string& hint) const {
   // Readers quote a cell whole: a 10 MB cell stays 80 characters in the one line.
-  return InputError(Where(row, column),
-                    "column '" + QuotedShort(columns_[column]) + "' of data row " +
-                        std::to_string(row + 1) + ": " +
-                        WithTextShortened(WithTextShortened(what, cells_[row][column]),
-                                          columns_[column]),
-                    hint);
+  return InputError(
+      Where(row, column),
+      "column '" + QuotedShort(columns_[column]) + "' of data row " + std::to_string(row + 1) +
+          ": " + WithTextShortened(WithTextShortened(what, cells_[row][column]), columns_[column]),
+      hint);
 }
 
 size_t DataTable::AddColumn(const std::string& name, int header_line, int header_column) {

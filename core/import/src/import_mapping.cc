@@ -113,8 +113,8 @@ RotationSpec ReadRotation(const ConfigNode& node) {
   } else if (convention == "rotation_vector") {
     node.ExpectKeys({"convention", "columns"});
     c.kind = RotationKind::kRotationVector;
-    spec.columns = Columns(Required(node, "columns", "List [rx, ry, rz] columns"),
-                           {"rx", "ry", "rz"});
+    spec.columns =
+        Columns(Required(node, "columns", "List [rx, ry, rz] columns"), {"rx", "ry", "rz"});
   } else {
     node.ExpectKeys({"convention", "columns", "prefix", "tolerance"});
     c.kind = RotationKind::kMatrix;
@@ -129,17 +129,19 @@ RotationSpec ReadRotation(const ConfigNode& node) {
   return spec;
 }
 
-ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& mapping,
-                                double to_mm, double to_rad) {
+ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& mapping, double to_mm,
+                                double to_rad) {
   node.ExpectKeys({"camera", "target", "pose_of", "position", "rotation", "transform", "length",
                    "angle", "position_uncertainty", "rotation_sigma"});
   ObservationSpec spec;
   spec.where = node.location();
-  spec.camera = ReadName(Required(node, "camera", "Name the camera (camera: cam1) or the column "
-                                                  "naming it (camera: {column: camera})"),
+  spec.camera = ReadName(Required(node, "camera",
+                                  "Name the camera (camera: cam1) or the column "
+                                  "naming it (camera: {column: camera})"),
                          "camera");
-  const ConfigNode target = Required(node, "target", "Name the target (target: tool) or the "
-                                                     "column naming it (target: {column: target})");
+  const ConfigNode target = Required(node, "target",
+                                     "Name the target (target: tool) or the "
+                                     "column naming it (target: {column: target})");
   spec.target = ReadName(target, "target");
   if (!spec.target.fixed.empty()) {
     bool known = false;
@@ -202,8 +204,9 @@ struct TableUnits {
 };
 
 TableUnits ReadUnits(const ConfigNode& root) {
-  const ConfigNode units = Required(root, "units", "Say the table's units: units: {length: m, "
-                                                   "angle: deg} (mm or m, rad or deg)");
+  const ConfigNode units = Required(root, "units",
+                                    "Say the table's units: units: {length: m, "
+                                    "angle: deg} (mm or m, rad or deg)");
   units.ExpectMap();
   units.ExpectKeys({"length", "angle"});
   TableUnits out;
@@ -215,8 +218,9 @@ TableUnits ReadUnits(const ConfigNode& root) {
 // robot: its name as the job will give it, its joint columns in joint order, and their angle
 // unit where it is not the table's.
 void ReadRobot(const ConfigNode& root, const TableUnits& units, ImportMapping* m) {
-  const ConfigNode robot = Required(root, "robot", "Say which robot the joints are: robot: {name: "
-                                                   "ur3, joints: [q1, q2, q3, q4, q5, q6]}");
+  const ConfigNode robot = Required(root, "robot",
+                                    "Say which robot the joints are: robot: {name: "
+                                    "ur3, joints: [q1, q2, q3, q4, q5, q6]}");
   robot.ExpectMap();
   robot.ExpectKeys({"name", "joints", "angle"});
   m->robot =
@@ -225,8 +229,9 @@ void ReadRobot(const ConfigNode& root, const TableUnits& units, ImportMapping* m
     throw robot["name"].Error("'" + m->robot + "' cannot name a robot",
                               "Choose a plain name without spaces, not 'world'");
   }
-  const ConfigNode joints = Required(robot, "joints", "List the joint readings' columns in joint "
-                                                      "order: joints: [q1, q2, q3, q4, q5, q6]");
+  const ConfigNode joints = Required(robot, "joints",
+                                     "List the joint readings' columns in joint "
+                                     "order: joints: [q1, q2, q3, q4, q5, q6]");
   if (!joints.IsSequence() || joints.Elements().empty()) {
     throw joints.Error("expected a list of column names", "joints: [q1, q2, q3, q4, q5, q6]");
   }
@@ -266,15 +271,16 @@ void ReadPoses(const ConfigNode& poses, ImportMapping* m) {
 
 // targets: each target's name and what carries it (the robot or the world).
 void ReadTargets(const ConfigNode& root, ImportMapping* m) {
-  const ConfigNode targets = Required(root, "targets", "List the targets and what carries each: "
-                                                       "targets: {tool: {on: " + m->robot +
-                                                       "}, world: {on: world}}");
+  const ConfigNode targets = Required(root, "targets",
+                                      "List the targets and what carries each: "
+                                      "targets: {tool: {on: " +
+                                          m->robot + "}, world: {on: world}}");
   for (const auto& name : targets.Keys()) {
     const ConfigNode target = targets[name];
     target.ExpectMap();
     target.ExpectKeys({"on"});
-    const ConfigNode on = Required(target, "on", "Say what carries it: on: " + m->robot +
-                                                     " or on: world");
+    const ConfigNode on =
+        Required(target, "on", "Say what carries it: on: " + m->robot + " or on: world");
     const std::string carrier = on.AsString();
     if (carrier != m->robot && carrier != kWorldCarrier) {
       throw on.Error(
@@ -348,8 +354,8 @@ std::vector<const ColumnRef*> ImportMapping::AllColumns() const {
 ImportMapping ReadImportMapping(const std::string& path) {
   const ConfigNode root = ConfigNode::LoadFile(path);
   root.ExpectMap();
-  root.ExpectKeys({"mapping", "description", "table", "tables", "join", "units", "robot",
-                   "samples", "poses", "targets", "observations", "facts"});
+  root.ExpectKeys({"mapping", "description", "table", "tables", "join", "units", "robot", "samples",
+                   "poses", "targets", "observations", "facts"});
   ImportMapping m;
   m.file = path;
   const ConfigNode format = Required(

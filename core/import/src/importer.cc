@@ -61,7 +61,8 @@ BoundObservation BindObservation(const ObservationSpec& spec, const JoinedTable&
     b.transform = Bind(refs, table);
   }
   if (spec.camera_in_target && !spec.rotation && spec.transform.empty()) {
-    throw InputError(spec.where, "pose_of: camera_in_target needs the rotation to turn the "
+    throw InputError(spec.where,
+                     "pose_of: camera_in_target needs the rotation to turn the "
                      "camera's pose into the target's",
                      "Give rotation: too, or drop pose_of: for a target's position in the camera");
   }
@@ -73,8 +74,7 @@ BoundObservation BindObservation(const ObservationSpec& spec, const JoinedTable&
 }
 
 // A camera or target name from its cell: not empty, nothing that breaks a CSV line.
-std::string NameCell(const JoinedTable& table, size_t row, Column column,
-                     const std::string& what) {
+std::string NameCell(const JoinedTable& table, size_t row, Column column, const std::string& what) {
   const std::string& name = table.Cell(row, column);
   if (name.empty()) throw table.Error(row, column, "empty cell", "Name the " + what + " here");
   if (name.find_first_of(",\"\n") != std::string::npos) {
@@ -96,8 +96,7 @@ bool Agree(double a, double b) {
 
 class Importer {
  public:
-  Importer(const ImportMapping& mapping, const JoinedTable& table)
-      : m_(mapping), table_(table) {
+  Importer(const ImportMapping& mapping, const JoinedTable& table) : m_(mapping), table_(table) {
     joints_ = Bind(m_.joints, table_);
     if (m_.sample_column) sample_column_ = table_.Bind(*m_.sample_column);
     if (m_.pose_column) pose_column_ = table_.Bind(*m_.pose_column);
@@ -125,9 +124,10 @@ class Importer {
       for (const auto& b : bound_) ReadObservation(b, row, sample, &r);
     }
     if (r.observations.empty()) {
-      throw InputError(m_.tables.front().where, "no observation in " + table_.FileNames() +
-                       ": every observation cell is empty",
-                       "Point observations: at the columns that hold the measured poses");
+      throw InputError(
+          m_.tables.front().where,
+          "no observation in " + table_.FileNames() + ": every observation cell is empty",
+          "Point observations: at the columns that hold the measured poses");
     }
     NumberPoses(&r);
     return r;
@@ -142,16 +142,17 @@ class Importer {
                  const std::string& unit_hint) const {
     const double value = table_.Number(row, column) * scale;
     if (std::abs(value) > max_abs) {
-      throw table_.Error(row, column, "'" + table_.Cell(row, column) +
-                         "' is beyond any measurement of it", unit_hint);
+      throw table_.Error(row, column,
+                         "'" + table_.Cell(row, column) + "' is beyond any measurement of it",
+                         unit_hint);
     }
     return value;
   }
 
   // The sample this row belongs to (a new one, or the one its sample column names).
   int SampleOf(size_t row, Recording* r) {
-    const std::string key = sample_column_ ? table_.Cell(row, *sample_column_)
-                                           : std::to_string(row);
+    const std::string key =
+        sample_column_ ? table_.Cell(row, *sample_column_) : std::to_string(row);
     if (sample_column_ && key.empty()) {
       throw table_.Error(row, *sample_column_, "empty cell",
                          "Every row needs the sample it belongs to");
@@ -186,28 +187,34 @@ class Importer {
     const size_t first_row = rows_[found->second].first_row;
     const std::string where =
         "sample '" + key + "' (data row " + std::to_string(first_row + 1) + ")";
-    const std::string hint = "The rows of one sample are one robot state and must agree; check "
-                             "samples: {column: ...} in the mapping";
+    const std::string hint =
+        "The rows of one sample are one robot state and must agree; check "
+        "samples: {column: ...} in the mapping";
     for (size_t j = 0; j < joints_.size(); ++j) {
       if (!Agree(first.q[j], sample.q[j])) {
-        throw table_.Error(row, joints_[j], where + " has " + Text(first.q[j]) +
-                           " rad there but " + Text(sample.q[j]) + " rad here", hint);
+        throw table_.Error(row, joints_[j],
+                           where + " has " + Text(first.q[j]) + " rad there but " +
+                               Text(sample.q[j]) + " rad here",
+                           hint);
       }
     }
     const std::pair<const std::optional<double>*, const std::optional<double>*> pairs[] = {
-        {&first.time_s, &sample.time_s}, {&first.temperature_c, &sample.temperature_c},
+        {&first.time_s, &sample.time_s},
+        {&first.temperature_c, &sample.temperature_c},
         {&first.payload_kg, &sample.payload_kg}};
     const std::optional<Column> columns[] = {time_, temperature_, payload_};
     for (int f = 0; f < 3; ++f) {
       const auto& [a, b] = pairs[f];
       if (*a && *b && !Agree(**a, **b)) {
-        throw table_.Error(row, *columns[f], where + " has " + Text(**a) + " there but " +
-                           Text(**b) + " here", hint);
+        throw table_.Error(row, *columns[f],
+                           where + " has " + Text(**a) + " there but " + Text(**b) + " here", hint);
       }
     }
     if (pose_column_ && pose_key != rows_[found->second].pose_key) {
-      throw table_.Error(row, *pose_column_, where + " is pose '" + rows_[found->second].pose_key +
-                         "' there but '" + pose_key + "' here", hint);
+      throw table_.Error(row, *pose_column_,
+                         where + " is pose '" + rows_[found->second].pose_key + "' there but '" +
+                             pose_key + "' here",
+                         hint);
     }
     return found->second;
   }
@@ -234,11 +241,11 @@ class Importer {
     o.camera = spec.camera.column ? NameCell(table_, row, *b.camera, "camera") : spec.camera.fixed;
     o.target = spec.target.column ? NameCell(table_, row, *b.target, "target") : spec.target.fixed;
     if (first_empty) {
-      throw table_.Error(row, *first_empty,
-                         "the observation of '" + o.target + "' in '" + o.camera +
-                             "' is partly filled in",
-                         "Fill in every cell of it, or leave all of them empty where the target "
-                         "was not seen");
+      throw table_.Error(
+          row, *first_empty,
+          "the observation of '" + o.target + "' in '" + o.camera + "' is partly filled in",
+          "Fill in every cell of it, or leave all of them empty where the target "
+          "was not seen");
     }
     if (!targets_.count(o.target)) {
       std::vector<std::string> names;
@@ -369,12 +376,10 @@ class Importer {
     for (size_t s = 0; s < r->samples.size(); ++s) {
       Sample& sample = r->samples[s];
       switch (m_.poses) {
-        case PoseGrouping::kEachSample:
-          sample.pose = sample.id;
-          break;
+        case PoseGrouping::kEachSample: sample.pose = sample.id; break;
         case PoseGrouping::kColumn: {
-          const auto [it, fresh] = pose_of_key.emplace(rows_[s].pose_key,
-                                                       static_cast<int>(pose_of_key.size()));
+          const auto [it, fresh] =
+              pose_of_key.emplace(rows_[s].pose_key, static_cast<int>(pose_of_key.size()));
           sample.pose = it->second;
           break;
         }

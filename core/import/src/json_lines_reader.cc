@@ -94,8 +94,8 @@ DataTable ReadJsonLinesTable(const std::string& path) {
     try {
       object = ParseStrictJson<nlohmann::ordered_json>(line);
     } catch (const nlohmann::json::parse_error& e) {
-      throw InputError({path, line_number, static_cast<int>(e.byte)},
-                       "not valid JSON", "Write one JSON object per line: {\"q1\": 0.5, ...}");
+      throw InputError({path, line_number, static_cast<int>(e.byte)}, "not valid JSON",
+                       "Write one JSON object per line: {\"q1\": 0.5, ...}");
     } catch (const nlohmann::json::out_of_range& e) {
       // The one range error parsing raises: a number beyond a double (1e400).
       const auto [number, column] = OverflowingNumber(e.what(), line);
@@ -117,9 +117,9 @@ DataTable ReadJsonLinesTable(const std::string& path) {
     for (auto& [name, text] : cells) {
       auto it = index.find(name);
       if (it == index.end()) {
-        it = index.emplace(name, table.AddColumn(name, line_number, ValueColumn(line,
-                                                                                TopKey(name))))
-                 .first;
+        it =
+            index.emplace(name, table.AddColumn(name, line_number, ValueColumn(line, TopKey(name))))
+                .first;
         row.emplace_back();
         positions.push_back(0);
       }

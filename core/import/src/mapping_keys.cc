@@ -15,9 +15,9 @@ std::string OneOf(const ConfigNode& node, const std::vector<std::string>& words,
     if (w == value) return value;
   }
   const std::string nearest = NearestWord(value, words);
-  throw node.Error("unknown " + what + " '" + value + "'",
-                   (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") + "Known: " +
-                       Join(words));
+  throw node.Error(
+      "unknown " + what + " '" + value + "'",
+      (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") + "Known: " + Join(words));
 }
 
 ConfigNode Required(const ConfigNode& node, const std::string& key, const std::string& hint) {
@@ -61,9 +61,9 @@ ColumnRef ColumnOfMap(const ConfigNode& node, const std::string& hint) {
 
 std::vector<ColumnRef> Columns(const ConfigNode& node, const std::vector<std::string>& names) {
   if (!node.IsSequence() || node.Elements().size() != names.size()) {
-    throw node.Error("expected " + std::to_string(names.size()) + " column names",
-                     "List the columns of " + Join(names) + ", in this order: [" +
-                         Join(names) + "]");
+    throw node.Error(
+        "expected " + std::to_string(names.size()) + " column names",
+        "List the columns of " + Join(names) + ", in this order: [" + Join(names) + "]");
   }
   std::vector<ColumnRef> columns;
   for (const auto& element : node.Elements()) columns.push_back(Column(element));

@@ -92,10 +92,11 @@ void ReadNamedTables(const ConfigNode& tables, ImportMapping* m) {
 void ReadJoin(const ConfigNode& join, ImportMapping* m) {
   join.ExpectMap();
   m->join.where = join.location();
-  const std::string by = OneOf(
-      Required(join, "by", "Say how rows belong together: by: row (row i of every table is one "
-                           "row) or by: time (rows nearest in time)"),
-      {"row", "time"}, "join");
+  const std::string by =
+      OneOf(Required(join, "by",
+                     "Say how rows belong together: by: row (row i of every table is one "
+                     "row) or by: time (rows nearest in time)"),
+            {"row", "time"}, "join");
   if (by == "row") {
     join.ExpectKeys({"by"});
     m->join.by = JoinKind::kRow;
@@ -105,21 +106,21 @@ void ReadJoin(const ConfigNode& join, ImportMapping* m) {
   m->join.by = JoinKind::kTime;
   std::vector<std::string> names;
   for (const auto& t : m->tables) names.push_back(t.name);
-  const ConfigNode columns = Required(
-      join, "columns", "Name each table's time column: columns: {" + names[0] + ": t, " +
-                           names[1] + ": {column: stamp, unit: ms}}");
+  const ConfigNode columns = Required(join, "columns",
+                                      "Name each table's time column: columns: {" + names[0] +
+                                          ": t, " + names[1] + ": {column: stamp, unit: ms}}");
   columns.ExpectMap();
   for (const auto& key : columns.Keys()) {
     if (std::find(names.begin(), names.end(), key) == names.end()) {
       const std::string nearest = NearestWord(key, names);
-      throw columns[key].Error("'" + key + "' is not under tables:",
-                               (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") +
-                                   "Tables: " + Join(names));
+      throw columns[key].Error(
+          "'" + key + "' is not under tables:",
+          (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") + "Tables: " + Join(names));
     }
   }
   for (const auto& table : m->tables) {
-    const ConfigNode column = Required(columns, table.name, "Name table " + table.name +
-                                                                "'s time column too");
+    const ConfigNode column =
+        Required(columns, table.name, "Name table " + table.name + "'s time column too");
     FactSpec time = ReadFact(column, kTimeUnits, kTimeToSeconds);
     if (!time.column.table.empty() && time.column.table != table.name) {
       throw column.Error("the time column of " + table.name + " is in its own table",
@@ -128,8 +129,9 @@ void ReadJoin(const ConfigNode& join, ImportMapping* m) {
     time.column.table = table.name;
     m->join.time_s.push_back(time);
   }
-  Required(join, "tolerance_s", "Say how far apart in time (s) two rows may be and still be one "
-                                "row, e.g. tolerance_s: 0.01");
+  Required(join, "tolerance_s",
+           "Say how far apart in time (s) two rows may be and still be one "
+           "row, e.g. tolerance_s: 0.01");
   m->join.tolerance_s = join.GetDoubleIn("tolerance_s", 0.0, 0.0, 1e6,
                                          "The largest time difference (s) between joined rows");
 }
@@ -138,8 +140,7 @@ void ReadJoin(const ConfigNode& join, ImportMapping* m) {
 
 void ReadTables(const ConfigNode& root, ImportMapping* m) {
   if (root.Has("table") == root.Has("tables")) {
-    throw root.Error(root.Has("table") ? "give table: or tables:, not both"
-                                       : "missing key 'table'",
+    throw root.Error(root.Has("table") ? "give table: or tables:, not both" : "missing key 'table'",
                      "Name the table to import: table: readings.csv (relative to this file); "
                      "or, for several, tables: {robot: joints.csv, tracker: tracker.csv} with "
                      "join: {by: row}");
@@ -153,8 +154,9 @@ void ReadTables(const ConfigNode& root, ImportMapping* m) {
     return;
   }
   ReadNamedTables(root["tables"], m);
-  ReadJoin(Required(root, "join", "Say how the tables' rows belong together: join: {by: row} "
-                                  "or join: {by: time, columns: {...}, tolerance_s: 0.01}"),
+  ReadJoin(Required(root, "join",
+                    "Say how the tables' rows belong together: join: {by: row} "
+                    "or join: {by: time, columns: {...}, tolerance_s: 0.01}"),
            m);
 }
 

@@ -15,7 +15,7 @@ struct Coverage {
   double level;
   double k;
 };
-constexpr Coverage kNormalCoverage[] = {{0.6827, 1.0},   {0.90, 1.645}, {0.95, 1.960},
+constexpr Coverage kNormalCoverage[] = {{0.6827, 1.0}, {0.90, 1.645}, {0.95, 1.960},
                                         {0.9545, 2.0}, {0.99, 2.576}, {0.9973, 3.0}};
 
 double CoverageFactor(const ConfigNode& level) {
@@ -44,11 +44,13 @@ PositionUncertaintySpec ReadPositionUncertainty(const ConfigNode& node) {
   node.ExpectKeys({"columns", "level", "minimum"});
   PositionUncertaintySpec spec;
   spec.where = node.location();
-  spec.columns = Columns(Required(node, "columns", "List the x, y, z uncertainty columns: "
-                                                   "columns: [ux, uy, uz]"),
+  spec.columns = Columns(Required(node, "columns",
+                                  "List the x, y, z uncertainty columns: "
+                                  "columns: [ux, uy, uz]"),
                          {"ux", "uy", "uz"});
-  spec.coverage_factor = CoverageFactor(
-      Required(node, "level", "Say what the columns hold: level: sigma (standard deviations) "
+  spec.coverage_factor =
+      CoverageFactor(Required(node, "level",
+                              "Say what the columns hold: level: sigma (standard deviations) "
                               "or level: 0.95 (expanded uncertainties at 95 %, U(95))"));
   if (node.Has("minimum")) {
     spec.minimum = node.GetDoubleIn(

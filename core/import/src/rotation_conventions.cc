@@ -55,8 +55,7 @@ Eigen::Matrix3d ToRotation(const RotationConvention& convention, const double* v
       return EulerToRotation(convention.euler_axes, convention.intrinsic, {v[0], v[1], v[2]});
     case RotationKind::kRollPitchYaw:
       return EulerToRotation({0, 1, 2}, /*intrinsic=*/false, {v[0], v[1], v[2]});
-    case RotationKind::kRotationVector:
-      return RotationFromRvec(v);
+    case RotationKind::kRotationVector: return RotationFromRvec(v);
     case RotationKind::kQuaternion: {
       const Eigen::Quaterniond q = convention.scalar_first
                                        ? Eigen::Quaterniond(v[0], v[1], v[2], v[3])
@@ -92,16 +91,15 @@ Eigen::Matrix3d ToRotation(const RotationConvention& convention, const double* v
   return Eigen::Matrix3d::Identity();
 }
 
-std::array<double, 9> FromRotation(const RotationConvention& convention,
-                                   const Eigen::Matrix3d& R) {
+std::array<double, 9> FromRotation(const RotationConvention& convention, const Eigen::Matrix3d& R) {
   std::array<double, 9> out{};
   switch (convention.kind) {
     case RotationKind::kEuler:
     case RotationKind::kRollPitchYaw: {
       const bool rpy = convention.kind == RotationKind::kRollPitchYaw;
-      const Eigen::Vector3d a = RotationToEuler(rpy ? std::array<int, 3>{0, 1, 2}
-                                                    : convention.euler_axes,
-                                                rpy ? false : convention.intrinsic, R);
+      const Eigen::Vector3d a =
+          RotationToEuler(rpy ? std::array<int, 3>{0, 1, 2} : convention.euler_axes,
+                          rpy ? false : convention.intrinsic, R);
       out = {a[0], a[1], a[2]};
       break;
     }

@@ -116,14 +116,13 @@ void JoinedTable::JoinByTime(const JoinSpec& join) {
       }
       const double gap = nearest ? std::abs(time_s[t][*nearest] - at) : HUGE_VAL;
       if (!nearest || gap > join.tolerance_s) {
-        throw lead.Error(
-            r, time_column[0].column,
-            "no row of " + other.path() + " within " + Seconds(join.tolerance_s) + " of " +
-                Seconds(at) +
-                (nearest ? " (the nearest, " + RowText(other, *nearest) + ", is " + Seconds(gap) +
-                               " away)"
-                         : " (it has no rows)"),
-            hint);
+        throw lead.Error(r, time_column[0].column,
+                         "no row of " + other.path() + " within " + Seconds(join.tolerance_s) +
+                             " of " + Seconds(at) +
+                             (nearest ? " (the nearest, " + RowText(other, *nearest) + ", is " +
+                                            Seconds(gap) + " away)"
+                                      : " (it has no rows)"),
+                         hint);
       }
       if (taken_by[*nearest]) {
         throw other.Error(*nearest, time_column[t].column,
@@ -146,8 +145,7 @@ void JoinedTable::JoinByTime(const JoinSpec& join) {
 }
 
 std::vector<JoinedTable::Column> JoinedTable::Matches(const std::vector<size_t>& candidates,
-                                                      const std::string& name,
-                                                      bool exact) const {
+                                                      const std::string& name, bool exact) const {
   std::vector<Column> found;
   const std::string collapsed = CollapseSpaces(name);
   for (size_t t : candidates) {
@@ -195,9 +193,9 @@ std::optional<JoinedTable::Column> JoinedTable::Find(const ColumnRef& ref) const
       const Column& b = found[1];
       throw InputError(
           ref.where,
-          "column '" + ref.name + "' could be '" + tables_[a.table].columns()[a.column] +
-              "' of " + FileName(tables_[a.table]) + " or '" +
-              tables_[b.table].columns()[b.column] + "' of " + FileName(tables_[b.table]),
+          "column '" + ref.name + "' could be '" + tables_[a.table].columns()[a.column] + "' of " +
+              FileName(tables_[a.table]) + " or '" + tables_[b.table].columns()[b.column] +
+              "' of " + FileName(tables_[b.table]),
           names_[a.table].empty()
               ? "Write the column's name exactly as the header has it"
               : "Say which: " + names_[a.table] + "." + tables_[a.table].columns()[a.column] +
@@ -221,11 +219,11 @@ JoinedTable::Column JoinedTable::Bind(const ColumnRef& ref) const {
   }
   if (every.size() > 40) header += ", ...";
   const std::string nearest = NearestWord(ref.name, every);
-  throw InputError(ref.where,
-                   "column '" + ref.name + "' is not in the table" +
-                       (files.find(" or ") == std::string::npos ? " " : "s ") + files,
-                   nearest.empty() ? "The table's columns are: " + header
-                                   : "Did you mean '" + nearest + "'?");
+  throw InputError(
+      ref.where,
+      "column '" + ref.name + "' is not in the table" +
+          (files.find(" or ") == std::string::npos ? " " : "s ") + files,
+      nearest.empty() ? "The table's columns are: " + header : "Did you mean '" + nearest + "'?");
 }
 
 }  // namespace cellmetry

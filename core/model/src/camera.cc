@@ -3,7 +3,6 @@
 
 #include <ceres/jet.h>
 
-
 namespace cellmetry {
 
 Eigen::Vector3d PinholeCamera::Ray(const Eigen::Vector2d& pixel) const {

@@ -135,9 +135,10 @@ RosCameraInfo ReadRosCameraInfo(const ConfigNode& root) {
   const Eigen::MatrixXd K = RosMatrix(root["camera_matrix"], 3, 3);
   camera.fx = K(0, 0), camera.fy = K(1, 1), camera.cx = K(0, 2), camera.cy = K(1, 2);
   if (!(camera.fx > 0) || !(camera.fy > 0) || K(0, 1) != 0.0 || K(2, 2) != 1.0) {
-    throw root["camera_matrix"].Error("is not a camera matrix [fx 0 cx; 0 fy cy; 0 0 1] with "
-                                      "positive focal lengths",
-                                      "Check the camera_info file");
+    throw root["camera_matrix"].Error(
+        "is not a camera matrix [fx 0 cx; 0 fy cy; 0 0 1] with "
+        "positive focal lengths",
+        "Check the camera_info file");
   }
   ReadRosDistortion(root, &camera);
   if (root.Has("rectification_matrix")) {

@@ -26,8 +26,8 @@ std::vector<double> GravityTorques(const std::vector<Pose>& T_base_joint,
   return torque;
 }
 
-std::vector<double> FlangeLoadTorques(const Eigen::Matrix3Xd& flange_jacobian_mm,
-                                      double mass_kg, const Eigen::Vector3d& gravity_base) {
+std::vector<double> FlangeLoadTorques(const Eigen::Matrix3Xd& flange_jacobian_mm, double mass_kg,
+                                      const Eigen::Vector3d& gravity_base) {
   // Virtual work: the load's force m g does work F . dp = (J^T F) . dq, J in m/rad.
   const Eigen::VectorXd torque = 1e-3 * flange_jacobian_mm.transpose() * (mass_kg * gravity_base);
   return std::vector<double>(torque.data(), torque.data() + torque.size());

@@ -32,8 +32,8 @@ const typename Map::mapped_type& Find(const Map& factories, const std::string& k
   // Point at the `type:` line itself when the block has one.
   const ConfigNode where = config.IsMap() && config.Has("type") ? config["type"] : config;
   throw where.Error("unknown " + kind + " type '" + type + "'",
-                     (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") +
-                         "Known " + kind + " types: " + KnownNames(factories));
+                    (nearest.empty() ? "" : "Did you mean '" + nearest + "'? ") + "Known " + kind +
+                        " types: " + KnownNames(factories));
 }
 
 }  // namespace
@@ -56,10 +56,10 @@ Registry& Registry::Global() {
 void Registry::AddInfo(PluginInfo info) {
   for (const auto& existing : infos_) {
     if (existing.kind == info.kind && existing.name == info.name) {
-      throw InputError({loading_library_, 0, 0},
-                       KindName(info.kind) + " '" + info.name + "' is already registered by " +
-                           existing.library,
-                       "Remove one of the two plugin libraries from the plugin path");
+      throw InputError(
+          {loading_library_, 0, 0},
+          KindName(info.kind) + " '" + info.name + "' is already registered by " + existing.library,
+          "Remove one of the two plugin libraries from the plugin path");
     }
   }
   info.library = loading_library_.empty() ? "(built in)" : loading_library_;

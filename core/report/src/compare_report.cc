@@ -79,8 +79,8 @@ struct Columns {
 // the size of a pose set, a count of inputs, an index or id.
 bool IsSettingName(const std::string& name) {
   auto ends = [&](const std::string& tail) {
-    return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(),
-                                                      tail) == 0;
+    return name.size() >= tail.size() &&
+           name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
   };
   for (const char* exact : {"seed", "seeds", "size", "count", "n", "index", "id"}) {
     if (name == exact) return true;

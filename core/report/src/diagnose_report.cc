@@ -20,11 +20,9 @@ void FitRow(const std::string& name, const FitSummary& f,
 
 // Residual against the effect's prediction, before and after, one plot pair per camera and axis.
 void SignatureSection(const AcceptedEffect& a, HtmlPage* page) {
-  page->Paragraph(a.name + ": " + a.description + " (largest tool displacement " +
-                  Num(a.peak_mm, 3) + " mm" +
-                  (a.aliases.empty() ? ""
-                                     : "; these poses cannot tell it from " + Join(a.aliases)) +
-                  ")");
+  page->Paragraph(
+      a.name + ": " + a.description + " (largest tool displacement " + Num(a.peak_mm, 3) + " mm" +
+      (a.aliases.empty() ? "" : "; these poses cannot tell it from " + Join(a.aliases)) + ")");
   std::map<std::pair<std::string, int>, std::pair<Series, Series>> panels;
   for (const auto& p : a.signature) {
     auto& [before, after] = panels[{p.camera, p.axis}];
@@ -47,8 +45,9 @@ void SignatureSection(const AcceptedEffect& a, HtmlPage* page) {
     spec.y_label = "residual (mm)";
     spec.series = {series.first, series.second};
     spec.symmetric_y = true;
-    spec.caption = "Before (geometry alone) a real effect lies along slope -1 (residual = "
-                   "prediction - measurement); after it is fitted, a flat band.";
+    spec.caption =
+        "Before (geometry alone) a real effect lies along slope -1 (residual = "
+        "prediction - measurement); after it is fitted, a flat band.";
     page->Raw(ScatterPlot(spec));
   }
   page->EndGrid();
@@ -60,8 +59,8 @@ void CandidatesSection(const DiagnosisResult& r, HtmlPage* page) {
     const DiagnosisRound& round = r.rounds[k];
     const std::string accepted =
         round.accepted.empty() ? "nothing accepted" : "accepted " + round.accepted;
-    page->Paragraph("Round " + std::to_string(k + 1) + " (dispersion " +
-                    Num(round.dispersion, 3) + "): " + accepted);
+    page->Paragraph("Round " + std::to_string(k + 1) + " (dispersion " + Num(round.dispersion, 3) +
+                    "): " + accepted);
     std::vector<std::vector<std::string>> rows;
     std::vector<IntervalRow> scores;
     for (const auto& c : round.candidates) {
@@ -69,8 +68,8 @@ void CandidatesSection(const DiagnosisResult& r, HtmlPage* page) {
                       c.refitted ? Num(c.likelihood_ratio, 4) : "",
                       c.refitted ? Num(c.delta_bic, 4) : "",
                       c.cv_gain_se > 0 ? Num(c.cv_gain, 3) + " ± " + Num(c.cv_gain_se, 2) : "",
-                      c.bootstrap_share > 0 ? Num(c.bootstrap_share, 3) : "",
-                      Num(c.unabsorbed, 3), c.accepted ? "accepted" : Join(c.failed)});
+                      c.bootstrap_share > 0 ? Num(c.bootstrap_share, 3) : "", Num(c.unabsorbed, 3),
+                      c.accepted ? "accepted" : Join(c.failed)});
       if (scores.size() < 25) {
         scores.push_back({c.label, c.score, c.score, c.score, c.accepted ? 2 : 0});
       }
@@ -78,8 +77,8 @@ void CandidatesSection(const DiagnosisResult& r, HtmlPage* page) {
     page->Raw(IntervalPlot("candidate_scores", scores, "score statistic (chi-square)",
                            "The round's strongest " + std::to_string(scores.size()) +
                                " candidates by score; green: accepted."));
-    page->Table({"candidate", "dof", "score", "p (Holm)", "LR", "ΔBIC", "CV gain (σ)",
-                 "bootstrap", "unabsorbed", "verdict"},
+    page->Table({"candidate", "dof", "score", "p (Holm)", "LR", "ΔBIC", "CV gain (σ)", "bootstrap",
+                 "unabsorbed", "verdict"},
                 rows, 60);
   }
   if (!r.untestable.empty()) {
@@ -115,10 +114,13 @@ void FindingsSection(const DiagnosisResult& r, HtmlPage* page) {
   page->Table({"site", "finding (headline)", "also physics here", "its residual shape",
                "held-out excess removed (σ²)"},
               rows);
-  page->Note("An effect at a finding's site counts as physics of its own when it removes at "
-             "least " + Num(100 * r.min_group_share, 2) +
-             " % of the group's held-out excess or is shaped unlike the headline (correlation "
-             "below " + Num(r.shape_correlation, 2) + ").");
+  page->Note(
+      "An effect at a finding's site counts as physics of its own when it removes at "
+      "least " +
+      Num(100 * r.min_group_share, 2) +
+      " % of the group's held-out excess or is shaped unlike the headline (correlation "
+      "below " +
+      Num(r.shape_correlation, 2) + ").");
 }
 
 }  // namespace

@@ -25,10 +25,11 @@ void HeldOutSetupSection(const WorkcellResult& r, HtmlPage* page) {
       {"nominal geometry", Num(v.nominal_rms_mm, 4), "", ""},
       {"registration poses (calibrated)", Num(v.registration_rms_mm, 4), "", ""}};
   page->Table({"model", "RMS (mm)", "mean (mm)", "max (mm)"}, rows, 10);
-  page->Paragraph("Predicted sigma of a point (median of its 3D sigma): " +
-                  Num(v.median_sigma_mm, 4) + " mm; inside their 95 % ellipsoid: " +
-                  Num(100.0 * v.within_95, 1) + " % of the points; mean of e'C^-1 e / 3: " +
-                  Num(v.mean_normalized, 2) + " (1 when the sigma are right).");
+  page->Paragraph(
+      "Predicted sigma of a point (median of its 3D sigma): " + Num(v.median_sigma_mm, 4) +
+      " mm; inside their 95 % ellipsoid: " + Num(100.0 * v.within_95, 1) +
+      " % of the points; mean of e'C^-1 e / 3: " + Num(v.mean_normalized, 2) +
+      " (1 when the sigma are right).");
 }
 
 }  // namespace cellmetry::report

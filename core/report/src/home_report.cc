@@ -31,8 +31,9 @@ std::string HomeReportHtml(const HomingResult& r, const std::string& title) {
                         {{SeriesColor(0), "interval"}, {SeriesColor(1), "least squares"}}));
   page.Table({"motor", "interval offset", "interval width", "least-squares offset", "σ"}, table);
   page.Section("Runs: the residual intervals", "runs");
-  page.Note("Each run intersects the positions' intervals; a rerun measures what remains after "
-            "the offset is applied, and the offset stands when that interval holds 0.");
+  page.Note(
+      "Each run intersects the positions' intervals; a rerun measures what remains after "
+      "the offset is applied, and the offset stands when that interval holds 0.");
   std::vector<IntervalRow> residual;
   std::vector<std::vector<std::string>> runs;
   for (size_t k = 0; k < r.runs.size(); ++k) {

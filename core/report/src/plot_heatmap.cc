@@ -43,7 +43,8 @@ std::string CorrelationHeatmap(const std::vector<std::string>& names,
     }
   }
   plot.Legend({{Diverging(-1), "-1"}, {Diverging(1), "+1"}});
-  plot.Caption(std::to_string(n) + " free parameters; red: positive, blue: negative correlation; "
+  plot.Caption(std::to_string(n) +
+               " free parameters; red: positive, blue: negative correlation; "
                "white: |rho| < 0.05. Hover a cell for its pair and value." +
                std::string(n > 60 ? " Names are listed in the sigma table (same order)." : ""));
   return plot.Svg();

@@ -47,15 +47,13 @@ std::string NormalHistogram(const std::vector<double>& whitened, const std::stri
     gy.push_back(std::exp(-0.5 * x * x) / std::sqrt(2 * M_PI));
   }
   plot.Polyline(gx, gy, "#c33", 1.8);
-  plot.BeyondMark(-2 * kEdge, 0, "#7a9cc6", std::to_string(below_edge) + " below -6",
-                  below_edge);
+  plot.BeyondMark(-2 * kEdge, 0, "#7a9cc6", std::to_string(below_edge) + " below -6", below_edge);
   plot.BeyondMark(2 * kEdge, 0, "#7a9cc6", std::to_string(above_edge) + " above 6", above_edge);
   plot.Legend({{"#7a9cc6", "residuals"}, {"#c33", "N(0,1)"}});
   const double mean = n > 0 ? sum / n : 0.0;
   const double sd = n > 1 ? std::sqrt(std::max(0.0, (sum2 - n * mean * mean) / (n - 1))) : 0.0;
-  plot.Caption(std::to_string(n) + " values: mean " + Num(mean, 3) + ", sd " + Num(sd, 3) +
-               "; " + Num(n > 0 ? 100.0 * beyond3 / n : 0.0, 3) +
-               " % beyond 3 (N(0,1): 0.27 %).");
+  plot.Caption(std::to_string(n) + " values: mean " + Num(mean, 3) + ", sd " + Num(sd, 3) + "; " +
+               Num(n > 0 ? 100.0 * beyond3 / n : 0.0, 3) + " % beyond 3 (N(0,1): 0.27 %).");
   return plot.Svg();
 }
 

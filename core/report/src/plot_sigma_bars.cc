@@ -25,8 +25,8 @@ std::string SigmaBars(const std::vector<SigmaEntry>& entries, const std::string&
     const SigmaEntry& e = entries[i];
     const double y0 = static_cast<double>(i) - 0.36, y1 = static_cast<double>(i) + 0.36;
     const double total2 = e.total * e.total;
-    const double split = e.statistical * e.statistical + e.systematic * e.systematic +
-                         e.inputs * e.inputs;
+    const double split =
+        e.statistical * e.statistical + e.systematic * e.systematic + e.inputs * e.inputs;
     const std::string title = e.name + ": " + Num(e.total, 3) + " " + unit + " (statistical " +
                               Num(e.statistical, 3) + ", systematic " + Num(e.systematic, 3) +
                               ", inputs " + Num(e.inputs, 3) + ")";
@@ -46,10 +46,12 @@ std::string SigmaBars(const std::vector<SigmaEntry>& entries, const std::string&
     }
   }
   if (parts) {
-    plot.Legend({{SeriesColor(0), "statistical"}, {SeriesColor(1), "systematic"},
+    plot.Legend({{SeriesColor(0), "statistical"},
+                 {SeriesColor(1), "systematic"},
                  {SeriesColor(2), "inputs"}});
-    plot.Caption("Bar length: total sigma. Segments: each part's share of the variance "
-                 "(sigma^2 = statistical^2 + systematic^2 + inputs^2). Grey: no parts computed.");
+    plot.Caption(
+        "Bar length: total sigma. Segments: each part's share of the variance "
+        "(sigma^2 = statistical^2 + systematic^2 + inputs^2). Grey: no parts computed.");
   }
   return plot.Svg();
 }

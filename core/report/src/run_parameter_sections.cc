@@ -10,8 +10,9 @@ namespace cellmetry::report {
 
 void SigmaSection(const WorkcellResult& r, HtmlPage* page) {
   page->Section("Sigma of every parameter", "sigma");
-  page->Note("1-sigma of every fitted number, in its unit; held entries are left out. Frame "
-             "rotations are small rotations about the parent's axes, in mrad.");
+  page->Note(
+      "1-sigma of every fitted number, in its unit; held entries are left out. Frame "
+      "rotations are small rotations about the parent's axes, in mrad.");
   std::map<std::string, std::vector<SigmaEntry>> by_unit;
   const char* kAxes[6] = {"x", "y", "z", "rx", "ry", "rz"};
   for (const auto& f : r.frames) {
@@ -75,8 +76,8 @@ void FramesSection(const WorkcellResult& r, HtmlPage* page) {
   if (!r.model_parameters.empty()) {
     std::vector<std::vector<std::string>> params;
     for (const auto& p : r.model_parameters) {
-      params.push_back({p.name, p.unit, Num(p.nominal, 7), Num(p.value, 7),
-                        p.held ? "held" : Num(p.sigma, 2)});
+      params.push_back(
+          {p.name, p.unit, Num(p.nominal, 7), Num(p.value, 7), p.held ? "held" : Num(p.sigma, 2)});
     }
     page->Paragraph("Model parameters");
     page->Table({"parameter", "unit", "nominal", "fitted", "sigma"}, params);

@@ -46,10 +46,11 @@ void OutlierSection(const WorkcellResult& r, const Recording& recording, HtmlPag
 
 void HeldOutSection(const WorkcellResult& r, const Recording& recording, HtmlPage* page) {
   page->Section("Held-out against fitted RMS", "held-out");
-  page->Note("Fitted: RMS of the 3D residual over the carried targets' positions the fit saw. "
-             "Held out: the same for poses left out of the fit (k-fold by pose), the bar spans "
-             "the folds. Held out much above fitted means the model fits noise or the poses do "
-             "not cover the cell.");
+  page->Note(
+      "Fitted: RMS of the 3D residual over the carried targets' positions the fit saw. "
+      "Held out: the same for poses left out of the fit (k-fold by pose), the bar spans "
+      "the folds. Held out much above fitted means the model fits noise or the poses do "
+      "not cover the cell.");
   std::vector<IntervalRow> rows;
   std::map<std::string, ResidualRms> fitted;
   ResidualRms all;
@@ -95,13 +96,14 @@ void HeldOutSection(const WorkcellResult& r, const Recording& recording, HtmlPag
 void CamerasLeftOutSection(const WorkcellResult& r, HtmlPage* page) {
   if (r.cameras_left_out.empty()) return;
   page->Section("Each camera left out", "cameras-left-out");
-  page->Note("The cell identified again without each camera, against the answer with all of "
-             "them: the difference and its sigma (the data's part from both fits' shared rows, "
-             "and the uncertain inputs both share). Beyond " +
-             Num(r.cameras_left_out.front().flag_sigmas, 2) +
-             " sigma (3 sigma's 0.27 % shared over every coordinate compared) the camera "
-             "disagrees with the others more than the model allows: its "
-             "intrinsics, its mount, or camera-side physics the job leaves out.");
+  page->Note(
+      "The cell identified again without each camera, against the answer with all of "
+      "them: the difference and its sigma (the data's part from both fits' shared rows, "
+      "and the uncertain inputs both share). Beyond " +
+      Num(r.cameras_left_out.front().flag_sigmas, 2) +
+      " sigma (3 sigma's 0.27 % shared over every coordinate compared) the camera "
+      "disagrees with the others more than the model allows: its "
+      "intrinsics, its mount, or camera-side physics the job leaves out.");
   std::vector<std::vector<std::string>> rows;
   for (const CameraLeftOut& c : r.cameras_left_out) {
     if (!c.error.empty()) {
@@ -112,15 +114,15 @@ void CamerasLeftOutSection(const WorkcellResult& r, HtmlPage* page) {
       for (int i = 0; i < 6; ++i) {
         if (!d.compared[i]) continue;
         const double sigmas = std::abs(d.difference[i]) / d.sigma[i];
-        rows.push_back({c.camera, d.frame + "." + kFrameParameterNames[i],
-                        Num(d.difference[i], 4), Num(d.sigma[i], 3), Num(sigmas, 2),
+        rows.push_back({c.camera, d.frame + "." + kFrameParameterNames[i], Num(d.difference[i], 4),
+                        Num(d.sigma[i], 3), Num(sigmas, 2),
                         sigmas > c.flag_sigmas ? "flagged" : ""});
       }
     }
   }
-  page->Table({"without", "coordinate", "difference (mm | rad)", "sigma", "|difference| / sigma",
-               ""},
-              rows, 200);
+  page->Table(
+      {"without", "coordinate", "difference (mm | rad)", "sigma", "|difference| / sigma", ""}, rows,
+      200);
 }
 
 }  // namespace cellmetry::report

@@ -27,9 +27,9 @@ void SummarySection(const WorkcellResult& r, HtmlPage* page) {
         std::to_string(r.unidentifiable.size())}});
   for (const auto& w : r.warnings) page->Paragraph("Warning: " + w);
   for (const auto& p : r.unidentifiable) {
-    page->Note((p.prior_sigma > 0 ? "by its plausible size as a prior (0 +- " +
-                                        Num(p.prior_sigma, 3) + "): "
-                                  : std::string("held: ")) +
+    page->Note((p.prior_sigma > 0
+                    ? "by its plausible size as a prior (0 +- " + Num(p.prior_sigma, 3) + "): "
+                    : std::string("held: ")) +
                p.name + " (" + p.reason + ")");
   }
 }

@@ -36,9 +36,10 @@ std::vector<Series> Values(const std::map<std::string, Series>& m) {
 
 void ResidualOrderSection(const WorkcellResult& r, const Recording& recording, HtmlPage* page) {
   page->Section("Residuals over capture order", "order");
-  page->Note("Prediction minus measurement of every target position, in the camera's axes (mm), "
-             "against the sample's place in the recording. A drift, a jump or a block of poses "
-             "that disagrees shows here; noise looks like a band around 0.");
+  page->Note(
+      "Prediction minus measurement of every target position, in the camera's axes (mm), "
+      "against the sample's place in the recording. A drift, a jump or a block of poses "
+      "that disagrees shows here; noise looks like a band around 0.");
   for (int axis = 0; axis < 3; ++axis) {
     const auto cameras = ByCameraTarget(r, [&](const ResidualRow& row, Series* s) {
       s->x.push_back(recording.SampleIndex(row.sample));
@@ -61,10 +62,11 @@ void ResidualOrderSection(const WorkcellResult& r, const Recording& recording, H
 
 void WhitenedSection(const WorkcellResult& r, HtmlPage* page) {
   page->Section("Whitened residuals against N(0,1)", "whitened");
-  page->Note("Every residual component divided by the sigma it was weighted with. If the noise "
-             "model is right they follow the red curve; a wider histogram means sigma is too "
-             "small (the covariance is scaled up by the reduced chi-square), heavy tails mean "
-             "outliers or unmodelled physics.");
+  page->Note(
+      "Every residual component divided by the sigma it was weighted with. If the noise "
+      "model is right they follow the red curve; a wider histogram means sigma is too "
+      "small (the covariance is scaled up by the reduced chi-square), heavy tails mean "
+      "outliers or unmodelled physics.");
   std::vector<double> position, rotation;
   for (const auto& row : r.residuals) {
     auto& into = IsPosition(row) ? position : rotation;
@@ -78,9 +80,10 @@ void WhitenedSection(const WorkcellResult& r, HtmlPage* page) {
 
 void ResidualImageSection(const WorkcellResult& r, const Recording& recording, HtmlPage* page) {
   page->Section("Residuals across the image and against depth", "image");
-  page->Note("Each residual axis against the measured position of the target in the same camera "
-             "axis, and the residual's length against depth: a slope is a scale or distortion "
-             "error of the camera, a curve against depth a depth bias.");
+  page->Note(
+      "Each residual axis against the measured position of the target in the same camera "
+      "axis, and the residual's length against depth: a slope is a scale or distortion "
+      "error of the camera, a curve against depth a depth bias.");
   const int n_obs = static_cast<int>(recording.observations.size());
   for (int panel = 0; panel < 4; ++panel) {
     const auto cameras = ByCameraTarget(r, [&](const ResidualRow& row, Series* s) {

@@ -94,8 +94,7 @@ Range RangeOf(const std::vector<double>& values, bool with_zero, double pad) {
 
 Range Union(Range a, Range b) { return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)}; }
 
-Range FencedRangeOf(const std::vector<std::vector<double>>& populations, double fence,
-                    double pad) {
+Range FencedRangeOf(const std::vector<std::vector<double>>& populations, double fence, double pad) {
   std::vector<double> all, kept;
   for (const auto& values : populations) {
     all.insert(all.end(), values.begin(), values.end());
@@ -156,9 +155,8 @@ void SvgPlot::Circle(double x, double y, double r_px, const std::string& color,
     BeyondMark(x, y, color, title);
     return;
   }
-  body_ += "<circle cx=\"" + F(Px(x)) + "\" cy=\"" + F(Py(y)) + "\" r=\"" + F(r_px) +
-           "\" fill=\"" + color + "\" fill-opacity=\"" + Num(opacity, 2) + "\">" +
-           TitleTag(title) + "</circle>";
+  body_ += "<circle cx=\"" + F(Px(x)) + "\" cy=\"" + F(Py(y)) + "\" r=\"" + F(r_px) + "\" fill=\"" +
+           color + "\" fill-opacity=\"" + Num(opacity, 2) + "\">" + TitleTag(title) + "</circle>";
   ++marks_;
 }
 
@@ -177,9 +175,9 @@ void SvgPlot::BeyondMark(double x, double y, const std::string& color, const std
     ux = 0, uy = -1;
   }
   const double tip = 7, half = 4.5;  // px: a triangle larger than any point, so it stands out
-  const std::string points = F(px + tip * ux) + "," + F(py + tip * uy) + " " +
-                             F(px - half * uy) + "," + F(py + half * ux) + " " +
-                             F(px + half * uy) + "," + F(py - half * ux);
+  const std::string points = F(px + tip * ux) + "," + F(py + tip * uy) + " " + F(px - half * uy) +
+                             "," + F(py + half * ux) + " " + F(px + half * uy) + "," +
+                             F(py - half * ux);
   const std::string note = (count > 1 ? std::to_string(count) + " points" : "a point") +
                            " beyond the axis, drawn at its edge";
   body_ += "<polygon class=\"beyond\" points=\"" + points + "\" fill=\"" + color +

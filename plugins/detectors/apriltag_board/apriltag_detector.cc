@@ -58,16 +58,13 @@ std::string NoTagUsed(const std::string& family, const SortedDetections& sorted,
     return what + " found; the image shows other ids (" + IdList(foreign) +
            "): check first_id / cube_faces";
   }
-  return what + " found: " + std::to_string(quads) + " quads, none decoded as a " + family +
-         " tag";
+  return what + " found: " + std::to_string(quads) + " quads, none decoded as a " + family + " tag";
 }
 
 }  // namespace
 
 AprilTagDetector::AprilTagDetector(AprilTagOptions options, FamilyPtr family)
-    : options_(std::move(options)),
-      layout_(Layout(options_.board)),
-      family_(std::move(family)),
+    : options_(std::move(options)), layout_(Layout(options_.board)), family_(std::move(family)),
       detector_(apriltag_detector_create()) {
   wanted_.assign(family_->ncodes, false);
   for (int id : options_.board.ids()) wanted_[id] = true;
@@ -118,8 +115,7 @@ AprilTagDetector::DetectionsPtr AprilTagDetector::RunLibrary(const ImageView& im
   return DetectionsPtr(apriltag_detector_detect(detector_.get(), &frame));
 }
 
-fiducial::Quad AprilTagDetector::Corners(const apriltag_detection_t& det,
-                                         const ImageView& image) {
+fiducial::Quad AprilTagDetector::Corners(const apriltag_detection_t& det, const ImageView& image) {
   // Library corner i: i = 0 bottom-left, 1 bottom-right, 2 top-right, 3 top-left (apriltag.c
   // projects (-1, 1), (1, 1), (1, -1), (-1, -1) of the tag, whose y points down the tag).
   fiducial::Quad quad;

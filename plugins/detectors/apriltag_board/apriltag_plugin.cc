@@ -8,9 +8,9 @@
 #include <set>
 #include <string>
 
-#include "apriltag_detector.h"
 #include "cellmetry/basics/text.h"
 #include "cellmetry/registry/registry.h"
+#include "apriltag_detector.h"
 
 namespace cellmetry::apriltag_board {
 namespace {
@@ -54,10 +54,9 @@ void ReadGrid(const ConfigNode& config, const apriltag_family_t& family, TagBoar
   if (!(b->tag_size_mm > 0)) throw config["tag_size_mm"].Error("must be positive");
   const double min_spacing = 2 * b->outer_cells() * b->cell_mm();
   if (b->tags_x * b->tags_y > 1 && !config.Has("spacing_mm")) {
-    throw config.Error(
-        "a grid of several tags needs spacing_mm",
-        "Give the gap between neighbouring tags' detection squares, at least " +
-            Mm(min_spacing, 4));
+    throw config.Error("a grid of several tags needs spacing_mm",
+                       "Give the gap between neighbouring tags' detection squares, at least " +
+                           Mm(min_spacing, 4));
   }
   b->spacing_mm = config.GetDouble("spacing_mm", min_spacing);
   if (b->spacing_mm < min_spacing - 1e-9) {
@@ -83,9 +82,8 @@ void ReadCube(const ConfigNode& config, const apriltag_family_t& family,
   const double printed_w = b->grid_width_mm() + 2 * b->outer_cells() * b->cell_mm();
   const double printed_h = b->grid_height_mm() + 2 * b->outer_cells() * b->cell_mm();
   if (printed_w > b->cube_mm + 1e-9 || printed_h > b->cube_mm + 1e-9) {
-    throw config["cube_mm"].Error("a face's grid (" + Mm(printed_w, 4) + " x " +
-                                      Mm(printed_h, 4) + " printed) does not fit on a " +
-                                      Mm(b->cube_mm, 4) + " cube",
+    throw config["cube_mm"].Error("a face's grid (" + Mm(printed_w, 4) + " x " + Mm(printed_h, 4) +
+                                      " printed) does not fit on a " + Mm(b->cube_mm, 4) + " cube",
                                   "Use a larger cube, smaller tags or fewer tags per face");
   }
   const ConfigNode faces = config["cube_faces"];

@@ -24,24 +24,12 @@ void SideAxes(CubeSide side, Eigen::Vector3d* right, Eigen::Vector3d* up) {
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
                         z = Eigen::Vector3d::UnitZ();
   switch (side) {
-    case CubeSide::kPlusX:
-      *right = y, *up = z;
-      break;
-    case CubeSide::kMinusX:
-      *right = -y, *up = z;
-      break;
-    case CubeSide::kPlusY:
-      *right = -x, *up = z;
-      break;
-    case CubeSide::kMinusY:
-      *right = x, *up = z;
-      break;
-    case CubeSide::kPlusZ:
-      *right = x, *up = y;
-      break;
-    case CubeSide::kMinusZ:
-      *right = x, *up = -y;
-      break;
+    case CubeSide::kPlusX: *right = y, *up = z; break;
+    case CubeSide::kMinusX: *right = -y, *up = z; break;
+    case CubeSide::kPlusY: *right = -x, *up = z; break;
+    case CubeSide::kMinusY: *right = x, *up = z; break;
+    case CubeSide::kPlusZ: *right = x, *up = y; break;
+    case CubeSide::kMinusZ: *right = x, *up = -y; break;
   }
 }
 

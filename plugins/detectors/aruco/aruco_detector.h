@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "aruco_target.h"
 #include "cellmetry/model/detector.h"
+#include "aruco_target.h"
 #include "fiducial_common/edge_lines.h"
 
 namespace cellmetry::aruco {

@@ -7,8 +7,8 @@
 #include <set>
 #include <string>
 
-#include "aruco_detector.h"
 #include "cellmetry/registry/registry.h"
+#include "aruco_detector.h"
 #include "fiducial_common/aruco_dictionary.h"
 
 namespace cellmetry::aruco {

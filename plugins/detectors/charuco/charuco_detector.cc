@@ -21,8 +21,7 @@ constexpr float kSubpixShiftPx = 0.5f;
 }  // namespace
 
 CharucoDetector::CharucoDetector(CharucoOptions options)
-    : options_(std::move(options)),
-      board_(MakeBoard(options_.target)),
+    : options_(std::move(options)), board_(MakeBoard(options_.target)),
       parameters_(cv::aruco::DetectorParameters::create()),
       layout_(Layout(*board_, options_.target.square_mm)) {
   subpix_.clear_fraction =

@@ -29,8 +29,7 @@ std::string DotSearch::WhyNone() const {
 }
 
 DotFinder::DotFinder(DotFinderOptions options, ImageGeometry geometry)
-    : options_(options),
-      geometry_(std::move(geometry)),
+    : options_(options), geometry_(std::move(geometry)),
       transform_(GrayTransform::Gamma(options.gamma)) {}
 
 bool DotFinder::MeasureDot(const ImageView& image, const Blob& blob, Dot* dot) {

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/model/camera_file.h"
 #include "cellmetry/formats/config_node.h"
+#include "cellmetry/model/camera_file.h"
 #include "cellmetry/registry/registry.h"
 #include "dot_common/dot_finder.h"
 

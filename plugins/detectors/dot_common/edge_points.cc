@@ -187,7 +187,8 @@ void WalkRows(const ImageView& image, const GrayTransform& transform, const Edge
     const std::uint8_t* row = image.data + static_cast<size_t>(y) * stride;
     const int start =
         static_cast<int>(std::lround(o.centre.x() + m(0, 1) / m(1, 1) * (y - o.centre.y())));
-    WalkLine(s, [&](int x) { return L[row[x]]; }, start, box.xmin, box.xmax, y, true, crossings);
+    WalkLine(
+        s, [&](int x) { return L[row[x]]; }, start, box.xmin, box.xmax, y, true, crossings);
   }
 }
 
@@ -203,8 +204,9 @@ void WalkColumns(const ImageView& image, const GrayTransform& transform, const E
     const std::uint8_t* column = image.data + x;
     const int start =
         static_cast<int>(std::lround(o.centre.y() + m(0, 1) / m(0, 0) * (x - o.centre.x())));
-    WalkLine(s, [&](int y) { return L[column[y * stride]]; }, start, box.ymin, box.ymax, x, false,
-             crossings);
+    WalkLine(
+        s, [&](int y) { return L[column[y * stride]]; }, start, box.ymin, box.ymax, x, false,
+        crossings);
   }
 }
 

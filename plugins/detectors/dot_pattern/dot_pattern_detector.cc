@@ -159,8 +159,7 @@ Detection DotPatternDetector::Detect(const ImageView& image) {
   const ImageGeometry& geometry = finder_.geometry();
   std::vector<Eigen::Vector2d> ideal;
   for (const Dot& d : search.dots) ideal.push_back(d.ellipse.centre);
-  const PatternMatch match =
-      MatchDiamond(ideal, options_.pitch_mm, options_.max_layout_error_px);
+  const PatternMatch match = MatchDiamond(ideal, options_.pitch_mm, options_.max_layout_error_px);
   if (!match.failure.empty()) {
     detection.failure = match.failure;
     return detection;

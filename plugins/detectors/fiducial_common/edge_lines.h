@@ -27,8 +27,8 @@
 
 #include <array>
 
-#include "cellmetry/formats/image.h"
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/formats/image.h"
 
 namespace cellmetry::fiducial {
 

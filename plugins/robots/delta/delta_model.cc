@@ -36,12 +36,26 @@ DeltaModel::DeltaModel(std::array<Arm, kArms> arms, Pose marker_offset, RobotLim
                            {},
                            "motor axis to the centre of the base (only R - r is identifiable)",
                            {}});
-    parameters_.push_back({arm + "r", "mm", a.r, false, {}, {}, {},
-                           "effector joint to the centre of the effector", {}});
+    parameters_.push_back({arm + "r",
+                           "mm",
+                           a.r,
+                           false,
+                           {},
+                           {},
+                           {},
+                           "effector joint to the centre of the effector",
+                           {}});
     parameters_.push_back({arm + "L", "mm", a.L, false, {}, {}, {}, "upper arm length", {}});
     parameters_.push_back({arm + "l", "mm", a.l, false, {}, {}, {}, "lower arm (rod) length", {}});
-    parameters_.push_back({arm + "homing", "rad", a.homing, false, {}, {}, {},
-                           "homing offset: true motor angle = command + homing", {}});
+    parameters_.push_back({arm + "homing",
+                           "rad",
+                           a.homing,
+                           false,
+                           {},
+                           {},
+                           {},
+                           "homing offset: true motor angle = command + homing",
+                           {}});
   }
 }
 
@@ -76,9 +90,10 @@ std::string DeltaModel::ForwardFailure(const double* q, const double* params) co
   double height2 = 0.0;
   Vector3<double> point;
   if (LowerSphereIntersection(centre, radius, &point, &height2)) return "no failure";
-  return Format("the three rod spheres do not meet at motor angles (%.4f, %.4f, %.4f) rad "
-                "(squared height %.3g mm^2 < 0): the elbows are further apart than the rods reach",
-                q[0], q[1], q[2], height2);
+  return Format(
+      "the three rod spheres do not meet at motor angles (%.4f, %.4f, %.4f) rad "
+      "(squared height %.3g mm^2 < 0): the elbows are further apart than the rods reach",
+      q[0], q[1], q[2], height2);
 }
 
 std::string DeltaModel::InverseFailure(const double* position, const double* params) const {
@@ -119,8 +134,9 @@ std::string DeltaModel::CalibratedConfig(const ConfigNode& config, const double*
   }
   if (limits_.workspace) {
     const CylinderWorkspace& w = *limits_.workspace;
-    out << "workspace: {radius: " << ExactNumber(w.radius_mm) << ", z_min: "
-        << ExactNumber(w.z_min_mm) << ", z_max: " << ExactNumber(w.z_max_mm) << "}\n";
+    out << "workspace: {radius: " << ExactNumber(w.radius_mm)
+        << ", z_min: " << ExactNumber(w.z_min_mm) << ", z_max: " << ExactNumber(w.z_max_mm)
+        << "}\n";
   }
   return out.str();
 }

@@ -88,9 +88,8 @@ class DeltaModel : public InvertibleRobotModelFromTemplate<DeltaModel> {
   // The point where three spheres meet, the one with the lower z; false (with the squared
   // height that came out negative, in *height2) where they do not meet.
   template <typename T>
-  static bool LowerSphereIntersection(const std::array<Vector3<T>, 3>& c,
-                                      const std::array<T, 3>& r, Vector3<T>* point,
-                                      double* height2) {
+  static bool LowerSphereIntersection(const std::array<Vector3<T>, 3>& c, const std::array<T, 3>& r,
+                                      Vector3<T>* point, double* height2) {
     using std::sqrt;
     // Frame at c0: ex toward c1, ey in the plane of the three centres, ez normal to it.
     Vector3<T> ex = c[1] - c[0];

@@ -2,8 +2,8 @@
 // and workspace from a robot config (configs/robots/delta.yaml).
 #include <cmath>
 
-#include "cellmetry/registry/registry.h"
 #include "cellmetry/formats/units.h"
+#include "cellmetry/registry/registry.h"
 #include "delta_model.h"
 
 namespace cellmetry::delta {
@@ -67,8 +67,7 @@ std::unique_ptr<RobotModel> Create(const ConfigNode& config) {
   std::array<Arm, kArms> arms;
   const std::vector<ConfigNode> nodes = config["arms"].Elements();
   if (nodes.size() != kArms) {
-    throw config["arms"].Error("a delta arm has 3 arms, this lists " +
-                                   std::to_string(nodes.size()),
+    throw config["arms"].Error("a delta arm has 3 arms, this lists " + std::to_string(nodes.size()),
                                "List {R, r, L, l, homing} for arm 1, 2 and 3");
   }
   for (int i = 0; i < kArms; ++i) arms[i] = ReadArm(nodes[i], units);

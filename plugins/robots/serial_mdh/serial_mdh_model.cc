@@ -43,15 +43,36 @@ SerialMdhModel::SerialMdhModel(std::vector<Joint> joints) : joints_(std::move(jo
     const std::string j = "j" + std::to_string(i + 1) + ".";
     const Joint& joint = joints_[i];
     const bool parallel = i > 0 && ParallelToPrevious(joint);
-    parameters_.push_back({j + "alpha", "rad", joint.alpha, true, {}, {}, {},
-                           "twist about x_{i-1} (Craig alpha_{i-1})", {}});
-    parameters_.push_back({j + "a", "mm", joint.a, true, {}, {}, {},
-                           "length along x_{i-1} (Craig a_{i-1})", {}});
-    parameters_.push_back({j + "beta", "rad", joint.beta, true, {}, {}, {},
-                           "Hayati tilt about y; use for parallel axes", {}});
+    parameters_.push_back({j + "alpha",
+                           "rad",
+                           joint.alpha,
+                           true,
+                           {},
+                           {},
+                           {},
+                           "twist about x_{i-1} (Craig alpha_{i-1})",
+                           {}});
+    parameters_.push_back(
+        {j + "a", "mm", joint.a, true, {}, {}, {}, "length along x_{i-1} (Craig a_{i-1})", {}});
+    parameters_.push_back({j + "beta",
+                           "rad",
+                           joint.beta,
+                           true,
+                           {},
+                           {},
+                           {},
+                           "Hayati tilt about y; use for parallel axes",
+                           {}});
     parameters_.push_back({j + "d", "mm", joint.d, true, {}, {}, {}, "offset along z_i", {}});
-    parameters_.push_back({j + "offset", "rad", joint.offset, true, {}, {}, {},
-                           "joint zero offset added to the reading", {}});
+    parameters_.push_back({j + "offset",
+                           "rad",
+                           joint.offset,
+                           true,
+                           {},
+                           {},
+                           {},
+                           "joint zero offset added to the reading",
+                           {}});
     for (int entry = 0; entry < kParamsPerJoint; ++entry) {
       parameters_[kParamsPerJoint * i + entry].convention =
           Convention(i, joints_.size(), entry, parallel);
@@ -68,8 +89,7 @@ std::vector<std::string> SerialMdhModel::Warnings(
   };
   for (size_t i = 1; i < joints_.size(); ++i) {
     if (ParallelToPrevious(joints_[i]) && is_free(i, kD) && !is_free(i, kBeta)) {
-      warnings.push_back("axes of joints " + std::to_string(i) + " and " +
-                         std::to_string(i + 1) +
+      warnings.push_back("axes of joints " + std::to_string(i) + " and " + std::to_string(i + 1) +
                          " are parallel: modified DH is ill-conditioned there; identify j" +
                          std::to_string(i + 1) + ".beta (Hayati) rather than j" +
                          std::to_string(i + 1) + ".d");
@@ -78,8 +98,7 @@ std::vector<std::string> SerialMdhModel::Warnings(
   return warnings;
 }
 
-bool SerialMdhModel::ForwardWithTwists(const double* q, const double* params,
-                                       Pose* T_base_flange,
+bool SerialMdhModel::ForwardWithTwists(const double* q, const double* params, Pose* T_base_flange,
                                        Eigen::Matrix<double, 6, Eigen::Dynamic>* twists) const {
   // A = Rx(alpha) Tx(a) Ry(beta) Rz(q + offset) Tz(d): each factor moves what follows it about
   // or along one axis of the frame it starts from (base coordinates).
@@ -100,7 +119,7 @@ bool SerialMdhModel::ForwardWithTwists(const double* q, const double* params,
     const double ca = std::cos(p[kAlpha]), sa = std::sin(p[kAlpha]);
     const double cb = std::cos(p[kBeta]), sb = std::sin(p[kBeta]);
     const Eigen::Matrix3d& R = chain.R;
-    m[kBeta] = {R * Eigen::Vector3d(0.0, ca, sa), origin, true};        // y after Rx(alpha)
+    m[kBeta] = {R * Eigen::Vector3d(0.0, ca, sa), origin, true};           // y after Rx(alpha)
     const Eigen::Vector3d z = R * Eigen::Vector3d(sb, -sa * cb, ca * cb);  // z after Ry(beta)
     m[kOffset] = {z, origin, true};
     m[kD] = {z, origin, false};  // Rz(theta) keeps z
@@ -131,8 +150,7 @@ bool SerialMdhModel::AsSerialChain(const double* params, SerialChain* chain) con
   return true;
 }
 
-std::string SerialMdhModel::CalibratedConfig(const ConfigNode& config,
-                                             const double* params) const {
+std::string SerialMdhModel::CalibratedConfig(const ConfigNode& config, const double* params) const {
   std::ostringstream out;
   out << "type: serial_mdh\n";
   CopyTextEntry(config, "name", out);

@@ -1,8 +1,8 @@
 // Registers the `serial_mdh` robot model: reads the MDH table from a robot config.
 #include <cmath>
 
-#include "cellmetry/registry/registry.h"
 #include "cellmetry/formats/units.h"
+#include "cellmetry/registry/registry.h"
 #include "serial_mdh_model.h"
 
 namespace cellmetry::serial_mdh {
@@ -21,9 +21,9 @@ double Entry(const ConfigNode& joint, const std::string& key, double to_unit, do
   if (!required && !joint.Has(key)) return 0.0;
   const double value = joint[key].AsDouble() * to_unit;
   if (std::abs(value) > max_abs) {
-    throw joint[key].Error("beyond any arm (|" + key + "| <= " + std::to_string(int(max_abs)) +
-                               " " + unit + ")",
-                           "Check the value and the units the config declares");
+    throw joint[key].Error(
+        "beyond any arm (|" + key + "| <= " + std::to_string(int(max_abs)) + " " + unit + ")",
+        "Check the value and the units the config declares");
   }
   return value;
 }

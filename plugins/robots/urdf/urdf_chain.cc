@@ -59,14 +59,10 @@ urdf::LinkConstSharedPtr FindLink(const urdf::ModelInterface& model, const Confi
 
 std::string TypeName(int type) {
   switch (type) {
-    case urdf::Joint::PRISMATIC:
-      return "prismatic";
-    case urdf::Joint::PLANAR:
-      return "planar";
-    case urdf::Joint::FLOATING:
-      return "floating";
-    default:
-      return "of unknown type";
+    case urdf::Joint::PRISMATIC: return "prismatic";
+    case urdf::Joint::PLANAR: return "planar";
+    case urdf::Joint::FLOATING: return "floating";
+    default: return "of unknown type";
   }
 }
 

@@ -93,8 +93,8 @@ class JacobianPinv : public Solver {
 };
 
 std::unique_ptr<Solver> Create(const ConfigNode& config) {
-  config.ExpectKeys({"type", "max_iterations", "max_step_mm", "max_step_rad", "step_tolerance",
-                     "rcond"});
+  config.ExpectKeys(
+      {"type", "max_iterations", "max_step_mm", "max_step_rad", "step_tolerance", "rcond"});
   Options o;
   o.max_iterations = config.GetIntIn("max_iterations", o.max_iterations, 1, 1000000,
                                      "Allow at least one iteration; 100 is the default");

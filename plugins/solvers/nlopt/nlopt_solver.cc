@@ -18,11 +18,11 @@ namespace {
 
 struct Options {
   std::string algorithm = "LD_LBFGS";
-  double xtol_abs = 1e-9;        // in scaled units (sigma-steps)
+  double xtol_abs = 1e-9;  // in scaled units (sigma-steps)
   double ftol_rel = 1e-15;
   int max_evaluations = 20000;
-  double initial_step = 10.0;    // scaled units
-  double box = 1e5;              // scaled units, for gradient-free algorithms without bounds
+  double initial_step = 10.0;  // scaled units
+  double box = 1e5;            // scaled units, for gradient-free algorithms without bounds
 };
 
 struct Context {
@@ -108,9 +108,9 @@ class NloptSolver : public Solver {
     problem.Evaluate(&summary.final_cost, nullptr, nullptr);
     summary.evaluations = context.evaluations;
     summary.iterations = context.evaluations;
-    summary.converged = !context.failed &&
-                        (result == nlopt::SUCCESS || result == nlopt::FTOL_REACHED ||
-                         result == nlopt::XTOL_REACHED || result == nlopt::STOPVAL_REACHED);
+    summary.converged =
+        !context.failed && (result == nlopt::SUCCESS || result == nlopt::FTOL_REACHED ||
+                            result == nlopt::XTOL_REACHED || result == nlopt::STOPVAL_REACHED);
     summary.time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return summary;
@@ -122,8 +122,8 @@ class NloptSolver : public Solver {
 };
 
 std::unique_ptr<Solver> Create(const ConfigNode& config) {
-  config.ExpectKeys({"type", "algorithm", "xtol_abs", "ftol_rel", "max_evaluations",
-                     "initial_step", "box"});
+  config.ExpectKeys(
+      {"type", "algorithm", "xtol_abs", "ftol_rel", "max_evaluations", "initial_step", "box"});
   Options o;
   o.algorithm = config.GetString("algorithm", o.algorithm);
   // NLopt takes a negative tolerance or step without a word (and stops at once or never).
@@ -146,7 +146,7 @@ std::unique_ptr<Solver> Create(const ConfigNode& config) {
     if (name && o.algorithm == name) algorithm = a;
   }
   if (algorithm < 0) {
-    throw (config.Has("algorithm") ? config["algorithm"] : config)
+    throw(config.Has("algorithm") ? config["algorithm"] : config)
         .Error("unknown NLopt algorithm '" + o.algorithm + "'",
                "Use an NLopt name such as LD_LBFGS, LD_SLSQP, LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX");
   }

@@ -11,8 +11,8 @@
 // step would lower the whitened cost by less: every parameter within 1.4e-5 of its sigma of the
 // minimum); loss none|huber|cauchy; loss_scale 1 (mm, as ceres_lm's).
 #include "cellmetry/estimation/problem.h"
-#include "cellmetry/estimation/robust_loss_option.h"
 #include "cellmetry/estimation/reweighted_solve.h"
+#include "cellmetry/estimation/robust_loss_option.h"
 #include "cellmetry/registry/registry.h"
 
 namespace cellmetry::normal_lm {

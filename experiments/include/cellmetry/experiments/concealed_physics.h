@@ -50,16 +50,16 @@ namespace cellmetry {
 
 struct ConcealedPhysics : Disturbance {
   std::string kind;
-  std::string robot;                   // empty: every robot
-  int joint = 0;                       // 0-based
+  std::string robot;  // empty: every robot
+  int joint = 0;      // 0-based
   std::string camera;
   double magnitude = 0.0;
   std::vector<double> link_masses_kg;  // distributed_compliance (default 1 kg per link)
   double stiffening = 0.3;
-  double hold = 0.15;                  // gravity_backlash: friction, as a share of max torque
+  double hold = 0.15;  // gravity_backlash: friction, as a share of max torque
   std::vector<int> harmonics = {1, 3, 7};
   double time_constant_s = 1200.0;
-  Eigen::Vector3d direction = Eigen::Vector3d(0.6, 0.0, 0.8);  // camera_bump, camera axes
+  Eigen::Vector3d direction = Eigen::Vector3d(0.6, 0.0, 0.8);     // camera_bump, camera axes
   Eigen::Vector3d lens_shape = Eigen::Vector3d(-0.4, 0.2, -0.1);  // lens_distortion: k2, p1, p2
   Eigen::Vector3d lens_beyond = Eigen::Vector3d(0.0, 0.1, -0.1);  // and k3, s1, s3
 

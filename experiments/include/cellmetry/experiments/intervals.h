@@ -22,8 +22,7 @@ bool Overlap(const MeanInterval& a, const MeanInterval& b);
 // within `resolution` (a difference too small to matter: round-off of a noise-free fit), or
 // (paired: same length, seed i of both on the same data) the 95 % t-interval of the per-seed
 // differences contains 0, or (unpaired) their 95 % intervals overlap.
-bool SameScore(const std::vector<double>& a, const std::vector<double>& b,
-               double resolution = 0.0);
+bool SameScore(const std::vector<double>& a, const std::vector<double>& b, double resolution = 0.0);
 
 // A rate (k of n) and its 95 % Wilson score interval (E. B. Wilson, "Probable inference, the
 // law of succession, and statistical inference", JASA 22, 1927, eq. for p with z = 1.96). Unlike

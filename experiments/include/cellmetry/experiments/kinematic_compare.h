@@ -43,13 +43,13 @@ struct CompareRow {
   PoseSet pose_set = PoseSet::kUniformWorkspace;
   int size = 0;
   ResidualForm formulation = ResidualForm::kCartesian;
-  std::string solver;            // label
-  PredictionError validation;    // against the truth, on fresh positions (mm)
-  double floor_rms_mm = 0.0;     // Cramer-Rao floor of the RMS (0 without noise)
-  int iterations = 0;            // LM iterations / Adam epochs / NLopt evaluations
-  double time_s = 0.0;           // solver time
+  std::string solver;          // label
+  PredictionError validation;  // against the truth, on fresh positions (mm)
+  double floor_rms_mm = 0.0;   // Cramer-Rao floor of the RMS (0 without noise)
+  int iterations = 0;          // LM iterations / Adam epochs / NLopt evaluations
+  double time_s = 0.0;         // solver time
   std::string stop_reason;
-  int seed = 0;                  // 0: the simulation's own truth and draw
+  int seed = 0;  // 0: the simulation's own truth and draw
 };
 
 CompareSpec LoadCompareSpec(const std::string& path, Registry& registry);

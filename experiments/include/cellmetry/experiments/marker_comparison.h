@@ -28,9 +28,9 @@
 #include <vector>
 
 #include "cellmetry/formats/config_node.h"
-#include "cellmetry/registry/registry.h"
 #include "cellmetry/imaging/render.h"
 #include "cellmetry/imaging/stereo.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry {
 
@@ -53,14 +53,14 @@ struct MarkerComparisonSpec {
 
 struct MarkerRow {
   std::string label;
-  Eigen::Vector3d repeatability_mm = Eigen::Vector3d::Zero();   // sigma X, Y, depth
-  Eigen::Vector3d floor_mm = Eigen::Vector3d::Zero();           // Cramer-Rao, same axes
-  double static_bias_mm = 0.0;      // |mean - truth| at the static pose
-  double workspace_rms_mm = 0.0;    // over detected workspace positions
+  Eigen::Vector3d repeatability_mm = Eigen::Vector3d::Zero();  // sigma X, Y, depth
+  Eigen::Vector3d floor_mm = Eigen::Vector3d::Zero();          // Cramer-Rao, same axes
+  double static_bias_mm = 0.0;                                 // |mean - truth| at the static pose
+  double workspace_rms_mm = 0.0;                               // over detected workspace positions
   int captures_found = 0;
   int positions_found = 0;
   int positions = 0;
-  double ms_per_frame = 0.0;        // median detection time of one image
+  double ms_per_frame = 0.0;  // median detection time of one image
 };
 
 MarkerComparisonSpec LoadMarkerComparison(const std::string& path, Registry& registry);

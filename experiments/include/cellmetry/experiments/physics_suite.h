@@ -67,25 +67,25 @@ struct PhysicsSuiteSpec {
 PhysicsSuiteSpec LoadPhysicsSuite(const std::string& path);
 
 struct SuiteRun {
-  std::string named;            // first accepted effect, "none" or "unexplained"
-  std::string failed;           // when none was accepted: the tests the best candidate failed
+  std::string named;   // first accepted effect, "none" or "unexplained"
+  std::string failed;  // when none was accepted: the tests the best candidate failed
   double held_out_over_floor = 0.0;
   double seconds = 0.0;
-  std::vector<std::string> aliases;  // the named effect's exact aliases (candidate names)
-  std::string group;            // the named effect's group (CandidateEffect::group), or ""
+  std::vector<std::string> aliases;    // the named effect's exact aliases (candidate names)
+  std::string group;                   // the named effect's group (CandidateEffect::group), or ""
   std::vector<std::string> tied = {};  // none named: the two tied at one site (TiedCandidates)
 };
 
 struct SuiteCaseResult {
   std::string cell;
   SuiteCase spec;
-  double magnitude = 0.0;       // the effect size giving the SNR
+  double magnitude = 0.0;  // the effect size giving the SNR
   std::vector<SuiteRun> runs;
   // The oracle's Bayes choice on the first seed's poses (oracle_selection.h): how often the poses
   // let the right physics be the most probable candidate. No draws for clean and outside-library
   // cases.
   OracleSelection oracle;
-  int right() const;            // runs that named what was expected
+  int right() const;  // runs that named what was expected
   // Whether `run` named what was expected: the finding's name, one of its exact aliases or its
   // group.
   bool named_right(const SuiteRun& run) const;

@@ -57,7 +57,7 @@ struct SolverCompareSpec {
   std::string file;
   std::string description;
   WorkcellJob job;
-  std::optional<WorkcellSimulationSpec> simulation;  // none: the job's recording, no truth
+  std::optional<WorkcellSimulationSpec> simulation;         // none: the job's recording, no truth
   std::vector<std::pair<std::string, ConfigNode>> solvers;  // label, solver block
   std::vector<CameraModel> camera_models;
   int seeds = 10;
@@ -66,12 +66,12 @@ struct SolverCompareSpec {
 
 struct SolverCompareRow {
   CameraModel camera_model = CameraModel::kStaticCameras;
-  std::string solver;                         // label
-  std::vector<double> error_mm;               // per seed: truth error or held-out RMS
-  std::vector<double> time_s;                 // per seed: solver time
+  std::string solver;            // label
+  std::vector<double> error_mm;  // per seed: truth error or held-out RMS
+  std::vector<double> time_s;    // per seed: solver time
   std::vector<int> iterations;
-  int converged = 0;                          // seeds whose solver stopped on a convergence test
-  std::map<std::string, int> stop_reasons;    // the reason's words (numbers cut), count
+  int converged = 0;                        // seeds whose solver stopped on a convergence test
+  std::map<std::string, int> stop_reasons;  // the reason's words (numbers cut), count
 };
 
 SolverCompareSpec LoadSolverCompare(const std::string& path, Registry& registry);

@@ -14,9 +14,9 @@
 namespace cellmetry {
 
 struct Parameter {
-  std::string name;         // e.g. "x", "j2.d" (unique within its block)
-  std::string unit;         // "mm", "rad" or "1"
-  double nominal = 0.0;     // starting value, and the value held when fixed
+  std::string name;      // e.g. "x", "j2.d" (unique within its block)
+  std::string unit;      // "mm", "rad" or "1"
+  double nominal = 0.0;  // starting value, and the value held when fixed
   bool fixed = false;
   std::optional<double> lower;
   std::optional<double> upper;

@@ -19,7 +19,7 @@ struct PlausibilityFinding {
     kDeparture,  // its departure from its group's mean (`plausible`)
     kCommon,     // its group's mean (`plausible_common`); reported once, at the group's first
   };
-  size_t index = 0;    // the parameter (the group's first, for kCommon)
+  size_t index = 0;  // the parameter (the group's first, for kCommon)
   Part part = Part::kValue;
   Plausibility kind = Plausibility::kTooLarge;
   double judged = 0.0;  // the value, the departure or the mean

@@ -53,8 +53,8 @@ class Progress {
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_print_;
   std::chrono::steady_clock::time_point step_start_;  // the last step's end: the next's start
-  double resumed_seconds_ = 0.0;                       // spent reading resumed steps back
-  bool begun_ = false;                                 // steps said by Begin
+  double resumed_seconds_ = 0.0;                      // spent reading resumed steps back
+  bool begun_ = false;                                // steps said by Begin
 };
 
 }  // namespace cellmetry

@@ -15,7 +15,8 @@
 namespace cellmetry {
 
 // {"x", "y", "z"} -> "x, y, z".
-inline std::string Join(const std::vector<std::string>& items, const std::string& separator = ", ") {
+inline std::string Join(const std::vector<std::string>& items,
+                        const std::string& separator = ", ") {
   std::string text;
   for (size_t i = 0; i < items.size(); ++i) {
     if (i > 0) text += separator;

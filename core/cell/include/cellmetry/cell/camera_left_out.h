@@ -35,8 +35,9 @@ struct FrameDifference {
   // Free in both answers and informed by the camera left out (its difference's sigma not
   // negligible against the coordinate's own): x y z rx ry rz.
   std::array<bool, 6> compared{};
-  Eigen::Matrix<double, 6, 1> difference = Eigen::Matrix<double, 6, 1>::Zero();  // without -
-                                                  // with all, mm and rad (about the parent's axes)
+  Eigen::Matrix<double, 6, 1> difference =
+      Eigen::Matrix<double, 6, 1>::Zero();  // without -
+                                            // with all, mm and rad (about the parent's axes)
   Eigen::Matrix<double, 6, 1> sigma = Eigen::Matrix<double, 6, 1>::Zero();  // of the difference
 };
 

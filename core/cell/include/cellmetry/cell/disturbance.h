@@ -28,9 +28,9 @@ namespace cellmetry {
 
 // What a disturbance does to one sample.
 struct DisturbanceAction {
-  std::vector<double> dq;                              // joint errors, rad (empty: none)
-  double flange_scale = 0.0;                           // relative growth of the flange distance
-  std::optional<Eigen::Vector3d> camera_shift_mm;      // added to what camera_name() measures
+  std::vector<double> dq;                          // joint errors, rad (empty: none)
+  double flange_scale = 0.0;                       // relative growth of the flange distance
+  std::optional<Eigen::Vector3d> camera_shift_mm;  // added to what camera_name() measures
 };
 
 class Disturbance {
@@ -62,7 +62,6 @@ class Disturbance {
 };
 
 // Builds a disturbance from one `concealed:` entry; raises InputError at the node.
-using DisturbanceReader =
-    std::function<std::shared_ptr<const Disturbance>(const ConfigNode& node)>;
+using DisturbanceReader = std::function<std::shared_ptr<const Disturbance>(const ConfigNode& node)>;
 
 }  // namespace cellmetry

@@ -15,10 +15,10 @@
 // N the registration's per-axis noise variance (where the job gives no sigma, the new setup's
 // scatter about the calibrated model, estimated from the registration poses' residuals: what the
 // model leaves out of each point; a stated sigma is widened by the registration rows' reduced
-// chi-square where it exceeds 1, as S_phi|theta below); S the joint covariance of (theta, phi). theta's is the calibration's
-// (its correlations, each scaled to its total sigma); the registration carries theta's error
-// into phi through phi(theta): A = d phi / d theta = -(J_phi^T J_phi)^-1 J_phi^T J_theta (its
-// whitened Jacobians), so
+// chi-square where it exceeds 1, as S_phi|theta below); S the joint covariance of (theta, phi).
+// theta's is the calibration's (its correlations, each scaled to its total sigma); the registration
+// carries theta's error into phi through phi(theta): A = d phi / d theta = -(J_phi^T J_phi)^-1
+// J_phi^T J_theta (its whitened Jacobians), so
 //
 //   S = [ S_tt      S_tt A^T                ]
 //       [ A S_tt    A S_tt A^T + S_phi|theta ],   S_phi|theta = (J_phi^T J_phi)^-1 scaled
@@ -43,13 +43,13 @@ namespace cellmetry {
 // Which poses of the held-out recording register the new setup's frames (pose ids, as in its
 // samples.csv); exactly one of the three is set.
 struct RegistrationPoses {
-  int first = 0;            // the first N poses in capture order
-  int every = 0;            // every k-th pose in capture order, from the first
-  std::vector<int> poses;   // these pose ids
+  int first = 0;           // the first N poses in capture order
+  int every = 0;           // every k-th pose in capture order, from the first
+  std::vector<int> poses;  // these pose ids
 };
 
 struct HeldOutSetupSpec {
-  std::string recording;    // the folder
+  std::string recording;  // the folder
   RegistrationPoses register_on;
 };
 

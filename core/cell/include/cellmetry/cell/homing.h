@@ -38,11 +38,11 @@ struct HomingArm {
 
 // One measured marker position with the command that produced it.
 struct PointSample {
-  int sample = 0;                 // sample id in the recording
-  std::vector<double> q;          // commanded joint values (rad)
-  Eigen::Vector3d p_cam_mm;       // measured marker position in the camera frame
-  SourceLocation command_at;      // the sample's line in samples.csv (for errors)
-  SourceLocation measured_at;     // the observation's line in observations.csv
+  int sample = 0;              // sample id in the recording
+  std::vector<double> q;       // commanded joint values (rad)
+  Eigen::Vector3d p_cam_mm;    // measured marker position in the camera frame
+  SourceLocation command_at;   // the sample's line in samples.csv (for errors)
+  SourceLocation measured_at;  // the observation's line in observations.csv
 };
 
 struct HomingOptions {
@@ -59,15 +59,15 @@ struct HomingRun {
 };
 
 struct HomingResult {
-  double increment_rad = 0.0;            // one motor increment (0 if the model has none)
+  double increment_rad = 0.0;  // one motor increment (0 if the model has none)
   Eigen::Vector3d interval_offset_rad = Eigen::Vector3d::Zero();  // the interval algorithm
   Eigen::Vector3d interval_width_rad = Eigen::Vector3d::Zero();   // of the first run
-  std::vector<HomingRun> runs;           // first run, then validation reruns
+  std::vector<HomingRun> runs;  // first run, then validation reruns
   bool validated = false;
-  std::string validation;                // one line: how the validation went
-  Eigen::Vector3d lsq_offset_rad = Eigen::Vector3d::Zero();       // least squares
+  std::string validation;                                    // one line: how the validation went
+  Eigen::Vector3d lsq_offset_rad = Eigen::Vector3d::Zero();  // least squares
   Eigen::Vector3d lsq_sigma_rad = Eigen::Vector3d::Zero();
-  int positions = 0;                     // usable positions in the recording
+  int positions = 0;  // usable positions in the recording
   std::vector<std::string> warnings;
 };
 

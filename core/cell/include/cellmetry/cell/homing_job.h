@@ -16,7 +16,7 @@ namespace cellmetry {
 struct HomingJob {
   WorkcellJob job;
   HomingArm arm;
-  std::string robot, camera, target;     // names in the recording
+  std::string robot, camera, target;  // names in the recording
   Eigen::Vector3d sigma_mm = Eigen::Vector3d::Zero();
   HomingOptions options;
 };

@@ -11,25 +11,25 @@
 #include <optional>
 #include <string>
 
-#include "cellmetry/formats/config_fields.h"
-#include "cellmetry/formats/config_node.h"
-#include "cellmetry/model/frame_block.h"
-#include "cellmetry/formats/recording.h"
-#include "cellmetry/registry/registry.h"
 #include "cellmetry/cell/held_out_setup.h"
 #include "cellmetry/cell/workcell_problem.h"
+#include "cellmetry/formats/config_fields.h"
+#include "cellmetry/formats/config_node.h"
+#include "cellmetry/formats/recording.h"
+#include "cellmetry/model/frame_block.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry {
 
 struct WorkcellJob {
   std::string file;
-  std::string kind;            // "workcell" or "homing" (homing.h reads `homing:`)
-  std::string recording;       // folder, absolute or relative to the working directory
+  std::string kind;       // "workcell" or "homing" (homing.h reads `homing:`)
+  std::string recording;  // folder, absolute or relative to the working directory
   std::optional<std::string> validation_recording;  // fresh poses to score the result on
   // The same robot in another setup: frames registered again, the rest scored (held_out_setup.h).
   std::optional<HeldOutSetupSpec> held_out_setup;
   SourceLocation held_out_setup_where;
-  std::string output;          // result folder
+  std::string output;  // result folder
   WorkcellProblem problem;
   std::string solver_type;
   std::optional<ConfigNode> solver_config;

@@ -43,7 +43,7 @@ PoseSet ParsePoseSet(const ConfigNode& node);
 struct PoseSetSpec {
   PoseSet set = PoseSet::kUniformWorkspace;
   int count = 125;
-  std::string camera;       // camera_view: whose field of view ("" with one camera: that one)
+  std::string camera;  // camera_view: whose field of view ("" with one camera: that one)
 };
 
 // `nominal` plus the drawn errors, parameter by parameter (lengths in mm, angles in rad).
@@ -62,11 +62,11 @@ bool InFieldOfView(const Eigen::Vector2d& half_fov_rad, const Eigen::Vector3d& p
 struct PoseSetGeometry {
   const RobotModel* model = nullptr;
   std::vector<double> nominal_values;
-  Eigen::Vector3d marker_mm = Eigen::Vector3d::Zero();   // nominal marker on the flange
-  bool camera_known = false;                             // camera_view needs one
+  Eigen::Vector3d marker_mm = Eigen::Vector3d::Zero();  // nominal marker on the flange
+  bool camera_known = false;                            // camera_view needs one
   Pose T_base_cam;
   Eigen::Vector2d half_fov_rad = Eigen::Vector2d(0.629, 0.427);
-  std::string origin;                                    // the robot config, for errors
+  std::string origin;  // the robot config, for errors
 };
 
 // `count` commands; raises InputError when the set has no reachable point (in view).

@@ -36,9 +36,9 @@ WorkcellTruth ReadTruth(const std::string& path);
 
 // Error of each estimate against the truth, in units and in its own sigma.
 struct EvaluatedQuantity {
-  std::string name;         // "ur3.base.x", "ur3.base.rot_x", "ur3.model.j2.d"
+  std::string name;  // "ur3.base.x", "ur3.base.rot_x", "ur3.model.j2.d"
   std::string unit;
-  double error = 0.0;       // estimate - truth (rotations: log(R_est R_true^T), parent axes)
+  double error = 0.0;  // estimate - truth (rotations: log(R_est R_true^T), parent axes)
   double sigma = 0.0;
   // In a gauge with a parameter the data could not determine (held at nominal): its error
   // includes the held one's, and the combination below is what the data determined.

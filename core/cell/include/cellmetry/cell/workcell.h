@@ -12,12 +12,12 @@
 #include <set>
 #include <string>
 
-#include "cellmetry/formats/recording.h"
-#include "cellmetry/estimation/noise_model.h"
-#include "cellmetry/estimation/solver.h"
 #include "cellmetry/cell/workcell_data.h"
 #include "cellmetry/cell/workcell_problem.h"
 #include "cellmetry/cell/workcell_result.h"
+#include "cellmetry/estimation/noise_model.h"
+#include "cellmetry/estimation/solver.h"
+#include "cellmetry/formats/recording.h"
 
 namespace cellmetry {
 

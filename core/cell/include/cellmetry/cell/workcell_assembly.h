@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/model/effect_context.h"
+#include "cellmetry/cell/workcell_data.h"
+#include "cellmetry/cell/workcell_problem.h"
 #include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/estimation/problem.h"
 #include "cellmetry/formats/recording.h"
-#include "cellmetry/cell/workcell_data.h"
-#include "cellmetry/cell/workcell_problem.h"
+#include "cellmetry/model/effect_context.h"
 
 namespace cellmetry {
 
@@ -38,11 +38,11 @@ struct AssembledWorkcell {
   // Per measurement residual block, in the problem's block order: what it measured. The blocks
   // from labels.size() on are the priors the problem's Build() adds, which measure nothing.
   std::vector<MeasurementLabel> labels;
-  std::vector<int> base_block;                  // per robot
-  std::vector<int> model_block;                 // per robot
-  std::vector<std::vector<int>> tool_block;     // per robot, per tool
-  std::map<std::string, int> camera_block;      // static cameras
-  std::vector<int> effect_block;                // per WorkcellProblem::effects entry
+  std::vector<int> base_block;               // per robot
+  std::vector<int> model_block;              // per robot
+  std::vector<std::vector<int>> tool_block;  // per robot, per tool
+  std::map<std::string, int> camera_block;   // static cameras
+  std::vector<int> effect_block;             // per WorkcellProblem::effects entry
   // Starting rotations of each frame block (frame_block.h); block id -> R_ref.
   std::map<int, Eigen::Matrix3d> R_ref;
 
@@ -55,12 +55,9 @@ struct AssembledWorkcell {
 // `poses`: only captures of these pose ids are used; empty set = all.
 // The problem's residuals keep pointers into `spec` (robot models, effects) and `data` (each
 // sample's facts for the effects): both must outlive the returned AssembledWorkcell.
-std::unique_ptr<AssembledWorkcell> AssembleWorkcell(const WorkcellProblem& spec,
-                                                    const Recording& recording,
-                                                    const WorkcellData& data,
-                                                    const NoiseModel& noise,
-                                                    const WorkcellEstimate& start,
-                                                    const std::set<int>& poses = {});
+std::unique_ptr<AssembledWorkcell> AssembleWorkcell(
+    const WorkcellProblem& spec, const Recording& recording, const WorkcellData& data,
+    const NoiseModel& noise, const WorkcellEstimate& start, const std::set<int>& poses = {});
 
 WorkcellEstimate ReadEstimate(const WorkcellProblem& spec, const AssembledWorkcell& assembled);
 

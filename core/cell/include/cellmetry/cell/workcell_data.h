@@ -17,19 +17,19 @@
 namespace cellmetry {
 
 struct ToolMeasurement {
-  int observation = 0;      // index in recording.observations
-  int sample_index = 0;     // index in recording.samples
-  int robot = 0;            // index in WorkcellProblem::robots
-  int tool = 0;             // index in that robot's tools
+  int observation = 0;   // index in recording.observations
+  int sample_index = 0;  // index in recording.samples
+  int robot = 0;         // index in WorkcellProblem::robots
+  int tool = 0;          // index in that robot's tools
   bool has_world_pose = false;
-  Pose T_cam_world;         // the world target measured in the same capture (per-frame model)
+  Pose T_cam_world;  // the world target measured in the same capture (per-frame model)
 };
 
 struct WorkcellData {
   std::vector<ToolMeasurement> tools;
-  std::vector<int> world_observations;          // indices of world-target observations
-  std::map<std::string, int> skipped;           // reason -> count
-  std::vector<SampleFacts> facts;               // per sample, when the problem has effects
+  std::vector<int> world_observations;  // indices of world-target observations
+  std::map<std::string, int> skipped;   // reason -> count
+  std::vector<SampleFacts> facts;       // per sample, when the problem has effects
 };
 
 // Pairs observations; raises InputError naming observations.csv when nothing is usable.
@@ -37,7 +37,6 @@ WorkcellData PrepareWorkcellData(const WorkcellProblem& spec, const Recording& r
 
 // What effects read of each sample (WorkcellData::facts), at each robot's nominal model: the
 // part of PrepareWorkcellData that depends on the job's effects, for data paired already.
-std::vector<SampleFacts> GatherEffectFacts(const WorkcellProblem& spec,
-                                           const Recording& recording);
+std::vector<SampleFacts> GatherEffectFacts(const WorkcellProblem& spec, const Recording& recording);
 
 }  // namespace cellmetry

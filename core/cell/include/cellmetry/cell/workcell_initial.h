@@ -12,9 +12,9 @@
 //     world positions and their measured camera-frame positions.
 #pragma once
 
-#include "cellmetry/formats/recording.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_problem.h"
+#include "cellmetry/formats/recording.h"
 
 namespace cellmetry {
 

@@ -22,10 +22,10 @@
 #include <string>
 #include <vector>
 
+#include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/model/effect.h"
 #include "cellmetry/model/frame_block.h"
 #include "cellmetry/model/robot_model.h"
-#include "cellmetry/estimation/noise_model.h"
 
 namespace cellmetry {
 
@@ -59,14 +59,14 @@ struct WorkcellTool {
 };
 
 struct WorkcellRobot {
-  std::string name;                               // as in the recording
+  std::string name;  // as in the recording
   std::shared_ptr<const RobotModel> model;
-  std::string model_file;                         // where the model came from, for the report
-  std::string model_config;                       // that file's text, for the result (exports
-                                                  // rebuild the model from it)
-  std::vector<Parameter> model_parameters;        // nominal values and fixed flags for this job
-  FrameBlockSpec base;                            // `free` flags; start is found in closed form
-  std::optional<Pose> base_start;                 // a user-given start (skips the closed form)
+  std::string model_file;                   // where the model came from, for the report
+  std::string model_config;                 // that file's text, for the result (exports
+                                            // rebuild the model from it)
+  std::vector<Parameter> model_parameters;  // nominal values and fixed flags for this job
+  FrameBlockSpec base;                      // `free` flags; start is found in closed form
+  std::optional<Pose> base_start;           // a user-given start (skips the closed form)
   // A robot standing level (`base: {level: {sigma_rad}}`): a prior that its base's z axis is
   // the world's, within this standard uncertainty per axis (rad), on its rotation about the
   // world's x and y. None: the base's tilt is what the data and the free flags make it.
@@ -103,29 +103,29 @@ struct UncertainInputs {
 // the job does not name starts in closed form with every entry free. `use: false` leaves every
 // observation of the camera out (what the cell says without it).
 struct WorkcellCamera {
-  std::optional<Pose> start;                      // T_world_cam; none: closed form
+  std::optional<Pose> start;  // T_world_cam; none: closed form
   std::array<bool, 6> free = {true, true, true, true, true, true};
   bool use = true;
 };
 
 // Where everything is, at the start or at the answer of an identification.
 struct WorkcellEstimate {
-  std::map<std::string, Pose> T_world_base;           // robot -> base
-  std::map<std::string, std::vector<double>> model;   // robot -> model parameter values
-  std::map<std::string, Pose> T_flange_target;        // target -> tool offset; a camera riding
-                                                      // on a flange: "<robot>.<camera>" ->
-                                                      // T_flange_camera
-  std::map<std::string, Pose> T_world_cam;            // camera -> pose (static cameras only)
-  std::map<std::string, std::vector<double>> effects; // effect -> parameter values (none: zero)
+  std::map<std::string, Pose> T_world_base;            // robot -> base
+  std::map<std::string, std::vector<double>> model;    // robot -> model parameter values
+  std::map<std::string, Pose> T_flange_target;         // target -> tool offset; a camera riding
+                                                       // on a flange: "<robot>.<camera>" ->
+                                                       // T_flange_camera
+  std::map<std::string, Pose> T_world_cam;             // camera -> pose (static cameras only)
+  std::map<std::string, std::vector<double>> effects;  // effect -> parameter values (none: zero)
 };
 
 struct WorkcellProblem {
   std::vector<WorkcellRobot> robots;
   CameraModel camera_model = CameraModel::kStaticCameras;
   ResidualForm residual = ResidualForm::kCartesian;
-  std::string world_target = "world";    // "": no world target (see above)
+  std::string world_target = "world";  // "": no world target (see above)
   std::map<std::string, WorkcellCamera> cameras;
-  bool use_tool_rotation = false;        // also fit the carried targets' measured rotations
+  bool use_tool_rotation = false;  // also fit the carried targets' measured rotations
   NoiseSpec noise;
   // A direction of parameter space whose scaled singular value falls below this (relative to
   // the largest) is not identifiable; the parameter most involved is held at its nominal value.
@@ -134,16 +134,16 @@ struct WorkcellProblem {
   // calibrated on a spread pose set shows at most ~1e4 (its parameters are coupled); all
   // positions at one height give ~2e5 for the rod lengths, homing offsets and camera z.
   double weak_vif = 1e5;
-  int folds = 5;                         // k-fold cross-validation by pose (0 = off)
+  int folds = 5;  // k-fold cross-validation by pose (0 = off)
   // With two or more static cameras seeing the robots' targets, identify the cell again
   // without each of them and compare (camera_left_out.h). A job's default is on
   // (`validation: {leave_one_camera_out}`); a problem built in memory's is off.
   bool leave_one_camera_out = false;
-  unsigned seed = 1;                     // fold assignment
-  bool compare_camera_models = false;    // also report the other observation model's held-out RMS
+  unsigned seed = 1;                   // fold assignment
+  bool compare_camera_models = false;  // also report the other observation model's held-out RMS
   OutlierTest outlier_test = OutlierTest::kRobust;
-  std::vector<WorkcellEffect> effects;   // none: the geometric model alone
-  UncertainInputs uncertain_inputs;      // none: sigma from the data alone
+  std::vector<WorkcellEffect> effects;                          // none: the geometric model alone
+  UncertainInputs uncertain_inputs;                             // none: sigma from the data alone
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2 in every base frame
   // A neighbouring fit's answer to start from instead of the closed form (InitialEstimate): the
   // physics finder's refits start from the model they add one effect to (its parameters at

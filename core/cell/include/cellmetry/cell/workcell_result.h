@@ -13,19 +13,19 @@
 #include <vector>
 
 #include "cellmetry/basics/stage_clock.h"
+#include "cellmetry/cell/camera_left_out.h"
+#include "cellmetry/cell/workcell_problem.h"
 #include "cellmetry/estimation/estimation_quality.h"
 #include "cellmetry/estimation/noise_model.h"
 #include "cellmetry/estimation/solver.h"
-#include "cellmetry/cell/camera_left_out.h"
-#include "cellmetry/cell/workcell_problem.h"
 
 namespace cellmetry {
 
 // A frame with its uncertainty: sigma of the translation (mm) and of small rotations about the
 // parent frame's axes (rad). Entries that were held have sigma 0 and `held` set.
 struct FrameEstimate {
-  std::string name;          // "ur3.base", "tool", "cam1"
-  std::string parent;        // "world" or "<robot>.flange"
+  std::string name;    // "ur3.base", "tool", "cam1"
+  std::string parent;  // "world" or "<robot>.flange"
   Pose pose;
   Eigen::Vector3d sigma_mm = Eigen::Vector3d::Zero();
   Eigen::Vector3d sigma_rad = Eigen::Vector3d::Zero();
@@ -41,12 +41,12 @@ struct FrameEstimate {
 };
 
 struct ScalarEstimate {
-  std::string name;          // "ur3.model.j2.d"
+  std::string name;  // "ur3.model.j2.d"
   std::string unit;
   double nominal = 0.0;
   double value = 0.0;
   double sigma = 0.0;
-  double sigma_statistical = 0.0;   // its parts (Uncertainty)
+  double sigma_statistical = 0.0;  // its parts (Uncertainty)
   double sigma_systematic = 0.0;
   double sigma_inputs = 0.0;
   bool held = false;
@@ -82,11 +82,11 @@ inline ResidualRms RmsOf(const std::vector<Eigen::Vector3d>& errors) {
 
 // An observation the outlier test left out (outliers.h).
 struct Outlier {
-  int line = 0;            // in observations.csv (0: an observation built in memory)
+  int line = 0;  // in observations.csv (0: an observation built in memory)
   int sample = 0;
   std::string camera, target, kind;  // kind: "position" | "rotation"
-  double score = 0.0;      // q / s^2: how many times the robust scale it lies out
-  double threshold = 0.0;  // the test's chi-square quantile it exceeded
+  double score = 0.0;                // q / s^2: how many times the robust scale it lies out
+  double threshold = 0.0;            // the test's chi-square quantile it exceeded
 };
 
 // What a residual row measures: a position (mm) or a rotation (rad), as the Problem's blocks say.
@@ -99,8 +99,8 @@ struct ResidualRow {
   std::string camera;
   std::string target;
   ResidualKind kind = ResidualKind::kPosition;  // kPosition (mm) or kRotation (rad)
-  Eigen::Vector3d error;          // prediction - measurement, camera axes
-  Eigen::Vector3d normalized;     // error / sigma
+  Eigen::Vector3d error;                        // prediction - measurement, camera axes
+  Eigen::Vector3d normalized;                   // error / sigma
 };
 
 // "position", "rotation" or "prior": a kind as residuals.csv and the reports write it.
@@ -115,9 +115,9 @@ inline const char* ResidualKindName(ResidualKind kind) {
 
 struct HeldOut {
   int folds = 0;
-  ResidualRms total;                         // target positions, mm
+  ResidualRms total;  // target positions, mm
   std::map<std::string, ResidualRms> per_camera;
-  std::vector<ResidualRms> per_fold;         // the same folds for the same poses and seed
+  std::vector<ResidualRms> per_fold;            // the same folds for the same poses and seed
   std::vector<double> per_fold_normalized_rms;  // the same folds in sigmas, over every carried-
                                                 // target row (positions and used rotations)
 };
@@ -125,8 +125,8 @@ struct HeldOut {
 // Fresh positions a result was scored on (prediction - measurement, camera axes).
 struct RecordingScore {
   std::string recording;
-  ResidualRms before;   // with the closed-form start (nominal model)
-  ResidualRms after;    // with the answer
+  ResidualRms before;  // with the closed-form start (nominal model)
+  ResidualRms after;   // with the answer
   double mean_after_mm = 0.0;
   double max_after_mm = 0.0;
 };
@@ -146,16 +146,16 @@ struct WorkcellResult;
 // The same robot in another setup, its frames registered again (held_out_setup.h).
 struct HeldOutSetupScore {
   std::string recording;
-  std::vector<int> registration_poses;   // pose ids, in capture order
+  std::vector<int> registration_poses;  // pose ids, in capture order
   int scored_poses = 0;
-  double rms_mm = 0.0;                    // of |error| over the scored points
+  double rms_mm = 0.0;  // of |error| over the scored points
   double mean_mm = 0.0;
   double max_mm = 0.0;
-  double registration_rms_mm = 0.0;       // the registration fit's own points
-  double nominal_rms_mm = 0.0;            // the nominal model registered on the same poses
-  double within_95 = 0.0;                 // share of points inside their 95 % ellipsoid
-  double mean_normalized = 0.0;           // mean of e^T C^-1 e / 3 (1 when the sigma are right)
-  double median_sigma_mm = 0.0;           // median of sqrt(trace C_p): a point's 3D sigma
+  double registration_rms_mm = 0.0;  // the registration fit's own points
+  double nominal_rms_mm = 0.0;       // the nominal model registered on the same poses
+  double within_95 = 0.0;            // share of points inside their 95 % ellipsoid
+  double mean_normalized = 0.0;      // mean of e^T C^-1 e / 3 (1 when the sigma are right)
+  double median_sigma_mm = 0.0;      // median of sqrt(trace C_p): a point's 3D sigma
   std::vector<HeldOutPoint> points;
   // The calibrated geometry and effects, held, with the new setup's frames registered: the
   // result a user compensates with in that setup (`cellmetry compensate`). Its uncertainty is S
@@ -168,9 +168,9 @@ struct HeldOutSetupScore {
 // (`cellmetry export`, core/exports): the robot config it was built from, as text (the file may
 // change or go later), and every model parameter's value at the answer, fitted or held.
 struct RobotModelRecord {
-  std::string robot;              // as in the recording
-  std::string config_file;        // where the config was read, for messages
-  std::string config_text;        // "" when the job was built in memory
+  std::string robot;                  // as in the recording
+  std::string config_file;            // where the config was read, for messages
+  std::string config_text;            // "" when the job was built in memory
   std::vector<Parameter> parameters;  // every parameter: `nominal` = its value at the answer,
                                       // `fixed` = held in this job
 };
@@ -189,9 +189,9 @@ struct EffectRecord {
 // A robot's base in another robot's base (robot_pairs.h), sigma from both bases' joint
 // covariance, their cross-covariance included.
 struct RobotPairEstimate {
-  FrameEstimate frame;   // name "<b>.base", parent "<a>.base"; sigma about a's axes
+  FrameEstimate frame;  // name "<b>.base", parent "<a>.base"; sigma about a's axes
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // x y z mm,
-                                                                               // rx ry rz rad
+                                                                                 // rx ry rz rad
 };
 
 struct WorkcellResult {
@@ -205,26 +205,26 @@ struct WorkcellResult {
   std::vector<EffectRecord> effect_models;        // each effect of the chain (compensate)
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // the job's, m/s^2 (effects)
   std::vector<UnidentifiableParameter> unidentifiable;
-  std::vector<WeakParameter> weakly_identified;   // see WorkcellProblem::weak_vif
+  std::vector<WeakParameter> weakly_identified;  // see WorkcellProblem::weak_vif
   Uncertainty uncertainty;
   std::vector<CorrelatedPair> strong_correlations;
-  NoiseModel noise;                               // sigma used for weighting
-  NoiseModel repeatability;                       // the noise floor from repeated captures
+  NoiseModel noise;                                 // sigma used for weighting
+  NoiseModel repeatability;                         // the noise floor from repeated captures
   std::map<std::string, ResidualRms> position_rms;  // "camera/target" -> mm
   std::map<std::string, ResidualRms> rotation_rms;  // "camera/target" -> rad
   std::vector<ResidualRow> residuals;
-  std::vector<Outlier> outliers;                  // left out by the outlier test (outliers.h)
+  std::vector<Outlier> outliers;  // left out by the outlier test (outliers.h)
   HeldOut held_out;
-  std::map<std::string, HeldOut> other_models;    // compare_camera_models: name -> held-out
-  std::vector<CameraLeftOut> cameras_left_out;     // each camera left out in turn (two or more)
-  std::vector<std::string> unused_cameras;        // the job's `use: false` cameras
-  std::map<std::string, int> skipped;             // observation skip reasons
+  std::map<std::string, HeldOut> other_models;  // compare_camera_models: name -> held-out
+  std::vector<CameraLeftOut> cameras_left_out;  // each camera left out in turn (two or more)
+  std::vector<std::string> unused_cameras;      // the job's `use: false` cameras
+  std::map<std::string, int> skipped;           // observation skip reasons
   std::vector<std::string> warnings;
-  WorkcellEstimate start;                         // the closed-form start, or the warm one
-  WorkcellEstimate estimate;                      // the answer
-  std::optional<RecordingScore> validation;       // set by the caller (ScoreOnRecording)
+  WorkcellEstimate start;                           // the closed-form start, or the warm one
+  WorkcellEstimate estimate;                        // the answer
+  std::optional<RecordingScore> validation;         // set by the caller (ScoreOnRecording)
   std::optional<HeldOutSetupScore> held_out_setup;  // set by the caller (ScoreHeldOutSetup)
-  std::vector<StageTime> stages;                  // where the time went (stage_clock.h)
+  std::vector<StageTime> stages;                    // where the time went (stage_clock.h)
 };
 
 }  // namespace cellmetry

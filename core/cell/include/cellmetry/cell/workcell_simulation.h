@@ -39,17 +39,17 @@
 #include "cellmetry/cell/truth.h"
 #include "cellmetry/cell/workcell_problem.h"
 #include "cellmetry/formats/config_node.h"
-#include "cellmetry/model/effect.h"
-#include "cellmetry/imaging/image_simulation.h"
 #include "cellmetry/formats/recording.h"
-#include "cellmetry/registry/registry.h"
+#include "cellmetry/imaging/image_simulation.h"
+#include "cellmetry/model/effect.h"
 #include "cellmetry/model/robot_model.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry {
 
 // An effect concealed in a simulation: its plugin and the true values of its parameters.
 struct SimulatedEffect {
-  std::string name;                     // "<robot>.<type>" (truth.yaml: <name>.<parameter>)
+  std::string name;  // "<robot>.<type>" (truth.yaml: <name>.<parameter>)
   std::shared_ptr<const Effect> effect;
   std::vector<double> values;
 };
@@ -57,25 +57,25 @@ struct SimulatedEffect {
 struct SimulatedRobot {
   std::string name;
   std::shared_ptr<const RobotModel> model;
-  std::vector<double> nominal_values;                // the model's config values
-  std::vector<double> given_values;                  // nominal plus `model_errors:`
-  std::vector<double> model_values;                  // true: given plus the drawn errors
-  ModelErrors errors;                                // drawn into model_values (none: zero)
-  std::optional<PoseSetSpec> pose_set;               // commands drawn when simulated
+  std::vector<double> nominal_values;   // the model's config values
+  std::vector<double> given_values;     // nominal plus `model_errors:`
+  std::vector<double> model_values;     // true: given plus the drawn errors
+  ModelErrors errors;                   // drawn into model_values (none: zero)
+  std::optional<PoseSetSpec> pose_set;  // commands drawn when simulated
   Pose T_world_base;
-  std::map<std::string, Pose> T_flange_target;       // carried targets
-  std::map<std::string, Pose> T_flange_camera;       // cameras riding on the flange (eye in
-                                                     // hand): they see the world target
-  std::set<std::string> point_targets;               // measured as positions only (a dot)
-  std::vector<std::vector<double>> joint_poses;      // q per commanded pose
-  std::vector<double> payloads_kg;                   // cycled over the commanded poses
-                                                     // (samples.csv payload); empty: none
-  std::vector<SimulatedEffect> effects;              // joint and flange effects it has
+  std::map<std::string, Pose> T_flange_target;   // carried targets
+  std::map<std::string, Pose> T_flange_camera;   // cameras riding on the flange (eye in
+                                                 // hand): they see the world target
+  std::set<std::string> point_targets;           // measured as positions only (a dot)
+  std::vector<std::vector<double>> joint_poses;  // q per commanded pose
+  std::vector<double> payloads_kg;               // cycled over the commanded poses
+                                                 // (samples.csv payload); empty: none
+  std::vector<SimulatedEffect> effects;          // joint and flange effects it has
 };
 
 // Clock and temperature of the captures (samples.csv t, temperature), for drifting effects.
 struct SimulatedTimeline {
-  double seconds_per_sample = 0.0;     // 0: no times recorded
+  double seconds_per_sample = 0.0;                               // 0: no times recorded
   std::optional<double> temperature_start_c, temperature_end_c;  // linear ramp over the run
 };
 
@@ -96,24 +96,22 @@ struct SimulatedCamera {
 
 struct WorkcellSimulationSpec {
   std::vector<SimulatedRobot> robots;
-  std::map<std::string, Pose> T_world_cam;           // the truth
+  std::map<std::string, Pose> T_world_cam;  // the truth
   std::map<std::string, SimulatedCamera> cameras;
-  std::string world_target = "world";                // "": none (the one robot's base is the world)
+  std::string world_target = "world";  // "": none (the one robot's base is the world)
   Eigen::Vector3d sigma_position_mm = Eigen::Vector3d::Zero();
   Eigen::Vector3d sigma_rotation_rad = Eigen::Vector3d::Zero();
-  int repeats = 1;          // captures per commanded pose
-  unsigned seed = 1;        // draws the truth (errors), and the noise unless noise_seed is set
+  int repeats = 1;    // captures per commanded pose
+  unsigned seed = 1;  // draws the truth (errors), and the noise unless noise_seed is set
   // Draws the pose sets' commands and the noise: a second recording of the same truth (a
   // validation set) keeps `seed` and changes this (`poses: {seed}`).
   unsigned noise_seed = 1;
-  std::vector<SimulatedEffect> measurement_effects;  // depth bias and the like
+  std::vector<SimulatedEffect> measurement_effects;           // depth bias and the like
   std::vector<std::shared_ptr<const Disturbance>> concealed;  // physics outside the library
   SimulatedTimeline timeline;
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);
   std::optional<ConfigNode> images;  // render images instead of writing observations
 };
-
-
 
 Recording SimulateWorkcell(const WorkcellSimulationSpec& spec, WorkcellTruth* truth);
 // The same with the caller's random stream (pose sets drawn first, then the noise).
@@ -159,11 +157,9 @@ std::vector<SampleView> WorkcellViews(const WorkcellSimulationSpec& spec,
 std::vector<std::string> CameraNames(const WorkcellSimulationSpec& spec);
 std::vector<std::string> TargetNames(const WorkcellSimulationSpec& spec);
 
-
 // Reads a simulation spec file (docs/formats.md); robot models come from the registry,
 // `concealed:` entries from `read_disturbance` (an InputError there without one).
 WorkcellSimulationSpec LoadWorkcellSimulation(const std::string& path, Registry& registry,
                                               const DisturbanceReader& read_disturbance = {});
-
 
 }  // namespace cellmetry

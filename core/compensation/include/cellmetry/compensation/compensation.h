@@ -59,10 +59,10 @@ struct CompensationOptions {
 // The outcome of one solve.
 struct SolvedCommand {
   bool reached = false;
-  std::string failure;              // why not, in words ("" when reached)
-  std::vector<double> q_rad;        // the command (the closest one when not reached)
-  double error_mm = NAN;            // |p(q) - p_target| under the chain
-  double error_rad = NAN;           // |Log(R(q) R_target^T)|; NaN for a position target
+  std::string failure;        // why not, in words ("" when reached)
+  std::vector<double> q_rad;  // the command (the closest one when not reached)
+  double error_mm = NAN;      // |p(q) - p_target| under the chain
+  double error_rad = NAN;     // |Log(R(q) R_target^T)|; NaN for a position target
   int iterations = 0;
 };
 
@@ -75,12 +75,12 @@ SolvedCommand SolveCommand(const CompensationChain& chain, const Eigen::Vector3d
 struct CompensatedCommand {
   const CompensationTarget* target = nullptr;
   bool refused = false;
-  std::string reason;                  // why refused ("" otherwise)
-  std::vector<double> q_rad;           // the command (empty when refused)
-  std::vector<int> approach;           // the approach it was solved for
-  double error_mm = NAN, error_rad = NAN;       // remaining, predicted by the calibrated chain
-  std::optional<double> sigma_mm, sigma_rad;   // its sigma: sqrt of the pose covariance's
-                                               // position / rotation trace
+  std::string reason;                         // why refused ("" otherwise)
+  std::vector<double> q_rad;                  // the command (empty when refused)
+  std::vector<int> approach;                  // the approach it was solved for
+  double error_mm = NAN, error_rad = NAN;     // remaining, predicted by the calibrated chain
+  std::optional<double> sigma_mm, sigma_rad;  // its sigma: sqrt of the pose covariance's
+                                              // position / rotation trace
   double uncompensated_mm = NAN, uncompensated_rad = NAN;  // the nominal command's error
   int iterations = 0;
 };

@@ -35,28 +35,28 @@ namespace cellmetry {
 
 // One of the chain's quantities the result's covariance may hold, and where it sits.
 struct ChainParameter {
-  std::string name;   // the result's name: "ur3.base.rx", "tool.z", "ur3.model.j2.d",
-                      // "ur3.compliance_j3.j3.compliance"
+  std::string name;           // the result's name: "ur3.base.rx", "tool.z", "ur3.model.j2.d",
+                              // "ur3.compliance_j3.j3.compliance"
   int covariance_index = -1;  // into ParameterCovariance (-1: held, not propagated)
 };
 
 struct CompensationChain {
   std::string robot;
-  std::string tool;                                   // a frame on the flange, or "flange"
+  std::string tool;  // a frame on the flange, or "flange"
   std::shared_ptr<const RobotModel> model;
-  std::vector<double> params;                         // the model's values (fitted)
-  std::vector<double> nominal_params;                 // the robot config's: effect context
+  std::vector<double> params;                          // the model's values (fitted)
+  std::vector<double> nominal_params;                  // the robot config's: effect context
   std::vector<std::shared_ptr<const Effect>> effects;  // joint and flange stages
-  std::vector<std::vector<double>> effect_values;     // per effect, parameters() order
+  std::vector<std::vector<double>> effect_values;      // per effect, parameters() order
   std::vector<std::string> effect_names;
   Pose T_world_base;
-  Pose T_flange_tool;                                 // identity for "flange"
+  Pose T_flange_tool;  // identity for "flange"
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);
 };
 
 // What a command is evaluated with beside its joint values (effect_context.h).
 struct CommandContext {
-  std::vector<int> approach;   // per joint +1 / -1 / 0; empty: 0
+  std::vector<int> approach;  // per joint +1 / -1 / 0; empty: 0
   double payload_kg = 0.0;
   double temperature_c = NAN;
   double time_s = NAN;

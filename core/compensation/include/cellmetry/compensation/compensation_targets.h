@@ -39,16 +39,16 @@ namespace cellmetry {
 
 struct CompensationTarget {
   enum class Kind { kPose, kPosition, kJoints };
-  int line = 0;          // in TARGETS.csv, for messages
+  int line = 0;  // in TARGETS.csv, for messages
   std::string id;
   Kind kind = Kind::kPosition;
-  Eigen::Vector3d p_world_tool_mm = Eigen::Vector3d::Zero();     // kPose, kPosition
-  Eigen::Matrix3d R_world_tool = Eigen::Matrix3d::Identity();    // kPose
-  std::vector<double> q_rad;       // kJoints: the joint target; otherwise the seed (empty: none)
+  Eigen::Vector3d p_world_tool_mm = Eigen::Vector3d::Zero();   // kPose, kPosition
+  Eigen::Matrix3d R_world_tool = Eigen::Matrix3d::Identity();  // kPose
+  std::vector<double> q_rad;  // kJoints: the joint target; otherwise the seed (empty: none)
   double payload_kg = 0.0;
   double temperature_c = NAN;
   double time_s = NAN;
-  std::vector<int> approach;       // per joint; empty: from the order of the commands
+  std::vector<int> approach;  // per joint; empty: from the order of the commands
 };
 
 // Reads `path` for a robot of `num_joints` joints.

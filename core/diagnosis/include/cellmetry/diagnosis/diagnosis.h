@@ -82,59 +82,59 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/formats/recording.h"
-#include "cellmetry/registry/registry.h"
-#include "cellmetry/estimation/solver.h"
 #include "cellmetry/cell/workcell_problem.h"
 #include "cellmetry/cell/workcell_result.h"
+#include "cellmetry/estimation/solver.h"
+#include "cellmetry/formats/recording.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry {
 
 struct DiagnosisOptions {
-  double alpha = 0.01;             // family-wise error rate of every test
-  int bootstrap = 40;              // resamples of poses
-  double alias_correlation = 0.99; // candidates this alike are one finding with two names
-  double bootstrap_share = 0.8;    // how often their selection must include the chosen effect
+  double alpha = 0.01;              // family-wise error rate of every test
+  int bootstrap = 40;               // resamples of poses
+  double alias_correlation = 0.99;  // candidates this alike are one finding with two names
+  double bootstrap_share = 0.8;     // how often their selection must include the chosen effect
   // What tells the chosen effect from the other candidates: "rivals" (every other group's
   // member rejected as the cause at `alpha` by a parametric test of non-nested models, an
   // intersection-union test: Berger 1982) or "bootstrap" (its group included in at least
   // `bootstrap_share` of the resamples; docs/physics.md).
   std::string selection_test = "rivals";
-  int rival_draws = 2000;          // parametric draws per rival for "rivals" (20x near alpha)
-  int folds = 10;                  // blocked cross-validation, by pose (10: the standard error
-                                   // of the gain is steadier than with 5)
-  int refits = 3;                  // best candidates by score refitted in full each round
+  int rival_draws = 2000;  // parametric draws per rival for "rivals" (20x near alpha)
+  int folds = 10;          // blocked cross-validation, by pose (10: the standard error
+                           // of the gain is steadier than with 5)
+  int refits = 3;          // best candidates by score refitted in full each round
   // Testable: a candidate at its plausible size would pass the score test at `alpha` alone
   // (CandidateFinding::detectable above the chi-square(1) quantile), however much of its
   // signature the geometry absorbs; with fewer than this share of it outside the geometry's
   // span (or, without a plausible size, below min_unabsorbed_share), it is untestable.
-  double min_unabsorbed = 1e-4;    // numerical floor: less is rounding, not signature
+  double min_unabsorbed = 1e-4;        // numerical floor: less is rounding, not signature
   double min_unabsorbed_share = 0.05;  // the rule for a candidate without a plausible size
-  double min_explained_share = 0.1;  // of the held-out excess over the floor an accepted effect
-                                    // must remove, where the excess is beyond chance; less is
-                                    // a sliver of something else, reported as unexplained
-  double min_group_share = 0.1;    // of the held-out excess its site's finding removes, a
-                                   // further effect at the same site must remove to be named
-                                   // as separate physics (step 7)
-  double shape_correlation = 0.5;  // ... unless unlike the headline: below this correlation
-                                   // with its signature, a smaller effect is separate too
+  double min_explained_share = 0.1;    // of the held-out excess over the floor an accepted effect
+                                       // must remove, where the excess is beyond chance; less is
+                                       // a sliver of something else, reported as unexplained
+  double min_group_share = 0.1;        // of the held-out excess its site's finding removes, a
+                                       // further effect at the same site must remove to be named
+                                       // as separate physics (step 7)
+  double shape_correlation = 0.5;      // ... unless unlike the headline: below this correlation
+                                       // with its signature, a smaller effect is separate too
   // Also the candidates that act on every camera at once (each form of a camera's calibration)
   // and on every target (their printed sizes, separately and from one printer): a cause the
   // cameras or boards share, tested as one. Off by default: more candidates are more rivals,
   // and on the physics suite they cost single-site names (docs/physics.md).
   bool group_candidates = false;
   int max_effects = 4;
-  int min_poses = 20;              // fewer: too few samples for the tests
+  int min_poses = 20;                  // fewer: too few samples for the tests
   std::vector<double> link_masses_kg;  // gravity-torque regressor (default 1 kg per link)
   std::vector<int> gear_harmonics;     // of the drives, beyond 1 and 2 (e.g. a gearbox's stages)
 };
 
 // One candidate: an effect plugin instance on one joint, camera or the whole arm.
 struct CandidateEffect {
-  WorkcellEffect effect;   // name, robot, plugin
-  std::string type;        // the plugin's type, "backlash"
-  std::string label;       // "joint 2 backlash"
-  std::string data_hint;   // what data separates it from the geometry ("a wider joint 2 range")
+  WorkcellEffect effect;  // name, robot, plugin
+  std::string type;       // the plugin's type, "backlash"
+  std::string label;      // "joint 2 backlash"
+  std::string data_hint;  // what data separates it from the geometry ("a wider joint 2 range")
   // The physics it names, shared by nested variants of it ("ur3.transmission_j4" for harmonic 1,
   // harmonic 2 and both) and by its forms ("ur3.thermal" for growth with the recorded
   // temperature and while warming up in time): the bootstrap counts a resample won by any of
@@ -184,50 +184,50 @@ struct LookAlike {
 struct CandidateFinding {
   std::string name;
   std::string label;
-  std::string site;                 // CandidateEffect::site ("" where it has none)
+  std::string site;  // CandidateEffect::site ("" where it has none)
   bool testable = true;
-  std::string untestable_because;   // "98 % absorbed by the geometry", "no temperatures", ...
-  std::string data_needed;          // what would make it testable
-  double unabsorbed = 0.0;          // share of the signature's norm outside the geometry's span
+  std::string untestable_because;  // "98 % absorbed by the geometry", "no temperatures", ...
+  std::string data_needed;         // what would make it testable
+  double unabsorbed = 0.0;         // share of the signature's norm outside the geometry's span
   // The score statistic the candidate would add at its plausible size (each parameter at its
   // Parameter::plausible, the direction the poses show best), over the dispersion: what the
   // data could tell of it. NaN where a parameter has no plausible size.
   double detectable = 0.0;
-  int dof = 0;                      // its free parameters
-  double score = 0.0;               // score statistic (chi-square, dof)
+  int dof = 0;         // its free parameters
+  double score = 0.0;  // score statistic (chi-square, dof)
   double p_holm = 1.0;
   bool refitted = false;
-  double likelihood_ratio = 0.0;    // chi-square drop of the full refit, over the dispersion
+  double likelihood_ratio = 0.0;  // chi-square drop of the full refit, over the dispersion
   double p_lr_holm = 1.0;
   double delta_bic = 0.0;
-  double cv_rms_mm = 0.0;           // held-out RMS with it, mm
-  double cv_gain = 0.0;             // held-out normalized RMS without it minus with it (sigmas)
-  double cv_gain_se = 0.0;          // standard error of that gain over the folds
-  double bootstrap_share = 0.0;     // resamples whose selection included its group
-  std::string bootstrap_rival;      // the other group included most often ("" if none)
+  double cv_rms_mm = 0.0;              // held-out RMS with it, mm
+  double cv_gain = 0.0;                // held-out normalized RMS without it minus with it (sigmas)
+  double cv_gain_se = 0.0;             // standard error of that gain over the folds
+  double bootstrap_share = 0.0;        // resamples whose selection included its group
+  std::string bootstrap_rival;         // the other group included most often ("" if none)
   std::string bootstrap_rival_effect;  // its member included most often, by name: what
                                        // `cellmetry plan --effect` takes to tell the two apart
-  double rival_p = 0.0;             // with selection_test "rivals": the largest p of the rival
-  std::string rival;                // test over the other groups' members, that member's label
-  std::string rival_effect;         // and its name (what `cellmetry plan --effect` takes)
+  double rival_p = 0.0;                // with selection_test "rivals": the largest p of the rival
+  std::string rival;                   // test over the other groups' members, that member's label
+  std::string rival_effect;            // and its name (what `cellmetry plan --effect` takes)
   // The round's chosen one's look-alikes: correlation >= 0.8, strongest first.
   std::vector<LookAlike> look_alikes;
-  std::vector<std::string> aliases;    // of those, the ones >= alias_correlation (labels)
+  std::vector<std::string> aliases;      // of those, the ones >= alias_correlation (labels)
   std::vector<std::string> alias_names;  // the same, by candidate name
-  std::string implausible;          // refitted: a size beyond its physics' plausible range, in
-                                    // words ("" when plausible); never accepted as that physics
+  std::string implausible;               // refitted: a size beyond its physics' plausible range, in
+                            // words ("" when plausible); never accepted as that physics
   double explained_share = 1.0;     // of the held-out excess over the floor, what it removes
-  std::vector<std::string> failed;     // the round's chosen one: tests it failed, of "size",
-                                       // "LR", "BIC", "CV", "share", "positions", "bootstrap",
-                                       // "rivals"
+  std::vector<std::string> failed;  // the round's chosen one: tests it failed, of "size",
+                                    // "LR", "BIC", "CV", "share", "positions", "bootstrap",
+                                    // "rivals"
   bool accepted = false;
 };
 
 struct RegressorFinding {
-  std::string regressor;            // "joint 2 gravity torque"
-  std::string axis;                 // x, y, depth, or "x, y and depth" (tested together)
+  std::string regressor;             // "joint 2 gravity torque"
+  std::string axis;                  // x, y, depth, or "x, y and depth" (tested together)
   double partial_correlation = 0.0;  // the three axes together: the RMS of theirs, unsigned
-  double p_value = 1.0;             // Bonferroni over all regressors and axes
+  double p_value = 1.0;              // Bonferroni over all regressors and axes
 };
 
 struct DiagnosisRound {
@@ -244,7 +244,7 @@ struct DiagnosisRound {
 // as a flat band. The report plots it (core/report).
 struct SignaturePoint {
   std::string camera;
-  int axis = 0;              // 0 x, 1 y, 2 depth
+  int axis = 0;  // 0 x, 1 y, 2 depth
   double predicted_mm = 0.0;
   double before_mm = 0.0;
   double after_mm = 0.0;
@@ -252,19 +252,19 @@ struct SignaturePoint {
 
 struct AcceptedEffect {
   std::string name;
-  std::string label;                         // the candidate's ("joint 3 compliance")
-  std::string site;                          // CandidateEffect::site
-  std::string group;                         // CandidateEffect::group ("" when it has none)
-  std::string group_label;                   // CandidateEffect::group_label
-  std::string description;                   // Effect::Describe at the estimate
+  std::string label;        // the candidate's ("joint 3 compliance")
+  std::string site;         // CandidateEffect::site
+  std::string group;        // CandidateEffect::group ("" when it has none)
+  std::string group_label;  // CandidateEffect::group_label
+  std::string description;  // Effect::Describe at the estimate
   std::vector<ScalarEstimate> parameters;
-  double peak_mm = 0.0;                      // largest tool displacement it predicts
-  std::vector<std::string> aliases;          // candidates these poses cannot tell from it
-  std::vector<std::string> alias_names;      // the same, by candidate name
+  double peak_mm = 0.0;                  // largest tool displacement it predicts
+  std::vector<std::string> aliases;      // candidates these poses cannot tell from it
+  std::vector<std::string> alias_names;  // the same, by candidate name
   // Candidates whose unabsorbed signatures correlate >= 0.8 with its own in the round it was
   // accepted (its aliases among them), strongest first: where the name could be another's.
   std::vector<LookAlike> look_alikes;
-  std::vector<SignaturePoint> signature;     // rows it moves by more than 1e-9 mm
+  std::vector<SignaturePoint> signature;  // rows it moves by more than 1e-9 mm
   // The model's held-out RMS in sigmas just before and after it was accepted (same folds).
   double held_out_sigma_before = 0.0, held_out_sigma_after = 0.0;
   // Its physical finding (step 7): "headline", "separate" (passed its test against the group)
@@ -287,45 +287,45 @@ struct AcceptedEffect {
 // Accepted effects at one site, as one physical finding (step 7); indices into
 // DiagnosisResult::accepted, in the order they were accepted.
 struct PhysicalFinding {
-  std::string site;                          // "" for a headline of no single site
+  std::string site;  // "" for a headline of no single site
   int headline = 0;
-  std::vector<int> separate;                 // passed their test against the group
-  std::vector<int> residual_shape;           // did not: the headline physics' shape
-  double held_out_excess_removed = 0.0;      // by the whole group (mean square in sigmas)
+  std::vector<int> separate;             // passed their test against the group
+  std::vector<int> residual_shape;       // did not: the headline physics' shape
+  double held_out_excess_removed = 0.0;  // by the whole group (mean square in sigmas)
 };
 
 struct FitSummary {
-  double chi2 = 0.0;                         // of the measurements
-  double prior_chi2 = 0.0;                   // what the job's stated priors add (a level base's
-                                             // tilt over its sigma, squared)
+  double chi2 = 0.0;        // of the measurements
+  double prior_chi2 = 0.0;  // what the job's stated priors add (a level base's
+                            // tilt over its sigma, squared)
   double dof = 0.0;
-  double p_value = 1.0;                      // chi-square against the floor
-  double rms_mm = 0.0;                       // carried targets' positions
+  double p_value = 1.0;  // chi-square against the floor
+  double rms_mm = 0.0;   // carried targets' positions
   double held_out_rms_mm = 0.0;
-  double held_out_sigma = 0.0;               // held-out RMS in sigmas over every carried-target
-                                             // row the fit uses (rotations too)
+  double held_out_sigma = 0.0;  // held-out RMS in sigmas over every carried-target
+                                // row the fit uses (rotations too)
   bool consistent_with_noise() const { return p_value > 0.01; }
 };
 
 struct DiagnosisResult {
   std::string noise_source;
-  double floor_rms_mm = 0.0;                 // RMS of the noise sigma over the same rows
-  FitSummary geometric;                      // the geometry alone
-  FitSummary final;                          // with the accepted effects
+  double floor_rms_mm = 0.0;                    // RMS of the noise sigma over the same rows
+  FitSummary geometric;                         // the geometry alone
+  FitSummary final;                             // with the accepted effects
   std::map<std::string, double> durbin_watson;  // axis -> statistic, capture order
-  std::vector<RegressorFinding> regressors;  // strongest first
+  std::vector<RegressorFinding> regressors;     // strongest first
   std::vector<CandidateFinding> untestable;
   std::vector<DiagnosisRound> rounds;
   std::vector<AcceptedEffect> accepted;
-  std::vector<PhysicalFinding> findings;     // the accepted effects grouped by site (step 7)
-  double min_group_share = 0.1;              // the options' (the report states them)
+  std::vector<PhysicalFinding> findings;  // the accepted effects grouped by site (step 7)
+  double min_group_share = 0.1;           // the options' (the report states them)
   double shape_correlation = 0.5;
-  std::string unexplained;                   // "" or where structure remains, in words
+  std::string unexplained;  // "" or where structure remains, in words
   WorkcellResult final_fit;
-  WorkcellProblem final_spec;                // what final_fit identified: the job's cell and
-                                             // every accepted effect
-  std::string job;                           // the job diagnosed (`origin`), for the commands
-                                             // the report proposes
+  WorkcellProblem final_spec;  // what final_fit identified: the job's cell and
+                               // every accepted effect
+  std::string job;             // the job diagnosed (`origin`), for the commands
+                               // the report proposes
 };
 
 // The default candidate list for `spec`'s robots and `recording`'s cameras: every candidate the
@@ -334,8 +334,7 @@ struct DiagnosisResult {
 // `options.group_candidates`.
 std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
                                                const Recording& recording,
-                                               const DiagnosisOptions& options,
-                                               Registry& registry);
+                                               const DiagnosisOptions& options, Registry& registry);
 
 // Groups `result`'s accepted effects into physical findings (step 7): fills `findings` and each
 // accepted effect's role and group share. DiagnoseWorkcell calls it.

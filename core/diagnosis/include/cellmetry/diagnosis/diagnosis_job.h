@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/diagnosis/diagnosis.h"
 #include "cellmetry/cell/job.h"
+#include "cellmetry/diagnosis/diagnosis.h"
 
 namespace cellmetry {
 

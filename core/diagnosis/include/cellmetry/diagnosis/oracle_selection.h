@@ -34,9 +34,9 @@
 namespace cellmetry {
 
 struct OracleSelectionOptions {
-  int draws = 4000;            // noise draws; the shares' standard error is below 0.008
-  unsigned seed = 7;           // of the draws
-  int posterior_bins = 100;    // the histograms' bins over the top posterior, [0, 1]
+  int draws = 4000;          // noise draws; the shares' standard error is below 0.008
+  unsigned seed = 7;         // of the draws
+  int posterior_bins = 100;  // the histograms' bins over the top posterior, [0, 1]
 };
 
 struct OracleSelection {

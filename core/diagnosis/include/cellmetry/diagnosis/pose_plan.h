@@ -35,8 +35,8 @@
 namespace cellmetry {
 
 struct PosePlanOptions {
-  int poses = 10;                    // how many to propose
-  int draws = 2000;                  // random joint poses to choose among
+  int poses = 10;    // how many to propose
+  int draws = 2000;  // random joint poses to choose among
   unsigned seed = 1;
   double min_unabsorbed = 0.05;      // below: untestable (the finder's threshold)
   std::vector<std::string> effects;  // candidates to make testable; empty: every one the
@@ -56,9 +56,9 @@ struct PlannedSigma {
 
 struct PlannedEffect {
   std::string name, label;
-  double unabsorbed_before = 0.0;    // share of its signature outside the geometry's span
+  double unabsorbed_before = 0.0;  // share of its signature outside the geometry's span
   double unabsorbed_after = 0.0;
-  std::vector<PlannedSigma> sigma;   // its parameters, fitted with the geometry
+  std::vector<PlannedSigma> sigma;  // its parameters, fitted with the geometry
 };
 
 // Two named candidates planned for together (PosePlanOptions::effects, the diagnose report's
@@ -66,20 +66,20 @@ struct PlannedEffect {
 // measures it (the largest canonical correlation of what the geometry leaves of their
 // signatures; at `alias_correlation`, 0.99, the finder calls them one finding).
 struct PlannedPair {
-  std::string a, b;                  // labels
+  std::string a, b;  // labels
   double correlation_before = 0.0, correlation_after = 0.0;
-  std::vector<PlannedSigma> sigma;   // both one's and the other's parameters, fitted together
-                                     // with the geometry: how well the data would separate them
+  std::vector<PlannedSigma> sigma;  // both one's and the other's parameters, fitted together
+                                    // with the geometry: how well the data would separate them
 };
 
 struct PosePlan {
   std::vector<PlannedPose> poses;
   std::vector<PlannedEffect> effects;
-  std::vector<PlannedPair> pairs;    // every two named candidates (none when none are named)
+  std::vector<PlannedPair> pairs;  // every two named candidates (none when none are named)
   std::vector<PlannedSigma> sigma;
-  int draws = 0;                     // options.draws: poses drawn inside the joint limits
-  int draws_in_view = 0;             // of those, the ones some camera would see
-  double min_unabsorbed = 0.05;      // options.min_unabsorbed: testable from here
+  int draws = 0;                 // options.draws: poses drawn inside the joint limits
+  int draws_in_view = 0;         // of those, the ones some camera would see
+  double min_unabsorbed = 0.05;  // options.min_unabsorbed: testable from here
 };
 
 // Whether the plan reached what it was asked: every planned effect testable after it, and every

@@ -70,9 +70,7 @@ class BlockRegistry {
   int FindBlock(const std::string& name) const;  // -1 if absent
   int num_blocks() const { return static_cast<int>(blocks_.size()); }
   const std::string& block_name(int block) const { return blocks_[block]->name; }
-  const std::vector<Parameter>& block_parameters(int block) const {
-    return blocks_[block]->params;
-  }
+  const std::vector<Parameter>& block_parameters(int block) const { return blocks_[block]->params; }
   int block_size(int block) const { return static_cast<int>(blocks_[block]->params.size()); }
   double* values(int block) { return blocks_[block]->values.data(); }
   const double* values(int block) const { return blocks_[block]->values.data(); }

@@ -84,8 +84,7 @@ struct DegenerateColumn {
   std::vector<double> partner_shares;  // |v| of each partner in the scaled singular vector
 };
 std::vector<DegenerateColumn> FindDegenerateColumns(const Eigen::MatrixXd& R,
-                                                    const Eigen::VectorXd& norms,
-                                                    double tolerance,
+                                                    const Eigen::VectorXd& norms, double tolerance,
                                                     const std::vector<bool>& convention = {});
 
 // Fixes the free parameters called "<block>.<parameter>" in `held.held`, gives those in
@@ -110,14 +109,12 @@ struct IdentifiedSolve {
 // cross-validation fold), so the check before the solve is skipped and only the one at the
 // answer made. Every solve is checked where it ends: a
 // non-finite parameter or cost throws InputError ("the fit diverged").
-IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance,
-                                           HeldParameters held,
-                                           const SolverMaker& make_solver,
-                                           bool warm_start = false);
+IdentifiedSolve SolveHoldingUnidentifiable(Problem* problem, double tolerance, HeldParameters held,
+                                           const SolverMaker& make_solver, bool warm_start = false);
 
 struct Uncertainty {
-  std::vector<std::string> names;   // free parameters, in Problem order
-  Eigen::VectorXd sigma;            // 1-sigma, in each parameter's unit: the total (below)
+  std::vector<std::string> names;  // free parameters, in Problem order
+  Eigen::VectorXd sigma;           // 1-sigma, in each parameter's unit: the total (below)
   // Its parts (robust_covariance.h, consider_covariance.h). statistical = the larger of the
   // chi-square-scaled model's and the cluster-robust sigma; systematic = what errors shared by a
   // whole camera add (the camera jackknife's spread beyond the statistical); inputs = what the
@@ -143,11 +140,11 @@ struct Uncertainty {
   // moves with its rows, the "bread" of every sandwich (cluster-robust, consider).
   Eigen::MatrixXd inverse_information;
   Eigen::MatrixXd correlation;
-  double chi2 = 0.0;                // |r|^2 of the whitened measurement residuals
-  int dof = 0;                      // residuals - free parameters
+  double chi2 = 0.0;  // |r|^2 of the whitened measurement residuals
+  int dof = 0;        // residuals - free parameters
   double reduced_chi2 = 0.0;
-  double scale = 1.0;               // factor applied to the measurements' part of the covariance
-  double condition_number = 0.0;    // of the column-scaled Jacobian
+  double scale = 1.0;             // factor applied to the measurements' part of the covariance
+  double condition_number = 0.0;  // of the column-scaled Jacobian
   // Variance inflation factor per free parameter: how much larger its variance is than if every
   // other parameter were known, 1 / (1 - R^2) of its Jacobian column on the others. 1 =
   // independent; thousands = the data can barely tell it from a combination of the others.
@@ -165,7 +162,7 @@ Uncertainty ComputeUncertainty(Problem& problem);  // linearizes at the current 
 struct WeakParameter {
   std::string name;
   double variance_inflation = 0.0;
-  std::string partners;   // "a (0.99), b (-0.97)": |correlation| >= 0.9
+  std::string partners;  // "a (0.99), b (-0.97)": |correlation| >= 0.9
 };
 std::vector<WeakParameter> WeaklyIdentified(const Uncertainty& uncertainty,
                                             double vif_threshold = 1e5);

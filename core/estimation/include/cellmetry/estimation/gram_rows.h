@@ -20,8 +20,8 @@
 namespace cellmetry {
 
 struct GramRows {
-  SparseJacobian rows;     // J's columns
-  std::vector<int> block;  // per row, the residual block it stands for (its unit's first)
+  SparseJacobian rows;            // J's columns
+  std::vector<int> block;         // per row, the residual block it stands for (its unit's first)
   std::vector<int> row_of_block;  // per residual block, the first row that stands for it
 };
 

@@ -30,7 +30,7 @@
 namespace cellmetry {
 
 struct LeftOutGroup {
-  int group = 0;                           // in group_of_block
+  int group = 0;                            // in group_of_block
   std::map<int, double> added_prior_sigma;  // free column -> sigma of a prior only it has
 };
 
@@ -39,12 +39,9 @@ struct LeftOutGroup {
 // `cluster_of_block` give each residual block's group (a camera; negative: none) and cluster (a
 // pose in capture order; negative: a cluster of its own, after the others); `full` is the full
 // fit's uncertainty (its scale and correlated_poses; B is made from `at`).
-std::vector<Eigen::VectorXd> LeftOutDifferenceVariance(const Problem& problem,
-                                                       const Linearization& at,
-                                                       const std::vector<int>& group_of_block,
-                                                       const std::vector<int>& cluster_of_block,
-                                                       const Uncertainty& full,
-                                                       const std::vector<LeftOutGroup>& left_out,
-                                                       double tolerance);
+std::vector<Eigen::VectorXd> LeftOutDifferenceVariance(
+    const Problem& problem, const Linearization& at, const std::vector<int>& group_of_block,
+    const std::vector<int>& cluster_of_block, const Uncertainty& full,
+    const std::vector<LeftOutGroup>& left_out, double tolerance);
 
 }  // namespace cellmetry

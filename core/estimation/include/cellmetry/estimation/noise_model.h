@@ -34,7 +34,7 @@ namespace cellmetry {
 struct NoiseSpec {
   std::map<std::string, Eigen::Vector3d> position_sigma_mm;   // camera -> sigma (given by job)
   std::map<std::string, Eigen::Vector3d> rotation_sigma_rad;  // camera -> sigma (given by job)
-  double floor_mm = 1e-3;     // no sigma is taken smaller than this (exact simulated targets)
+  double floor_mm = 1e-3;  // no sigma is taken smaller than this (exact simulated targets)
   double floor_rad = 1e-6;
   std::set<std::string> per_row_cameras;  // each row adds its own position covariance (above)
 };
@@ -46,7 +46,7 @@ struct TargetNoise {
   // poses", "spread of 2500 captures of a world-fixed target", "detections (N)", "residuals of a
   // first fit", "unknown".
   std::string source = "unknown";
-  int repeat_groups = 0;           // groups with >= 2 captures that the estimate pooled
+  int repeat_groups = 0;  // groups with >= 2 captures that the estimate pooled
   // Each row adds its own position covariance to position_mm^2 (NoiseSpec::per_row_cameras);
   // the mean of the rows' variances per axis (mm^2), which a sigma from residuals leaves out.
   bool per_row = false;

@@ -72,9 +72,7 @@ class Problem {
   }
   void Build();
 
-  const std::vector<FreeParameter>& free_parameters() const {
-    return registry_.free_parameters();
-  }
+  const std::vector<FreeParameter>& free_parameters() const { return registry_.free_parameters(); }
   int num_free() const { return registry_.num_free(); }
   int num_residuals() const { return registry_.num_residuals(); }
   int num_residual_blocks() const { return registry_.num_residual_blocks(); }
@@ -150,7 +148,7 @@ struct Linearization {
 
   Eigen::VectorXd residuals;
   SparseJacobian jacobian;
-  bool valid = false;   // false: a cost function failed at these values (no numbers to trust)
+  bool valid = false;  // false: a cost function failed at these values (no numbers to trust)
   // Rows with J's Gram matrix (gram_rows.h), what its R factors are computed from; filled with
   // the Jacobian by Linearize and FindUnidentifiable.
   GramRows gram;

@@ -30,10 +30,10 @@
 namespace cellmetry {
 
 struct ReweightedSolveOptions {
-  int max_iterations = 200;            // accepted and rejected steps together (as ceres_lm)
-  double decrement_tolerance = 1e-4;   // stop when -1/2 g.dx falls below (cost units)
-  double initial_damping = 1e-8;       // lambda, relative to the Hessian's diagonal: Gauss-Newton
-                                       // first, more damping only after a rejected step
+  int max_iterations = 200;           // accepted and rejected steps together (as ceres_lm)
+  double decrement_tolerance = 1e-4;  // stop when -1/2 g.dx falls below (cost units)
+  double initial_damping = 1e-8;      // lambda, relative to the Hessian's diagonal: Gauss-Newton
+                                      // first, more damping only after a rejected step
 };
 
 // Moves the free parameters of `problem` to a minimum of its robust cost (its losses as Build()

@@ -82,7 +82,7 @@ std::vector<Eigen::VectorXd> LinearizedJackknife(const Problem& problem, const L
 // var_jack / var_stat is about chi-square(g - 1) / (g - 1) when nothing is shared, so it must
 // pass that distribution's `quantile` (default 0.99: one clean parameter in a hundred gets a
 // systematic part by chance).
-void CombineUncertainty(const Eigen::MatrixXd& cluster, const Jackknife& jackknife,
-                        Uncertainty* u, double quantile = 0.99);
+void CombineUncertainty(const Eigen::MatrixXd& cluster, const Jackknife& jackknife, Uncertainty* u,
+                        double quantile = 0.99);
 
 }  // namespace cellmetry

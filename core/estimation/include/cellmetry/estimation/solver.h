@@ -15,14 +15,14 @@ namespace cellmetry {
 class Problem;
 
 struct SolverSummary {
-  std::string solver;            // plugin name
-  int iterations = 0;            // outer iterations (LM steps, pinv steps, NLopt evaluations)
-  int evaluations = 0;           // residual evaluations
-  double initial_cost = 0.0;     // 0.5 * |r|^2 at the start
-  double final_cost = 0.0;       // 0.5 * |r|^2 at the answer
-  bool converged = false;        // stopped by a convergence test, not by a limit or a failure
-  std::string stop_reason;       // one line, e.g. "relative cost change 3e-12 < 1e-10"
-  double time_s = 0.0;           // wall time of Solve()
+  std::string solver;         // plugin name
+  int iterations = 0;         // outer iterations (LM steps, pinv steps, NLopt evaluations)
+  int evaluations = 0;        // residual evaluations
+  double initial_cost = 0.0;  // 0.5 * |r|^2 at the start
+  double final_cost = 0.0;    // 0.5 * |r|^2 at the answer
+  bool converged = false;     // stopped by a convergence test, not by a limit or a failure
+  std::string stop_reason;    // one line, e.g. "relative cost change 3e-12 < 1e-10"
+  double time_s = 0.0;        // wall time of Solve()
 };
 
 class Solver {

@@ -35,14 +35,14 @@ namespace cellmetry {
 // its sigma) are result.json's own (workcell_result_file.h).
 
 struct CalibratedRobot {
-  std::string name;                        // as in the recording
-  std::string model_type;                  // the config's `type:` (a robot-model plugin)
-  std::string model_file;                  // where the config was read at the run
-  std::shared_ptr<const ConfigNode> model_config;   // the recorded config
-  std::shared_ptr<const RobotModel> model;          // built from it by the registry
-  std::vector<double> values;              // every model parameter at the answer, model order
-  std::vector<FittedScalar> fitted;        // its parameters the job freed, with sigma
-  std::vector<FittedScalar> effects;       // effect parameters fitted in its chain
+  std::string name;                                // as in the recording
+  std::string model_type;                          // the config's `type:` (a robot-model plugin)
+  std::string model_file;                          // where the config was read at the run
+  std::shared_ptr<const ConfigNode> model_config;  // the recorded config
+  std::shared_ptr<const RobotModel> model;         // built from it by the registry
+  std::vector<double> values;         // every model parameter at the answer, model order
+  std::vector<FittedScalar> fitted;   // its parameters the job freed, with sigma
+  std::vector<FittedScalar> effects;  // effect parameters fitted in its chain
 };
 
 // An effect of the result's prediction chain (result.json `effects`), rebuilt through the
@@ -50,10 +50,10 @@ struct CalibratedRobot {
 // "<name>.<parameter>"). `effect` is null when the result does not record the block (the job was
 // built in memory): what needs it (compensation) refuses the result then.
 struct CalibratedEffect {
-  std::string name;    // "ur3.compliance_j3"
-  std::string robot;   // the robot whose chain it is in
-  std::string type;    // the plugin's type
-  std::string stage;   // "joint", "flange", "measurement"
+  std::string name;   // "ur3.compliance_j3"
+  std::string robot;  // the robot whose chain it is in
+  std::string type;   // the plugin's type
+  std::string stage;  // "joint", "flange", "measurement"
   std::shared_ptr<const Effect> effect;
   std::vector<FittedScalar> parameters;  // the effect's parameters() order
 };
@@ -68,8 +68,8 @@ struct ParameterCovariance {
 };
 
 struct CalibratedCell {
-  std::string folder;       // the result folder as given
-  std::string json_path;    // <folder>/result.json, for messages
+  std::string folder;     // the result folder as given
+  std::string json_path;  // <folder>/result.json, for messages
   std::vector<CalibratedFrame> frames;
   std::vector<CalibratedRobot> robots;
   std::vector<FittedScalar> camera_effects;  // measurement effects ("camera.<type>.<param>")

@@ -42,11 +42,11 @@ struct LinkJoint {
 };
 
 struct RobotLinks {
-  std::string base_link;                  // the link that hangs from the world
-  std::string base_joint;                 // that fixed joint's name
+  std::string base_link;                     // the link that hangs from the world
+  std::string base_joint;                    // that fixed joint's name
   Pose T_base_link_base = Pose::Identity();  // cellmetry's base frame in base_link
-  std::vector<LinkJoint> joints;          // each parent link before its children
-  std::string flange_link;                // at cellmetry's flange frame: tools hang here
+  std::vector<LinkJoint> joints;             // each parent link before its children
+  std::string flange_link;                   // at cellmetry's flange frame: tools hang here
 };
 
 // Every link and joint of `robot` (refused as robot_chain.h says for a model that is no chain;
@@ -55,7 +55,6 @@ RobotLinks CalibratedRobotLinks(const CalibratedCell& cell, const CalibratedRobo
                                 ExportNaming naming);
 // Only base_link, base_joint, T_base_link_base and flange_link: what tf needs, for any robot
 // (a delta arm keeps cellmetry's names; `ur` is refused for it as above).
-RobotLinks RobotEnds(const CalibratedCell& cell, const CalibratedRobot& robot,
-                     ExportNaming naming);
+RobotLinks RobotEnds(const CalibratedCell& cell, const CalibratedRobot& robot, ExportNaming naming);
 
 }  // namespace cellmetry

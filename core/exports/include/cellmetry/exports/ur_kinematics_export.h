@@ -16,8 +16,8 @@
 // (T_last_joint_flange a turn about and shift along it, folded into wrist_3); otherwise refused.
 //
 // The robot config's base and flange must be the controller's Base and tool0 frames (they are for
-// configs/robots/ur3_vsb2020.yaml: the Huczala et al. table in UR's convention). `hash` is what the UR
-// driver compares with the controller's own calibration checksum: ours cannot match it, and the
+// configs/robots/ur3_vsb2020.yaml: the Huczala et al. table in UR's convention). `hash` is what the
+// UR driver compares with the controller's own calibration checksum: ours cannot match it, and the
 // driver says so in its log (the file is still used). The opening comment gives the base's
 // placement in the world as the `origin` of ur_description's base_joint, the tools relative to
 // tool0, and what the file cannot hold.

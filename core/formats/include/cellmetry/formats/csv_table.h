@@ -53,8 +53,7 @@ class CsvColumns {
                        const std::string& column) const;
   double CellNumber(int line, const std::vector<std::string>& cells,
                     const std::string& column) const;
-  int CellInteger(int line, const std::vector<std::string>& cells,
-                  const std::string& column) const;
+  int CellInteger(int line, const std::vector<std::string>& cells, const std::string& column) const;
   // The row's cells from a line of text, padded to the header's length; an InputError at `line`
   // when it has more cells than the header.
   std::vector<std::string> SplitRow(const std::string& text, int line) const;

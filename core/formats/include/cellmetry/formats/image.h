@@ -12,7 +12,7 @@ namespace cellmetry {
 struct ImageView {
   int width = 0;
   int height = 0;
-  int stride = 0;                  // bytes from one row to the next
+  int stride = 0;  // bytes from one row to the next
   const std::uint8_t* data = nullptr;
 
   std::uint8_t at(int x, int y) const { return data[static_cast<size_t>(y) * stride + x]; }

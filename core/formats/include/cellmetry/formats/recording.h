@@ -30,12 +30,12 @@ inline constexpr char kWorldCarrier[] = "world";
 struct Sample {
   int id = 0;
   std::string robot;
-  int pose = 0;                 // captures of one commanded pose share it (repeatability)
-  std::vector<double> q;        // joint readings, rad (delta: the three motor angles)
+  int pose = 0;           // captures of one commanded pose share it (repeatability)
+  std::vector<double> q;  // joint readings, rad (delta: the three motor angles)
   std::optional<double> time_s;
   std::optional<double> temperature_c;
   std::optional<double> payload_kg;
-  int line = 0;                 // line in samples.csv, for messages (0: not read from a file)
+  int line = 0;  // line in samples.csv, for messages (0: not read from a file)
 };
 
 struct Observation {
@@ -43,10 +43,11 @@ struct Observation {
   std::string camera;
   std::string target;
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // target origin in the camera frame
-  std::optional<Eigen::Vector3d> rvec;                     // target rotation in the camera frame
-  std::optional<Eigen::Matrix3d> covariance_mm2;           // of position_mm, when measured
-  std::optional<Eigen::Matrix3d> rotation_covariance_rad2; // of the rotation, about the camera axes
-  int line = 0;                                            // line in observations.csv, for messages
+  std::optional<Eigen::Vector3d> rvec;                    // target rotation in the camera frame
+  std::optional<Eigen::Matrix3d> covariance_mm2;          // of position_mm, when measured
+  std::optional<Eigen::Matrix3d>
+      rotation_covariance_rad2;  // of the rotation, about the camera axes
+  int line = 0;                  // line in observations.csv, for messages
 };
 
 struct ImageRef {
@@ -59,12 +60,12 @@ struct ImageRef {
 struct Recording {
   std::string folder;  // where it was read from (empty for one built in memory)
   std::string description;
-  std::map<std::string, int> robots;             // robot name -> joint count
+  std::map<std::string, int> robots;  // robot name -> joint count
   std::vector<std::string> cameras;
   // A camera riding on a robot's flange (eye in hand) -> that robot; the others stand still.
   std::map<std::string, std::string> camera_mounts;
-  std::map<std::string, std::string> targets;    // target name -> robot name or "world"
-  std::vector<Sample> samples;                   // in capture order
+  std::map<std::string, std::string> targets;  // target name -> robot name or "world"
+  std::vector<Sample> samples;                 // in capture order
   std::vector<Observation> observations;
   std::vector<ImageRef> images;
 

@@ -33,25 +33,23 @@ Json ParseStrictJson(const std::string& text) {
       case Json::parse_event_t::object_start:
       case Json::parse_event_t::array_start:
         if (open.size() >= kMaxJsonDepth) {
-          throw StrictJsonError{"objects and arrays nested deeper than " +
-                                    std::to_string(kMaxJsonDepth) + " levels",
-                                "A row's values nest a few levels at most: {\"pose\": {\"t\": [x, y, z]}}"};
+          throw StrictJsonError{
+              "objects and arrays nested deeper than " + std::to_string(kMaxJsonDepth) + " levels",
+              "A row's values nest a few levels at most: {\"pose\": {\"t\": [x, y, z]}}"};
         }
         open.emplace_back();
         break;
       case Json::parse_event_t::object_end:
-      case Json::parse_event_t::array_end:
-        open.pop_back();
-        break;
+      case Json::parse_event_t::array_end: open.pop_back(); break;
       case Json::parse_event_t::key:
         if (!open.back().insert(parsed.template get<std::string>()).second) {
           std::string key = parsed.template get<std::string>();
           if (key.size() > 80) key = key.substr(0, 77) + "...";  // an error line stays a line
-          throw StrictJsonError{"key '" + key + "' appears twice in one object", "Keep one of them"};
+          throw StrictJsonError{"key '" + key + "' appears twice in one object",
+                                "Keep one of them"};
         }
         break;
-      default:
-        break;
+      default: break;
     }
     return true;
   };

@@ -84,13 +84,13 @@ struct ResultUnidentifiable {
 };
 
 struct WorkcellResultFile {
-  std::string path;  // the file read, for messages
-  std::vector<CalibratedFrame> frames;       // by name
-  std::vector<FittedScalar> model_parameters;  // in the file's order
-  bool records_robots = false;               // false: written before results recorded them
-  std::vector<ResultRobotModel> robots;      // by name
+  std::string path;                             // the file read, for messages
+  std::vector<CalibratedFrame> frames;          // by name
+  std::vector<FittedScalar> model_parameters;   // in the file's order
+  bool records_robots = false;                  // false: written before results recorded them
+  std::vector<ResultRobotModel> robots;         // by name
   std::vector<ResultRobotPair> robot_to_robot;  // by key
-  std::vector<ResultEffect> effects;         // by name
+  std::vector<ResultEffect> effects;            // by name
   std::vector<ResultUnidentifiable> unidentifiable;
   std::optional<Eigen::Vector3d> gravity_base_m_s2;  // the job's gravity in the base, m/s^2
   // The free parameters' covariance as sigma and correlation, in `free_parameters` order.

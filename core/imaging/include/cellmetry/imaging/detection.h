@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/model/detector.h"
 #include "cellmetry/imaging/imaging.h"
+#include "cellmetry/model/detector.h"
 #include "cellmetry/registry/registry.h"
 
 namespace cellmetry {
@@ -58,11 +58,11 @@ struct ImageDetection {
 std::vector<ImageDetection> ReadDetectionLog(const std::string& path);
 
 struct DetectSummary {
-  int images = 0;            // of the job's cameras in images.csv
-  int already_done = 0;      // (image, target) pairs in the log from an earlier run
-  int processed = 0;         // (image, target) pairs done by this run
-  int found = 0;             // over the whole log
-  int observations = 0;      // written to observations.csv
+  int images = 0;                       // of the job's cameras in images.csv
+  int already_done = 0;                 // (image, target) pairs in the log from an earlier run
+  int processed = 0;                    // (image, target) pairs done by this run
+  int found = 0;                        // over the whole log
+  int observations = 0;                 // written to observations.csv
   std::map<std::string, int> failures;  // "<target>: <reason>" -> images
 };
 

@@ -19,10 +19,10 @@
 #include <vector>
 
 #include "cellmetry/formats/config_node.h"
-#include "cellmetry/imaging/imaging.h"
 #include "cellmetry/formats/recording.h"
-#include "cellmetry/registry/registry.h"
+#include "cellmetry/imaging/imaging.h"
 #include "cellmetry/imaging/render.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry {
 

@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/model/camera.h"
 #include "cellmetry/formats/config_node.h"
-#include "cellmetry/registry/registry.h"
 #include "cellmetry/imaging/stereo.h"
+#include "cellmetry/model/camera.h"
+#include "cellmetry/registry/registry.h"
 
 namespace cellmetry {
 

@@ -20,13 +20,13 @@
 namespace cellmetry {
 
 struct RenderOptions {
-  int supersampling = 4;             // rays per pixel side
-  double background = 60.0;          // gray level where no face is seen
-  double black = 25.0;               // gray level of texture value 0 under the centre's light
-  double white = 225.0;              // gray level of texture value 255
-  double blur_sigma_px = 0.6;        // Gaussian blur of optics and sensor (0: none)
+  int supersampling = 4;       // rays per pixel side
+  double background = 60.0;    // gray level where no face is seen
+  double black = 25.0;         // gray level of texture value 0 under the centre's light
+  double white = 225.0;        // gray level of texture value 255
+  double blur_sigma_px = 0.6;  // Gaussian blur of optics and sensor (0: none)
   Eigen::Vector2d illumination_gradient = Eigen::Vector2d(0.10, -0.06);  // relative, per frame
-  double noise_sigma = 2.0;          // gray levels
+  double noise_sigma = 2.0;                                              // gray levels
 };
 
 struct PlacedTarget {

@@ -33,7 +33,7 @@ struct StereoRig {
 };
 
 struct TriangulatedPoint {
-  Eigen::Vector3d p_left_mm = Eigen::Vector3d::Zero();   // in the left camera's frame
+  Eigen::Vector3d p_left_mm = Eigen::Vector3d::Zero();  // in the left camera's frame
   Eigen::Matrix3d covariance_mm2 = Eigen::Matrix3d::Zero();
   double reprojection_rms_px = 0.0;
 };

@@ -13,9 +13,9 @@
 #include <optional>
 #include <vector>
 
+#include "cellmetry/imaging/stereo.h"
 #include "cellmetry/model/camera.h"
 #include "cellmetry/model/detector.h"
-#include "cellmetry/imaging/stereo.h"
 
 namespace cellmetry {
 
@@ -30,9 +30,9 @@ struct TargetPose {
   Pose T_cam_target;
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // rvec, t (mm)
   double normalized_reprojection_rms = 0.0;  // in keypoint sigmas: ~1 when as noisy as claimed
-  double variance_factor = 1.0;      // the covariance's inflation (>= 1)
-  int points = 0;                    // keypoints used
-  int rejected = 0;                  // keypoints dropped as outliers
+  double variance_factor = 1.0;              // the covariance's inflation (>= 1)
+  int points = 0;                            // keypoints used
+  int rejected = 0;                          // keypoints dropped as outliers
 };
 
 // Needs 4 or more keypoints whose ids are in the layout; none otherwise.

@@ -34,8 +34,8 @@
 namespace cellmetry {
 
 struct CsvDialect {
-  char separator = 0;  // ',', ';' or '\t'; 0: detect from the header line
-  char decimal = '.';  // '.' or ','
+  char separator = 0;                           // ',', ';' or '\t'; 0: detect from the header line
+  char decimal = '.';                           // '.' or ','
   TextEncoding encoding = TextEncoding::kUtf8;  // the file's; cells and names become UTF-8
 };
 

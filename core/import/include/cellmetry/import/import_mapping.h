@@ -86,15 +86,15 @@ struct PositionUncertaintySpec {
 struct ObservationSpec {
   NameSource camera;
   NameSource target;
-  bool camera_in_target = false;   // the table holds T_target_camera (inverted on import)
-  std::vector<ColumnRef> position; // x, y, z; empty when `transform` gives it
+  bool camera_in_target = false;         // the table holds T_target_camera (inverted on import)
+  std::vector<ColumnRef> position;       // x, y, z; empty when `transform` gives it
   std::optional<RotationSpec> rotation;  // none: position only (a dot)
   std::vector<ColumnRef> transform;      // 4x4 (16) or its top three rows (12), row-major
   bool transform_bottom_optional =
       false;  // from a prefix: T41..T44 read only when the table has them
   double transform_tolerance = 1e-3;
-  double to_mm = 1.0;              // the table's length unit -> mm
-  double to_rad = 1.0;             // the table's angle unit -> rad
+  double to_mm = 1.0;   // the table's length unit -> mm
+  double to_rad = 1.0;  // the table's angle unit -> rad
   std::optional<PositionUncertaintySpec> position_uncertainty;
   std::optional<std::array<double, 3>> rotation_sigma_rad;  // about the camera's x, y, z
   SourceLocation where;
@@ -130,7 +130,7 @@ struct JoinSpec {
 enum class PoseGrouping { kEachSample, kColumn, kConsecutiveJoints };
 
 struct ImportMapping {
-  std::string file;              // the mapping's path
+  std::string file;  // the mapping's path
   std::string description;
   std::vector<TableSpec> tables;  // one (table:) or more (tables:), in the mapping's order
   JoinSpec join;                  // for more than one table

@@ -56,7 +56,6 @@ Eigen::Matrix3d ToRotation(const RotationConvention& convention, const double* v
 // The values of R in `convention` (angles in rad): euler and rpy with the middle angle in
 // [-pi/2, pi/2] (proper Euler sequences: [0, pi]), quaternion with w >= 0, rotation vector with
 // angle in [0, pi], matrix row-major. ToRotation(FromRotation(R)) == R to rounding.
-std::array<double, 9> FromRotation(const RotationConvention& convention,
-                                   const Eigen::Matrix3d& R);
+std::array<double, 9> FromRotation(const RotationConvention& convention, const Eigen::Matrix3d& R);
 
 }  // namespace cellmetry

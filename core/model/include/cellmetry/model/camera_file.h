@@ -34,8 +34,9 @@ PinholeCamera ReadCameraNode(const ConfigNode& node);
 struct RosCameraInfo {
   PinholeCamera camera;
   Eigen::Matrix3d R_rect_camera = Eigen::Matrix3d::Identity();  // rectification_matrix
-  Eigen::Matrix<double, 3, 4> P = Eigen::Matrix<double, 3, 4>::Zero();  // projection_matrix;
-                                                   // P(0,3) = -fx' baseline, the file's unit
+  Eigen::Matrix<double, 3, 4> P =
+      Eigen::Matrix<double, 3, 4>::Zero();  // projection_matrix;
+                                            // P(0,3) = -fx' baseline, the file's unit
 };
 
 // Whether `root` (a parsed YAML file) is a ROS camera_info file: it has camera_matrix and

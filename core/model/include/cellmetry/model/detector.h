@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/formats/image.h"
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/formats/image.h"
 
 namespace cellmetry {
 
@@ -42,7 +42,7 @@ struct MarkerPoint {
 // that side.
 struct MarkerFace {
   Pose T_target_face = Pose::Identity();
-  GrayImage texture;      // 0 black .. 255 white
+  GrayImage texture;  // 0 black .. 255 white
   double mm_per_texel = 0.1;
 };
 

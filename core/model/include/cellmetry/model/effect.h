@@ -36,8 +36,8 @@
 #include <vector>
 
 #include "cellmetry/basics/parameter.h"
-#include "cellmetry/model/robot_model.h"
 #include "cellmetry/basics/transform.h"
+#include "cellmetry/model/robot_model.h"
 
 namespace cellmetry {
 
@@ -46,30 +46,30 @@ enum class EffectStage { kJoint, kFlange, kMeasurement };
 // What the recording and the nominal geometry say about one sample (effect_context.h fills it).
 struct EffectContext {
   int num_joints = 0;
-  const double* q = nullptr;             // joint readings, rad
-  const int* approach = nullptr;         // per joint: +1 / -1, the sign of its last move into
-                                         // this pose in capture order; 0 before it first moved
-  const std::vector<Pose>* T_base_joint = nullptr;  // joint i's frame (z = its axis) at nominal
-                                                    // geometry, then the flange; empty when the
-                                                    // robot model has no joint frames
+  const double* q = nullptr;      // joint readings, rad
+  const int* approach = nullptr;  // per joint: +1 / -1, the sign of its last move into
+                                  // this pose in capture order; 0 before it first moved
+  const std::vector<Pose>* T_base_joint = nullptr;   // joint i's frame (z = its axis) at nominal
+                                                     // geometry, then the flange; empty when the
+                                                     // robot model has no joint frames
   const std::vector<ParallelLink>* links = nullptr;  // a parallel arm's links at nominal
                                                      // geometry; empty for serial arms
   const Eigen::Matrix3Xd* flange_jacobian_mm = nullptr;  // d p_flange / d q (mm/rad) at
-                                                        // nominal geometry, for models without
-                                                        // joint frames; empty otherwise
+                                                         // nominal geometry, for models without
+                                                         // joint frames; empty otherwise
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);  // m/s^2, in the base frame
   double time_s = NAN;
   double temperature_c = NAN;
   double payload_kg = 0.0;
-  std::string camera;                    // kMeasurement: the camera of the observation
-  std::string target;                    // kMeasurement: the target it measured
+  std::string camera;  // kMeasurement: the camera of the observation
+  std::string target;  // kMeasurement: the target it measured
 };
 
 // What an effect needs from a recording; the diagnosis calls an effect untestable, and says what
 // to record, when the recording lacks it.
 struct EffectNeeds {
-  bool joint_frames = false;   // gravity torques (joint frames, or a flange Jacobian)
-  bool approach = false;       // capture order with moves in both directions
+  bool joint_frames = false;  // gravity torques (joint frames, or a flange Jacobian)
+  bool approach = false;      // capture order with moves in both directions
   bool time = false;
   bool temperature = false;
   bool payload = false;

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "cellmetry/model/effect.h"
 #include "cellmetry/formats/recording.h"
+#include "cellmetry/model/effect.h"
 #include "cellmetry/model/robot_model.h"
 
 namespace cellmetry {
@@ -24,8 +24,8 @@ namespace cellmetry {
 struct SampleFacts {
   std::vector<double> q;
   std::vector<int> approach;
-  std::vector<Pose> T_base_joint;  // empty when the model has no joint frames
-  std::vector<ParallelLink> links;  // empty for serial arms
+  std::vector<Pose> T_base_joint;       // empty when the model has no joint frames
+  std::vector<ParallelLink> links;      // empty for serial arms
   Eigen::Matrix3Xd flange_jacobian_mm;  // without joint frames: d p_flange / d q (mm/rad)
   double time_s = NAN;
   double temperature_c = NAN;

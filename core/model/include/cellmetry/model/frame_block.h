@@ -22,9 +22,9 @@ namespace cellmetry {
 inline const std::array<std::string, 6> kFrameParameterNames = {"x", "y", "z", "rx", "ry", "rz"};
 
 struct FrameBlockSpec {
-  Pose start = Pose::Identity();          // becomes R_ref and the starting translation
-  std::array<bool, 6> free{};             // x y z rx ry rz
-  std::string description;                // e.g. "UR3 base in the world"
+  Pose start = Pose::Identity();  // becomes R_ref and the starting translation
+  std::array<bool, 6> free{};     // x y z rx ry rz
+  std::string description;        // e.g. "UR3 base in the world"
 };
 
 // `free: [x, y, z, rx, ry, rz] | all | none` at `node`, or `fallback` without the key.

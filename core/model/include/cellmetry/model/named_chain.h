@@ -26,7 +26,7 @@ namespace cellmetry {
 struct NamedJointLimit {
   double lower_rad = 0.0;
   double upper_rad = 0.0;
-  double effort = 0.0;    // as the description gives them (URDF: N m, rad/s)
+  double effort = 0.0;  // as the description gives them (URDF: N m, rad/s)
   double velocity = 0.0;
 };
 
@@ -34,8 +34,8 @@ struct NamedJoint {
   std::string name;
   std::string parent_link;
   std::string child_link;
-  bool movable = false;  // turns about `axis`; else fixed
-  Pose T_parent_child = Pose::Identity();  // at joint value 0 (mm)
+  bool movable = false;                             // turns about `axis`; else fixed
+  Pose T_parent_child = Pose::Identity();           // at joint value 0 (mm)
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // unit, in the child link's frame
   std::optional<NamedJointLimit> limit;             // none: continuous
 };

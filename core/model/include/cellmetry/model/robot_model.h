@@ -62,7 +62,7 @@ struct CylinderWorkspace {
 struct RobotLimits {
   std::vector<double> joint_min_rad;  // per joint; empty = unlimited
   std::vector<double> joint_max_rad;
-  double joint_increment_rad = 0.0;   // one motor increment (2 pi / increments per rev); 0 = n/a
+  double joint_increment_rad = 0.0;  // one motor increment (2 pi / increments per rev); 0 = n/a
   std::optional<CylinderWorkspace> workspace;
 };
 
@@ -142,9 +142,7 @@ class RobotModel {
   // The model at `params` as its own description names and frames it (named_chain.h: a URDF's
   // links and joints), whose NamedChainTipPose equals Forward at every q. False when the model
   // has no names of its own: exports then name the joints and links after the robot.
-  virtual bool AsNamedChain(const double* /*params*/, NamedChain* /*chain*/) const {
-    return false;
-  }
+  virtual bool AsNamedChain(const double* /*params*/, NamedChain* /*chain*/) const { return false; }
   // The robot config (YAML text, the schema this model's plugin reads) that builds this model
   // with `params` as its nominal values, so that a calibration becomes the next job's robot.
   // `config` is the config the model was built from, for what the model does not keep (its name,

@@ -22,7 +22,7 @@
 namespace cellmetry {
 
 struct SerialChain {
-  std::vector<Pose> T_parent_joint;     // one per joint, at q_i = 0 (mm)
+  std::vector<Pose> T_parent_joint;  // one per joint, at q_i = 0 (mm)
   Pose T_last_joint_flange = Pose::Identity();
   std::vector<std::string> not_expressible;  // what of the model the chain leaves out, in words
 };

@@ -35,12 +35,12 @@
 #include <type_traits>
 #include <vector>
 
+#include "cellmetry/estimation/solver.h"
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/model/detector.h"
 #include "cellmetry/model/effect.h"
 #include "cellmetry/model/effect_candidates.h"
 #include "cellmetry/model/robot_model.h"
-#include "cellmetry/estimation/solver.h"
 
 namespace cellmetry {
 
@@ -69,10 +69,10 @@ struct OptionDoc {
 
 struct PluginInfo {
   PluginKind kind = PluginKind::kSolver;
-  std::string name;          // the `type:` a job uses
-  std::string description;   // one line
+  std::string name;         // the `type:` a job uses
+  std::string description;  // one line
   std::vector<OptionDoc> options;
-  std::string library;       // filled in by the loader
+  std::string library;  // filled in by the loader
 };
 
 using RobotModelFactory = std::function<std::unique_ptr<RobotModel>(const ConfigNode& config)>;
@@ -107,8 +107,7 @@ class Registry {
   std::unique_ptr<RobotModel> CreateRobotModel(const std::string& type,
                                                const ConfigNode& config) const;
   std::unique_ptr<Solver> CreateSolver(const std::string& type, const ConfigNode& config) const;
-  std::unique_ptr<Detector> CreateDetector(const std::string& type,
-                                           const ConfigNode& config) const;
+  std::unique_ptr<Detector> CreateDetector(const std::string& type, const ConfigNode& config) const;
   std::unique_ptr<Effect> CreateEffect(const std::string& type, const ConfigNode& config,
                                        const RobotModel& robot) const;
 
@@ -137,9 +136,9 @@ class Registry {
 
 }  // namespace cellmetry
 
-#define CELLMETRY_PLUGIN_ENTRY(registry_arg)                                              \
+#define CELLMETRY_PLUGIN_ENTRY(registry_arg)                                             \
   extern "C" __attribute__((visibility("default"))) int cellmetry_plugin_abi_version() { \
-    return ::cellmetry::kPluginAbiVersion;                                                \
-  }                                                                                       \
+    return ::cellmetry::kPluginAbiVersion;                                               \
+  }                                                                                      \
   extern "C" __attribute__((visibility("default"))) void cellmetry_register_plugin(      \
       ::cellmetry::Registry* registry_arg)

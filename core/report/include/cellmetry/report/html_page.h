@@ -25,9 +25,9 @@ class HtmlPage {
   explicit HtmlPage(std::string title, std::string subtitle = "");
 
   void Section(const std::string& heading, const std::string& id = "");
-  void Paragraph(const std::string& text);        // escaped
-  void Note(const std::string& text);             // escaped, smaller and grey
-  void Raw(const std::string& markup);            // already-safe markup (plots)
+  void Paragraph(const std::string& text);  // escaped
+  void Note(const std::string& text);       // escaped, smaller and grey
+  void Raw(const std::string& markup);      // already-safe markup (plots)
   // A table; cells are escaped. `max_rows` > 0 keeps the first rows and says how many were left.
   void Table(const std::vector<std::string>& header,
              const std::vector<std::vector<std::string>>& rows, int max_rows = 0);

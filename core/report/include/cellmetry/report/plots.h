@@ -26,18 +26,18 @@ struct Series {
 };
 
 struct ScatterSpec {
-  std::string kind;                  // data-plot attribute: "residual_order", ...
+  std::string kind;  // data-plot attribute: "residual_order", ...
   std::string x_label, y_label;
   std::vector<Series> series;
   std::string caption;
-  std::vector<double> hlines;        // dashed reference lines (a threshold, +-3 sigma)
-  bool symmetric_y = false;          // y range symmetric about 0 (residuals)
+  std::vector<double> hlines;  // dashed reference lines (a threshold, +-3 sigma)
+  bool symmetric_y = false;    // y range symmetric about 0 (residuals)
   // y range from FencedRangeOf (each series a population), so that a few gross values do not
   // squash the band; those beyond are drawn at the edge and counted in the caption.
   bool fenced_y = false;
   double width = 380, height = 240;
 };
-std::string ScatterPlot(const ScatterSpec& spec);   // plot_scatter.cc
+std::string ScatterPlot(const ScatterSpec& spec);  // plot_scatter.cc
 
 // Histogram of whitened residuals on [-6, 6] as a density, with the N(0,1) density drawn over
 // it. Values beyond +-6 are left out of the bins and drawn as one mark at each edge they lie
