@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
 
 #include "cellmetry/experiments/physics_suite.h"
 #include "support/test_support.h"
@@ -41,18 +43,30 @@ TEST(PhysicsSuite, TablesGoBetweenTheMarkersAndTheRestStays) {
   EXPECT_EQ(testing::ReadText(dir + "/plain.md"), "only the table\n");
 }
 
+// A suite's checkpoint (SuiteYaml(seeds)) with each case's first seed finished: the clean case
+// named nothing in 2.0 s, the skewed arm its tilt in 2.5 s.
+void WriteFirstSeedsFinished(const std::string& path, const std::string& seeds) {
+  auto run = [](const std::string& named, double held_out_over_floor, double seconds) {
+    return nlohmann::json::array({{{"named", named},
+                                   {"failed", ""},
+                                   {"held_out_over_floor", held_out_over_floor},
+                                   {"seconds", seconds}}});
+  };
+  const std::string at = "/" + seeds + "/6.000";
+  nlohmann::json checkpoint;
+  checkpoint["delta/clean" + at] = {{"magnitude", 0.0}, {"runs", run("none", 0.97, 2.0)}};
+  checkpoint["delta/arm 1 skew" + at] = {{"magnitude", 5e-4},
+                                         {"runs", run("delta.tilt_arm1", 0.99, 2.5)}};
+  testing::WriteText(path, checkpoint.dump());
+}
+
 // Both cases finished before the interruption: the resumed suite reads them back and diagnoses
 // nothing (it would take seconds per run otherwise), then the checkpoint goes with the write.
 TEST(PhysicsSuite, InterruptedSuiteResumesFromItsCheckpoint) {
   const std::string dir = testing::TempDirForThisTest("suite_resume");
   testing::WriteText(dir + "/suite.yaml", SuiteYaml("1"));
   const PhysicsSuiteSpec spec = LoadPhysicsSuite(dir + "/suite.yaml");
-  testing::WriteText(
-      dir + "/doc.md.partial.json",
-      R"({"delta/clean/1/6.000": {"magnitude": 0, "runs": [{"named": "none", "failed": "",
-          "held_out_over_floor": 0.97, "seconds": 2.0}]},
-          "delta/arm 1 skew/1/6.000": {"magnitude": 5e-4, "runs": [{"named": "delta.tilt_arm1",
-          "failed": "", "held_out_over_floor": 0.99, "seconds": 2.5}]}})");
+  WriteFirstSeedsFinished(dir + "/doc.md.partial.json", "1");
   const auto results = RunPhysicsSuite(spec, testing::Plugins());
   ASSERT_EQ(results.size(), 2u);
   EXPECT_EQ(results[1].runs.at(0).named, "delta.tilt_arm1");
@@ -74,12 +88,7 @@ TEST(PhysicsSuite, InterruptedSuiteResumesWithinACaseAtTheSeedItReached) {
   const std::string dir = testing::TempDirForThisTest("suite_resume_seeds");
   testing::WriteText(dir + "/suite.yaml", SuiteYaml("2"));
   const PhysicsSuiteSpec spec = LoadPhysicsSuite(dir + "/suite.yaml");
-  testing::WriteText(
-      dir + "/doc.md.partial.json",
-      R"({"delta/clean/2/6.000": {"magnitude": 0, "runs": [{"named": "none", "failed": "",
-          "held_out_over_floor": 0.97, "seconds": 2.0}]},
-          "delta/arm 1 skew/2/6.000": {"magnitude": 5e-4, "runs": [{"named": "delta.tilt_arm1",
-          "failed": "", "held_out_over_floor": 0.99, "seconds": 2.5}]}})");
+  WriteFirstSeedsFinished(dir + "/doc.md.partial.json", "2");
   const auto results = RunPhysicsSuite(spec, testing::Plugins());
   ASSERT_EQ(results.size(), 2u);
   for (const auto& result : results) ASSERT_EQ(result.runs.size(), 2u) << result.spec.name;
