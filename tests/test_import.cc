@@ -19,6 +19,7 @@
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/formats/recording.h"
 #include "cellmetry/import/data_table.h"
+#include "cellmetry/import/date_time.h"
 #include "cellmetry/import/importer.h"
 #include "cellmetry/import/rotation_conventions.h"
 #include "cellmetry/import/text_encoding.h"
@@ -223,6 +224,38 @@ TEST(DataTable, ParseDecimalIsStrict) {
   EXPECT_EQ(ParseDecimal("1234,5", ',', &problem), 1234.5);
 }
 
+TEST(DateTime, ReadsAnInstrumentsClockToTheMillisecond) {
+  std::string problem;
+  // Leica's export: a leading apostrophe (a spreadsheet's "text" mark), day first, a fraction.
+  const auto t0 = ParseDateTime("'20.10.2022 16:57:12.092", "'%d.%m.%Y %H:%M:%S", &problem);
+  ASSERT_TRUE(t0) << problem;
+  EXPECT_EQ(t0->whole_s, 1666285032);  // date -u -d '2022-10-20 16:57:12' +%s
+  EXPECT_NEAR(t0->fraction_s, 0.092, 1e-15);
+  // Across midnight, a month end and a leap day; ISO 8601 with a decimal comma.
+  const auto t1 = ParseDateTime(" 2024-03-01T00:00:01,5 ", "%Y-%m-%dT%H:%M:%S", &problem);
+  const auto t2 = ParseDateTime("2024-02-28T23:59:59", "%Y-%m-%dT%H:%M:%S", &problem);
+  ASSERT_TRUE(t1 && t2) << problem;
+  EXPECT_EQ(t1->SecondsSince(*t2), 86400.0 + 2.5);  // 29 February lies between them
+  EXPECT_EQ(ParseDateTime("1970-01-01 00:00", "%Y-%m-%d %H:%M", &problem)->whole_s, 0);
+}
+
+TEST(DateTime, NamesWhatDoesNotRead) {
+  std::string problem;
+  const std::string iso = "%Y-%m-%d %H:%M:%S";
+  EXPECT_FALSE(ParseDateTime("2022-10-20 16:57", iso, &problem));
+  EXPECT_THAT(problem, HasSubstr("expected ':' at character 17"));
+  EXPECT_FALSE(ParseDateTime("2022-02-29 10:00:00", iso, &problem));
+  EXPECT_THAT(problem, HasSubstr("is not a date and time"));
+  EXPECT_FALSE(ParseDateTime("2022-10-20 16:57:12 CET", iso, &problem));
+  EXPECT_THAT(problem, HasSubstr("' CET' is left over"));
+  EXPECT_FALSE(ParseDateTime("20.10.2022 16:57:12", iso, &problem));
+  EXPECT_THAT(problem, HasSubstr("expected '-' at character 3"));
+  EXPECT_THAT(DateTimeFormatProblem("%H:%M:%S").value_or(""), HasSubstr("no %Y"));
+  EXPECT_THAT(DateTimeFormatProblem("%Y-%m-%d %H:%M %p").value_or(""), HasSubstr("%p"));
+  EXPECT_THAT(DateTimeFormatProblem("%Y-%m-%d %H:%M:%M").value_or(""), HasSubstr("%M twice"));
+  EXPECT_FALSE(DateTimeFormatProblem("%d/%m/%Y %H:%M 100%%"));
+}
+
 // ---------------------------------------------------------------- two tables, 8-bit, uncertainty
 
 // A robot log and a tracker log as separate files, and a mapping that joins them. Both tables
@@ -321,6 +354,42 @@ TEST_F(TwoTables, JoinedByTimeARowWithoutPartnerIsRefusedAtItsTimeCell) {
   e = testing::CatchInputError([&] { ImportRecording(WriteMapping(join)); });
   EXPECT_EQ(FormatLocation(e.where()), dir_ + "/tracker.csv:3:1: ");
   EXPECT_THAT(e.message(), HasSubstr("took this row as its partner"));
+}
+
+TEST_F(TwoTables, ADateTimeColumnIsSecondsSinceTheEarliestAndABadCellIsNamed) {
+  WriteRobot("10,0.1,0.2\n11,0.3,0.4\n12,0.5,0.6\n");
+  WriteTracker(
+      "2022-10-20 23:59:58.5,1,2,3,0,0,0\n2022-10-21 00:00:01,4,5,6,0,0,0\n"
+      "2022-10-20 23:59:58,7,8,9,0,0,0\n");
+  const std::string time =
+      "facts: {time: {table: tracker, column: time, format: \"%Y-%m-%d %H:%M:%S\"}}\n";
+  const Recording r = ImportRecording(WriteMapping("{by: row}", time));
+  ASSERT_EQ(r.samples.size(), 3u);
+  EXPECT_DOUBLE_EQ(*r.samples[0].time_s, 0.5);  // the last row is the earliest
+  EXPECT_DOUBLE_EQ(*r.samples[1].time_s, 3.0);  // across midnight
+  EXPECT_DOUBLE_EQ(*r.samples[2].time_s, 0.0);
+
+  WriteTracker(
+      "2022-10-20 23:59:58,1,2,3,0,0,0\n20.10.2022 23:59:59,4,5,6,0,0,0\n"
+      "2022-10-20 23:59:59,7,8,9,0,0,0\n");
+  const auto bad =
+      testing::CatchInputError([&] { ImportRecording(WriteMapping("{by: row}", time)); });
+  EXPECT_EQ(FormatLocation(bad.where()), dir_ + "/tracker.csv:3:1: ");
+  EXPECT_THAT(bad.message(), HasSubstr("column 'time' of data row 2: '20.10.2022 23:59:59' does "
+                                       "not read as %Y-%m-%d %H:%M:%S"));
+  EXPECT_THAT(bad.hint(), HasSubstr("write the format its column has"));
+
+  const auto unit = testing::CatchInputError([&] {
+    ImportRecording(WriteMapping(
+        "{by: row}",
+        "facts: {time: {column: tracker.time, format: \"%Y-%m-%d %H:%M\", unit: s}}\n"));
+  });
+  EXPECT_THAT(unit.message(), HasSubstr("it has no unit"));
+  const auto format = testing::CatchInputError([&] {
+    ImportRecording(
+        WriteMapping("{by: row}", "facts: {time: {column: tracker.time, format: \"%H:%M:%S\"}}\n"));
+  });
+  EXPECT_THAT(format.message(), HasSubstr("cannot read a date-time: it has no %Y"));
 }
 
 TEST(EightBitText, Latin1IsReadAsUtf8AndAColumnIsNamedWithItsDegreeSign) {
@@ -457,6 +526,10 @@ TEST(BundledExample, AstlCalibrationImportsAsPublished) {
   EXPECT_TRUE(o.covariance_mm2->isApprox(cov, 1e-12)) << *o.covariance_mm2;
   EXPECT_FALSE(o.rotation_covariance_rad2);
   EXPECT_EQ(*r.samples[0].temperature_c, 22.8);
+  // The tracker's clock: '11.10.2022 15:06:48.043 for row 1, 15:06:55.562 for row 2.
+  ASSERT_TRUE(r.samples[0].time_s && r.samples[1].time_s);
+  EXPECT_EQ(*r.samples[0].time_s, 0.0);
+  EXPECT_NEAR(*r.samples[1].time_s, 7.519, 1e-12);
 }
 
 // ---------------------------------------------------------------- one truth, every convention

@@ -71,6 +71,17 @@ double DataTable::Number(size_t row, size_t column) const {
   throw Error(row, column, problem, hint);
 }
 
+ClockTime DataTable::DateTime(size_t row, size_t column, const std::string& format) const {
+  std::string problem;
+  if (const std::optional<ClockTime> t = ParseDateTime(cells_[row][column], format, &problem)) {
+    return *t;
+  }
+  if (cells_[row][column].empty()) problem = "the cell is empty";
+  throw Error(row, column, problem,
+              "Fix the cell, or write the format its column has in the mapping's time: {format: "
+              "...}");
+}
+
 SourceLocation DataTable::Where(size_t row, size_t column) const {
   return {path_, lines_[row], positions_[row][column]};
 }

@@ -7,6 +7,7 @@
 
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/formats/recording.h"
+#include "cellmetry/import/date_time.h"
 #include "mapping_keys.h"
 
 namespace cellmetry {
@@ -309,14 +310,34 @@ void ReadObservations(const ConfigNode& root, const TableUnits& units, ImportMap
   }
 }
 
+// facts.time: a number in a unit, or a date and time in a format (date_time.h).
+FactSpec ReadTimeFact(const ConfigNode& time) {
+  if (!time.IsMap() || !time.Has("format")) {
+    return ReadFact(time, {"s", "ms", "min", "h"},
+                    {{1.0, 0.0}, {1e-3, 0.0}, {60.0, 0.0}, {3600.0, 0.0}});
+  }
+  if (time.Has("unit")) {
+    throw time["unit"].Error("a time with a format is read as seconds: it has no unit",
+                             "Drop unit: (or drop format: if the column holds plain numbers)");
+  }
+  time.ExpectKeys({"table", "column", "format"});
+  FactSpec fact;
+  fact.column = ColumnOfMap(time, "Name the column: {column: NAME, format: \"%Y-%m-%d %H:%M:%S\"}");
+  fact.date_time_format = time["format"].AsString();
+  if (const auto problem = DateTimeFormatProblem(fact.date_time_format)) {
+    throw time["format"].Error(
+        "format '" + fact.date_time_format + "' cannot read a date-time: " + *problem,
+        "Write the cells' layout with %Y %m %d %H %M %S, e.g. "
+        "\"%d.%m.%Y %H:%M:%S\" for 20.10.2022 16:57:12.092");
+  }
+  return fact;
+}
+
 // facts: the columns of time, temperature and payload, each with its unit.
 void ReadFacts(const ConfigNode& facts, ImportMapping* m) {
   facts.ExpectMap();
   facts.ExpectKeys({"time", "temperature", "payload"});
-  if (facts.Has("time")) {
-    m->time_s = ReadFact(facts["time"], {"s", "ms", "min", "h"},
-                         {{1.0, 0.0}, {1e-3, 0.0}, {60.0, 0.0}, {3600.0, 0.0}});
-  }
+  if (facts.Has("time")) m->time_s = ReadTimeFact(facts["time"]);
   if (facts.Has("temperature")) {
     m->temperature_c = ReadFact(facts["temperature"], {"C", "K"}, {{1.0, 0.0}, {1.0, -273.15}});
   }

@@ -107,6 +107,7 @@ class Importer {
       if (*spec) *column = table_.Bind((*spec)->column);
     }
     for (const auto& [name, carrier] : m_.targets) targets_[name] = carrier;
+    if (time_ && !m_.time_s->date_time_format.empty()) time_origin_ = EarliestDateTime();
   }
 
   Recording Run() {
@@ -221,7 +222,21 @@ class Importer {
 
   std::optional<double> Fact(size_t row, Column column, const FactSpec& spec) const {
     if (table_.IsEmpty(row, column)) return std::nullopt;
+    if (!spec.date_time_format.empty()) {
+      return table_.DateTime(row, column, spec.date_time_format).SecondsSince(time_origin_);
+    }
     return table_.Number(row, column) * spec.scale + spec.offset;
+  }
+
+  // A clock's time of day is no time for a warm-up: date-times count from the column's earliest.
+  ClockTime EarliestDateTime() const {
+    std::optional<ClockTime> earliest;
+    for (size_t row = 0; row < table_.num_rows(); ++row) {
+      if (table_.IsEmpty(row, *time_)) continue;
+      const ClockTime t = table_.DateTime(row, *time_, m_.time_s->date_time_format);
+      if (!earliest || t < *earliest) earliest = t;
+    }
+    return earliest.value_or(ClockTime{});
   }
 
   void ReadObservation(const BoundObservation& b, size_t row, int sample, Recording* r) {
@@ -399,6 +414,7 @@ class Importer {
   const JoinedTable& table_;
   std::vector<Column> joints_;
   std::optional<Column> sample_column_, pose_column_, time_, temperature_, payload_;
+  ClockTime time_origin_;  // a date-time column's earliest, which its times count from
   std::vector<BoundObservation> bound_;
   std::map<std::string, std::string> targets_;
   std::map<std::string, int> sample_of_key_;

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "cellmetry/basics/error.h"
+#include "cellmetry/import/date_time.h"
 #include "cellmetry/import/text_encoding.h"
 
 namespace cellmetry {
@@ -55,6 +56,9 @@ class DataTable {
   bool IsEmpty(size_t row, size_t column) const { return cells_[row][column].empty(); }
   // The cell as a finite number; InputError at the cell when it is empty or is not one.
   double Number(size_t row, size_t column) const;
+  // The cell as a date and time in `format` (date_time.h); InputError at the cell when it is
+  // empty or does not read so.
+  ClockTime DateTime(size_t row, size_t column, const std::string& format) const;
 
   SourceLocation Where(size_t row, size_t column) const;
   SourceLocation HeaderWhere(size_t column) const;

@@ -100,11 +100,14 @@ struct ObservationSpec {
   SourceLocation where;
 };
 
-// A fact column: value_in_cellmetry_unit = value * scale + offset.
+// A fact column: value_in_cellmetry_unit = value * scale + offset; or, for a time written as
+// a date and time (date_time_format not empty, date_time.h), its seconds since the column's
+// earliest.
 struct FactSpec {
   ColumnRef column;
   double scale = 1.0;
   double offset = 0.0;
+  std::string date_time_format;
 };
 
 // One table the mapping reads.

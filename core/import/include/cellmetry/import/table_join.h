@@ -54,6 +54,9 @@ class JoinedTable {
   }
   bool IsEmpty(size_t row, Column c) const { return At(c).IsEmpty(RowOf(row, c), c.column); }
   double Number(size_t row, Column c) const { return At(c).Number(RowOf(row, c), c.column); }
+  ClockTime DateTime(size_t row, Column c, const std::string& format) const {
+    return At(c).DateTime(RowOf(row, c), c.column, format);
+  }
   InputError Error(size_t row, Column c, const std::string& what, const std::string& hint) const {
     return At(c).Error(RowOf(row, c), c.column, what, hint);
   }
