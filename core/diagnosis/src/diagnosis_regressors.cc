@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
+#include <string>
 
 #include "cellmetry/basics/statistics.h"
 #include "cellmetry/model/effect_context.h"
@@ -29,6 +31,44 @@ bool IsToolPositionRow(const CandidateLinearization& lin, const Recording& recor
   const CandidateRow& info = lin.rows[i];
   return info.kind == ResidualInfo::Kind::kPosition && info.label.observation >= 0 &&
          recording.IsCarried(info.label.target);
+}
+
+// "1.7 h", "25 min", "90 s".
+std::string Duration(double seconds) {
+  char text[32];
+  if (seconds >= 5400) {
+    std::snprintf(text, sizeof text, "%.1f h", seconds / 3600);
+  } else if (seconds >= 120) {
+    std::snprintf(text, sizeof text, "%.0f min", seconds / 60);
+  } else {
+    std::snprintf(text, sizeof text, "%.0f s", seconds);
+  }
+  return text;
+}
+
+// A step across the longest pause between captures, when the times say there was one: a setup
+// left standing (an instrument re-homed, an arm cooled) can come back changed, wherever in the
+// run the pause fell. A pause is at least a minute and ten times the median interval.
+std::optional<Regressor> StepAcrossPause(const Recording& recording) {
+  const size_t n = recording.samples.size();
+  std::vector<double> intervals;
+  size_t longest_after = 0;
+  double longest = 0.0;
+  for (size_t i = 0; i + 1 < n; ++i) {
+    const auto &t0 = recording.samples[i].time_s, &t1 = recording.samples[i + 1].time_s;
+    if (!t0 || !t1) continue;
+    intervals.push_back(*t1 - *t0);
+    if (*t1 - *t0 > longest) longest = *t1 - *t0, longest_after = i;
+  }
+  if (intervals.size() < 3) return std::nullopt;
+  std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
+  const double median = intervals[intervals.size() / 2];
+  if (longest < 60.0 || longest < 10.0 * median) return std::nullopt;
+  Regressor step{"a step across the " + Duration(longest) + " pause after capture " +
+                     std::to_string(longest_after),
+                 std::vector<double>(n, 0.0)};
+  for (size_t i = longest_after + 1; i < n; ++i) step.per_sample[i] = 1.0;
+  return step;
 }
 
 }  // namespace
@@ -80,6 +120,7 @@ std::vector<Regressor> SampleRegressors(const Recording& recording,
     for (size_t i = at; i < n; ++i) step.per_sample[i] = 1.0;
     if (Varies(step.per_sample)) out.push_back(step);
   }
+  if (auto pause = StepAcrossPause(recording)) out.push_back(std::move(*pause));
   return out;
 }
 

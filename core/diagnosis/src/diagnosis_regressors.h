@@ -17,8 +17,9 @@ struct Regressor {
 };
 
 // Joint angles, gravity torques (lumped masses), approach directions, capture order, time,
-// temperature, payload: those that vary in the recording; and a step in capture order after
-// every tenth of the run (something that moved once).
+// temperature, payload: those that vary in the recording; a step in capture order after every
+// tenth of the run (something that moved once); and, where the samples' times show a pause (at
+// least a minute and ten times the median interval), a step across the longest.
 std::vector<Regressor> SampleRegressors(const Recording& recording,
                                         const std::vector<SampleFacts>& facts,
                                         const std::vector<double>& link_masses_kg,
