@@ -87,5 +87,18 @@ TEST(Progress, WorkThatMayStopSoonerSaysItsStepsAndAnUpperBound) {
   EXPECT_EQ(Count(text, "\n"), 3) << text;  // a line a step as it begins, and the end
 }
 
+TEST(Progress, ResumedWorkThatMayStopSoonerSaysItsUpperBound) {
+  Progress::SetQuiet(false);
+  ::testing::internal::CaptureStderr();
+  {
+    Progress rounds("round", 5, Progress::Length::kAtMost);
+    rounds.Resume(2);
+    rounds.SetTotal(2);
+  }
+  const std::string text = ::testing::internal::GetCapturedStderr();
+  Progress::SetQuiet(true);
+  EXPECT_NE(text.find("round 2 of at most 5 resumed (finished before)"), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace cellmetry

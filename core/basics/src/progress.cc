@@ -31,8 +31,8 @@ void Progress::Resume(int steps) {
   resumed_seconds_ += std::chrono::duration<double>(now - step_start_).count();
   step_start_ = now;
   if (!g_quiet && (outermost_ || g_verbose)) {
-    std::fprintf(stderr, "cellmetry: %s %d/%d resumed (finished before)\n", task_.c_str(), done_,
-                 total_);
+    std::fprintf(stderr, "cellmetry: %s %d%s%d resumed (finished before)\n", task_.c_str(), done_,
+                 length_ == Length::kAtMost ? " of at most " : "/", total_);
   }
 }
 
