@@ -749,24 +749,20 @@ RoundRecord RecordOf(const DiagnosisRound& round, const DiagnosisResult& out,
   return record;
 }
 
-// Round `index` as it finished before, if it did and is of the kind asked (`frames`): its
-// record into `out` and `state`, its accepted effect refitted into the model. Returns the
-// record, or nothing when the round is to be run.
-std::optional<RoundRecord> ResumeRound(const Diagnoser& diagnoser, const RoundLog& log, int index,
-                                       bool frames, const std::vector<CandidateEffect>& candidates,
-                                       RoundState* state, DiagnosisResult* out) {
-  std::optional<RoundRecord> record = log.Finished(index);
-  if (!record || record->round.frames != frames) return std::nullopt;
+// Round `index` as it finished before (`record`, from the log): into `out` and `state`, its
+// accepted effect refitted into the model.
+void ResumeRound(const Diagnoser& diagnoser, const RoundRecord& record, int index,
+                 const std::vector<CandidateEffect>& candidates, RoundState* state,
+                 DiagnosisResult* out) {
   Progress::Note("round " + std::to_string(index) + ": finished before, read back");
-  out->untestable = record->untestable;
-  state->done.insert(record->done.begin(), record->done.end());
-  if (record->accepted) {
-    const CandidateEffect& c = CandidateNamed(candidates, record->accepted->name);
-    state->current = diagnoser.Refit(state->current, c, frames);
-    out->accepted.push_back(*record->accepted);
+  out->untestable = record.untestable;
+  state->done.insert(record.done.begin(), record.done.end());
+  if (record.accepted) {
+    const CandidateEffect& c = CandidateNamed(candidates, record.accepted->name);
+    state->current = diagnoser.Refit(state->current, c, record.round.frames);
+    out->accepted.push_back(*record.accepted);
   }
-  out->rounds.push_back(record->round);
-  return record;
+  out->rounds.push_back(record.round);
 }
 
 // Rounds of the physics (step 5), each accepting the strongest candidate that passes every test,
@@ -781,13 +777,14 @@ int RunPhysicsRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffe
   // the targeted tests have it. Rounds end when no candidate passes every test.
   while (static_cast<int>(out->accepted.size()) < options.max_effects) {
     const int index = static_cast<int>(out->rounds.size()) + 1;
-    if (const auto resumed = ResumeRound(diagnoser, log, index, false, candidates, state, out)) {
+    if (const std::optional<RoundRecord> finished = log.Finished(index)) {
+      if (finished->round.frames) break;  // the frames' step came next: this loop ended before
+      ResumeRound(diagnoser, *finished, index, candidates, state, out);
       progress->Resume(1);
       ++steps;
-      if (!resumed->accepted) break;
+      if (!finished->accepted) break;
       continue;
     }
-    if (log.Finished(index)) break;  // the frames' step came next: this loop ended here before
     progress->Begin("round " + std::to_string(index) + ", scoring " +
                     std::to_string(candidates.size() - state->done.size()) + " candidate effects");
     Fitted& current = state->current;
@@ -834,7 +831,9 @@ int RunFrameRounds(const Diagnoser& diagnoser, const std::vector<CandidateEffect
   };
   while (frame_open()) {
     const int index = static_cast<int>(out->rounds.size()) + 1;
-    if (ResumeRound(diagnoser, log, index, true, candidates, state, out)) {
+    const std::optional<RoundRecord> finished = log.Finished(index);
+    if (finished && finished->round.frames) {
+      ResumeRound(diagnoser, *finished, index, candidates, state, out);
       progress->Resume(1);
       ++steps;
       continue;
