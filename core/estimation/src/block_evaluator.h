@@ -21,8 +21,8 @@ namespace cellmetry {
 
 class BlockEvaluator {
  public:
-  explicit BlockEvaluator(const BlockRegistry& registry)
-      : registry_(registry), layout_(registry.layout()) {}
+  BlockEvaluator(const BlockRegistry& registry, const EvaluationLayout& layout)
+      : registry_(registry), layout_(layout) {}
 
   // Marks the slots of residual block k that hold a free entry.
   void AskFreeSlots(int k);

@@ -9,8 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "evaluation_layout.h"
-
 namespace cellmetry {
 
 namespace {
@@ -42,7 +40,7 @@ class PriorCost : public ceres::CostFunction {
 
 }  // namespace
 
-BlockRegistry::BlockRegistry() : layout_(std::make_unique<EvaluationLayout>()) {}
+BlockRegistry::BlockRegistry() = default;
 BlockRegistry::~BlockRegistry() = default;
 
 int BlockRegistry::AddBlock(const std::string& name, std::vector<Parameter> params) {
@@ -113,7 +111,6 @@ void BlockRegistry::Build() {
   ClearBuilt();
   AddMeasurementRows();
   AddFreeColumnsAndPriors();
-  layout_->Update(*this);
 }
 
 void BlockRegistry::ClearBuilt() {

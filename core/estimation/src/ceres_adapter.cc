@@ -102,7 +102,7 @@ void CeresAdapter::AddResidual(ceres::CostFunction* cost, ceres::LossFunction* l
 }
 
 void CeresAdapter::AddResiduals(bool summed, View* view) {
-  const EvaluationLayout& layout = registry_.layout();
+  const EvaluationLayout& layout = layout_;
   double constant_squared_norm = 0.0;
   for (int u = 0; u < layout.num_units(); ++u) {
     constant_squared_norm += AddUnit(u, summed, view);
@@ -124,7 +124,7 @@ void CeresAdapter::AddResiduals(bool summed, View* view) {
 }
 
 double CeresAdapter::AddUnit(int u, bool summed, View* view) {
-  const EvaluationLayout& layout = registry_.layout();
+  const EvaluationLayout& layout = layout_;
   const int* first = layout.unit_blocks.data() + layout.unit_start[u];
   const int* last = layout.unit_blocks.data() + layout.unit_start[u + 1];
   // A loss acts on a Ceres block's whole norm, and each member's must see its own.

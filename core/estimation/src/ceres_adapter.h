@@ -28,12 +28,14 @@
 #include <vector>
 
 #include "cellmetry/estimation/block_registry.h"
+#include "evaluation_layout.h"
 
 namespace cellmetry {
 
 class CeresAdapter {
  public:
-  explicit CeresAdapter(BlockRegistry* registry) : registry_(*registry) {}
+  CeresAdapter(BlockRegistry* registry, const EvaluationLayout* layout)
+      : registry_(*registry), layout_(*layout) {}
   CeresAdapter(const CeresAdapter&) = delete;
   CeresAdapter& operator=(const CeresAdapter&) = delete;
 
@@ -75,6 +77,7 @@ class CeresAdapter {
   void SetParameterBlocks(View* view);
 
   BlockRegistry& registry_;
+  const EvaluationLayout& layout_;
   View for_evaluation_, for_solving_;
 };
 

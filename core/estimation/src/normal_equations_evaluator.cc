@@ -155,8 +155,8 @@ void ScatterGroup(const std::vector<int>& columns, GroupSums* group, PartialSums
 // group's sums are scattered into `sums` when the range goes.
 class RangeSums {
  public:
-  RangeSums(const BlockRegistry& registry, PartialSums* sums)
-      : registry_(registry), layout_(registry.layout()), sums_(sums), block_(registry),
+  RangeSums(const BlockRegistry& registry, const EvaluationLayout& layout, PartialSums* sums)
+      : registry_(registry), layout_(layout), sums_(sums), block_(registry, layout),
         groups_(layout_.group_columns.size()) {}
   ~RangeSums() {
     for (size_t g = 0; g < groups_.size(); ++g) {
@@ -226,12 +226,12 @@ using normal_equations_sums::PartialSums;
 using normal_equations_sums::RangeSums;
 
 bool NormalEquationsEvaluator::Evaluate(NormalEquations* out) const {
-  const EvaluationLayout& layout = registry_.layout();
+  const EvaluationLayout& layout = layout_;
   const int n = registry_.num_free();
   std::atomic<bool> valid{true};
   // Each chunk of units summed on its own, the chunks' sums added in a fixed tree.
   auto add_chunks = [&](const tbb::blocked_range<int>& chunks, PartialSums* sums) {
-    RangeSums range(registry_, sums);  // scattered into `sums` when it goes
+    RangeSums range(registry_, layout_, sums);  // scattered into `sums` when it goes
     const int end = layout.chunk_start[chunks.end()];
     for (int u = layout.chunk_start[chunks.begin()]; u != end && valid; ++u) {
       if (!range.AddUnit(u)) valid = false;

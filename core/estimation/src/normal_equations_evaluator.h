@@ -18,17 +18,20 @@
 
 #include "cellmetry/estimation/block_registry.h"
 #include "cellmetry/estimation/normal_equations.h"
+#include "evaluation_layout.h"
 
 namespace cellmetry {
 
 class NormalEquationsEvaluator {
  public:
-  explicit NormalEquationsEvaluator(const BlockRegistry& registry) : registry_(registry) {}
+  NormalEquationsEvaluator(const BlockRegistry& registry, const EvaluationLayout& layout)
+      : registry_(registry), layout_(layout) {}
 
   bool Evaluate(NormalEquations* out) const;
 
  private:
   const BlockRegistry& registry_;
+  const EvaluationLayout& layout_;
 };
 
 }  // namespace cellmetry

@@ -19,7 +19,9 @@ int FindParameter(const std::vector<Parameter>& params, const std::string& name)
   return -1;
 }
 
-Problem::Problem() : ceres_(std::make_unique<CeresAdapter>(&registry_)) {}
+Problem::Problem()
+    : layout_(std::make_unique<EvaluationLayout>()),
+      ceres_(std::make_unique<CeresAdapter>(&registry_, layout_.get())) {}
 Problem::~Problem() = default;
 
 void Problem::Build() {
@@ -27,9 +29,10 @@ void Problem::Build() {
   // made again when a solver or Evaluate() next needs them.
   ceres_->Reset();
   registry_.Build();
+  layout_->Update(registry_);
 }
 
-int Problem::num_predictions() const { return registry_.layout().num_units(); }
+int Problem::num_predictions() const { return layout_->num_units(); }
 
 ceres::Problem& Problem::ceres_problem() { return ceres_->for_evaluation(); }
 
@@ -42,18 +45,18 @@ bool Problem::Evaluate(double* cost, Eigen::VectorXd* residuals, Eigen::MatrixXd
 
 bool Problem::EvaluateSparse(Eigen::VectorXd* residuals, SparseJacobian* jacobian,
                              GramRows* gram) const {
-  return SparseEvaluator(registry_).Evaluate(residuals, jacobian, gram);
+  return SparseEvaluator(registry_, *layout_).Evaluate(residuals, jacobian, gram);
 }
 
-bool Problem::HasGramRows() const { return SparseEvaluator(registry_).HasGramRows(); }
+bool Problem::HasGramRows() const { return SparseEvaluator(registry_, *layout_).HasGramRows(); }
 
 bool Problem::EvaluateSparseColumns(const std::vector<int>& blocks, SparseJacobian* jacobian,
                                     std::vector<int>* columns) const {
-  return SparseEvaluator(registry_).EvaluateColumns(blocks, jacobian, columns);
+  return SparseEvaluator(registry_, *layout_).EvaluateColumns(blocks, jacobian, columns);
 }
 
 bool Problem::EvaluateNormalEquations(NormalEquations* out) const {
-  return NormalEquationsEvaluator(registry_).Evaluate(out);
+  return NormalEquationsEvaluator(registry_, *layout_).Evaluate(out);
 }
 
 Linearization Linearize(Problem& problem) {

@@ -41,7 +41,7 @@ bool SparseEvaluator::Evaluate(Eigen::VectorXd* residuals, SparseJacobian* jacob
                    gram_unit_row.data()};
   std::atomic<bool> valid{true};
   tbb::parallel_for(tbb::blocked_range<int>(0, layout_.num_chunks(), 1), [&](const auto& chunks) {
-    BlockEvaluator block(registry_);
+    BlockEvaluator block(registry_, layout_);
     std::vector<double> tangent;
     const int end = layout_.chunk_start[chunks.end()];
     for (int u = layout_.chunk_start[chunks.begin()]; u != end && valid; ++u) {
@@ -273,7 +273,7 @@ bool SparseEvaluator::EvaluateColumns(const std::vector<int>& blocks, SparseJaco
   std::atomic<bool> valid{true};
   const int num_blocks = registry_.num_residual_blocks();
   tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks, 64), [&](const auto& range) {
-    BlockEvaluator block(registry_);
+    BlockEvaluator block(registry_, layout_);
     for (int k = range.begin(); k != range.end() && valid; ++k) {
       if (layout.entries_of[k].empty()) continue;  // reads none of the blocks asked for
       const std::vector<int>& block_ids = registry_.blocks_of(k);

@@ -32,8 +32,8 @@ class BlockEvaluator;
 
 class SparseEvaluator {
  public:
-  explicit SparseEvaluator(const BlockRegistry& registry)
-      : registry_(registry), layout_(registry.layout()) {}
+  SparseEvaluator(const BlockRegistry& registry, const EvaluationLayout& layout)
+      : registry_(registry), layout_(layout) {}
 
   // The residuals and, where not null, the Jacobian and the Gram rows. Without `jacobian`, the
   // Gram rows alone, J never stored: only where HasGramRows() (throws std::logic_error else).

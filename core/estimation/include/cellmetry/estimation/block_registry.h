@@ -18,9 +18,8 @@
 //            residual_infos() alike.
 //   columns  the free parameters: the entries neither held nor in a block no residual reads,
 //            in block and entry order. FreeValues()'s vector and every Jacobian's columns.
-//   layout   what the evaluators walk (evaluation_layout.h, internal): each block's free
-//            columns, the units of blocks sharing a prediction, the chunks split among the
-//            cores. Kept where a Build changed neither the residual blocks nor the columns.
+// What the evaluators walk is laid out from these (evaluation_layout.h, internal; Problem keeps
+// it beside the registry).
 #pragma once
 
 #include <ceres/ceres.h>
@@ -54,8 +53,6 @@ struct FreeParameter {
   std::string name;  // "<block>.<parameter>", e.g. "ur3.base.x"
   std::string unit;
 };
-
-struct EvaluationLayout;  // evaluation_layout.h, internal to the estimation layer
 
 class BlockRegistry {
  public:
@@ -124,9 +121,6 @@ class BlockRegistry {
   Eigen::VectorXd LowerBounds() const;  // -inf where unbounded
   Eigen::VectorXd UpperBounds() const;  // +inf where unbounded
 
-  // What the evaluators walk (evaluation_layout.h), as the last Build() laid it out.
-  const EvaluationLayout& layout() const { return *layout_; }
-
  private:
   struct Block {
     std::string name;
@@ -176,7 +170,6 @@ class BlockRegistry {
   std::vector<std::unique_ptr<ceres::LossFunction>> losses_;
   std::vector<FreeParameter> free_;
   std::vector<std::vector<int>> free_column_;
-  std::unique_ptr<EvaluationLayout> layout_;
 };
 
 }  // namespace cellmetry

@@ -2,8 +2,11 @@
 //
 // A facade over four parts, each with its own contract:
 //   BlockRegistry             (block_registry.h) named parameter blocks, whitened residual
-//                             blocks, held entries, priors and robust losses, and the rows,
-//                             columns and layout Build() makes of them;
+//                             blocks, held entries, priors and robust losses, and the rows and
+//                             columns Build() makes of them;
+//   EvaluationLayout          (src/evaluation_layout.h) what the evaluators walk, laid out from
+//                             the registry by Build() (kept where neither rows nor columns
+//                             changed);
 //   CeresAdapter              (src/ceres_adapter.h) the registry as ceres::Problems, one whose
 //                             rows are the registry's and one to solve, and the dense Evaluate();
 //   SparseEvaluator           (src/sparse_evaluator.h) residuals, the sparse Jacobian and its
@@ -37,6 +40,7 @@
 namespace cellmetry {
 
 class CeresAdapter;
+struct EvaluationLayout;
 
 class Problem {
  public:
@@ -122,7 +126,8 @@ class Problem {
 
  private:
   BlockRegistry registry_;
-  std::unique_ptr<CeresAdapter> ceres_;  // after registry_: its views point into it
+  std::unique_ptr<EvaluationLayout> layout_;  // of registry_, as the last Build() laid it out
+  std::unique_ptr<CeresAdapter> ceres_;       // after both: its views point into them
 };
 
 // The whitened residuals and their sparse Jacobian with respect to FreeValues() at the current
