@@ -131,5 +131,52 @@ TEST(CameraFiles, WhatCellmetryCannotModelIsRefusedAtItsLine) {
   }
 }
 
+// OpenCV's own reader asserts on some of these (a matrix whose data does not fill rows x cols);
+// each must be an InputError naming the field, never OpenCV's exception.
+TEST(CameraFiles, AMalformedOpenCvFileIsRefusedNamingTheField) {
+  const std::string dir = testing::TempDirForThisTest("camera_files");
+  const std::string good =
+      "%YAML:1.0\n---\nimage_width: 1280\nimage_height: 800\n"
+      "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+      "   data: [ 881.5, 0., 641.2, 0., 880.25, 398.7, 0., 0., 1. ]\n"
+      "distortion_coefficients: !!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n"
+      "   data: [ -0.21, 0.06, 0.0012, -0.0007, -0.01 ]\n";
+  testing::WriteText(dir + "/opencv.yml", good);
+  EXPECT_EQ(ReadCamera(dir + "/opencv.yml").width, 1280);
+  struct Case {
+    std::string from, to, message;
+  } cases[] = {
+      {"rows: 5", "rows: 2", "'distortion_coefficients' does not hold rows x cols = 2 numbers"},
+      {"rows: 3", "rows: 3000000000", "'camera_matrix' has no rows from 1 to 16"},
+      {"cols: 3", "cols:)3", "'camera_matrix' has no cols"},
+      {"880.25", ".nan", "'camera_matrix' holds a number that is not finite"},
+      {"   dt: d\n   data: [ 881.5", "   dt: \"2d\"\n   data: [ 881.5", "'camera_matrix' is not"},
+      {"image_width: 1280", "image_width: 1e300", "'image_width' is not a whole number of pixels"},
+      {"image_height: 800", "image_height: 800.5", "'image_height' is not a whole number"},
+      {"image_width: 1280", "image_width: wide", "'image_width' is not a whole number"},
+      {"camera_matrix: !!opencv-matrix", "camera_matrix: 3\nunused: !!opencv-matrix",
+       "'camera_matrix' has no rows"},
+      {"880.25", "-880.25", "focal lengths must be positive"},
+  };
+  for (const Case& c : cases) {
+    const std::string text = testing::ReplaceOnce(good, c.from, c.to);
+    testing::WriteText(dir + "/opencv.yml", text);
+    try {
+      ReadCamera(dir + "/opencv.yml");
+      ADD_FAILURE() << "accepted:\n" << text;
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("opencv.yml")) << text;
+      EXPECT_THAT(e.what(), HasSubstr(c.message)) << text;
+    }
+  }
+  // A key that starts with its colon made OpenCV's parser throw std::length_error.
+  testing::WriteText(dir + "/opencv.yml", testing::ReplaceOnce(good, "cols: 1", ":ocls 1"));
+  EXPECT_THAT(testing::CatchInputError([&] { ReadCamera(dir + "/opencv.yml"); }).what(),
+              HasSubstr("not a readable OpenCV calibration file"));
+  testing::WriteText(dir + "/opencv.yml", "%YAML:1.0\n---\n- 1\n- 2\n");
+  EXPECT_THAT(testing::CatchInputError([&] { ReadCamera(dir + "/opencv.yml"); }).what(),
+              HasSubstr("not an OpenCV calibration file"));
+}
+
 }  // namespace
 }  // namespace cellmetry

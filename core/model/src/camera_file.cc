@@ -3,6 +3,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -16,41 +17,96 @@ PinholeCamera FromOurYaml(const ConfigNode& root) {
   return ReadCameraNode(root["camera"]);
 }
 
+const char* const kOpenCvFields =
+    "OpenCV calibration files need image_width, image_height, camera_matrix and "
+    "distortion_coefficients";
+
+cv::FileNode RequireField(const cv::FileStorage& fs, const std::string& path, const char* key) {
+  const cv::FileNode node = fs[key];
+  if (node.empty()) {
+    throw InputError({path, 0, 0}, std::string("missing field '") + key + "'", kOpenCvFields);
+  }
+  return node;
+}
+
+// image_width or image_height: a whole number of pixels.
+int ImageSize(const cv::FileNode& node, const std::string& path, const char* key) {
+  const double pixels = node.isInt() || node.isReal() ? node.real() : 0.0;
+  if (!(pixels >= 1 && pixels <= 100000) || pixels != std::floor(pixels)) {
+    throw InputError({path, 0, 0}, std::string("'") + key + "' is not a whole number of pixels",
+                     "Write the image size in pixels, 1 to 100000");
+  }
+  return static_cast<int>(pixels);
+}
+
+// camera_matrix or distortion_coefficients: a one-channel matrix of finite numbers, as doubles.
+// Its size is checked before OpenCV reads it: OpenCV allocates whatever rows x cols says and
+// asserts (cv::Exception) when the data does not fill it, a fault of the user's file that is an
+// InputError naming the field here. Neither matrix is larger than 16 in either direction.
+cv::Mat FiniteMatrix(const cv::FileNode& node, const std::string& path, const char* key) {
+  const std::string hint =
+      "Write it as OpenCV does: !!opencv-matrix with rows, cols, dt and rows x cols numbers";
+  const auto dimension = [&](const char* name) {
+    const cv::FileNode n = node.isMap() ? node[name] : cv::FileNode();
+    const int value = n.isInt() ? static_cast<int>(n) : 0;
+    if (value < 1 || value > 16) {
+      throw InputError({path, 0, 0}, std::string("'") + key + "' has no " + name + " from 1 to 16",
+                       hint);
+    }
+    return value;
+  };
+  const int rows = dimension("rows"), cols = dimension("cols");
+  const cv::FileNode data = node["data"];
+  if (!data.isSeq() || data.size() != static_cast<size_t>(rows * cols)) {
+    throw InputError({path, 0, 0},
+                     std::string("'") + key + "' does not hold rows x cols = " +
+                         std::to_string(rows * cols) + " numbers in its data",
+                     hint);
+  }
+  cv::Mat m;
+  try {
+    node >> m;
+  } catch (const cv::Exception& e) {
+    throw InputError({path, 0, 0}, std::string("'") + key + "' is not a matrix: " + e.err, hint);
+  }
+  if (m.empty() || m.channels() != 1) {
+    throw InputError({path, 0, 0}, std::string("'") + key + "' is not a one-channel matrix", hint);
+  }
+  m.convertTo(m, CV_64F);
+  if (!cv::checkRange(m)) {
+    throw InputError({path, 0, 0}, std::string("'") + key + "' holds a number that is not finite",
+                     "Check the calibration file");
+  }
+  return m;
+}
+
 // OpenCV's calibration output (samples/cpp/calibration.cpp): image_width, image_height,
 // camera_matrix (3x3), distortion_coefficients (4, 5 or more).
 PinholeCamera FromOpenCv(const std::string& path) {
   cv::FileStorage fs;
   try {
     fs.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception&) {
+  } catch (const std::exception&) {  // cv::Exception, and std::length_error on some bad keys
     throw InputError({path, 0, 0}, "not a readable OpenCV calibration file",
                      "Give our YAML (camera: {...}), OpenCV's calibration output or a ROS "
                      "camera_info file");
   }
-  auto require = [&](const char* key) {
-    const cv::FileNode node = fs[key];
-    if (node.empty()) {
-      throw InputError({path, 0, 0}, std::string("missing field '") + key + "'",
-                       "OpenCV calibration files need image_width, image_height, camera_matrix "
-                       "and distortion_coefficients");
-    }
-    return node;
-  };
+  if (!fs.isOpened() || !fs.root().isMap()) {
+    throw InputError({path, 0, 0}, "not an OpenCV calibration file", kOpenCvFields);
+  }
   PinholeCamera camera;
-  camera.width = static_cast<int>(require("image_width").real());
-  camera.height = static_cast<int>(require("image_height").real());
-  cv::Mat K, D;
-  require("camera_matrix") >> K;
-  require("distortion_coefficients") >> D;
+  camera.width = ImageSize(RequireField(fs, path, "image_width"), path, "image_width");
+  camera.height = ImageSize(RequireField(fs, path, "image_height"), path, "image_height");
+  const cv::Mat K = FiniteMatrix(RequireField(fs, path, "camera_matrix"), path, "camera_matrix");
+  const cv::Mat D = FiniteMatrix(RequireField(fs, path, "distortion_coefficients"), path,
+                                 "distortion_coefficients");
   if (K.rows != 3 || K.cols != 3) {
     throw InputError({path, 0, 0}, "camera_matrix must be 3x3", "Check the calibration file");
   }
-  K.convertTo(K, CV_64F);
   camera.fx = K.at<double>(0, 0);
   camera.fy = K.at<double>(1, 1);
   camera.cx = K.at<double>(0, 2);
   camera.cy = K.at<double>(1, 2);
-  D.convertTo(D, CV_64F);
   const int n = static_cast<int>(D.total());
   for (int i = 0; i < n && i < 5; ++i) camera.distortion[i] = D.at<double>(i);
   for (int i = 5; i < n; ++i) {
@@ -59,9 +115,8 @@ PinholeCamera FromOpenCv(const std::string& path) {
                        "Calibrate with OpenCV's default 5-coefficient model");
     }
   }
-  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.fy > 0)) {
-    throw InputError({path, 0, 0}, "image size and focal lengths must be positive",
-                     "Check the calibration file");
+  if (!(camera.fx > 0) || !(camera.fy > 0)) {
+    throw InputError({path, 0, 0}, "focal lengths must be positive", "Check the calibration file");
   }
   return camera;
 }
