@@ -540,6 +540,14 @@ TEST(UrdfRobot, BadInputIsRefusedWithWhatToDo) {
                                     "continuous joints only"));
     EXPECT_THAT(e.what(), HasSubstr("tip_link: 'link_3'"));
   }
+  {  // A joint hung from its own child: urdfdom reads it, and the walk up must not go round.
+    const InputError e =
+        Refusal(testing::ReplaceOnce(tx2, "<parent link=\"link_3\"/>\n    <child link=\"link_4\"/>",
+                                     "<parent link=\"link_4\"/>\n    <child link=\"link_4\"/>"),
+                "base_link", "tool0");
+    EXPECT_THAT(e.what(), HasSubstr("form a loop: joint 'joint_4' has 'link_4' as parent"));
+    EXPECT_EQ(e.where().line, 2);  // file's line in robot.yaml
+  }
   {  // No movable joint between the two links.
     const InputError e = Refusal(tx2, "link_6", "tool0");
     EXPECT_THAT(e.what(), HasSubstr("no revolute or continuous joint between 'link_6' and"));
@@ -559,6 +567,13 @@ TEST(UrdfRobot, BadInputIsRefusedWithWhatToDo) {
     EXPECT_THAT(e.what(), HasSubstr("cannot read the URDF"));
     EXPECT_THAT(e.what(), HasSubstr("missing.urdf"));
     EXPECT_EQ(e.where().line, 2);
+  }
+  {  // A device, not a file: refused before a byte is read (/dev/zero would never end).
+    const ConfigNode config = ConfigNode::LoadString(
+        "type: urdf\nfile: /dev/zero\nbase_link: a\ntip_link: b\n", "robot.yaml");
+    const InputError e =
+        testing::CatchInputError([&] { testing::Plugins().CreateRobotModel("urdf", config); });
+    EXPECT_THAT(e.what(), HasSubstr("cannot read the URDF '/dev/zero'"));
   }
   {  // A calibrated value for a parameter the chain does not have.
     const std::string dir = testing::TempDirForThisTest("urdf_robot");

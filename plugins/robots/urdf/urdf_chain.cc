@@ -5,7 +5,10 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "cellmetry/basics/text.h"
@@ -24,11 +27,22 @@ Pose PoseOf(const urdf::Pose& origin) {
   return pose;
 }
 
+// A URDF is text of some KB (meshes are files of their own); 64 MB bounds what a link to a
+// device or a wrong file can make the reader take.
+constexpr std::uintmax_t kMaxUrdfBytes = std::uintmax_t{64} << 20;
+
+// Only a regular file is read: a FIFO would block and /dev/zero would never end.
 std::string ReadFile(const ConfigNode& config, const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
+  std::error_code error;
+  std::ifstream in;
+  if (std::filesystem::is_regular_file(path, error)) in.open(path);
+  if (!in.is_open()) {
     throw config["file"].Error("cannot read the URDF '" + path + "'",
                                "Give its path relative to this robot config");
+  }
+  if (std::filesystem::file_size(path, error) > kMaxUrdfBytes) {
+    throw config["file"].Error("the URDF '" + path + "' is larger than 64 MB",
+                               "Name the robot's URDF, expanded from its xacro");
   }
   std::ostringstream text;
   text << in.rdbuf();
@@ -94,9 +108,11 @@ UrdfChain ReadUrdfChain(const ConfigNode& config) {
   const urdf::LinkConstSharedPtr base = FindLink(*model, config, "base_link", chain.file);
   const urdf::LinkConstSharedPtr tip = FindLink(*model, config, "tip_link", chain.file);
 
-  // Tip to base, each link's parent joint; the root has none.
+  // Tip to base, each link's parent joint; the root has none. urdfdom accepts a joint whose
+  // parent is its own child (or a longer loop), so a link met twice ends the walk.
   std::vector<urdf::JointConstSharedPtr> path;
   std::string walked = tip->name;
+  std::set<std::string> visited = {tip->name};
   for (urdf::LinkConstSharedPtr link = tip; link != base;) {
     const urdf::JointConstSharedPtr joint = link->parent_joint;
     if (!joint) {
@@ -107,6 +123,17 @@ UrdfChain ReadUrdfChain(const ConfigNode& config) {
     }
     path.push_back(joint);
     link = model->getLink(joint->parent_link_name);
+    if (!link) {  // urdfdom refuses such a file; kept so that a null is never walked
+      throw config["file"].Error("joint '" + joint->name + "' in " + chain.file +
+                                 " hangs from a link the file does not have");
+    }
+    if (!visited.insert(link->name).second) {
+      throw config["file"].Error("the joints of " + chain.file + " form a loop: joint '" +
+                                     joint->name + "' has '" + joint->parent_link_name +
+                                     "' as parent, met before on the way up from '" + tip->name +
+                                     "' (" + walked + ")",
+                                 "Give each joint the parent link it hangs from");
+    }
     walked += " <- " + link->name;
   }
   std::reverse(path.begin(), path.end());
