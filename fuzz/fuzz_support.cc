@@ -54,9 +54,8 @@ std::string HeadLines(const std::string& path, int lines) {
   return text;
 }
 
-void Violation(const char* type, const char* what) {
-  std::fprintf(stderr, "\ncontract violated: an exception other than InputError escaped: %s: %s\n",
-               type, what);
+void Violation(const std::string& what, const std::string& detail) {
+  std::fprintf(stderr, "\ncontract violated: %s: %s\n", what.c_str(), detail.c_str());
   std::abort();
 }
 

@@ -26,7 +26,8 @@ std::string HeadLines(const std::string& path, int lines);
 template <typename F>
 bool CheckContract(F&& load);
 
-[[noreturn]] void Violation(const char* type, const char* what);
+// Prints what broke the contract and its detail, then aborts (libFuzzer keeps the input).
+[[noreturn]] void Violation(const std::string& what, const std::string& detail);
 
 }  // namespace cellmetry::fuzz
 
@@ -43,8 +44,9 @@ bool cellmetry::fuzz::CheckContract(F&& load) {
   } catch (const cellmetry::InputError&) {
     return false;
   } catch (const std::exception& e) {
-    Violation(typeid(e).name(), e.what());
+    Violation(std::string("an exception other than InputError escaped: ") + typeid(e).name(),
+              e.what());
   } catch (...) {
-    Violation("(not a std::exception)", "");
+    Violation("an exception other than InputError escaped", "(not a std::exception)");
   }
 }

@@ -14,7 +14,7 @@ shift
 harnesses=("$@")
 if [ ${#harnesses[@]} -eq 0 ]; then
   harnesses=(fuzz_recording fuzz_job fuzz_robot_config fuzz_detections fuzz_image fuzz_json_lines
-             fuzz_yaml)
+             fuzz_import fuzz_yaml fuzz_camera_file fuzz_compensation_targets fuzz_result fuzz_urdf)
 fi
 build=${CELLMETRY_ASAN_BUILD:-build-asan}
 bash scripts/sanitize.sh --configure
