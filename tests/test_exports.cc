@@ -508,6 +508,25 @@ TEST_F(Exports, AMalformedResultIsRefusedAtItsKey) {
   testing::ExpectOneLineError(
       testing::RunCellmetry("export " + bad + "/short --format tf"),
       bad + "/short/result.json:", "malformed result: no 'free_parameters'");
+  // A covariance that does not fit the free parameters would give every sigma an export or a
+  // compensated command reports as zero or wrong.
+  result = Json(ur3_result_);
+  const size_t n = result["free_parameters"].size();
+  result["sigma"].erase(result["sigma"].size() - 1);
+  testing::WriteText(bad + "/sigma/result.json", result.dump());
+  testing::ExpectOneLineError(testing::RunCellmetry("export " + bad +
+                                                    "/sigma --format robot "
+                                                    "--robot ur3"),
+                              bad + "/sigma/result.json:",
+                              "malformed result: sigma has " + std::to_string(n - 1) +
+                                  " entries for " + std::to_string(n) + " free parameters");
+  result = Json(ur3_result_);
+  result["correlation"][2].erase(0);
+  testing::WriteText(bad + "/row/result.json", result.dump());
+  testing::ExpectOneLineError(
+      testing::RunCellmetry("export " + bad + "/row --format robot --robot ur3"),
+      bad + "/row/result.json:",
+      "malformed result: correlation[2] has " + std::to_string(n - 1) + " entries");
 }
 
 TEST_F(Exports, NeverReplacesAFileCellmetryDidNotWrite) {

@@ -120,15 +120,19 @@ ParameterCovariance Covariance(const WorkcellResultFile& result) {
   const auto& correlation = result.correlation;
   const int n = static_cast<int>(c.names.size());
   c.covariance = Eigen::MatrixXd::Zero(n, n);
-  if (static_cast<int>(sigma.size()) != n || static_cast<int>(correlation.size()) != n) return c;
+  // A run writes one sigma and one correlation row per free parameter; anything else is an
+  // edited file whose covariance would come out zero or wrong, so it is refused.
+  const auto refuse_size = [&](const std::string& key, size_t entries) {
+    if (static_cast<int>(entries) == n) return;
+    throw InputError({result.path, 0, 0},
+                     "malformed result: " + key + " has " + std::to_string(entries) +
+                         " entries for " + std::to_string(n) + " free parameters",
+                     "Give the folder `cellmetry run` wrote, unedited");
+  };
+  refuse_size("sigma", sigma.size());
+  refuse_size("correlation", correlation.size());
   for (int a = 0; a < n; ++a) {
-    if (static_cast<int>(correlation[a].size()) != n) {
-      throw InputError({result.path, 0, 0},
-                       "malformed result: correlation[" + std::to_string(a) + "] has " +
-                           std::to_string(correlation[a].size()) + " entries for " +
-                           std::to_string(n) + " free parameters",
-                       "Give the folder `cellmetry run` wrote, unedited");
-    }
+    refuse_size("correlation[" + std::to_string(a) + "]", correlation[a].size());
     for (int b = 0; b < n; ++b) c.covariance(a, b) = sigma[a] * sigma[b] * correlation[a][b];
   }
   return c;
