@@ -36,10 +36,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   cellmetry::fuzz::CheckContract([&] {
     for (const auto& target : cellmetry::ReadCompensationTargets(path, kJoints)) {
       if (!Usable(target)) {
+        const std::string line = std::to_string(target.line);
         cellmetry::fuzz::Violation("ReadCompensationTargets",
-                                   "a target the solver cannot take "
-                                   "loaded (line " +
-                                       std::to_string(target.line) + ")");
+                                   "a target the solver cannot take loaded (line " + line + ")");
       }
     }
   });

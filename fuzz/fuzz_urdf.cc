@@ -12,7 +12,8 @@
 
 namespace {
 
-std::string config_path;
+std::string config_path;  // the robot config, written once
+std::string urdf_path;    // the URDF it names, rewritten with every input
 
 }  // namespace
 
@@ -21,6 +22,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   const std::string folder = cellmetry::fuzz::TempDir() + "/urdf";
   std::filesystem::create_directories(folder);
   config_path = folder + "/robot.yaml";
+  urdf_path = folder + "/robot.urdf";
   cellmetry::fuzz::WriteFile(config_path,
                              "type: urdf\nname: fuzzed\nfile: robot.urdf\nbase_link: base_link\n"
                              "tip_link: tool0\n");
@@ -28,8 +30,6 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string urdf_path =
-      std::filesystem::path(config_path).replace_filename("robot.urdf").string();
   cellmetry::fuzz::WriteFile(urdf_path, data, size);
   cellmetry::fuzz::CheckContract([&] {
     const cellmetry::ConfigNode config = cellmetry::ConfigNode::LoadFile(config_path);

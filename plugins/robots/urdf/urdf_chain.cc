@@ -6,12 +6,10 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "cellmetry/basics/text.h"
+#include "cellmetry/formats/input_file.h"
 
 namespace cellmetry::urdf_robot {
 
@@ -31,22 +29,14 @@ Pose PoseOf(const urdf::Pose& origin) {
 // device or a wrong file can make the reader take.
 constexpr std::uintmax_t kMaxUrdfBytes = std::uintmax_t{64} << 20;
 
-// Only a regular file is read: a FIFO would block and /dev/zero would never end.
+// The URDF's text, read as input_file.h reads any file a user names. Its refusal is raised
+// again at the robot config's `file:`, where the user wrote the path.
 std::string ReadFile(const ConfigNode& config, const std::string& path) {
-  std::error_code error;
-  std::ifstream in;
-  if (std::filesystem::is_regular_file(path, error)) in.open(path);
-  if (!in.is_open()) {
-    throw config["file"].Error("cannot read the URDF '" + path + "'",
-                               "Give its path relative to this robot config");
+  try {
+    return ReadRegularFile(path, kMaxUrdfBytes, "Give its path relative to this robot config");
+  } catch (const InputError& e) {
+    throw config["file"].Error("cannot read the URDF '" + path + "': " + e.message(), e.hint());
   }
-  if (std::filesystem::file_size(path, error) > kMaxUrdfBytes) {
-    throw config["file"].Error("the URDF '" + path + "' is larger than 64 MB",
-                               "Name the robot's URDF, expanded from its xacro");
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 std::vector<std::string> LinkNames(const urdf::ModelInterface& model) {
