@@ -5,6 +5,7 @@
 
 #include <fstream>
 #include <random>
+#include <stdexcept>
 #include <string>
 
 #include "cellmetry/cell/held_out_setup.h"
@@ -183,6 +184,9 @@ TEST(HeldOutSetup, RealTrackerDataHoldsOutAtAPublishedCalibrationsAccuracy) {
   const HeldOutSetupScore& score = run.score;
   EXPECT_EQ(score.scored_poses, 280);
   EXPECT_LE(score.rms_mm, 0.09);
+  // The RMS of 280 points carries its standard error: a few per cent of it, not zero.
+  EXPECT_GT(score.rms_se_mm, 0.01 * score.rms_mm);
+  EXPECT_LT(score.rms_se_mm, 0.1 * score.rms_mm);
   EXPECT_NEAR(score.nominal_rms_mm, 0.18, 0.02);
   EXPECT_GT(score.within_95, 0.9);
   EXPECT_NEAR(score.mean_normalized, 1.0, 0.35);
@@ -225,7 +229,7 @@ TEST(HeldOutSetup, RegisteredResultCompensatesTheMeasuredTargetsToTheHeldOutErro
 // compliance, under the diagnosis job's noise, and carried to the other setup with nothing
 // refitted but the frames. As a compliance it takes the held-out RMS to about 0.061 mm; as a
 // transmission error it does no better than leaving joint 5 out (about 0.081 mm): the 300 poses
-// nine days later side with the compliance.
+// nine days later side with the compliance, by many times the paired standard error of the gain.
 TEST(HeldOutSetup, RealTrackerDataSidesWithJointFiveCompliance) {
   const Recording calibration =
       ImportRecording(testing::Source("configs/import/astl_calibration.yaml"));
@@ -235,7 +239,7 @@ TEST(HeldOutSetup, RealTrackerDataSidesWithJointFiveCompliance) {
   text = testing::ReplaceOnce(text, "../robots/staubli_tx90l.yaml",
                               testing::Source("configs/robots/staubli_tx90l.yaml"));
   const std::string dir = testing::TempDirForThisTest("joint_five");
-  auto held_out_rms = [&](const std::string& effects) {
+  auto held_out_score = [&](const std::string& effects) {
     const std::string job_path = dir + "/job.yaml";
     testing::WriteText(
         job_path, testing::ReplaceOnce(text, "      tmac: {free: all}\n",
@@ -246,19 +250,26 @@ TEST(HeldOutSetup, RealTrackerDataSidesWithJointFiveCompliance) {
     const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
     return ScoreHeldOutSetup(job.problem, result, points,
                              SelectRegistrationPoses(points, job.held_out_setup->register_on, {}),
-                             CeresLm())
-        .rms_mm;
+                             CeresLm());
   };
   const std::string masses = "link_masses_kg: [16.93, 14.35, 7.50, 6.42, 0.57, 1.03]";
-  const double compliance =
-      held_out_rms("[{type: joint_compliance, joints: [2, 3, 5], " + masses + "}]");
-  const double transmission =
-      held_out_rms("[{type: joint_compliance, joints: [2, 3], " + masses +
-                   "}, {type: transmission_error, joints: [5], harmonics: [1, 2]}]");
-  const double neither = held_out_rms("[{type: joint_compliance, joints: [2, 3], " + masses + "}]");
-  EXPECT_LT(compliance, 0.063);
-  EXPECT_GT(transmission, compliance + 0.015);
-  EXPECT_GT(neither, compliance + 0.015);
+  const HeldOutSetupScore compliance =
+      held_out_score("[{type: joint_compliance, joints: [2, 3, 5], " + masses + "}]");
+  const HeldOutSetupScore transmission =
+      held_out_score("[{type: joint_compliance, joints: [2, 3], " + masses +
+                     "}, {type: transmission_error, joints: [5], harmonics: [1, 2]}]");
+  const HeldOutSetupScore neither =
+      held_out_score("[{type: joint_compliance, joints: [2, 3], " + masses + "}]");
+  EXPECT_LT(compliance.rms_mm, 0.063);
+  EXPECT_GT(transmission.rms_mm, compliance.rms_mm + 0.015);
+  EXPECT_GT(neither.rms_mm, compliance.rms_mm + 0.015);
+  for (const HeldOutSetupScore* other : {&transmission, &neither}) {
+    EXPECT_GT(other->rms_mm - compliance.rms_mm, 5.0 * RmsGainStandardError(*other, compliance));
+  }
+  // Scores of different points do not compare.
+  HeldOutSetupScore fewer = neither;
+  fewer.points.pop_back();
+  EXPECT_THROW(RmsGainStandardError(fewer, compliance), std::invalid_argument);
 }
 
 }  // namespace

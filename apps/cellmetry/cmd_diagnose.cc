@@ -42,13 +42,16 @@ std::string ScoreHeldOutSetups(const WorkcellJob& job, const Recording& recordin
   result->final_fit.held_out_setup =
       ScoreHeldOutSetup(result->final_spec, result->final_fit, other_setup, poses, make_solver);
   const HeldOutSetupScore& with = *result->final_fit.held_out_setup;
-  char line[400];
+  char line[600];
   std::snprintf(line, sizeof line,
                 "Held-out setup (%s, frames registered again on %zu poses, %d scored): "
-                "geometry alone %.4f mm, with the accepted effects %.4f mm (nominal %.4f mm); "
+                "geometry alone %.4f +- %.4f mm, with the accepted effects %.4f +- %.4f mm "
+                "(nominal %.4f mm; the effects gain %.4f +- %.4f mm, paired); "
                 "%.1f %% within their 95 %% ellipsoid.\n",
                 with.recording.c_str(), with.registration_poses.size(), with.scored_poses,
-                alone.rms_mm, with.rms_mm, with.nominal_rms_mm, 100.0 * with.within_95);
+                alone.rms_mm, alone.rms_se_mm, with.rms_mm, with.rms_se_mm, with.nominal_rms_mm,
+                alone.rms_mm - with.rms_mm, RmsGainStandardError(alone, with),
+                100.0 * with.within_95);
   return line;
 }
 

@@ -1,12 +1,14 @@
-// Chi-square and normal tails, Durbin-Watson, Holm, medians and correlations (statistics.h):
-// Boost.Math's gamma_q for the chi-square tail, Lentz's continued fraction for its logarithm
-// where Q underflows.
+// Chi-square and normal tails, Durbin-Watson, Holm, medians, RMS errors and correlations
+// (statistics.h): Boost.Math's gamma_q for the chi-square tail, Lentz's continued fraction for its
+// logarithm where Q underflows.
 #include "cellmetry/basics/statistics.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 #include <boost/math/distributions/students_t.hpp>
 #include <boost/math/special_functions/gamma.hpp>
@@ -114,6 +116,59 @@ MeanInterval TInterval95(const std::vector<double>& values) {
   m.low = m.mean - t * s / std::sqrt(m.n);
   m.high = m.mean + t * s / std::sqrt(m.n);
   return m;
+}
+
+namespace {
+
+// Sample standard deviation over sqrt(n) of v: the standard error of its mean.
+double StandardErrorOfMean(const std::vector<double>& v) {
+  const double n = static_cast<double>(v.size());
+  if (v.size() < 2) return std::numeric_limits<double>::infinity();
+  double mean = 0.0;
+  for (double x : v) mean += x;
+  mean /= n;
+  double squares = 0.0;
+  for (double x : v) squares += (x - mean) * (x - mean);
+  return std::sqrt(squares / (n - 1.0) / n);
+}
+
+double MeanOf(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  return sum / static_cast<double>(v.size());
+}
+
+}  // namespace
+
+RmsEstimate RmsWithStandardError(const std::vector<double>& squared_errors) {
+  if (squared_errors.empty()) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return {nan, nan};
+  }
+  RmsEstimate e;
+  e.rms = std::sqrt(MeanOf(squared_errors));
+  // d sqrt(m) / dm = 1 / (2 sqrt(m)), times the standard error of the mean square m.
+  e.standard_error = e.rms > 0.0 ? StandardErrorOfMean(squared_errors) / (2.0 * e.rms)
+                                 : std::numeric_limits<double>::infinity();
+  return e;
+}
+
+double RmsDifferenceStandardError(const std::vector<double>& before_squared,
+                                  const std::vector<double>& after_squared) {
+  if (before_squared.size() != after_squared.size()) {
+    throw std::invalid_argument(
+        "RmsDifferenceStandardError: " + std::to_string(before_squared.size()) +
+        " points against " + std::to_string(after_squared.size()));
+  }
+  if (before_squared.size() < 2) return std::numeric_limits<double>::infinity();
+  const double rms_before = std::sqrt(MeanOf(before_squared));
+  const double rms_after = std::sqrt(MeanOf(after_squared));
+  if (rms_before <= 0.0 || rms_after <= 0.0) return std::numeric_limits<double>::infinity();
+  std::vector<double> paired(before_squared.size());
+  for (size_t i = 0; i < paired.size(); ++i) {
+    paired[i] = before_squared[i] / (2.0 * rms_before) - after_squared[i] / (2.0 * rms_after);
+  }
+  return StandardErrorOfMean(paired);
 }
 
 Eigen::MatrixXd CorrelationOf(const Eigen::MatrixXd& covariance) {

@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <stdexcept>
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/statistics.h"
@@ -274,13 +275,12 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
 void Summarize(HeldOutSetupScore* score) {
   const auto& points = score->points;
   if (points.empty()) return;
-  double sum = 0.0, sum2 = 0.0, normalized = 0.0;
+  double sum = 0.0, normalized = 0.0;
   int within = 0;
   std::vector<double> sigmas;
   for (const HeldOutPoint& p : points) {
     const double e = p.error_mm.norm();
     sum += e;
-    sum2 += e * e;
     score->max_mm = std::max(score->max_mm, e);
     normalized += p.normalized_squared / 3.0;
     if (p.normalized_squared <= kChiSquare3Dof95) ++within;
@@ -288,13 +288,34 @@ void Summarize(HeldOutSetupScore* score) {
   }
   const double n = static_cast<double>(points.size());
   score->mean_mm = sum / n;
-  score->rms_mm = std::sqrt(sum2 / n);
+  const RmsEstimate rms = RmsWithStandardError(SquaredErrors(*score));
+  score->rms_mm = rms.rms;
+  score->rms_se_mm = rms.standard_error;
   score->mean_normalized = normalized / n;
   score->within_95 = within / n;
   score->median_sigma_mm = UpperMedian(&sigmas);
 }
 
 }  // namespace
+
+std::vector<double> SquaredErrors(const HeldOutSetupScore& score) {
+  std::vector<double> squared;
+  for (const HeldOutPoint& p : score.points) squared.push_back(p.error_mm.squaredNorm());
+  return squared;
+}
+
+double RmsGainStandardError(const HeldOutSetupScore& before, const HeldOutSetupScore& after) {
+  if (before.points.size() != after.points.size()) {
+    throw std::invalid_argument("RmsGainStandardError: scores of different points");
+  }
+  for (size_t i = 0; i < before.points.size(); ++i) {
+    if (before.points[i].sample != after.points[i].sample ||
+        before.points[i].target != after.points[i].target) {
+      throw std::invalid_argument("RmsGainStandardError: scores of different points");
+    }
+  }
+  return RmsDifferenceStandardError(SquaredErrors(before), SquaredErrors(after));
+}
 
 std::vector<int> SelectRegistrationPoses(const Recording& recording,
                                          const RegistrationPoses& register_on,

@@ -95,6 +95,7 @@ nlohmann::json HeldOutSetupJson(const HeldOutSetupScore& v) {
           {"registration_poses", v.registration_poses},
           {"scored_poses", v.scored_poses},
           {"rms_mm", v.rms_mm},
+          {"rms_se_mm", v.rms_se_mm},
           {"mean_mm", v.mean_mm},
           {"max_mm", v.max_mm},
           {"registration_rms_mm", v.registration_rms_mm},
@@ -562,9 +563,9 @@ void PrintFitQuality(const WorkcellResult& r, std::ostringstream& out) {
     const HeldOutSetupScore& v = *r.held_out_setup;
     out << "  held-out setup (" << v.recording << "): frames registered again on "
         << v.registration_poses.size() << " poses (RMS " << FixedNumber(v.registration_rms_mm, 4)
-        << " mm), " << v.scored_poses << " scored: RMS " << FixedNumber(v.rms_mm, 4)
-        << " mm (nominal model " << FixedNumber(v.nominal_rms_mm, 4) << " mm), mean "
-        << FixedNumber(v.mean_mm, 4) << ", max " << FixedNumber(v.max_mm, 4)
+        << " mm), " << v.scored_poses << " scored: RMS " << FixedNumber(v.rms_mm, 4) << " +- "
+        << FixedNumber(v.rms_se_mm, 4) << " mm (nominal model " << FixedNumber(v.nominal_rms_mm, 4)
+        << " mm), mean " << FixedNumber(v.mean_mm, 4) << ", max " << FixedNumber(v.max_mm, 4)
         << " mm; predicted sigma " << FixedNumber(v.median_sigma_mm, 4) << " mm (median), "
         << FixedNumber(100.0 * v.within_95, 1) << " % within their 95 % ellipsoid\n";
   }

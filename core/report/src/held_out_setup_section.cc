@@ -21,12 +21,16 @@ void HeldOutSetupSection(const WorkcellResult& r, HtmlPage* page) {
              "scatter about the model; about 95 % of the points lie inside their 95 % "
              "ellipsoid when the sigma are honest.");
   const std::vector<std::vector<std::string>> rows = {
-      {"calibrated geometry", Num(v.rms_mm, 4), Num(v.mean_mm, 4), Num(v.max_mm, 4)},
+      {"calibrated geometry", Num(v.rms_mm, 4) + " ± " + Num(v.rms_se_mm, 4), Num(v.mean_mm, 4),
+       Num(v.max_mm, 4)},
       {"nominal geometry", Num(v.nominal_rms_mm, 4), "", ""},
       {"registration poses (calibrated)", Num(v.registration_rms_mm, 4), "", ""}};
   page->Table({"model", "RMS (mm)", "mean (mm)", "max (mm)"}, rows, 10);
   page->Paragraph(
-      "Predicted sigma of a point (median of its 3D sigma): " + Num(v.median_sigma_mm, 4) +
+      "The RMS's ± is its standard error over the scored poses, taken as independent "
+      "draws (the registration's own error, shared by every point, is not in it). "
+      "Predicted sigma of a point (median of its 3D sigma): " +
+      Num(v.median_sigma_mm, 4) +
       " mm; inside their 95 % ellipsoid: " + Num(100.0 * v.within_95, 1) +
       " % of the points; mean of e'C^-1 e / 3: " + Num(v.mean_normalized, 2) +
       " (1 when the sigma are right).");

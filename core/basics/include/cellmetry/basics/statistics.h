@@ -1,6 +1,7 @@
 // Small statistics the physics finder and the comparisons need: tail probabilities of the
 // chi-square and normal distributions, the Durbin-Watson statistic, the Holm correction,
-// medians, a mean's 95 % Student-t interval, and a covariance's correlation matrix.
+// medians, a mean's 95 % Student-t interval, an RMS's standard error, and a covariance's
+// correlation matrix.
 #pragma once
 
 #include <vector>
@@ -50,6 +51,26 @@ struct MeanInterval {
   int n = 0;
 };
 MeanInterval TInterval95(const std::vector<double>& values);
+
+// The root mean square of n errors given as their squares e_i^2, and its standard error with the
+// errors as independent draws: by the delta method, sd(e^2) / (2 RMS sqrt(n)) (Casella & Berger,
+// Statistical Inference, 2nd ed., theorem 5.5.24), with sd the sample standard deviation. For
+// 3D errors N(0, s^2 I) it is s / sqrt(2 n). NaN for no errors; the standard error is unbounded
+// for one error or an RMS of 0.
+struct RmsEstimate {
+  double rms = 0.0;
+  double standard_error = 0.0;
+};
+RmsEstimate RmsWithStandardError(const std::vector<double>& squared_errors);
+
+// The same n points scored by two models, squares `before` and `after` in the same order: the
+// standard error of RMS_before - RMS_after, by the delta method on the paired differences
+// e_before^2 / (2 RMS_before) - e_after^2 / (2 RMS_after). Pairing removes what the points share
+// (a hard pose is hard for both), so a gain can be far beyond its error when each RMS's own
+// error is not. Unbounded for fewer than two points; throws std::invalid_argument when the two
+// counts differ.
+double RmsDifferenceStandardError(const std::vector<double>& before_squared,
+                                  const std::vector<double>& after_squared);
 
 // The correlation matrix of a covariance: C(i, j) / (sigma_i sigma_j) with sigma the square
 // roots of the diagonal (negative round-off taken as 0). An entry without spread (sigma 0) is

@@ -26,6 +26,12 @@
 // by the registration rows' reduced chi-square where above 1. A point is within its 95 % ellipsoid
 // where e^T C_p^-1 e <= 7.815 (chi-square, 3 degrees of freedom): about 95 % of the points
 // when the sigma are honest.
+//
+// The RMS is itself an estimate from the scored poses, and carries its standard error (the
+// delta method over the points' squared errors, statistics.h); two models scored on the same
+// poses compare by the paired standard error of their difference (RmsGainStandardError). Both
+// take the points as independent draws: the error the registration leaves in the frames is
+// shared by every point and is not in them.
 #pragma once
 
 #include <string>
@@ -64,5 +70,12 @@ std::vector<int> SelectRegistrationPoses(const Recording& recording,
 HeldOutSetupScore ScoreHeldOutSetup(const WorkcellProblem& spec, const WorkcellResult& result,
                                     const Recording& held_out, const std::vector<int>& poses,
                                     const SolverMaker& make_solver);
+
+// Each scored point's squared 3D error, |e|^2, in the score's order.
+std::vector<double> SquaredErrors(const HeldOutSetupScore& score);
+
+// The standard error of before.rms_mm - after.rms_mm: the same points scored by two models
+// (paired, statistics.h). Throws std::invalid_argument unless both scored the same points.
+double RmsGainStandardError(const HeldOutSetupScore& before, const HeldOutSetupScore& after);
 
 }  // namespace cellmetry

@@ -148,7 +148,8 @@ struct HeldOutSetupScore {
   std::string recording;
   std::vector<int> registration_poses;  // pose ids, in capture order
   int scored_poses = 0;
-  double rms_mm = 0.0;  // of |error| over the scored points
+  double rms_mm = 0.0;     // of |error| over the scored points
+  double rms_se_mm = 0.0;  // its standard error, the points as independent draws (statistics.h)
   double mean_mm = 0.0;
   double max_mm = 0.0;
   double registration_rms_mm = 0.0;  // the registration fit's own points
