@@ -9,6 +9,7 @@
 
 #include "cellmetry/basics/statistics.h"
 #include "cellmetry/basics/text.h"
+#include "cellmetry/basics/utf8.h"
 
 namespace cellmetry {
 namespace {
@@ -138,6 +139,18 @@ TEST(Text, JoinAndMillimetres) {
   EXPECT_EQ(Mm(12.3456), "12.3 mm");
   EXPECT_EQ(Mm(12.3456, 4), "12.35 mm");
   EXPECT_EQ(Mm(0.00012), "0.00012 mm");
+}
+
+// RFC 3629's well-formed sequences: a lone continuation byte, an overlong form, a surrogate and
+// a character cut short at the end are not UTF-8; two- to four-byte characters are.
+TEST(Text, FirstInvalidUtf8ByteIsWhereWellFormedUtf8Stops) {
+  EXPECT_EQ(FirstInvalidUtf8Byte("ok \x80"), 3u);
+  EXPECT_EQ(FirstInvalidUtf8Byte("\xC0\xAF"), 0u);
+  EXPECT_EQ(FirstInvalidUtf8Byte("a\xED\xA0\x80"), 1u);
+  EXPECT_EQ(FirstInvalidUtf8Byte("end \xC5"), 4u);
+  EXPECT_EQ(FirstInvalidUtf8Byte("end \xE2\x82"), 4u);
+  EXPECT_FALSE(FirstInvalidUtf8Byte("°µ€ 😀"));
+  EXPECT_FALSE(FirstInvalidUtf8Byte(""));
 }
 
 }  // namespace

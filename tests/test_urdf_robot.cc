@@ -557,6 +557,21 @@ TEST(UrdfRobot, BadInputIsRefusedWithWhatToDo) {
     EXPECT_THAT(e.what(), HasSubstr("urdfdom cannot parse"));
     EXPECT_THAT(e.what(), HasSubstr("xacro"));
   }
+  {  // Not UTF-8, at the byte: a Latin-1 letter, and a character cut short at the end (TinyXML
+     // would read past the text for it).
+    const InputError latin1 =
+        Refusal("<robot name=\"x\">\n<!-- St\xE4ubli -->\n</robot>", "a", "a");
+    EXPECT_THAT(latin1.what(), HasSubstr("the byte 0xE4 is not UTF-8"));
+    EXPECT_THAT(latin1.what(), HasSubstr("Save the URDF as UTF-8"));
+    EXPECT_THAT(latin1.where().file, HasSubstr("robot.urdf"));
+    EXPECT_EQ(latin1.where().line, 2);
+    EXPECT_EQ(latin1.where().column, 8);
+    const std::string cut = tx2 + "<!-- \xC5";
+    EXPECT_EQ(Refusal(cut, "base_link", "tool0").where().column, 6);
+    const InputError nul = Refusal(std::string("<robot name=\"x\">\0</robot>", 25), "a", "a");
+    EXPECT_THAT(nul.what(), HasSubstr("the byte 0x00 (NUL) has no place in a URDF"));
+    EXPECT_EQ(nul.where().column, 17);
+  }
   {  // A file that is not there.
     const std::string dir = testing::TempDirForThisTest("urdf_robot");
     testing::WriteText(dir + "/robot.yaml",

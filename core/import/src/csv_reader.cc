@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 
+#include "cellmetry/basics/utf8.h"
 #include "cellmetry/formats/input_file.h"
 #include "cellmetry/import/data_table.h"
 

@@ -6,9 +6,12 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
+#include <optional>
 #include <set>
 
 #include "cellmetry/basics/text.h"
+#include "cellmetry/basics/utf8.h"
 #include "cellmetry/formats/input_file.h"
 
 namespace cellmetry::urdf_robot {
@@ -37,6 +40,27 @@ std::string ReadFile(const ConfigNode& config, const std::string& path) {
   } catch (const InputError& e) {
     throw config["file"].Error("cannot read the URDF '" + path + "': " + e.message(), e.hint());
   }
+}
+
+// Text urdfdom's XML parser can take: UTF-8 without a NUL. TinyXML steps over a multi-byte
+// character by its first byte's count, so a character cut short at the end of the file sends it
+// reading past the text (utf8.h); it stops at a NUL, so what follows one would go unread.
+void RequireXmlText(const std::string& text, const std::string& path) {
+  std::optional<size_t> bad = FirstInvalidUtf8Byte(text);
+  const size_t nul = text.find('\0');
+  if (nul != std::string::npos && (!bad || nul < *bad)) bad = nul;
+  if (!bad) return;
+  const size_t line_start = text.rfind('\n', *bad) + 1;  // 0 on the first line (npos + 1)
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + *bad, '\n'));
+  const int column = 1 + static_cast<int>(*bad - line_start);
+  char byte[8];
+  std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>(text[*bad]));
+  throw InputError({path, line, column},
+                   std::string("the byte ") + byte +
+                       (text[*bad] == '\0' ? " (NUL) has no place in a URDF"
+                                           : " is not UTF-8, the encoding a URDF is read in"),
+                   "Save the URDF as UTF-8 text (xacro writes it so); a file in another 8-bit "
+                   "encoding shows such a byte at its first accented letter");
 }
 
 std::vector<std::string> LinkNames(const urdf::ModelInterface& model) {
@@ -89,7 +113,9 @@ UrdfPathJoint PathJoint(const urdf::Joint& joint, const Pose& origin) {
 UrdfChain ReadUrdfChain(const ConfigNode& config) {
   UrdfChain chain;
   chain.file = config.ResolvePath(config["file"].AsString());
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(ReadFile(config, chain.file));
+  const std::string text = ReadFile(config, chain.file);
+  RequireXmlText(text, chain.file);
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
   if (!model) {
     throw config["file"].Error(
         "urdfdom cannot parse '" + chain.file + "' (its reason is printed above)",

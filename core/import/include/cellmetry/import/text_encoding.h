@@ -1,4 +1,5 @@
-// Text encodings a table may be written in, and the check that UTF-8 text is UTF-8.
+// Text encodings a table may be written in (the check that UTF-8 text is UTF-8:
+// basics/utf8.h).
 //
 // Contract: cellmetry works in UTF-8. A table in an 8-bit encoding (what measuring software on
 // Windows writes: `°C`, `µm` as one byte each) is converted to UTF-8 as it is read, when the
@@ -20,9 +21,5 @@ std::optional<TextEncoding> TextEncodingNamed(const std::string& name);
 
 // `bytes` in Windows-1252, as UTF-8 (every byte is a character; ASCII is unchanged).
 std::string Windows1252ToUtf8(const std::string& bytes);
-
-// The offset of the first byte in `text` that does not belong to a well-formed UTF-8 sequence
-// (RFC 3629: no overlong forms, no surrogates, nothing beyond U+10FFFF); none when it is UTF-8.
-std::optional<size_t> FirstInvalidUtf8Byte(const std::string& text);
 
 }  // namespace cellmetry
