@@ -37,6 +37,22 @@ double LogUpperGammaFraction(double a, double x) {
   return -x + a * std::log(x) - std::lgamma(a) + std::log(h);
 }
 
+double MeanOf(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  return sum / static_cast<double>(v.size());
+}
+
+// Sample standard deviation over sqrt(n) of v: the standard error of its mean.
+double StandardErrorOfMean(const std::vector<double>& v) {
+  if (v.size() < 2) return std::numeric_limits<double>::infinity();
+  const double n = static_cast<double>(v.size());
+  const double mean = MeanOf(v);
+  double squares = 0.0;
+  for (double x : v) squares += (x - mean) * (x - mean);
+  return std::sqrt(squares / (n - 1.0) / n);
+}
+
 }  // namespace
 
 double ChiSquareSurvival(double x, double k) {
@@ -101,44 +117,18 @@ MeanInterval TInterval95(const std::vector<double>& values) {
     m.mean = m.low = m.high = std::numeric_limits<double>::quiet_NaN();
     return m;
   }
-  double sum = 0.0;
-  for (double v : values) sum += v;
-  m.mean = sum / m.n;
+  m.mean = MeanOf(values);
   if (m.n < 2) {
     m.low = -std::numeric_limits<double>::infinity();
     m.high = std::numeric_limits<double>::infinity();
     return m;
   }
-  double squares = 0.0;
-  for (double v : values) squares += (v - m.mean) * (v - m.mean);
-  const double s = std::sqrt(squares / (m.n - 1));
   const double t = boost::math::quantile(boost::math::students_t(m.n - 1), 0.975);
-  m.low = m.mean - t * s / std::sqrt(m.n);
-  m.high = m.mean + t * s / std::sqrt(m.n);
+  const double se = StandardErrorOfMean(values);
+  m.low = m.mean - t * se;
+  m.high = m.mean + t * se;
   return m;
 }
-
-namespace {
-
-// Sample standard deviation over sqrt(n) of v: the standard error of its mean.
-double StandardErrorOfMean(const std::vector<double>& v) {
-  const double n = static_cast<double>(v.size());
-  if (v.size() < 2) return std::numeric_limits<double>::infinity();
-  double mean = 0.0;
-  for (double x : v) mean += x;
-  mean /= n;
-  double squares = 0.0;
-  for (double x : v) squares += (x - mean) * (x - mean);
-  return std::sqrt(squares / (n - 1.0) / n);
-}
-
-double MeanOf(const std::vector<double>& v) {
-  double sum = 0.0;
-  for (double x : v) sum += x;
-  return sum / static_cast<double>(v.size());
-}
-
-}  // namespace
 
 RmsEstimate RmsWithStandardError(const std::vector<double>& squared_errors) {
   if (squared_errors.empty()) {
