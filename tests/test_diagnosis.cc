@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
@@ -49,6 +50,13 @@ TEST_F(Diagnosis, ConcealedComplianceIsNamedWithItsJointAndModelled) {
               3 * d.accepted.front().parameters.at(0).sigma);
   EXPECT_LT(d.final.held_out_rms_mm, 1.2 * d.floor_rms_mm);
   EXPECT_GT(d.geometric.held_out_rms_mm, d.final.held_out_rms_mm);
+  // The gain is scored on the same held-out rows, so its standard error is paired: the noise
+  // both models see cancels, leaving far less than the two RMS's own errors combined.
+  EXPECT_TRUE(d.held_out_gain.paired);
+  EXPECT_DOUBLE_EQ(d.held_out_gain.gain_mm, d.geometric.held_out_rms_mm - d.final.held_out_rms_mm);
+  EXPECT_GT(d.final.held_out_rms_se_mm, 0.0);
+  EXPECT_LT(d.held_out_gain.standard_error_mm,
+            0.5 * std::hypot(d.geometric.held_out_rms_se_mm, d.final.held_out_rms_se_mm));
   EXPECT_THAT(DiagnosisReport(d),
               HasSubstr("Left out: joint 3 giving under gravity, best described as joint 3 "
                         "compliance under gravity"));

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include <nlohmann/json.hpp>
 #include <random>
@@ -194,6 +195,42 @@ TEST(SimulatedUr3, ResultListsEveryStageWithItsTimeAndMemory) {
   EXPECT_LE(sum_s, wall_s);
   EXPECT_GT(sum_s, 0.5 * wall_s);  // the stages account for the run, not a sliver of it
   EXPECT_EQ(WorkcellResultJson(result)["stages"].size(), names.size());
+}
+
+// The held-out RMS carries a standard error from its own rows: on Gaussian camera noise it is
+// what theory gives for the rows' per-axis spread, sqrt(2 sum a_i^4) / (2 RMS sqrt(n)), and the
+// rows kept for pairing are the ones the RMS is of. A model compared with itself gains 0 +- 0.
+TEST(SimulatedUr3, HeldOutRmsCarriesTheStandardErrorOfItsRows) {
+  WorkcellSimulationSpec sim = TwoCameraSpec(13);
+  sim.sigma_position_mm = {0.1, 0.1, 0.4};
+  sim.sigma_rotation_rad = {1e-3, 1e-3, 1e-3};
+  WorkcellProblem problem;
+  problem.robots.push_back(JobRobot(sim.robots[0]));
+  for (const auto& [camera, pose] : sim.T_world_cam) {
+    problem.noise.position_sigma_mm[camera] = sim.sigma_position_mm;
+    problem.noise.rotation_sigma_rad[camera] = sim.sigma_rotation_rad;
+  }
+  problem.folds = 5;
+  const WorkcellResult result = IdentifyWorkcell(problem, SimulateWorkcell(sim, nullptr), [] {
+    return testing::Plugins().CreateSolver("ceres_lm",
+                                           ConfigNode::LoadString("type: ceres_lm", "s"));
+  });
+  const HeldOut& h = result.held_out;
+  ASSERT_EQ(static_cast<int>(h.errors.size()), h.total.count);
+  ASSERT_GT(h.total.count, 100);
+  double sum_squared = 0.0;
+  for (const HeldOutError& e : h.errors) sum_squared += e.squared_mm2;
+  EXPECT_NEAR(std::sqrt(sum_squared / h.total.count), h.total.norm, 1e-12);
+  const double n = h.total.count;
+  const double expected_se =
+      std::sqrt(2.0 * h.total.axis.array().pow(4).sum()) / (2.0 * h.total.norm * std::sqrt(n));
+  EXPECT_NEAR(h.total_se_mm, expected_se, 0.25 * expected_se);
+  EXPECT_DOUBLE_EQ(WorkcellResultJson(result)["held_out"]["total_se_mm"].get<double>(),
+                   h.total_se_mm);
+  const HeldOutGain itself = CompareHeldOut(h, h);
+  EXPECT_TRUE(itself.paired);
+  EXPECT_EQ(itself.gain_mm, 0.0);
+  EXPECT_NEAR(itself.standard_error_mm, 0.0, 1e-15);
 }
 
 // Joint 1's offset and the base's rotation about z move the tool alike: the data determines

@@ -20,7 +20,8 @@ namespace cellmetry {
 namespace {
 
 nlohmann::json HeldOutJson(const HeldOut& h) {
-  nlohmann::json j = {{"folds", h.folds}, {"total_mm", RmsJson(h.total)}};
+  nlohmann::json j = {
+      {"folds", h.folds}, {"total_mm", RmsJson(h.total)}, {"total_se_mm", h.total_se_mm}};
   for (const auto& [camera, rms] : h.per_camera) j["per_camera_mm"][camera] = RmsJson(rms);
   return j;
 }
@@ -542,7 +543,8 @@ void PrintFitQuality(const WorkcellResult& r, std::ostringstream& out) {
   }
   if (r.held_out.folds > 0) {
     out << "  held-out RMS (" << r.held_out.folds
-        << "-fold by pose): " << FixedNumber(r.held_out.total.norm, 3) << " mm";
+        << "-fold by pose): " << FixedNumber(r.held_out.total.norm, 3) << " +- "
+        << FixedNumber(r.held_out.total_se_mm, 3) << " mm";
     for (const auto& [model, h] : r.other_models) {
       out << "; " << model << " model: " << FixedNumber(h.total.norm, 3) << " mm";
     }

@@ -14,6 +14,7 @@
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
+#include "cellmetry/basics/statistics.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/estimation/reweighted_solve.h"
 #include "residual_rows.h"
@@ -230,6 +231,7 @@ void AddFold(const std::vector<ResidualRow>& held_out, HeldOut* out) {
     normalized_rows += 3;
     if (row.kind != ResidualKind::kPosition) continue;
     out->total.Add(row.error);
+    out->errors.push_back({row.observation, row.error.squaredNorm()});
     out->per_camera[row.camera].Add(row.error);
     fold.Add(row.error);
   }
@@ -239,7 +241,32 @@ void AddFold(const std::vector<ResidualRow>& held_out, HeldOut* out) {
   out->per_fold.push_back(fold);
 }
 
+std::vector<double> SquaredErrorsOf(const HeldOut& held_out) {
+  std::vector<double> squared;
+  squared.reserve(held_out.errors.size());
+  for (const HeldOutError& e : held_out.errors) squared.push_back(e.squared_mm2);
+  return squared;
+}
+
+bool SameRows(const HeldOut& a, const HeldOut& b) {
+  return a.folds == b.folds && a.errors.size() == b.errors.size() &&
+         std::equal(a.errors.begin(), a.errors.end(), b.errors.begin(),
+                    [](const HeldOutError& x, const HeldOutError& y) {
+                      return x.observation == y.observation;
+                    });
+}
+
 }  // namespace
+
+HeldOutGain CompareHeldOut(const HeldOut& before, const HeldOut& after) {
+  HeldOutGain gain;
+  gain.gain_mm = before.total.norm - after.total.norm;
+  gain.paired = SameRows(before, after) && before.errors.size() >= 2;
+  gain.standard_error_mm =
+      gain.paired ? RmsDifferenceStandardError(SquaredErrorsOf(before), SquaredErrorsOf(after))
+                  : std::hypot(before.total_se_mm, after.total_se_mm);
+  return gain;
+}
 
 HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
                       const WorkcellData& data, const NoiseModel& noise,
@@ -268,6 +295,8 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
   });
   for (const std::vector<ResidualRow>& fold : held_out) AddFold(fold, &out);
   out.total.Finish();
+  if (out.errors.size() >= 2)
+    out.total_se_mm = RmsWithStandardError(SquaredErrorsOf(out)).standard_error;
   for (auto& [camera, rms] : out.per_camera) rms.Finish();
   return out;
 }

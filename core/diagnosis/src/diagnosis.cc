@@ -34,6 +34,7 @@ struct Fitted {
 // The held-out figures of a fit's cross-validation.
 void SummarizeHeldOut(Fitted* f) {
   f->summary.held_out_rms_mm = f->result.held_out.total.norm;
+  f->summary.held_out_rms_se_mm = f->result.held_out.total_se_mm;
   double ss = 0.0;
   for (double fold : f->result.held_out.per_fold_normalized_rms) ss += fold * fold;
   const size_t n_folds = f->result.held_out.per_fold_normalized_rms.size();
@@ -888,6 +889,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
     geometry.Advance();
   }
   out.geometric = state.current.summary;
+  const HeldOut geometric_held_out = state.current.result.held_out;
   out.floor_rms_mm = FloorRms(state.current, recording);
   {
     const CandidateLinearization lin =
@@ -910,6 +912,7 @@ DiagnosisResult DiagnoseWorkcell(const WorkcellProblem& spec, const Recording& r
   progress.SetTotal(physics_steps + frame_steps + last_steps);
   const Fitted& current = state.current;
   out.final = current.summary;
+  out.held_out_gain = CompareHeldOut(geometric_held_out, current.result.held_out);
   out.final_fit = current.result;
   out.final_spec = current.spec;
   if (spec.leave_one_camera_out) {

@@ -63,6 +63,13 @@ std::string TieAtItsSite(const DiagnosisRound& round, const CandidateFinding& f)
          "poses cannot say which.";
 }
 
+// 0.1382, 0.0078 -> "0.138 +- 0.0078 mm".
+std::string MmWithSe(double value_mm, double se_mm) {
+  char b[64];
+  std::snprintf(b, sizeof(b), "%.3g +- %.2g mm", value_mm, se_mm);
+  return b;
+}
+
 std::string Value(const ScalarEstimate& s) {
   char b[96];
   std::snprintf(b, sizeof(b), "%s = %.3g +- %.2g %s", s.name.c_str(), s.value, s.sigma,
@@ -204,8 +211,11 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
   StrongestRuledOut(r, out);
   for (const auto& f : r.findings) Finding(r, f, out);
   if (!r.accepted.empty()) {
-    out << "Held-out RMS " << Mm(r.geometric.held_out_rms_mm) << " -> "
-        << Mm(r.final.held_out_rms_mm) << " (positions), "
+    out << "Held-out RMS " << MmWithSe(r.geometric.held_out_rms_mm, r.geometric.held_out_rms_se_mm)
+        << " -> " << MmWithSe(r.final.held_out_rms_mm, r.final.held_out_rms_se_mm)
+        << " (positions; gain "
+        << MmWithSe(r.held_out_gain.gain_mm, r.held_out_gain.standard_error_mm)
+        << (r.held_out_gain.paired ? ", paired" : "") << "), "
         << FixedNumber(r.geometric.held_out_sigma, 2) << " -> "
         << FixedNumber(r.final.held_out_sigma, 2) << " sigma (every row fitted); fit RMS "
         << Mm(r.final.rms_mm) << " against the " << Mm(r.floor_rms_mm) << " floor.\n";
@@ -329,6 +339,7 @@ nlohmann::json SummaryJson(const FitSummary& s) {
                         {"p_value", s.p_value},
                         {"rms_mm", s.rms_mm},
                         {"held_out_rms_mm", s.held_out_rms_mm},
+                        {"held_out_rms_se_mm", s.held_out_rms_se_mm},
                         {"held_out_sigma", s.held_out_sigma},
                         {"consistent_with_noise", s.consistent_with_noise()}};
 }
@@ -425,6 +436,9 @@ nlohmann::json DiagnosisJson(const DiagnosisResult& result) {
   j["floor_rms_mm"] = r.floor_rms_mm;
   j["geometric"] = SummaryJson(r.geometric);
   j["final"] = SummaryJson(r.final);
+  j["held_out_gain"] = {{"gain_mm", r.held_out_gain.gain_mm},
+                        {"standard_error_mm", r.held_out_gain.standard_error_mm},
+                        {"paired", r.held_out_gain.paired}};
   j["durbin_watson"] = r.durbin_watson;
   j["regressors"] = nlohmann::json::array();
   for (const auto& f : r.regressors) {

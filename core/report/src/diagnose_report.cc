@@ -15,7 +15,8 @@ const char* kAxis[3] = {"x", "y", "depth"};
 void FitRow(const std::string& name, const FitSummary& f,
             std::vector<std::vector<std::string>>* rows) {
   rows->push_back({name, Num(f.chi2, 5), Num(f.dof, 5), Num(f.p_value, 3), Num(f.rms_mm, 4),
-                   Num(f.held_out_rms_mm, 4), Num(f.held_out_sigma, 4)});
+                   Num(f.held_out_rms_mm, 4) + " ± " + Num(f.held_out_rms_se_mm, 2),
+                   Num(f.held_out_sigma, 4)});
 }
 
 // Residual against the effect's prediction, before and after, one plot pair per camera and axis.
@@ -135,6 +136,13 @@ std::string DiagnoseReportHtml(const DiagnosisResult& r, const Recording& record
   FitRow("with accepted effects", r.final, &fits);
   page.Table({"model", "chi-square", "dof", "p (vs floor)", "RMS mm", "held-out mm", "held-out σ"},
              fits);
+  if (!r.accepted.empty()) {
+    page.Paragraph("The accepted effects take " + Num(r.held_out_gain.gain_mm, 3) + " ± " +
+                   Num(r.held_out_gain.standard_error_mm, 2) + " mm off the held-out RMS (" +
+                   (r.held_out_gain.paired ? "paired: the same rows" : "unpaired") +
+                   "). Each ± takes the held-out rows as independent; the folds share training "
+                   "poses, so read it as a lower bound.");
+  }
   page.Paragraph("Noise floor: " + r.noise_source + ", " + Num(r.floor_rms_mm, 3) + " mm RMS. " +
                  (r.unexplained.empty() ? "What remains is consistent with noise."
                                         : "Unexplained: " + r.unexplained + "."));

@@ -10,21 +10,22 @@ namespace {
 void SummarySection(const WorkcellResult& r, HtmlPage* page) {
   page->Section("Summary", "summary");
   const Uncertainty& u = r.uncertainty;
-  page->Table(
-      {"", ""},
-      {{"solver", r.solver.solver + ", " + std::to_string(r.solver.iterations) + " iterations, " +
-                      (r.solver.converged ? "converged" : "NOT converged") + " (" +
-                      r.solver.stop_reason + ")"},
-       {"residual rows", std::to_string(r.residuals.size())},
-       {"chi-square / dof",
-        Num(u.chi2, 5) + " / " + std::to_string(u.dof) + " = " + Num(u.reduced_chi2, 4)},
-       {"covariance scale", Num(u.scale, 4)},
-       {"condition number", Num(u.condition_number, 3)},
-       {"held-out RMS (mm)",
-        Num(r.held_out.total.norm, 4) + " over " + std::to_string(r.held_out.folds) + " folds"},
-       {"outliers left out", std::to_string(r.outliers.size())},
-       {"not determined by the data (held or by a prior)",
-        std::to_string(r.unidentifiable.size())}});
+  const std::string held_out = Num(r.held_out.total.norm, 4) + " ± " +
+                               Num(r.held_out.total_se_mm, 2) + " over " +
+                               std::to_string(r.held_out.folds) + " folds";
+  page->Table({"", ""}, {{"solver", r.solver.solver + ", " + std::to_string(r.solver.iterations) +
+                                        " iterations, " +
+                                        (r.solver.converged ? "converged" : "NOT converged") +
+                                        " (" + r.solver.stop_reason + ")"},
+                         {"residual rows", std::to_string(r.residuals.size())},
+                         {"chi-square / dof", Num(u.chi2, 5) + " / " + std::to_string(u.dof) +
+                                                  " = " + Num(u.reduced_chi2, 4)},
+                         {"covariance scale", Num(u.scale, 4)},
+                         {"condition number", Num(u.condition_number, 3)},
+                         {"held-out RMS (mm)", held_out},
+                         {"outliers left out", std::to_string(r.outliers.size())},
+                         {"not determined by the data (held or by a prior)",
+                          std::to_string(r.unidentifiable.size())}});
   for (const auto& w : r.warnings) page->Paragraph("Warning: " + w);
   for (const auto& p : r.unidentifiable) {
     page->Note((p.prior_sigma > 0

@@ -32,6 +32,13 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
                       const WorkcellEstimate& answer, const HeldParameters& held,
                       const SolverMaker& make_solver);
 
+// Two models' cross-validations on the same recording compared: before.total - after.total,
+// and its standard error. Paired (RmsDifferenceStandardError, statistics.h) when both held out
+// the same rows in the same folds, which the same poses, folds and seed give unless an outlier
+// was left out of one fit; otherwise the two standard errors combined as independent, which
+// overstates it. Like HeldOut::total_se_mm, it takes the rows as independent draws.
+HeldOutGain CompareHeldOut(const HeldOut& before, const HeldOut& after);
+
 // A result scored on a fresh recording of the same cell (a job's `validation_recording:`):
 // prediction - measurement of the carried targets' positions, with the closed-form start and
 // with the answer.

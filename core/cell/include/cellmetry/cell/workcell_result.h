@@ -113,13 +113,32 @@ inline const char* ResidualKindName(ResidualKind kind) {
   return "position";
 }
 
+// One held-out position row: which observation, and its |prediction - measurement|^2 (mm^2).
+struct HeldOutError {
+  int observation = 0;
+  double squared_mm2 = 0.0;
+};
+
 struct HeldOut {
   int folds = 0;
   ResidualRms total;  // target positions, mm
+  // total.norm's standard error, the held-out rows as independent draws (statistics.h). The
+  // folds share most of their training poses, so the rows are not quite independent and no
+  // unbiased estimate of a k-fold figure's variance exists (Bengio & Grandvalet, JMLR 5, 2004):
+  // read it as a lower bound, good for telling a real difference from the rows' own scatter.
+  double total_se_mm = 0.0;
+  std::vector<HeldOutError> errors;  // total's rows, fold by fold, for paired comparisons
   std::map<std::string, ResidualRms> per_camera;
   std::vector<ResidualRms> per_fold;            // the same folds for the same poses and seed
   std::vector<double> per_fold_normalized_rms;  // the same folds in sigmas, over every carried-
                                                 // target row (positions and used rotations)
+};
+
+// How much better one model's cross-validation is than another's (CompareHeldOut, workcell.h).
+struct HeldOutGain {
+  double gain_mm = 0.0;  // before.total.norm - after.total.norm
+  double standard_error_mm = 0.0;
+  bool paired = false;  // the same rows in both
 };
 
 // Fresh positions a result was scored on (prediction - measurement, camera axes).

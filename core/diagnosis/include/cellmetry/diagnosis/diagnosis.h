@@ -302,8 +302,9 @@ struct FitSummary {
   double p_value = 1.0;  // chi-square against the floor
   double rms_mm = 0.0;   // carried targets' positions
   double held_out_rms_mm = 0.0;
-  double held_out_sigma = 0.0;  // held-out RMS in sigmas over every carried-target
-                                // row the fit uses (rotations too)
+  double held_out_rms_se_mm = 0.0;  // HeldOut::total_se_mm
+  double held_out_sigma = 0.0;      // held-out RMS in sigmas over every carried-target
+                                    // row the fit uses (rotations too)
   bool consistent_with_noise() const { return p_value > 0.01; }
 };
 
@@ -312,6 +313,7 @@ struct DiagnosisResult {
   double floor_rms_mm = 0.0;                    // RMS of the noise sigma over the same rows
   FitSummary geometric;                         // the geometry alone
   FitSummary final;                             // with the accepted effects
+  HeldOutGain held_out_gain;                    // geometric -> final held-out RMS
   std::map<std::string, double> durbin_watson;  // axis -> statistic, capture order
   std::vector<RegressorFinding> regressors;     // strongest first
   std::vector<CandidateFinding> untestable;
