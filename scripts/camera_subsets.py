@@ -44,7 +44,10 @@ def row(name, result, robot, tool, placement, tool_z):
     off = " (%.1fσ)" % (abs(z - tool_z) / sz) if tool_z else ""
     cells.append("%.2f ± %.2f%s" % (z, sz, off))
     held_out = result["held_out"]
-    cells.append("%.2f" % held_out["total_mm"]["norm"] if held_out.get("folds", 0) > 0 else "—")
+    if held_out.get("folds", 0) > 0:
+        cells.append("%.2f ± %.2f" % (held_out["total_mm"]["norm"], held_out["total_se_mm"]))
+    else:
+        cells.append("—")
     return "| " + " | ".join(cells) + " |"
 
 
