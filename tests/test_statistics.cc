@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -78,6 +79,15 @@ TEST(Statistics, CorrelationOfACovariance) {
   EXPECT_DOUBLE_EQ(correlation(0, 2), 0.0);
 }
 
+// The sample standard deviation of v: a Monte Carlo's spread.
+double SampleSpread(const std::vector<double>& v) {
+  double mean = 0.0, squares = 0.0;
+  for (double x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  for (double x : v) squares += (x - mean) * (x - mean);
+  return std::sqrt(squares / static_cast<double>(v.size() - 1));
+}
+
 // The standard errors against their own Monte Carlo: 4,000 experiments of 100 points with 3D
 // errors N(0, s^2 I). The spread of the RMS over the experiments is s / sqrt(2 n) in theory, and
 // the mean reported standard error must match that spread. Paired: the same points under a second
@@ -111,17 +121,10 @@ TEST(Statistics, RmsStandardErrorsMatchTheirMonteCarloSpread) {
     gains.push_back(b.rms - a.rms);
     gain_se_sum += RmsDifferenceStandardError(before, after);
   }
-  auto spread = [](const std::vector<double>& v) {
-    double mean = 0.0, squares = 0.0;
-    for (double x : v) mean += x;
-    mean /= v.size();
-    for (double x : v) squares += (x - mean) * (x - mean);
-    return std::sqrt(squares / (v.size() - 1));
-  };
   const double theory = kSigma * std::sqrt(1.25) / std::sqrt(2.0 * kPoints);
-  EXPECT_NEAR(spread(rms), theory, 0.05 * theory);
-  EXPECT_NEAR(se_sum / kExperiments, spread(rms), 0.05 * spread(rms));
-  EXPECT_NEAR(gain_se_sum / kExperiments, spread(gains), 0.05 * spread(gains));
+  EXPECT_NEAR(SampleSpread(rms), theory, 0.05 * theory);
+  EXPECT_NEAR(se_sum / kExperiments, SampleSpread(rms), 0.05 * SampleSpread(rms));
+  EXPECT_NEAR(gain_se_sum / kExperiments, SampleSpread(gains), 0.05 * SampleSpread(gains));
   // Pairing removes what the points share: the gain is known better than the two RMS's own
   // errors, taken as independent, would say.
   EXPECT_LT(gain_se_sum, 0.7 * std::hypot(se_sum, after_se_sum));
@@ -130,6 +133,61 @@ TEST(Statistics, RmsStandardErrorsMatchTheirMonteCarloSpread) {
   EXPECT_TRUE(std::isinf(RmsWithStandardError({4.0}).standard_error));
   EXPECT_DOUBLE_EQ(RmsWithStandardError({4.0}).rms, 2.0);
   EXPECT_THROW(RmsDifferenceStandardError({1.0, 2.0}, {1.0}), std::invalid_argument);
+}
+
+// Errors in groups that move together (a pose seen by three cameras shares the pose's own
+// error): the grouped standard errors match the Monte Carlo spread where the ungrouped ones,
+// taking every error as its own draw, claim too much. With every error its own group, the two
+// forms are one.
+TEST(Statistics, GroupedRmsStandardErrorsMatchTheirMonteCarloSpread) {
+  constexpr int kExperiments = 4000;
+  constexpr int kPoses = 40;
+  constexpr int kRowsPerPose = 3;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> pose_error(0.0, 0.08), row_noise(0.0, 0.03);
+  std::vector<int> group;
+  for (int p = 0; p < kPoses; ++p) group.insert(group.end(), kRowsPerPose, p);
+  std::vector<double> rms, gains;
+  double grouped_se = 0.0, ungrouped_se = 0.0, grouped_gain_se = 0.0;
+  for (int e = 0; e < kExperiments; ++e) {
+    std::vector<double> before, after;
+    for (int p = 0; p < kPoses; ++p) {
+      double shared[3], removed[3];
+      for (int axis = 0; axis < 3; ++axis) {
+        shared[axis] = pose_error(rng);
+        removed[axis] = 0.5 * pose_error(rng);
+      }
+      for (int r = 0; r < kRowsPerPose; ++r) {
+        double b2 = 0.0, a2 = 0.0;
+        for (int axis = 0; axis < 3; ++axis) {
+          const double kept = shared[axis] + row_noise(rng);
+          b2 += (kept + removed[axis]) * (kept + removed[axis]);
+          a2 += kept * kept;
+        }
+        before.push_back(b2);
+        after.push_back(a2);
+      }
+    }
+    const RmsEstimate grouped = RmsWithStandardError(before, group);
+    rms.push_back(grouped.rms);
+    grouped_se += grouped.standard_error;
+    ungrouped_se += RmsWithStandardError(before).standard_error;
+    gains.push_back(grouped.rms - std::sqrt(std::accumulate(after.begin(), after.end(), 0.0) /
+                                            static_cast<double>(after.size())));
+    grouped_gain_se += RmsDifferenceStandardError(before, after, group);
+  }
+  EXPECT_NEAR(grouped_se / kExperiments, SampleSpread(rms), 0.07 * SampleSpread(rms));
+  EXPECT_NEAR(grouped_gain_se / kExperiments, SampleSpread(gains), 0.07 * SampleSpread(gains));
+  EXPECT_LT(ungrouped_se / kExperiments, 0.8 * SampleSpread(rms));
+
+  const std::vector<double> a = {1.0, 4.0, 2.5, 0.3}, b = {0.5, 3.0, 2.0, 0.1};
+  EXPECT_DOUBLE_EQ(RmsWithStandardError(a, {7, 3, 9, 1}).standard_error,
+                   RmsWithStandardError(a).standard_error);
+  EXPECT_DOUBLE_EQ(RmsDifferenceStandardError(a, b, {7, 3, 9, 1}),
+                   RmsDifferenceStandardError(a, b));
+  EXPECT_TRUE(std::isinf(RmsWithStandardError(a, {2, 2, 2, 2}).standard_error));
+  EXPECT_THROW(RmsWithStandardError(a, {1, 2}), std::invalid_argument);
+  EXPECT_THROW(RmsDifferenceStandardError(a, b, {1}), std::invalid_argument);
 }
 
 TEST(Text, JoinAndMillimetres) {

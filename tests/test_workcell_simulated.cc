@@ -197,10 +197,11 @@ TEST(SimulatedUr3, ResultListsEveryStageWithItsTimeAndMemory) {
   EXPECT_EQ(WorkcellResultJson(result)["stages"].size(), names.size());
 }
 
-// The held-out RMS carries a standard error from its own rows: on Gaussian camera noise it is
-// what theory gives for the rows' per-axis spread, sqrt(2 sum a_i^4) / (2 RMS sqrt(n)), and the
-// rows kept for pairing are the ones the RMS is of. A model compared with itself gains 0 +- 0.
-TEST(SimulatedUr3, HeldOutRmsCarriesTheStandardErrorOfItsRows) {
+// The held-out RMS carries a standard error from its own poses: where their rows are
+// independent (camera noise alone, one capture per pose) it is what theory gives for the rows'
+// per-axis spread, sqrt(2 sum a_i^4) / (2 RMS sqrt(n)), and the rows kept for pairing are the
+// ones the RMS is of. A model compared with itself gains 0 +- 0.
+TEST(SimulatedUr3, HeldOutRmsCarriesTheStandardErrorOfItsPoses) {
   WorkcellSimulationSpec sim = TwoCameraSpec(13);
   sim.sigma_position_mm = {0.1, 0.1, 0.4};
   sim.sigma_rotation_rad = {1e-3, 1e-3, 1e-3};

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -51,6 +52,44 @@ double StandardErrorOfMean(const std::vector<double>& v) {
   double squares = 0.0;
   for (double x : v) squares += (x - mean) * (x - mean);
   return std::sqrt(squares / (n - 1.0) / n);
+}
+
+std::vector<int> EachItsOwnGroup(size_t count) {
+  std::vector<int> group(count);
+  std::iota(group.begin(), group.end(), 0);
+  return group;
+}
+
+void CheckOnePerError(const char* function, size_t errors, size_t groups) {
+  if (errors != groups) {
+    throw std::invalid_argument(std::string(function) + ": " + std::to_string(groups) +
+                                " groups for " + std::to_string(errors) + " errors");
+  }
+}
+
+// Each group's linearised share of the mean square m = sum e^2 / n: (its sum of e^2 - m times
+// its count) over the mean group size, in the order the groups first appear. Their mean is 0;
+// their variance over their count is the mean square's.
+std::vector<double> GroupShares(const std::vector<double>& squared, const std::vector<int>& group,
+                                double mean_square) {
+  std::map<int, size_t> index_of;
+  std::vector<double> sums;
+  std::vector<double> counts;
+  for (size_t i = 0; i < squared.size(); ++i) {
+    const auto [it, added] = index_of.emplace(group[i], sums.size());
+    if (added) {
+      sums.push_back(0.0);
+      counts.push_back(0.0);
+    }
+    sums[it->second] += squared[i];
+    counts[it->second] += 1.0;
+  }
+  const double mean_size = static_cast<double>(squared.size()) / static_cast<double>(sums.size());
+  std::vector<double> shares(sums.size());
+  for (size_t g = 0; g < sums.size(); ++g) {
+    shares[g] = (sums[g] - mean_square * counts[g]) / mean_size;
+  }
+  return shares;
 }
 
 }  // namespace
@@ -131,32 +170,53 @@ MeanInterval TInterval95(const std::vector<double>& values) {
 }
 
 RmsEstimate RmsWithStandardError(const std::vector<double>& squared_errors) {
+  return RmsWithStandardError(squared_errors, EachItsOwnGroup(squared_errors.size()));
+}
+
+RmsEstimate RmsWithStandardError(const std::vector<double>& squared_errors,
+                                 const std::vector<int>& group) {
+  CheckOnePerError("RmsWithStandardError", squared_errors.size(), group.size());
   if (squared_errors.empty()) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     return {nan, nan};
   }
   RmsEstimate e;
-  e.rms = std::sqrt(MeanOf(squared_errors));
+  const double mean_square = MeanOf(squared_errors);
+  e.rms = std::sqrt(mean_square);
   // d sqrt(m) / dm = 1 / (2 sqrt(m)), times the standard error of the mean square m.
-  e.standard_error = e.rms > 0.0 ? StandardErrorOfMean(squared_errors) / (2.0 * e.rms)
-                                 : std::numeric_limits<double>::infinity();
+  e.standard_error =
+      e.rms > 0.0
+          ? StandardErrorOfMean(GroupShares(squared_errors, group, mean_square)) / (2.0 * e.rms)
+          : std::numeric_limits<double>::infinity();
   return e;
 }
 
 double RmsDifferenceStandardError(const std::vector<double>& before_squared,
                                   const std::vector<double>& after_squared) {
+  return RmsDifferenceStandardError(before_squared, after_squared,
+                                    EachItsOwnGroup(before_squared.size()));
+}
+
+double RmsDifferenceStandardError(const std::vector<double>& before_squared,
+                                  const std::vector<double>& after_squared,
+                                  const std::vector<int>& group) {
   if (before_squared.size() != after_squared.size()) {
     throw std::invalid_argument(
         "RmsDifferenceStandardError: " + std::to_string(before_squared.size()) +
         " points against " + std::to_string(after_squared.size()));
   }
+  CheckOnePerError("RmsDifferenceStandardError", before_squared.size(), group.size());
   if (before_squared.size() < 2) return std::numeric_limits<double>::infinity();
-  const double rms_before = std::sqrt(MeanOf(before_squared));
-  const double rms_after = std::sqrt(MeanOf(after_squared));
+  const double before_mean_square = MeanOf(before_squared);
+  const double after_mean_square = MeanOf(after_squared);
+  const double rms_before = std::sqrt(before_mean_square);
+  const double rms_after = std::sqrt(after_mean_square);
   if (rms_before <= 0.0 || rms_after <= 0.0) return std::numeric_limits<double>::infinity();
-  std::vector<double> paired(before_squared.size());
-  for (size_t i = 0; i < paired.size(); ++i) {
-    paired[i] = before_squared[i] / (2.0 * rms_before) - after_squared[i] / (2.0 * rms_after);
+  const std::vector<double> before = GroupShares(before_squared, group, before_mean_square);
+  const std::vector<double> after = GroupShares(after_squared, group, after_mean_square);
+  std::vector<double> paired(before.size());
+  for (size_t g = 0; g < paired.size(); ++g) {
+    paired[g] = before[g] / (2.0 * rms_before) - after[g] / (2.0 * rms_after);
   }
   return StandardErrorOfMean(paired);
 }

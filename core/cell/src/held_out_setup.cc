@@ -89,6 +89,7 @@ std::map<std::string, std::vector<double>> NominalModels(const WorkcellProblem& 
 // offset in the problem's residuals and its sigma.
 struct PositionRow {
   int sample = 0;
+  int pose = 0;
   std::string camera, target;
   Eigen::Vector3d error_mm;
   int row = 0;
@@ -107,7 +108,7 @@ std::vector<PositionRow> CarriedPositionRows(const AssembledWorkcell& assembled,
       continue;
     }
     const int row = problem.residual_rows()[b];
-    rows.push_back({label.sample, label.camera, label.target,
+    rows.push_back({label.sample, label.pose, label.camera, label.target,
                     r.segment<3>(row).cwiseProduct(info.sigma), row, info.sigma});
   }
   return rows;
@@ -264,12 +265,18 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
   *joint = JointUncertainty(registered.uncertainty, free_columns, S);
   for (const PositionRow& row : CarriedPositionRows(*on_scored, r_scored, held_out)) {
     const Eigen::MatrixXd G_p = row.sigma_mm.asDiagonal() * G.middleRows(row.row, 3);
-    HeldOutPoint point{row.sample, row.camera, row.target, row.error_mm, {}, 0.0};
+    HeldOutPoint point{row.sample, row.pose, row.camera, row.target, row.error_mm, {}, 0.0};
     point.covariance_mm2 = G_p * S * G_p.transpose();
     point.covariance_mm2.diagonal() += dispersion * row.sigma_mm.cwiseAbs2();
     point.normalized_squared = row.error_mm.dot(point.covariance_mm2.ldlt().solve(row.error_mm));
     score->points.push_back(point);
   }
+}
+
+std::vector<int> PoseOfEachPoint(const HeldOutSetupScore& score) {
+  std::vector<int> poses;
+  for (const HeldOutPoint& p : score.points) poses.push_back(p.pose);
+  return poses;
 }
 
 void Summarize(HeldOutSetupScore* score) {
@@ -288,7 +295,7 @@ void Summarize(HeldOutSetupScore* score) {
   }
   const double n = static_cast<double>(points.size());
   score->mean_mm = sum / n;
-  const RmsEstimate rms = RmsWithStandardError(SquaredErrors(*score));
+  const RmsEstimate rms = RmsWithStandardError(SquaredErrors(*score), PoseOfEachPoint(*score));
   score->rms_mm = rms.rms;
   score->rms_se_mm = rms.standard_error;
   score->mean_normalized = normalized / n;
@@ -314,7 +321,8 @@ double RmsGainStandardError(const HeldOutSetupScore& before, const HeldOutSetupS
       throw std::invalid_argument("RmsGainStandardError: scores of different points");
     }
   }
-  return RmsDifferenceStandardError(SquaredErrors(before), SquaredErrors(after));
+  return RmsDifferenceStandardError(SquaredErrors(before), SquaredErrors(after),
+                                    PoseOfEachPoint(before));
 }
 
 std::vector<int> SelectRegistrationPoses(const Recording& recording,

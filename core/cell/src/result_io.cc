@@ -86,6 +86,7 @@ nlohmann::json HeldOutSetupJson(const HeldOutSetupScore& v) {
   nlohmann::json points = nlohmann::json::array();
   for (const HeldOutPoint& p : v.points) {
     points.push_back({{"sample", p.sample},
+                      {"pose", p.pose},
                       {"camera", p.camera},
                       {"target", p.target},
                       {"error_mm", {p.error_mm.x(), p.error_mm.y(), p.error_mm.z()}},

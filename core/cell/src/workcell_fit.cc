@@ -231,7 +231,7 @@ void AddFold(const std::vector<ResidualRow>& held_out, HeldOut* out) {
     normalized_rows += 3;
     if (row.kind != ResidualKind::kPosition) continue;
     out->total.Add(row.error);
-    out->errors.push_back({row.observation, row.error.squaredNorm()});
+    out->errors.push_back({row.observation, row.pose, row.error.squaredNorm()});
     out->per_camera[row.camera].Add(row.error);
     fold.Add(row.error);
   }
@@ -246,6 +246,13 @@ std::vector<double> SquaredErrorsOf(const HeldOut& held_out) {
   squared.reserve(held_out.errors.size());
   for (const HeldOutError& e : held_out.errors) squared.push_back(e.squared_mm2);
   return squared;
+}
+
+std::vector<int> PoseOfEachError(const HeldOut& held_out) {
+  std::vector<int> poses;
+  poses.reserve(held_out.errors.size());
+  for (const HeldOutError& e : held_out.errors) poses.push_back(e.pose);
+  return poses;
 }
 
 bool SameRows(const HeldOut& a, const HeldOut& b) {
@@ -263,7 +270,8 @@ HeldOutGain CompareHeldOut(const HeldOut& before, const HeldOut& after) {
   gain.gain_mm = before.total.norm - after.total.norm;
   gain.paired = SameRows(before, after) && before.errors.size() >= 2;
   gain.standard_error_mm =
-      gain.paired ? RmsDifferenceStandardError(SquaredErrorsOf(before), SquaredErrorsOf(after))
+      gain.paired ? RmsDifferenceStandardError(SquaredErrorsOf(before), SquaredErrorsOf(after),
+                                               PoseOfEachError(before))
                   : std::hypot(before.total_se_mm, after.total_se_mm);
   return gain;
 }
@@ -295,8 +303,10 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
   });
   for (const std::vector<ResidualRow>& fold : held_out) AddFold(fold, &out);
   out.total.Finish();
-  if (out.errors.size() >= 2)
-    out.total_se_mm = RmsWithStandardError(SquaredErrorsOf(out)).standard_error;
+  if (!out.errors.empty()) {
+    out.total_se_mm =
+        RmsWithStandardError(SquaredErrorsOf(out), PoseOfEachError(out)).standard_error;
+  }
   for (auto& [camera, rms] : out.per_camera) rms.Finish();
   return out;
 }

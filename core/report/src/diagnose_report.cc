@@ -140,7 +140,7 @@ std::string DiagnoseReportHtml(const DiagnosisResult& r, const Recording& record
     page.Paragraph("The accepted effects take " + Num(r.held_out_gain.gain_mm, 3) + " ± " +
                    Num(r.held_out_gain.standard_error_mm, 2) + " mm off the held-out RMS (" +
                    (r.held_out_gain.paired ? "paired: the same rows" : "unpaired") +
-                   "). Each ± takes the held-out rows as independent; the folds share training "
+                   "). Each ± takes the held-out poses as independent; the folds share training "
                    "poses, so read it as a lower bound.");
   }
   page.Paragraph("Noise floor: " + r.noise_source + ", " + Num(r.floor_rms_mm, 3) + " mm RMS. " +

@@ -63,6 +63,17 @@ struct RmsEstimate {
 };
 RmsEstimate RmsWithStandardError(const std::vector<double>& squared_errors);
 
+// The same with the errors in groups that move together (a pose's rows: its cameras, its
+// repeated captures, all sharing the pose's own error): `group[i]` is error i's group, and the
+// groups, not the errors, are the independent draws. The mean square is then the ratio
+// sum e^2 / n over groups, its variance by linearising it about its value: the groups'
+// sum e^2 - RMS^2 n, over the mean group size, have that variance over their count (Cochran,
+// Sampling Techniques, 3rd ed., section 6.4, the ratio estimate). With every error its own
+// group, the ungrouped standard error. Unbounded for fewer than two groups; throws
+// std::invalid_argument when `group` is not one per error.
+RmsEstimate RmsWithStandardError(const std::vector<double>& squared_errors,
+                                 const std::vector<int>& group);
+
 // The same n points scored by two models, squares `before` and `after` in the same order: the
 // standard error of RMS_before - RMS_after, by the delta method on the paired differences
 // e_before^2 / (2 RMS_before) - e_after^2 / (2 RMS_after). Pairing removes what the points share
@@ -71,6 +82,12 @@ RmsEstimate RmsWithStandardError(const std::vector<double>& squared_errors);
 // counts differ.
 double RmsDifferenceStandardError(const std::vector<double>& before_squared,
                                   const std::vector<double>& after_squared);
+
+// The same with the points in groups, as RmsWithStandardError above: each group's linearised
+// share of RMS_before minus its share of RMS_after, over the groups.
+double RmsDifferenceStandardError(const std::vector<double>& before_squared,
+                                  const std::vector<double>& after_squared,
+                                  const std::vector<int>& group);
 
 // The correlation matrix of a covariance: C(i, j) / (sigma_i sigma_j) with sigma the square
 // roots of the diagonal (negative round-off taken as 0). An entry without spread (sigma 0) is

@@ -30,7 +30,8 @@
 // The RMS is itself an estimate from the scored poses, and carries its standard error (the
 // delta method over the points' squared errors, statistics.h); two models scored on the same
 // poses compare by the paired standard error of their difference (RmsGainStandardError). Both
-// take the points as independent draws: the error the registration leaves in the frames is
+// take the poses as independent draws (a pose's points, its cameras and repeated captures, count
+// together: statistics.h's grouped form): the error the registration leaves in the frames is
 // shared by every point and is not in them.
 #pragma once
 

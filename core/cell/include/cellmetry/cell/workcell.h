@@ -36,7 +36,7 @@ HeldOut CrossValidate(const WorkcellProblem& spec, const Recording& recording,
 // and its standard error. Paired (RmsDifferenceStandardError, statistics.h) when both held out
 // the same rows in the same folds, which the same poses, folds and seed give unless an outlier
 // was left out of one fit; otherwise the two standard errors combined as independent, which
-// overstates it. Like HeldOut::total_se_mm, it takes the rows as independent draws.
+// overstates it. Like HeldOut::total_se_mm, it takes the poses as independent draws.
 HeldOutGain CompareHeldOut(const HeldOut& before, const HeldOut& after);
 
 // A result scored on a fresh recording of the same cell (a job's `validation_recording:`):

@@ -113,19 +113,22 @@ inline const char* ResidualKindName(ResidualKind kind) {
   return "position";
 }
 
-// One held-out position row: which observation, and its |prediction - measurement|^2 (mm^2).
+// One held-out position row: which observation of which pose, and its
+// |prediction - measurement|^2 (mm^2).
 struct HeldOutError {
   int observation = 0;
+  int pose = 0;
   double squared_mm2 = 0.0;
 };
 
 struct HeldOut {
   int folds = 0;
   ResidualRms total;  // target positions, mm
-  // total.norm's standard error, the held-out rows as independent draws (statistics.h). The
-  // folds share most of their training poses, so the rows are not quite independent and no
+  // total.norm's standard error, the held-out poses as independent draws (a pose's rows, its
+  // cameras and repeated captures, share its error: statistics.h's grouped form). The folds
+  // share most of their training poses, so even poses are not quite independent and no
   // unbiased estimate of a k-fold figure's variance exists (Bengio & Grandvalet, JMLR 5, 2004):
-  // read it as a lower bound, good for telling a real difference from the rows' own scatter.
+  // read it as a lower bound, good for telling a real difference from the poses' own scatter.
   double total_se_mm = 0.0;
   std::vector<HeldOutError> errors;  // total's rows, fold by fold, for paired comparisons
   std::map<std::string, ResidualRms> per_camera;
@@ -153,6 +156,7 @@ struct RecordingScore {
 // One scored point: prediction - measurement and its predicted covariance, camera axes.
 struct HeldOutPoint {
   int sample = 0;
+  int pose = 0;  // the sample's pose: captures of one pose share its error
   std::string camera;
   std::string target;
   Eigen::Vector3d error_mm = Eigen::Vector3d::Zero();
