@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "cellmetry/cell/outliers.h"
+#include "cellmetry/cell/workcell.h"
 #include "cellmetry/formats/atomic_file.h"
 #include "cellmetry/formats/fixed_number.h"
 #include "result_yaml.h"
@@ -370,7 +371,13 @@ nlohmann::json WorkcellResultJson(const WorkcellResult& r) {
   for (const auto& [key, rms] : r.rotation_rms)
     j["residual_rms"]["rotation_rad"][key] = RmsJson(rms);
   j["held_out"] = HeldOutJson(r.held_out);
-  for (const auto& [model, h] : r.other_models) j["other_models"][model] = HeldOutJson(h);
+  for (const auto& [model, h] : r.other_models) {
+    nlohmann::json& other = j["other_models"][model] = HeldOutJson(h);
+    const HeldOutGain against_this = CompareHeldOut(h, r.held_out);
+    other["difference_mm"] = against_this.gain_mm;
+    other["difference_se_mm"] = against_this.standard_error_mm;
+    other["difference_paired"] = against_this.paired;
+  }
   j["cameras_left_out"] = CamerasLeftOutJson(r.cameras_left_out);
   j["unused_cameras"] = r.unused_cameras;
   j["undetermined"] = nlohmann::json::array();
@@ -547,7 +554,12 @@ void PrintFitQuality(const WorkcellResult& r, std::ostringstream& out) {
         << "-fold by pose): " << FixedNumber(r.held_out.total.norm, 3) << " +- "
         << FixedNumber(r.held_out.total_se_mm, 3) << " mm";
     for (const auto& [model, h] : r.other_models) {
-      out << "; " << model << " model: " << FixedNumber(h.total.norm, 3) << " mm";
+      const HeldOutGain against_this = CompareHeldOut(h, r.held_out);
+      out << "; " << model << " model: " << FixedNumber(h.total.norm, 3) << " mm ("
+          << FixedNumber(std::abs(against_this.gain_mm), 3) << " +- "
+          << FixedNumber(against_this.standard_error_mm, 3) << " mm "
+          << (against_this.gain_mm >= 0 ? "worse" : "better")
+          << (against_this.paired ? ", paired" : "") << ")";
     }
     const double floor = NoiseFloorMm(r);
     out << "; noise floor "
