@@ -37,6 +37,7 @@ const std::vector<std::string>& EffectConfigs() {
       "{type: backlash, joints: [2, 3], held_by: gravity, link_masses_kg: [2, 3, 1, 1, 1, 0.3]}",
       "{type: transmission_error, joints: [1, 4], harmonics: [1, 2, 5]}",
       "{type: joint_scale}",
+      "{type: joint_coupling, joints: [5, 6], from: 4}",
       "{type: thermal_drift, reference_c: 20}",
       "{type: thermal_drift, model: warmup, time_constant_s: 600}",
       "{type: depth_bias, cameras: [cam1, cam2]}",

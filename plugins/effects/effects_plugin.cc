@@ -1,7 +1,8 @@
 // Registers the effect library: joint_compliance, backlash, transmission_error, joint_scale,
-// thermal_drift, depth_bias, detection_bias, target_scale, camera_intrinsics, target_tilt,
-// world_frame, platform_tilt, ball_joint_clearance (one header each says its physics), and the
-// physics finder's candidates among them (default_candidates.h).
+// joint_coupling, thermal_drift, depth_bias, detection_bias, target_scale, camera_intrinsics,
+// target_tilt, world_frame, platform_tilt, ball_joint_clearance (one header each says its physics),
+// and the physics finder's candidates among them (default_candidates.h).
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "depth_bias.h"
 #include "detection_bias.h"
 #include "joint_compliance.h"
+#include "joint_coupling.h"
 #include "joint_scale.h"
 #include "joint_selection.h"
 #include "platform_tilt.h"
@@ -75,6 +77,24 @@ std::unique_ptr<Effect> CreateTransmission(const ConfigNode& config, const Robot
 std::unique_ptr<Effect> CreateScale(const ConfigNode& config, const RobotModel& robot) {
   config.ExpectKeys({"type", "joints"});
   return std::make_unique<JointScale>(SelectJoints(config, robot));
+}
+
+std::unique_ptr<Effect> CreateCoupling(const ConfigNode& config, const RobotModel& robot) {
+  config.ExpectKeys({"type", "joints", "from"});
+  if (!config.Has("joints") || !config.Has("from")) {
+    throw config.Error("names the driven joints and the driving one", "e.g. joints: [6], from: 5");
+  }
+  const std::vector<int> driven = SelectJoints(config, robot);
+  const int from = config["from"].AsInt();
+  if (from < 1 || from > robot.num_joints()) {
+    throw config["from"].Error("no joint " + std::to_string(from) + " on a " +
+                                   std::to_string(robot.num_joints()) + "-joint robot",
+                               "Joints are numbered from 1");
+  }
+  if (std::find(driven.begin(), driven.end(), from - 1) != driven.end()) {
+    throw config["from"].Error("a joint does not couple to itself", "e.g. joints: [6], from: 5");
+  }
+  return std::make_unique<JointCoupling>(driven, from - 1);
 }
 
 std::unique_ptr<Effect> CreateThermal(const ConfigNode& config, const RobotModel&) {
@@ -277,6 +297,10 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
       &fx::CreateTransmission);
   registry->AddEffect(Info("joint_scale", "gear ratio error: dq_i = s_i q_i", {joints}),
                       &fx::CreateScale);
+  registry->AddEffect(Info("joint_coupling", "joints turning with another: dq_i = k_i q_from",
+                           {{"joints", "", "", "1-based joints it turns"},
+                            {"from", "", "", "1-based joint whose reading turns them"}}),
+                      &fx::CreateCoupling);
   registry->AddEffect(Info("thermal_drift",
                            "links growing with temperature or warm-up time (flange distance scale)",
                            {{"model", "", "temperature", "temperature | warmup"},

@@ -1,8 +1,9 @@
 // Constructors and descriptions of the joint effects (joint_compliance.h, backlash.h,
-// transmission_error.h, joint_scale.h).
+// transmission_error.h, joint_scale.h, joint_coupling.h).
 #include "backlash.h"
 #include "describe.h"
 #include "joint_compliance.h"
+#include "joint_coupling.h"
 #include "joint_scale.h"
 #include "joint_selection.h"
 #include "transmission_error.h"
@@ -105,6 +106,28 @@ JointScale::JointScale(std::vector<int> joints) : joints_(std::move(joints)) {
 std::string JointScale::Describe(const std::vector<double>& params) const {
   return WithParameters(JointsInWords(joints_) + " gear ratio (joint scale) error", parameters_,
                         params);
+}
+
+JointCoupling::JointCoupling(std::vector<int> driven_joints, int driving_joint)
+    : driven_joints_(std::move(driven_joints)), driving_joint_(driving_joint) {
+  for (int j : driven_joints_) {
+    parameters_.push_back({JointName(j) + ".coupling_" + JointName(driving_joint_),
+                           "1",
+                           0.0,
+                           false,
+                           {},
+                           {},
+                           {},
+                           "rad it turns per rad of joint " + std::to_string(driving_joint_ + 1),
+                           {}});
+    parameters_.back().plausible = 5e-3;  // as a gear ratio's error
+  }
+}
+
+std::string JointCoupling::Describe(const std::vector<double>& params) const {
+  return WithParameters(
+      JointsInWords(driven_joints_) + " coupled to joint " + std::to_string(driving_joint_ + 1),
+      parameters_, params);
 }
 
 }  // namespace cellmetry::effects
