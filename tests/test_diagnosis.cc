@@ -134,6 +134,38 @@ TEST_F(Diagnosis, PrintedBoardSizeIsNamedAsTheTarget) {
               3 * d.accepted.front().parameters.at(0).sigma);
 }
 
+// A wrist whose joint 6 turns with joint 5 (its shaft runs through joint 5, and the controller's
+// coupling ratio is off by 3 mrad/rad): named as that coupling, among the wrist's three, once the
+// job says the drives couple them.
+TEST_F(Diagnosis, WristCouplingTheJobNamesIsFound) {
+  job_.options.joint_couplings = {{4, 5}, {4, 6}, {5, 6}};
+  const WorkcellSimulationSpec spec =
+      WithHidden(base_, "{type: joint_coupling, joints: [6], from: 5}", {3e-3});
+  const DiagnosisResult d = Diagnose(SimulateWorkcell(spec, nullptr));
+  ASSERT_FALSE(d.accepted.empty()) << DiagnosisReport(d);
+  EXPECT_EQ(d.accepted.front().name, "ur3.coupling_j6_j5") << DiagnosisReport(d);
+  EXPECT_EQ(d.accepted.front().site, "ur3 joint 6");
+  EXPECT_NEAR(d.accepted.front().parameters.at(0).value, 3e-3,
+              3 * d.accepted.front().parameters.at(0).sigma);
+  EXPECT_THAT(DiagnosisReport(d), HasSubstr("joint 6 coupled to joint 5"));
+}
+
+// Couplings are pairs of two different joints the cell's robots have; anything else is refused
+// at its line in the job.
+TEST_F(Diagnosis, JointCouplingsTheRobotCannotHaveAreRefusedAtTheirLine) {
+  const std::string job = testing::ReadText(dir_ + "/job.yaml");
+  for (const auto& [couplings, words] : std::vector<std::pair<std::string, std::string>>{
+           {"[[5, 5]]", "does not couple to itself"},
+           {"[[5, 7]]", "no joint 7 on the cell's robots"},
+           {"[[4, 5, 6]]", "a coupling is two joints"}}) {
+    testing::WriteText(dir_ + "/bad.yaml", job + "  joint_couplings: " + couplings + "\n");
+    const InputError e = testing::CatchInputError(
+        [&] { LoadDiagnosisJob(dir_ + "/bad.yaml", testing::Plugins(), false); });
+    EXPECT_THAT(e.message(), HasSubstr(words)) << couplings;
+    EXPECT_THAT(e.what(), HasSubstr("bad.yaml:")) << couplings;
+  }
+}
+
 // A joint 3 transmission error ten times what a harmonic drive has: the finder may see its
 // signature but must not name a transmission error of that size (the 2020 recording's 22 mrad).
 TEST_F(Diagnosis, ImplausibleSizeIsNeverReportedAsThatPhysics) {

@@ -1,10 +1,11 @@
 // The effect library's default candidates (default_candidates.h), in the order the finder lists
-// them: per robot its joints, rod pairs and thermal growth; then per camera and per target what
-// they get wrong; then the world tag's frame; then, when asked, the causes shared by every camera
-// or target.
+// them: per robot its joints, the couplings the job names, rod pairs and thermal growth; then per
+// camera and per target what they get wrong; then the world tag's frame; then, when asked, the
+// causes shared by every camera or target.
 #include "default_candidates.h"
 
 #include <algorithm>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -85,6 +86,22 @@ void AddJointCandidates(const CandidateCell::Robot& robot, const std::string& ma
     }
     out->push_back(Offer("{type: joint_scale, joints: [" + J + "]}", prefix + "scale_j" + J,
                          robot.name, joint + " gear ratio error", "a wider range of " + joint));
+  }
+}
+
+// Per coupling the job names (a wrist whose driven joint's shaft runs through the driving one),
+// on each robot that has both joints.
+void AddCouplingCandidates(const CandidateCell::Robot& robot,
+                           const std::vector<std::array<int, 2>>& couplings,
+                           std::vector<OfferedCandidate>* out) {
+  for (const auto& [driving, driven] : couplings) {
+    if (std::max(driving, driven) > robot.model->num_joints()) continue;
+    const std::string from = std::to_string(driving), to = std::to_string(driven);
+    out->push_back(Offer("{type: joint_coupling, joints: [" + to + "], from: " + from + "}",
+                         robot.name + ".coupling_j" + to + "_j" + from, robot.name,
+                         "joint " + to + " coupled to joint " + from,
+                         "a wider range of joint " + from + " with joint " + to +
+                             " seen turning (a rotation or an off-axis target)"));
   }
 }
 
@@ -258,6 +275,7 @@ std::vector<OfferedCandidate> OfferCandidates(const CandidateCell& cell) {
   const std::string masses = JoinedNumbers(cell.link_masses_kg);
   for (const CandidateCell::Robot& robot : cell.robots) {
     AddJointCandidates(robot, masses, harmonics, &out);
+    AddCouplingCandidates(robot, cell.joint_couplings, &out);
     AddParallelLinkCandidates(robot, &out);
     AddThermalCandidates(robot, cell, &out);
   }

@@ -30,6 +30,7 @@ CandidateCell CellOf(const WorkcellProblem& spec, const Recording& recording,
   }
   cell.link_masses_kg = options.link_masses_kg;
   cell.gear_harmonics = options.gear_harmonics;
+  cell.joint_couplings = options.joint_couplings;
   cell.group_candidates = options.group_candidates;
   return cell;
 }

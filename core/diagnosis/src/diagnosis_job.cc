@@ -2,7 +2,41 @@
 // the candidate effects it lists (the default library when it lists none).
 #include "cellmetry/diagnosis/diagnosis_job.h"
 
+#include <algorithm>
+#include <string>
+#include <vector>
+
 namespace cellmetry {
+namespace {
+
+// `joint_couplings: [[5, 6]]`: pairs of distinct joints, {driving, driven}, that some robot of
+// the cell has.
+void ReadJointCouplings(const ConfigNode& list, const WorkcellProblem& spec,
+                        DiagnosisOptions* options) {
+  int most_joints = 0;
+  for (const WorkcellRobot& robot : spec.robots) {
+    most_joints = std::max(most_joints, robot.model->num_joints());
+  }
+  for (const auto& pair : list.Elements()) {
+    const std::vector<ConfigNode> joints = pair.Elements();
+    if (joints.size() != 2) {
+      throw pair.Error("a coupling is two joints, [driving, driven]", "e.g. [5, 6]");
+    }
+    const int driving = joints[0].AsInt(), driven = joints[1].AsInt();
+    for (const ConfigNode& joint : joints) {
+      const int j = joint.AsInt();
+      if (j < 1 || j > most_joints) {
+        throw joint.Error("no joint " + std::to_string(j) + " on the cell's robots (" +
+                              std::to_string(most_joints) + " joints at most)",
+                          "Joints are numbered from 1");
+      }
+    }
+    if (driving == driven) throw pair.Error("a joint does not couple to itself", "e.g. [5, 6]");
+    options->joint_couplings.push_back({driving, driven});
+  }
+}
+
+}  // namespace
 
 DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
                               bool recording_must_exist) {
@@ -12,9 +46,9 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   if (!root.Has("diagnosis")) return job;
   const ConfigNode d = root["diagnosis"];
   d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "selection_test", "rival_draws", "folds",
-                "max_effects", "min_poses", "link_masses_kg", "gear_harmonics", "candidates",
-                "refits", "min_unabsorbed", "alias_correlation", "min_explained_share",
-                "min_group_share", "shape_correlation", "group_candidates"});
+                "max_effects", "min_poses", "link_masses_kg", "gear_harmonics", "joint_couplings",
+                "candidates", "refits", "min_unabsorbed", "alias_correlation",
+                "min_explained_share", "min_group_share", "shape_correlation", "group_candidates"});
   DiagnosisOptions& o = job.options;
   o.alpha = d.GetDouble("alpha", o.alpha);
   // Each resample is a selection of its own: beyond 10,000 the run is hours and the share's
@@ -75,6 +109,7 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
       o.gear_harmonics.push_back(value);
     }
   }
+  if (d.Has("joint_couplings")) ReadJointCouplings(d["joint_couplings"], job.workcell.problem, &o);
   if (d.Has("candidates")) {
     for (const auto& c : d["candidates"].Elements()) job.candidate_configs.push_back(c);
   }

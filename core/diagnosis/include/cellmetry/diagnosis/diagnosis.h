@@ -76,6 +76,7 @@
 // (plugins/effects/default_candidates.cc).
 #pragma once
 
+#include <array>
 #include <map>
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
@@ -127,6 +128,9 @@ struct DiagnosisOptions {
   int min_poses = 20;                  // fewer: too few samples for the tests
   std::vector<double> link_masses_kg;  // gravity-torque regressor (default 1 kg per link)
   std::vector<int> gear_harmonics;     // of the drives, beyond 1 and 2 (e.g. a gearbox's stages)
+  // Joints the drives couple mechanically, {driving, driven} and 1-based (a Staubli wrist's
+  // {5, 6}): each offered as the coupling the controller may take out wrongly.
+  std::vector<std::array<int, 2>> joint_couplings;
 };
 
 // One candidate: an effect plugin instance on one joint, camera or the whole arm.
@@ -332,8 +336,8 @@ struct DiagnosisResult {
 
 // The default candidate list for `spec`'s robots and `recording`'s cameras: every candidate the
 // registry's effect plugins offer (Registry::candidate_offers), built by the registry; the
-// offers see `options.link_masses_kg` (empty: 1 kg per link), `options.gear_harmonics` and
-// `options.group_candidates`.
+// offers see `options.link_masses_kg` (empty: 1 kg per link), `options.gear_harmonics`,
+// `options.joint_couplings` and `options.group_candidates`.
 std::vector<CandidateEffect> DefaultCandidates(const WorkcellProblem& spec,
                                                const Recording& recording,
                                                const DiagnosisOptions& options, Registry& registry);

@@ -10,6 +10,7 @@
 //     min_poses: 20
 //     link_masses_kg: [2.0, 3.42, 1.26, 0.8, 0.8, 0.35]   # the gravity-torque regressor
 //     gear_harmonics: [3, 7] # of the drives: joined to 1 and 2 in each joint's transmission
+//     joint_couplings: [[5, 6]]  # joints the drives couple (driving, driven): offered too
 //     candidate candidates:            # default: the whole library on every joint and camera
 //       - {type: backlash, joints: [2]}
 //

@@ -8,6 +8,7 @@
 // arm), names them, and says what data would make one testable.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -32,6 +33,7 @@ struct CandidateCell {
   bool times = false;                  // some sample has a time
   std::vector<double> link_masses_kg;  // the job's (empty: each model's own, or 1 kg a link)
   std::vector<int> gear_harmonics;     // of the drives beyond 1 and 2 (the job's)
+  std::vector<std::array<int, 2>> joint_couplings;  // {driving, driven}, 1-based (the job's)
   // Offer too the candidates that act on every camera or target at once (one cause shared).
   bool group_candidates = false;
 };
