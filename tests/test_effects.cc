@@ -319,6 +319,26 @@ TEST(Effects, BacklashHeldByGravityFollowsTheTorqueNotTheMove) {
   EXPECT_THROW(MakeEffect("{type: backlash, held_by: friction}", *ur3), InputError);
 }
 
+// A coupling turns the driven joints by k times the driving joint's reading and touches nothing
+// else; a pair the arm cannot have is refused in words.
+TEST(Effects, CouplingTurnsTheDrivenJointsWithTheDrivingOne) {
+  const auto ur3 = Ur3();
+  ContextFixture fixture(*ur3);
+  const auto coupling = MakeEffect("{type: joint_coupling, joints: [5, 6], from: 4}", *ur3);
+  const std::vector<double> k = {2e-3, -3e-3};
+  const std::vector<double> dq = Values(*coupling, fixture.context, k);
+  EXPECT_DOUBLE_EQ(dq[4], k[0] * fixture.q[3]);
+  EXPECT_DOUBLE_EQ(dq[5], k[1] * fixture.q[3]);
+  for (int j = 0; j < 4; ++j) EXPECT_EQ(dq[j], 0.0) << "joint " << j + 1;
+  for (const auto& [yaml, words] : std::vector<std::pair<std::string, std::string>>{
+           {"{type: joint_coupling, joints: [6]}", "names the driven joints and the driving one"},
+           {"{type: joint_coupling, joints: [6], from: 7}", "no joint 7 on a 6-joint robot"},
+           {"{type: joint_coupling, joints: [5, 6], from: 6}", "does not couple to itself"}}) {
+    const InputError e = testing::CatchInputError([&] { MakeEffect(yaml, *ur3); });
+    EXPECT_THAT(e.message(), ::testing::HasSubstr(words)) << yaml;
+  }
+}
+
 // A simulation cycles its payloads over the poses and records them.
 TEST(EffectsInWorkcell, SimulatedPayloadsCycleOverThePoses) {
   const std::string dir = testing::TempDirForThisTest("payloads");
