@@ -150,14 +150,16 @@ TEST_F(Diagnosis, WristCouplingTheJobNamesIsFound) {
   EXPECT_THAT(DiagnosisReport(d), HasSubstr("joint 6 coupled to joint 5"));
 }
 
-// Couplings are pairs of two different joints the cell's robots have; anything else is refused
-// at its line in the job.
+// Couplings are pairs of two different joints the cell's robots have, offered among the default
+// candidates; anything else, or couplings beside a job's own list, is refused at its line.
 TEST_F(Diagnosis, JointCouplingsTheRobotCannotHaveAreRefusedAtTheirLine) {
   const std::string job = testing::ReadText(dir_ + "/job.yaml");
   for (const auto& [couplings, words] : std::vector<std::pair<std::string, std::string>>{
            {"[[5, 5]]", "does not couple to itself"},
            {"[[5, 7]]", "no joint 7 on the cell's robots"},
-           {"[[4, 5, 6]]", "a coupling is two joints"}}) {
+           {"[[4, 5, 6]]", "a coupling is two joints"},
+           {"[[5, 6]]\n  candidates: [{type: backlash, joints: [2]}]",
+            "shapes the default candidates, which `candidates:` replaces"}}) {
     testing::WriteText(dir_ + "/bad.yaml", job + "  joint_couplings: " + couplings + "\n");
     const InputError e = testing::CatchInputError(
         [&] { LoadDiagnosisJob(dir_ + "/bad.yaml", testing::Plugins(), false); });

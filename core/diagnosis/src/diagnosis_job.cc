@@ -111,6 +111,15 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   }
   if (d.Has("joint_couplings")) ReadJointCouplings(d["joint_couplings"], job.workcell.problem, &o);
   if (d.Has("candidates")) {
+    // These shape the default candidates, which a list replaces: taken with one, they would be
+    // ignored without a word.
+    for (const char* key : {"gear_harmonics", "joint_couplings", "group_candidates"}) {
+      if (d.Has(key)) {
+        throw d[key].Error(std::string("`") + key +
+                               "` shapes the default candidates, which `candidates:` replaces",
+                           "Drop it, or write what it would add into the `candidates:` list");
+      }
+    }
     for (const auto& c : d["candidates"].Elements()) job.candidate_configs.push_back(c);
   }
   return job;
