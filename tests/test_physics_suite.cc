@@ -39,8 +39,34 @@ TEST(PhysicsSuite, TablesGoBetweenTheMarkersAndTheRestStays) {
   EXPECT_EQ(testing::ReadText(dir + "/doc.md"),
             "# Before\n<!-- physics-suite:begin -->\nnew table\n<!-- physics-suite:end -->\n"
             "## After\n");
-  WritePhysicsSuite(spec, dir + "/plain.md", "only the table\n");  // no markers: whole file
-  EXPECT_EQ(testing::ReadText(dir + "/plain.md"), "only the table\n");
+  // A new file holds the markers, so that the next run replaces only the tables.
+  WritePhysicsSuite(spec, dir + "/new.md", "first table\n");
+  EXPECT_EQ(testing::ReadText(dir + "/new.md"),
+            "<!-- physics-suite:begin -->\nfirst table\n<!-- physics-suite:end -->\n");
+  testing::WriteText(dir + "/new.md", testing::ReadText(dir + "/new.md") + "a note\n");
+  WritePhysicsSuite(spec, dir + "/new.md", "second table\n");
+  EXPECT_EQ(testing::ReadText(dir + "/new.md"),
+            "<!-- physics-suite:begin -->\nsecond table\n<!-- physics-suite:end -->\na note\n");
+}
+
+// A document without the markers (a user's README named as the output) is refused, before the
+// suite runs and again at the write, and kept as it was.
+TEST(PhysicsSuite, ADocumentWithoutTheMarkersIsRefusedAndKept) {
+  const std::string dir = testing::TempDirForThisTest("suite");
+  testing::WriteText(dir + "/suite.yaml", SuiteYaml("1"));
+  const PhysicsSuiteSpec spec = LoadPhysicsSuite(dir + "/suite.yaml");
+  const std::string readme =
+      "# My notes\n<!-- physics-suite:end -->\n<!-- physics-suite:begin -->\n";
+  testing::WriteText(dir + "/README.md", readme);
+  const InputError e =
+      testing::CatchInputError([&] { CheckPhysicsSuiteOutput(dir + "/README.md"); });
+  EXPECT_THAT(e.what(), HasSubstr("README.md"));
+  EXPECT_THAT(e.message(), HasSubstr("has no <!-- physics-suite:begin -->"));
+  EXPECT_THAT(e.hint(), HasSubstr("Put the two markers"));
+  EXPECT_THROW(WritePhysicsSuite(spec, dir + "/README.md", "table\n"), InputError);
+  EXPECT_THROW(CheckPhysicsSuiteOutput(dir), InputError);  // a folder
+  EXPECT_EQ(testing::ReadText(dir + "/README.md"), readme);
+  EXPECT_NO_THROW(CheckPhysicsSuiteOutput(dir + "/not_yet.md"));
 }
 
 // A suite's checkpoint (SuiteYaml(seeds)) with each case's first seed finished: the clean case

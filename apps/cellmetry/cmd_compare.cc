@@ -114,6 +114,7 @@ void AddCompareCommand(CLI::App& app, Context& context) {
         LoadWorkcellSimulation(cell.simulation, Registry::Global(), ReadConcealedDisturbance);
         LoadDiagnosisJob(cell.job, Registry::Global(), /*recording_must_exist=*/false);
       }
+      CheckPhysicsSuiteOutput(output.empty() ? spec.output : output);  // before the work
       if (StopAfterCheck(output.empty() ? spec.output : output)) return;
       const auto results = RunPhysicsSuite(spec, Registry::Global());
       const std::string table = PhysicsSuiteMarkdown(spec, results);

@@ -343,19 +343,40 @@ std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& suite, Regi
   return results;
 }
 
+namespace {
+
+const std::string kBegin = "<!-- physics-suite:begin -->";
+const std::string kEnd = "<!-- physics-suite:end -->";
+
+// The document at `path` split around the markers: {before and with the begin marker, from the
+// end marker on}; nullopt when there is no file. Throws InputError when there is one without
+// both markers in order.
+std::optional<std::pair<std::string, std::string>> AroundTheMarkers(const std::string& path) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) return std::nullopt;
+  const InputError refused({path, 0, 0},
+                           "exists and has no " + kBegin + " ... " + kEnd +
+                               " markers: the suite writes its tables between them and keeps "
+                               "the rest, and would otherwise replace the whole document",
+                           "Put the two markers on lines of their own where the tables go, or "
+                           "name a file that does not exist yet (`output:` or -o)");
+  if (!std::filesystem::is_regular_file(path, error)) throw refused;
+  std::ifstream in(path);
+  const std::string document((std::istreambuf_iterator<char>(in)), {});
+  const size_t begin = document.find(kBegin), end = document.find(kEnd);
+  if (begin == std::string::npos || end == std::string::npos || end < begin) throw refused;
+  return std::make_pair(document.substr(0, begin + kBegin.size()), document.substr(end));
+}
+
+}  // namespace
+
+void CheckPhysicsSuiteOutput(const std::string& path) { AroundTheMarkers(path); }
+
 void WritePhysicsSuite(const PhysicsSuiteSpec& spec, const std::string& path,
                        const std::string& markdown) {
-  static const std::string kBegin = "<!-- physics-suite:begin -->";
-  static const std::string kEnd = "<!-- physics-suite:end -->";
-  std::string text = markdown;
-  std::ifstream in(path);
-  if (in) {
-    const std::string document((std::istreambuf_iterator<char>(in)), {});
-    const size_t begin = document.find(kBegin), end = document.find(kEnd);
-    if (begin != std::string::npos && end != std::string::npos && end > begin) {
-      text = document.substr(0, begin + kBegin.size()) + "\n" + markdown + document.substr(end);
-    }
-  }
+  const auto around = AroundTheMarkers(path);
+  const std::string text = around ? around->first + "\n" + markdown + around->second
+                                  : kBegin + "\n" + markdown + kEnd + "\n";
   AtomicWriteFile(path, text);
   std::filesystem::remove(CheckpointPath(spec));
 }

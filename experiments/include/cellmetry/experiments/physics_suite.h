@@ -16,7 +16,7 @@
 //            effect: {type: joint_compliance, joints: [2]}}          # a library effect, or
 //         - {name: camera bumped, expect: unexplained,
 //            concealed: {kind: camera_bump, camera: cam1}}           # concealed_physics.h
-//   output: ../../docs/physics.md   # between <!-- physics-suite:begin/end --> when present
+//   output: ../../docs/physics.md   # between <!-- physics-suite:begin/end --> (WritePhysicsSuite)
 //
 // Each finished case is kept in <output>.partial.json; an interrupted run resumes from there
 // (cases with the same cell, name, seeds and SNR), and the file goes when the suite is done.
@@ -93,9 +93,14 @@ struct SuiteCaseResult {
 
 std::vector<SuiteCaseResult> RunPhysicsSuite(const PhysicsSuiteSpec& spec, Registry& registry);
 
-// Writes the suite's markdown to spec.output: between the markers "<!-- physics-suite:begin -->"
-// and "<!-- physics-suite:end -->" when the file has them (the rest of the document stays),
-// otherwise the whole file. Atomic.
+// Refuses (InputError) an output that exists without the markers "<!-- physics-suite:begin -->"
+// and "<!-- physics-suite:end -->": a document cellmetry did not write would be lost. Run it
+// before the suite, so that the refusal comes before the work.
+void CheckPhysicsSuiteOutput(const std::string& path);
+
+// Writes the suite's markdown to `path`: between the markers, the rest of the document kept, or
+// as a new file holding the markers and the tables between them (so that the next run replaces
+// only the tables). Atomic; refuses what CheckPhysicsSuiteOutput refuses.
 void WritePhysicsSuite(const PhysicsSuiteSpec& spec, const std::string& path,
                        const std::string& markdown);
 
