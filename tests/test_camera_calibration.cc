@@ -186,6 +186,22 @@ TEST(CameraCalibrationCli, WritesTheCameraFileAndRefusesBadInput) {
   EXPECT_THAT(ok.output, HasSubstr("view07.png: 54 keypoints"));
   EXPECT_NEAR(ReadCamera(dir + "/camera.yaml").fx, 885.0, 1.0);
 
+  // Run again over its own file: replaced, the earlier one kept. A camera file of the user's is
+  // refused before the work, and kept; with --overwrite it is replaced and kept as .previous.
+  const std::string again = "calibrate-camera " + dir + "/board.yaml " + paths[0] + " " + paths[1] +
+                            " " + paths[2] + " " + paths[3] + " -o ";
+  ASSERT_EQ(testing::RunCellmetry(again + dir + "/camera.yaml --fix-k3").exit_code, 0);
+  EXPECT_NEAR(ReadCamera(dir + "/camera.yaml.previous").fx, 885.0, 1.0);  // the 15 views
+  const std::string mine = "# my camera, measured by hand\nwidth: 1280\n";
+  AtomicWriteFile(dir + "/mine.yaml", mine);
+  const auto refused = testing::RunCellmetry(again + dir + "/mine.yaml");
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_THAT(refused.output, HasSubstr("--overwrite"));
+  EXPECT_THAT(refused.output, ::testing::Not(HasSubstr("Camera calibration from")));
+  EXPECT_EQ(testing::ReadText(dir + "/mine.yaml"), mine);
+  ASSERT_EQ(testing::RunCellmetry(again + dir + "/mine.yaml --overwrite").exit_code, 0);
+  EXPECT_EQ(testing::ReadText(dir + "/mine.yaml.previous"), mine);
+
   // Two views are too few; a blank image is left out with the detector's reason.
   const GrayImage blank(1280, 800, 128);
   WriteGrayImage(blank, dir + "/blank.png");

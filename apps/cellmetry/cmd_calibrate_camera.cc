@@ -1,8 +1,10 @@
 // `cellmetry calibrate-camera BOARD.yaml IMAGE... -o camera.yaml`: a camera's intrinsics from
 // views of a flat board (camera_calibration.h), written as a camera file the detect jobs read.
+// The file is written as an export is (export_file.h): where nothing is, or over an earlier one
+// (kept as .previous); a user's own camera file only with --overwrite.
 #include <cstdio>
 
-#include "cellmetry/formats/atomic_file.h"
+#include "cellmetry/exports/export_file.h"
 #include "cellmetry/formats/config_node.h"
 #include "cellmetry/imaging/camera_calibration.h"
 #include "cellmetry/registry/registry.h"
@@ -17,6 +19,7 @@ void AddCalibrateCameraCommand(CLI::App& app, Context& context) {
   static std::string board_path, output_path;
   static std::vector<std::string> image_paths;
   static CameraCalibrationOptions options;
+  static bool overwrite = false;
   cmd->add_option("board", board_path,
                   "YAML with the board's detector, e.g. detector: {type: checkerboard, "
                   "corners_x: 9, corners_y: 6, square_mm: 25}")
@@ -29,6 +32,8 @@ void AddCalibrateCameraCommand(CLI::App& app, Context& context) {
   cmd->add_flag("--fix-aspect-ratio", options.fix_aspect_ratio, "hold fx / fy at 1");
   cmd->add_flag("--zero-tangential", options.zero_tangential, "hold p1 = p2 = 0");
   cmd->add_flag("--fix-k3", options.fix_k3, "hold k3 = 0 (few views, or a narrow lens)");
+  cmd->add_flag("--overwrite", overwrite,
+                "replace a camera file cellmetry did not write (kept as <file>.previous)");
   cmd->callback([&context] {
     LoadPlugins(context);
     const ConfigNode root = ConfigNode::LoadFile(board_path);
@@ -38,9 +43,12 @@ void AddCalibrateCameraCommand(CLI::App& app, Context& context) {
     options.detector_at = detector_config.location();
     auto detector =
         Registry::Global().CreateDetector(detector_config["type"].AsString(), detector_config);
-    if (StopAfterCheck(output_path)) return;  // the images are read by the calibration
+    CheckExportTarget(output_path, overwrite);  // before the work
+    if (StopAfterCheck(output_path)) return;    // the images are read by the calibration
     const CameraCalibration c = CalibrateCamera(*detector, image_paths, options);
-    AtomicWriteFile(output_path, CameraFileText(c));
+    WriteExportFile(output_path,
+                    std::string("# ") + kExportMarker + ": camera file\n" + CameraFileText(c),
+                    overwrite);
     std::printf("Camera calibration from %zu of %zu images: reprojection RMS %.3f px\n",
                 c.views.size(), image_paths.size(), c.rms_px);
     const std::array<double, 9> values = IntrinsicValues(c.camera);
