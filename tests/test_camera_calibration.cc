@@ -201,6 +201,11 @@ TEST(CameraCalibrationCli, WritesTheCameraFileAndRefusesBadInput) {
   EXPECT_EQ(testing::ReadText(dir + "/mine.yaml"), mine);
   ASSERT_EQ(testing::RunCellmetry(again + dir + "/mine.yaml --overwrite").exit_code, 0);
   EXPECT_EQ(testing::ReadText(dir + "/mine.yaml.previous"), mine);
+  // A camera file an earlier calibrate-camera wrote, without the export marker, is its own.
+  const std::string earlier = "# cellmetry calibrate-camera: 13 views, reprojection RMS 0.2 px\n";
+  AtomicWriteFile(dir + "/earlier.yaml", earlier);
+  ASSERT_EQ(testing::RunCellmetry(again + dir + "/earlier.yaml").exit_code, 0);
+  EXPECT_EQ(testing::ReadText(dir + "/earlier.yaml.previous"), earlier);
 
   // Two views are too few; a blank image is left out with the detector's reason.
   const GrayImage blank(1280, 800, 128);

@@ -3,6 +3,8 @@
 // The file is written as an export is (export_file.h): where nothing is, or over an earlier one
 // (kept as .previous); a user's own camera file only with --overwrite.
 #include <cstdio>
+#include <fstream>
+#include <string>
 
 #include "cellmetry/exports/export_file.h"
 #include "cellmetry/formats/config_node.h"
@@ -11,6 +13,17 @@
 #include "commands.h"
 
 namespace cellmetry::app {
+namespace {
+
+// A camera file whose first line says calibrate-camera wrote it, from before its files carried
+// the export marker: cellmetry's own, replaced as an export is.
+bool WrittenByCalibrateCamera(const std::string& path) {
+  std::ifstream in(path);
+  std::string first;
+  return std::getline(in, first) && first.rfind("# cellmetry calibrate-camera:", 0) == 0;
+}
+
+}  // namespace
 
 void AddCalibrateCameraCommand(CLI::App& app, Context& context) {
   CLI::App* cmd = app.add_subcommand(
@@ -43,12 +56,13 @@ void AddCalibrateCameraCommand(CLI::App& app, Context& context) {
     options.detector_at = detector_config.location();
     auto detector =
         Registry::Global().CreateDetector(detector_config["type"].AsString(), detector_config);
-    CheckExportTarget(output_path, overwrite);  // before the work
-    if (StopAfterCheck(output_path)) return;    // the images are read by the calibration
+    const bool replace = overwrite || WrittenByCalibrateCamera(output_path);
+    CheckExportTarget(output_path, replace);  // before the work
+    if (StopAfterCheck(output_path)) return;  // the images are read by the calibration
     const CameraCalibration c = CalibrateCamera(*detector, image_paths, options);
     WriteExportFile(output_path,
                     std::string("# ") + kExportMarker + ": camera file\n" + CameraFileText(c),
-                    overwrite);
+                    replace);
     std::printf("Camera calibration from %zu of %zu images: reprojection RMS %.3f px\n",
                 c.views.size(), image_paths.size(), c.rms_px);
     const std::array<double, 9> values = IntrinsicValues(c.camera);
