@@ -85,16 +85,11 @@ std::unique_ptr<Effect> CreateCoupling(const ConfigNode& config, const RobotMode
     throw config.Error("names the driven joints and the driving one", "e.g. joints: [6], from: 5");
   }
   const std::vector<int> driven = SelectJoints(config, robot);
-  const int from = config["from"].AsInt();
-  if (from < 1 || from > robot.num_joints()) {
-    throw config["from"].Error("no joint " + std::to_string(from) + " on a " +
-                                   std::to_string(robot.num_joints()) + "-joint robot",
-                               "Joints are numbered from 1");
-  }
-  if (std::find(driven.begin(), driven.end(), from - 1) != driven.end()) {
+  const int from = SelectJoint(config["from"], robot);
+  if (std::find(driven.begin(), driven.end(), from) != driven.end()) {
     throw config["from"].Error("a joint does not couple to itself", "e.g. joints: [6], from: 5");
   }
-  return std::make_unique<JointCoupling>(driven, from - 1);
+  return std::make_unique<JointCoupling>(driven, from);
 }
 
 std::unique_ptr<Effect> CreateThermal(const ConfigNode& config, const RobotModel&) {

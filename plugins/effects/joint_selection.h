@@ -14,6 +14,10 @@ namespace cellmetry::effects {
 // 0-based joint indices; an index outside the robot is an InputError at `joints:`.
 std::vector<int> SelectJoints(const ConfigNode& config, const RobotModel& robot);
 
+// One 1-based joint number (`from: 5`) as a 0-based index; outside the robot, an InputError at
+// its node.
+int SelectJoint(const ConfigNode& node, const RobotModel& robot);
+
 // "j<i>.<what>" for each selected joint (1-based in the name).
 std::string JointName(int joint);
 
