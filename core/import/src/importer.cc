@@ -262,76 +262,17 @@ class Importer {
           "Fill in every cell of it, or leave all of them empty where the target "
           "was not seen");
     }
-    if (!targets_.count(o.target)) {
-      std::vector<std::string> names;
-      for (const auto& [name, carrier] : targets_) names.push_back(name);
-      const std::string nearest = NearestWord(o.target, names);
-      throw table_.Error(row, *b.target, "unknown target '" + o.target + "'",
-                         nearest.empty() ? "List it under targets: in the mapping"
-                                         : "Did you mean '" + nearest +
-                                               "'? Or list it under targets: in the mapping");
-    }
+    CheckTargetListed(b, row, o.target);
     const std::string length_hint =
         spec.to_mm == 1.0 ? "Check the value (the mapping reads lengths in mm)"
                           : "The mapping reads lengths in m; if the table holds millimetres, say "
                             "units: {length: mm}";
-    Pose T;  // as the table gives it, mm
-    bool has_rotation = false;
-    bool rotation_vector = false;
-    Eigen::Vector3d rvec;
-    if (!b.transform.empty()) {
-      double v[16];
-      for (size_t i = 0; i < b.transform.size(); ++i) v[i] = table_.Number(row, b.transform[i]);
-      for (int i = 0; i < 3; ++i) {
-        for (int k = 0; k < 3; ++k) T.R(i, k) = v[4 * i + k];
-        T.t[i] = Limited(row, b.transform[4 * i + 3], spec.to_mm, kMaxPositionMm, length_hint);
-      }
-      if (b.transform.size() == 16) {
-        const double bottom[4] = {0, 0, 0, 1};
-        for (int k = 0; k < 4; ++k) {
-          if (std::abs(v[12 + k] - bottom[k]) > spec.transform_tolerance) {
-            throw table_.Error(row, b.transform[12 + k],
-                               "a transform's bottom row is 0 0 0 1, this cell holds " +
-                                   table_.Cell(row, b.transform[12 + k]),
-                               "Check that the 16 columns are the matrix row by row");
-          }
-        }
-      }
-      RotationConvention matrix;
-      matrix.kind = RotationKind::kMatrix;
-      matrix.tolerance = spec.transform_tolerance;
-      const double R[9] = {v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10]};
-      T.R = Rotation(row, b.transform[0], matrix, R);
-      has_rotation = true;
-    } else {
-      for (int i = 0; i < 3; ++i) {
-        T.t[i] = Limited(row, b.position[i], spec.to_mm, kMaxPositionMm, length_hint);
-      }
-      if (spec.rotation) {
-        const RotationConvention& c = spec.rotation->convention;
-        double v[9];
-        for (size_t i = 0; i < b.rotation.size(); ++i) {
-          v[i] = table_.Number(row, b.rotation[i]) * (c.values_are_angles() ? spec.to_rad : 1.0);
-          if (c.values_are_angles() && std::abs(v[i]) > kFullTurn) {
-            throw table_.Error(
-                row, b.rotation[i],
-                "'" + table_.Cell(row, b.rotation[i]) + (spec.to_rad == 1.0 ? " rad" : " deg") +
-                    "' is more than a full turn",
-                spec.to_rad == 1.0 ? "The mapping reads these angles in rad; if they are degrees, "
-                                     "say units: {angle: deg} (or angle: deg in this observation)"
-                                   : "Check the value");
-          }
-        }
-        T.R = Rotation(row, b.rotation[0], c, v);
-        has_rotation = true;
-        rotation_vector = c.kind == RotationKind::kRotationVector;
-        rvec = Eigen::Vector3d(v[0], v[1], v[2]);
-      }
-    }
-    if (spec.camera_in_target) T = T.inverse();
-    o.position_mm = T.t;
-    if (has_rotation) o.rvec = RvecFromRotation(T.R);
-    if (rotation_vector && !spec.camera_in_target) o.rvec = rvec;  // the table's own numbers
+    TablePose pose = b.transform.empty() ? ReadPositionAndRotation(b, row, length_hint)
+                                         : ReadTransform(b, row, length_hint);
+    if (spec.camera_in_target) pose.T = pose.T.inverse();
+    o.position_mm = pose.T.t;
+    if (pose.has_rotation) o.rvec = RvecFromRotation(pose.T.R);
+    if (pose.rotation_vector && !spec.camera_in_target) o.rvec = *pose.rotation_vector;
     if (spec.position_uncertainty) o.covariance_mm2 = PositionCovariance(b, row, length_hint);
     if (spec.rotation_sigma_rad) {
       const auto& sigma = *spec.rotation_sigma_rad;
@@ -341,6 +282,88 @@ class Importer {
     }
     AddCamera(o.camera, r);
     r->observations.push_back(std::move(o));
+  }
+
+  void CheckTargetListed(const BoundObservation& b, size_t row, const std::string& target) const {
+    if (targets_.count(target)) return;
+    std::vector<std::string> names;
+    for (const auto& [name, carrier] : targets_) names.push_back(name);
+    const std::string nearest = NearestWord(target, names);
+    throw table_.Error(row, *b.target, "unknown target '" + target + "'",
+                       nearest.empty() ? "List it under targets: in the mapping"
+                                       : "Did you mean '" + nearest +
+                                             "'? Or list it under targets: in the mapping");
+  }
+
+  // An observation's pose as the table gives it (mm), before pose_of: camera_in_target turns it.
+  struct TablePose {
+    Pose T;
+    bool has_rotation = false;
+    // The table's own numbers where it gives a rotation vector, kept as written rather than
+    // taken back from the matrix (which would move them by rounding, or by a full turn).
+    std::optional<Eigen::Vector3d> rotation_vector;
+  };
+
+  // A 4x4 (or 3x4) transform, row by row: its bottom row must be 0 0 0 1, its rotation a
+  // rotation within the mapping's tolerance.
+  TablePose ReadTransform(const BoundObservation& b, size_t row,
+                          const std::string& length_hint) const {
+    const ObservationSpec& spec = *b.spec;
+    TablePose pose;
+    double v[16];
+    for (size_t i = 0; i < b.transform.size(); ++i) v[i] = table_.Number(row, b.transform[i]);
+    for (int i = 0; i < 3; ++i) {
+      pose.T.t[i] = Limited(row, b.transform[4 * i + 3], spec.to_mm, kMaxPositionMm, length_hint);
+    }
+    if (b.transform.size() == 16) {
+      const double bottom[4] = {0, 0, 0, 1};
+      for (int k = 0; k < 4; ++k) {
+        if (std::abs(v[12 + k] - bottom[k]) > spec.transform_tolerance) {
+          throw table_.Error(row, b.transform[12 + k],
+                             "a transform's bottom row is 0 0 0 1, this cell holds " +
+                                 table_.Cell(row, b.transform[12 + k]),
+                             "Check that the 16 columns are the matrix row by row");
+        }
+      }
+    }
+    RotationConvention matrix;
+    matrix.kind = RotationKind::kMatrix;
+    matrix.tolerance = spec.transform_tolerance;
+    const double R[9] = {v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10]};
+    pose.T.R = Rotation(row, b.transform[0], matrix, R);
+    pose.has_rotation = true;
+    return pose;
+  }
+
+  // Three position cells and, where the mapping gives one, the rotation in its convention;
+  // angles beyond a full turn are refused as a unit mistaken.
+  TablePose ReadPositionAndRotation(const BoundObservation& b, size_t row,
+                                    const std::string& length_hint) const {
+    const ObservationSpec& spec = *b.spec;
+    TablePose pose;
+    for (int i = 0; i < 3; ++i) {
+      pose.T.t[i] = Limited(row, b.position[i], spec.to_mm, kMaxPositionMm, length_hint);
+    }
+    if (!spec.rotation) return pose;
+    const RotationConvention& c = spec.rotation->convention;
+    double v[9];
+    for (size_t i = 0; i < b.rotation.size(); ++i) {
+      v[i] = table_.Number(row, b.rotation[i]) * (c.values_are_angles() ? spec.to_rad : 1.0);
+      if (c.values_are_angles() && std::abs(v[i]) > kFullTurn) {
+        throw table_.Error(
+            row, b.rotation[i],
+            "'" + table_.Cell(row, b.rotation[i]) + (spec.to_rad == 1.0 ? " rad" : " deg") +
+                "' is more than a full turn",
+            spec.to_rad == 1.0 ? "The mapping reads these angles in rad; if they are degrees, "
+                                 "say units: {angle: deg} (or angle: deg in this observation)"
+                               : "Check the value");
+      }
+    }
+    pose.T.R = Rotation(row, b.rotation[0], c, v);
+    pose.has_rotation = true;
+    if (c.kind == RotationKind::kRotationVector)
+      pose.rotation_vector = Eigen::Vector3d(v[0], v[1], v[2]);
+    return pose;
   }
 
   // The position's covariance from the row's uncertainty cells, in mm^2: diagonal, each axis'
