@@ -108,6 +108,76 @@ UrdfPathJoint PathJoint(const urdf::Joint& joint, const Pose& origin) {
   return out;
 }
 
+// The joints from `base` down to `tip`, in that order: the walk goes up from the tip, each
+// link's parent joint; the root has none. urdfdom accepts a joint whose parent is its own child
+// (or a longer loop), so a link met twice ends the walk.
+std::vector<urdf::JointConstSharedPtr> JointsFromBaseToTip(const urdf::ModelInterface& model,
+                                                           const urdf::LinkConstSharedPtr& base,
+                                                           const urdf::LinkConstSharedPtr& tip,
+                                                           const ConfigNode& config,
+                                                           const std::string& file) {
+  std::vector<urdf::JointConstSharedPtr> path;
+  std::string walked = tip->name;
+  std::set<std::string> visited = {tip->name};
+  for (urdf::LinkConstSharedPtr link = tip; link != base;) {
+    const urdf::JointConstSharedPtr joint = link->parent_joint;
+    if (!joint) {
+      throw config["tip_link"].Error(
+          "link '" + tip->name + "' is not below '" + base->name + "' in " + file +
+              " (from it up to the root: " + walked + ")",
+          "Name as base_link a link on that path, and as tip_link one below it");
+    }
+    path.push_back(joint);
+    link = model.getLink(joint->parent_link_name);
+    if (!link) {  // urdfdom refuses such a file; kept so that a null is never walked
+      throw config["file"].Error("joint '" + joint->name + "' in " + file +
+                                 " hangs from a link the file does not have");
+    }
+    if (!visited.insert(link->name).second) {
+      throw config["file"].Error("the joints of " + file + " form a loop: joint '" + joint->name +
+                                     "' has '" + joint->parent_link_name +
+                                     "' as parent, met before on the way up from '" + tip->name +
+                                     "' (" + walked + ")",
+                                 "Give each joint the parent link it hangs from");
+    }
+    walked += " <- " + link->name;
+  }
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+// A joint that moves, as the model reads it: revolute or continuous, its own reading (no mimic),
+// a direction for its axis.
+UrdfJoint MovableJoint(const urdf::Joint& joint, const Pose& origin, const Pose& T_previous_parent,
+                       const UrdfChain& chain, const ConfigNode& config) {
+  const std::string& file = chain.file;
+  if (joint.type != urdf::Joint::REVOLUTE && joint.type != urdf::Joint::CONTINUOUS) {
+    throw config["tip_link"].Error(
+        "joint '" + joint.name + "' on the chain from '" + chain.base_link + "' to '" +
+            chain.tip_link + "' in " + file + " is " + TypeName(joint.type) +
+            ": the urdf robot model has revolute and continuous joints only",
+        "End the chain before it (tip_link: '" + joint.parent_link_name + "')");
+  }
+  if (joint.mimic) {
+    throw config["tip_link"].Error(
+        "joint '" + joint.name + "' in " + file + " mimics '" + joint.mimic->joint_name +
+            "': the urdf robot model reads one controller reading per joint",
+        "End the chain before it (tip_link: '" + joint.parent_link_name + "')");
+  }
+  const Eigen::Vector3d axis(joint.axis.x, joint.axis.y, joint.axis.z);
+  if (!(axis.norm() > 1e-9)) {
+    throw config["file"].Error("joint '" + joint.name + "' in " + file + " has a zero <axis>",
+                               "Give the joint's axis as a direction, e.g. <axis xyz=\"0 0 1\"/>");
+  }
+  UrdfJoint movable;
+  movable.name = joint.name;
+  movable.T_previous_parent = T_previous_parent;
+  movable.xyz_mm = origin.t;
+  movable.R_parent_joint = origin.R;
+  movable.axis = axis.normalized();
+  return movable;
+}
+
 }  // namespace
 
 UrdfChain ReadUrdfChain(const ConfigNode& config) {
@@ -123,41 +193,12 @@ UrdfChain ReadUrdfChain(const ConfigNode& config) {
   }
   const urdf::LinkConstSharedPtr base = FindLink(*model, config, "base_link", chain.file);
   const urdf::LinkConstSharedPtr tip = FindLink(*model, config, "tip_link", chain.file);
-
-  // Tip to base, each link's parent joint; the root has none. urdfdom accepts a joint whose
-  // parent is its own child (or a longer loop), so a link met twice ends the walk.
-  std::vector<urdf::JointConstSharedPtr> path;
-  std::string walked = tip->name;
-  std::set<std::string> visited = {tip->name};
-  for (urdf::LinkConstSharedPtr link = tip; link != base;) {
-    const urdf::JointConstSharedPtr joint = link->parent_joint;
-    if (!joint) {
-      throw config["tip_link"].Error(
-          "link '" + tip->name + "' is not below '" + base->name + "' in " + chain.file +
-              " (from it up to the root: " + walked + ")",
-          "Name as base_link a link on that path, and as tip_link one below it");
-    }
-    path.push_back(joint);
-    link = model->getLink(joint->parent_link_name);
-    if (!link) {  // urdfdom refuses such a file; kept so that a null is never walked
-      throw config["file"].Error("joint '" + joint->name + "' in " + chain.file +
-                                 " hangs from a link the file does not have");
-    }
-    if (!visited.insert(link->name).second) {
-      throw config["file"].Error("the joints of " + chain.file + " form a loop: joint '" +
-                                     joint->name + "' has '" + joint->parent_link_name +
-                                     "' as parent, met before on the way up from '" + tip->name +
-                                     "' (" + walked + ")",
-                                 "Give each joint the parent link it hangs from");
-    }
-    walked += " <- " + link->name;
-  }
-  std::reverse(path.begin(), path.end());
-
   chain.base_link = base->name;
   chain.tip_link = tip->name;
+
   Pose folded = Pose::Identity();  // fixed joints since the last movable one
-  for (const urdf::JointConstSharedPtr& joint : path) {
+  for (const urdf::JointConstSharedPtr& joint :
+       JointsFromBaseToTip(*model, base, tip, config, chain.file)) {
     const Pose origin = PoseOf(joint->parent_to_joint_origin_transform);
     chain.path.push_back(PathJoint(*joint, origin));
     if (joint->type == urdf::Joint::FIXED) {
@@ -165,32 +206,7 @@ UrdfChain ReadUrdfChain(const ConfigNode& config) {
       continue;
     }
     chain.path.back().movable = static_cast<int>(chain.joints.size());
-    if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::CONTINUOUS) {
-      throw config["tip_link"].Error(
-          "joint '" + joint->name + "' on the chain from '" + base->name + "' to '" + tip->name +
-              "' in " + chain.file + " is " + TypeName(joint->type) +
-              ": the urdf robot model has revolute and continuous joints only",
-          "End the chain before it (tip_link: '" + joint->parent_link_name + "')");
-    }
-    if (joint->mimic) {
-      throw config["tip_link"].Error(
-          "joint '" + joint->name + "' in " + chain.file + " mimics '" + joint->mimic->joint_name +
-              "': the urdf robot model reads one controller reading per joint",
-          "End the chain before it (tip_link: '" + joint->parent_link_name + "')");
-    }
-    const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
-    if (!(axis.norm() > 1e-9)) {
-      throw config["file"].Error(
-          "joint '" + joint->name + "' in " + chain.file + " has a zero <axis>",
-          "Give the joint's axis as a direction, e.g. <axis xyz=\"0 0 1\"/>");
-    }
-    UrdfJoint movable;
-    movable.name = joint->name;
-    movable.T_previous_parent = folded;
-    movable.xyz_mm = origin.t;
-    movable.R_parent_joint = origin.R;
-    movable.axis = axis.normalized();
-    chain.joints.push_back(movable);
+    chain.joints.push_back(MovableJoint(*joint, origin, folded, chain, config));
     folded = Pose::Identity();
   }
   chain.T_last_joint_tip = folded;
