@@ -36,21 +36,11 @@ void ReadJointCouplings(const ConfigNode& list, const WorkcellProblem& spec,
   }
 }
 
-}  // namespace
-
-DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
-                              bool recording_must_exist) {
-  DiagnosisJob job;
-  job.workcell = LoadWorkcellJob(path, registry, recording_must_exist);
-  const ConfigNode root = ConfigNode::LoadFile(path);
-  if (!root.Has("diagnosis")) return job;
-  const ConfigNode d = root["diagnosis"];
-  d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "selection_test", "rival_draws", "folds",
-                "max_effects", "min_poses", "link_masses_kg", "gear_harmonics", "joint_couplings",
-                "candidates", "refits", "min_unabsorbed", "alias_correlation",
-                "min_explained_share", "min_group_share", "shape_correlation", "group_candidates"});
-  DiagnosisOptions& o = job.options;
+// How the finder tests and selects: its level, resamples, draws, folds and rounds.
+void ReadTestOptions(const ConfigNode& d, DiagnosisOptions* options) {
+  DiagnosisOptions& o = *options;
   o.alpha = d.GetDouble("alpha", o.alpha);
+  if (!(o.alpha > 0 && o.alpha < 1)) throw d["alpha"].Error("must be between 0 and 1");
   // Each resample is a selection of its own: beyond 10,000 the run is hours and the share's
   // Monte Carlo error 0.5 % already.
   o.bootstrap = d.GetIntIn("bootstrap", o.bootstrap, 0, 10000,
@@ -70,6 +60,11 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
   o.min_poses = d.GetIntIn("min_poses", o.min_poses, 1, 1000000,
                            "20 is the default: fewer poses are too few for the tests");
   o.refits = d.GetIntIn("refits", o.refits, 1, 1000, "3 is the default");
+}
+
+// What a candidate must show to be named, and when two are one finding.
+void ReadGateOptions(const ConfigNode& d, DiagnosisOptions* options) {
+  DiagnosisOptions& o = *options;
   o.min_unabsorbed = d.GetDoubleIn("min_unabsorbed", o.min_unabsorbed, 0.0, 0.999,
                                    "A share of a signature: 1e-4 is the default");
   o.group_candidates = d.GetBool("group_candidates", o.group_candidates);
@@ -91,8 +86,13 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
     throw d["shape_correlation"].Error("must be in [0, 1]",
                                        "0 calls every small effect at a site its residual shape");
   }
-  if (!(o.alpha > 0 && o.alpha < 1)) throw d["alpha"].Error("must be between 0 and 1");
-  if (o.folds < 2) throw d["folds"].Error("needs at least 2 folds", "5 is usual");
+}
+
+// What the user knows of the robot that shapes the default candidates: link masses, the gears'
+// harmonics, the joints whose drives couple.
+void ReadRobotKnowledge(const ConfigNode& d, const WorkcellProblem& spec,
+                        DiagnosisOptions* options) {
+  DiagnosisOptions& o = *options;
   if (d.Has("link_masses_kg")) {
     o.link_masses_kg = d["link_masses_kg"].AsDoubles();
     for (double m : o.link_masses_kg) {
@@ -109,19 +109,41 @@ DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
       o.gear_harmonics.push_back(value);
     }
   }
-  if (d.Has("joint_couplings")) ReadJointCouplings(d["joint_couplings"], job.workcell.problem, &o);
-  if (d.Has("candidates")) {
-    // These shape the default candidates, which a list replaces: taken with one, they would be
-    // ignored without a word.
-    for (const char* key : {"gear_harmonics", "joint_couplings", "group_candidates"}) {
-      if (d.Has(key)) {
-        throw d[key].Error(std::string("`") + key +
-                               "` shapes the default candidates, which `candidates:` replaces",
-                           "Drop it, or write what it would add into the `candidates:` list");
-      }
+  if (d.Has("joint_couplings")) ReadJointCouplings(d["joint_couplings"], spec, &o);
+}
+
+// `candidates:`, the job's own list in place of the default library.
+std::vector<ConfigNode> ReadCandidateList(const ConfigNode& d) {
+  if (!d.Has("candidates")) return {};
+  // These shape the default candidates, which a list replaces: taken with one, they would be
+  // ignored without a word.
+  for (const char* key : {"gear_harmonics", "joint_couplings", "group_candidates"}) {
+    if (d.Has(key)) {
+      throw d[key].Error(
+          std::string("`") + key + "` shapes the default candidates, which `candidates:` replaces",
+          "Drop it, or write what it would add into the `candidates:` list");
     }
-    for (const auto& c : d["candidates"].Elements()) job.candidate_configs.push_back(c);
   }
+  return d["candidates"].Elements();
+}
+
+}  // namespace
+
+DiagnosisJob LoadDiagnosisJob(const std::string& path, Registry& registry,
+                              bool recording_must_exist) {
+  DiagnosisJob job;
+  job.workcell = LoadWorkcellJob(path, registry, recording_must_exist);
+  const ConfigNode root = ConfigNode::LoadFile(path);
+  if (!root.Has("diagnosis")) return job;
+  const ConfigNode d = root["diagnosis"];
+  d.ExpectKeys({"alpha", "bootstrap", "bootstrap_share", "selection_test", "rival_draws", "folds",
+                "max_effects", "min_poses", "link_masses_kg", "gear_harmonics", "joint_couplings",
+                "candidates", "refits", "min_unabsorbed", "alias_correlation",
+                "min_explained_share", "min_group_share", "shape_correlation", "group_candidates"});
+  ReadTestOptions(d, &job.options);
+  ReadGateOptions(d, &job.options);
+  ReadRobotKnowledge(d, job.workcell.problem, &job.options);
+  job.candidate_configs = ReadCandidateList(d);
   return job;
 }
 
