@@ -413,11 +413,11 @@ Recording ReadRecording(const std::string& folder) {
   return recording;
 }
 
-void WriteRecording(const Recording& recording, const std::string& folder,
-                    const std::string& truth_yaml,
-                    const std::function<void(const std::string&)>& write_extra) {
-  StagedDirectory out(folder, "recording");
+namespace {
 
+// recording.yaml: format, description, units, robots with their joint counts, cameras (with
+// their mount where one rides on a robot) and targets with their carriers.
+std::string HeaderYaml(const Recording& recording) {
   YAML::Emitter header;
   header << YAML::BeginMap << YAML::Key << "format" << YAML::Value << kRecordingFormat;
   header << YAML::Key << "description" << YAML::Value << recording.description;
@@ -446,8 +446,12 @@ void WriteRecording(const Recording& recording, const std::string& folder,
            << YAML::Value << carrier << YAML::EndMap;
   }
   header << YAML::EndMap << YAML::EndMap;
-  AtomicWriteFile(out.File("recording.yaml"), std::string(header.c_str()) + "\n");
+  return std::string(header.c_str()) + "\n";
+}
 
+// samples.csv: a joint column for each joint of the robot with the most, and the time,
+// temperature and payload columns where any sample has one (an empty cell where it has none).
+std::string SamplesCsv(const Recording& recording) {
   int max_joints = 0;
   for (const auto& [name, joints] : recording.robots) max_joints = std::max(max_joints, joints);
   bool has_t = false, has_temperature = false, has_payload = false;
@@ -474,20 +478,31 @@ void WriteRecording(const Recording& recording, const std::string& folder,
     if (has_payload) samples << "," << optional(s.payload_kg);
     samples << "\n";
   }
-  AtomicWriteFile(out.File("samples.csv"), samples.str());
+  return samples.str();
+}
 
+std::string ImagesCsv(const std::vector<ImageRef>& list) {
+  std::ostringstream images;
+  images << "sample,camera,view,path\n";
+  for (const auto& i : list) {
+    images << i.sample << "," << i.camera << "," << i.view << "," << i.path << "\n";
+  }
+  return images.str();
+}
+
+}  // namespace
+
+void WriteRecording(const Recording& recording, const std::string& folder,
+                    const std::string& truth_yaml,
+                    const std::function<void(const std::string&)>& write_extra) {
+  StagedDirectory out(folder, "recording");
+  AtomicWriteFile(out.File("recording.yaml"), HeaderYaml(recording));
+  AtomicWriteFile(out.File("samples.csv"), SamplesCsv(recording));
   if (!recording.observations.empty()) {
     AtomicWriteFile(out.File("observations.csv"), ObservationsCsv(recording.observations));
   }
-
-  if (!recording.images.empty()) {
-    std::ostringstream images;
-    images << "sample,camera,view,path\n";
-    for (const auto& i : recording.images) {
-      images << i.sample << "," << i.camera << "," << i.view << "," << i.path << "\n";
-    }
-    AtomicWriteFile(out.File("images.csv"), images.str());
-  }
+  if (!recording.images.empty())
+    AtomicWriteFile(out.File("images.csv"), ImagesCsv(recording.images));
   if (!truth_yaml.empty()) AtomicWriteFile(out.File("truth.yaml"), truth_yaml);
   if (write_extra) write_extra(out.staging());
   out.Commit();
