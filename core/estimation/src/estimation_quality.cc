@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "cellmetry/basics/dense_decompositions.h"
 #include "cellmetry/basics/error.h"
@@ -295,6 +296,56 @@ Eigen::VectorXd PriorInformation(const Problem& problem) {
   return information;
 }
 
+// The chi-square over measurement rows only, and their count: priors are not measurements of
+// the noise.
+double MeasurementChiSquare(const Problem& problem, const Eigen::VectorXd& r, int* num_rows) {
+  double chi2 = 0.0;
+  *num_rows = 0;
+  const auto& infos = problem.residual_infos();
+  const auto& rows = problem.residual_rows();
+  for (size_t b = 0; b < infos.size(); ++b) {
+    if (infos[b].kind == ResidualInfo::Kind::kPrior) continue;
+    const int end = b + 1 < rows.size() ? rows[b + 1] : static_cast<int>(r.size());
+    for (int i = rows[b]; i < end; ++i) {
+      chi2 += r[i] * r[i];
+      ++*num_rows;
+    }
+  }
+  return chi2;
+}
+
+// The covariance when the chi-square scale says the measurements' noise is larger than stated:
+// a prior is a stated input, not a measurement, and keeps its sigma, so the information is the
+// data's divided by the scale plus the priors' (a gauge the data cannot see keeps its prior).
+// Empty where the scaled information is not positive definite.
+std::optional<Eigen::MatrixXd> CovarianceKeepingPriorSigmas(
+    const Eigen::MatrixXd& R, const Eigen::VectorXd& inv_norms,
+    const Eigen::VectorXd& prior_information, double scale) {
+  const Eigen::MatrixXd scaled_R = R * inv_norms.asDiagonal();
+  const Eigen::VectorXd scaled_prior = prior_information.cwiseProduct(inv_norms.cwiseAbs2());
+  Eigen::MatrixXd information = scaled_R.transpose() * scaled_R;
+  information.diagonal() -= scaled_prior;
+  information /= scale;
+  information.diagonal() += scaled_prior;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(information);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return std::nullopt;
+  const Eigen::MatrixXd scaled_inverse =
+      ldlt.solve(Eigen::MatrixXd::Identity(information.rows(), information.cols()));
+  return inv_norms.asDiagonal() * scaled_inverse * inv_norms.asDiagonal();
+}
+
+// Sigma from the covariance's diagonal, and the correlation (the identity where a sigma is 0).
+void FillSigmaAndCorrelation(Uncertainty* u) {
+  const int n = static_cast<int>(u->covariance.rows());
+  u->sigma = u->covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double d = u->sigma[i] * u->sigma[j];
+      u->correlation(i, j) = d > 0 ? u->covariance(i, j) / d : (i == j ? 1.0 : 0.0);
+    }
+  }
+}
+
 }  // namespace
 
 Uncertainty ComputeUncertainty(Problem& problem) {
@@ -309,21 +360,10 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
                      "Check the recording for non-finite or far-off values and the start values");
   }
   Uncertainty u;
-  const Eigen::VectorXd& r = at.residuals;
   const int n = problem.num_free();
   for (const auto& p : problem.free_parameters()) u.names.push_back(p.name);
-  // chi-square over measurement rows only: priors are not measurements of the noise.
   int measurement_rows = 0;
-  const auto& infos = problem.residual_infos();
-  const auto& rows = problem.residual_rows();
-  for (size_t b = 0; b < infos.size(); ++b) {
-    if (infos[b].kind == ResidualInfo::Kind::kPrior) continue;
-    const int end = b + 1 < rows.size() ? rows[b + 1] : static_cast<int>(r.size());
-    for (int i = rows[b]; i < end; ++i) {
-      u.chi2 += r[i] * r[i];
-      ++measurement_rows;
-    }
-  }
+  u.chi2 = MeasurementChiSquare(problem, at.residuals, &measurement_rows);
   u.dof = measurement_rows - n;
   u.reduced_chi2 = u.dof > 0 ? u.chi2 / u.dof : 0.0;
   u.scale = std::max(1.0, u.reduced_chi2);
@@ -355,29 +395,11 @@ Uncertainty ComputeUncertainty(const Problem& problem, const Linearization& at) 
   u.covariance = u.inverse_information * u.scale;
   const Eigen::VectorXd prior_information = PriorInformation(problem);
   if (u.scale > 1.0 && prior_information.any()) {
-    // The chi-square scale says the measurements' noise is larger than stated; a prior is a
-    // stated input, not a measurement, and keeps its sigma: the information is the data's
-    // divided by the scale plus the priors' (a gauge the data cannot see keeps its prior).
-    const Eigen::MatrixXd scaled_R = R * inv_norms.asDiagonal();
-    const Eigen::VectorXd scaled_prior = prior_information.cwiseProduct(inv_norms.cwiseAbs2());
-    Eigen::MatrixXd information = scaled_R.transpose() * scaled_R;
-    information.diagonal() -= scaled_prior;
-    information /= u.scale;
-    information.diagonal() += scaled_prior;
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(information);
-    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
-      const Eigen::MatrixXd scaled_inverse =
-          ldlt.solve(Eigen::MatrixXd::Identity(information.rows(), information.cols()));
-      u.covariance = inv_norms.asDiagonal() * scaled_inverse * inv_norms.asDiagonal();
+    if (auto covariance = CovarianceKeepingPriorSigmas(R, inv_norms, prior_information, u.scale)) {
+      u.covariance = std::move(*covariance);
     }
   }
-  u.sigma = u.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      const double d = u.sigma[i] * u.sigma[j];
-      u.correlation(i, j) = d > 0 ? u.covariance(i, j) / d : (i == j ? 1.0 : 0.0);
-    }
-  }
+  FillSigmaAndCorrelation(&u);
   return u;
 }
 
