@@ -49,6 +49,83 @@ std::string TimeRatio(double fast, double slow) {
   return text;
 }
 
+// The contenders with their error's and time's 95 % intervals, and the phrases a
+// recommendation is built from.
+struct Scored {
+  const std::vector<Contender>& contenders;
+  const std::string& unit;
+  double error_resolution;
+  double time_resolution_s;
+  std::vector<MeanInterval> error, time;
+
+  std::string Label(size_t i) const { return contenders[i].label; }
+  std::string Names(const std::vector<size_t>& list) const {
+    std::string text;
+    for (size_t i : list) text += (text.empty() ? "" : ", ") + Label(i);
+    return text;
+  }
+  size_t FastestOf(const std::vector<size_t>& list) const {
+    size_t f = list.front();
+    for (size_t i : list) {
+      if (time[i].mean < time[f].mean) f = i;
+    }
+    return f;
+  }
+  size_t MostAccurateOf(const std::vector<size_t>& list) const {
+    size_t best = list.front();
+    for (size_t i : list) {
+      if (error[i].mean < error[best].mean) best = i;
+    }
+    return best;
+  }
+  bool SameError(size_t a, size_t b) const {
+    return a == b || SameScore(contenders[a].error, contenders[b].error, error_resolution);
+  }
+  bool SameTime(size_t a, size_t b) const {
+    return a == b || SameScore(contenders[a].time_s, contenders[b].time_s, time_resolution_s);
+  }
+};
+
+// One contender more accurate than every other: it, the next most accurate, and its time where
+// that is longer.
+std::string MoreAccurate(const Scored& s, size_t best, size_t runner) {
+  std::string line = s.Label(best) + ": more accurate than " + s.Label(runner) + " (" +
+                     IntervalText(s.error[best]) + " vs " + IntervalText(s.error[runner]) + " " +
+                     s.unit + ")";
+  if (s.time[best].mean > s.time[runner].mean && !s.SameTime(best, runner)) {
+    char text[64];
+    std::snprintf(text, sizeof text, ", at %.2gx its time",
+                  s.time[best].mean / s.time[runner].mean);
+    line += text;
+  }
+  return line;
+}
+
+// Several as accurate as the best: the fastest of them, or a tie among the fastest.
+std::string SameAccuracy(const Scored& s, const std::vector<size_t>& same) {
+  const size_t fastest = s.FastestOf(same);
+  std::vector<size_t> quick, slow;  // as fast as the fastest (it included), slower
+  for (size_t i : same) (s.SameTime(i, fastest) ? quick : slow).push_back(i);
+  if (quick.size() == 1) {
+    const size_t next = s.FastestOf(slow);
+    return s.Label(fastest) + ": same accuracy as " + s.Label(next) + " at " +
+           TimeRatio(s.time[fastest].mean, s.time[next].mean) + " (" +
+           IntervalText(s.error[fastest]) + " vs " + IntervalText(s.error[next]) + " " + s.unit +
+           "; " + IntervalText(s.time[fastest], 1e3) + " vs " + IntervalText(s.time[next], 1e3) +
+           " ms)";
+  }
+  std::string line = "tie: " + s.Names(quick) + " (same accuracy, " +
+                     IntervalText(s.error[fastest]) + " " + s.unit + ", and same time)";
+  if (!slow.empty()) {
+    const size_t next = s.FastestOf(slow);
+    char text[96];
+    std::snprintf(text, sizeof text, ": same accuracy at %.2gx the time",
+                  s.time[next].mean / s.time[fastest].mean);
+    line += "; " + s.Names(slow) + text + (slow.size() > 1 ? " or more" : "");
+  }
+  return line;
+}
+
 }  // namespace
 
 std::string Recommendation(const std::string& question, const std::vector<Contender>& contenders,
@@ -56,81 +133,29 @@ std::string Recommendation(const std::string& question, const std::vector<Conten
                            double time_resolution_s) {
   if (contenders.empty()) return question + ": nothing to compare";
   if (contenders.size() == 1) return question + ": " + contenders[0].label + " (the only one)";
-  std::vector<MeanInterval> error, time;
-  for (const auto& c : contenders) {
-    error.push_back(TInterval95(c.error));
-    time.push_back(TInterval95(c.time_s));
-  }
-  auto label = [&](size_t i) { return contenders[i].label; };
-  auto names = [&](const std::vector<size_t>& list) {
-    std::string text;
-    for (size_t i : list) text += (text.empty() ? "" : ", ") + label(i);
-    return text;
-  };
-  auto fastest_of = [&](const std::vector<size_t>& list) {
-    size_t f = list.front();
-    for (size_t i : list) {
-      if (time[i].mean < time[f].mean) f = i;
-    }
-    return f;
-  };
-  size_t best = 0;
-  for (size_t i = 1; i < contenders.size(); ++i) {
-    if (error[i].mean < error[best].mean) best = i;
-  }
-  std::vector<size_t> same, worse;  // same accuracy as the best (best included), less accurate
+  Scored s{contenders, unit, error_resolution, time_resolution_s, {}, {}};
+  std::vector<size_t> all;
   for (size_t i = 0; i < contenders.size(); ++i) {
-    const bool same_error =
-        i == best || SameScore(contenders[i].error, contenders[best].error, error_resolution);
-    (same_error ? same : worse).push_back(i);
+    s.error.push_back(TInterval95(contenders[i].error));
+    s.time.push_back(TInterval95(contenders[i].time_s));
+    all.push_back(i);
   }
+  const size_t best = s.MostAccurateOf(all);
+  std::vector<size_t> same, worse;  // same accuracy as the best (best included), less accurate
+  for (size_t i : all) (s.SameError(i, best) ? same : worse).push_back(i);
   std::string line = question + ": ";
   size_t runner = contenders.size();  // the less accurate one named in the line, if any
   if (same.size() == 1) {
-    runner = worse.front();
-    for (size_t i : worse) {
-      if (error[i].mean < error[runner].mean) runner = i;
-    }
-    line += label(best) + ": more accurate than " + label(runner) + " (" +
-            IntervalText(error[best]) + " vs " + IntervalText(error[runner]) + " " + unit + ")";
-    if (time[best].mean > time[runner].mean &&
-        !SameScore(contenders[best].time_s, contenders[runner].time_s, time_resolution_s)) {
-      char text[64];
-      std::snprintf(text, sizeof text, ", at %.2gx its time", time[best].mean / time[runner].mean);
-      line += text;
-    }
+    runner = s.MostAccurateOf(worse);
+    line += MoreAccurate(s, best, runner);
   } else {
-    const size_t fastest = fastest_of(same);
-    std::vector<size_t> quick, slow;  // as fast as the fastest (it included), slower
-    for (size_t i : same) {
-      const bool same_time =
-          i == fastest ||
-          SameScore(contenders[i].time_s, contenders[fastest].time_s, time_resolution_s);
-      (same_time ? quick : slow).push_back(i);
-    }
-    if (quick.size() == 1) {
-      const size_t next = fastest_of(slow);
-      line += label(fastest) + ": same accuracy as " + label(next) + " at " +
-              TimeRatio(time[fastest].mean, time[next].mean) + " (" + IntervalText(error[fastest]) +
-              " vs " + IntervalText(error[next]) + " " + unit + "; " +
-              IntervalText(time[fastest], 1e3) + " vs " + IntervalText(time[next], 1e3) + " ms)";
-    } else {
-      line += "tie: " + names(quick) + " (same accuracy, " + IntervalText(error[fastest]) + " " +
-              unit + ", and same time)";
-      if (!slow.empty()) {
-        const size_t next = fastest_of(slow);
-        char text[96];
-        std::snprintf(text, sizeof text, ": same accuracy at %.2gx the time",
-                      time[next].mean / time[fastest].mean);
-        line += "; " + names(slow) + text + (slow.size() > 1 ? " or more" : "");
-      }
-    }
+    line += SameAccuracy(s, same);
   }
   std::vector<size_t> others;  // less accurate, not yet named
   for (size_t i : worse) {
     if (i != runner) others.push_back(i);
   }
-  if (!others.empty()) line += "; less accurate: " + names(others);
+  if (!others.empty()) line += "; less accurate: " + s.Names(others);
   return line;
 }
 
