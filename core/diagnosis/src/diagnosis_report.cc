@@ -193,23 +193,9 @@ void StrongestRuledOut(const DiagnosisResult& r, std::ostringstream& out) {
   }
 }
 
-}  // namespace
-
-std::string DiagnosisReport(const DiagnosisResult& result) {
-  DiagnosisResult storage;
-  const DiagnosisResult& r = Grouped(result, &storage);
-  std::ostringstream out;
-  out << "Mismatch: " << Mm(r.geometric.rms_mm) << " RMS against a " << Mm(r.floor_rms_mm)
-      << " floor (" << r.noise_source << "); chi-square/dof "
-      << r.geometric.chi2 / std::max(1.0, r.geometric.dof);
-  out << (r.geometric.consistent_with_noise() ? ": consistent with noise.\n" : ".\n");
-  if (!r.geometric.consistent_with_noise() && !r.regressors.empty()) {
-    const auto& f = r.regressors.front();
-    out << "It follows " << f.regressor << " (" << f.axis << " residuals, partial correlation "
-        << std::to_string(f.partial_correlation).substr(0, 5) << ").\n";
-  }
-  StrongestRuledOut(r, out);
-  for (const auto& f : r.findings) Finding(r, f, out);
+// The held-out figures with the accepted effects; or, where none was accepted and the mismatch
+// is more than noise, that nothing passed.
+void HeldOutLine(const DiagnosisResult& r, std::ostringstream& out) {
   if (!r.accepted.empty()) {
     out << "Held-out RMS " << MmWithSe(r.geometric.held_out_rms_mm, r.geometric.held_out_rms_se_mm)
         << " -> " << MmWithSe(r.final.held_out_rms_mm, r.final.held_out_rms_se_mm)
@@ -227,30 +213,37 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
     }
     out << ".\n";
   }
-  // The last physics round's chosen one failed: what it would give, and why not.
-  if (const DiagnosisRound* physics = LastPhysicsRound(r)) {
-    for (const auto& f : physics->candidates) {
-      if (f.failed.empty()) continue;
-      const std::string tie = TieAtItsSite(*physics, f);
-      if (!tie.empty()) out << tie << "\n";
-      out << "Closest candidate: " << f.label << " (held-out RMS " << Mm(r.final.held_out_rms_mm)
-          << " -> " << Mm(f.cv_rms_mm) << "), not accepted:";
-      for (size_t i = 0; i < f.failed.size(); ++i)
-        out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
-      out << ".\n";
-      const std::string advice = PlanAgainstRivalAdvice(r, f);
-      if (!advice.empty()) out << "  " << advice << "\n";
-      if (!f.look_alikes.empty()) {
-        out << "  In these poses it looks like";
-        for (size_t i = 0; i < f.look_alikes.size() && i < 3; ++i) {
-          out << (i ? "," : "") << " " << f.look_alikes[i].label << " ("
-              << FixedNumber(f.look_alikes[i].correlation, 2) << ")";
-        }
-        out << " (canonical correlation of what the geometry leaves of them).\n";
+}
+
+// The last physics round's chosen one that failed: what it would give, and why not.
+void ClosestCandidates(const DiagnosisResult& r, std::ostringstream& out) {
+  const DiagnosisRound* physics = LastPhysicsRound(r);
+  if (!physics) return;
+  for (const auto& f : physics->candidates) {
+    if (f.failed.empty()) continue;
+    const std::string tie = TieAtItsSite(*physics, f);
+    if (!tie.empty()) out << tie << "\n";
+    out << "Closest candidate: " << f.label << " (held-out RMS " << Mm(r.final.held_out_rms_mm)
+        << " -> " << Mm(f.cv_rms_mm) << "), not accepted:";
+    for (size_t i = 0; i < f.failed.size(); ++i)
+      out << (i ? ";" : "") << " " << Why(f, f.failed[i]);
+    out << ".\n";
+    const std::string advice = PlanAgainstRivalAdvice(r, f);
+    if (!advice.empty()) out << "  " << advice << "\n";
+    if (!f.look_alikes.empty()) {
+      out << "  In these poses it looks like";
+      for (size_t i = 0; i < f.look_alikes.size() && i < 3; ++i) {
+        out << (i ? "," : "") << " " << f.look_alikes[i].label << " ("
+            << FixedNumber(f.look_alikes[i].correlation, 2) << ")";
       }
+      out << " (canonical correlation of what the geometry leaves of them).\n";
     }
   }
-  for (const DiagnosisRound& round : r.rounds) {  // a frame the tests did not accept
+}
+
+// A frame the tests did not accept, and why.
+void FramesNotAccepted(const DiagnosisResult& r, std::ostringstream& out) {
+  for (const DiagnosisRound& round : r.rounds) {
     if (!round.frames) continue;
     for (const auto& f : round.candidates) {
       if (f.failed.empty()) continue;
@@ -260,6 +253,28 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
       out << ".\n";
     }
   }
+}
+
+}  // namespace
+
+std::string DiagnosisReport(const DiagnosisResult& result) {
+  DiagnosisResult storage;
+  const DiagnosisResult& r = Grouped(result, &storage);
+  std::ostringstream out;
+  out << "Mismatch: " << Mm(r.geometric.rms_mm) << " RMS against a " << Mm(r.floor_rms_mm)
+      << " floor (" << r.noise_source << "); chi-square/dof "
+      << r.geometric.chi2 / std::max(1.0, r.geometric.dof);
+  out << (r.geometric.consistent_with_noise() ? ": consistent with noise.\n" : ".\n");
+  if (!r.geometric.consistent_with_noise() && !r.regressors.empty()) {
+    const auto& f = r.regressors.front();
+    out << "It follows " << f.regressor << " (" << f.axis << " residuals, partial correlation "
+        << std::to_string(f.partial_correlation).substr(0, 5) << ").\n";
+  }
+  StrongestRuledOut(r, out);
+  for (const auto& f : r.findings) Finding(r, f, out);
+  HeldOutLine(r, out);
+  ClosestCandidates(r, out);
+  FramesNotAccepted(r, out);
   if (!r.unexplained.empty()) out << "Unexplained: " << r.unexplained << ".\n";
   if (!r.untestable.empty()) {
     out << "Not testable here:";
