@@ -163,9 +163,22 @@ class Importer {
       throw table_.Error(row, *pose_column_, "empty cell",
                          "Every row needs the commanded pose it repeats");
     }
-    const auto found = sample_of_key_.find(key);
-    Sample sample;
+    Sample sample = RobotState(row);
     sample.id = static_cast<int>(r->samples.size());
+    const auto found = sample_of_key_.find(key);
+    if (found == sample_of_key_.end()) {
+      sample_of_key_[key] = sample.id;
+      rows_.push_back({row, pose_key});
+      r->samples.push_back(std::move(sample));
+      return r->samples.back().id;
+    }
+    CheckSameState(row, key, r->samples[found->second], rows_[found->second], sample, pose_key);
+    return found->second;
+  }
+
+  // The robot's state in a row: its joints, and the time, temperature and payload where mapped.
+  Sample RobotState(size_t row) const {
+    Sample sample;
     sample.robot = m_.robot;
     for (size_t j = 0; j < joints_.size(); ++j) {
       sample.q.push_back(Limited(row, joints_[j], m_.joint_to_rad, kMaxJointRad,
@@ -177,17 +190,15 @@ class Importer {
     if (time_) sample.time_s = Fact(row, *time_, *m_.time_s);
     if (temperature_) sample.temperature_c = Fact(row, *temperature_, *m_.temperature_c);
     if (payload_) sample.payload_kg = Fact(row, *payload_, *m_.payload_kg);
-    if (found == sample_of_key_.end()) {
-      sample_of_key_[key] = sample.id;
-      rows_.push_back({row, pose_key});
-      r->samples.push_back(std::move(sample));
-      return r->samples.back().id;
-    }
-    // Another row of a sample already seen: the same robot state.
-    const Sample& first = r->samples[found->second];
-    const size_t first_row = rows_[found->second].first_row;
+    return sample;
+  }
+
+  // Another row of a sample already seen must be the same robot state: joints, facts and pose.
+  void CheckSameState(size_t row, const std::string& key, const Sample& first,
+                      const SampleRows& first_rows, const Sample& sample,
+                      const std::string& pose_key) const {
     const std::string where =
-        "sample '" + key + "' (data row " + std::to_string(first_row + 1) + ")";
+        "sample '" + key + "' (data row " + std::to_string(first_rows.first_row + 1) + ")";
     const std::string hint =
         "The rows of one sample are one robot state and must agree; check "
         "samples: {column: ...} in the mapping";
@@ -211,13 +222,11 @@ class Importer {
                            where + " has " + Text(**a) + " there but " + Text(**b) + " here", hint);
       }
     }
-    if (pose_column_ && pose_key != rows_[found->second].pose_key) {
-      throw table_.Error(row, *pose_column_,
-                         where + " is pose '" + rows_[found->second].pose_key + "' there but '" +
-                             pose_key + "' here",
-                         hint);
+    if (pose_column_ && pose_key != first_rows.pose_key) {
+      throw table_.Error(
+          row, *pose_column_,
+          where + " is pose '" + first_rows.pose_key + "' there but '" + pose_key + "' here", hint);
     }
-    return found->second;
   }
 
   std::optional<double> Fact(size_t row, Column column, const FactSpec& spec) const {
