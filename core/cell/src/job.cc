@@ -518,7 +518,11 @@ SourceLocation WorkcellJob::Where(const std::string& key) const {
   return it == locations.end() ? SourceLocation{file, 0, 0} : it->second;
 }
 
-void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& recording) {
+namespace {
+
+// Every camera the job's noise: and cameras: sections name is in the recording; a start or free
+// flags for a camera it lacks would otherwise be ignored without a word.
+void CheckJobCamerasRecorded(const WorkcellJob& job, const Recording& recording) {
   std::set<std::string> noise_cameras;
   for (const auto& entry : job.problem.noise.position_sigma_mm) noise_cameras.insert(entry.first);
   for (const auto& entry : job.problem.noise.rotation_sigma_rad) noise_cameras.insert(entry.first);
@@ -529,7 +533,6 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
         "camera '" + camera + "' under noise: is not in the recording " + recording.folder,
         "Name the cameras as recording.yaml does");
   }
-  // A start or free flags for a camera the recording lacks were ignored without a word.
   for (const auto& [camera, settings] : job.problem.cameras) {
     if (recording.HasCamera(camera)) continue;
     throw InputError(
@@ -537,6 +540,52 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
         "camera '" + camera + "' under cameras: is not in the recording " + recording.folder,
         "Name the cameras as recording.yaml does");
   }
+}
+
+// A robot of the job is in the recording with as many joints, and carries there what the job
+// says it carries: its targets, and its cameras (eye-in-hand).
+void CheckRobotRecorded(const WorkcellJob& job, const WorkcellRobot& robot,
+                        const Recording& recording) {
+  const auto joints = recording.robots.find(robot.name);
+  if (joints == recording.robots.end()) {
+    throw InputError(job.Where("robots." + robot.name),
+                     "robot '" + robot.name + "' is not in the recording " + recording.folder,
+                     "Name the robot as recording.yaml does");
+  }
+  if (joints->second != robot.model->num_joints()) {
+    throw InputError(job.Where("robots." + robot.name),
+                     "robot '" + robot.name + "' has " + std::to_string(joints->second) +
+                         " joints in the recording but " +
+                         std::to_string(robot.model->num_joints()) + " in " + robot.model_file,
+                     "Use the robot config that matches the recorded robot");
+  }
+  for (const auto& tool : robot.tools) {
+    if (tool.is_camera()) {
+      const auto mount = recording.camera_mounts.find(tool.camera);
+      if (mount == recording.camera_mounts.end() || mount->second != robot.name) {
+        throw InputError(
+            job.Where("robots." + robot.name + ".cameras." + tool.camera),
+            "camera '" + tool.camera + "' does not ride on robot '" + robot.name +
+                "' in the recording",
+            "List under 'cameras:' the cameras recording.yaml puts 'on: " + robot.name + "'");
+      }
+      continue;
+    }
+    const auto target = recording.targets.find(tool.target);
+    if (target == recording.targets.end() || target->second != robot.name) {
+      throw InputError(
+          job.Where("robots." + robot.name + ".tools." + tool.target),
+          "target '" + tool.target + "' is not carried by robot '" + robot.name +
+              "' in the recording",
+          "List under 'tools:' the targets recording.yaml puts 'on: " + robot.name + "'");
+    }
+  }
+}
+
+}  // namespace
+
+void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& recording) {
+  CheckJobCamerasRecorded(job, recording);
   const auto world = recording.targets.find(job.problem.world_target);
   if (!job.problem.world_target.empty() &&
       (world == recording.targets.end() || world->second != kWorldCarrier)) {
@@ -544,42 +593,7 @@ void ValidateJobAgainstRecording(const WorkcellJob& job, const Recording& record
                      "the recording has no world-fixed target '" + job.problem.world_target + "'",
                      "Set 'world_target:' to a target that recording.yaml puts 'on: world'");
   }
-  for (const auto& robot : job.problem.robots) {
-    const auto joints = recording.robots.find(robot.name);
-    if (joints == recording.robots.end()) {
-      throw InputError(job.Where("robots." + robot.name),
-                       "robot '" + robot.name + "' is not in the recording " + recording.folder,
-                       "Name the robot as recording.yaml does");
-    }
-    if (joints->second != robot.model->num_joints()) {
-      throw InputError(job.Where("robots." + robot.name),
-                       "robot '" + robot.name + "' has " + std::to_string(joints->second) +
-                           " joints in the recording but " +
-                           std::to_string(robot.model->num_joints()) + " in " + robot.model_file,
-                       "Use the robot config that matches the recorded robot");
-    }
-    for (const auto& tool : robot.tools) {
-      if (tool.is_camera()) {
-        const auto mount = recording.camera_mounts.find(tool.camera);
-        if (mount == recording.camera_mounts.end() || mount->second != robot.name) {
-          throw InputError(
-              job.Where("robots." + robot.name + ".cameras." + tool.camera),
-              "camera '" + tool.camera + "' does not ride on robot '" + robot.name +
-                  "' in the recording",
-              "List under 'cameras:' the cameras recording.yaml puts 'on: " + robot.name + "'");
-        }
-        continue;
-      }
-      const auto target = recording.targets.find(tool.target);
-      if (target == recording.targets.end() || target->second != robot.name) {
-        throw InputError(
-            job.Where("robots." + robot.name + ".tools." + tool.target),
-            "target '" + tool.target + "' is not carried by robot '" + robot.name +
-                "' in the recording",
-            "List under 'tools:' the targets recording.yaml puts 'on: " + robot.name + "'");
-      }
-    }
-  }
+  for (const auto& robot : job.problem.robots) CheckRobotRecorded(job, robot, recording);
   // Angles in the other unit (rad declared deg, or the reverse) against the robot's turns, first:
   // joint readings 57 times too small also make the cell look 57 times too small.
   CheckAngleUnits(job, recording);
