@@ -64,6 +64,30 @@ double Tolerance(const ConfigNode& node) {
                           "How far from a rotation the numbers may be, e.g. 1e-6");
 }
 
+// `convention: euler`: the turn order, intrinsic or extrinsic, and an angle column per turn.
+void ReadEulerRotation(const ConfigNode& node, RotationSpec* spec) {
+  node.ExpectKeys({"convention", "order", "axes", "columns"});
+  RotationConvention& c = spec->convention;
+  c.kind = RotationKind::kEuler;
+  const ConfigNode order = Required(node, "order", "Give the axes in turn order, e.g. order: ZYX");
+  const auto axes = ParseEulerOrder(order.AsString());
+  if (!axes) {
+    throw order.Error("'" + order.AsString() + "' is not an Euler sequence",
+                      "Write three capital axes, no axis twice in a row: XYZ, XZY, YXZ, YZX, "
+                      "ZXY, ZYX, XYX, XZX, YXY, YZY, ZXZ, ZYZ (and say intrinsic or extrinsic "
+                      "under axes:; scipy's lowercase 'xyz' is extrinsic)");
+  }
+  c.euler_axes = *axes;
+  c.intrinsic = OneOf(Required(node, "axes",
+                               "Say whether each turn is about the turned frame's axes "
+                               "(axes: intrinsic) or the fixed frame's (axes: extrinsic)"),
+                      {"intrinsic", "extrinsic"}, "Euler axes") == "intrinsic";
+  const std::string o = order.AsString();
+  spec->columns = Columns(Required(node, "columns", "List the three angles' columns"),
+                          {std::string("angle about ") + o[0], std::string("angle about ") + o[1],
+                           std::string("angle about ") + o[2]});
+}
+
 RotationSpec ReadRotation(const ConfigNode& node) {
   RotationSpec spec;
   spec.where = node.location();
@@ -75,26 +99,7 @@ RotationSpec ReadRotation(const ConfigNode& node) {
             {"euler", "rpy", "quaternion", "rotation_vector", "matrix"}, "rotation convention");
   RotationConvention& c = spec.convention;
   if (convention == "euler") {
-    node.ExpectKeys({"convention", "order", "axes", "columns"});
-    c.kind = RotationKind::kEuler;
-    const ConfigNode order =
-        Required(node, "order", "Give the axes in turn order, e.g. order: ZYX");
-    const auto axes = ParseEulerOrder(order.AsString());
-    if (!axes) {
-      throw order.Error("'" + order.AsString() + "' is not an Euler sequence",
-                        "Write three capital axes, no axis twice in a row: XYZ, XZY, YXZ, YZX, "
-                        "ZXY, ZYX, XYX, XZX, YXY, YZY, ZXZ, ZYZ (and say intrinsic or extrinsic "
-                        "under axes:; scipy's lowercase 'xyz' is extrinsic)");
-    }
-    c.euler_axes = *axes;
-    c.intrinsic = OneOf(Required(node, "axes",
-                                 "Say whether each turn is about the turned frame's axes "
-                                 "(axes: intrinsic) or the fixed frame's (axes: extrinsic)"),
-                        {"intrinsic", "extrinsic"}, "Euler axes") == "intrinsic";
-    const std::string o = order.AsString();
-    spec.columns = Columns(Required(node, "columns", "List the three angles' columns"),
-                           {std::string("angle about ") + o[0], std::string("angle about ") + o[1],
-                            std::string("angle about ") + o[2]});
+    ReadEulerRotation(node, &spec);
   } else if (convention == "rpy") {
     node.ExpectKeys({"convention", "columns"});
     c.kind = RotationKind::kRollPitchYaw;
@@ -130,6 +135,40 @@ RotationSpec ReadRotation(const ConfigNode& node) {
   return spec;
 }
 
+// A fixed target name must be one the mapping's targets: lists.
+void CheckTargetListed(const ConfigNode& target, const std::string& name,
+                       const ImportMapping& mapping) {
+  std::vector<std::string> names;
+  for (const auto& [listed, carrier] : mapping.targets) {
+    if (listed == name) return;
+    names.push_back(listed);
+  }
+  const std::string nearest = NearestWord(name, names);
+  throw target.Error("target '" + name + "' is not under targets:",
+                     nearest.empty() ? "List it under targets: with what carries it"
+                                     : "Did you mean '" + nearest + "'?");
+}
+
+// `transform:` a 4x4 (or its top 3x4) by prefix or by its columns, row by row.
+void ReadTransformColumns(const ConfigNode& t, ObservationSpec* spec) {
+  t.ExpectMap();
+  t.ExpectKeys({"prefix", "columns", "tolerance"});
+  spec->transform_tolerance = Tolerance(t);
+  if (t.Has("prefix") == t.Has("columns")) {
+    throw t.Error("give the transform's columns or their prefix, one of them",
+                  "prefix: T reads T11 .. T34 (and T41 .. T44 when the table has them); "
+                  "columns: lists 16 (or the top 12) names row by row");
+  }
+  if (t.Has("prefix")) {
+    spec->transform = PrefixedColumns(t["prefix"], 4, 4);
+    spec->transform_bottom_optional = true;
+  } else {
+    const ConfigNode list = t["columns"];
+    const size_t n = list.IsSequence() ? list.Elements().size() : 0;
+    spec->transform = Columns(list, MatrixNames(n == 12 ? 3 : 4, 4));
+  }
+}
+
 ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& mapping, double to_mm,
                                 double to_rad) {
   node.ExpectKeys({"camera", "target", "pose_of", "position", "rotation", "transform", "length",
@@ -144,20 +183,7 @@ ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& map
                                      "Name the target (target: tool) or the "
                                      "column naming it (target: {column: target})");
   spec.target = ReadName(target, "target");
-  if (!spec.target.fixed.empty()) {
-    bool known = false;
-    std::vector<std::string> names;
-    for (const auto& [name, carrier] : mapping.targets) {
-      known = known || name == spec.target.fixed;
-      names.push_back(name);
-    }
-    if (!known) {
-      const std::string nearest = NearestWord(spec.target.fixed, names);
-      throw target.Error("target '" + spec.target.fixed + "' is not under targets:",
-                         nearest.empty() ? "List it under targets: with what carries it"
-                                         : "Did you mean '" + nearest + "'?");
-    }
-  }
+  if (!spec.target.fixed.empty()) CheckTargetListed(target, spec.target.fixed, mapping);
   if (node.Has("pose_of")) {
     spec.camera_in_target = OneOf(node["pose_of"], {"target_in_camera", "camera_in_target"},
                                   "pose direction") == "camera_in_target";
@@ -170,22 +196,7 @@ ObservationSpec ReadObservation(const ConfigNode& node, const ImportMapping& map
       throw t.Error("a transform gives both position and rotation",
                     "Give transform: alone, or position: and rotation: without it");
     }
-    t.ExpectMap();
-    t.ExpectKeys({"prefix", "columns", "tolerance"});
-    spec.transform_tolerance = Tolerance(t);
-    if (t.Has("prefix") == t.Has("columns")) {
-      throw t.Error("give the transform's columns or their prefix, one of them",
-                    "prefix: T reads T11 .. T34 (and T41 .. T44 when the table has them); "
-                    "columns: lists 16 (or the top 12) names row by row");
-    }
-    if (t.Has("prefix")) {
-      spec.transform = PrefixedColumns(t["prefix"], 4, 4);
-      spec.transform_bottom_optional = true;
-    } else {
-      const ConfigNode list = t["columns"];
-      const size_t n = list.IsSequence() ? list.Elements().size() : 0;
-      spec.transform = Columns(list, MatrixNames(n == 12 ? 3 : 4, 4));
-    }
+    ReadTransformColumns(t, &spec);
     ReadUncertainties(node, &spec);
     return spec;
   }
