@@ -231,6 +231,49 @@ std::optional<Eigen::Matrix3d> ReadCovariance(const CsvRows& table, const std::s
   return c * scale;
 }
 
+// An observation row's sample, camera and target, each one the recording lists.
+void ReadObservationNames(CsvRows& table, const Recording& recording,
+                          const std::set<int>& sample_ids, Observation* obs) {
+  obs->sample = table.Integer("sample");
+  if (!sample_ids.count(obs->sample)) {
+    throw table.Error("sample", "unknown sample " + std::to_string(obs->sample),
+                      "Every observation must name a sample listed in samples.csv");
+  }
+  obs->camera = table.Text("camera");
+  if (!recording.HasCamera(obs->camera)) {
+    throw table.Error("camera", "unknown camera '" + obs->camera + "'",
+                      "List it under 'cameras' in recording.yaml");
+  }
+  obs->target = table.Text("target");
+  if (!recording.targets.count(obs->target)) {
+    throw table.Error("target", "unknown target '" + obs->target + "'",
+                      "List it under 'targets' in recording.yaml");
+  }
+}
+
+// An observation row's position, its rotation where all three cells are filled, and their
+// covariances, in mm and rad.
+void ReadObservationPose(CsvRows& table, const Units& units, bool has_rotation, Observation* obs) {
+  obs->position_mm = Eigen::Vector3d(Within(table, "x", kMaxPositionMm / units.to_mm),
+                                     Within(table, "y", kMaxPositionMm / units.to_mm),
+                                     Within(table, "z", kMaxPositionMm / units.to_mm)) *
+                     units.to_mm;
+  if (has_rotation) {
+    const int filled = table.HasValue("rx") + table.HasValue("ry") + table.HasValue("rz");
+    if (filled == 3) {
+      obs->rvec = Eigen::Vector3d(Within(table, "rx", kMaxRotationRad / units.to_rad),
+                                  Within(table, "ry", kMaxRotationRad / units.to_rad),
+                                  Within(table, "rz", kMaxRotationRad / units.to_rad)) *
+                  units.to_rad;
+    } else if (filled != 0) {
+      throw table.Error("rx", "rotation is partly filled in",
+                        "Give all of rx,ry,rz or leave all three empty");
+    }
+  }
+  obs->covariance_mm2 = ReadCovariance(table, "cov_", units.to_mm * units.to_mm);
+  obs->rotation_covariance_rad2 = ReadCovariance(table, "rcov_", units.to_rad * units.to_rad);
+}
+
 void ReadObservations(const std::string& path, const Units& units, Recording* recording,
                       bool allow_empty) {
   CsvRows table = RecordingTable(path);
@@ -249,21 +292,7 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
   while (table.Next()) {
     Observation obs;
     obs.line = table.line();
-    obs.sample = table.Integer("sample");
-    if (!sample_ids.count(obs.sample)) {
-      throw table.Error("sample", "unknown sample " + std::to_string(obs.sample),
-                        "Every observation must name a sample listed in samples.csv");
-    }
-    obs.camera = table.Text("camera");
-    if (!recording->HasCamera(obs.camera)) {
-      throw table.Error("camera", "unknown camera '" + obs.camera + "'",
-                        "List it under 'cameras' in recording.yaml");
-    }
-    obs.target = table.Text("target");
-    if (!recording->targets.count(obs.target)) {
-      throw table.Error("target", "unknown target '" + obs.target + "'",
-                        "List it under 'targets' in recording.yaml");
-    }
+    ReadObservationNames(table, *recording, sample_ids, &obs);
     const auto [first, fresh] = first_line.insert({{obs.sample, obs.camera, obs.target}, obs.line});
     if (!fresh) {
       throw table.Error("target",
@@ -272,24 +301,7 @@ void ReadObservations(const std::string& path, const Units& units, Recording* re
                             std::to_string(first->second),
                         "Keep one row per sample, camera and target");
     }
-    obs.position_mm = Eigen::Vector3d(Within(table, "x", kMaxPositionMm / units.to_mm),
-                                      Within(table, "y", kMaxPositionMm / units.to_mm),
-                                      Within(table, "z", kMaxPositionMm / units.to_mm)) *
-                      units.to_mm;
-    if (has_rotation) {
-      const int filled = table.HasValue("rx") + table.HasValue("ry") + table.HasValue("rz");
-      if (filled == 3) {
-        obs.rvec = Eigen::Vector3d(Within(table, "rx", kMaxRotationRad / units.to_rad),
-                                   Within(table, "ry", kMaxRotationRad / units.to_rad),
-                                   Within(table, "rz", kMaxRotationRad / units.to_rad)) *
-                   units.to_rad;
-      } else if (filled != 0) {
-        throw table.Error("rx", "rotation is partly filled in",
-                          "Give all of rx,ry,rz or leave all three empty");
-      }
-    }
-    obs.covariance_mm2 = ReadCovariance(table, "cov_", units.to_mm * units.to_mm);
-    obs.rotation_covariance_rad2 = ReadCovariance(table, "rcov_", units.to_rad * units.to_rad);
+    ReadObservationPose(table, units, has_rotation, &obs);
     recording->observations.push_back(std::move(obs));
   }
   if (recording->observations.empty() && !allow_empty) {
