@@ -452,71 +452,93 @@ void AddEyeInHandResiduals(const Recording& recording, const ToolMeasurement& m,
   }
 }
 
+// What the carried-target residuals of one assembly share: forward kinematics by joints, frame
+// references by blocks, the first cost of each shape, and each robot's effects.
+struct ToolCaches {
+  ForwardMemos memos;
+  SharedRefs shared_refs;
+  FirstCosts<ChainCost> first_costs;
+  FirstCosts<EffectChainCost> first_effect_costs;
+  std::vector<RobotEffects> effects;  // per robot
+};
+
+// A carried-target measurement's context: its blocks (base, tool, and the static camera's),
+// their reference rotations (a held frame's pose with them), and the shared caches.
+ToolContext CarriedTargetContext(const WorkcellProblem& spec, const Recording& recording,
+                                 const WorkcellData& data, const WorkcellEstimate& start,
+                                 const ToolMeasurement& m, const CameraTarget& seen,
+                                 ToolCaches* caches, const AssembledWorkcell& out) {
+  ToolContext c{spec, recording, data, start, m, {}, {}, false, false, nullptr, nullptr, nullptr};
+  c.static_camera = spec.camera_model == CameraModel::kStaticCameras;
+  c.model_free = ModelFree(out, m.robot);
+  c.memos = &caches->memos;
+  c.first_costs = &caches->first_costs;
+  c.first_effect_costs = &caches->first_effect_costs;
+  c.effects = &caches->effects;
+  c.blocks = {out.base_block[m.robot], out.tool_block[m.robot][m.tool]};
+  c.refs.world_base = out.R_ref.at(c.blocks[0]);
+  if (BlockHeld(out, c.blocks[0])) {
+    c.refs.held_world_base = FrameFromBlock(out.problem.values(c.blocks[0]), c.refs.world_base);
+  }
+  c.refs.flange_target = out.R_ref.at(c.blocks[1]);
+  if (BlockHeld(out, c.blocks[1])) {
+    c.refs.held_flange_target =
+        FrameFromBlock(out.problem.values(c.blocks[1]), c.refs.flange_target);
+  }
+  if (c.static_camera) {
+    c.blocks.push_back(seen.camera_block);
+    c.refs.world_cam = out.R_ref.at(c.blocks[2]);
+  }
+  c.shared_refs = Shared(c.blocks, c.refs, &caches->shared_refs);
+  return c;
+}
+
+// A carried target's residuals: its position (and rotation where the job compares it) in the
+// job's residual form.
+void AddCarriedTargetResiduals(const ToolContext& c, const Observation& obs,
+                               const TargetNoise& sigma, AssembledWorkcell* out) {
+  if (c.spec.residual == ResidualForm::kJointSpace) {
+    std::vector<int> blocks = c.blocks;
+    auto cost = JointSpaceCost(c, out, RowPositionSigma(sigma, obs), &blocks);
+    AddMeasurement(c.recording, c.m.observation, ResidualInfo::Kind::kPosition,
+                   Eigen::Vector3d::Ones(),  // its rows: whitened joint errors
+                   std::move(cost), blocks, out);
+    return;
+  }
+  std::vector<Compared> compared = {Compared::kPosition};
+  if (c.spec.use_tool_rotation) compared.push_back(Compared::kRotation);
+  const Pose observed = ObservedPose(obs);
+  for (Compared what : compared) {
+    const bool position = what == Compared::kPosition;
+    const Eigen::Vector3d s = position ? RowPositionSigma(sigma, obs) : sigma.rotation_rad;
+    std::vector<int> blocks = c.blocks;
+    auto cost = ToolCost(c, out, TargetComparison(what, observed, s), &blocks);
+    AddMeasurement(c.recording, c.m.observation, KindOf(position), s, std::move(cost), blocks, out);
+  }
+}
+
 // Residuals of every carried-target measurement of `poses` (empty: all).
 void AddToolResiduals(const WorkcellProblem& spec, const Recording& recording,
                       const WorkcellData& data, const NoiseModel& noise,
                       const WorkcellEstimate& start, const std::set<int>& poses,
                       AssembledWorkcell* out) {
-  const bool static_cameras = spec.camera_model == CameraModel::kStaticCameras;
-  ForwardMemos memos;
-  SharedRefs shared_refs;
-  FirstCosts<ChainCost> first_costs;
-  FirstCosts<EffectChainCost> first_effect_costs;
-  std::vector<RobotEffects> effects;
+  ToolCaches caches;
   for (const WorkcellRobot& robot : spec.robots) {
-    effects.push_back(EffectsOf(spec, *out, robot.name));
+    caches.effects.push_back(EffectsOf(spec, *out, robot.name));
   }
   CameraTargets camera_targets(*out, noise);
   for (const ToolMeasurement& m : data.tools) {
     const Sample& sample = recording.samples[m.sample_index];
     if (!poses.empty() && !poses.count(sample.pose)) continue;
     const Observation& obs = recording.observations[m.observation];
-    if (spec.robots[m.robot].tools[m.tool].is_camera()) {
-      AddEyeInHandResiduals(recording, m, spec.robots[m.robot], *camera_targets.Of(obs).noise, out);
-      continue;
-    }
-    ToolContext c{spec, recording, data, start, m, {}, {}, false, false, nullptr, nullptr, nullptr};
-    c.static_camera = static_cameras;
-    c.model_free = ModelFree(*out, m.robot);
-    c.memos = &memos;
-    c.first_costs = &first_costs;
-    c.first_effect_costs = &first_effect_costs;
-    c.effects = &effects;
-    c.blocks = {out->base_block[m.robot], out->tool_block[m.robot][m.tool]};
-    c.refs.world_base = out->R_ref.at(c.blocks[0]);
-    if (BlockHeld(*out, c.blocks[0])) {
-      c.refs.held_world_base = FrameFromBlock(out->problem.values(c.blocks[0]), c.refs.world_base);
-    }
-    c.refs.flange_target = out->R_ref.at(c.blocks[1]);
-    if (BlockHeld(*out, c.blocks[1])) {
-      c.refs.held_flange_target =
-          FrameFromBlock(out->problem.values(c.blocks[1]), c.refs.flange_target);
-    }
     const CameraTarget& seen = camera_targets.Of(obs);
-    if (static_cameras) {
-      c.blocks.push_back(seen.camera_block);
-      c.refs.world_cam = out->R_ref.at(c.blocks[2]);
-    }
-    c.shared_refs = Shared(c.blocks, c.refs, &shared_refs);
-    const TargetNoise& sigma = *seen.noise;
-    if (spec.residual == ResidualForm::kJointSpace) {
-      std::vector<int> blocks = c.blocks;
-      auto cost = JointSpaceCost(c, out, RowPositionSigma(sigma, obs), &blocks);
-      AddMeasurement(recording, m.observation, ResidualInfo::Kind::kPosition,
-                     Eigen::Vector3d::Ones(),  // its rows: whitened joint errors
-                     std::move(cost), blocks, out);
+    if (spec.robots[m.robot].tools[m.tool].is_camera()) {
+      AddEyeInHandResiduals(recording, m, spec.robots[m.robot], *seen.noise, out);
       continue;
     }
-    std::vector<Compared> compared = {Compared::kPosition};
-    if (spec.use_tool_rotation) compared.push_back(Compared::kRotation);
-    const Pose observed = ObservedPose(obs);
-    for (Compared what : compared) {
-      const bool position = what == Compared::kPosition;
-      const Eigen::Vector3d s = position ? RowPositionSigma(sigma, obs) : sigma.rotation_rad;
-      std::vector<int> blocks = c.blocks;
-      auto cost = ToolCost(c, out, TargetComparison(what, observed, s), &blocks);
-      AddMeasurement(recording, m.observation, KindOf(position), s, std::move(cost), blocks, out);
-    }
+    const ToolContext c =
+        CarriedTargetContext(spec, recording, data, start, m, seen, &caches, *out);
+    AddCarriedTargetResiduals(c, obs, *seen.noise, out);
   }
 }
 
