@@ -572,6 +572,19 @@ TEST(UrdfRobot, BadInputIsRefusedWithWhatToDo) {
     EXPECT_THAT(nul.what(), HasSubstr("the byte 0x00 (NUL) has no place in a URDF"));
     EXPECT_EQ(nul.where().column, 17);
   }
+  {  // A '%' outside a comment: urdfdom logs a malformed number with the value as the format,
+     // and "%n" there crashed the process (fuzz_urdf). One in a comment is read as before.
+    const InputError e =
+        Refusal(testing::ReplaceOnce(tx2, "<origin xyz=\"0 0 0.550\"", "<origin xyz=\"0 0 %n%s\""),
+                "base_link", "tool0");
+    EXPECT_THAT(e.what(), HasSubstr("a '%' outside a comment"));
+    EXPECT_THAT(e.what(), HasSubstr("Write the value without '%'"));
+    EXPECT_GT(e.where().line, 1);
+    const std::string dir = testing::TempDirForThisTest("urdf_robot");
+    const ConfigNode in_comment = UrdfConfig(
+        dir, testing::ReplaceOnce(tx2, "<robot", "<!-- 100% -->\n<robot"), "base_link", "tool0");
+    EXPECT_NO_THROW(testing::Plugins().CreateRobotModel("urdf", in_comment));
+  }
   {  // A file that is not there.
     const std::string dir = testing::TempDirForThisTest("urdf_robot");
     testing::WriteText(dir + "/robot.yaml",

@@ -42,6 +42,33 @@ std::string ReadFile(const ConfigNode& config, const std::string& path) {
   }
 }
 
+// Line and column (1-based) of a byte of `text`.
+SourceLocation At(const std::string& text, size_t byte, const std::string& path) {
+  const size_t line_start = text.rfind('\n', byte) + 1;  // 0 on the first line (npos + 1)
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + byte, '\n'));
+  return {path, line, 1 + static_cast<int>(byte - line_start)};
+}
+
+// urdfdom hands some of its parse errors, with the value that failed in them, to its logger as
+// the printf format (`CONSOLE_BRIDGE_logError(e.what())`): a '%' in a malformed number then
+// reads arguments that are not there and can crash the process. Comments never reach it.
+void RequireNoPercentOutsideComments(const std::string& text, const std::string& path) {
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text.compare(i, 4, "<!--") == 0) {
+      const size_t end = text.find("-->", i + 4);
+      if (end == std::string::npos) return;  // urdfdom refuses the unclosed comment itself
+      i = end + 2;
+      continue;
+    }
+    if (text[i] != '%') continue;
+    throw InputError(At(text, i, path),
+                     "a '%' outside a comment: urdfdom can pass a value that fails to parse to "
+                     "its log as a format, where a '%' crashes it",
+                     "Write the value without '%' (a number needs none; a mesh path's %20 is a "
+                     "space)");
+  }
+}
+
 // Text urdfdom's XML parser can take: UTF-8 without a NUL. TinyXML steps over a multi-byte
 // character by its first byte's count, so a character cut short at the end of the file sends it
 // reading past the text (utf8.h); it stops at a NUL, so what follows one would go unread.
@@ -50,12 +77,9 @@ void RequireXmlText(const std::string& text, const std::string& path) {
   const size_t nul = text.find('\0');
   if (nul != std::string::npos && (!bad || nul < *bad)) bad = nul;
   if (!bad) return;
-  const size_t line_start = text.rfind('\n', *bad) + 1;  // 0 on the first line (npos + 1)
-  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + *bad, '\n'));
-  const int column = 1 + static_cast<int>(*bad - line_start);
   char byte[8];
   std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>(text[*bad]));
-  throw InputError({path, line, column},
+  throw InputError(At(text, *bad, path),
                    std::string("the byte ") + byte +
                        (text[*bad] == '\0' ? " (NUL) has no place in a URDF"
                                            : " is not UTF-8, the encoding a URDF is read in"),
@@ -185,6 +209,7 @@ UrdfChain ReadUrdfChain(const ConfigNode& config) {
   chain.file = config.ResolvePath(config["file"].AsString());
   const std::string text = ReadFile(config, chain.file);
   RequireXmlText(text, chain.file);
+  RequireNoPercentOutsideComments(text, chain.file);
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
   if (!model) {
     throw config["file"].Error(
