@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
+#include <vector>
 
 #include "cellmetry/formats/config_node.h"
 
@@ -38,6 +40,30 @@ std::string CollapseSpaces(const std::string& name) {
 std::string RowText(const DataTable& table, size_t row) {
   return "data row " + std::to_string(row + 1) + " (line " +
          std::to_string(table.Where(row, 0).line) + ")";
+}
+
+// The row numbers of `time_s` in time order (equal times in row order).
+std::vector<size_t> TimeOrder(const std::vector<double>& time_s) {
+  std::vector<size_t> order(time_s.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return time_s[a] < time_s[b]; });
+  return order;
+}
+
+// The row nearest in time to `at_s`: the nearer of the two rows either side of it in `order`
+// (TimeOrder of `time_s`), the earlier on a tie; none when the table has no rows.
+std::optional<size_t> NearestInTime(const std::vector<double>& time_s,
+                                    const std::vector<size_t>& order, double at_s) {
+  const auto after = std::lower_bound(order.begin(), order.end(), at_s,
+                                      [&](size_t i, double v) { return time_s[i] < v; });
+  std::optional<size_t> nearest;
+  if (after != order.end()) nearest = *after;
+  if (after != order.begin() &&
+      (!nearest || at_s - time_s[*(after - 1)] <= time_s[*nearest] - at_s)) {
+    nearest = *(after - 1);
+  }
+  return nearest;
 }
 
 }  // namespace
@@ -98,22 +124,11 @@ void JoinedTable::JoinByTime(const JoinSpec& join) {
   for (size_t r = 0; r < lead.num_rows(); ++r) rows_[r][0] = r;
   for (size_t t = 1; t < tables_.size(); ++t) {
     const DataTable& other = tables_[t];
-    std::vector<size_t> order(other.num_rows());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return time_s[t][a] < time_s[t][b]; });
+    const std::vector<size_t> order = TimeOrder(time_s[t]);
     std::vector<std::optional<size_t>> taken_by(other.num_rows());
     for (size_t r = 0; r < lead.num_rows(); ++r) {
       const double at = time_s[0][r];
-      // The nearest of the two rows either side of `at` in time order (the earlier on a tie).
-      const auto after = std::lower_bound(order.begin(), order.end(), at,
-                                          [&](size_t i, double v) { return time_s[t][i] < v; });
-      std::optional<size_t> nearest;
-      if (after != order.end()) nearest = *after;
-      if (after != order.begin() &&
-          (!nearest || at - time_s[t][*(after - 1)] <= time_s[t][*nearest] - at)) {
-        nearest = *(after - 1);
-      }
+      const std::optional<size_t> nearest = NearestInTime(time_s[t], order, at);
       const double gap = nearest ? std::abs(time_s[t][*nearest] - at) : HUGE_VAL;
       if (!nearest || gap > join.tolerance_s) {
         throw lead.Error(r, time_column[0].column,
