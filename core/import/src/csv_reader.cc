@@ -135,9 +135,8 @@ void ExpectUtf8(const std::string& path, const std::vector<Record>& records) {
   }
 }
 
-}  // namespace
-
-DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
+// The table file's text as UTF-8, its byte-order mark dropped; UTF-16 refused.
+std::string ReadCsvText(const std::string& path, TextEncoding encoding) {
   std::string text = ReadRegularFile(
       path, kMaxTableBytes, "Check 'table:' in the mapping (a path relative to the mapping file)");
   if (text.rfind("\xFF\xFE", 0) == 0 || text.rfind("\xFE\xFF", 0) == 0) {
@@ -146,7 +145,12 @@ DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
   }
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // UTF-8 byte-order mark
   // One byte is one character in an 8-bit encoding: lines and fields stay where they were.
-  if (dialect.encoding == TextEncoding::kWindows1252) text = Windows1252ToUtf8(text);
+  if (encoding == TextEncoding::kWindows1252) text = Windows1252ToUtf8(text);
+  return text;
+}
+
+// The dialect's separator, or the one the text's first lines use; never the decimal mark.
+char SeparatorOf(const std::string& path, const std::string& text, const CsvDialect& dialect) {
   if (dialect.decimal != '.' && dialect.decimal != ',') {
     throw InputError({path, 0, 0}, "decimal mark must be '.' or ','");
   }
@@ -157,14 +161,11 @@ DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
                      "the separator and the decimal mark are both " + SeparatorName(separator),
                      "A table with decimal commas separates its fields with ';' or tabs");
   }
-  const std::vector<Record> records = SplitRecords(path, text, separator);
-  if (dialect.encoding == TextEncoding::kUtf8) ExpectUtf8(path, records);
-  if (records.empty()) {
-    throw InputError({path, 1, 0}, "the table is empty",
-                     "The first line must be the header: the name of every column");
-  }
-  DataTable table(path, "CSV", dialect.decimal);
-  const Record& header = records.front();
+  return separator;
+}
+
+// The header's names as the table's columns; a name given twice is refused.
+void AddHeader(const std::string& path, const Record& header, DataTable* table) {
   std::map<std::string, int> seen;
   for (const auto& field : header.fields) {
     const auto [it, fresh] = seen.emplace(field.text, field.position);
@@ -175,28 +176,48 @@ DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
                            ")",
                        "Rename one of them: the mapping names a column by its header");
     }
-    table.AddColumn(field.text, header.line, field.position);
+    table->AddColumn(field.text, header.line, field.position);
   }
+}
+
+// One data record as a row; fields beyond the header's are refused, missing ones are empty.
+void AddDataRow(const std::string& path, const Record& record, size_t header_fields, char separator,
+                DataTable* table) {
+  if (record.fields.size() > header_fields) {
+    throw InputError({path, record.line, static_cast<int>(header_fields) + 1},
+                     "row has " + std::to_string(record.fields.size()) +
+                         " fields but the header has " + std::to_string(header_fields) +
+                         " (fields separated by " + SeparatorName(separator) + ")",
+                     "Remove the extra fields, quote a field that holds the separator, or state "
+                     "the separator in the mapping (table: {separator: \";\"})");
+  }
+  std::vector<std::string> cells;
+  std::vector<int> positions;
+  for (const auto& field : record.fields) {
+    cells.push_back(field.text);
+    positions.push_back(field.position);
+  }
+  for (size_t c = record.fields.size(); c < header_fields; ++c) {
+    positions.push_back(static_cast<int>(c) + 1);
+  }
+  table->AddRow(std::move(cells), record.line, std::move(positions));
+}
+
+}  // namespace
+
+DataTable ReadCsvTable(const std::string& path, const CsvDialect& dialect) {
+  const std::string text = ReadCsvText(path, dialect.encoding);
+  const char separator = SeparatorOf(path, text, dialect);
+  const std::vector<Record> records = SplitRecords(path, text, separator);
+  if (dialect.encoding == TextEncoding::kUtf8) ExpectUtf8(path, records);
+  if (records.empty()) {
+    throw InputError({path, 1, 0}, "the table is empty",
+                     "The first line must be the header: the name of every column");
+  }
+  DataTable table(path, "CSV", dialect.decimal);
+  AddHeader(path, records.front(), &table);
   for (size_t r = 1; r < records.size(); ++r) {
-    const Record& record = records[r];
-    if (record.fields.size() > header.fields.size()) {
-      throw InputError({path, record.line, static_cast<int>(header.fields.size()) + 1},
-                       "row has " + std::to_string(record.fields.size()) +
-                           " fields but the header has " + std::to_string(header.fields.size()) +
-                           " (fields separated by " + SeparatorName(separator) + ")",
-                       "Remove the extra fields, quote a field that holds the separator, or state "
-                       "the separator in the mapping (table: {separator: \";\"})");
-    }
-    std::vector<std::string> cells;
-    std::vector<int> positions;
-    for (const auto& field : record.fields) {
-      cells.push_back(field.text);
-      positions.push_back(field.position);
-    }
-    for (size_t c = record.fields.size(); c < header.fields.size(); ++c) {
-      positions.push_back(static_cast<int>(c) + 1);
-    }
-    table.AddRow(std::move(cells), record.line, std::move(positions));
+    AddDataRow(path, records[r], records.front().fields.size(), separator, &table);
   }
   return table;
 }
