@@ -3,14 +3,18 @@
 // (tests/data/astl).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "cellmetry/cell/held_out_setup.h"
 #include "cellmetry/cell/held_out_targets.h"
 #include "cellmetry/cell/job.h"
+#include "cellmetry/cell/joint_ranges.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_simulation.h"
 #include "cellmetry/compensation/compensation.h"
@@ -88,7 +92,7 @@ TEST(HeldOutSetup, SimulatedTrackerSetupScoresAtTheNoiseWithHonestSigma) {
   job.problem.folds = 0;
   const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
   const HeldOutSetupScore score = ScoreHeldOutSetup(
-      job.problem, result, other_setup,
+      job.problem, result, calibration, other_setup,
       SelectRegistrationPoses(other_setup, RegistrationPoses{0, 10, {}}, {}), CeresLm());
   EXPECT_EQ(score.registration_poses.size(), 20u);
   EXPECT_EQ(score.scored_poses, 180);
@@ -97,6 +101,71 @@ TEST(HeldOutSetup, SimulatedTrackerSetupScoresAtTheNoiseWithHonestSigma) {
   EXPECT_GT(score.within_95, 0.88);
   EXPECT_LT(score.within_95, 0.995);
   EXPECT_NEAR(score.mean_normalized, 1.0, 0.3);
+}
+
+// A held-out score is split at the joint ranges the calibration's poses span: a point whose pose
+// reads any joint outside them (beyond the tolerance a controller's last digits need) is
+// extrapolated, and is summed apart, its joint and how far it goes named.
+TEST(HeldOutSetup, PosesBeyondTheCalibrationsJointRangesAreScoredApart) {
+  auto sample = [](int id, int pose, double q1, double q2) {
+    Sample s;
+    s.id = id;
+    s.robot = "arm";
+    s.pose = pose;
+    s.q = {q1, q2};
+    return s;
+  };
+  Recording calibration;
+  calibration.robots = {{"arm", 2}};
+  calibration.samples = {sample(0, 0, 0.0, 0.2), sample(1, 1, 1.0, 0.0), sample(2, 2, 0.4, 1.0)};
+  Recording held_out;
+  held_out.robots = {{"arm", 2}};
+  held_out.samples = {sample(10, 1, 0.5, 0.5), sample(11, 2, 1.2, 0.5),
+                      sample(12, 3, 0.5, 1.0 + 0.5 * kJointRangeToleranceRad),
+                      sample(13, 4, -0.1, 1.5)};
+  HeldOutSetupScore score;
+  score.scored_poses = 4;
+  for (const auto& [id, pose, error_mm] : std::vector<std::tuple<int, int, double>>{
+           {10, 1, 0.1}, {11, 2, 0.4}, {12, 3, 0.1}, {13, 4, 0.3}}) {
+    HeldOutPoint point;
+    point.sample = id;
+    point.pose = pose;
+    point.error_mm = Eigen::Vector3d(error_mm, 0.0, 0.0);
+    score.points.push_back(point);
+  }
+  const std::vector<JointRange> ranges = JointRanges(calibration);
+  ASSERT_EQ(ranges.size(), 2u);
+  EXPECT_EQ(ranges[1].joint, 2);
+  EXPECT_DOUBLE_EQ(ranges[1].min_rad, 0.0);
+  EXPECT_DOUBLE_EQ(ranges[1].max_rad, 1.0);
+
+  MarkBeyondCalibration(calibration, held_out, &score);
+  const BeyondCalibration& beyond = score.beyond_calibration;
+  EXPECT_EQ(beyond.poses, 2);
+  EXPECT_FALSE(score.points[0].beyond_calibration);
+  EXPECT_TRUE(score.points[1].beyond_calibration);
+  EXPECT_FALSE(score.points[2].beyond_calibration);
+  EXPECT_TRUE(score.points[3].beyond_calibration);
+  EXPECT_NEAR(beyond.rms_within_mm, 0.1, 1e-12);
+  EXPECT_NEAR(beyond.rms_beyond_mm, std::sqrt((0.16 + 0.09) / 2.0), 1e-12);
+  ASSERT_EQ(beyond.joints.size(), 2u);
+  EXPECT_EQ(beyond.joints[0].joint, 1);
+  EXPECT_EQ(beyond.joints[0].poses, 2);  // 1.2 above, -0.1 below
+  EXPECT_DOUBLE_EQ(beyond.joints[0].scored_min_rad, -0.1);
+  EXPECT_DOUBLE_EQ(beyond.joints[0].scored_max_rad, 1.2);
+  EXPECT_EQ(beyond.joints[1].joint, 2);
+  EXPECT_EQ(beyond.joints[1].poses, 1);  // 1.5; not 1.0 within the tolerance
+  const std::string text = BeyondCalibrationText(score);
+  EXPECT_NE(text.find("2 of 4 scored poses"), std::string::npos) << text;
+  EXPECT_NE(text.find("arm joint 1 reads -5.7 to 68.8 deg against the calibration's 0.0 to 57.3"),
+            std::string::npos)
+      << text;
+
+  // Within every range, nothing is split out and there is nothing to say.
+  MarkBeyondCalibration(held_out, held_out, &score);
+  EXPECT_EQ(score.beyond_calibration.poses, 0);
+  EXPECT_TRUE(std::isnan(score.beyond_calibration.rms_beyond_mm));
+  EXPECT_EQ(BeyondCalibrationText(score), "");
 }
 
 // An instrument that reports each reading's uncertainty (noise: {cameras: {c: {per_row: true}}}):
@@ -121,7 +190,7 @@ TEST(HeldOutSetup, RowsWeighedByTheirOwnUncertaintyHoldOutBetter) {
     job.problem.noise.per_row_cameras.clear();  // the job weighs per row; here, both ways
     if (per_row) job.problem.noise.per_row_cameras.insert("tracker");
     const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
-    return ScoreHeldOutSetup(job.problem, result, other_setup,
+    return ScoreHeldOutSetup(job.problem, result, calibration, other_setup,
                              SelectRegistrationPoses(other_setup, RegistrationPoses{0, 10, {}}, {}),
                              CeresLm())
         .rms_mm;
@@ -159,7 +228,7 @@ RealTrackerRun CalibrateAndScoreTheRealTracker() {
   job.problem.folds = 0;
   run.result = IdentifyWorkcell(job.problem, calibration, CeresLm());
   run.score = ScoreHeldOutSetup(
-      job.problem, run.result, run.points,
+      job.problem, run.result, calibration, run.points,
       SelectRegistrationPoses(run.points, job.held_out_setup->register_on, {}), CeresLm());
   return run;
 }
@@ -190,6 +259,43 @@ TEST(HeldOutSetup, RealTrackerDataHoldsOutAtAPublishedCalibrationsAccuracy) {
   EXPECT_NEAR(score.nominal_rms_mm, 0.18, 0.02);
   EXPECT_GT(score.within_95, 0.9);
   EXPECT_NEAR(score.mean_normalized, 1.0, 0.35);
+  // The 300 poses stay inside the 40's ranges of joints 1, 2, 3 and 5 and turn the wrist's
+  // joints 4 and 6 further; the geometry holds beyond as within.
+  const BeyondCalibration& beyond = score.beyond_calibration;
+  ASSERT_EQ(beyond.joints.size(), 2u);
+  EXPECT_EQ(beyond.joints[0].joint, 4);
+  EXPECT_EQ(beyond.joints[1].joint, 6);
+  EXPECT_GT(beyond.poses, 50);
+  EXPECT_LT(beyond.poses, 200);
+  EXPECT_LE(beyond.rms_beyond_mm, 0.1);
+  EXPECT_LE(beyond.rms_within_mm, 0.1);
+}
+
+// The other way round on the real TX90L: calibrated on the 300 poses of the second setup, whose
+// shoulder turns over 15 degrees only (20 to 35), and checked on the 40 of the first, which turn
+// it over 89: nearly every scored pose is beyond the calibration's ranges, and the score says
+// so, with joint 2's ranges, where the held-out RMS alone would read as the model's accuracy.
+TEST(HeldOutSetup, RealTrackerDataCalibratedOnNarrowPosesIsFlaggedAsExtrapolating) {
+  const Recording calibration = ImportRecording(testing::Source("configs/import/astl_points.yaml"));
+  const Recording other_setup =
+      ImportRecording(testing::Source("configs/import/astl_calibration.yaml"));
+  WorkcellJob job = StaubliJob();
+  job.problem.folds = 0;
+  const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
+  const HeldOutSetupScore score = ScoreHeldOutSetup(
+      job.problem, result, calibration, other_setup,
+      SelectRegistrationPoses(other_setup, RegistrationPoses{0, 4, {}}, {}), CeresLm());
+  EXPECT_EQ(score.scored_poses, 30);
+  const BeyondCalibration& beyond = score.beyond_calibration;
+  EXPECT_GE(beyond.poses, 25);
+  const auto joint2 = std::find_if(beyond.joints.begin(), beyond.joints.end(),
+                                   [](const JointBeyondCalibration& j) { return j.joint == 2; });
+  ASSERT_NE(joint2, beyond.joints.end());
+  EXPECT_LT(joint2->calibration_max_rad - joint2->calibration_min_rad, 0.3);
+  EXPECT_GT(joint2->scored_max_rad - joint2->scored_min_rad, 1.5);
+  // Extrapolated, the geometry misses by three times what it does the other way round.
+  EXPECT_GT(score.rms_mm, 2.0 * 0.09);
+  EXPECT_NE(BeyondCalibrationText(score).find("tx90l joint 2"), std::string::npos);
 }
 
 // What the held-out setup leaves for compensation (held_out_targets.h), on the real TX90L: the
@@ -248,7 +354,7 @@ TEST(HeldOutSetup, RealTrackerDataSidesWithJointFiveCompliance) {
     job.problem.folds = 0;
     job.problem.leave_one_camera_out = false;
     const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
-    return ScoreHeldOutSetup(job.problem, result, points,
+    return ScoreHeldOutSetup(job.problem, result, calibration, points,
                              SelectRegistrationPoses(points, job.held_out_setup->register_on, {}),
                              CeresLm());
   };

@@ -12,6 +12,7 @@
 #include "cellmetry/cell/camera_left_out.h"
 #include "cellmetry/cell/held_out_setup.h"
 #include "cellmetry/cell/held_out_targets.h"
+#include "cellmetry/cell/joint_ranges.h"
 #include "cellmetry/cell/result_io.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/diagnosis/diagnosis_job.h"
@@ -37,10 +38,10 @@ std::string ScoreHeldOutSetups(const WorkcellJob& job, const Recording& recordin
   geometry.folds = 0;
   geometry.leave_one_camera_out = false;
   const HeldOutSetupScore alone =
-      ScoreHeldOutSetup(geometry, IdentifyWorkcell(geometry, recording, make_solver), other_setup,
-                        poses, make_solver);
-  result->final_fit.held_out_setup =
-      ScoreHeldOutSetup(result->final_spec, result->final_fit, other_setup, poses, make_solver);
+      ScoreHeldOutSetup(geometry, IdentifyWorkcell(geometry, recording, make_solver), recording,
+                        other_setup, poses, make_solver);
+  result->final_fit.held_out_setup = ScoreHeldOutSetup(result->final_spec, result->final_fit,
+                                                       recording, other_setup, poses, make_solver);
   const HeldOutSetupScore& with = *result->final_fit.held_out_setup;
   char line[600];
   std::snprintf(line, sizeof line,
@@ -52,7 +53,8 @@ std::string ScoreHeldOutSetups(const WorkcellJob& job, const Recording& recordin
                 alone.rms_mm, alone.rms_se_mm, with.rms_mm, with.rms_se_mm, with.nominal_rms_mm,
                 alone.rms_mm - with.rms_mm, RmsGainStandardError(alone, with),
                 100.0 * with.within_95);
-  return line;
+  const std::string beyond = BeyondCalibrationText(with);
+  return beyond.empty() ? std::string(line) : std::string(line) + "  " + beyond + "\n";
 }
 
 // What a diagnosis's checkpoint is keyed by: the job's text, its robots' model files, the

@@ -57,7 +57,7 @@ void RunJob(const std::string& job_path, const std::string& output,
     Progress::Note("held-out setup: registering the frames again and scoring " +
                    other_setup.folder);
     result.held_out_setup =
-        ScoreHeldOutSetup(job.problem, result, other_setup,
+        ScoreHeldOutSetup(job.problem, result, recording, other_setup,
                           SelectRegistrationPoses(other_setup, job.held_out_setup->register_on,
                                                   job.held_out_setup_where),
                           make_solver);

@@ -12,6 +12,7 @@
 
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/statistics.h"
+#include "cellmetry/cell/joint_ranges.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/cell/workcell_assembly.h"
 #include "cellmetry/cell/workcell_data.h"
@@ -359,8 +360,8 @@ std::vector<int> SelectRegistrationPoses(const Recording& recording,
 }
 
 HeldOutSetupScore ScoreHeldOutSetup(const WorkcellProblem& spec, const WorkcellResult& result,
-                                    const Recording& held_out, const std::vector<int>& poses,
-                                    const SolverMaker& make_solver) {
+                                    const Recording& calibration, const Recording& held_out,
+                                    const std::vector<int>& poses, const SolverMaker& make_solver) {
   HeldOutSetupScore score;
   score.recording = held_out.folder;
   score.registration_poses = poses;
@@ -389,6 +390,7 @@ HeldOutSetupScore ScoreHeldOutSetup(const WorkcellProblem& spec, const WorkcellR
   PredictCovariances(spec, result, held_out, registered, registration, scored, &score,
                      &for_compensation->uncertainty);
   Summarize(&score);
+  MarkBeyondCalibration(calibration, held_out, &score);
   // The calibrated entries read as the calibration has them: its values, with their sigma in S.
   const Uncertainty& joint = for_compensation->uncertainty;
   for (ScalarEstimate& p : for_compensation->model_parameters) {

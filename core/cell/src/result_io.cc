@@ -11,6 +11,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "cellmetry/cell/joint_ranges.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/workcell.h"
 #include "cellmetry/formats/atomic_file.h"
@@ -83,6 +84,26 @@ nlohmann::json ScoreJson(const RecordingScore& v) {
           {"max_after_mm", v.max_after_mm}};
 }
 
+// A number, or null where there is none (an RMS over no points).
+nlohmann::json NumberOrNull(double value) {
+  return std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value);
+}
+
+nlohmann::json BeyondCalibrationJson(const BeyondCalibration& beyond) {
+  nlohmann::json joints = nlohmann::json::array();
+  for (const JointBeyondCalibration& j : beyond.joints) {
+    joints.push_back({{"robot", j.robot},
+                      {"joint", j.joint},
+                      {"calibration_range_rad", {j.calibration_min_rad, j.calibration_max_rad}},
+                      {"scored_range_rad", {j.scored_min_rad, j.scored_max_rad}},
+                      {"poses", j.poses}});
+  }
+  return {{"poses", beyond.poses},
+          {"rms_within_mm", NumberOrNull(beyond.rms_within_mm)},
+          {"rms_beyond_mm", NumberOrNull(beyond.rms_beyond_mm)},
+          {"joints", joints}};
+}
+
 nlohmann::json HeldOutSetupJson(const HeldOutSetupScore& v) {
   nlohmann::json points = nlohmann::json::array();
   for (const HeldOutPoint& p : v.points) {
@@ -92,7 +113,8 @@ nlohmann::json HeldOutSetupJson(const HeldOutSetupScore& v) {
                       {"target", p.target},
                       {"error_mm", {p.error_mm.x(), p.error_mm.y(), p.error_mm.z()}},
                       {"sigma_mm", std::sqrt(p.covariance_mm2.trace())},
-                      {"normalized_squared", p.normalized_squared}});
+                      {"normalized_squared", p.normalized_squared},
+                      {"beyond_calibration", p.beyond_calibration}});
   }
   return {{"recording", v.recording},
           {"registration_poses", v.registration_poses},
@@ -106,6 +128,7 @@ nlohmann::json HeldOutSetupJson(const HeldOutSetupScore& v) {
           {"within_95_ellipsoid", v.within_95},
           {"mean_normalized_squared", v.mean_normalized},
           {"median_sigma_mm", v.median_sigma_mm},
+          {"beyond_calibration", BeyondCalibrationJson(v.beyond_calibration)},
           {"points", points}};
 }
 
@@ -583,6 +606,8 @@ void PrintFitQuality(const WorkcellResult& r, std::ostringstream& out) {
         << " mm), mean " << FixedNumber(v.mean_mm, 4) << ", max " << FixedNumber(v.max_mm, 4)
         << " mm; predicted sigma " << FixedNumber(v.median_sigma_mm, 4) << " mm (median), "
         << FixedNumber(100.0 * v.within_95, 1) << " % within their 95 % ellipsoid\n";
+    const std::string beyond = BeyondCalibrationText(v);
+    if (!beyond.empty()) out << "    " << beyond << "\n";
   }
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "cellmetry/cell/joint_ranges.h"
 #include "cellmetry/report/svg_plot.h"
 #include "run_sections.h"
 
@@ -34,6 +35,8 @@ void HeldOutSetupSection(const WorkcellResult& r, HtmlPage* page) {
       " mm; inside their 95 % ellipsoid: " + Num(100.0 * v.within_95, 1) +
       " % of the points; mean of e'C^-1 e / 3: " + Num(v.mean_normalized, 2) +
       " (1 when the sigma are right).");
+  const std::string beyond = BeyondCalibrationText(v);
+  if (!beyond.empty()) page->Paragraph(beyond);
 }
 
 }  // namespace cellmetry::report

@@ -67,10 +67,12 @@ std::vector<int> SelectRegistrationPoses(const Recording& recording,
                                          const RegistrationPoses& register_on,
                                          const SourceLocation& where);
 
-// The held-out check of `result` (identified by `spec`) on `held_out`, registering on `poses`.
+// The held-out check of `result` (identified by `spec` on `calibration`) on `held_out`,
+// registering on `poses`; its points beyond the calibration's joint ranges marked and summed
+// apart (joint_ranges.h).
 HeldOutSetupScore ScoreHeldOutSetup(const WorkcellProblem& spec, const WorkcellResult& result,
-                                    const Recording& held_out, const std::vector<int>& poses,
-                                    const SolverMaker& make_solver);
+                                    const Recording& calibration, const Recording& held_out,
+                                    const std::vector<int>& poses, const SolverMaker& make_solver);
 
 // Each scored point's squared 3D error, |e|^2, in the score's order.
 std::vector<double> SquaredErrors(const HeldOutSetupScore& score);

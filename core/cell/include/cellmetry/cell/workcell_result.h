@@ -162,6 +162,24 @@ struct HeldOutPoint {
   Eigen::Vector3d error_mm = Eigen::Vector3d::Zero();
   Eigen::Matrix3d covariance_mm2 = Eigen::Matrix3d::Zero();
   double normalized_squared = 0.0;  // e^T C^-1 e: chi-square with 3 dof when honest
+  bool beyond_calibration = false;  // a joint of its pose beyond the calibration's (joint_ranges.h)
+};
+
+// A joint some scored pose reads beyond the range the calibration's poses span (joint_ranges.h).
+struct JointBeyondCalibration {
+  std::string robot;
+  int joint = 0;  // 1-based
+  double calibration_min_rad = 0.0, calibration_max_rad = 0.0;
+  double scored_min_rad = 0.0, scored_max_rad = 0.0;  // over every scored pose
+  int poses = 0;                                      // scored poses beyond it
+};
+
+// The held-out score split at the calibration's joint ranges (joint_ranges.h).
+struct BeyondCalibration {
+  std::vector<JointBeyondCalibration> joints;  // only joints some scored pose goes beyond
+  int poses = 0;                               // scored poses with any joint beyond
+  double rms_within_mm = NAN;                  // of the points within every range
+  double rms_beyond_mm = NAN;                  // of the points beyond one or more
 };
 
 struct WorkcellResult;
@@ -181,6 +199,7 @@ struct HeldOutSetupScore {
   double mean_normalized = 0.0;      // mean of e^T C^-1 e / 3 (1 when the sigma are right)
   double median_sigma_mm = 0.0;      // median of sqrt(trace C_p): a point's 3D sigma
   std::vector<HeldOutPoint> points;
+  BeyondCalibration beyond_calibration;
   // The calibrated geometry and effects, held, with the new setup's frames registered: the
   // result a user compensates with in that setup (`cellmetry compensate`). Its uncertainty is S
   // (held_out_setup.h), the joint covariance of the calibrated entries and the registered

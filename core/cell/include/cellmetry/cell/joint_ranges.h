@@ -1,0 +1,48 @@
+// Where a held-out check's poses go beyond the joint ranges the calibration's poses span.
+//
+// A model fitted on poses is measured inside their ranges. Beyond them, what the model leaves
+// out (a compliance growing with a load the calibration never applied, a gear error over angles
+// it never turned through) is extrapolated with it, and a point's predicted sigma, which holds
+// only what the model contains, need not cover its error. A held-out RMS mixes the two; the
+// score is split at that line so that a user sees which one they are reading.
+//
+// A joint's range is the interval of its readings over the calibration's samples, as the
+// controller reports them (no wrapping: -200 deg is not 160 deg to a joint that turns past a
+// full turn). A scored pose is beyond when any joint of its robot reads outside its range by
+// more than kJointRangeToleranceRad.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cellmetry/cell/workcell_result.h"
+#include "cellmetry/formats/recording.h"
+
+namespace cellmetry {
+
+// Readings this close outside a range (rad) count as inside: a controller's reading of the same
+// commanded angle differs in its last digits.
+inline constexpr double kJointRangeToleranceRad = 1e-6;
+
+struct JointRange {
+  std::string robot;
+  int joint = 0;  // 1-based
+  double min_rad = 0.0;
+  double max_rad = 0.0;
+};
+
+// Every joint's range over `recording`'s samples: robots in name order, joints 1..n. A robot
+// without samples has no ranges.
+std::vector<JointRange> JointRanges(const Recording& recording);
+
+// Marks each of `score`'s points whose sample (in `held_out`) has a joint beyond `calibration`'s
+// ranges, and fills the score's summary of them (HeldOutSetupScore::beyond_calibration): each
+// joint some scored pose goes beyond, the poses beyond, and the RMS within and beyond.
+void MarkBeyondCalibration(const Recording& calibration, const Recording& held_out,
+                           HeldOutSetupScore* score);
+
+// In words, for a report: how many scored poses go beyond, each joint's scored and calibrated
+// ranges (deg), and the RMS beyond and within. "" when no scored pose goes beyond.
+std::string BeyondCalibrationText(const HeldOutSetupScore& score);
+
+}  // namespace cellmetry
