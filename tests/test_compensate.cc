@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "cellmetry/cell/result_io.h"
@@ -542,6 +543,44 @@ TEST(CompensateCli, RefusedTargetsExitThreeAndAreListed) {
                             dir + "/mine.csv");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_EQ(testing::ReadText(dir + "/mine.csv"), "a user's file\n");
+}
+
+// A command beyond the joint ranges the calibration's poses span is not refused (the arm can
+// reach it) but marked: its joints in the column beyond_calibration, the ranges in the opening
+// comment, and a note on standard error. Here the result's recorded range of motor 1 is cut to
+// start above the first target's 0.4 rad.
+TEST(CompensateCli, CommandsBeyondTheCalibrationsJointRangesAreMarked) {
+  const FittedCell& cell = DeltaCell();
+  const std::string dir = testing::TempDirForThisTest("compensate_beyond");
+  nlohmann::json result =
+      nlohmann::json::parse(testing::ReadText(cell.result_folder + "/result.json"));
+  auto& ranges = result["robots"]["delta"]["joint_ranges_rad"];
+  ASSERT_EQ(ranges.size(), 3u);
+  for (const auto& range : ranges) {  // the simulation's poses: -0.6 to 1.4 rad
+    EXPECT_LT(range[0].get<double>(), -0.4);
+    EXPECT_GT(range[1].get<double>(), 1.2);
+  }
+  ranges[0][0] = 0.45;
+  fs::create_directories(dir + "/fit");
+  testing::WriteText(dir + "/fit/result.json", result.dump());
+  testing::WriteText(dir + "/targets.csv",
+                     "id,x_mm,y_mm,z_mm\n"
+                     "low," +
+                         DeltaRow(cell.chain, {0.4, 0.5, 0.6}) +
+                         "\n"
+                         "inside," +
+                         DeltaRow(cell.chain, {0.6, 0.5, 0.6}) + "\n");
+  const auto r = testing::RunCellmetry("compensate " + dir + "/fit " + dir + "/targets.csv -o " +
+                                       dir + "/commands.csv");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("note: 1 of 2 commands put a joint beyond the ranges the "
+                                  "calibration's poses span"));
+  const std::string written = testing::ReadText(dir + "/commands.csv");
+  EXPECT_THAT(written, HasSubstr("# beyond_calibration: the joints a command puts outside the "
+                                 "ranges the calibration's poses span (deg: 25.8.."));
+  EXPECT_THAT(written, HasSubstr(",approach_j3,beyond_calibration,reason\n"));
+  EXPECT_THAT(written, ::testing::ContainsRegex("\nlow,2,ok,[^\n]*,1,\n"));
+  EXPECT_THAT(written, ::testing::ContainsRegex("\ninside,3,ok,[^\n]*,,\n"));
 }
 
 TEST(CompensateTargets, RotationsAreRefusedForAnArmThatCannotTurnItsTool) {

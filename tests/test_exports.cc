@@ -527,6 +527,22 @@ TEST_F(Exports, AMalformedResultIsRefusedAtItsKey) {
       testing::RunCellmetry("export " + bad + "/row --format robot --robot ur3"),
       bad + "/row/result.json:",
       "malformed result: correlation[2] has " + std::to_string(n - 1) + " entries");
+  // The calibration's joint ranges, which compensate checks commands against: a range upside
+  // down, and one range too few for the model's joints.
+  result = Json(ur3_result_);
+  ASSERT_TRUE(result["robots"]["ur3"].contains("joint_ranges_rad"));
+  result["robots"]["ur3"]["joint_ranges_rad"][1] = {0.5, -0.5};
+  testing::WriteText(bad + "/range/result.json", result.dump());
+  testing::ExpectOneLineError(
+      testing::RunCellmetry("export " + bad + "/range --format robot --robot ur3"),
+      bad + "/range/result.json:",
+      "malformed result: robots.ur3.joint_ranges_rad[1]: expected [min, max] with min <= max");
+  result = Json(ur3_result_);
+  result["robots"]["ur3"]["joint_ranges_rad"].erase(5);
+  testing::WriteText(bad + "/ranges/result.json", result.dump());
+  testing::ExpectOneLineError(
+      testing::RunCellmetry("export " + bad + "/ranges --format robot --robot ur3"),
+      bad + "/ranges/result.json:", "robot 'ur3' records 5 joint ranges, its model has 6 joints");
 }
 
 TEST_F(Exports, NeverReplacesAFileCellmetryDidNotWrite) {

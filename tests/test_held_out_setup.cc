@@ -328,6 +328,17 @@ TEST(HeldOutSetup, RegisteredResultCompensatesTheMeasuredTargetsToTheHeldOutErro
     EXPECT_LT(*c.sigma_mm, 1.0);
   }
   EXPECT_NEAR(std::sqrt(sum2 / commands.size()), score.rms_mm, 1e-3 * score.rms_mm);
+  // The registered result keeps the calibration's joint ranges, not the registration poses':
+  // the commands go beyond them where the measured poses did, at the wrist's joints 4 and 6.
+  int beyond = 0;
+  for (const CompensatedCommand& c : commands) {
+    if (c.joints_beyond_calibration.empty()) continue;
+    ++beyond;
+    for (int joint : c.joints_beyond_calibration) {
+      EXPECT_TRUE(joint == 4 || joint == 6) << c.target->id << ": joint " << joint;
+    }
+  }
+  EXPECT_NEAR(beyond, score.beyond_calibration.poses, 3);
 }
 
 // Joint 5's large compliance on the real TX90L against its look-alike, the transmission error the

@@ -30,6 +30,19 @@ int ReportRefused(const std::string& targets_path,
   return refused;
 }
 
+// One line on standard error when commands go beyond the calibration's joint ranges: they are
+// not refused (the robot can reach them), but their error is extrapolated.
+void ReportBeyondCalibration(const std::vector<CompensatedCommand>& commands) {
+  int beyond = 0;
+  for (const auto& c : commands) beyond += c.joints_beyond_calibration.empty() ? 0 : 1;
+  if (beyond == 0) return;
+  std::fprintf(stderr,
+               "note: %d of %zu commands put a joint beyond the ranges the calibration's poses "
+               "span (column beyond_calibration): there the calibrated model is extrapolated; "
+               "calibrate over the ranges the robot works in\n",
+               beyond, commands.size());
+}
+
 // CLI::Range lets "nan" through: every comparison with it is false.
 CLI::Validator Finite() {
   return CLI::Validator(
@@ -98,6 +111,7 @@ void AddCompensateCommand(CLI::App& app, Context& context) {
       WriteExportFile(output, text, overwrite);
     }
     const int refused = ReportRefused(targets_path, commands);
+    ReportBeyondCalibration(commands);
     if (!context.quiet && !output.empty()) {
       std::printf("written: %s (%zu commands, %d refused)\n", output.c_str(),
                   commands.size() - refused, refused);

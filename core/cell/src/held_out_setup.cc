@@ -387,6 +387,12 @@ HeldOutSetupScore ScoreHeldOutSetup(const WorkcellProblem& spec, const WorkcellR
       RmsOf(ScoredRows(calibrated, held_out, result.noise, registered.estimate, registration));
 
   auto for_compensation = std::make_shared<WorkcellResult>(registered);
+  // Its geometry was measured where the calibration's poses went, not the registration's.
+  for (RobotModelRecord& record : for_compensation->robot_models) {
+    for (const RobotModelRecord& calibrated : result.robot_models) {
+      if (calibrated.robot == record.robot) record.joint_ranges_rad = calibrated.joint_ranges_rad;
+    }
+  }
   PredictCovariances(spec, result, held_out, registered, registration, scored, &score,
                      &for_compensation->uncertainty);
   Summarize(&score);

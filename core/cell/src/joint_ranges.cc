@@ -47,6 +47,17 @@ std::vector<JointRange> JointRanges(const Recording& recording) {
   return ranges;
 }
 
+void RecordJointRanges(const Recording& recording, WorkcellResult* result) {
+  const std::vector<JointRange> ranges = JointRanges(recording);
+  for (RobotModelRecord& record : result->robot_models) {
+    record.joint_ranges_rad.clear();
+    for (const JointRange& range : ranges) {
+      if (range.robot == record.robot)
+        record.joint_ranges_rad.emplace_back(range.min_rad, range.max_rad);
+    }
+  }
+}
+
 void MarkBeyondCalibration(const Recording& calibration, const Recording& held_out,
                            HeldOutSetupScore* score) {
   BeyondCalibration& beyond = score->beyond_calibration;

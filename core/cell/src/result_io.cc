@@ -339,9 +339,17 @@ nlohmann::json RobotModelJson(const RobotModelRecord& record) {
     values.push_back(
         {{"name", p.name}, {"unit", p.unit}, {"value", p.nominal}, {"free", !p.fixed}});
   }
-  return {{"model_file", record.config_file},
-          {"model_config", record.config_text},
-          {"model_values", values}};
+  nlohmann::json robot = {{"model_file", record.config_file},
+                          {"model_config", record.config_text},
+                          {"model_values", values}};
+  if (!record.joint_ranges_rad.empty()) {
+    nlohmann::json ranges = nlohmann::json::array();
+    for (const auto& [min_rad, max_rad] : record.joint_ranges_rad) {
+      ranges.push_back({min_rad, max_rad});
+    }
+    robot["joint_ranges_rad"] = ranges;
+  }
+  return robot;
 }
 
 nlohmann::json OutlierJson(const Outlier& o) {

@@ -14,6 +14,7 @@
 #include "cellmetry/basics/error.h"
 #include "cellmetry/basics/progress.h"
 #include "cellmetry/basics/stage_clock.h"
+#include "cellmetry/cell/joint_ranges.h"
 #include "cellmetry/cell/outliers.h"
 #include "cellmetry/cell/robot_pairs.h"
 #include "cellmetry/cell/workcell_assembly.h"
@@ -132,6 +133,7 @@ WorkcellResult IdentifyOnce(const WorkcellProblem& spec, const Recording& record
   AddInputUncertainty(input_link.Take(), &result.uncertainty);  // rethrows what the link threw
   const HeldParameters held = HeldOf(result.unidentifiable);
   DescribeEstimate(spec, held.held, &result);
+  RecordJointRanges(recording, &result);
   AddModelWarnings(spec, &result);
   result.robot_to_robot = RobotToRobot(result);
   clock.Lap("input_uncertainty");

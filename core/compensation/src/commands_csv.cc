@@ -40,7 +40,26 @@ std::string Header(int joints) {
   for (int j = 1; j <= joints; ++j) header += ",q" + std::to_string(j) + "_rad";
   header += ",error_mm,error_rad,sigma_mm,sigma_rad,uncompensated_mm,uncompensated_rad";
   for (int j = 1; j <= joints; ++j) header += ",approach_j" + std::to_string(j);
-  return header + ",reason\n";
+  return header + ",beyond_calibration,reason\n";
+}
+
+// The joints a command puts beyond the calibration's ranges, "2 5"; "" for none.
+std::string JointList(const std::vector<int>& joints) {
+  std::string text;
+  for (int j : joints) text += (text.empty() ? "" : " ") + std::to_string(j);
+  return text;
+}
+
+// The calibration's joint ranges in degrees, "-5.0..84.0, 6.0..138.0, ...".
+std::string RangesInDegrees(const std::vector<std::pair<double, double>>& ranges_rad) {
+  std::string text;
+  for (const auto& [min_rad, max_rad] : ranges_rad) {
+    char range[64];
+    std::snprintf(range, sizeof range, "%.1f..%.1f", min_rad * 180.0 / M_PI,
+                  max_rad * 180.0 / M_PI);
+    text += (text.empty() ? "" : ", ") + std::string(range);
+  }
+  return text;
 }
 
 }  // namespace
@@ -60,7 +79,7 @@ std::string CompensatedCommandsCsv(const CompensationChain& chain,
     for (int j = 0; j < joints; ++j) {
       out << "," << (j < static_cast<int>(c.approach.size()) ? std::to_string(c.approach[j]) : "");
     }
-    out << "," << Cell(c.reason) << "\n";
+    out << "," << JointList(c.joints_beyond_calibration) << "," << Cell(c.reason) << "\n";
   }
   return out.str();
 }
@@ -87,6 +106,14 @@ std::vector<std::string> CompensationComments(const CalibratedCell& cell,
   lines.push_back(
       "sigma: first-order, from the result's covariance of the base, the tool, the "
       "freed model and effect parameters; not the controller's repeatability");
+  lines.push_back(
+      chain.calibrated_joint_ranges_rad.empty()
+          ? "beyond_calibration: not checked (the result does not record the calibration's "
+            "joint ranges)"
+          : "beyond_calibration: the joints a command puts outside the ranges the calibration's "
+            "poses span (deg: " +
+                RangesInDegrees(chain.calibrated_joint_ranges_rad) +
+                "); there the model is extrapolated and sigma holds only what it contains");
   return lines;
 }
 

@@ -185,6 +185,7 @@ CompensationChain ChainFromResult(const CalibratedCell& cell, const std::string&
   chain.tool = tool ? tool->name : "flange";
   if (tool) chain.T_flange_tool = tool->T_parent_frame;
   chain.gravity_base = cell.gravity_base;
+  chain.calibrated_joint_ranges_rad = robot.joint_ranges_rad;
   AddEffects(cell, robot, &chain);
   return chain;
 }

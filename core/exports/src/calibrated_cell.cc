@@ -47,6 +47,15 @@ CalibratedRobot ReadRobot(const ResultRobotModel& recorded, const std::string& j
     }
     robot.values.push_back(values[i].second);
   }
+  robot.joint_ranges_rad = recorded.joint_ranges_rad;
+  if (!robot.joint_ranges_rad.empty() &&
+      robot.joint_ranges_rad.size() != static_cast<size_t>(robot.model->num_joints())) {
+    throw InputError(
+        {json_path, 0, 0},
+        "robot '" + robot.name + "' records " + std::to_string(robot.joint_ranges_rad.size()) +
+            " joint ranges, its model has " + std::to_string(robot.model->num_joints()) + " joints",
+        kRerun);
+  }
   return robot;
 }
 

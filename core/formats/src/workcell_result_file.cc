@@ -121,9 +121,17 @@ FittedScalar ReadScalar(const Entry& e) {
 }
 
 ResultRobotModel ReadRobotModel(const std::string& robot, const Entry& e) {
-  ResultRobotModel model{robot, e["model_file"].Text(), e["model_config"].Text(), {}};
+  ResultRobotModel model{robot, e["model_file"].Text(), e["model_config"].Text(), {}, {}};
   e["model_values"].ForEachElement([&](const Entry& value) {
     model.model_values.emplace_back(value["name"].Text(), value["value"].Number());
+  });
+  if (!e.Has("joint_ranges_rad")) return model;
+  e["joint_ranges_rad"].ForEachElement([&](const Entry& range) {
+    const std::vector<double> min_max = range.Numbers();
+    if (min_max.size() != 2 || min_max[0] > min_max[1]) {
+      range.Fail("expected [min, max] with min <= max");
+    }
+    model.joint_ranges_rad.emplace_back(min_max[0], min_max[1]);
   });
   return model;
 }

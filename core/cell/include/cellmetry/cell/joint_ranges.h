@@ -35,6 +35,10 @@ struct JointRange {
 // without samples has no ranges.
 std::vector<JointRange> JointRanges(const Recording& recording);
 
+// Records in each of `result`'s robot models the joint ranges of `recording`, the recording it
+// was fitted on (RobotModelRecord::joint_ranges_rad).
+void RecordJointRanges(const Recording& recording, WorkcellResult* result);
+
 // Marks each of `score`'s points whose sample (in `held_out`) has a joint beyond `calibration`'s
 // ranges, and fills the score's summary of them (HeldOutSetupScore::beyond_calibration): each
 // joint some scored pose goes beyond, the poses beyond, and the RMS within and beyond.

@@ -216,6 +216,9 @@ struct RobotModelRecord {
   std::string config_text;            // "" when the job was built in memory
   std::vector<Parameter> parameters;  // every parameter: `nominal` = its value at the answer,
                                       // `fixed` = held in this job
+  // Each joint's [min, max] reading (rad) over the calibration's samples: where the model was
+  // measured (joint_ranges.h). Empty when the recording has no samples of the robot.
+  std::vector<std::pair<double, double>> joint_ranges_rad;
 };
 
 // What a result records of each effect in its prediction chain so that it can be rebuilt

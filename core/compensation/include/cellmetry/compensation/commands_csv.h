@@ -6,7 +6,9 @@
 //   double has; empty when refused), error_mm, error_rad (remaining, predicted by the calibrated
 //   chain), sigma_mm, sigma_rad (its sigma from the result's covariance; empty where the result
 //   gives none), uncompensated_mm, uncompensated_rad (the robot config's nominal command's error
-//   under the calibrated chain), approach_j1 ... approach_j<n>, reason (why refused)
+//   under the calibrated chain), approach_j1 ... approach_j<n>, beyond_calibration (the joints
+//   the command puts outside the calibration's ranges, "2 5"; empty for none), reason (why
+//   refused)
 #pragma once
 
 #include <string>

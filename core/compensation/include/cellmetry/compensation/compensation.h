@@ -83,6 +83,10 @@ struct CompensatedCommand {
                                               // position / rotation trace
   double uncompensated_mm = NAN, uncompensated_rad = NAN;  // the nominal command's error
   int iterations = 0;
+  // The joints (1-based) the command puts beyond the calibration's ranges
+  // (CompensationChain::calibrated_joint_ranges_rad, by more than 1e-6 rad): there the
+  // calibrated model is extrapolated, and `sigma_*` holds only what it contains.
+  std::vector<int> joints_beyond_calibration;
 };
 
 // Every target in file order; the approach of a target without approach columns is the sign of

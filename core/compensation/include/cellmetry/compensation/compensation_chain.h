@@ -52,6 +52,9 @@ struct CompensationChain {
   Pose T_world_base;
   Pose T_flange_tool;  // identity for "flange"
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);
+  // Each joint's [min, max] (rad) over the calibration's samples; empty when the result does
+  // not record them. A command beyond them extrapolates the calibration.
+  std::vector<std::pair<double, double>> calibrated_joint_ranges_rad;
 };
 
 // What a command is evaluated with beside its joint values (effect_context.h).

@@ -43,6 +43,9 @@ struct CalibratedRobot {
   std::vector<double> values;         // every model parameter at the answer, model order
   std::vector<FittedScalar> fitted;   // its parameters the job freed, with sigma
   std::vector<FittedScalar> effects;  // effect parameters fitted in its chain
+  // Each joint's [min, max] (rad) over the calibration's samples: where the model was measured.
+  // Empty for a result written before results recorded them.
+  std::vector<std::pair<double, double>> joint_ranges_rad;
 };
 
 // An effect of the result's prediction chain (result.json `effects`), rebuilt through the

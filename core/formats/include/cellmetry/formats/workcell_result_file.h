@@ -54,6 +54,9 @@ struct ResultRobotModel {
   std::string model_file;    // where the config was read at the run
   std::string model_config;  // its text; empty when the job was built in memory
   std::vector<std::pair<std::string, double>> model_values;  // (parameter name, value)
+  // Each joint's [min, max] (rad) over the calibration's samples; empty in results written
+  // before they were recorded.
+  std::vector<std::pair<double, double>> joint_ranges_rad;
 };
 
 // One robot's base in another's (`robot_to_robot.<key>`): T_parent_frame with its sigma
