@@ -126,6 +126,37 @@ TEST(PhysicalFindings, AnAcceptedEffectNamesItsLookAlikes) {
   EXPECT_THAT(DiagnosisReport(r), Not(HasSubstr("stronger fit")));
 }
 
+// Each finding gives its effect's values as they were when it was accepted; a later effect can
+// take a share of what it absorbed, so where the final model (final_fit/, what compensate uses)
+// holds other values the report says them, and says nothing where none moved.
+TEST(PhysicalFindings, TheFinalModelsValuesAreGivenWhereALaterEffectMovedThem) {
+  DiagnosisResult r;
+  r.accepted = {Effect("arm.compliance_j2", "arm joint 2", 4.0, 2.0),
+                Effect("arm.compliance_j3", "arm joint 3", 2.0, 1.0)};
+  auto scalar = [](const std::string& name, double value, double sigma) {
+    ScalarEstimate s;
+    s.name = name;
+    s.unit = "rad/(N m)";
+    s.value = value;
+    s.sigma = sigma;
+    return s;
+  };
+  r.accepted[0].parameters = {scalar("arm.compliance_j2.j2.compliance", 7.25e-6, 6e-7)};
+  r.accepted[1].parameters = {scalar("arm.compliance_j3.j3.compliance", 7.75e-6, 9.7e-7)};
+  r.final_fit.model_parameters = {scalar("arm.model.j2.a", 500.0, 0.05),
+                                  scalar("arm.compliance_j2.j2.compliance", 6.2e-6, 4.2e-7),
+                                  scalar("arm.compliance_j3.j3.compliance", 7.75e-6, 9.2e-7)};
+  GroupFindings(DiagnosisOptions{}, &r);
+  EXPECT_THAT(DiagnosisReport(r),
+              HasSubstr("Fitted together in the final model (final_fit/, what `cellmetry "
+                        "compensate` uses; the values above are each effect's when it was "
+                        "accepted): arm.compliance_j2.j2.compliance = 6.2e-06 +- 4.2e-07 "
+                        "rad/(N m); arm.compliance_j3.j3.compliance = 7.75e-06 +- 9.2e-07 "
+                        "rad/(N m).\n"));
+  r.final_fit.model_parameters[1].value = 7.25e-6;
+  EXPECT_THAT(DiagnosisReport(r), Not(HasSubstr("Fitted together")));
+}
+
 // Where a refit of the same round explained more but at a size its physics cannot have
 // (experiment A: joint 3's transmission error at 17 mrad beside joint 2's gear ratio), the
 // accepted name says so: the mismatch may be larger than it explains.

@@ -1,5 +1,6 @@
 // The physics finder's report (diagnosis.h): ten seconds of words, and the same in JSON.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -257,6 +258,28 @@ void FramesNotAccepted(const DiagnosisResult& r, std::ostringstream& out) {
 
 }  // namespace
 
+// The accepted effects' values in the final model, where every accepted effect is fitted
+// together: each finding above gives its values as they were when it was accepted, and a later
+// effect can take a share of what an earlier one absorbed. Said only where some value moved.
+void FinalModelValues(const DiagnosisResult& r, std::ostringstream& out) {
+  std::string values;
+  bool moved = false;
+  for (const AcceptedEffect& a : r.accepted) {
+    for (const ScalarEstimate& at_acceptance : a.parameters) {
+      for (const ScalarEstimate& s : r.final_fit.model_parameters) {
+        if (s.name != at_acceptance.name) continue;
+        values += (values.empty() ? "" : "; ") + Value(s);
+        moved = moved || std::abs(s.value - at_acceptance.value) >
+                             1e-6 * std::max(std::abs(s.value), std::abs(at_acceptance.value));
+      }
+    }
+  }
+  if (!moved) return;
+  out << "Fitted together in the final model (final_fit/, what `cellmetry compensate` uses; the "
+         "values above are each effect's when it was accepted): "
+      << values << ".\n";
+}
+
 std::string DiagnosisReport(const DiagnosisResult& result) {
   DiagnosisResult storage;
   const DiagnosisResult& r = Grouped(result, &storage);
@@ -272,6 +295,7 @@ std::string DiagnosisReport(const DiagnosisResult& result) {
   }
   StrongestRuledOut(r, out);
   for (const auto& f : r.findings) Finding(r, f, out);
+  FinalModelValues(r, out);
   HeldOutLine(r, out);
   ClosestCandidates(r, out);
   FramesNotAccepted(r, out);
