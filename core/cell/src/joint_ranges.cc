@@ -52,8 +52,8 @@ void RecordJointRanges(const Recording& recording, WorkcellResult* result) {
   for (RobotModelRecord& record : result->robot_models) {
     record.joint_ranges_rad.clear();
     for (const JointRange& range : ranges) {
-      if (range.robot == record.robot)
-        record.joint_ranges_rad.emplace_back(range.min_rad, range.max_rad);
+      if (range.robot != record.robot) continue;
+      record.joint_ranges_rad.emplace_back(range.min_rad, range.max_rad);
     }
   }
 }
