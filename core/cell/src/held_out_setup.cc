@@ -266,7 +266,7 @@ void PredictCovariances(const WorkcellProblem& spec, const WorkcellResult& resul
   *joint = JointUncertainty(registered.uncertainty, free_columns, S);
   for (const PositionRow& row : CarriedPositionRows(*on_scored, r_scored, held_out)) {
     const Eigen::MatrixXd G_p = row.sigma_mm.asDiagonal() * G.middleRows(row.row, 3);
-    HeldOutPoint point{row.sample, row.pose, row.camera, row.target, row.error_mm, {}, 0.0};
+    HeldOutPoint point{row.sample, row.pose, row.camera, row.target, row.error_mm, {}, 0.0, false};
     point.covariance_mm2 = G_p * S * G_p.transpose();
     point.covariance_mm2.diagonal() += dispersion * row.sigma_mm.cwiseAbs2();
     point.normalized_squared = row.error_mm.dot(point.covariance_mm2.ldlt().solve(row.error_mm));

@@ -110,7 +110,8 @@ void DescribeRobot(const WorkcellRobot& robot, const std::set<std::string>& held
                                                   p.nominal, values[i], u, held, undetermined,
                                                   result->unidentifiable));
   }
-  RobotModelRecord record{robot.name, robot.model_file, robot.model_config, robot.model_parameters};
+  RobotModelRecord record{
+      robot.name, robot.model_file, robot.model_config, robot.model_parameters, {}};
   for (size_t i = 0; i < record.parameters.size(); ++i) record.parameters[i].nominal = values[i];
   result->robot_models.push_back(std::move(record));
 }
