@@ -38,6 +38,7 @@ const std::vector<std::string>& EffectConfigs() {
       "{type: transmission_error, joints: [1, 4], harmonics: [1, 2, 5]}",
       "{type: joint_scale}",
       "{type: joint_coupling, joints: [5, 6], from: 4}",
+      "{type: link_bending, links: [2, 3], link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}",
       "{type: thermal_drift, reference_c: 20}",
       "{type: thermal_drift, model: warmup, time_constant_s: 600}",
       "{type: depth_bias, cameras: [cam1, cam2]}",
@@ -81,15 +82,13 @@ struct ContextFixture {
   }
 };
 
-// The stage's values before the effect: joint errors, or a position (and, for measurements, the
-// target's rotation after it, column-major: a turn about (1, 2, 3)).
+// The stage's values before the effect: joint errors, or a position and the rotation after it
+// (the flange's or the measured target's, column-major: a turn about (1, 2, 3)).
 std::vector<double> Untouched(const Effect& effect) {
   if (effect.stage() == EffectStage::kJoint) return std::vector<double>(6, 0.0);
   std::vector<double> values = {120.0, -80.0, 650.0};
-  if (effect.stage() == EffectStage::kMeasurement) {
-    const Eigen::Matrix3d R = RotationFromRvec(Eigen::Vector3d(0.1, 0.2, 0.3).data());
-    values.insert(values.end(), R.data(), R.data() + 9);
-  }
+  const Eigen::Matrix3d R = RotationFromRvec(Eigen::Vector3d(0.1, 0.2, 0.3).data());
+  values.insert(values.end(), R.data(), R.data() + 9);
   return values;
 }
 
@@ -292,6 +291,44 @@ TEST(Effects, ComplianceFollowsThePayload) {
   EXPECT_NEAR(loaded[1] - empty[1], c[0] * payload_only[1], 1e-15);
   EXPECT_NEAR(loaded[2] - empty[2], c[1] * payload_only[2], 1e-15);
   EXPECT_GT(std::abs(payload_only[1]), 1.0);  // N m: the pose loads joint 2
+}
+
+// A horizontal link as a cantilever: the closed form along the beam gives the textbook tip, P L^2
+// / (2 E I) turned and P L^3 / (3 E I) dropped under a load P at its end, w L^3 / (6 E I) and
+// w L^4 / (8 E I) under its own weight w per length; the flange turns down, about +y.
+TEST(Effects, LinkBendingOfAHorizontalLinkIsTheTextbookCantilever) {
+  // Joint 2 turns about +y at the origin; link 2 reaches 400 mm along x to the flange.
+  std::vector<Pose> frames(3, Pose::Identity());
+  frames[1].R = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  frames[2].t = Eigen::Vector3d(400, 0, 0);
+  const TwoJoints model;
+  const double L = 0.4, g = 9.81, c = 2e-5;  // m, m/s^2, 1/(N m^2)
+  EffectContext context;
+  context.num_joints = 2;
+  context.T_base_joint = &frames;
+  const auto bend = [&](const std::string& masses, double payload_kg) {
+    context.payload_kg = payload_kg;
+    const auto effect =
+        MakeEffect("{type: link_bending, links: [2], link_masses_kg: " + masses + "}", model);
+    std::vector<double> values = {400, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    effect->Apply(context, &c, values.data());
+    const Eigen::Map<const Eigen::Matrix3d> R(values.data() + 3);
+    return std::make_pair(RvecFromRotation(R),
+                          Eigen::Vector3d(values[0] - 400, values[1], values[2]));
+  };
+  const double P = 1.5 * g;
+  const auto [tip_turn, tip_move] = bend("[0, 0]", 1.5);
+  EXPECT_NEAR(tip_turn.y(), c * P * L * L / 2, 1e-12);
+  EXPECT_NEAR(tip_move.z(), -1e3 * c * P * L * L * L / 3, 1e-12);  // mm
+  EXPECT_NEAR(tip_turn.x(), 0.0, 1e-15);
+  EXPECT_NEAR(tip_move.x(), 0.0, 1e-12);
+  const double w = 2.0 * g / L;
+  const auto [own_turn, own_move] = bend("[0, 2]", 0.0);
+  EXPECT_NEAR(own_turn.y(), c * w * L * L * L / 6, 1e-12);
+  EXPECT_NEAR(own_move.z(), -1e3 * c * w * L * L * L * L / 8, 1e-12);
+  // The load only on link 1 (before the bending link) bends nothing.
+  const auto [none_turn, none_move] = bend("[5, 0]", 0.0);
+  EXPECT_NEAR(none_turn.norm() + none_move.norm(), 0.0, 1e-15);
 }
 
 // Backlash held by gravity sits against the flank the gravity torque pushes it to, whichever way
@@ -541,6 +578,14 @@ TEST(EffectsInWorkcell, ConcealedComplianceIsRecovered) {
   ExpectRecovered("[{effect: " + compliance.substr(1, compliance.size() - 2) +
                       ", values: {j2.compliance: 1.5e-4, j3.compliance: -8e-5}}]",
                   "", compliance, "");
+}
+
+TEST(EffectsInWorkcell, ConcealedLinkBendingIsRecovered) {
+  const std::string bending =
+      "[{type: link_bending, links: [2, 3], link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}]";
+  ExpectRecovered("[{effect: " + bending.substr(1, bending.size() - 2) +
+                      ", values: {link2.flexibility: 1.5e-3, link3.flexibility: 2e-3}}]",
+                  "", bending, "");
 }
 
 TEST(EffectsInWorkcell, ConcealedDepthBiasIsRecovered) {

@@ -1,7 +1,7 @@
-// Registers the effect library: joint_compliance, backlash, transmission_error, joint_scale,
-// joint_coupling, thermal_drift, depth_bias, detection_bias, target_scale, camera_intrinsics,
-// target_tilt, world_frame, platform_tilt, ball_joint_clearance (one header each says its physics),
-// and the physics finder's candidates among them (default_candidates.h).
+// Registers the effect library: joint_compliance, link_bending, backlash, transmission_error,
+// joint_scale, joint_coupling, thermal_drift, depth_bias, detection_bias, target_scale,
+// camera_intrinsics, target_tilt, world_frame, platform_tilt, ball_joint_clearance (one header each
+// says its physics), and the physics finder's candidates among them (default_candidates.h).
 #include <algorithm>
 #include <memory>
 #include <string>
@@ -18,6 +18,7 @@
 #include "joint_coupling.h"
 #include "joint_scale.h"
 #include "joint_selection.h"
+#include "link_bending.h"
 #include "platform_tilt.h"
 #include "target_scale.h"
 #include "target_tilt.h"
@@ -32,6 +33,20 @@ std::unique_ptr<Effect> CreateCompliance(const ConfigNode& config, const RobotMo
   std::vector<double> masses(robot.num_joints(), 1.0);
   if (config.Has("link_masses_kg")) masses = config["link_masses_kg"].AsDoubles(robot.num_joints());
   return std::make_unique<JointCompliance>(SelectJoints(config, robot), masses);
+}
+
+std::unique_ptr<Effect> CreateBending(const ConfigNode& config, const RobotModel& robot) {
+  config.ExpectKeys({"type", "links", "link_masses_kg"});
+  std::vector<int> links;
+  if (config.Has("links")) {
+    for (const auto& node : config["links"].Elements()) links.push_back(SelectJoint(node, robot));
+    if (links.empty()) throw config["links"].Error("lists no link", "e.g. links: [2, 3]");
+  } else {
+    for (int i = 0; i < robot.num_joints(); ++i) links.push_back(i);
+  }
+  std::vector<double> masses(robot.num_joints(), 1.0);
+  if (config.Has("link_masses_kg")) masses = config["link_masses_kg"].AsDoubles(robot.num_joints());
+  return std::make_unique<LinkBending>(links, masses);
 }
 
 std::unique_ptr<Effect> CreateBacklash(const ConfigNode& config, const RobotModel& robot) {
@@ -276,6 +291,13 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
   registry->AddEffect(Info("joint_compliance", "joints giving under gravity: dq_i = c_i tau_g,i(q)",
                            {joints, {"link_masses_kg", "kg", "1 per link", "lumped link masses"}}),
                       &fx::CreateCompliance);
+  registry->AddEffect(
+      Info("link_bending",
+           "links bending as beams under gravity: the flange turns and moves by c_i times the "
+           "bending moment integrated along link i",
+           {{"links", "", "all", "1-based links it acts on (link i: joint i's origin to the next)"},
+            {"link_masses_kg", "kg", "1 per link", "lumped link masses"}}),
+      &fx::CreateBending);
   registry->AddEffect(
       Info("backlash",
            "gear play: dq_i = -b_i/2 * (direction of the last move), or with "
