@@ -39,6 +39,7 @@ const std::vector<std::string>& EffectConfigs() {
       "{type: joint_scale}",
       "{type: joint_coupling, joints: [5, 6], from: 4}",
       "{type: link_bending, links: [2, 3], link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}",
+      "{type: base_tilt, pivot_mm: 300, link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}",
       "{type: thermal_drift, reference_c: 20}",
       "{type: thermal_drift, model: warmup, time_constant_s: 600}",
       "{type: depth_bias, cameras: [cam1, cam2]}",
@@ -331,6 +332,30 @@ TEST(Effects, LinkBendingOfAHorizontalLinkIsTheTextbookCantilever) {
   EXPECT_NEAR(none_turn.norm() + none_move.norm(), 0.0, 1e-15);
 }
 
+// A mounting tilting under an outstretched arm: the moment about the pivot is the load times its
+// reach, the arm turns down about the pivot by c times it, so the flange drops by the turn times
+// its reach and swings outward by the turn times the pivot's depth below it.
+TEST(Effects, BaseTiltTurnsTheArmAboutAPivotBelowTheBase) {
+  std::vector<Pose> frames(3, Pose::Identity());
+  frames[1].R = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  frames[2].t = Eigen::Vector3d(400, 0, 0);
+  const TwoJoints model;
+  EffectContext context;
+  context.num_joints = 2;
+  context.T_base_joint = &frames;
+  context.payload_kg = 1.5;
+  const auto tilt = MakeEffect("{type: base_tilt, pivot_mm: 500, link_masses_kg: [0, 0]}", model);
+  const double c = 3e-6;  // rad/(N m)
+  std::vector<double> values = {400, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  tilt->Apply(context, &c, values.data());
+  const double turn = c * 1.5 * 9.81 * 0.4;  // rad, about +y
+  const Eigen::Map<const Eigen::Matrix3d> R(values.data() + 3);
+  EXPECT_NEAR(RvecFromRotation(R).y(), turn, 1e-15);
+  EXPECT_NEAR(values[2], -turn * 400, 1e-12);       // mm: down by the turn times the reach
+  EXPECT_NEAR(values[0] - 400, turn * 500, 1e-12);  // and out by the turn times the depth
+  EXPECT_NEAR(values[1], 0.0, 1e-15);
+}
+
 // Backlash held by gravity sits against the flank the gravity torque pushes it to, whichever way
 // the joint came, and by half the play once the torque is well beyond the friction's hold; the
 // approach form follows the last move instead.
@@ -586,6 +611,14 @@ TEST(EffectsInWorkcell, ConcealedLinkBendingIsRecovered) {
   ExpectRecovered("[{effect: " + bending.substr(1, bending.size() - 2) +
                       ", values: {link2.flexibility: 1.5e-3, link3.flexibility: 2e-3}}]",
                   "", bending, "");
+}
+
+TEST(EffectsInWorkcell, ConcealedBaseTiltIsRecovered) {
+  const std::string tilt =
+      "[{type: base_tilt, pivot_mm: 400, link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}]";
+  ExpectRecovered(
+      "[{effect: " + tilt.substr(1, tilt.size() - 2) + ", values: {base.compliance: 2e-4}}]", "",
+      tilt, "");
 }
 
 TEST(EffectsInWorkcell, ConcealedDepthBiasIsRecovered) {

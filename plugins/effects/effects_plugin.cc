@@ -1,8 +1,10 @@
-// Registers the effect library: joint_compliance, link_bending, backlash, transmission_error,
-// joint_scale, joint_coupling, thermal_drift, depth_bias, detection_bias, target_scale,
-// camera_intrinsics, target_tilt, world_frame, platform_tilt, ball_joint_clearance (one header each
-// says its physics), and the physics finder's candidates among them (default_candidates.h).
+// Registers the effect library: joint_compliance, link_bending, base_tilt, backlash,
+// transmission_error, joint_scale, joint_coupling, thermal_drift, depth_bias, detection_bias,
+// target_scale, camera_intrinsics, target_tilt, world_frame, platform_tilt, ball_joint_clearance
+// (one header each says its physics), and the physics finder's candidates among them
+// (default_candidates.h).
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,6 +12,7 @@
 #include "cellmetry/registry/registry.h"
 #include "backlash.h"
 #include "ball_joint_clearance.h"
+#include "base_tilt.h"
 #include "camera_intrinsics.h"
 #include "default_candidates.h"
 #include "depth_bias.h"
@@ -47,6 +50,17 @@ std::unique_ptr<Effect> CreateBending(const ConfigNode& config, const RobotModel
   std::vector<double> masses(robot.num_joints(), 1.0);
   if (config.Has("link_masses_kg")) masses = config["link_masses_kg"].AsDoubles(robot.num_joints());
   return std::make_unique<LinkBending>(links, masses);
+}
+
+std::unique_ptr<Effect> CreateBaseTilt(const ConfigNode& config, const RobotModel& robot) {
+  config.ExpectKeys({"type", "pivot_mm", "link_masses_kg"});
+  std::vector<double> masses(robot.num_joints(), 1.0);
+  if (config.Has("link_masses_kg")) masses = config["link_masses_kg"].AsDoubles(robot.num_joints());
+  const double pivot_mm = config.GetDouble("pivot_mm", 0.0);
+  if (!std::isfinite(pivot_mm)) {
+    throw config["pivot_mm"].Error("must be a distance (mm) below the base frame's origin");
+  }
+  return std::make_unique<BaseTilt>(masses, pivot_mm);
 }
 
 std::unique_ptr<Effect> CreateBacklash(const ConfigNode& config, const RobotModel& robot) {
@@ -298,6 +312,13 @@ CELLMETRY_PLUGIN_ENTRY(registry) {
            {{"links", "", "all", "1-based links it acts on (link i: joint i's origin to the next)"},
             {"link_masses_kg", "kg", "1 per link", "lumped link masses"}}),
       &fx::CreateBending);
+  registry->AddEffect(
+      Info("base_tilt",
+           "the mounting tilting under the arm's overturning moment: the arm turns by c M_h "
+           "about a pivot below the base frame",
+           {{"pivot_mm", "mm", "0", "how far below the base frame's origin the mounting turns"},
+            {"link_masses_kg", "kg", "1 per link", "lumped link masses"}}),
+      &fx::CreateBaseTilt);
   registry->AddEffect(
       Info("backlash",
            "gear play: dq_i = -b_i/2 * (direction of the last move), or with "

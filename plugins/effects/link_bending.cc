@@ -42,20 +42,15 @@ bool LinkBending::BendingPerFlexibility(const EffectContext& context, int link,
   if (length_m < 1e-3) return false;
   const Eigen::Vector3d e = (tip_m - root_m) / length_m;
   const Eigen::Vector3d& g = context.gravity_base;
-  const auto mass = [&](int i) {
-    return i < static_cast<int>(link_masses_kg_.size()) ? link_masses_kg_[i] : 0.0;
-  };
   // The loads after the link: each later link's mass at its midpoint, the payload at the flange.
+  const std::vector<LumpedMass> masses = LumpedMasses(frames, link_masses_kg_, context.payload_kg);
   Eigen::Vector3d A = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();
-  for (int i = link + 1; i <= n; ++i) {
-    const double m = i < n ? mass(i) : context.payload_kg;
-    const Eigen::Vector3d at_m =
-        i < n ? Eigen::Vector3d(0.5e-3 * (frames[i].t + frames[i + 1].t)) : 1e-3 * frames[n].t;
-    A += (at_m - root_m).cross(m * g);
-    force += m * g;
+  for (size_t k = link + 1; k < masses.size(); ++k) {
+    A += (masses[k].at_m - root_m).cross(masses[k].kg * g);
+    force += masses[k].kg * g;
   }
   A -= A.dot(e) * e;  // bending only: the moment along the link would twist it
-  const Eigen::Vector3d D = e.cross(force), B = e.cross(mass(link) * g / length_m);
+  const Eigen::Vector3d D = e.cross(force), B = e.cross(masses[link].kg * g / length_m);
   const double L = length_m;
   const Eigen::Vector3d turn = A * L - D * (L * L / 2) + B * (L * L * L / 6);
   const Eigen::Vector3d lag = A * (L * L / 2) - D * (L * L * L / 3) + B * (L * L * L * L / 24);

@@ -6,7 +6,7 @@
 // it turns. Each selected link i is an Euler-Bernoulli beam from joint i's origin to joint i+1's
 // (the flange for the last) at nominal geometry, of length L along e, flexibility c = 1/(E I)
 // ("link<i>.flexibility", 1/(N m^2)). Loaded by the masses after it (link masses at their links'
-// midpoints and the payload at the flange, as GravityTorques takes them) and its own mass spread
+// midpoints and the payload at the flange, LumpedMasses in effect.h) and its own mass spread
 // along it, its bending moment at s in [0, L] from the root is
 //
 //   M(s) = A - s D + (L - s)^2 / 2 B,

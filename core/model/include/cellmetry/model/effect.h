@@ -103,9 +103,20 @@ class EffectFromTemplate : public Effect {
   }
 };
 
-// Gravity torque about each joint axis (N m) of lumped point masses: link i's mass halfway
-// between joint i's origin and the next joint's (the flange's for the last link), the payload at
-// the flange. `T_base_joint` has num_joints + 1 frames (EffectContext); gravity in m/s^2, base
+// A lumped point mass: kg, and where it sits (m, base frame).
+struct LumpedMass {
+  double kg = 0.0;
+  Eigen::Vector3d at_m = Eigen::Vector3d::Zero();
+};
+
+// The arm as lumped point masses: link i's mass halfway between joint i's origin and the next
+// joint's (the flange's for the last link), then the payload at the flange; num_joints + 1 of
+// them. `T_base_joint` has num_joints + 1 frames (EffectContext), mm; a link without a mass in
+// `link_masses_kg` weighs nothing.
+std::vector<LumpedMass> LumpedMasses(const std::vector<Pose>& T_base_joint,
+                                     const std::vector<double>& link_masses_kg, double payload_kg);
+
+// Gravity torque about each joint axis (N m) of the arm's LumpedMasses; gravity in m/s^2, base
 // frame. A positive torque turns the joint in its positive direction.
 std::vector<double> GravityTorques(const std::vector<Pose>& T_base_joint,
                                    const std::vector<double>& link_masses_kg, double payload_kg,
