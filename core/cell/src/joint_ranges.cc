@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <set>
 
 namespace cellmetry {
@@ -27,6 +28,42 @@ std::string Millimetres(double mm) {
   char text[32];
   std::snprintf(text, sizeof text, "%.4f mm", mm);
   return text;
+}
+
+// Per calibrated joint (as `ranges` lists them): the scored samples' range and the poses beyond
+// the calibration's; `samples_beyond` gets each scored sample with any joint beyond.
+std::vector<JointBeyondCalibration> JudgeScoredSamples(const std::vector<JointRange>& ranges,
+                                                       const Recording& held_out,
+                                                       const std::set<int>& scored_samples,
+                                                       std::set<int>* samples_beyond) {
+  std::map<std::string, JointRangesRad> robot_ranges;  // joint j at j - 1; unrecorded: no limit
+  std::vector<JointBeyondCalibration> joints;
+  for (const JointRange& r : ranges) {
+    JointRangesRad& robot = robot_ranges[r.robot];
+    if (static_cast<int>(robot.size()) < r.joint) robot.resize(r.joint, {-HUGE_VAL, HUGE_VAL});
+    robot[r.joint - 1] = {r.min_rad, r.max_rad};
+    joints.push_back({r.robot, r.joint, r.min_rad, r.max_rad, HUGE_VAL, -HUGE_VAL, 0});
+  }
+  std::vector<std::set<int>> poses_beyond(joints.size());
+  for (int id : scored_samples) {
+    const int index = held_out.SampleIndex(id);
+    if (index < 0) continue;
+    const Sample& s = held_out.samples[index];
+    const std::vector<int> outside = JointsOutsideRanges(robot_ranges[s.robot], s.q);
+    if (!outside.empty()) samples_beyond->insert(id);
+    for (size_t k = 0; k < joints.size(); ++k) {
+      JointBeyondCalibration& joint = joints[k];
+      if (joint.robot != s.robot || joint.joint > static_cast<int>(s.q.size())) continue;
+      const double q = s.q[joint.joint - 1];
+      joint.scored_min_rad = std::min(joint.scored_min_rad, q);
+      joint.scored_max_rad = std::max(joint.scored_max_rad, q);
+      if (std::count(outside.begin(), outside.end(), joint.joint)) poses_beyond[k].insert(s.pose);
+    }
+  }
+  for (size_t k = 0; k < joints.size(); ++k) {
+    joints[k].poses = static_cast<int>(poses_beyond[k].size());
+  }
+  return joints;
 }
 
 }  // namespace
@@ -62,28 +99,10 @@ void MarkBeyondCalibration(const Recording& calibration, const Recording& held_o
                            HeldOutSetupScore* score) {
   BeyondCalibration& beyond = score->beyond_calibration;
   beyond = BeyondCalibration{};
-  std::set<int> scored_samples;
+  std::set<int> scored_samples, samples_beyond;
   for (const HeldOutPoint& p : score->points) scored_samples.insert(p.sample);
-  std::set<int> samples_beyond;
-  for (const JointRange& range : JointRanges(calibration)) {
-    JointBeyondCalibration joint{
-        range.robot, range.joint, range.min_rad, range.max_rad, HUGE_VAL, -HUGE_VAL, 0};
-    std::set<int> poses;
-    for (int id : scored_samples) {
-      const int index = held_out.SampleIndex(id);
-      if (index < 0) continue;
-      const Sample& s = held_out.samples[index];
-      if (s.robot != range.robot || range.joint > static_cast<int>(s.q.size())) continue;
-      const double q = s.q[range.joint - 1];
-      joint.scored_min_rad = std::min(joint.scored_min_rad, q);
-      joint.scored_max_rad = std::max(joint.scored_max_rad, q);
-      if (q < range.min_rad - kJointRangeToleranceRad ||
-          q > range.max_rad + kJointRangeToleranceRad) {
-        poses.insert(s.pose);
-        samples_beyond.insert(id);
-      }
-    }
-    joint.poses = static_cast<int>(poses.size());
+  for (const JointBeyondCalibration& joint :
+       JudgeScoredSamples(JointRanges(calibration), held_out, scored_samples, &samples_beyond)) {
     if (joint.poses > 0) beyond.joints.push_back(joint);
   }
   std::vector<const HeldOutPoint*> within, outside;

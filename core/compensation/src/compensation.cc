@@ -177,23 +177,6 @@ CompensatedCommand CompensateOne(const CompensationChain& chain, const Compensat
   return out;
 }
 
-// The joints (1-based) `command` puts beyond the chain's calibrated ranges; none when refused or
-// when the result records no ranges. The tolerance is joint_ranges.h's.
-std::vector<int> JointsBeyondCalibration(const CompensationChain& chain,
-                                         const CompensatedCommand& command) {
-  constexpr double kToleranceRad = 1e-6;
-  std::vector<int> beyond;
-  const auto& ranges = chain.calibrated_joint_ranges_rad;
-  if (command.refused || ranges.size() != command.q_rad.size()) return beyond;
-  for (size_t j = 0; j < ranges.size(); ++j) {
-    if (command.q_rad[j] < ranges[j].first - kToleranceRad ||
-        command.q_rad[j] > ranges[j].second + kToleranceRad) {
-      beyond.push_back(static_cast<int>(j) + 1);
-    }
-  }
-  return beyond;
-}
-
 }  // namespace
 
 std::vector<CompensatedCommand> Compensate(const CompensationChain& chain,
@@ -205,7 +188,11 @@ std::vector<CompensatedCommand> Compensate(const CompensationChain& chain,
   std::vector<CompensatedCommand> commands;
   for (const auto& target : targets) {
     commands.push_back(CompensateOne(chain, target, covariance, options, &history));
-    commands.back().joints_beyond_calibration = JointsBeyondCalibration(chain, commands.back());
+    CompensatedCommand& command = commands.back();
+    if (!command.refused) {
+      command.joints_beyond_calibration =
+          JointsOutsideRanges(chain.calibrated_joint_ranges_rad, command.q_rad);
+    }
   }
   return commands;
 }

@@ -6,23 +6,19 @@
 // only what the model contains, need not cover its error. A held-out RMS mixes the two; the
 // score is split at that line so that a user sees which one they are reading.
 //
-// A joint's range is the interval of its readings over the calibration's samples, as the
-// controller reports them (no wrapping: -200 deg is not 160 deg to a joint that turns past a
-// full turn). A scored pose is beyond when any joint of its robot reads outside its range by
-// more than kJointRangeToleranceRad.
+// A joint's range is the interval of its readings over the calibration's samples; a scored pose
+// is beyond when any joint of its robot reads outside its range (JointsOutsideRanges,
+// basics/joint_range.h, the rule compensation marks commands by).
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "cellmetry/basics/joint_range.h"
 #include "cellmetry/cell/workcell_result.h"
 #include "cellmetry/formats/recording.h"
 
 namespace cellmetry {
-
-// Readings this close outside a range (rad) count as inside: a controller's reading of the same
-// commanded angle differs in its last digits.
-inline constexpr double kJointRangeToleranceRad = 1e-6;
 
 struct JointRange {
   std::string robot;

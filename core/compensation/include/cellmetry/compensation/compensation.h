@@ -84,7 +84,7 @@ struct CompensatedCommand {
   double uncompensated_mm = NAN, uncompensated_rad = NAN;  // the nominal command's error
   int iterations = 0;
   // The joints (1-based) the command puts beyond the calibration's ranges
-  // (CompensationChain::calibrated_joint_ranges_rad, by more than 1e-6 rad): there the
+  // (CompensationChain::calibrated_joint_ranges_rad, JointsOutsideRanges): there the
   // calibrated model is extrapolated, and `sigma_*` holds only what it contains.
   std::vector<int> joints_beyond_calibration;
 };

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "cellmetry/basics/joint_range.h"
 #include "cellmetry/basics/transform.h"
 #include "cellmetry/exports/calibrated_cell.h"
 #include "cellmetry/model/effect.h"
@@ -54,7 +55,7 @@ struct CompensationChain {
   Eigen::Vector3d gravity_base = Eigen::Vector3d(0, 0, -9.81);
   // Each joint's [min, max] (rad) over the calibration's samples; empty when the result does
   // not record them. A command beyond them extrapolates the calibration.
-  std::vector<std::pair<double, double>> calibrated_joint_ranges_rad;
+  JointRangesRad calibrated_joint_ranges_rad;
 };
 
 // What a command is evaluated with beside its joint values (effect_context.h).
