@@ -367,6 +367,76 @@ HeldOutSetupScore TrackerHeldOutScore(const std::string& effects, const std::str
 
 const char kTrackerMasses[] = "link_masses_kg: [16.93, 14.35, 7.50, 6.42, 0.57, 1.03]";
 
+// A validation recording's score is split the same way, at the ranges the result records it was
+// fitted on; a result that records none (written before it did) marks nothing.
+TEST(ValidationRecording, PosesBeyondTheFittedJointRangesAreScoredApart) {
+  WorkcellResult result;
+  RobotModelRecord record;
+  record.robot = "arm";
+  record.joint_ranges_rad = {{0.0, 1.0}, {0.0, 1.0}};
+  result.robot_models.push_back(record);
+  Recording fresh;
+  fresh.robots = {{"arm", 2}};
+  std::vector<ResidualRow> rows;
+  for (const auto& [pose, q1, error_mm] : std::vector<std::tuple<int, double, double>>{
+           {0, 0.5, 0.1}, {1, 0.5, 0.1}, {2, 1.3, 0.4}, {3, -0.2, 0.2}}) {
+    Sample s;
+    s.id = 20 + pose;
+    s.robot = "arm";
+    s.pose = pose;
+    s.q = {q1, 0.5};
+    fresh.samples.push_back(s);
+    ResidualRow row;
+    row.sample = s.id;
+    row.pose = pose;
+    row.error = Eigen::Vector3d(0.0, error_mm, 0.0);
+    rows.push_back(row);
+  }
+  RecordingScore score;
+  MarkBeyondCalibration(result, fresh, rows, &score);
+  EXPECT_EQ(score.poses, 4);
+  EXPECT_EQ(score.poses_beyond_calibration, 2);
+  EXPECT_NEAR(score.rms_within_calibration_mm, 0.1, 1e-12);
+  EXPECT_NEAR(score.rms_beyond_calibration_mm, std::sqrt((0.16 + 0.04) / 2.0), 1e-12);
+  EXPECT_NE(BeyondCalibrationText(score).find("2 of 4 poses go beyond"), std::string::npos);
+
+  result.robot_models.front().joint_ranges_rad.clear();
+  RecordingScore unmarked;
+  MarkBeyondCalibration(result, fresh, rows, &unmarked);
+  EXPECT_EQ(unmarked.poses_beyond_calibration, 0);
+  EXPECT_TRUE(std::isnan(unmarked.rms_beyond_calibration_mm));
+  EXPECT_EQ(BeyondCalibrationText(unmarked), "");
+}
+
+// On the real TX90L, the calibration scored on its own poses goes beyond nothing; with three of
+// them turned past joint 4's range, those three are named and their error is apart.
+TEST(ValidationRecording, RealTrackerPosesTurnedPastTheCalibrationAreNamed) {
+  const Recording calibration =
+      ImportRecording(testing::Source("configs/import/astl_calibration.yaml"));
+  std::string text = testing::ReadText(testing::Source("configs/jobs/staubli_tx90l.yaml"));
+  text = testing::ReplaceOnce(text, "../robots/staubli_tx90l.yaml",
+                              testing::Source("configs/robots/staubli_tx90l.yaml"));
+  const std::string job_path = testing::TempDirForThisTest("validation") + "/job.yaml";
+  testing::WriteText(job_path, text);
+  WorkcellJob job = LoadWorkcellJob(job_path, testing::Plugins(), false);
+  job.problem.folds = 0;
+  job.problem.leave_one_camera_out = false;
+  const WorkcellResult result = IdentifyWorkcell(job.problem, calibration, CeresLm());
+  const RecordingScore own = ScoreOnRecording(job.problem, result, calibration);
+  EXPECT_EQ(own.poses, 40);
+  EXPECT_EQ(own.poses_beyond_calibration, 0);
+  EXPECT_NEAR(own.rms_within_calibration_mm, own.after.norm, 1e-12);
+
+  Recording turned = calibration;
+  double joint4_max = -HUGE_VAL;
+  for (const Sample& s : calibration.samples) joint4_max = std::max(joint4_max, s.q[3]);
+  for (int k = 0; k < 3; ++k) turned.samples[k].q[3] = joint4_max + 0.3;
+  const RecordingScore score = ScoreOnRecording(job.problem, result, turned);
+  EXPECT_EQ(score.poses_beyond_calibration, 3);
+  EXPECT_GT(score.rms_beyond_calibration_mm, 10.0 * score.rms_within_calibration_mm);
+  EXPECT_NEAR(score.rms_within_calibration_mm, own.after.norm, 0.2 * own.after.norm);
+}
+
 // Joint 5's large compliance on the real TX90L against its look-alike, the transmission error the
 // finder scored next: each fitted on the 40 calibration poses beside joints 2 and 3's
 // compliance, under the diagnosis job's noise, and carried to the other setup with nothing

@@ -137,4 +137,41 @@ std::string BeyondCalibrationText(const HeldOutSetupScore& score) {
          "contains.";
 }
 
+void MarkBeyondCalibration(const WorkcellResult& result, const Recording& fresh,
+                           const std::vector<ResidualRow>& rows, RecordingScore* score) {
+  std::map<std::string, JointRangesRad> ranges;
+  for (const RobotModelRecord& record : result.robot_models) {
+    ranges[record.robot] = record.joint_ranges_rad;
+  }
+  std::set<int> poses, poses_beyond;
+  ResidualRms within, outside;
+  for (const ResidualRow& row : rows) {
+    const int index = fresh.SampleIndex(row.sample);
+    if (index < 0) continue;
+    const Sample& s = fresh.samples[index];
+    const bool beyond = !JointsOutsideRanges(ranges[s.robot], s.q).empty();
+    poses.insert(row.pose);
+    if (beyond) poses_beyond.insert(row.pose);
+    (beyond ? outside : within).Add(row.error);
+  }
+  within.Finish();
+  outside.Finish();
+  score->poses = static_cast<int>(poses.size());
+  score->poses_beyond_calibration = static_cast<int>(poses_beyond.size());
+  score->rms_beyond_calibration_mm = outside.count > 0 ? outside.norm : NAN;
+  score->rms_within_calibration_mm = within.count > 0 ? within.norm : NAN;
+}
+
+std::string BeyondCalibrationText(const RecordingScore& score) {
+  if (score.poses_beyond_calibration == 0) return "";
+  std::string text = std::to_string(score.poses_beyond_calibration) + " of " +
+                     std::to_string(score.poses) +
+                     " poses go beyond the joint ranges the result was fitted on: RMS " +
+                     Millimetres(score.rms_beyond_calibration_mm) + " there";
+  text += std::isnan(score.rms_within_calibration_mm)
+              ? ", no pose within"
+              : ", " + Millimetres(score.rms_within_calibration_mm) + " within";
+  return text + ". There the model is extrapolated.";
+}
+
 }  // namespace cellmetry

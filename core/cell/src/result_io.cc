@@ -76,17 +76,22 @@ nlohmann::json EstimateJson(const WorkcellEstimate& e) {
   return j;
 }
 
+// A number, or null where there is none (an RMS over no points).
+nlohmann::json NumberOrNull(double value) {
+  return std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value);
+}
+
 nlohmann::json ScoreJson(const RecordingScore& v) {
   return {{"recording", v.recording},
           {"before_mm", RmsJson(v.before)},
           {"after_mm", RmsJson(v.after)},
           {"mean_after_mm", v.mean_after_mm},
-          {"max_after_mm", v.max_after_mm}};
-}
-
-// A number, or null where there is none (an RMS over no points).
-nlohmann::json NumberOrNull(double value) {
-  return std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value);
+          {"max_after_mm", v.max_after_mm},
+          {"poses", v.poses},
+          {"beyond_calibration",
+           {{"poses", v.poses_beyond_calibration},
+            {"rms_beyond_mm", NumberOrNull(v.rms_beyond_calibration_mm)},
+            {"rms_within_mm", NumberOrNull(v.rms_within_calibration_mm)}}}};
 }
 
 nlohmann::json BeyondCalibrationJson(const BeyondCalibration& beyond) {
@@ -604,6 +609,8 @@ void PrintFitQuality(const WorkcellResult& r, std::ostringstream& out) {
         << FixedNumber(v.before.norm, 3) << " mm (closed-form start), after "
         << FixedNumber(v.after.norm, 4) << " mm; mean " << FixedNumber(v.mean_after_mm, 4)
         << ", max " << FixedNumber(v.max_after_mm, 4) << " mm\n";
+    const std::string beyond = BeyondCalibrationText(v);
+    if (!beyond.empty()) out << "    " << beyond << "\n";
   }
   if (r.held_out_setup) {
     const HeldOutSetupScore& v = *r.held_out_setup;

@@ -284,23 +284,26 @@ RecordingScore ScoreOnRecording(const WorkcellProblem& spec, const WorkcellResul
   const NoiseModel noise = BuildNoiseModel(fresh, spec.noise);
   WorkcellProblem cartesian = spec;
   cartesian.residual = ResidualForm::kCartesian;
-  auto rms_at = [&](const WorkcellEstimate& estimate, double* mean, double* max) {
-    ResidualRms rms;
-    const auto rows = ResidualRows(*AssembleWorkcell(cartesian, fresh, data, noise, estimate));
-    int count = 0;
-    for (const auto& row : rows) {
-      if (row.kind != ResidualKind::kPosition || !MeasuresARobot(fresh, row)) continue;
-      rms.Add(row.error);
-      if (mean) *mean += row.error.norm();
-      if (max) *max = std::max(*max, row.error.norm());
-      ++count;
+  // The position rows of the robots' targets.
+  const auto robot_rows = [&](const WorkcellEstimate& estimate) {
+    std::vector<ResidualRow> rows;
+    for (ResidualRow& row :
+         ResidualRows(*AssembleWorkcell(cartesian, fresh, data, noise, estimate))) {
+      if (row.kind == ResidualKind::kPosition && MeasuresARobot(fresh, row)) rows.push_back(row);
     }
-    if (mean && count > 0) *mean /= count;
-    rms.Finish();
-    return rms;
+    return rows;
   };
-  score.before = rms_at(result.start, nullptr, nullptr);
-  score.after = rms_at(result.estimate, &score.mean_after_mm, &score.max_after_mm);
+  for (const ResidualRow& row : robot_rows(result.start)) score.before.Add(row.error);
+  score.before.Finish();
+  const std::vector<ResidualRow> after = robot_rows(result.estimate);
+  for (const ResidualRow& row : after) {
+    score.after.Add(row.error);
+    score.mean_after_mm += row.error.norm();
+    score.max_after_mm = std::max(score.max_after_mm, row.error.norm());
+  }
+  if (!after.empty()) score.mean_after_mm /= static_cast<double>(after.size());
+  score.after.Finish();
+  MarkBeyondCalibration(result, fresh, after, &score);
   return score;
 }
 

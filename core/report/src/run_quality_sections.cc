@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 
+#include "cellmetry/cell/joint_ranges.h"
 #include "cellmetry/report/plots.h"
 #include "run_sections.h"
 
@@ -91,6 +92,8 @@ void HeldOutSection(const WorkcellResult& r, const Recording& recording, HtmlPag
   page->Raw(IntervalPlot("held_out", rows, "RMS of the 3D residual (mm)",
                          std::to_string(r.held_out.folds) + " folds by pose.",
                          {{SeriesColor(0), "fitted"}, {SeriesColor(1), "held out"}}));
+  const std::string beyond = r.validation ? BeyondCalibrationText(*r.validation) : "";
+  if (!beyond.empty()) page->Paragraph("Validation recording: " + beyond);
 }
 
 void CamerasLeftOutSection(const WorkcellResult& r, HtmlPage* page) {

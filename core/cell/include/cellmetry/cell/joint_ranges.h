@@ -41,8 +41,17 @@ void RecordJointRanges(const Recording& recording, WorkcellResult* result);
 void MarkBeyondCalibration(const Recording& calibration, const Recording& held_out,
                            HeldOutSetupScore* score);
 
+// Fills `score`'s poses beyond the joint ranges `result` was fitted on
+// (RobotModelRecord::joint_ranges_rad) from `rows`, the answer's position rows on `fresh`, and
+// the RMS there and within (RecordingScore). A result that records no ranges marks none.
+void MarkBeyondCalibration(const WorkcellResult& result, const Recording& fresh,
+                           const std::vector<ResidualRow>& rows, RecordingScore* score);
+
 // In words, for a report: how many scored poses go beyond, each joint's scored and calibrated
 // ranges (deg), and the RMS beyond and within. "" when no scored pose goes beyond.
 std::string BeyondCalibrationText(const HeldOutSetupScore& score);
+
+// The same for a validation recording's score; "" when no pose goes beyond.
+std::string BeyondCalibrationText(const RecordingScore& score);
 
 }  // namespace cellmetry

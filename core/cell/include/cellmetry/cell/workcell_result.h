@@ -151,6 +151,13 @@ struct RecordingScore {
   ResidualRms after;   // with the answer
   double mean_after_mm = 0.0;
   double max_after_mm = 0.0;
+  // Its poses with a joint beyond the ranges the result was fitted on
+  // (RobotModelRecord::joint_ranges_rad, JointsOutsideRanges), and the 3D RMS with the answer
+  // there and on the rest (mm; NaN over no pose). There the model is extrapolated.
+  int poses = 0;
+  int poses_beyond_calibration = 0;
+  double rms_beyond_calibration_mm = NAN;
+  double rms_within_calibration_mm = NAN;
 };
 
 // One scored point: prediction - measurement and its predicted covariance, camera axes.
