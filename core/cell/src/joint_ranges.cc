@@ -7,6 +7,8 @@
 #include <map>
 #include <set>
 
+#include "cellmetry/basics/text.h"
+
 namespace cellmetry {
 namespace {
 
@@ -16,12 +18,6 @@ double RmsOfPoints(const std::vector<const HeldOutPoint*>& points) {
   double sum2 = 0.0;
   for (const HeldOutPoint* p : points) sum2 += p->error_mm.squaredNorm();
   return std::sqrt(sum2 / static_cast<double>(points.size()));
-}
-
-std::string Degrees(double rad) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f", rad * 180.0 / M_PI);
-  return text;
 }
 
 std::string Millimetres(double mm) {

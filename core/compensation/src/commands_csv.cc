@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "cellmetry/basics/text.h"
 #include "cellmetry/exports/export_header.h"
 
 namespace cellmetry {
@@ -54,10 +55,7 @@ std::string JointList(const std::vector<int>& joints) {
 std::string RangesInDegrees(const std::vector<std::pair<double, double>>& ranges_rad) {
   std::string text;
   for (const auto& [min_rad, max_rad] : ranges_rad) {
-    char range[64];
-    std::snprintf(range, sizeof range, "%.1f..%.1f", min_rad * 180.0 / M_PI,
-                  max_rad * 180.0 / M_PI);
-    text += (text.empty() ? "" : ", ") + std::string(range);
+    text += (text.empty() ? "" : ", ") + Degrees(min_rad) + ".." + Degrees(max_rad);
   }
   return text;
 }
