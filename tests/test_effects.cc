@@ -597,28 +597,27 @@ void ExpectRecovered(const std::string& robot_effects, const std::string& camera
   EXPECT_GT(checked, 0);
 }
 
+// A robot effect concealed at `values` in the simulation and fitted in the job's chain.
+void ExpectRobotEffectRecovered(const std::string& effect, const std::string& values) {
+  ExpectRecovered("[{effect: " + effect + ", values: " + values + "}]", "", "[" + effect + "]", "");
+}
+
 TEST(EffectsInWorkcell, ConcealedComplianceIsRecovered) {
-  const std::string compliance =
-      "[{type: joint_compliance, joints: [2, 3], link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}]";
-  ExpectRecovered("[{effect: " + compliance.substr(1, compliance.size() - 2) +
-                      ", values: {j2.compliance: 1.5e-4, j3.compliance: -8e-5}}]",
-                  "", compliance, "");
+  ExpectRobotEffectRecovered(
+      "{type: joint_compliance, joints: [2, 3], link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}",
+      "{j2.compliance: 1.5e-4, j3.compliance: -8e-5}");
 }
 
 TEST(EffectsInWorkcell, ConcealedLinkBendingIsRecovered) {
-  const std::string bending =
-      "[{type: link_bending, links: [2, 3], link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}]";
-  ExpectRecovered("[{effect: " + bending.substr(1, bending.size() - 2) +
-                      ", values: {link2.flexibility: 1.5e-3, link3.flexibility: 2e-3}}]",
-                  "", bending, "");
+  ExpectRobotEffectRecovered(
+      "{type: link_bending, links: [2, 3], link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}",
+      "{link2.flexibility: 1.5e-3, link3.flexibility: 2e-3}");
 }
 
 TEST(EffectsInWorkcell, ConcealedBaseTiltIsRecovered) {
-  const std::string tilt =
-      "[{type: base_tilt, pivot_mm: 400, link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}]";
-  ExpectRecovered(
-      "[{effect: " + tilt.substr(1, tilt.size() - 2) + ", values: {base.compliance: 2e-4}}]", "",
-      tilt, "");
+  ExpectRobotEffectRecovered(
+      "{type: base_tilt, pivot_mm: 400, link_masses_kg: [2, 3.4, 1.3, 0.8, 0.8, 0.35]}",
+      "{base.compliance: 2e-4}");
 }
 
 TEST(EffectsInWorkcell, ConcealedDepthBiasIsRecovered) {

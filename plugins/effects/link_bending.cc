@@ -31,19 +31,19 @@ std::string LinkBending::Describe(const std::vector<double>& params) const {
   return WithParameters(what + " bending under gravity", parameters_, params);
 }
 
-bool LinkBending::BendingPerFlexibility(const EffectContext& context, int link,
-                                        Eigen::Vector3d* turn_rad, Eigen::Vector3d* move_mm) const {
+bool LinkBending::BendingPerFlexibility(const EffectContext& context,
+                                        const std::vector<LumpedMass>& masses, int link,
+                                        Eigen::Vector3d* turn_rad, Eigen::Vector3d* move_mm) {
   if (!context.T_base_joint || context.T_base_joint->empty()) return false;
   const std::vector<Pose>& frames = *context.T_base_joint;
   const int n = static_cast<int>(frames.size()) - 1;
-  if (link < 0 || link >= n) return false;
+  if (link < 0 || link >= n || masses.size() != frames.size()) return false;
   const Eigen::Vector3d root_m = 1e-3 * frames[link].t, tip_m = 1e-3 * frames[link + 1].t;
   const double length_m = (tip_m - root_m).norm();
   if (length_m < 1e-3) return false;
   const Eigen::Vector3d e = (tip_m - root_m) / length_m;
   const Eigen::Vector3d& g = context.gravity_base;
   // The loads after the link: each later link's mass at its midpoint, the payload at the flange.
-  const std::vector<LumpedMass> masses = LumpedMasses(frames, link_masses_kg_, context.payload_kg);
   Eigen::Vector3d A = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();
   for (size_t k = link + 1; k < masses.size(); ++k) {
     A += (masses[k].at_m - root_m).cross(masses[k].kg * g);

@@ -42,18 +42,23 @@ class LinkBending : public EffectFromTemplate<LinkBending> {
   std::string Describe(const std::vector<double>& params) const override;
 
   // The flange's turn (rad) and move (mm), base frame, per unit flexibility of `link`, at the
-  // context's nominal joint frames. False without joint frames or for a link shorter than 1 mm.
-  bool BendingPerFlexibility(const EffectContext& context, int link, Eigen::Vector3d* turn_rad,
-                             Eigen::Vector3d* move_mm) const;
+  // context's nominal joint frames, under `masses` (LumpedMasses of those frames). False without
+  // joint frames or for a link shorter than 1 mm.
+  static bool BendingPerFlexibility(const EffectContext& context,
+                                    const std::vector<LumpedMass>& masses, int link,
+                                    Eigen::Vector3d* turn_rad, Eigen::Vector3d* move_mm);
 
   // values: p_base_flange[3], then R_base_flange[9] column-major (effect.h).
   template <typename T>
   void ApplyT(const EffectContext& context, const T* params, T* values) const {
+    if (!context.T_base_joint || context.T_base_joint->empty()) return;
+    const std::vector<LumpedMass> masses =
+        LumpedMasses(*context.T_base_joint, link_masses_kg_, context.payload_kg);
     Vector3<T> turn = Vector3<T>::Zero();
     bool bent = false;
     for (size_t k = 0; k < links_.size(); ++k) {
       Eigen::Vector3d turn_rad, move_mm;
-      if (!BendingPerFlexibility(context, links_[k], &turn_rad, &move_mm)) continue;
+      if (!BendingPerFlexibility(context, masses, links_[k], &turn_rad, &move_mm)) continue;
       for (int i = 0; i < 3; ++i) values[i] += params[k] * move_mm[i];
       turn += turn_rad.cast<T>() * params[k];
       bent = true;

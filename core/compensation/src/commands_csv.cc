@@ -52,7 +52,7 @@ std::string JointList(const std::vector<int>& joints) {
 }
 
 // The calibration's joint ranges in degrees, "-5.0..84.0, 6.0..138.0, ...".
-std::string RangesInDegrees(const std::vector<std::pair<double, double>>& ranges_rad) {
+std::string RangesInDegrees(const JointRangesRad& ranges_rad) {
   std::string text;
   for (const auto& [min_rad, max_rad] : ranges_rad) {
     text += (text.empty() ? "" : ", ") + Degrees(min_rad) + ".." + Degrees(max_rad);
